@@ -1,0 +1,136 @@
+"""The registry of diagnostic codes: every code is declared here once.
+
+A code has a family letter and three digits (``N101``), a slug that names the
+problem (``undefined-name``), a default severity and a one-line summary. Each
+code has a documentation page in ``code_docs/<CODE>.md``; a test keeps the two
+in step. Retired codes stay here with ``removed_in`` and are never reused.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import IntEnum
+
+
+class Severity(IntEnum):
+    """Ordered so that ``min()`` gives the most severe."""
+
+    ERROR = 1
+    WARNING = 2
+    INFO = 3
+
+    @property
+    def label(self) -> str:
+        return self.name.lower()
+
+    @property
+    def letter(self) -> str:
+        return self.name[0]
+
+
+@dataclass(frozen=True, slots=True)
+class Code:
+    code: str
+    slug: str
+    severity: Severity
+    summary: str
+    since: str = "0.1.0"
+    removed_in: str | None = None
+
+    @property
+    def family(self) -> str:
+        return self.code[0]
+
+    def __str__(self) -> str:
+        return self.code
+
+
+FAMILIES = {
+    "P": "syntax",
+    "N": "names and resolution",
+    "T": "types and units",
+    "A": "arguments and invocations",
+    "C": "constraints",
+    "L": "initial placement",
+    "B": "behaviour flow",
+    "D": "dialect (non-standard forms accepted for compatibility)",
+    "S": "suppressions and tooling",
+}
+
+E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
+
+# --- P: syntax -------------------------------------------------------------
+SYNTAX_ERROR = Code("P001", "syntax-error", E, "the text does not follow the OSC2 grammar")
+INDENTATION_ERROR = Code("P002", "indentation-error", E, "a line is indented to a level no enclosing block uses")
+INVALID_LITERAL = Code("P003", "invalid-literal", E, "a number, string or physical literal is malformed")
+INVALID_ENCODING = Code("P004", "invalid-encoding", E, "the file is not valid UTF-8 text")
+
+# --- N: names and resolution -----------------------------------------------
+UNDEFINED_NAME = Code("N101", "undefined-name", E, "a name is used that no visible declaration defines")
+DUPLICATE_DEFINITION = Code("N102", "duplicate-definition", E, "a name is declared twice in the same scope")
+UNKNOWN_MEMBER = Code("N103", "unknown-member", E, "a member is accessed that the type does not have")
+UNKNOWN_UNIT = Code("N104", "unknown-unit", E, "a physical literal names a unit that is not declared")
+UNRESOLVED_IMPORT = Code("N105", "unresolved-import", E, "an import names a file or module that cannot be found")
+UNKNOWN_ENUM_MEMBER = Code("N106", "unknown-enum-member", E, "an enum member is named that the enum does not have")
+IMPORT_CYCLE = Code("N107", "import-cycle", W, "files import each other in a cycle")
+AMBIGUOUS_ENUM_LITERAL = Code("N108", "ambiguous-enum-literal", E, "a bare enum member belongs to several enums and the context does not decide")
+INVALID_INHERITANCE = Code("N109", "invalid-inheritance", E, "a declaration inherits from something it cannot inherit from")
+RESERVED_NAME = Code("N110", "reserved-name", E, "a declaration uses a name reserved by the standard")
+INVALID_IMPLICIT_NAME = Code("N111", "invalid-implicit-name", E, "`it` or `actor` is used where it has no meaning")
+
+# --- T: types and units ----------------------------------------------------
+DIMENSION_MISMATCH = Code("T201", "dimension-mismatch", E, "physical quantities of different dimensions are combined")
+MISSING_UNIT = Code("T202", "missing-unit", E, "a plain number is used where a physical quantity is expected")
+TYPE_MISMATCH = Code("T203", "type-mismatch", E, "a value has a type that the context does not accept")
+FLOAT_TO_INT = Code("T204", "float-to-int", W, "a float value is given where an integer is expected")
+NON_BOOLEAN_CONDITION = Code("T205", "non-boolean-condition", E, "a condition is not a boolean expression")
+RANGE_BOUNDS_TYPE = Code("T206", "range-bounds-type", E, "the two bounds of a range have different types")
+INVALID_UNIT_DECLARATION = Code("T207", "invalid-unit-declaration", E, "a unit declares SI exponents that differ from its type's")
+NOT_CALLABLE = Code("T208", "not-callable", E, "something that is not a method is called")
+
+# --- A: arguments and invocations ------------------------------------------
+UNKNOWN_BEHAVIOR = Code("A301", "unknown-action-or-modifier", E, "an invoked action, scenario or modifier is not declared for the actor")
+UNKNOWN_ARGUMENT = Code("A302", "unknown-argument", E, "a named argument matches no parameter")
+TOO_MANY_POSITIONAL = Code("A304", "too-many-positional", E, "more positional arguments than parameters, or a positional after a named one")
+DUPLICATE_ARGUMENT = Code("A305", "duplicate-argument", E, "a parameter is given twice")
+EXCLUSIVE_ARGUMENTS = Code("A306", "mutually-exclusive-arguments", E, "arguments that exclude each other are given together")
+INCOMPLETE_ARGUMENTS = Code("A307", "incomplete-argument-group", E, "an argument is given without the argument it needs")
+MISSING_ARGUMENT = Code("A303", "missing-argument", E, "a method call omits a parameter that has no default")
+
+# --- D: dialect forms (the design paper's and the standard's own examples) --
+USE_STATEMENT = Code("D801", "use-statement", W, "`use` written as a statement instead of a `namespace ... use` clause")
+UNDECLARED_EVENT = Code("D802", "undeclared-event", W, "an event is emitted or awaited that no `event` declaration defines")
+TOOLKIT_EXTENSION = Code("D803", "toolkit-extension", W, "a member of the toolkit's own library is used; other tools may not have it")
+STANDARD_FILE_IMPORT = Code("D804", "standard-file-import", W, "the standard library is imported by file name instead of `import osc.standard`")
+UNITLESS_PHYSICAL_LITERAL = Code("D805", "unitless-physical-literal", W, "a plain number literal is given where a physical quantity is expected")
+ONE_OF_RACE = Code("D806", "one-of-race", W, "a `one_of` member is a `wait`: the toolkit runs `one_of` as a race")
+SPEC_EXAMPLE_PARAMETER = Code("D807", "nonstandard-parameter", W, "a parameter used in the standard's examples but not declared by its library")
+
+# --- S: suppressions and tooling -------------------------------------------
+UNUSED_SUPPRESSION = Code("S001", "unused-suppression", W, "a suppression comment matches no diagnostic")
+UNKNOWN_SUPPRESSION_CODE = Code("S002", "unknown-suppression-code", W, "a suppression comment names a code that does not exist")
+
+ALL: tuple[Code, ...] = tuple(v for v in list(globals().values()) if isinstance(v, Code))
+BY_CODE: dict[str, Code] = {c.code: c for c in ALL}
+BY_SLUG: dict[str, Code] = {c.slug: c for c in ALL}
+
+
+def lookup(name: str) -> Code | None:
+    """The code named by its code (``N101``) or slug (``undefined-name``)."""
+    return BY_CODE.get(name.upper()) or BY_SLUG.get(name.lower())
+
+
+def select(patterns: list[str]) -> set[Code]:
+    """Codes matched by prefixes such as ``N``, ``N1`` or ``N101``, or by slugs."""
+    chosen: set[Code] = set()
+    for pattern in patterns:
+        p = pattern.strip()
+        if p.upper() == "ALL":
+            chosen.update(ALL)
+            continue
+        code = BY_SLUG.get(p.lower())
+        if code:
+            chosen.add(code)
+            continue
+        chosen.update(c for c in ALL if c.code.startswith(p.upper()))
+    return chosen

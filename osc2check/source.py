@@ -1,0 +1,66 @@
+"""Source text, positions and spans.
+
+Lines and columns are 1-based and count Unicode code points, as the CLI prints
+them; ``start``/``end`` are 0-based offsets into the decoded text. The language
+server converts to LSP's 0-based UTF-16 positions in one place (``osc2lsp``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True, slots=True)
+class Span:
+    """A half-open region of one source file."""
+
+    uri: str
+    line: int
+    column: int
+    end_line: int
+    end_column: int
+    start: int = 0
+    end: int = 0
+
+    def contains(self, line: int, column: int) -> bool:
+        """True when the 1-based (line, column) lies inside this span (end inclusive)."""
+        if (line, column) < (self.line, self.column):
+            return False
+        return (line, column) <= (self.end_line, self.end_column)
+
+    def cover(self, other: Span) -> Span:
+        """The smallest span of the same file that covers both spans."""
+        first = self if (self.line, self.column) <= (other.line, other.column) else other
+        last = self if (self.end_line, self.end_column) >= (other.end_line, other.end_column) else other
+        return Span(
+            self.uri, first.line, first.column, last.end_line, last.end_column,
+            min(self.start, other.start), max(self.end, other.end),
+        )
+
+    def __str__(self) -> str:
+        return f"{self.uri}:{self.line}:{self.column}"
+
+
+def point_span(uri: str, text: str, offset: int) -> Span:
+    """A zero-width span at ``offset`` of ``text``."""
+    offset = max(0, min(offset, len(text)))
+    line = text.count("\n", 0, offset) + 1
+    column = offset - (text.rfind("\n", 0, offset) + 1) + 1
+    return Span(uri, line, column, line, column, offset, offset)
+
+
+def decode_source(data: bytes) -> tuple[str, str | None]:
+    """Decode file bytes as UTF-8 (BOM allowed). Returns (text, problem or None).
+
+    Invalid bytes are replaced, never raised on, so a damaged file still parses.
+    """
+    problem = None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        text = data.decode("utf-8-sig", errors="replace")
+        problem = f"invalid UTF-8 at byte {exc.start}"
+    if "\x00" in text:
+        text = text.replace("\x00", "\ufffd")
+        problem = problem or "NUL byte in source"
+    return text, problem
