@@ -1,0 +1,361 @@
+"""Configuration: ``[tool.osc2check]`` in ``pyproject.toml``, or ``osc2check.toml``.
+
+``load_config(start_dir)`` looks upward from ``start_dir`` for the nearest
+directory holding an ``osc2check.toml`` (its keys at top level) or a
+``pyproject.toml`` with a ``[tool.osc2check]`` table; in one directory the
+former wins. Keys are kebab-case (``fail-on``; ``fail_on`` is accepted too), and
+an unknown key or a bad value raises ``ConfigError`` naming the file and key.
+
+``Config.policy`` is the last step of an analysis: it applies select/ignore,
+per-file ignores, severity overrides and ``strict``, then sorts.
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field, replace
+from fnmatch import fnmatchcase
+from pathlib import Path, PurePosixPath
+from types import MappingProxyType
+from typing import Any
+from urllib.parse import unquote, urlparse
+
+from osc2check import codes
+from osc2check.codes import Code, Severity
+from osc2check.diagnostics import Diagnostic
+
+__all__ = [
+    "CONFIG_FILE",
+    "DEFAULT_EXCLUDE",
+    "OUTPUT_FORMATS",
+    "Config",
+    "ConfigError",
+    "config_from_mapping",
+    "find_config",
+    "load_config",
+    "load_config_file",
+    "parse_codes",
+    "parse_severity",
+]
+
+CONFIG_FILE = "osc2check.toml"
+OUTPUT_FORMATS = ("full", "concise", "json", "sarif", "github")
+FORMAT_ALIASES = {"text": "full"}
+DEFAULT_EXCLUDE = (
+    ".git", ".hg", ".svn", ".venv", "venv", ".tox", ".nox", "node_modules",
+    "build", "dist", "__pycache__", ".mypy_cache", ".ruff_cache", ".pytest_cache",
+)  # fmt: skip
+
+_ALL_CODES: frozenset[Code] = frozenset(codes.ALL)
+_SECTION = "tool.osc2check"
+
+
+class ConfigError(Exception):
+    """A configuration that cannot be used; ``str()`` names the file and the key."""
+
+    def __init__(self, message: str, path: Path | str | None = None, key: str | None = None):
+        super().__init__(message)
+        self.message = message
+        self.path = Path(path) if path is not None else None
+        self.key = key
+
+    def __str__(self) -> str:
+        where = [str(self.path)] if self.path is not None else []
+        if self.key:
+            where.append(self.key)
+        return ": ".join([*where, self.message])
+
+
+@dataclass(frozen=True)
+class Config:
+    """Settings of one run. ``root`` is the directory globs are relative to."""
+
+    select: frozenset[Code] = _ALL_CODES
+    ignore: frozenset[Code] = frozenset()
+    strict: bool = False
+    fail_on: Severity = Severity.ERROR
+    output_format: str = "full"
+    per_file_ignores: Mapping[str, frozenset[Code]] = field(default_factory=dict)
+    severity_overrides: Mapping[Code, Severity] = field(default_factory=dict)
+    exclude: tuple[str, ...] = ()
+    force_exclude: bool = False
+    road: Mapping[str, Any] = field(default_factory=dict)
+    solver: Mapping[str, Any] = field(default_factory=dict)
+    root: Path | None = None
+
+    def enabled(self, code: Code) -> bool:
+        """True when ``code`` is selected and not ignored."""
+        return code in self.select and code not in self.ignore
+
+    def ignored_in_file(self, code: Code, uri: str) -> bool:
+        """True when a ``per-file-ignores`` pattern matching ``uri`` lists ``code``."""
+        if not self.per_file_ignores:
+            return False
+        rel = self._relative(uri)
+        return any(
+            code in ignored and _glob_match(rel, pattern)
+            for pattern, ignored in self.per_file_ignores.items()
+        )
+
+    def is_excluded(self, path: str | Path) -> bool:
+        """True when ``path`` matches a built-in or configured ``exclude`` pattern."""
+        rel = self._relative(str(path))
+        return any(_glob_match(rel, p) for p in (*DEFAULT_EXCLUDE, *self.exclude))
+
+    def severity_of(self, diagnostic: Diagnostic) -> Severity:
+        """The severity after overrides; ``strict`` turns every D code into an error."""
+        severity = self.severity_overrides.get(diagnostic.code, diagnostic.severity)
+        if self.strict and diagnostic.code.family == "D":
+            return Severity.ERROR
+        return severity
+
+    def policy(self, diagnostics: Iterable[Diagnostic], uri: str | None = None) -> list[Diagnostic]:
+        """Filter and re-grade ``diagnostics`` by this configuration, sorted by ``sort_key``.
+
+        ``uri`` is the file the per-file ignores are matched against; ``None``
+        means each diagnostic's own ``span.uri``.
+        """
+        kept = []
+        for d in diagnostics:
+            if not self.enabled(d.code) or self.ignored_in_file(d.code, uri or d.span.uri):
+                continue
+            severity = self.severity_of(d)
+            kept.append(d if severity == d.severity else replace(d, severity=severity))
+        return sorted(kept, key=lambda d: d.sort_key)
+
+    def fails(self, diagnostics: Iterable[Diagnostic]) -> bool:
+        """True when some diagnostic is at or above the ``fail_on`` severity."""
+        return any(d.severity <= self.fail_on for d in diagnostics)
+
+    def _relative(self, uri: str) -> str:
+        path = _uri_path(uri)
+        base = self.root or Path.cwd()
+        try:
+            return Path(path).resolve().relative_to(base.resolve()).as_posix()
+        except (ValueError, OSError):
+            return PurePosixPath(Path(path).as_posix()).as_posix()
+
+
+def _uri_path(uri: str) -> str:
+    if uri.startswith("file://"):
+        return unquote(urlparse(uri).path)
+    return uri
+
+
+def _glob_match(rel: str, pattern: str) -> bool:
+    """Match a ``/``-separated relative path against a glob.
+
+    A pattern without ``/`` matches any path component (a file or directory
+    name); a pattern naming a directory matches everything below it.
+    """
+    pat = pattern.strip().rstrip("/")
+    if pat.startswith("./"):
+        pat = pat[2:]
+    if not pat:
+        return False
+    if "/" not in pat:
+        return any(fnmatchcase(part, pat) for part in rel.split("/"))
+    candidates = [pat, pat + "/*"]
+    if pat.startswith("**/"):
+        candidates += [pat[3:], pat[3:] + "/*"]
+    return any(fnmatchcase(rel, c) for c in candidates)
+
+
+# --- reading ------------------------------------------------------------------
+
+
+def parse_codes(
+    patterns: Iterable[str], *, path: Path | str | None = None, key: str | None = None
+) -> frozenset[Code]:
+    """Codes named by codes, slugs or prefixes (``N``, ``N1``, ``N101``, ``ALL``).
+
+    Every pattern must name at least one code, else ``ConfigError``.
+    """
+    chosen: set[Code] = set()
+    for pattern in patterns:
+        if not isinstance(pattern, str):
+            raise ConfigError(f"expected a code, got {pattern!r}", path, key)
+        found = codes.select([pattern]) if pattern.strip() else set()
+        if not found:
+            raise ConfigError(f"unknown code, name or prefix {pattern!r}", path, key)
+        chosen |= found
+    return frozenset(chosen)
+
+
+def parse_severity(
+    value: object, *, path: Path | str | None = None, key: str | None = None
+) -> Severity:
+    """``"error"``, ``"warning"`` or ``"info"`` (any case) as a ``Severity``."""
+    names = {s.label: s for s in Severity}
+    if isinstance(value, str) and value.lower() in names:
+        return names[value.lower()]
+    raise ConfigError(f"expected one of {', '.join(map(repr, names))}, got {value!r}", path, key)
+
+
+def _expect(value: object, kind: type | tuple[type, ...], what: str, path, key) -> Any:
+    if not isinstance(value, kind) or (kind is not bool and isinstance(value, bool)):
+        raise ConfigError(f"expected {what}, got {value!r}", path, key)
+    return value
+
+
+def _string_list(value: object, path, key) -> list[str]:
+    _expect(value, list, "a list of strings", path, key)
+    for item in value:  # type: ignore[attr-defined]
+        _expect(item, str, "a list of strings", path, key)
+    return list(value)  # type: ignore[call-overload]
+
+
+def _read_select(v: object, path, key) -> dict[str, Any]:
+    return {"select": parse_codes(_string_list(v, path, key), path=path, key=key)}
+
+
+def _read_ignore(v: object, path, key) -> dict[str, Any]:
+    return {"ignore": parse_codes(_string_list(v, path, key), path=path, key=key)}
+
+
+def _read_strict(v: object, path, key) -> dict[str, Any]:
+    return {"strict": _expect(v, bool, "true or false", path, key)}
+
+
+def _read_force_exclude(v: object, path, key) -> dict[str, Any]:
+    return {"force_exclude": _expect(v, bool, "true or false", path, key)}
+
+
+def _read_fail_on(v: object, path, key) -> dict[str, Any]:
+    return {"fail_on": parse_severity(v, path=path, key=key)}
+
+
+def _read_output_format(v: object, path, key) -> dict[str, Any]:
+    name = FORMAT_ALIASES.get(str(v), v)
+    if name not in OUTPUT_FORMATS:
+        choices = ", ".join(map(repr, OUTPUT_FORMATS))
+        raise ConfigError(f"expected one of {choices}, got {v!r}", path, key)
+    return {"output_format": name}
+
+
+def _read_per_file_ignores(v: object, path, key) -> dict[str, Any]:
+    table = _expect(v, dict, 'a table of glob = ["CODE", ...]', path, key)
+    result = {}
+    for pattern, names in table.items():
+        sub = f'{key}."{pattern}"'
+        result[pattern] = parse_codes(_string_list(names, path, sub), path=path, key=sub)
+    return {"per_file_ignores": MappingProxyType(result)}
+
+
+def _read_severity(v: object, path, key) -> dict[str, Any]:
+    table = _expect(v, dict, 'a table of CODE = "error" | "warning" | "info"', path, key)
+    result: dict[Code, Severity] = {}
+    for name, level in table.items():
+        sub = f"{key}.{name}"
+        severity = parse_severity(level, path=path, key=sub)
+        for code in parse_codes([name], path=path, key=sub):
+            result[code] = severity
+    return {"severity_overrides": MappingProxyType(result)}
+
+
+def _read_exclude(v: object, path, key) -> dict[str, Any]:
+    return {"exclude": tuple(_string_list(v, path, key))}
+
+
+def _raw_table(name: str):
+    def read(v: object, path, key) -> dict[str, Any]:
+        return {name: MappingProxyType(dict(_expect(v, dict, "a table", path, key)))}
+
+    return read
+
+
+_READERS = {
+    "select": _read_select,
+    "ignore": _read_ignore,
+    "strict": _read_strict,
+    "fail-on": _read_fail_on,
+    "output-format": _read_output_format,
+    "per-file-ignores": _read_per_file_ignores,
+    "severity": _read_severity,
+    "exclude": _read_exclude,
+    "force-exclude": _read_force_exclude,
+    "road": _raw_table("road"),
+    "solver": _raw_table("solver"),
+}
+
+
+def config_from_mapping(
+    data: Mapping[str, Any],
+    *,
+    path: Path | str | None = None,
+    root: Path | None = None,
+    prefix: str = "",
+) -> Config:
+    """A ``Config`` from the keys of one TOML table (``prefix`` names the table in errors)."""
+    values: dict[str, Any] = {}
+    for raw_key, value in data.items():
+        name = raw_key.replace("_", "-")
+        key = f"{prefix}{raw_key}"
+        reader = _READERS.get(name)
+        if reader is None:
+            close = difflib.get_close_matches(name, _READERS, n=1)
+            hint = f"; did you mean {close[0]!r}?" if close else ""
+            raise ConfigError(f"unknown key{hint}", path, key)
+        values.update(reader(value, path, key))
+    return Config(root=root, **values)
+
+
+def _read_toml(path: Path) -> dict[str, Any]:
+    try:
+        with path.open("rb") as f:
+            return tomllib.load(f)
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigError(f"invalid TOML: {exc}", path) from None
+    except OSError as exc:
+        raise ConfigError(f"cannot read: {exc.strerror or exc}", path) from None
+
+
+def _tool_table(data: Mapping[str, Any], path: Path) -> Mapping[str, Any] | None:
+    tool = data.get("tool")
+    if not isinstance(tool, dict) or "osc2check" not in tool:
+        return None
+    table = tool["osc2check"]
+    if not isinstance(table, dict):
+        raise ConfigError("expected a table", path, _SECTION)
+    return table
+
+
+def load_config_file(path: str | Path) -> Config:
+    """The configuration in one file: a ``pyproject.toml`` or an ``osc2check.toml``."""
+    path = Path(path)
+    data = _read_toml(path)
+    root = path.resolve().parent
+    table = _tool_table(data, path)
+    if table is not None:
+        return config_from_mapping(table, path=path, root=root, prefix=f"{_SECTION}.")
+    if path.name == "pyproject.toml":
+        raise ConfigError(f"no [{_SECTION}] table", path)
+    return config_from_mapping(data, path=path, root=root)
+
+
+def find_config(start_dir: str | Path) -> Path | None:
+    """The nearest ``osc2check.toml`` or ``pyproject.toml`` with our table, looking upward."""
+    start = Path(start_dir).resolve()
+    if start.is_file():
+        start = start.parent
+    for directory in (start, *start.parents):
+        own = directory / CONFIG_FILE
+        if own.is_file():
+            return own
+        pyproject = directory / "pyproject.toml"
+        if pyproject.is_file() and _tool_table(_read_toml(pyproject), pyproject) is not None:
+            return pyproject
+    return None
+
+
+def load_config(start_dir: str | Path) -> tuple[Config, Path | None]:
+    """The configuration that applies to ``start_dir`` and the file it came from.
+
+    Without a configuration file, the defaults (and ``None``).
+    """
+    path = find_config(start_dir)
+    if path is None:
+        return Config(), None
+    return load_config_file(path), path

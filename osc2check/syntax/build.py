@@ -1,0 +1,477 @@
+"""Build AST nodes from lark's parse callbacks: one method per rule or alias.
+
+The builder runs inline in the LALR parser (no intermediate lark ``Tree``), so
+it must be pure: error recovery forks the parser and may call a method on
+children that a fork later discards. Spans are computed from the first and
+last child. The file being parsed is held in a context variable, because the
+parser (and this builder) is shared by every parse in the process.
+"""
+
+from __future__ import annotations
+
+import re
+from contextvars import ContextVar
+from dataclasses import dataclass
+from fractions import Fraction
+
+from lark import Token, Transformer
+
+from osc2check.source import Span
+from osc2check.syntax import ast
+
+_URI: ContextVar[str] = ContextVar("osc2_uri", default="")
+_PROBLEMS: ContextVar[list | None] = ContextVar("osc2_build_problems", default=None)
+
+_PHYSICAL = re.compile(r"((?:\d+(?:\.\d+)?|\.\d+)(?:[eE][+-]?\d+)?)(.*)", re.DOTALL)
+_ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "\\": "\\", '"': '"', "'": "'", "0": "\0"}
+
+
+@dataclass(frozen=True, slots=True)
+class BuildProblem:
+    """Grammatical but meaningless input, such as ``x.y`` where an invocation is expected."""
+
+    span: Span
+    kind: str
+
+
+@dataclass(frozen=True, slots=True)
+class _Group:
+    """Children of a helper rule (arguments, a with block) until the parent unpacks them."""
+
+    kind: str
+    items: tuple
+    span: Span | None
+
+
+def _tok_span(tok: Token) -> Span:
+    return Span(_URI.get(), tok.line, tok.column, tok.end_line, tok.end_column,
+                tok.start_pos, tok.end_pos)
+
+
+def span_of(item) -> Span | None:
+    if isinstance(item, Token):
+        return _tok_span(item)
+    if isinstance(item, ast.Node):
+        return item.span
+    if isinstance(item, _Group):
+        return item.span
+    return None
+
+
+def _cover(children) -> Span:
+    first = last = None
+    for child in children:
+        s = span_of(child)
+        if s is not None:
+            if first is None:
+                first = s
+            last = s
+    if first is None:
+        return Span(_URI.get(), 1, 1, 1, 1, 0, 0)
+    return Span(first.uri, first.line, first.column, last.end_line, last.end_column,
+                first.start, last.end)
+
+
+def _nodes(children, kind) -> tuple:
+    return tuple(c for c in children if isinstance(c, kind))
+
+
+def _group(children, kind: str) -> tuple:
+    for c in children:
+        if isinstance(c, _Group) and c.kind == kind:
+            return c.items
+    return ()
+
+
+def _first(children, kind):
+    for c in children:
+        if isinstance(c, kind):
+            return c
+    return None
+
+
+def _has(children, token_type: str) -> bool:
+    return any(isinstance(c, Token) and c.type == token_type for c in children)
+
+
+def _report(span: Span, kind: str) -> None:
+    problems = _PROBLEMS.get()
+    if problems is not None:
+        problems.append(BuildProblem(span, kind))
+
+
+def _unescape(body: str) -> str:
+    if "\\" not in body:
+        return body
+    out, i = [], 0
+    while i < len(body):
+        ch = body[i]
+        if ch == "\\" and i + 1 < len(body):
+            out.append(_ESCAPES.get(body[i + 1], body[i + 1]))
+            i += 2
+        else:
+            out.append(ch)
+            i += 1
+    return "".join(out)
+
+
+class Builder(Transformer):
+    """Lark callbacks that return ``ast`` nodes."""
+
+    # ---- names ---------------------------------------------------------------
+
+    def name(self, c):
+        tok = c[0]
+        return ast.Name(_tok_span(tok), str(tok))
+
+    def plain_name(self, c):
+        return ast.QualifiedName(c[0].span, None, c[0])
+
+    def prefixed_name(self, c):
+        return ast.QualifiedName(_cover(c), c[0].text, c[1])
+
+    def global_name(self, c):
+        return ast.QualifiedName(c[0].span, "", c[0])
+
+    def dotted_name(self, c):
+        return _Group("dotted", tuple(c), _cover(c))
+
+    def behavior_name(self, c):
+        if len(c) == 2 and c[1] is not None:
+            return ast.BehaviorName(_cover(c), c[0], c[1])
+        qn = c[0]
+        return ast.BehaviorName(qn.span, None, qn.name, qn.namespace)
+
+    def named_type(self, c):
+        return ast.NamedType(c[0].span, c[0])
+
+    def list_type(self, c):
+        return ast.ListType(_cover(c), c[-1])
+
+    def range_type(self, c):
+        return ast.RangeType(_cover(c), c[-1])
+
+    # ---- literals and expressions ------------------------------------------
+
+    def int_literal(self, c):
+        tok = c[0]
+        text = str(tok)
+        try:
+            value = int(text, 16) if text[:2] in ("0x", "0X") else int(text or "0")
+        except ValueError:
+            value = 0
+        return ast.IntLiteral(_tok_span(tok), value, text)
+
+    def float_literal(self, c):
+        tok = c[0]
+        return ast.FloatLiteral(_tok_span(tok), float(str(tok) or "0"), str(tok))
+
+    def physical_literal(self, c):
+        tok = c[0]
+        span = _tok_span(tok)
+        m = _PHYSICAL.fullmatch(str(tok))
+        number_text, unit_text = (m.group(1), m.group(2)) if m else ("0", str(tok))
+        unit_start = tok.start_pos + len(number_text)
+        unit_span = Span(span.uri, tok.line, tok.column + len(number_text), tok.end_line,
+                         tok.end_column, unit_start, tok.end_pos)
+        return ast.PhysicalLiteral(span, Fraction(number_text), number_text,
+                                   ast.Name(unit_span, unit_text))
+
+    def string_literal(self, c):
+        tok = c[0]
+        text = str(tok)
+        q = 3 if text[:3] in ('"""', "'''") else 1
+        body = text[q:-q] if len(text) >= 2 * q and text[-q:] == text[:q] else text[q:]
+        return ast.StringLiteral(_tok_span(tok), _unescape(body))
+
+    def bool_literal(self, c):
+        return ast.BoolLiteral(_tok_span(c[0]), c[0].type == "TRUE")
+
+    def name_ref(self, c):
+        return ast.NameRef(c[0].span, c[0])
+
+    def enum_ref(self, c):
+        return ast.EnumRef(_cover(c), c[0], c[1])
+
+    def member_access(self, c):
+        return ast.MemberAccess(_cover(c), c[0], c[1])
+
+    def call(self, c):
+        args = c[1].items if isinstance(c[1], _Group) else ()
+        end = c[1].span if isinstance(c[1], _Group) and c[1].span else c[0].span
+        return ast.Call(_cover([c[0], end]), c[0], args)
+
+    def index(self, c):
+        return ast.Index(_cover(c), c[0], c[1])
+
+    def unary(self, c):
+        return ast.Unary(_cover(c), str(c[0]) or "-", c[1])
+
+    def binary(self, c):
+        return ast.Binary(_cover(c), str(c[1]) or "+", c[0], c[2])
+
+    def implies(self, c):
+        return ast.Binary(_cover(c), "=>", c[0], c[1])
+
+    def ternary(self, c):
+        return ast.Ternary(_cover(c), c[0], c[1], c[2])
+
+    def list_literal(self, c):
+        items = tuple(x for x in c if x is not None and not isinstance(x, Token))
+        return ast.ListLiteral(_cover(c), items)
+
+    def range_literal(self, c):
+        return ast.RangeLiteral(_cover(c), c[0], c[-1])
+
+    def arguments(self, c):
+        return _Group("args", tuple(c), _cover(c))
+
+    def positional_argument(self, c):
+        return ast.PositionalArgument(c[0].span, c[0])
+
+    def named_argument(self, c):
+        return ast.NamedArgument(_cover(c), c[0], c[1])
+
+    def event_argument(self, c):
+        path = c[1].items
+        return ast.EventArgument(_cover(c), path)
+
+    def event_path(self, c):
+        return _Group("path", tuple(c), _cover(c))
+
+    def event_reference(self, c):
+        path = c[1].items
+        alias = condition = None
+        rest = c[2:]
+        for i, item in enumerate(rest):
+            if isinstance(item, Token) and item.type == "AS" and i + 1 < len(rest):
+                alias = rest[i + 1]
+            elif isinstance(item, Token) and item.type == "IF" and i + 1 < len(rest):
+                condition = rest[i + 1]
+        return ast.EventReference(_cover(c), path, alias, condition)
+
+    def event_condition(self, c):
+        return ast.EventCondition(c[0].span, c[0])
+
+    # ---- members -------------------------------------------------------------
+
+    def member_end(self, c):
+        return _Group("with", c[0].items, c[0].span) if c else _Group("with", (), None)
+
+    def with_block(self, c):
+        items = tuple(x for x in c if isinstance(x, ast.Node))
+        return _Group("with", items, _cover(c))
+
+    def field_decl(self, c):
+        names = _nodes(c, ast.Name)
+        type_ref = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
+        default = self._default(c, type_ref)
+        return ast.FieldDecl(_cover(c), names, type_ref, default, _group(c, "with"), False)
+
+    def var_decl(self, c):
+        names = _nodes(c, ast.Name)
+        type_ref = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
+        default = self._default(c, type_ref)
+        return ast.FieldDecl(_cover(c), names, type_ref, default, _group(c, "with"), True)
+
+    @staticmethod
+    def _default(c, type_ref):
+        # The default is the expression after the type (names come first).
+        seen_type = type_ref is None
+        for item in c:
+            if item is type_ref:
+                seen_type = True
+            elif seen_type and isinstance(item, ast.Node) and not isinstance(item, ast.Name):
+                return item
+        return None
+
+    def parameters(self, c):
+        return _Group("params", tuple(c), _cover(c))
+
+    def parameter(self, c):
+        return ast.Parameter(_cover(c), c[0], c[1], c[2] if len(c) > 2 else None)
+
+    def event_decl(self, c):
+        name = _first(c, ast.Name)
+        spec = _first(c, (ast.EventReference, ast.EventCondition))
+        return ast.EventDecl(_cover(c), name, _group(c, "params"), spec)
+
+    def constraint_strength(self, c):
+        return c[0]
+
+    def keep_stmt(self, c):
+        strength = "default" if _has(c, "DEFAULT") else "hard"
+        expr = c[-1] if isinstance(c[-1], ast.Node) else ast.Missing(_cover(c))
+        return ast.KeepConstraint(_cover(c), strength, expr)
+
+    def remove_default_stmt(self, c):
+        return ast.RemoveDefault(_cover(c), c[-1])
+
+    def method_expression(self, c):
+        return ("expression", c[-1], (), ())
+
+    def method_undefined(self, c):
+        return ("undefined", None, (), ())
+
+    def method_external(self, c):
+        args = _group(c, "args")
+        return ("external", None, _group(c, "dotted"), args)
+
+    def method_decl(self, c):
+        name = c[1]
+        body = next(x for x in c if isinstance(x, tuple))
+        return_type = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
+        kind, expr, external, ext_args = body
+        return ast.MethodDecl(_cover([c[0], *[x for x in c if not isinstance(x, tuple)], expr]),
+                              name, _group(c, "params"), return_type, _has(c, "ONLY"), kind,
+                              expr, external, ext_args)
+
+    def coverage_stmt(self, c):
+        return ast.CoverageDecl(_cover(c), str(c[0]) or "cover", _group(c, "args"))
+
+    def invocation_stmt(self, c):
+        expr, with_group = c[0], c[1]
+        span = _cover([expr, with_group])
+        if isinstance(expr, ast.Call):
+            callee = expr.callee
+            if isinstance(callee, ast.MemberAccess):
+                return ast.Invocation(span, callee.target, callee.member, expr.arguments,
+                                      with_group.items)
+            if isinstance(callee, ast.NameRef):
+                return ast.Invocation(span, None, callee.name.name, expr.arguments,
+                                      with_group.items)
+        _report(expr.span, "not-invocation")
+        name = expr.member if isinstance(expr, ast.MemberAccess) else ast.Name(expr.span, "")
+        return ast.Invocation(span, None, name, (), with_group.items)
+
+    def until_stmt(self, c):
+        return ast.Until(_cover(c), c[-1])
+
+    def on_block(self, c):
+        event = c[1]
+        members = tuple(x for x in c[2:] if isinstance(x, ast.Node))
+        return ast.OnDirective(_cover(c), event, members)
+
+    # ---- behaviour -----------------------------------------------------------
+
+    def do_block(self, c):
+        return ast.DoDirective(_cover(c), c[-1])
+
+    def do_member(self, c):
+        label, body = c[0], c[-1]
+        return ast.DoMember(_cover([x for x in c if x is not None]), label, body)
+
+    def composition_op(self, c):
+        return c[0]
+
+    def composition(self, c):
+        op = c[0]
+        members = _nodes(c, ast.DoMember)
+        return ast.Composition(_cover(c), str(op) or "serial", _group(c, "args"), members,
+                               _group(c, "with"))
+
+    def wait_stmt(self, c):
+        return ast.Wait(_cover(c), c[-1])
+
+    def emit_stmt(self, c):
+        return ast.Emit(_cover(c), c[1], _group(c, "args"))
+
+    def call_stmt(self, c):
+        return ast.CallDirective(_cover(c), c[-1])
+
+    # ---- declarations --------------------------------------------------------
+
+    def import_file(self, c):
+        lit = self.string_literal([c[1]])
+        return ast.ImportDecl(_cover(c), "file", lit.value, lit.span)
+
+    def import_module(self, c):
+        dotted = c[1]
+        target = ".".join(n.text for n in dotted.items)
+        return ast.ImportDecl(_cover(c), "module", target, dotted.span)
+
+    def use_stmt(self, c):
+        names = tuple(g.items for g in c if isinstance(g, _Group))
+        return ast.UseStatement(_cover(c), names)
+
+    def namespace_stmt(self, c):
+        names = _nodes(c, ast.Name)
+        return ast.NamespaceDecl(_cover(c), names[0], names[1:])
+
+    def export_stmt(self, c):
+        return ast.ExportDecl(_cover(c), _nodes(c, ast.ExportItem))
+
+    def export_name(self, c):
+        return ast.ExportItem(c[0].span, "name", c[0], None)
+
+    def export_namespace(self, c):
+        return ast.ExportItem(_cover(c), "namespace", None, c[0])
+
+    def export_all(self, c):
+        return ast.ExportItem(_cover(c), "all", None, None)
+
+    def si_spec(self, c):
+        return _Group("si", c[0].items if isinstance(c[0], _Group) else (), _cover(c))
+
+    def type_decl(self, c):
+        return ast.PhysicalTypeDecl(_cover(c), c[1], _group(c, "si"))
+
+    def unit_decl(self, c):
+        return ast.UnitDecl(_cover(c), c[1], c[3], _group(c, "si"))
+
+    def enum_members(self, c):
+        return _Group("enum", _nodes(c, ast.EnumMember), _cover(c))
+
+    def enum_member(self, c):
+        return ast.EnumMember(_cover(c), c[0], c[1] if len(c) > 1 else None)
+
+    def enum_decl(self, c):
+        return ast.EnumDecl(_cover(c), c[1], _group(c, "enum"))
+
+    def extend_enum(self, c):
+        return ast.EnumExtension(_cover(c), c[1], _group(c, "enum"))
+
+    def extend_type(self, c):
+        return ast.ExtendDecl(_cover(c), c[1], _group(c, "body"))
+
+    def inherits(self, c):
+        condition = c[2] if len(c) > 2 and isinstance(c[2], ast.Node) else None
+        return ast.Inherits(_cover(c), c[1], condition)
+
+    def body(self, c):
+        members = tuple(x for x in c if isinstance(x, ast.Node))
+        return _Group("body", members, _cover(members) if members else None)
+
+    def _structured(self, cls, c, **extra):
+        name = c[1]
+        if isinstance(name, ast.QualifiedName):
+            name = ast.BehaviorName(name.span, None, name.name, name.namespace)
+        inherits = _first(c, ast.Inherits)
+        members = _group(c, "body")
+        return cls(_cover(c), name, inherits, members, bool(members), **extra)
+
+    def struct_decl(self, c):
+        if isinstance(c[1], ast.Name):
+            c = [c[0], ast.QualifiedName(c[1].span, None, c[1]), *c[2:]]
+        return self._structured(ast.StructDecl, c)
+
+    def actor_decl(self, c):
+        return self._structured(ast.ActorDecl, c)
+
+    def scenario_decl(self, c):
+        return self._structured(ast.ScenarioDecl, c)
+
+    def action_decl(self, c):
+        return self._structured(ast.ActionDecl, c)
+
+    def modifier_decl(self, c):
+        names = _nodes(c, ast.BehaviorName)
+        of = names[1] if len(names) > 1 else None
+        return self._structured(ast.ModifierDecl, c, of=of)
+
+    def global_decl(self, c):
+        return ast.GlobalDecl(_cover(c), c[1])
+
+    def start(self, c):
+        decls = tuple(x for x in c if isinstance(x, ast.Node))
+        return ast.File(_cover(decls), decls)

@@ -1,0 +1,129 @@
+"""Split OSC2 text into tokens, never raising.
+
+The regular expressions come from the terminals of ``grammar/osc2.lark``;
+keywords are string terminals that look like names. Unknown characters and
+unterminated strings become errors and lexing goes on. Newlines are kept as
+``NEWLINE`` tokens for the indenter; comments are collected separately (the
+suppression comments and the doc comments of declarations need them).
+"""
+
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass
+from functools import cache
+
+from lark import Token
+from lark.lexer import PatternStr
+
+from osc2check.syntax.grammar import lark_parser
+
+NEWLINE = "NEWLINE"
+STRING = "STRING"
+NAME = "NAME"
+
+# Regex terminals in the order they are tried; the first that matches wins.
+_REGEX_ORDER = ("HEX", "PHYSICAL", "FLOAT", "INT", "STRING", "NAME")
+# Operator terminals are alternatives of fixed strings in the grammar.
+_OPERATOR_TERMINALS = ("REL_OP", "ADD_OP", "MUL_OP")
+
+
+@dataclass(frozen=True, slots=True)
+class LexError:
+    offset: int
+    length: int
+    kind: str  # "character" | "string"
+    text: str
+
+
+@dataclass(frozen=True, slots=True)
+class Comment:
+    offset: int
+    line: int
+    column: int
+    text: str
+
+
+@dataclass(slots=True)
+class LexResult:
+    tokens: list[Token]
+    comments: list[Comment]
+    errors: list[LexError]
+
+
+@cache
+def _tables() -> tuple[re.Pattern, dict[str, str]]:
+    terminals = {t.name: t for t in lark_parser().terminals}
+    keywords: dict[str, str] = {}
+    punctuation: dict[str, str] = {}
+    name_re = re.compile(terminals["NAME"].pattern.value)
+    for term in terminals.values():
+        if isinstance(term.pattern, PatternStr):
+            value = term.pattern.value
+            (keywords if name_re.fullmatch(value) else punctuation)[value] = term.name
+    for op in _OPERATOR_TERMINALS:
+        source = terminals[op].pattern.value
+        inner = source[3:-1] if source.startswith("(?:") else source
+        for alternative in inner.split("|"):
+            punctuation[re.sub(r"\\(.)", r"\1", alternative)] = op
+    parts = [
+        r"(?P<NEWLINE>\r\n|\r|\n)",
+        r"(?P<WS>[ \t\f]+)",
+        r"(?P<CONT>\\[ \t\f]*(?:\r\n|\r|\n))",
+        r"(?P<COMMENT>#[^\r\n]*)",
+    ]
+    for name in _REGEX_ORDER:
+        parts.append(f"(?P<{name}>{terminals[name].pattern.value})")
+    parts.append(r"""(?P<BADSTRING>\"\"\"[\s\S]*|'''[\s\S]*|"[^\r\n]*|'[^\r\n]*)""")
+    ordered = sorted(punctuation, key=len, reverse=True)
+    parts.append("(?P<PUNCT>" + "|".join(re.escape(p) for p in ordered) + ")")
+    parts.append(r"(?P<ERROR>.)")
+    return re.compile("|".join(parts), re.DOTALL), {**keywords, **punctuation}
+
+
+def tokenize(text: str) -> LexResult:
+    """Tokens with 1-based line/column positions, comments and lexical errors."""
+    pattern, fixed = _tables()
+    tokens: list[Token] = []
+    comments: list[Comment] = []
+    errors: list[LexError] = []
+    line, line_start = 1, 0
+    append = tokens.append
+    for match in pattern.finditer(text):
+        kind = match.lastgroup
+        start, end = match.span()
+        value = match.group()
+        column = start - line_start + 1
+        if kind == "WS":
+            continue
+        if kind == "NEWLINE":
+            append(Token(NEWLINE, value, start, line, column, line, column + len(value), end))
+            line += 1
+            line_start = end
+            continue
+        if kind == "CONT":
+            line += 1
+            line_start = end
+            continue
+        if kind == "COMMENT":
+            comments.append(Comment(start, line, column, value))
+            continue
+        if kind == "ERROR":
+            errors.append(LexError(start, 1, "character", value))
+            continue
+        if kind == "BADSTRING":
+            errors.append(LexError(start, end - start, "string", value))
+            kind = STRING
+        elif kind == "PUNCT" or kind == NAME:
+            kind = fixed.get(value, kind)
+        newlines = value.count("\n") if kind == STRING else 0
+        if newlines:
+            end_line = line + newlines
+            end_column = len(value) - value.rfind("\n")
+        else:
+            end_line, end_column = line, column + len(value)
+        append(Token(kind, value, start, line, column, end_line, end_column, end))
+        if newlines:
+            line = end_line
+            line_start = start + value.rfind("\n") + 1
+    return LexResult(tokens, comments, errors)

@@ -1,0 +1,145 @@
+"""``parse(text, uri)``: the tolerant front end. Never raises on any input."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cache
+
+from lark import Token
+
+from osc2check import messages
+from osc2check.diagnostics import Diagnostic
+from osc2check.source import Span
+from osc2check.syntax import ast
+from osc2check.syntax.build import _PROBLEMS, _URI, Builder
+from osc2check.syntax.grammar import grammar_text, lark_parser
+from osc2check.syntax.indent import indent
+from osc2check.syntax.lexer import Comment, tokenize
+from osc2check.syntax.recover import parse_tokens
+
+# How terminals read in messages.
+_DESCRIPTIONS = {
+    "NAME": "a name", "INT": "a number", "HEX": "a number", "FLOAT": "a number",
+    "PHYSICAL": "a physical value such as `10kph`", "STRING": "a string",
+    "_NL": "end of line", "_INDENT": "an indented block", "_DEDENT": "end of block",
+    "$END": "end of file", "REL_OP": "a comparison", "ADD_OP": "`+` or `-`",
+    "MUL_OP": "`*`, `/` or `%`",
+}
+
+
+@dataclass(frozen=True, slots=True)
+class ParseResult:
+    uri: str
+    text: str
+    ast: ast.File
+    diagnostics: tuple[Diagnostic, ...]
+    comments: tuple[Comment, ...]
+
+    def comment_spans(self) -> list[tuple[Span, str]]:
+        """Comments as (span, text) pairs, the form suppressions read."""
+        return [(Span(self.uri, c.line, c.column, c.line, c.column + len(c.text), c.offset,
+                      c.offset + len(c.text)), c.text) for c in self.comments]
+
+
+@cache
+def _terminal_text() -> dict[str, str]:
+    table = dict(_DESCRIPTIONS)
+    for term in lark_parser().terminals:
+        value = getattr(term.pattern, "value", "")
+        if term.name not in table and type(term.pattern).__name__ == "PatternStr":
+            table[term.name] = f"`{value}`"
+    return table
+
+
+@cache
+def _builder_parser():
+    return lark_parser(Builder())
+
+
+def _describe(kind: str) -> str:
+    return _terminal_text().get(kind, kind.lower())
+
+
+def _found(tok: Token) -> str:
+    if tok.type in ("_NL", "_INDENT", "_DEDENT", "$END"):
+        return _describe(tok.type)
+    return f"`{tok}`" if len(tok) <= 30 else f"`{str(tok)[:27]}...`"
+
+
+def _expected(kinds) -> list[str]:
+    preferred = [k for k in kinds if not k.startswith("_") and k != "$END"]
+    names = sorted({_describe(k) for k in preferred})
+    if len(names) > 6:
+        return []
+    return names
+
+
+def _tok_span(uri: str, tok: Token) -> Span:
+    end_col = tok.end_column if tok.end_pos > tok.start_pos else tok.column + 1
+    end_pos = tok.end_pos if tok.end_pos > tok.start_pos else tok.start_pos
+    return Span(uri, tok.line, tok.column, tok.end_line, end_col, tok.start_pos, end_pos)
+
+
+def _offset_span(uri: str, text: str, start: int, length: int) -> Span:
+    line = text.count("\n", 0, start) + 1
+    col = start - (text.rfind("\n", 0, start) + 1) + 1
+    return Span(uri, line, col, line, col + length, start, start + length)
+
+
+def parse(text: str, uri: str = "<string>") -> ParseResult:
+    """Parse OSC2 source text into an AST and syntax diagnostics."""
+    diagnostics: list[Diagnostic] = []
+    lexed = tokenize(text)
+    for err in lexed.errors:
+        span = _offset_span(uri, text, err.offset, err.length if err.kind == "character" else 1)
+        if err.kind == "string":
+            diagnostics.append(messages.unterminated_string(span))
+        else:
+            diagnostics.append(messages.unexpected_character(span, err.text))
+    tokens, layout_errors = indent(lexed.tokens, text)
+    unclosed_lines = set()
+    for err in layout_errors:
+        span = _tok_span(uri, err.token)
+        if err.kind == "unclosed":
+            unclosed_lines.add(err.token.line)
+            diagnostics.append(messages.unclosed_bracket(span, str(err.token)))
+        elif err.kind == "indent":
+            diagnostics.append(messages.unexpected_indent(span))
+        else:
+            diagnostics.append(messages.inconsistent_dedent(span, err.token.column - 1,
+                                                            err.expected))
+    problems: list = []
+    uri_token = _URI.set(uri)
+    problems_token = _PROBLEMS.set(problems)
+    try:
+        tree, syntax = parse_tokens(_builder_parser(), tokens)
+    finally:
+        _URI.reset(uri_token)
+        _PROBLEMS.reset(problems_token)
+    reported_lines = {d.span.line for d in diagnostics}
+    for problem in syntax:
+        tok = problem.token
+        if problem.inserted and (tok.line in unclosed_lines or tok.line in reported_lines):
+            continue
+        span = _tok_span(uri, tok)
+        if problem.inserted and all(k in _terminal_text() for k in problem.inserted):
+            missing = [_describe(k) for k in problem.inserted]
+            diagnostics.append(messages.missing_tokens(span, missing))
+        elif tok.type == "_INDENT":
+            diagnostics.append(messages.unexpected_indent(span))
+        else:
+            diagnostics.append(messages.syntax_error(span, _found(tok),
+                                                     _expected(problem.expected)))
+    for problem in problems:
+        diagnostics.append(messages.not_an_invocation(problem.span))
+    if not isinstance(tree, ast.File):
+        tree = ast.File(Span(uri, 1, 1, 1, 1, 0, 0), ())
+    diagnostics.sort(key=lambda d: d.sort_key)
+    return ParseResult(uri, text, tree, tuple(diagnostics), tuple(lexed.comments))
+
+
+def grammar_version() -> str:
+    """A short hash of the grammar text, for caches keyed by parser behaviour."""
+    import hashlib
+
+    return hashlib.sha256(grammar_text().encode()).hexdigest()[:12]

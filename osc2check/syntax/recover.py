@@ -1,0 +1,171 @@
+"""Drive lark's interactive LALR parser over a token list and recover from errors.
+
+On a token the parser cannot take:
+
+- at a statement boundary (_NL, _DEDENT, end of input) it searches for the
+  shortest sequence of up to three terminals that makes the boundary
+  acceptable (a missing `)` or `:`), feeds them as zero-width tokens with an
+  empty value, and goes on;
+- when no such sequence exists it drops the partial statement by popping the
+  parser stack until the token after the boundary can start something;
+- an unexpected _INDENT skips the whole indented block;
+- any other token is dropped.
+
+One error is recorded per statement, so N broken statements give N errors.
+Forks use ``copy(deepcopy_values=False)``: subtrees are immutable, so sharing
+them is safe and recovery stays cheap.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from lark import Token
+from lark.exceptions import UnexpectedInput
+
+BOUNDARIES = frozenset({"_NL", "_DEDENT", "$END"})
+# Terminals tried at the second and third step of a repair.
+_REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_DEDENT")
+_MAX_FORKS = 400
+
+
+@dataclass(frozen=True, slots=True)
+class SyntaxProblem:
+    token: Token
+    expected: frozenset[str]
+    inserted: tuple[str, ...] = ()
+
+
+def _synthetic(kind: str, at: Token) -> Token:
+    return Token(kind, "", at.start_pos, at.line, at.column, at.line, at.column, at.start_pos)
+
+
+def _accepts(ip, tokens: list[Token]) -> bool:
+    fork = ip.copy(deepcopy_values=False)
+    try:
+        for tok in tokens:
+            if tok.type == "$END":
+                fork.feed_eof(tok)
+            else:
+                fork.feed_token(tok)
+    except UnexpectedInput:
+        return False
+    return True
+
+
+def _repair(ip, boundary: Token) -> list[Token] | None:
+    """The shortest terminal sequence after which ``boundary`` is accepted."""
+    forks = 0
+    frontier: list[list[str]] = [[]]
+    for _depth in range(3):
+        next_frontier: list[list[str]] = []
+        for prefix in frontier:
+            if prefix:
+                base = ip.copy(deepcopy_values=False)
+                try:
+                    for kind in prefix:
+                        base.feed_token(_synthetic(kind, boundary))
+                except UnexpectedInput:
+                    continue
+            else:
+                base = ip
+            choices = base.choices()
+            candidates = [k for k in _REPAIR_ALPHABET if k in choices]
+            for kind in candidates:
+                if kind in ("$END", boundary.type):
+                    continue
+                seq = [_synthetic(kind, boundary)]
+                forks += 1
+                if forks > _MAX_FORKS:
+                    return None
+                if _accepts(base, [*seq, boundary]):
+                    return [_synthetic(k, boundary) for k in prefix] + seq
+                next_frontier.append([*prefix, kind])
+        frontier = next_frontier
+    return None
+
+
+def _resync(ip, following: Token | None) -> object | None:
+    """A parser state, popped back from ``ip``, that accepts ``following``."""
+    if following is None:
+        return None
+    state = ip.parser_state
+    depth = len(state.state_stack)
+    for pops in range(1, depth):
+        fork = ip.copy(deepcopy_values=False)
+        fstate = fork.parser_state
+        del fstate.state_stack[-pops:]
+        del fstate.value_stack[-pops:]
+        if _accepts(fork, [following]):
+            return fork
+    return None
+
+
+def parse_tokens(lark, tokens: list[Token], start: str = "start"):
+    """Parse ``tokens``; returns (tree or None, problems). Never raises on bad input."""
+    problems: list[SyntaxProblem] = []
+    ip = lark.parse_interactive(start=start)
+    in_error = False
+    at_statement_start = True
+    i, n = 0, len(tokens)
+    end = tokens[-1] if tokens else Token("$END", "", 0, 1, 1, 1, 1, 0)
+    eof = Token("$END", "", end.end_pos, end.end_line, end.end_column, end.end_line,
+                end.end_column, end.end_pos)
+    while i <= n:
+        tok = tokens[i] if i < n else eof
+        try:
+            if i == n:
+                return ip.feed_eof(eof), problems
+            ip.feed_token(tok)
+            if tok.type in BOUNDARIES or tok.type == "_INDENT":
+                at_statement_start = True
+            elif at_statement_start:
+                at_statement_start = in_error = False
+            i += 1
+            continue
+        except UnexpectedInput:
+            pass
+        expected = frozenset(ip.choices())
+        if not in_error:
+            problems.append(SyntaxProblem(tok, expected))
+            in_error = True
+        if tok.type in BOUNDARIES:
+            fix = _repair(ip, tok)
+            if fix is not None:
+                for synthetic in fix:
+                    ip.feed_token(synthetic)
+                if problems and problems[-1].token is tok and not problems[-1].inserted:
+                    problems[-1] = SyntaxProblem(tok, expected, tuple(t.type for t in fix))
+                continue
+            if tok.type == "_DEDENT":
+                fork = _resync(ip, tok)
+                if fork is not None:
+                    ip = fork
+                    continue
+            following = tokens[i + 1] if i + 1 < n else None
+            if following is not None:
+                fork = _resync(ip, following)
+                if fork is not None:
+                    ip = fork
+                    i += 1
+                    continue
+            if i == n:
+                fork = _resync(ip, eof)
+                if fork is not None:
+                    ip = fork
+                    continue
+                return None, problems
+            i += 1
+            continue
+        if tok.type == "_INDENT":
+            depth = 0
+            while i < n:
+                kind = tokens[i].type
+                depth += kind == "_INDENT"
+                depth -= kind == "_DEDENT"
+                i += 1
+                if depth == 0:
+                    break
+            continue
+        i += 1
+    return None, problems

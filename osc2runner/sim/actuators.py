@@ -1,0 +1,158 @@
+"""The actuator layer ("ECU") between driver inputs and the vehicle model.
+
+Once per control tick each vehicle receives ``throttle`` in [0, 1], ``brake``
+in [0, 1] and ``steer`` in [-1, 1]. The layer turns them into joint torques
+and steering angles, the way a car's electronics would
+(reference/vehicle-model.md §2.2):
+
+* **Rate limits**: pedals move at most ``throttle_rate`` / ``brake_rate`` per
+  second (the brake ramp is the pressure build-up, 0 -> 1 in about 0.17 s);
+  the road-wheel angle moves at most ``steer_rate`` rad/s.
+* **Drive**: total force ``throttle * min(F_max, P_max / v)`` split equally
+  over the driven wheels (an open differential).
+* **Traction control (TCS)**: each driven wheel's torque is capped at
+  ``tcs_margin * mu * N * r``.
+* **Brakes**: torque per wheel ``brake * T_max * share`` (front/rear split),
+  applied as Coulomb friction on the spin joint.
+* **ABS**: each wheel's brake torque is capped at ``abs_margin * mu * N * r``,
+  so tires stay below the friction limit (a sliding MuJoCo contact hops,
+  see the reference's §6.4).
+* **Rolling resistance**: a constant ``c_rr * N_static * r`` spin friction on
+  every wheel, which also holds a stopped car; aerodynamic drag is a force.
+* **Ackermann**: the road-wheel angle is split into left/right angles.
+
+Everything is vectorised over all vehicles of a world (numpy arrays with one
+row per vehicle, wheel columns ordered fl, fr, rl, rr) and free of MuJoCo:
+the world reads loads and friction from the model, calls :meth:`update`, and
+writes the outputs back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from osc2runner.sim.vehicle import VehicleParams
+
+__all__ = ["ActuatorBank"]
+
+
+def _col(values: Sequence[float]) -> np.ndarray:
+    return np.asarray(values, dtype=float)
+
+
+class ActuatorBank:
+    """Rate limits, drive/brake torques, ABS/TCS and Ackermann for N vehicles.
+
+    Parameters:
+        params: one parameter set per vehicle, in world order.
+        dt: control period in seconds (the rate limits apply per call).
+    """
+
+    def __init__(self, params: Sequence[VehicleParams], dt: float) -> None:
+        self.dt = float(dt)
+        self.count = n = len(params)
+        self.max_steer = _col([p.max_steer for p in params])
+        self.steer_rate = _col([p.steer_rate for p in params])
+        self.throttle_rate = _col([p.throttle_rate for p in params])
+        self.brake_rate = _col([p.brake_rate for p in params])
+        self.wheelbase = _col([p.wheelbase for p in params])
+        self.half_track = _col([0.5 * p.track for p in params])
+        self.radius = _col([p.wheel_radius for p in params])
+        self.max_force = _col([p.max_drive_force for p in params])
+        self.max_power = _col([p.max_power for p in params])
+        self.drag = _col([0.5 * p.air_density * p.drag_area for p in params])
+        self.driven = np.array([p.driven for p in params], dtype=bool).reshape(n, 4)
+        self.n_driven = self.driven.sum(axis=1).astype(float)
+        self.brake_max = np.array([p.brake_torque_per_wheel for p in params]).reshape(n, 4)
+        self.static_load = np.array([p.static_wheel_loads for p in params]).reshape(n, 4)
+        self.rolling_torque = (
+            _col([p.rolling_resistance for p in params])[:, None]
+            * self.static_load
+            * self.radius[:, None]
+        )
+        self.abs_cap = np.where(
+            [p.abs_enabled for p in params], [p.abs_margin for p in params], np.inf
+        )[:, None] * self.radius[:, None]
+        self.tcs_cap = np.where(
+            [p.tcs_enabled for p in params], [p.tcs_margin for p in params], np.inf
+        )[:, None] * self.radius[:, None]
+
+        # commands (after clipping) and applied, rate-limited values
+        self.cmd_throttle = np.zeros(n)
+        self.cmd_brake = np.zeros(n)
+        self.cmd_steer = np.zeros(n)
+        self.throttle = np.zeros(n)
+        self.brake = np.zeros(n)
+        self.delta = np.zeros(n)  # road-wheel angle, rad
+
+        # outputs of the last update
+        self.drive_torque = np.zeros((n, 4))
+        self.brake_torque = np.zeros((n, 4))  # incl. rolling resistance
+        self.steer_angles = np.zeros((n, 2))  # left, right road-wheel angles
+        self.drag_coefficient = self.drag  # force = -drag * |v| * v
+
+    # ------------------------------------------------------------------ inputs
+
+    def set_command(self, index: int, throttle: float, brake: float, steer: float) -> None:
+        """Store the driver inputs of vehicle ``index``, clipped to their ranges."""
+        self.cmd_throttle[index] = min(max(throttle, 0.0), 1.0)
+        self.cmd_brake[index] = min(max(brake, 0.0), 1.0)
+        self.cmd_steer[index] = min(max(steer, -1.0), 1.0)
+
+    def reset(self, index: int | None = None) -> None:
+        """Zero commands and applied values (all vehicles, or one)."""
+        sel = slice(None) if index is None else index
+        for arr in (
+            self.cmd_throttle,
+            self.cmd_brake,
+            self.cmd_steer,
+            self.throttle,
+            self.brake,
+            self.delta,
+        ):
+            arr[sel] = 0.0
+
+    @property
+    def steer(self) -> np.ndarray:
+        """Applied steering as a fraction of the maximum road-wheel angle."""
+        return self.delta / self.max_steer
+
+    # ------------------------------------------------------------------ update
+
+    def update(self, speed: np.ndarray, mu: np.ndarray, load: np.ndarray) -> None:
+        """Advance the rate limiters by one tick and compute the outputs.
+
+        Parameters:
+            speed: longitudinal speed of each vehicle (m/s), shape (n,).
+            mu: tire friction coefficient per wheel, shape (n, 4).
+            load: measured normal load per wheel (N), shape (n, 4).
+        """
+        dt = self.dt
+        step = self.throttle_rate * dt
+        self.throttle += np.clip(self.cmd_throttle - self.throttle, -step, step)
+        step = self.brake_rate * dt
+        self.brake += np.clip(self.cmd_brake - self.brake, -step, step)
+        step = self.steer_rate * dt
+        target = self.cmd_steer * self.max_steer
+        self.delta += np.clip(target - self.delta, -step, step)
+
+        grip = mu * load  # friction force budget per wheel
+
+        force = np.minimum(self.max_force, self.max_power / np.maximum(np.abs(speed), 1.0))
+        per_wheel = (self.throttle * force * self.radius / self.n_driven)[:, None]
+        drive = np.where(self.driven, per_wheel, 0.0)
+        np.minimum(drive, self.tcs_cap * grip, out=drive)
+        self.drive_torque = drive
+
+        brake = self.brake[:, None] * self.brake_max
+        np.minimum(brake, self.abs_cap * grip, out=brake)
+        self.brake_torque = brake + self.rolling_torque
+
+        # Ackermann: inner wheel steers more; tan(d_side) = L tan d / (L -/+ T/2 tan d)
+        tan_d = np.tan(self.delta)
+        lw = self.wheelbase
+        left = np.arctan2(lw * tan_d, lw - self.half_track * tan_d)
+        right = np.arctan2(lw * tan_d, lw + self.half_track * tan_d)
+        self.steer_angles = np.stack((left, right), axis=1)

@@ -1,0 +1,368 @@
+"""Actor parameters and their MuJoCo bodies (parameters -> MJCF).
+
+A vehicle is a multibody car (reference/vehicle-model.md, prototype A): a
+chassis on a free joint, four knuckles on suspension slide joints, steer
+hinges on the front knuckles and four wheels on spin hinges with sphere tires.
+
+* Tires collide only with the road (``contype=1 conaffinity=0``, the road has
+  ``contype=0 conaffinity=1``) and carry ``priority=1``, so the contact
+  friction is the tire's own value, which the world writes at runtime.
+* Chassis boxes collide only with other chassis and obstacles (bit 2), and
+  only when physical collisions are enabled.
+* All angles are radians (``<compiler angle="radian">`` is set by the world;
+  orientations are written as quaternions anyway).
+* Drive is one ``motor`` per driven wheel (equal torque: an open
+  differential); brakes are runtime ``dof_frictionloss`` on the spin joints;
+  steering is a ``position`` actuator per front knuckle (Ackermann split in
+  the actuator layer).
+
+The chassis body frame sits at the centre of the actor's bounding box at the
+height of the centre of gravity, so the reported ``(x, y)`` of a vehicle is
+its bounding-box centre, the reference point the checker places.
+
+A pedestrian is a kinematic ``mocap`` capsule; an obstacle a static box.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+__all__ = [
+    "WHEELS",
+    "ObstacleParams",
+    "PedestrianParams",
+    "VehicleParams",
+    "hgv",
+    "obstacle_xml",
+    "pedestrian_xml",
+    "sedan",
+    "vehicle_actuator_xml",
+    "vehicle_body_xml",
+]
+
+GRAVITY = 9.81
+
+#: Wheel order used by every per-wheel array: front-left, front-right, rear-left, rear-right.
+WHEELS: tuple[str, str, str, str] = ("fl", "fr", "rl", "rr")
+
+
+@dataclass(frozen=True, slots=True)
+class VehicleParams:
+    """Physical and actuator parameters of a four-wheeled road vehicle.
+
+    Lengths in metres, masses in kg, forces in N, torques in N·m, angles in
+    radians, rates per second. The defaults are the measured sedan of
+    reference/vehicle-model.md §5.
+    """
+
+    model: str = "sedan"
+    category: str = "car"
+    # bounding box
+    length: float = 4.5
+    width: float = 1.8
+    height: float = 1.45
+    ground_clearance: float = 0.15
+    front_overhang: float = 0.85  # front bumper to front axle
+    # masses and inertia
+    mass: float = 1600.0  # total, wheels and knuckles included
+    wheel_mass: float = 20.0
+    knuckle_mass: float = 5.0
+    inertia: tuple[float, float, float] = (600.0, 2500.0, 2800.0)  # chassis, about its CoG
+    # geometry
+    lf: float = 1.2  # CoG to front axle
+    lr: float = 1.5  # CoG to rear axle
+    track: float = 1.55
+    wheel_radius: float = 0.33
+    h_cog: float = 0.55
+    # powertrain
+    drive: str = "rwd"  # "rwd", "fwd" or "awd"
+    max_drive_force: float = 5000.0
+    max_power: float = 100e3
+    # brakes
+    max_brake_torque: float = 6000.0  # all four wheels together
+    brake_front_share: float = 0.65
+    # steering
+    max_steer: float = 0.55  # road-wheel angle
+    steer_rate: float = 0.8  # road-wheel angle rate limit
+    steer_kp: float = 5000.0  # position actuator gain on the steer hinge
+    steer_damping: float = 50.0
+    steer_armature: float = 2.0
+    # pedal rate limits (0 -> 1 in 1/rate seconds)
+    throttle_rate: float = 4.0
+    brake_rate: float = 6.0
+    # suspension (per corner)
+    susp_frequency: float = 1.4
+    susp_damping_ratio: float = 0.35
+    susp_travel: float = 0.25
+    # resistances
+    rolling_resistance: float = 0.012
+    drag_area: float = 0.66  # Cd * A in m^2
+    air_density: float = 1.2
+    # ECU
+    abs_enabled: bool = True
+    tcs_enabled: bool = True
+    abs_margin: float = 0.9  # brake torque cap = margin * mu * N * r
+    tcs_margin: float = 0.9
+    max_speed: float = 250.0 / 3.6
+
+    def __post_init__(self) -> None:
+        if self.drive not in ("rwd", "fwd", "awd"):
+            raise ValueError(f"drive must be rwd, fwd or awd, got {self.drive!r}")
+        if self.front_overhang + self.lf + self.lr > self.length:
+            raise ValueError("wheelbase plus front overhang exceeds the vehicle length")
+
+    # ------------------------------------------------------------ derived values
+
+    @property
+    def wheelbase(self) -> float:
+        return self.lf + self.lr
+
+    @property
+    def chassis_mass(self) -> float:
+        return self.mass - 4.0 * (self.wheel_mass + self.knuckle_mass)
+
+    @property
+    def cog_x(self) -> float:
+        """Longitudinal position of the CoG relative to the bounding-box centre."""
+        return 0.5 * self.length - self.front_overhang - self.lf
+
+    @property
+    def front_axle_x(self) -> float:
+        """Front axle relative to the bounding-box centre."""
+        return self.cog_x + self.lf
+
+    @property
+    def rear_axle_x(self) -> float:
+        """Rear axle relative to the bounding-box centre."""
+        return self.cog_x - self.lr
+
+    @property
+    def driven(self) -> tuple[bool, bool, bool, bool]:
+        """Which wheels (fl, fr, rl, rr) are driven."""
+        front = self.drive in ("fwd", "awd")
+        rear = self.drive in ("rwd", "awd")
+        return (front, front, rear, rear)
+
+    @property
+    def static_wheel_loads(self) -> tuple[float, float, float, float]:
+        """Normal load per wheel (N) at rest on flat ground."""
+        front = 0.5 * self.mass * GRAVITY * self.lr / self.wheelbase
+        rear = 0.5 * self.mass * GRAVITY * self.lf / self.wheelbase
+        return (front, front, rear, rear)
+
+    @property
+    def brake_torque_per_wheel(self) -> tuple[float, float, float, float]:
+        """Maximum brake torque of each wheel (fl, fr, rl, rr)."""
+        front = 0.5 * self.max_brake_torque * self.brake_front_share
+        rear = 0.5 * self.max_brake_torque * (1.0 - self.brake_front_share)
+        return (front, front, rear, rear)
+
+    def drive_force_available(self, speed: float) -> float:
+        """Maximum total tractive force (N) at ``speed`` (force then power limited)."""
+        return min(self.max_drive_force, self.max_power / max(abs(speed), 1.0))
+
+    def resistance_force(self, speed: float) -> float:
+        """Rolling plus aerodynamic resistance (N, opposing motion) at ``speed``."""
+        v = abs(speed)
+        return (
+            self.rolling_resistance * self.mass * GRAVITY
+            + 0.5 * self.air_density * self.drag_area * v * v
+        )
+
+
+def sedan(**changes: object) -> VehicleParams:
+    """The measured passenger car: 1600 kg, RWD 5 kN / 100 kW, 6 kN·m brakes."""
+    return VehicleParams(**changes)  # type: ignore[arg-type]
+
+
+def hgv(**changes: object) -> VehicleParams:
+    """A rigid heavy goods vehicle: 12 t, RWD 20 kN / 250 kW, 60 kN·m brakes (50/50)."""
+    base: dict[str, object] = dict(
+        model="hgv",
+        category="truck",
+        length=12.0,
+        width=2.5,
+        height=3.6,
+        ground_clearance=0.3,
+        front_overhang=1.5,
+        mass=12000.0,
+        wheel_mass=100.0,
+        knuckle_mass=25.0,
+        inertia=(10000.0, 60000.0, 60000.0),
+        lf=1.8,
+        lr=3.7,
+        track=2.0,
+        wheel_radius=0.5,
+        h_cog=1.2,
+        max_drive_force=20000.0,
+        max_power=250e3,
+        max_brake_torque=60000.0,
+        brake_front_share=0.5,
+        max_steer=0.55,
+        steer_rate=0.6,
+        steer_kp=40000.0,
+        steer_damping=400.0,
+        steer_armature=16.0,
+        drag_area=6.0,
+        rolling_resistance=0.008,
+        max_speed=90.0 / 3.6,
+    )
+    base.update(changes)
+    return VehicleParams(**base)  # type: ignore[arg-type]
+
+
+@dataclass(frozen=True, slots=True)
+class PedestrianParams:
+    """A kinematic pedestrian: a capsule moved along its commanded velocity."""
+
+    model: str = "pedestrian"
+    category: str = "person"
+    length: float = 0.6  # bounding box (x, y), as the checker assumes
+    width: float = 0.6
+    height: float = 1.8
+    radius: float = 0.25  # capsule radius
+    max_speed: float = 3.0
+
+
+@dataclass(frozen=True, slots=True)
+class ObstacleParams:
+    """A static box on the road (a stopped object, a barrier, debris)."""
+
+    model: str = "obstacle"
+    category: str = "obstacle"
+    length: float = 1.0
+    width: float = 1.0
+    height: float = 1.0
+
+
+# ---------------------------------------------------------------------- MJCF
+
+
+def _f(value: float) -> str:
+    """A float as MJCF text, round-trippable."""
+    return repr(float(value))
+
+
+def _vec(*values: float) -> str:
+    return " ".join(_f(v) for v in values)
+
+
+def yaw_quat(yaw: float) -> tuple[float, float, float, float]:
+    """Unit quaternion (w, x, y, z) of a rotation by ``yaw`` about z."""
+    return (math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw))
+
+
+def vehicle_body_xml(
+    prefix: str, p: VehicleParams, x: float, y: float, yaw: float, collide: bool = False
+) -> str:
+    """The ``<body>`` subtree of one vehicle, its chassis frame at (x, y, h_cog).
+
+    ``collide`` gives the chassis box physical contacts with other chassis and
+    obstacles; without it the box is only used for collision events.
+    """
+    bits = 2 if collide else 0
+    chassis_half = (0.5 * p.length, 0.5 * p.width, 0.5 * (p.height - p.ground_clearance))
+    chassis_z = 0.5 * (p.height + p.ground_clearance) - p.h_cog
+    r = p.wheel_radius
+    i_spin = 0.5 * p.wheel_mass * r * r
+    i_side = 0.25 * p.wheel_mass * r * r
+    loads = p.static_wheel_loads
+    steered = (True, True, False, False)
+    corners = (
+        (p.front_axle_x, 0.5 * p.track),
+        (p.front_axle_x, -0.5 * p.track),
+        (p.rear_axle_x, 0.5 * p.track),
+        (p.rear_axle_x, -0.5 * p.track),
+    )
+    lines = [
+        f'<body name="{prefix}" pos="{_vec(x, y, p.h_cog)}" quat="{_vec(*yaw_quat(yaw))}">',
+        f'  <freejoint name="{prefix}_root"/>',
+        f'  <inertial pos="{_vec(p.cog_x, 0, 0)}" mass="{_f(p.chassis_mass)}" '
+        f'diaginertia="{_vec(*p.inertia)}"/>',
+        f'  <geom name="{prefix}_chassis" type="box" size="{_vec(*chassis_half)}" '
+        f'pos="{_vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
+        f'group="1" mass="0"/>',
+    ]
+    for wheel, (cx, cy), steer, load in zip(WHEELS, corners, steered, loads, strict=True):
+        # sprung load of this corner: the wheel's static load minus unsprung masses
+        sprung = load - (p.wheel_mass + p.knuckle_mass) * GRAVITY
+        corner_mass = sprung / GRAVITY
+        k = corner_mass * (2.0 * math.pi * p.susp_frequency) ** 2
+        c = 2.0 * p.susp_damping_ratio * math.sqrt(k * corner_mass)
+        springref = -sprung / k
+        name = f"{prefix}_{wheel}"
+        lines += [
+            f'  <body name="{name}_knuckle" pos="{_vec(cx, cy, r - p.h_cog)}">',
+            f'    <inertial pos="0 0 0" mass="{_f(p.knuckle_mass)}" '
+            f'diaginertia="{_vec(0.05, 0.05, 0.05)}"/>',
+            f'    <joint name="{name}_susp" type="slide" axis="0 0 1" stiffness="{_f(k)}" '
+            f'springref="{_f(springref)}" damping="{_f(c)}" armature="1" '
+            f'range="{_vec(-p.susp_travel, p.susp_travel)}"/>',
+        ]
+        if steer:
+            lines.append(
+                f'    <joint name="{name}_steer" type="hinge" axis="0 0 1" '
+                f'damping="{_f(p.steer_damping)}" armature="{_f(p.steer_armature)}" '
+                f'range="{_vec(-p.max_steer, p.max_steer)}"/>'
+            )
+        lines += [
+            f'    <body name="{name}_wheel">',
+            f'      <inertial pos="0 0 0" mass="{_f(p.wheel_mass)}" '
+            f'diaginertia="{_vec(i_side, i_spin, i_side)}"/>',
+            f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" damping="0.5"/>',
+            f'      <geom name="{name}_tire" type="sphere" size="{_f(r)}" condim="3" '
+            f'priority="1" contype="1" conaffinity="0" friction="1 0.005 0.0001" '
+            f'group="2" mass="0"/>',
+            "    </body>",
+            "  </body>",
+        ]
+    lines.append("</body>")
+    return "\n".join(lines)
+
+
+def vehicle_actuator_xml(prefix: str, p: VehicleParams) -> str:
+    """The ``<actuator>`` entries of one vehicle: steer positions, wheel motors."""
+    lines = []
+    for wheel in WHEELS[:2]:
+        name = f"{prefix}_{wheel}"
+        lines.append(
+            f'<position name="{name}_steer" joint="{name}_steer" kp="{_f(p.steer_kp)}" '
+            f'ctrlrange="{_vec(-p.max_steer, p.max_steer)}"/>'
+        )
+    limit = p.max_drive_force * p.wheel_radius
+    for wheel, driven in zip(WHEELS, p.driven, strict=True):
+        if driven:
+            name = f"{prefix}_{wheel}"
+            lines.append(
+                f'<motor name="{name}_drive" joint="{name}_spin" gear="1" '
+                f'ctrlrange="{_vec(-limit, limit)}"/>'
+            )
+    return "\n".join(lines)
+
+
+def pedestrian_xml(prefix: str, p: PedestrianParams, x: float, y: float, yaw: float) -> str:
+    """A mocap body with a capsule that collides with nothing (events only)."""
+    half = max(0.5 * p.height - p.radius, 0.01)
+    return (
+        f'<body name="{prefix}" mocap="true" pos="{_vec(x, y, 0.5 * p.height)}" '
+        f'quat="{_vec(*yaw_quat(yaw))}">\n'
+        f'  <geom name="{prefix}_body" type="capsule" size="{_vec(p.radius, half)}" '
+        f'contype="0" conaffinity="0" group="1"/>\n'
+        "</body>"
+    )
+
+
+def obstacle_xml(
+    prefix: str, p: ObstacleParams, x: float, y: float, yaw: float, collide: bool = False
+) -> str:
+    """A static box; with ``collide`` it has physical contacts with chassis."""
+    bits = 2 if collide else 0
+    return (
+        f'<body name="{prefix}" pos="{_vec(x, y, 0.5 * p.height)}" '
+        f'quat="{_vec(*yaw_quat(yaw))}">\n'
+        f'  <geom name="{prefix}_box" type="box" '
+        f'size="{_vec(0.5 * p.length, 0.5 * p.width, 0.5 * p.height)}" '
+        f'contype="{bits}" conaffinity="{bits}" group="1"/>\n'
+        "</body>"
+    )

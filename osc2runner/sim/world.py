@@ -1,0 +1,766 @@
+"""The simulated world: one MuJoCo model of a road and its actors.
+
+A :class:`World` is built from a :class:`~osc2check.road.Road` and a list of
+:class:`ActorSpec` (sedans, HGVs, pedestrians, obstacles with their initial
+pose and speed). It advances in fixed control steps (50 ms by default), each
+made of a whole number of physics steps (2 ms by default):
+
+1. the inputs of this tick go through the actuator layer (rate limits, ABS,
+   TCS, Ackermann) and are written into the model;
+2. pedestrians move along their commanded velocity (kinematic);
+3. ``mj_step`` runs the physics sub-steps;
+4. the state of every actor is read out and collision / road-departure events
+   are detected.
+
+Nothing here reads the wall clock or draws random numbers: the same
+construction and the same inputs give bit-identical states (within one MuJoCo
+version and platform; see :func:`osc2runner.sim.versions`).
+
+Friction is a property of the tires (they override the road's geom friction
+by priority): :meth:`World.set_road_friction` writes every tire,
+:meth:`World.set_wheel_friction` one vehicle or one wheel. Weather is recorded;
+rain sets a default friction unless friction was set explicitly.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, replace
+
+import mujoco
+import numpy as np
+
+from osc2check.road import Road
+from osc2runner.sim.actuators import ActuatorBank
+from osc2runner.sim.vehicle import (
+    WHEELS,
+    ObstacleParams,
+    PedestrianParams,
+    VehicleParams,
+    obstacle_xml,
+    pedestrian_xml,
+    vehicle_actuator_xml,
+    vehicle_body_xml,
+)
+
+__all__ = [
+    "ActorSpec",
+    "ActorState",
+    "Event",
+    "PedestrianInput",
+    "VehicleInput",
+    "Weather",
+    "World",
+    "weather_friction",
+]
+
+ActorParams = VehicleParams | PedestrianParams | ObstacleParams
+
+DRY_FRICTION = 1.0
+
+
+# ---------------------------------------------------------------------- data
+
+
+@dataclass(frozen=True, slots=True)
+class ActorSpec:
+    """An actor to create and its initial state.
+
+    The position is given either in road coordinates (``s`` along the driving
+    direction, ``lane``, ``offset`` to the left of the lane centre) or in
+    world coordinates (``x`` and ``y``, which win when given). ``yaw`` is the
+    world heading in radians (default: the road's driving direction) and
+    ``speed`` the initial speed along it in m/s.
+    """
+
+    name: str
+    params: ActorParams
+    s: float = 0.0
+    lane: int | None = 1
+    offset: float = 0.0
+    x: float | None = None
+    y: float | None = None
+    yaw: float | None = None
+    speed: float = 0.0
+
+    @property
+    def kind(self) -> str:
+        """``vehicle``, ``pedestrian`` or ``obstacle``."""
+        if isinstance(self.params, VehicleParams):
+            return "vehicle"
+        if isinstance(self.params, PedestrianParams):
+            return "pedestrian"
+        return "obstacle"
+
+    def pose(self, road: Road) -> tuple[float, float, float]:
+        """Initial world ``(x, y, yaw)``."""
+        if self.x is not None and self.y is not None:
+            x, y = self.x, self.y
+        elif self.lane is not None:
+            x, y = road.lane_to_xy(self.s, self.lane, self.offset)
+        else:
+            x, y = road.to_xy(self.s, self.offset)
+        yaw = road.heading if self.yaw is None else self.yaw
+        return (x, y, yaw)
+
+
+@dataclass(frozen=True, slots=True)
+class VehicleInput:
+    """Driver inputs of a vehicle for one control tick."""
+
+    throttle: float = 0.0
+    brake: float = 0.0
+    steer: float = 0.0  # +1 = full left
+
+
+@dataclass(frozen=True, slots=True)
+class PedestrianInput:
+    """Commanded velocity of a pedestrian: speed (m/s) along yaw (rad)."""
+
+    speed: float = 0.0
+    yaw: float = 0.0
+
+
+@dataclass(frozen=True, slots=True)
+class Weather:
+    """Recorded weather. ``rain`` and ``fog`` are intensities in [0, 1]."""
+
+    rain: float = 0.0
+    fog: float = 0.0
+
+
+def weather_friction(weather: Weather) -> float:
+    """The default road friction for ``weather``: 1.0 dry, 0.7 (light) to 0.4 (heavy rain)."""
+    if weather.rain <= 0.0:
+        return DRY_FRICTION
+    return 0.7 - 0.3 * min(weather.rain, 1.0)
+
+
+@dataclass(frozen=True, slots=True)
+class ActorState:
+    """Read-out of one actor at a control tick (SI units, world frame).
+
+    ``x``/``y`` are the bounding-box centre, ``speed`` the signed speed along
+    the heading, ``accel`` its change over the last control step,
+    ``friction`` the mean tire friction (NaN for non-vehicles), and
+    ``throttle``/``brake``/``steer`` the applied (rate-limited) inputs.
+    """
+
+    name: str
+    kind: str
+    tick: int
+    time: float
+    x: float
+    y: float
+    yaw: float
+    speed: float
+    lateral_speed: float
+    yaw_rate: float
+    accel: float
+    lane: int | None
+    s: float
+    t: float
+    friction: float
+    throttle: float
+    brake: float
+    steer: float
+    length: float
+    width: float
+
+
+@dataclass(frozen=True, slots=True)
+class Event:
+    """Something that happened during a control step (``tick`` is the step's end)."""
+
+    tick: int
+    time: float
+    kind: str  # "collision" or "off_road"
+    actors: tuple[str, ...]
+    detail: str = ""
+
+
+# ---------------------------------------------------------------------- world
+
+
+class World:
+    """A road with its actors in one MuJoCo model, stepped at a fixed control rate.
+
+    Parameters:
+        road: the road the actors are placed on.
+        actors: the actors, each with a unique name.
+        dt_control: control period in seconds (inputs are held over it).
+        dt_physics: physics step in seconds; ``dt_control`` must be a whole
+            multiple of it.
+        friction: initial road friction; None means "from the weather".
+        weather: initial weather (recorded; rain sets the default friction).
+        physical_collisions: give chassis and obstacles physical contacts.
+            Off by default: collisions are then events only and bodies pass
+            through each other, which is what a scenario verdict needs.
+        settle_time: seconds of physics run at rest before the start, so that
+            suspensions start in equilibrium. Not counted in ``time``.
+    """
+
+    def __init__(
+        self,
+        road: Road,
+        actors: Sequence[ActorSpec],
+        *,
+        dt_control: float = 0.05,
+        dt_physics: float = 0.002,
+        friction: float | None = None,
+        weather: Weather | None = None,
+        physical_collisions: bool = False,
+        settle_time: float = 0.3,
+    ) -> None:
+        substeps = round(dt_control / dt_physics)
+        if substeps < 1 or abs(substeps * dt_physics - dt_control) > 1e-9 * dt_control:
+            raise ValueError(
+                f"dt_control ({dt_control}) must be a whole multiple of dt_physics ({dt_physics})"
+            )
+        names = [a.name for a in actors]
+        if len(set(names)) != len(names):
+            raise ValueError(f"actor names must be unique: {names}")
+        self.road = road
+        self.specs: tuple[ActorSpec, ...] = tuple(actors)
+        self.dt_control = float(dt_control)
+        self.dt_physics = float(dt_physics)
+        self.substeps = substeps
+        self.physical_collisions = physical_collisions
+        self.settle_time = float(settle_time)
+        self._initial_friction = friction
+        self._initial_weather = weather or Weather()
+
+        self._index = {a.name: i for i, a in enumerate(self.specs)}
+        self._vehicles = [a for a in self.specs if a.kind == "vehicle"]
+        self._pedestrians = [a for a in self.specs if a.kind == "pedestrian"]
+        self._vrow = {a.name: i for i, a in enumerate(self._vehicles)}
+        self._prow = {a.name: i for i, a in enumerate(self._pedestrians)}
+        self.xml = self._build_xml()
+        self.model = mujoco.MjModel.from_xml_string(self.xml)
+        self.data = mujoco.MjData(self.model)
+        self._build_indices()
+        self.actuators = ActuatorBank([a.params for a in self._vehicles], self.dt_control)  # type: ignore[misc]
+        self.reset()
+
+    # ------------------------------------------------------------------ build
+
+    def _prefix(self, name: str) -> str:
+        return f"a{self._index[name]}"
+
+    def _build_xml(self) -> str:
+        bodies: list[str] = []
+        actuators: list[str] = []
+        collide = self.physical_collisions
+        for spec in self.specs:
+            prefix = self._prefix(spec.name)
+            x, y, yaw = spec.pose(self.road)
+            p = spec.params
+            if isinstance(p, VehicleParams):
+                bodies.append(vehicle_body_xml(prefix, p, x, y, yaw, collide=collide))
+                actuators.append(vehicle_actuator_xml(prefix, p))
+            elif isinstance(p, PedestrianParams):
+                bodies.append(pedestrian_xml(prefix, p, x, y, yaw))
+            else:
+                bodies.append(obstacle_xml(prefix, p, x, y, yaw, collide=collide))
+        x0, x1, y0, y1 = self.road.bounds()
+        return "\n".join(
+            [
+                '<mujoco model="osc2run">',
+                '  <compiler angle="radian" autolimits="true"/>',
+                f'  <option timestep="{self.dt_physics!r}" integrator="implicitfast" '
+                'cone="elliptic"/>',
+                "  <worldbody>",
+                '    <geom name="road" type="plane" size="0 0 1" contype="0" conaffinity="1" '
+                f'pos="{0.5 * (x0 + x1)!r} {0.5 * (y0 + y1)!r} 0" condim="3"/>',
+                *bodies,
+                "  </worldbody>",
+                "  <actuator>",
+                *actuators,
+                "  </actuator>",
+                "</mujoco>",
+            ]
+        )
+
+    def _build_indices(self) -> None:
+        m = self.model
+
+        def jid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
+
+        def aid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
+
+        def gid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_GEOM, name)
+
+        def bid(name: str) -> int:
+            return mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_BODY, name)
+
+        nv = len(self._vehicles)
+        self._body = np.zeros(nv, dtype=int)
+        self._qadr = np.zeros(nv, dtype=int)
+        self._vadr = np.zeros(nv, dtype=int)
+        self._spin_dof = np.zeros((nv, 4), dtype=int)
+        self._wheel_body = np.zeros((nv, 4), dtype=int)
+        self._tire = np.zeros((nv, 4), dtype=int)
+        self._steer_act = np.zeros((nv, 2), dtype=int)
+        drive_act: list[int] = []
+        self._geom_wheel = np.full(m.ngeom, -1, dtype=int)
+        for row, spec in enumerate(self._vehicles):
+            prefix = self._prefix(spec.name)
+            root = jid(f"{prefix}_root")
+            self._body[row] = bid(prefix)
+            self._qadr[row] = m.jnt_qposadr[root]
+            self._vadr[row] = m.jnt_dofadr[root]
+            for w, wheel in enumerate(WHEELS):
+                name = f"{prefix}_{wheel}"
+                self._spin_dof[row, w] = m.jnt_dofadr[jid(f"{name}_spin")]
+                self._wheel_body[row, w] = bid(f"{name}_wheel")
+                self._tire[row, w] = gid(f"{name}_tire")
+                self._geom_wheel[self._tire[row, w]] = 4 * row + w
+                if spec.params.driven[w]:  # type: ignore[union-attr]
+                    drive_act.append(aid(f"{name}_drive"))
+            self._steer_act[row] = (aid(f"{prefix}_fl_steer"), aid(f"{prefix}_fr_steer"))
+        self._drive_act = np.asarray(drive_act, dtype=int)
+        self._driven_mask = np.array(
+            [a.params.driven for a in self._vehicles], dtype=bool  # type: ignore[union-attr]
+        ).reshape(nv, 4)
+        self._mocap = np.array(
+            [m.body_mocapid[bid(self._prefix(a.name))] for a in self._pedestrians], dtype=int
+        )
+        self._q7 = self._qadr[:, None] + np.arange(7)
+        self._v6 = self._vadr[:, None] + np.arange(6)
+
+        # bounding boxes of every actor, for events
+        n = len(self.specs)
+        self._half = np.array([(0.5 * a.params.length, 0.5 * a.params.width) for a in self.specs])
+        self._radius = np.hypot(self._half[:, 0], self._half[:, 1])
+        self._is_static = np.array([a.kind == "obstacle" for a in self.specs])
+        self._kinds = tuple(a.kind for a in self.specs)
+        self._names = tuple(a.name for a in self.specs)
+        self._veh_pos = np.array([self._index[a.name] for a in self._vehicles], dtype=int)
+        self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
+        self._obs_pos = np.array(
+            [i for i, a in enumerate(self.specs) if a.kind == "obstacle"], dtype=int
+        )
+        self._obs_pose = np.array(
+            [self.specs[i].pose(self.road) for i in self._obs_pos], dtype=float
+        ).reshape(-1, 3)
+        self._n = n
+
+    # ------------------------------------------------------------------ reset
+
+    def reset(self) -> None:
+        """Back to the initial state: settle the suspensions, then place every actor."""
+        m, d = self.model, self.data
+        mujoco.mj_resetData(m, d)
+        self.actuators.reset()
+        self.tick = 0
+        self.events: list[Event] = []
+        self._overlaps: set[tuple[int, int]] = set()
+        self._off_road: set[int] = set()
+        self.weather = self._initial_weather
+        self.friction_explicit = self._initial_friction is not None
+        if self._initial_friction is not None:
+            self._apply_road_friction(self._initial_friction)
+        else:
+            self._apply_road_friction(weather_friction(self.weather))
+
+        nv = len(self._vehicles)
+        # settle at rest with the brakes on and the steering centred
+        if nv and self.settle_time > 0.0:
+            m.dof_frictionloss[self._spin_dof.ravel()] = self.actuators.brake_max.ravel()
+            d.ctrl[:] = 0.0
+            mujoco.mj_step(m, d, nstep=max(1, round(self.settle_time / self.dt_physics)))
+            d.qvel[:] = 0.0
+            d.time = 0.0
+            d.qacc_warmstart[:] = 0.0
+        mujoco.mj_forward(m, d)
+        self._ped_vel = np.zeros((len(self._pedestrians), 3))
+        self._ped_speed = np.zeros(len(self._pedestrians))
+        self._ped_yaw = np.zeros(len(self._pedestrians))
+        self._ped_accel = np.zeros(len(self._pedestrians))
+        for spec in self.specs:
+            x, y, yaw = spec.pose(self.road)
+            self.place(spec.name, x, y, yaw, spec.speed)
+        mujoco.mj_forward(m, d)
+        self._read()
+        self._accel = np.zeros(nv)
+        self._loads = self._measure_loads()
+
+    def place(self, name: str, x: float, y: float, yaw: float, speed: float = 0.0) -> None:
+        """Move an actor to ``(x, y)`` with heading ``yaw`` and ``speed`` along it.
+
+        For vehicles the suspension state and the chassis pitch/roll are kept;
+        the wheels get the matching spin. Call before the first tick (the
+        scenario initializer does); mid-run it is a teleport.
+        """
+        kind = self._kinds[self._index[name]]
+        m, d = self.model, self.data
+        if kind == "vehicle":
+            row = self._vrow[name]
+            q = self._qadr[row]
+            v = self._vadr[row]
+            old = d.qpos[q + 3 : q + 7].copy()
+            old_yaw = _quat_yaw(old)
+            tilt = _quat_mul(_yaw_quat(-old_yaw), old)
+            d.qpos[q : q + 2] = (x, y)
+            d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
+            d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
+            mujoco.mj_kinematics(m, d)
+            radius = d.xpos[self._wheel_body[row], 2]  # rolling radius = wheel centre height
+            d.qvel[self._spin_dof[row]] = speed / radius
+        elif kind == "pedestrian":
+            row = self._prow[name]
+            mid = self._mocap[row]
+            d.mocap_pos[mid, :2] = (x, y)
+            d.mocap_quat[mid] = _yaw_quat(yaw)
+            self._ped_speed[row] = speed
+            self._ped_yaw[row] = yaw
+            self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
+        else:
+            raise ValueError(f"obstacle `{name}` is static and cannot be placed after start")
+
+    # ------------------------------------------------------------------ time
+
+    @property
+    def time(self) -> float:
+        """Simulated time in seconds since the start (ticks times the control period)."""
+        return self.tick * self.dt_control
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Actor names in creation order."""
+        return self._names
+
+    def kind(self, name: str) -> str:
+        """``vehicle``, ``pedestrian`` or ``obstacle``."""
+        return self._kinds[self._index[name]]
+
+    def params(self, name: str) -> ActorParams:
+        """The parameters an actor was built from."""
+        return self.specs[self._index[name]].params
+
+    # ------------------------------------------------------------------ stepping
+
+    def set_input(self, name: str, value: VehicleInput | PedestrianInput) -> None:
+        """Set the input an actor holds from the next control step on."""
+        kind = self._kinds[self._index[name]]
+        if kind == "vehicle" and isinstance(value, VehicleInput):
+            self.actuators.set_command(self._vrow[name], value.throttle, value.brake, value.steer)
+        elif kind == "pedestrian" and isinstance(value, PedestrianInput):
+            row = self._prow[name]
+            yaw = value.yaw
+            speed = value.speed
+            self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
+            self._ped_yaw[row] = yaw
+            self._ped_accel[row] = (speed - self._ped_speed[row]) / self.dt_control
+            self._ped_speed[row] = speed
+            self.data.mocap_quat[self._mocap[row]] = _yaw_quat(yaw)
+        else:
+            raise TypeError(f"{type(value).__name__} is not an input for {kind} `{name}`")
+
+    def step_control(
+        self, inputs: Mapping[str, VehicleInput | PedestrianInput] | None = None
+    ) -> list[Event]:
+        """Advance one control step; actors not in ``inputs`` keep their last input.
+
+        Returns the events detected at the end of the step.
+        """
+        if inputs:
+            for name, value in inputs.items():
+                self.set_input(name, value)
+        m, d = self.model, self.data
+        if len(self._vehicles):
+            bank = self.actuators
+            mu = m.geom_friction[self._tire, 0]
+            bank.update(self._speed, mu, self._loads)
+            d.ctrl[self._drive_act] = bank.drive_torque[self._driven_mask]
+            m.dof_frictionloss[self._spin_dof] = bank.brake_torque
+            d.ctrl[self._steer_act] = bank.steer_angles
+            vel = self._vel
+            d.xfrc_applied[self._body, :2] = (
+                -(bank.drag_coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
+            )
+        if len(self._pedestrians):
+            d.mocap_pos[self._mocap] += self._ped_vel * self.dt_control
+        mujoco.mj_step(m, d, nstep=self.substeps)
+        self.tick += 1
+        prev = self._vel
+        self._read()
+        if len(self._vehicles):
+            c, s = np.cos(self._yaw), np.sin(self._yaw)
+            dv = (self._vel - prev) / self.dt_control
+            self._accel = dv[:, 0] * c + dv[:, 1] * s
+            self._loads = self._measure_loads()
+        events = self._detect_events()
+        self.events.extend(events)
+        return events
+
+    def run(self, seconds: float, inputs: Mapping[str, VehicleInput | PedestrianInput]) -> None:
+        """Hold ``inputs`` for ``seconds`` (rounded to whole control steps)."""
+        for _ in range(round(seconds / self.dt_control)):
+            self.step_control(inputs)
+
+    # ------------------------------------------------------------------ read-out
+
+    def _read(self) -> None:
+        d = self.data
+        if len(self._vehicles):
+            q = d.qpos[self._q7]
+            v = d.qvel[self._v6]
+            self._pos = q[:, :2]
+            w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
+            self._yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+            self._vel = v[:, :3]
+            self._yaw_rate = v[:, 5]
+            c, s = np.cos(self._yaw), np.sin(self._yaw)
+            self._speed = v[:, 0] * c + v[:, 1] * s
+            self._lat_speed = -v[:, 0] * s + v[:, 1] * c
+        else:
+            self._pos = np.zeros((0, 2))
+            self._yaw = self._speed = self._lat_speed = self._yaw_rate = np.zeros(0)
+            self._vel = np.zeros((0, 3))
+
+    def _measure_loads(self) -> np.ndarray:
+        """Normal force per tire from the contacts of the last physics step, shape (n, 4)."""
+        d = self.data
+        nv = len(self._vehicles)
+        if d.ncon == 0:
+            return np.zeros((nv, 4))
+        contact = d.contact
+        wheel = self._geom_wheel[contact.geom].max(axis=1)
+        adr = contact.efc_address
+        ok = (wheel >= 0) & (adr >= 0)
+        force = d.efc_force[adr[ok]]  # elliptic cones: the first row is the normal force
+        return np.bincount(wheel[ok], weights=force, minlength=4 * nv).reshape(nv, 4)
+
+    def _poses(self) -> tuple[np.ndarray, np.ndarray]:
+        """Centre (n, 2) and yaw (n,) of every actor's bounding box."""
+        centre = np.empty((self._n, 2))
+        yaw = np.empty(self._n)
+        if len(self._vehicles):
+            centre[self._veh_pos] = self._pos
+            yaw[self._veh_pos] = self._yaw
+        if len(self._pedestrians):
+            centre[self._ped_pos] = self.data.mocap_pos[self._mocap, :2]
+            yaw[self._ped_pos] = self._ped_yaw
+        if len(self._obs_pos):
+            centre[self._obs_pos] = self._obs_pose[:, :2]
+            yaw[self._obs_pos] = self._obs_pose[:, 2]
+        return centre, yaw
+
+    def state(self, name: str) -> ActorState:
+        """The state of actor ``name`` at the current tick."""
+        i = self._index[name]
+        kind = self._kinds[i]
+        spec = self.specs[i]
+        nan = math.nan
+        if kind == "vehicle":
+            r = self._vrow[name]
+            bank = self.actuators
+            x, y = float(self._pos[r, 0]), float(self._pos[r, 1])
+            yaw = float(self._yaw[r])
+            speed, lat = float(self._speed[r]), float(self._lat_speed[r])
+            yaw_rate, accel = float(self._yaw_rate[r]), float(self._accel[r])
+            friction = float(self.model.geom_friction[self._tire[r], 0].mean())
+            throttle, brake = float(bank.throttle[r]), float(bank.brake[r])
+            steer = float(bank.delta[r] / bank.max_steer[r])
+        elif kind == "pedestrian":
+            r = self._prow[name]
+            pos = self.data.mocap_pos[self._mocap[r]]
+            x, y = float(pos[0]), float(pos[1])
+            yaw = float(self._ped_yaw[r])
+            speed, lat, yaw_rate = float(self._ped_speed[r]), 0.0, 0.0
+            accel = float(self._ped_accel[r])
+            friction = throttle = brake = steer = nan
+        else:
+            x, y, yaw = spec.pose(self.road)
+            speed = lat = yaw_rate = accel = 0.0
+            friction = throttle = brake = steer = nan
+        s, t = self.road.to_st(x, y)
+        return ActorState(
+            name=name,
+            kind=kind,
+            tick=self.tick,
+            time=self.time,
+            x=x,
+            y=y,
+            yaw=yaw,
+            speed=speed,
+            lateral_speed=lat,
+            yaw_rate=yaw_rate,
+            accel=accel,
+            lane=self.road.lane_of(y),
+            s=s,
+            t=t,
+            friction=friction,
+            throttle=throttle,
+            brake=brake,
+            steer=steer,
+            length=spec.params.length,
+            width=spec.params.width,
+        )
+
+    def states(self) -> dict[str, ActorState]:
+        """The state of every actor, by name."""
+        return {name: self.state(name) for name in self._names}
+
+    def wheel_loads(self, name: str) -> tuple[float, float, float, float]:
+        """Measured normal load (N) of each tire (fl, fr, rl, rr) of a vehicle."""
+        return tuple(float(v) for v in self._loads[self._vrow[name]])  # type: ignore[return-value]
+
+    def wheel_speeds(self, name: str) -> tuple[float, float, float, float]:
+        """Spin rate times radius (m/s) of each wheel of a vehicle."""
+        row = self._vrow[name]
+        r = self.actuators.radius[row]
+        return tuple(float(w) * r for w in self.data.qvel[self._spin_dof[row]])  # type: ignore[return-value]
+
+    def state_array(self) -> np.ndarray:
+        """Every number that determines the future, as one array (for replay checks)."""
+        d = self.data
+        bank = self.actuators
+        return np.concatenate(
+            [
+                [d.time],
+                d.qpos,
+                d.qvel,
+                d.act,
+                d.qacc_warmstart,
+                d.mocap_pos.ravel(),
+                d.mocap_quat.ravel(),
+                bank.throttle,
+                bank.brake,
+                bank.delta,
+                self.model.geom_friction[:, 0],
+            ]
+        )
+
+    # ------------------------------------------------------------------ friction and weather
+
+    def _apply_road_friction(self, mu: float) -> None:
+        if mu <= 0.0:
+            raise ValueError(f"friction must be > 0, got {mu}")
+        self.road_friction = float(mu)
+        if len(self._vehicles):
+            self.model.geom_friction[self._tire.ravel(), 0] = mu
+
+    def set_road_friction(self, mu: float) -> None:
+        """Set the friction coefficient of the whole road (every tire contact) from now on."""
+        self._apply_road_friction(mu)
+        self.friction_explicit = True
+
+    def set_wheel_friction(self, name: str, mu: float, wheel: int | str | None = None) -> None:
+        """Set the friction under one vehicle, or under one of its wheels (index or fl/fr/rl/rr)."""
+        if mu <= 0.0:
+            raise ValueError(f"friction must be > 0, got {mu}")
+        row = self._vrow[name]
+        if wheel is None:
+            self.model.geom_friction[self._tire[row], 0] = mu
+        else:
+            w = WHEELS.index(wheel) if isinstance(wheel, str) else int(wheel)
+            self.model.geom_friction[self._tire[row, w], 0] = mu
+
+    def wheel_friction(self, name: str) -> tuple[float, float, float, float]:
+        """Current friction coefficient of each tire (fl, fr, rl, rr) of a vehicle."""
+        row = self._vrow[name]
+        return tuple(float(v) for v in self.model.geom_friction[self._tire[row], 0])  # type: ignore[return-value]
+
+    def set_weather(self, rain: float | None = None, fog: float | None = None) -> None:
+        """Record the weather; rain also sets the road friction unless it was set explicitly."""
+        changes: dict[str, float] = {}
+        if rain is not None:
+            changes["rain"] = float(rain)
+        if fog is not None:
+            changes["fog"] = float(fog)
+        self.weather = replace(self.weather, **changes)
+        if not self.friction_explicit:
+            self._apply_road_friction(weather_friction(self.weather))
+
+    # ------------------------------------------------------------------ events
+
+    @property
+    def collisions(self) -> frozenset[tuple[str, str]]:
+        """Pairs of actors whose bounding boxes overlap now."""
+        return frozenset((self._names[i], self._names[j]) for i, j in self._overlaps)
+
+    def _detect_events(self) -> list[Event]:
+        events: list[Event] = []
+        if self._n < 1:
+            return events
+        centre, yaw = self._poses()
+        # off-road: an actor's reference point leaves the road surface
+        x0, x1, y0, y1 = self.road.bounds()
+        outside = (
+            (centre[:, 0] < x0) | (centre[:, 0] > x1) | (centre[:, 1] < y0) | (centre[:, 1] > y1)
+        )
+        for i in np.flatnonzero(outside & ~self._is_static):
+            if i not in self._off_road:
+                self._off_road.add(int(i))
+                events.append(self._event("off_road", (int(i),)))
+        self._off_road &= set(np.flatnonzero(outside).tolist())
+        if self._n < 2:
+            return events
+        # collisions: circle broad phase, then separating-axis test on the boxes
+        margin = 0.1 if self.physical_collisions else 0.0
+        diff = centre[:, None, :] - centre[None, :, :]
+        dist2 = diff[..., 0] ** 2 + diff[..., 1] ** 2
+        reach = self._radius[:, None] + self._radius[None, :] + margin
+        near = np.triu(dist2 <= reach * reach, k=1)
+        near &= ~(self._is_static[:, None] & self._is_static[None, :])
+        now: set[tuple[int, int]] = set()
+        for i, j in zip(*np.nonzero(near), strict=True):
+            a, b = int(i), int(j)
+            if _boxes_overlap(
+                centre[a], yaw[a], self._half[a], centre[b], yaw[b], self._half[b], margin
+            ):
+                now.add((a, b))
+                if (a, b) not in self._overlaps:
+                    events.append(self._event("collision", (a, b)))
+        self._overlaps = now
+        return events
+
+    def _event(self, kind: str, who: Iterable[int]) -> Event:
+        return Event(self.tick, self.time, kind, tuple(self._names[i] for i in who))
+
+
+# ---------------------------------------------------------------------- helpers
+
+
+def _boxes_overlap(
+    c1: np.ndarray,
+    yaw1: float,
+    h1: np.ndarray,
+    c2: np.ndarray,
+    yaw2: float,
+    h2: np.ndarray,
+    margin: float,
+) -> bool:
+    """Separating-axis test of two oriented rectangles (centre, yaw, half extents)."""
+    u1 = (math.cos(yaw1), math.sin(yaw1))
+    v1 = (-u1[1], u1[0])
+    u2 = (math.cos(yaw2), math.sin(yaw2))
+    v2 = (-u2[1], u2[0])
+    dx, dy = float(c2[0] - c1[0]), float(c2[1] - c1[1])
+    for ax, ay in (u1, v1, u2, v2):
+        r1 = h1[0] * abs(ax * u1[0] + ay * u1[1]) + h1[1] * abs(ax * v1[0] + ay * v1[1])
+        r2 = h2[0] * abs(ax * u2[0] + ay * u2[1]) + h2[1] * abs(ax * v2[0] + ay * v2[1])
+        if abs(dx * ax + dy * ay) > r1 + r2 + margin:
+            return False
+    return True
+
+
+def _yaw_quat(yaw: float) -> np.ndarray:
+    return np.array([math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw)])
+
+
+def _quat_yaw(q: np.ndarray) -> float:
+    w, x, y, z = (float(v) for v in q)
+    return math.atan2(2.0 * (w * z + x * y), 1.0 - 2.0 * (y * y + z * z))
+
+
+def _quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    out = np.empty(4)
+    mujoco.mju_mulQuat(out, np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    return out
