@@ -77,6 +77,7 @@ AMBIGUOUS_ENUM_LITERAL = Code("N108", "ambiguous-enum-literal", E, "a bare enum 
 INVALID_INHERITANCE = Code("N109", "invalid-inheritance", E, "a declaration inherits from something it cannot inherit from")
 RESERVED_NAME = Code("N110", "reserved-name", E, "a declaration uses a name reserved by the standard")
 INVALID_IMPLICIT_NAME = Code("N111", "invalid-implicit-name", E, "`it` or `actor` is used where it has no meaning")
+MISPLACED_MEMBER = Code("N112", "misplaced-member", E, "a member that this kind of declaration cannot have, such as `do` in a struct or a second `do`")
 
 # --- T: types and units ----------------------------------------------------
 DIMENSION_MISMATCH = Code("T201", "dimension-mismatch", E, "physical quantities of different dimensions are combined")

@@ -99,10 +99,19 @@ class Config:
             for pattern, ignored in self.per_file_ignores.items()
         )
 
-    def is_excluded(self, path: str | Path) -> bool:
-        """True when ``path`` matches a built-in or configured ``exclude`` pattern."""
+    def is_excluded(self, path: str | Path, *, name_only: bool = False) -> bool:
+        """True when ``path`` matches a built-in or configured ``exclude`` pattern.
+
+        A pattern without ``/`` matches any component of the path, or with
+        ``name_only`` only its last one (for a directory walk that prunes as it
+        descends, so that a directory named on the command line is never
+        excluded by its own name).
+        """
         rel = self._relative(str(path))
-        return any(_glob_match(rel, p) for p in (*DEFAULT_EXCLUDE, *self.exclude))
+        return any(
+            _glob_match(rel, p, any_component=not name_only)
+            for p in (*DEFAULT_EXCLUDE, *self.exclude)
+        )
 
     def severity_of(self, diagnostic: Diagnostic) -> Severity:
         """The severity after overrides; ``strict`` turns every D code into an error."""
@@ -144,11 +153,12 @@ def _uri_path(uri: str) -> str:
     return uri
 
 
-def _glob_match(rel: str, pattern: str) -> bool:
+def _glob_match(rel: str, pattern: str, *, any_component: bool = True) -> bool:
     """Match a ``/``-separated relative path against a glob.
 
-    A pattern without ``/`` matches any path component (a file or directory
-    name); a pattern naming a directory matches everything below it.
+    A pattern without ``/`` matches a path component (a file or directory name:
+    any one, or the last with ``any_component=False``); a pattern naming a
+    directory matches everything below it.
     """
     pat = pattern.strip().rstrip("/")
     if pat.startswith("./"):
@@ -156,7 +166,8 @@ def _glob_match(rel: str, pattern: str) -> bool:
     if not pat:
         return False
     if "/" not in pat:
-        return any(fnmatchcase(part, pat) for part in rel.split("/"))
+        parts = rel.split("/") if any_component else rel.split("/")[-1:]
+        return any(fnmatchcase(part, pat) for part in parts)
     candidates = [pat, pat + "/*"]
     if pat.startswith("**/"):
         candidates += [pat[3:], pat[3:] + "/*"]

@@ -86,3 +86,358 @@ def unterminated_string(span: Span) -> Diagnostic:
 
 def invalid_encoding(span: Span, problem: str) -> Diagnostic:
     return _diag(codes.INVALID_ENCODING, f"the file is not valid UTF-8 text ({problem})", span)
+
+
+# ---- N: names -------------------------------------------------------------------
+
+
+def _where(symbol) -> str:
+    return f"{symbol.kind.value} `{symbol.qualified_name}`"
+
+
+def _first_declared(previous) -> list[Related]:
+    if previous is None or previous.name_span is None:
+        return []
+    return [Related(previous.name_span, f"`{previous.name}` is first declared here")]
+
+
+def duplicate_definition(span: Span, name: str, previous) -> Diagnostic:
+    return _diag(codes.DUPLICATE_DEFINITION,
+                 f"`{name}` is already declared in this scope; use `extend` to add to it",
+                 span, _first_declared(previous))
+
+
+def duplicate_member(span: Span, name: str, owner: str | None, previous) -> Diagnostic:
+    where = f" of `{owner}`" if owner else ""
+    return _diag(codes.DUPLICATE_DEFINITION, f"`{name}`{where} is declared twice", span,
+                 _first_declared(previous))
+
+
+def shadows_inherited(span: Span, name: str, owner: str, previous) -> Diagnostic:
+    return _diag(codes.DUPLICATE_DEFINITION,
+                 f"`{name}` already exists in a supertype of `{owner}` and cannot be declared "
+                 "again", span, _first_declared(previous))
+
+
+def undefined_name(span: Span, name: str, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNDEFINED_NAME, f"undefined name `{name}`{_did_you_mean(suggestion)}",
+                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def undefined_type(span: Span, name: str, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNDEFINED_NAME, f"unknown type `{name}`{_did_you_mean(suggestion)}",
+                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def undefined_event(span: Span, name: str, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNDEFINED_NAME,
+                 f"no event `{name}` is declared or emitted here{_did_you_mean(suggestion)}",
+                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def unknown_member(span: Span, name: str, owner_type, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNKNOWN_MEMBER,
+                 f"`{owner_type}` has no member `{name}`{_did_you_mean(suggestion)}", span,
+                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def unknown_method(span: Span, name: str, owner_type, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNKNOWN_MEMBER,
+                 f"`{owner_type}` has no method `{name}`{_did_you_mean(suggestion)}", span,
+                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def unknown_unit(span: Span, name: str, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNKNOWN_UNIT, f"unknown unit `{name}`{_did_you_mean(suggestion)}", span,
+                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def unknown_enum_member(span: Span, name: str, enum, suggestion: str | None) -> Diagnostic:
+    enum_name = enum.name if enum is not None else "?"
+    return _diag(codes.UNKNOWN_ENUM_MEMBER,
+                 f"`{name}` is not a member of enum `{enum_name}`{_did_you_mean(suggestion)}",
+                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def ambiguous_enum_literal(span: Span, name: str, enums) -> Diagnostic:
+    owners = _quote_list((e.qualified_name for e in enums), conj="and")
+    first = enums[0].name
+    return _diag(codes.AMBIGUOUS_ENUM_LITERAL,
+                 f"`{name}` is a member of more than one enum ({owners}); write the enum name, "
+                 f"for example `{first}!{name}`", span,
+                 fix=Fix(f"write `{first}!{name}`", (TextEdit(span, f"{first}!{name}"),), False))
+
+
+def unresolved_import(span: Span, target: str, reason: str) -> Diagnostic:
+    return _diag(codes.UNRESOLVED_IMPORT, f"cannot import `{target}`: {reason}", span)
+
+
+def import_cycle(span: Span, chain: Sequence[str]) -> Diagnostic:
+    return _diag(codes.IMPORT_CYCLE, "import cycle: " + " -> ".join(chain), span)
+
+
+def invalid_inheritance(span: Span, symbol, parent, reason: str) -> Diagnostic:
+    if reason == "different kinds" and parent is not None:
+        text = (f"{symbol.kind.value} `{symbol.name}` cannot inherit from "
+                f"{_where(parent)}; a declaration inherits from one of the same kind")
+    elif reason == "cycle":
+        text = f"`{symbol.name}` inherits from itself through `{parent.name}`"
+    elif reason == "actor" and parent is not None:
+        text = (f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
+                "behaviour of an actor inherits from one of the same or a more general actor")
+    else:
+        text = f"`{symbol.name}` cannot inherit: {reason}"
+    return _diag(codes.INVALID_INHERITANCE, text, span)
+
+
+def inheritance_guard(span: Span, field_type) -> Diagnostic:
+    return _diag(codes.INVALID_INHERITANCE,
+                 f"a conditional inheritance needs a bool or enum field; this one is "
+                 f"`{field_type}`", span)
+
+
+def cannot_extend(span: Span, target, what: str) -> Diagnostic:
+    return _diag(codes.INVALID_INHERITANCE, f"{_where(target)} cannot be extended with {what}",
+                 span)
+
+
+def not_an_actor(span: Span, symbol) -> Diagnostic:
+    return _diag(codes.TYPE_MISMATCH,
+                 f"{_where(symbol)} is not an actor; behaviours and modifiers belong to actors",
+                 span)
+
+
+def not_an_actor_value(span: Span, value_type) -> Diagnostic:
+    return _diag(codes.TYPE_MISMATCH,
+                 f"this is a `{value_type}`, not an actor; only actors have behaviours", span)
+
+
+def modifier_of_not_behavior(span: Span, symbol) -> Diagnostic:
+    return _diag(codes.TYPE_MISMATCH,
+                 f"a modifier's `of` names a scenario or an action; {_where(symbol)} is neither",
+                 span)
+
+
+def not_a_physical_type(span: Span, name: str, symbol) -> Diagnostic:
+    return _diag(codes.TYPE_MISMATCH,
+                 f"`{name}` is a {symbol.kind.value}, not a physical type", span)
+
+
+def invalid_implicit(span: Span, name: str) -> Diagnostic:
+    meaning = ("the subject of a `with:` block or of a list operation" if name == "it"
+               else "the actor of a scenario, action or modifier")
+    return _diag(codes.INVALID_IMPLICIT_NAME,
+                 f"`{name}` has no meaning here; it stands for {meaning}", span)
+
+
+def misplaced_member(span: Span, owner, what: str) -> Diagnostic:
+    return _diag(codes.MISPLACED_MEMBER,
+                 f"a {owner.kind.value} has no behaviour; `{what}` belongs to a scenario, an "
+                 "action or a modifier", span)
+
+
+def second_do(span: Span, owner) -> Diagnostic:
+    return _diag(codes.MISPLACED_MEMBER,
+                 f"`{owner.name}` already has a `do`; a declaration has at most one", span)
+
+
+def remove_default_target(span: Span, name: str) -> Diagnostic:
+    return _diag(codes.UNKNOWN_MEMBER,
+                 f"`remove_default` names a parameter of this type; `{name}` is not one", span)
+
+
+# ---- T: types and units -----------------------------------------------------------
+
+
+def _what(what: str) -> str:
+    return f" for {what}" if what else ""
+
+
+def type_mismatch(span: Span, actual, expected, what: str = "") -> Diagnostic:
+    if expected is None:
+        return _diag(codes.TYPE_MISMATCH, f"`{actual}` is not valid as {what}", span)
+    return _diag(codes.TYPE_MISMATCH, f"expected `{expected}`{_what(what)}, found `{actual}`",
+                 span)
+
+
+def dimension_mismatch(span: Span, actual, expected, what: str = "") -> Diagnostic:
+    from osc2check.semantics.types import dimension_text
+
+    return _diag(codes.DIMENSION_MISMATCH,
+                 f"expected `{expected}` ({dimension_text(expected.dimension)}){_what(what)}, "
+                 f"found `{actual}` ({dimension_text(actual.dimension)})", span)
+
+
+def missing_unit(span: Span, expected, what: str = "") -> Diagnostic:
+    return _diag(codes.MISSING_UNIT,
+                 f"a plain number where `{expected}` is expected{_what(what)}; add a unit "
+                 f"such as `{_example_unit(expected)}`", span)
+
+
+def unitless_literal(span: Span, expected) -> Diagnostic:
+    return _diag(codes.UNITLESS_PHYSICAL_LITERAL,
+                 f"a plain number where `{expected}` is expected; the toolkit reads it in SI "
+                 f"units, the standard needs a unit such as `{_example_unit(expected)}`", span)
+
+
+def _example_unit(expected) -> str:
+    examples = {"speed": "50kph", "length": "10m", "time": "2s", "acceleration": "2mpsps",
+                "angle": "90deg", "mass": "1000kg", "temperature": "20celsius"}
+    name = getattr(getattr(expected, "symbol", None), "name", "")
+    return examples.get(name, "1" + ("m" if name == "" else "<unit>"))
+
+
+def float_to_int(span: Span, expected) -> Diagnostic:
+    return _diag(codes.FLOAT_TO_INT, f"a float where `{expected}` is expected; the fraction is "
+                 "lost", span)
+
+
+def non_boolean(span: Span, actual, what: str) -> Diagnostic:
+    return _diag(codes.NON_BOOLEAN_CONDITION,
+                 f"the {what} must be a boolean expression, found `{actual}`", span)
+
+
+def range_bounds(span: Span, low, high) -> Diagnostic:
+    return _diag(codes.RANGE_BOUNDS_TYPE,
+                 f"the bounds of a range must have the same type; found `{low}` and `{high}`",
+                 span)
+
+
+def range_of_non_numeric(span: Span, element) -> Diagnostic:
+    return _diag(codes.TYPE_MISMATCH,
+                 f"`range of` needs a numeric type (int, uint, float or a physical type), "
+                 f"not `{element}`", span)
+
+
+def unit_dimension(span: Span, unit: str, dim, type_name: str, type_dim) -> Diagnostic:
+    from osc2check.semantics.types import dimension_text
+
+    return _diag(codes.INVALID_UNIT_DECLARATION,
+                 f"unit `{unit}` has dimension {dimension_text(dim)} but `{type_name}` is "
+                 f"{dimension_text(type_dim)}", span)
+
+
+def si_argument(span: Span, key: str | None) -> Diagnostic:
+    if key is None:
+        text = "`SI(...)` takes named exponents such as `m: 1, s: -1`"
+    elif key in ("factor", "offset"):
+        text = f"`{key}` must be a number"
+    else:
+        text = (f"`{key}` is not an SI base unit (m, kg, s, A, K, mol, cd, rad), or its "
+                "exponent is not a whole number")
+    return _diag(codes.INVALID_UNIT_DECLARATION, text, span)
+
+
+def not_callable(span: Span, symbol) -> Diagnostic:
+    what = _where(symbol) if symbol is not None else "this expression"
+    return _diag(codes.NOT_CALLABLE, f"{what} is not a method and cannot be called", span)
+
+
+# ---- A: arguments ----------------------------------------------------------------
+
+
+def _callee(symbol) -> str:
+    return f"`{symbol.name}`"
+
+
+def unknown_behavior(span: Span, name: str, actor, suggestion: str | None) -> Diagnostic:
+    owner = f"actor `{actor.name}`" if actor is not None else "this scope"
+    return _diag(codes.UNKNOWN_BEHAVIOR,
+                 f"{owner} has no action or scenario `{name}`{_did_you_mean(suggestion)}", span,
+                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def unknown_modifier(span: Span, name: str, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNKNOWN_BEHAVIOR, f"unknown modifier `{name}`{_did_you_mean(suggestion)}",
+                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def modifier_not_applicable(span: Span, modifier) -> Diagnostic:
+    owner = modifier.of or modifier.actor
+    where = f"`{owner.qualified_name}`" if owner is not None else "another declaration"
+    related = [Related(modifier.name_span, "declared here")] if modifier.name_span else []
+    return _diag(codes.UNKNOWN_BEHAVIOR,
+                 f"modifier `{modifier.name}` belongs to {where} and cannot be applied here",
+                 span, related)
+
+
+def unknown_argument(span: Span, name: str, callee, suggestion: str | None) -> Diagnostic:
+    return _diag(codes.UNKNOWN_ARGUMENT,
+                 f"{_callee(callee)} has no parameter `{name}`{_did_you_mean(suggestion)}", span,
+                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+
+
+def positional_after_named(span: Span) -> Diagnostic:
+    return _diag(codes.TOO_MANY_POSITIONAL,
+                 "a positional argument follows a named one; put positional arguments first",
+                 span)
+
+
+def too_many_positional(span: Span, callee, count: int) -> Diagnostic:
+    return _diag(codes.TOO_MANY_POSITIONAL,
+                 f"{_callee(callee)} takes {count} positional argument"
+                 f"{'s' if count != 1 else ''}; name this one", span)
+
+
+def duplicate_argument(span: Span, name: str) -> Diagnostic:
+    return _diag(codes.DUPLICATE_ARGUMENT, f"`{name}` is given more than once", span)
+
+
+def missing_argument(span: Span, callee, name: str) -> Diagnostic:
+    return _diag(codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{name}`", span)
+
+
+def exclusive_arguments(span: Span, callee, given: Sequence[str]) -> Diagnostic:
+    return _diag(codes.EXCLUSIVE_ARGUMENTS,
+                 f"{_quote_list(given, conj='and')} exclude each other in {_callee(callee)}; "
+                 "give only one", span)
+
+
+def incomplete_arguments(span: Span, callee, arg: str, needed: str) -> Diagnostic:
+    return _diag(codes.INCOMPLETE_ARGUMENTS,
+                 f"`{arg}` in {_callee(callee)} needs `{needed}` as well", span)
+
+
+def invalid_overlap(span: Span, kinds: Sequence[str]) -> Diagnostic:
+    return _diag(codes.TYPE_MISMATCH, f"`overlap` takes one of {_quote_list(kinds, 8)}", span)
+
+
+# ---- D: dialect ---------------------------------------------------------------------
+
+
+def use_statement(span: Span, text: str) -> Diagnostic:
+    return _diag(codes.USE_STATEMENT,
+                 f"`use {text}` as a statement is not standard; write `namespace <name> use "
+                 "...` or import `osc.standard`", span)
+
+
+def undeclared_event(span: Span, name: str) -> Diagnostic:
+    return _diag(codes.UNDECLARED_EVENT,
+                 f"event `{name}` is emitted without a declaration; add `event {name}` to the "
+                 "scenario", span)
+
+
+def toolkit_extension(span: Span, symbol) -> Diagnostic:
+    return _diag(codes.TOOLKIT_EXTENSION,
+                 f"`{symbol.name}` comes from the toolkit's own library, not the ASAM standard; "
+                 "other tools may not have it", span)
+
+
+def standard_file_import(span: Span, target: str) -> Diagnostic:
+    return _diag(codes.STANDARD_FILE_IMPORT,
+                 f"`import \"{target}\"` names no file here and is read as the standard "
+                 "library; write `import osc.standard`", span,
+                 fix=Fix("write `import osc.standard`", (TextEdit(span, "import osc.standard"),),
+                         False))
+
+
+def one_of_race(span: Span) -> Diagnostic:
+    return _diag(codes.ONE_OF_RACE,
+                 "this `one_of` has a `wait` member: the toolkit runs the members side by side "
+                 "and keeps the first to finish; the standard picks exactly one member", span)
+
+
+def spec_example_parameter(span: Span, callee, name: str) -> Diagnostic:
+    return _diag(codes.SPEC_EXAMPLE_PARAMETER,
+                 f"`{name}` is used in the standard's examples but {_callee(callee)} does not "
+                 "declare it", span)

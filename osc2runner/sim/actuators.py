@@ -29,6 +29,7 @@ writes the outputs back.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -67,17 +68,29 @@ class ActuatorBank:
         self.n_driven = self.driven.sum(axis=1).astype(float)
         self.brake_max = np.array([p.brake_torque_per_wheel for p in params]).reshape(n, 4)
         self.static_load = np.array([p.static_wheel_loads for p in params]).reshape(n, 4)
+        mass = _col([p.mass for p in params])
+        h_over_l = _col([p.h_cog / p.wheelbase for p in params])
+        # load transfer per m/s² of acceleration: longitudinal per wheel, lateral per wheel
+        self.transfer_x = 0.5 * mass * h_over_l
+        front_share = _col([p.lr / p.wheelbase for p in params])
+        h_over_t = _col([p.h_cog / p.track for p in params])
+        self.transfer_y = (mass * h_over_t)[:, None] * np.stack(
+            (front_share, front_share, 1.0 - front_share, 1.0 - front_share), axis=1
+        )
         self.rolling_torque = (
             _col([p.rolling_resistance for p in params])[:, None]
             * self.static_load
             * self.radius[:, None]
         )
-        self.abs_cap = np.where(
-            [p.abs_enabled for p in params], [p.abs_margin for p in params], np.inf
-        )[:, None] * self.radius[:, None]
-        self.tcs_cap = np.where(
-            [p.tcs_enabled for p in params], [p.tcs_margin for p in params], np.inf
-        )[:, None] * self.radius[:, None]
+        # torque caps per newton of friction budget (inf when ABS / TCS are off)
+        abs_margin = [p.abs_margin if p.abs_enabled else math.inf for p in params]
+        tcs_margin = [p.tcs_margin if p.tcs_enabled else math.inf for p in params]
+        self.abs_cap = (_col(abs_margin) * self.radius)[:, None]
+        self.tcs_cap = (_col(tcs_margin) * self.radius)[:, None]
+
+        self._throttle_step = self.throttle_rate * self.dt
+        self._brake_step = self.brake_rate * self.dt
+        self._steer_step = self.steer_rate * self.dt
 
         # commands (after clipping) and applied, rate-limited values
         self.cmd_throttle = np.zeros(n)
@@ -121,22 +134,36 @@ class ActuatorBank:
 
     # ------------------------------------------------------------------ update
 
-    def update(self, speed: np.ndarray, mu: np.ndarray, load: np.ndarray) -> None:
+    def estimate_loads(self, accel: np.ndarray, lat_accel: np.ndarray) -> np.ndarray:
+        """Wheel loads (N) from static loads plus load transfer, shape (n, 4).
+
+        The ECU works with this estimate rather than the contact forces of
+        the last physics step: those are a single 2 ms sample and jump
+        whenever a tire skips (reference/vehicle-model.md §4.1, "model loads"
+        were also the smoother variant there).
+        """
+        dx = (self.transfer_x * accel)[:, None]
+        dy = self.transfer_y * lat_accel[:, None]
+        load = self.static_load + np.concatenate((-dx, -dx, dx, dx), axis=1)
+        load[:, 0::2] -= dy[:, 0::2]  # left wheels unload in a left turn
+        load[:, 1::2] += dy[:, 1::2]
+        return np.maximum(load, 0.0)
+
+    def update(
+        self, speed: np.ndarray, mu: np.ndarray, accel: np.ndarray, lat_accel: np.ndarray
+    ) -> None:
         """Advance the rate limiters by one tick and compute the outputs.
 
         Parameters:
             speed: longitudinal speed of each vehicle (m/s), shape (n,).
             mu: tire friction coefficient per wheel, shape (n, 4).
-            load: measured normal load per wheel (N), shape (n, 4).
+            accel: longitudinal acceleration over the last tick (m/s²), shape (n,).
+            lat_accel: lateral acceleration (m/s², positive to the left), shape (n,).
         """
-        dt = self.dt
-        step = self.throttle_rate * dt
-        self.throttle += np.clip(self.cmd_throttle - self.throttle, -step, step)
-        step = self.brake_rate * dt
-        self.brake += np.clip(self.cmd_brake - self.brake, -step, step)
-        step = self.steer_rate * dt
-        target = self.cmd_steer * self.max_steer
-        self.delta += np.clip(target - self.delta, -step, step)
+        load = self.estimate_loads(accel, lat_accel)
+        self.throttle += _limit(self.cmd_throttle - self.throttle, self._throttle_step)
+        self.brake += _limit(self.cmd_brake - self.brake, self._brake_step)
+        self.delta += _limit(self.cmd_steer * self.max_steer - self.delta, self._steer_step)
 
         grip = mu * load  # friction force budget per wheel
 
@@ -155,4 +182,10 @@ class ActuatorBank:
         lw = self.wheelbase
         left = np.arctan2(lw * tan_d, lw - self.half_track * tan_d)
         right = np.arctan2(lw * tan_d, lw + self.half_track * tan_d)
-        self.steer_angles = np.stack((left, right), axis=1)
+        self.steer_angles[:, 0] = left
+        self.steer_angles[:, 1] = right
+
+
+def _limit(change: np.ndarray, step: np.ndarray) -> np.ndarray:
+    """``change`` clipped to ``[-step, step]`` (cheaper than ``np.clip`` on small arrays)."""
+    return np.minimum(np.maximum(change, -step), step)

@@ -98,6 +98,7 @@ class SpeedGains:
     accel_max: float = 3.0  # m/s², PID output limits
     decel_max: float = 6.0
     integral_band: float = 1.0  # m/s: integrate only when |error| is below this
+    reference_lead: float = 0.5  # m/s: how far the profiled reference may run ahead
     hold_brake: float = 0.3  # brake held at standstill when the target is 0
     stop_speed: float = 0.3  # m/s: below this with target 0 the car is held
 
@@ -107,10 +108,14 @@ def _advance_reference(
 ) -> tuple[float, float]:
     """One step of a jerk- and acceleration-limited reference towards ``target``."""
     err = target - v
-    if err == 0.0 and a == 0.0:
-        return v, 0.0
-    # the fastest acceleration that can still be ramped to zero on arrival
-    want = min(a_max, math.sqrt(2.0 * j_max * abs(err))) if math.isfinite(j_max) else a_max
+    if abs(err) < 1e-9 and abs(a) <= j_max * dt:
+        return target, 0.0
+    want = a_max
+    if math.isfinite(j_max):
+        # the largest acceleration a = k*step whose discrete ramp to zero,
+        # dt*(a + (a - step) + ... + step) = dt*a*(a/step + 1)/2, still fits in |err|
+        step = j_max * dt
+        want = min(want, 0.5 * step * (math.sqrt(1.0 + 8.0 * abs(err) / (dt * step)) - 1.0))
     want = math.copysign(min(want, abs(err) / dt), err)
     if math.isfinite(j_max):
         step = j_max * dt
@@ -118,8 +123,8 @@ def _advance_reference(
     else:
         a = want
     v_next = v + a * dt
-    if (target - v_next) * err <= 0.0:  # arrived or crossed
-        return target, 0.0
+    if (target - v_next) * err <= 0.0:  # arrives within this step: land exactly
+        return target, err / dt
     return v_next, a
 
 
@@ -177,12 +182,18 @@ class SpeedController:
             if pedals is not None:
                 return pedals
 
-        if self.v_ref is None or abs(self.v_ref - v) > 2.0:
+        if self.v_ref is None:
             self.v_ref, self.a_ref, self.integral = v, 0.0, 0.0
         if self.profile.kind == "none":
             self.v_ref, self.a_ref = target, 0.0
         else:
             a_max, j_max = self.profile.limits()
+            # a car held back (by friction, power or the brake ramp) more than
+            # `reference_lead` behind its reference re-anchors the reference on
+            # itself, with the acceleration it actually achieves
+            if (self.v_ref - v) * self.a_ref > g.reference_lead * abs(self.a_ref):
+                self.v_ref = v
+                self.a_ref = math.copysign(min(abs(state.accel), a_max), self.a_ref)
             self.v_ref, self.a_ref = _advance_reference(
                 self.v_ref, self.a_ref, target, a_max, j_max, self.dt
             )
@@ -194,11 +205,15 @@ class SpeedController:
 
         err = self.v_ref - v
         unclamped = self.a_ref + g.kp * err + g.ki * self.integral
-        accel = min(max(unclamped, -g.decel_max), g.accel_max)
-        saturated = accel != unclamped and (unclamped - accel) * err > 0.0
-        if abs(err) < g.integral_band and not saturated:
+        saturated = (unclamped > g.accel_max and err > 0.0) or (
+            unclamped < -g.decel_max and err < 0.0
+        )
+        # anti-windup: integrate only on a steady reference (integral separation in
+        # time), close to it (in speed), and when the output is not saturated
+        if self.a_ref == 0.0 and abs(err) < g.integral_band and not saturated:
             self.integral += err * self.dt
-            accel = min(max(self.a_ref + g.kp * err + g.ki * self.integral, -g.decel_max), g.accel_max)
+            unclamped = self.a_ref + g.kp * err + g.ki * self.integral
+        accel = min(max(unclamped, -g.decel_max), g.accel_max)
         self.accel_command = accel
         return self.pedals_for(accel, v)
 

@@ -88,6 +88,7 @@ class VehicleParams:
     steer_kp: float = 5000.0  # position actuator gain on the steer hinge
     steer_damping: float = 50.0
     steer_armature: float = 2.0
+    spin_damping: float = 0.02  # wheel bearing viscous friction, N·m·s/rad
     # pedal rate limits (0 -> 1 in 1/rate seconds)
     throttle_rate: float = 4.0
     brake_rate: float = 6.0
@@ -310,7 +311,8 @@ def vehicle_body_xml(
             f'    <body name="{name}_wheel">',
             f'      <inertial pos="0 0 0" mass="{_f(p.wheel_mass)}" '
             f'diaginertia="{_vec(i_side, i_spin, i_side)}"/>',
-            f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" damping="0.5"/>',
+            f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" '
+            f'damping="{_f(p.spin_damping)}"/>',
             f'      <geom name="{name}_tire" type="sphere" size="{_f(r)}" condim="3" '
             f'priority="1" contype="1" conaffinity="0" friction="1 0.005 0.0001" '
             f'group="2" mass="0"/>',

@@ -211,7 +211,7 @@ class World:
         friction: float | None = None,
         weather: Weather | None = None,
         physical_collisions: bool = False,
-        settle_time: float = 0.3,
+        settle_time: float = 1.0,
     ) -> None:
         substeps = round(dt_control / dt_physics)
         if substeps < 1 or abs(substeps * dt_physics - dt_control) > 1e-9 * dt_control:
@@ -323,12 +323,13 @@ class World:
                     drive_act.append(aid(f"{name}_drive"))
             self._steer_act[row] = (aid(f"{prefix}_fl_steer"), aid(f"{prefix}_fr_steer"))
         self._drive_act = np.asarray(drive_act, dtype=int)
-        self._driven_mask = np.array(
-            [a.params.driven for a in self._vehicles], dtype=bool  # type: ignore[union-attr]
-        ).reshape(nv, 4)
+        driven = [a.params.driven for a in self._vehicles]  # type: ignore[union-attr]
+        self._driven_mask = np.array(driven, dtype=bool).reshape(nv, 4)
         self._mocap = np.array(
             [m.body_mocapid[bid(self._prefix(a.name))] for a in self._pedestrians], dtype=int
         )
+        self._mu = np.ones((nv, 4))
+        self._mu_mean = [1.0] * nv
         self._q7 = self._qadr[:, None] + np.arange(7)
         self._v6 = self._vadr[:, None] + np.arange(6)
 
@@ -348,6 +349,19 @@ class World:
             [self.specs[i].pose(self.road) for i in self._obs_pos], dtype=float
         ).reshape(-1, 3)
         self._n = n
+        self._is_moving = ~self._is_static
+        x0, x1, y0, y1 = self.road.bounds()
+        self._road_mid = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1)])
+        self._road_half = np.array([0.5 * (x1 - x0), 0.5 * (y1 - y0)])
+        # candidate pairs for collisions: every pair except obstacle-obstacle
+        self._margin = 0.1 if self.physical_collisions else 0.0
+        pi, pj = np.triu_indices(n, k=1)
+        keep = ~(self._is_static[pi] & self._is_static[pj])
+        self._pair_i, self._pair_j = pi[keep], pj[keep]
+        reach = self._radius[self._pair_i] + self._radius[self._pair_j] + self._margin
+        self._pair_reach2 = reach * reach
+        self._centre = np.zeros((n, 2))
+        self._yaw_all = np.zeros(n)
 
     # ------------------------------------------------------------------ reset
 
@@ -382,12 +396,12 @@ class World:
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
         for spec in self.specs:
-            x, y, yaw = spec.pose(self.road)
-            self.place(spec.name, x, y, yaw, spec.speed)
+            if spec.kind != "obstacle":  # obstacles stay where the model put them
+                x, y, yaw = spec.pose(self.road)
+                self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
         self._accel = np.zeros(nv)
-        self._loads = self._measure_loads()
 
     def place(self, name: str, x: float, y: float, yaw: float, speed: float = 0.0) -> None:
         """Move an actor to ``(x, y)`` with heading ``yaw`` and ``speed`` along it.
@@ -474,8 +488,7 @@ class World:
         m, d = self.model, self.data
         if len(self._vehicles):
             bank = self.actuators
-            mu = m.geom_friction[self._tire, 0]
-            bank.update(self._speed, mu, self._loads)
+            bank.update(self._speed, self._mu, self._accel, self._speed * self._yaw_rate)
             d.ctrl[self._drive_act] = bank.drive_torque[self._driven_mask]
             m.dof_frictionloss[self._spin_dof] = bank.brake_torque
             d.ctrl[self._steer_act] = bank.steer_angles
@@ -493,7 +506,6 @@ class World:
             c, s = np.cos(self._yaw), np.sin(self._yaw)
             dv = (self._vel - prev) / self.dt_control
             self._accel = dv[:, 0] * c + dv[:, 1] * s
-            self._loads = self._measure_loads()
         events = self._detect_events()
         self.events.extend(events)
         return events
@@ -538,8 +550,8 @@ class World:
 
     def _poses(self) -> tuple[np.ndarray, np.ndarray]:
         """Centre (n, 2) and yaw (n,) of every actor's bounding box."""
-        centre = np.empty((self._n, 2))
-        yaw = np.empty(self._n)
+        centre = self._centre
+        yaw = self._yaw_all
         if len(self._vehicles):
             centre[self._veh_pos] = self._pos
             yaw[self._veh_pos] = self._yaw
@@ -564,7 +576,7 @@ class World:
             yaw = float(self._yaw[r])
             speed, lat = float(self._speed[r]), float(self._lat_speed[r])
             yaw_rate, accel = float(self._yaw_rate[r]), float(self._accel[r])
-            friction = float(self.model.geom_friction[self._tire[r], 0].mean())
+            friction = self._mu_mean[r]
             throttle, brake = float(bank.throttle[r]), float(bank.brake[r])
             steer = float(bank.delta[r] / bank.max_steer[r])
         elif kind == "pedestrian":
@@ -609,7 +621,7 @@ class World:
 
     def wheel_loads(self, name: str) -> tuple[float, float, float, float]:
         """Measured normal load (N) of each tire (fl, fr, rl, rr) of a vehicle."""
-        return tuple(float(v) for v in self._loads[self._vrow[name]])  # type: ignore[return-value]
+        return tuple(float(v) for v in self._measure_loads()[self._vrow[name]])  # type: ignore[return-value]
 
     def wheel_speeds(self, name: str) -> tuple[float, float, float, float]:
         """Spin rate times radius (m/s) of each wheel of a vehicle."""
@@ -643,8 +655,13 @@ class World:
         if mu <= 0.0:
             raise ValueError(f"friction must be > 0, got {mu}")
         self.road_friction = float(mu)
-        if len(self._vehicles):
-            self.model.geom_friction[self._tire.ravel(), 0] = mu
+        self._mu[:] = mu
+        self._write_friction()
+
+    def _write_friction(self) -> None:
+        """Copy the per-wheel friction table into the model (effective at the next step)."""
+        self.model.geom_friction[self._tire, 0] = self._mu
+        self._mu_mean = [float(v) for v in self._mu.mean(axis=1)]
 
     def set_road_friction(self, mu: float) -> None:
         """Set the friction coefficient of the whole road (every tire contact) from now on."""
@@ -657,15 +674,16 @@ class World:
             raise ValueError(f"friction must be > 0, got {mu}")
         row = self._vrow[name]
         if wheel is None:
-            self.model.geom_friction[self._tire[row], 0] = mu
+            self._mu[row] = mu
         else:
             w = WHEELS.index(wheel) if isinstance(wheel, str) else int(wheel)
-            self.model.geom_friction[self._tire[row, w], 0] = mu
+            self._mu[row, w] = mu
+        self._write_friction()
 
     def wheel_friction(self, name: str) -> tuple[float, float, float, float]:
         """Current friction coefficient of each tire (fl, fr, rl, rr) of a vehicle."""
         row = self._vrow[name]
-        return tuple(float(v) for v in self.model.geom_friction[self._tire[row], 0])  # type: ignore[return-value]
+        return tuple(float(v) for v in self._mu[row])  # type: ignore[return-value]
 
     def set_weather(self, rain: float | None = None, fog: float | None = None) -> None:
         """Record the weather; rain also sets the road friction unless it was set explicitly."""
@@ -687,31 +705,26 @@ class World:
 
     def _detect_events(self) -> list[Event]:
         events: list[Event] = []
-        if self._n < 1:
-            return events
         centre, yaw = self._poses()
         # off-road: an actor's reference point leaves the road surface
-        x0, x1, y0, y1 = self.road.bounds()
-        outside = (
-            (centre[:, 0] < x0) | (centre[:, 0] > x1) | (centre[:, 1] < y0) | (centre[:, 1] > y1)
-        )
-        for i in np.flatnonzero(outside & ~self._is_static):
-            if i not in self._off_road:
-                self._off_road.add(int(i))
-                events.append(self._event("off_road", (int(i),)))
-        self._off_road &= set(np.flatnonzero(outside).tolist())
-        if self._n < 2:
+        away = np.abs(centre - self._road_mid) > self._road_half
+        outside = (away[:, 0] | away[:, 1]) & self._is_moving
+        if self._off_road or outside.any():
+            now_out = set(np.flatnonzero(outside).tolist())
+            for i in sorted(now_out - self._off_road):
+                events.append(self._event("off_road", (i,)))
+            self._off_road = now_out
+        # collisions: circle broad phase over candidate pairs, then separating axes
+        if not len(self._pair_i):
             return events
-        # collisions: circle broad phase, then separating-axis test on the boxes
-        margin = 0.1 if self.physical_collisions else 0.0
-        diff = centre[:, None, :] - centre[None, :, :]
-        dist2 = diff[..., 0] ** 2 + diff[..., 1] ** 2
-        reach = self._radius[:, None] + self._radius[None, :] + margin
-        near = np.triu(dist2 <= reach * reach, k=1)
-        near &= ~(self._is_static[:, None] & self._is_static[None, :])
+        diff = centre[self._pair_i] - centre[self._pair_j]
+        near = np.flatnonzero(diff[:, 0] ** 2 + diff[:, 1] ** 2 <= self._pair_reach2)
+        if not near.size and not self._overlaps:
+            return events
+        margin = self._margin
         now: set[tuple[int, int]] = set()
-        for i, j in zip(*np.nonzero(near), strict=True):
-            a, b = int(i), int(j)
+        for k in near.tolist():
+            a, b = int(self._pair_i[k]), int(self._pair_j[k])
             if _boxes_overlap(
                 centre[a], yaw[a], self._half[a], centre[b], yaw[b], self._half[b], margin
             ):

@@ -34,8 +34,9 @@ const BLOCK_WORDS = ["with", "do", "on", ...COMPOSITIONS];
 const words = (list) => list.join("|");
 
 // keyword -> scope prefix. Each keyword gets scope `<prefix>.<keyword>.osc2`.
+// `actor` is absent: outside a declaration it is the implicit name (variable.language.actor).
 const STORAGE_TYPES = [
-  "type", "unit", "enum", "struct", "actor", "scenario", "action", "modifier",
+  "type", "unit", "enum", "struct", "scenario", "action", "modifier",
   "extend", "def", "var", "event", "list", "range",
 ];
 const OTHER_KEYWORDS = [

@@ -1,0 +1,103 @@
+"""``analyze(sources, config)``: parse, resolve and check a set of files.
+
+Each input file is checked as the root of its own program (the file, what it
+imports, and the standard library), so a file's findings never depend on
+which other files were given. Parsed files are shared between programs.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from osc2check.diagnostics import Diagnostic
+from osc2check.semantics.program import Program, build_program
+from osc2check.source import decode_source
+from osc2check.syntax import ParseResult, parse
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class SourceInput:
+    """A file to check: its name as reported, and its text."""
+
+    uri: str
+    text: str
+
+
+@dataclass
+class Analysis:
+    diagnostics: list[Diagnostic]
+    texts: dict[str, str]
+    programs: dict[str, Program] = field(default_factory=dict)
+    parses: dict[str, ParseResult] = field(default_factory=dict)
+
+
+class FileCache:
+    """Parse results by path; sources given in memory win over the disk."""
+
+    def __init__(self, sources: dict[str, str]):
+        self.sources = sources
+        self.parses: dict[str, ParseResult] = {}
+        self.encoding_problems: dict[str, str] = {}
+
+    def read(self, uri: str) -> ParseResult | None:
+        if uri in self.parses:
+            return self.parses[uri]
+        text = self.sources.get(uri)
+        if text is None:
+            try:
+                data = Path(uri).read_bytes()
+            except OSError:
+                return None
+            text, problem = decode_source(data)
+            if problem:
+                self.encoding_problems[uri] = problem
+        result = parse(text, uri)
+        self.parses[uri] = result
+        return result
+
+
+def analyze(sources: list[SourceInput], config=None) -> Analysis:
+    """Check every source; returns the diagnostics (config applied) and the texts."""
+    texts = {s.uri: s.text for s in sources}
+    cache = FileCache(texts)
+    implicit = tuple(getattr(config, "implicit_imports", ()) or ())
+    programs: dict[str, Program] = {}
+    found: list[Diagnostic] = []
+    for source in sources:
+        result = cache.read(source.uri)
+        program = build_program(source.uri, cache.read, implicit)
+        programs[source.uri] = program
+        found.extend(result.diagnostics)
+        found.extend(d for d in program.diagnostics if d.span.uri == source.uri)
+    diagnostics = _finish(found, cache, texts, config)
+    return Analysis(diagnostics, texts, programs, cache.parses)
+
+
+def _finish(found: list[Diagnostic], cache: FileCache, texts: dict[str, str],
+            config) -> list[Diagnostic]:
+    unique: dict[tuple, Diagnostic] = {}
+    for d in found:
+        unique.setdefault((d.span.uri, d.span.start, d.span.end, d.code.code, d.message), d)
+    diagnostics = list(unique.values())
+    try:
+        from osc2check.suppress import apply_suppressions, find_suppressions
+    except ImportError:  # pragma: no cover - suppressions arrive with the CLI work
+        apply_suppressions = find_suppressions = None
+    if find_suppressions is not None:
+        suppressions = []
+        for uri in texts:
+            result = cache.parses.get(uri)
+            if result is not None:
+                suppressions.extend(find_suppressions(uri, result.comment_spans()))
+        diagnostics = apply_suppressions(diagnostics, suppressions)
+    if config is not None and hasattr(config, "policy"):
+        by_uri: dict[str, list[Diagnostic]] = {}
+        for d in diagnostics:
+            by_uri.setdefault(d.span.uri, []).append(d)
+        diagnostics = [d for uri, ds in by_uri.items() for d in config.policy(ds, uri)]
+    diagnostics.sort(key=lambda d: d.sort_key)
+    return diagnostics

@@ -1,0 +1,318 @@
+"""The ``osc2check`` command: argv → Config → analyze → format → exit code.
+
+No analysis happens here. Exit codes: 0 when no finding is at or above the
+``--fail-on`` severity, 1 when one is, 2 for a usage, configuration or I/O
+error or an internal error (with a message on stderr, never a traceback unless
+``--debug``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import os
+import sys
+import traceback
+from collections.abc import Sequence
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any, TextIO
+
+from osc2check import codes, messages, rules
+from osc2check.config import (
+    FORMAT_ALIASES,
+    OUTPUT_FORMATS,
+    Config,
+    ConfigError,
+    load_config,
+    load_config_file,
+    parse_codes,
+    parse_severity,
+)
+from osc2check.diagnostics import Diagnostic
+from osc2check.output import render, render_statistics, tool
+from osc2check.source import decode_source, point_span
+
+__all__ = ["EXIT_ERROR", "EXIT_FINDINGS", "EXIT_OK", "UsageError", "build_parser", "main"]
+
+log = logging.getLogger(__name__)
+
+EXIT_OK, EXIT_FINDINGS, EXIT_ERROR = 0, 1, 2
+STDIN = "-"
+STDIN_URI = "<stdin>"
+
+_EPILOG = """\
+commands:
+  osc2check rule CODE   print the documentation of a code (N101 or undefined-name)
+  osc2check rule        list every code
+
+exit status:
+  0  no finding at or above --fail-on (default: error)
+  1  findings at or above --fail-on
+  2  usage, configuration or I/O error, or an internal error
+
+Configuration is read from the nearest osc2check.toml or pyproject.toml with a
+[tool.osc2check] table, looking upward from the first path. Options given here
+override it; --ignore adds to the configured ignore list.
+"""
+
+
+class UsageError(Exception):
+    """A problem with the command line or the input files (exit status 2)."""
+
+
+@dataclass(frozen=True, slots=True)
+class _Input:
+    uri: str
+    path: Path | None  # None for standard input
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The parser of the checking command (``osc2check [options] PATH...``)."""
+    p = argparse.ArgumentParser(
+        prog="osc2check",
+        description="Check ASAM OpenSCENARIO DSL 2.x (.osc) files.",
+        epilog=_EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "paths",
+        nargs="*",
+        metavar="PATH",
+        help="files or folders (searched for *.osc); '-' reads standard input (default: .)",
+    )
+    p.add_argument("--stdin-filename", metavar="NAME", help="the file name to report for '-'")
+    p.add_argument(
+        "--output-format",
+        choices=(*OUTPUT_FORMATS, *FORMAT_ALIASES),
+        help="how to print findings (default: full)",
+    )
+    p.add_argument("--select", metavar="CODES", help="comma list of codes, names or prefixes")
+    p.add_argument("--ignore", metavar="CODES", help="comma list of codes to leave out")
+    p.add_argument("--strict", action="store_true", default=None, help="D warnings are errors")
+    p.add_argument(
+        "--fail-on",
+        choices=("error", "warning", "info"),
+        help="lowest severity that makes the exit status 1 (default: error)",
+    )
+    p.add_argument("--exit-zero", action="store_true", help="exit 0 even when there are findings")
+    p.add_argument("--config", metavar="FILE", help="read the configuration from FILE")
+    p.add_argument("--isolated", action="store_true", help="ignore configuration files")
+    p.add_argument(
+        "--statistics", action="store_true", help="print a count per code instead of findings"
+    )
+    p.add_argument("-q", "--quiet", action="store_true", help="leave out the summary line")
+    p.add_argument("--dump-ast", action="store_true", help="print the syntax tree of each file")
+    p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
+    p.add_argument("--version", action="version", version=f"%(prog)s {tool.version()}")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``) and return the exit status."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in args
+    try:
+        if args[:1] == ["rule"]:
+            return _rule_command(args[1:], sys.stdout)
+        return _check_command(args, sys.stdout)
+    except SystemExit as exc:  # argparse: --help, --version, bad options
+        return exc.code if isinstance(exc.code, int) else EXIT_ERROR
+    except (UsageError, ConfigError) as exc:
+        sys.stderr.write(f"osc2check: error: {exc}\n")
+        return EXIT_ERROR
+    except Exception as exc:  # the one guard of this entry point
+        if debug:
+            traceback.print_exc(file=sys.stderr)
+        sys.stderr.write(f"osc2check: internal error: {type(exc).__name__}: {exc}\n")
+        if not debug:
+            sys.stderr.write("osc2check: run with --debug to see the traceback\n")
+        return EXIT_ERROR
+
+
+# --- osc2check rule ---------------------------------------------------------------
+
+
+def _rule_command(argv: list[str], out: TextIO) -> int:
+    p = argparse.ArgumentParser(
+        prog="osc2check rule", description="Print the documentation of a code."
+    )
+    p.add_argument("code", nargs="?", metavar="CODE", help="a code or name; none lists all")
+    args = p.parse_args(argv)
+    if args.code is None:
+        for c in sorted(codes.ALL, key=lambda c: c.code):
+            out.write(f"{c.code}  {c.slug:<28} {c.severity.label:<8} {c.summary}\n")
+        return EXIT_OK
+    code = codes.lookup(args.code)
+    if code is None:
+        raise UsageError(f"unknown code {args.code!r} (osc2check rule lists them)")
+    out.write(rules.page_text(code))
+    return EXIT_OK
+
+
+# --- checking ---------------------------------------------------------------------
+
+
+def _check_command(argv: list[str], out: TextIO) -> int:
+    args = build_parser().parse_args(argv)
+    logging.basicConfig(
+        level=logging.DEBUG if args.debug else logging.WARNING,
+        format="osc2check: %(levelname)s: %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
+    paths = args.paths or ["."]
+    config = _with_options(_load_config(args, paths), args)
+    inputs = _collect(paths, config, args.stdin_filename)
+    sources, problems = _read(inputs)
+    if args.dump_ast:
+        return _dump_ast(sources, out)
+
+    analysis = _analyze(sources, config)
+    diagnostics = sorted(
+        [*analysis.diagnostics, *config.policy(problems)], key=lambda d: d.sort_key
+    )
+    texts = {**{s.uri: s.text for s in sources}, **analysis.texts}
+    if args.statistics:
+        text = render_statistics(diagnostics, files_checked=len(sources), quiet=args.quiet)
+    else:
+        text = render(
+            config.output_format, diagnostics, texts, files_checked=len(sources), quiet=args.quiet
+        )
+    out.write(text)
+    out.flush()
+    if args.exit_zero or not config.fails(diagnostics):
+        return EXIT_OK
+    return EXIT_FINDINGS
+
+
+def _load_config(args: argparse.Namespace, paths: list[str]) -> Config:
+    if args.config:
+        return load_config_file(args.config)
+    if args.isolated:
+        return Config()
+    first = paths[0]
+    if first == STDIN:
+        start = Path(args.stdin_filename).parent if args.stdin_filename else Path.cwd()
+    else:
+        start = Path(first)
+    if not start.exists():
+        start = Path.cwd()
+    config, path = load_config(start)
+    log.debug("configuration: %s", path or "defaults")
+    return config
+
+
+def _codes_option(value: str, option: str) -> frozenset[codes.Code]:
+    names = [n.strip() for n in value.split(",") if n.strip()]
+    return parse_codes(names, key=option)
+
+
+def _with_options(config: Config, args: argparse.Namespace) -> Config:
+    changes: dict[str, Any] = {}
+    if args.select is not None:
+        changes["select"] = _codes_option(args.select, "--select")
+    if args.ignore is not None:
+        changes["ignore"] = config.ignore | _codes_option(args.ignore, "--ignore")
+    if args.strict:
+        changes["strict"] = True
+    if args.fail_on is not None:
+        changes["fail_on"] = parse_severity(args.fail_on, key="--fail-on")
+    if args.output_format is not None:
+        changes["output_format"] = FORMAT_ALIASES.get(args.output_format, args.output_format)
+    return replace(config, **changes)
+
+
+def _display(path: Path) -> str:
+    """``path`` relative to the working directory when below it, with ``/``."""
+    try:
+        return path.resolve().relative_to(Path.cwd().resolve()).as_posix()
+    except ValueError:
+        return path.as_posix()
+
+
+def _walk(root: Path, config: Config) -> list[Path]:
+    check = not config.is_excluded(root)  # a folder named explicitly is searched anyway
+    found = []
+    for dirpath, dirnames, filenames in os.walk(root):
+        here = Path(dirpath)
+        dirnames[:] = sorted(
+            d for d in dirnames if not (check and config.is_excluded(here / d, name_only=True))
+        )
+        for name in sorted(filenames):
+            path = here / name
+            if name.endswith(".osc") and not (check and config.is_excluded(path, name_only=True)):
+                found.append(path)
+    return found
+
+
+def _collect(paths: list[str], config: Config, stdin_filename: str | None) -> list[_Input]:
+    inputs: list[_Input] = []
+    seen: set[str] = set()
+    for raw in paths:
+        if raw == STDIN:
+            uri = Path(stdin_filename).as_posix() if stdin_filename else STDIN_URI
+            candidates = [_Input(uri, None)]
+        else:
+            path = Path(raw)
+            if path.is_dir():
+                candidates = [_Input(_display(p), p) for p in _walk(path, config)]
+            elif path.exists():
+                excluded = config.force_exclude and config.is_excluded(path)
+                candidates = [] if excluded else [_Input(_display(path), path)]
+            else:
+                raise UsageError(f"{raw}: no such file or directory")
+        for item in candidates:
+            if item.uri not in seen:
+                seen.add(item.uri)
+                inputs.append(item)
+    if not inputs:
+        raise UsageError(f"no .osc files found in {', '.join(paths)}")
+    return inputs
+
+
+def _read(inputs: list[_Input]) -> tuple[list[Any], list[Diagnostic]]:
+    """The decoded sources, and a P004 finding for each file that is not valid UTF-8."""
+    from osc2check.analysis import SourceInput  # the lead's module; imported on use
+
+    sources, problems = [], []
+    for item in inputs:
+        try:
+            data = sys.stdin.buffer.read() if item.path is None else item.path.read_bytes()
+        except OSError as exc:
+            raise UsageError(f"{item.uri}: cannot read: {exc.strerror or exc}") from None
+        text, problem = decode_source(data)
+        sources.append(SourceInput(uri=item.uri, text=text))
+        if problem is not None:
+            problems.append(_encoding_problem(item.uri, text, problem))
+    return sources, problems
+
+
+def _encoding_problem(uri: str, text: str, problem: str) -> Diagnostic:
+    # TODO(lead): move into analyze (SourceInput could carry the decoding problem) so that
+    # file-ignore applies to P004 like to every other code.
+    offset = max(text.find("\ufffd"), 0)
+    span = point_span(uri, text, offset)
+    if offset < len(text):
+        span = replace(span, end_column=span.column + 1, end=span.start + 1)
+    return messages.invalid_encoding(span, problem)
+
+
+def _analyze(sources: list[Any], config: Config) -> Any:
+    from osc2check.analysis import analyze  # the lead's module; imported on use
+
+    return analyze(sources, config)
+
+
+def _dump_ast(sources: list[Any], out: TextIO) -> int:
+    from osc2check.syntax import dump, parse  # provided by the parser
+
+    for source in sources:
+        if len(sources) > 1:
+            out.write(f"==> {source.uri} <==\n")
+        text = dump(parse(source.text, source.uri).ast)
+        out.write(text if text.endswith("\n") else text + "\n")
+    return EXIT_OK
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

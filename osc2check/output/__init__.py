@@ -1,0 +1,60 @@
+"""Output formats: ``render(fmt, diagnostics, texts_by_uri)`` is the one entry.
+
+``full`` (default) and ``concise`` are for people and end with a summary line;
+``json``, ``sarif`` and ``github`` are for tools and contain nothing else.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from osc2check.config import OUTPUT_FORMATS
+from osc2check.diagnostics import Diagnostic
+from osc2check.output import concise, full, github, json, sarif
+from osc2check.output.summary import statistics, summary_line
+
+__all__ = ["FORMATS", "HUMAN_FORMATS", "render", "render_statistics"]
+
+FORMATS = OUTPUT_FORMATS
+HUMAN_FORMATS = ("full", "concise")
+
+
+def render(
+    fmt: str,
+    diagnostics: Sequence[Diagnostic],
+    texts_by_uri: Mapping[str, str],
+    *,
+    files_checked: int | None = None,
+    quiet: bool = False,
+) -> str:
+    """The findings in format ``fmt``, ready to write to stdout.
+
+    ``texts_by_uri`` gives the source for excerpts; ``files_checked`` (default:
+    the number of texts) goes into the summary line of the human formats, which
+    ``quiet`` leaves out (and, with no findings, everything).
+    """
+    if fmt == "full":
+        body = full.render(diagnostics, texts_by_uri)
+    elif fmt == "concise":
+        body = concise.render(diagnostics)
+    elif fmt == "json":
+        return json.render(diagnostics)
+    elif fmt == "sarif":
+        return sarif.render(diagnostics)
+    elif fmt == "github":
+        return github.render(diagnostics)
+    else:
+        raise ValueError(f"unknown output format {fmt!r}")
+    if quiet:
+        return body
+    checked = len(texts_by_uri) if files_checked is None else files_checked
+    separator = "\n" if fmt == "full" and diagnostics else ""
+    return body + separator + summary_line(diagnostics, checked) + "\n"
+
+
+def render_statistics(
+    diagnostics: Sequence[Diagnostic], *, files_checked: int, quiet: bool = False
+) -> str:
+    """A count per code (``--statistics``), then the summary line unless ``quiet``."""
+    table = statistics(diagnostics)
+    return table if quiet else table + summary_line(diagnostics, files_checked) + "\n"

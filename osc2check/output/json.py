@@ -1,0 +1,60 @@
+"""The versioned JSON format (``"version": 1``): a contract for other tools.
+
+Fields may be added in later versions; consumers ignore fields they do not know.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Sequence
+from typing import Any
+
+from osc2check import rules
+from osc2check.diagnostics import Diagnostic, Fix
+from osc2check.output import tool
+from osc2check.source import Span
+
+FORMAT_VERSION = 1
+
+
+def location(span: Span) -> dict[str, Any]:
+    """``{"path", "start": {"line", "column"}, "end": {...}}``, 1-based."""
+    return {
+        "path": span.uri,
+        "start": {"line": span.line, "column": span.column},
+        "end": {"line": span.end_line, "column": span.end_column},
+    }
+
+
+def _fix(fix: Fix | None) -> dict[str, Any] | None:
+    if fix is None:
+        return None
+    return {
+        "message": fix.message,
+        "applicability": "safe" if fix.safe else "unsafe",
+        "edits": [{**location(e.span), "content": e.new_text} for e in fix.edits],
+    }
+
+
+def finding(d: Diagnostic) -> dict[str, Any]:
+    """One finding as a JSON-ready dict."""
+    return {
+        "code": d.code.code,
+        "name": d.code.slug,
+        "severity": d.severity.label,
+        "message": d.message,
+        "location": location(d.span),
+        "related": [{**location(r.span), "message": r.message} for r in d.related],
+        "url": rules.doc_url(d.code),
+        "fix": _fix(d.fix),
+    }
+
+
+def render(diagnostics: Sequence[Diagnostic]) -> str:
+    """The whole document, indented, with a final newline."""
+    document = {
+        "version": FORMAT_VERSION,
+        "tool": {"name": tool.NAME, "version": tool.version()},
+        "findings": [finding(d) for d in diagnostics],
+    }
+    return json.dumps(document, indent=2, ensure_ascii=False) + "\n"

@@ -1,0 +1,16 @@
+"""The tool's name and version, as machine-readable outputs report them."""
+
+from __future__ import annotations
+
+from importlib import metadata
+
+NAME = "osc2check"
+DISTRIBUTION = "osc2-toolkit"
+
+
+def version() -> str:
+    """The installed version of the distribution, or ``0+unknown`` when not installed."""
+    try:
+        return metadata.version(DISTRIBUTION)
+    except metadata.PackageNotFoundError:
+        return "0+unknown"

@@ -1,0 +1,459 @@
+"""Definition pass: fill namespaces with the symbols each file declares.
+
+Then the structure pass binds what declarations say about each other:
+physical dimensions and units, the actor of each behaviour and modifier,
+inheritance, ``extend``, and the members (fields, events, methods) of every
+compound type. Expressions inside bodies are checked later (``bodies.py``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from osc2check import messages
+from osc2check.diagnostics import Diagnostic
+from osc2check.semantics import types as T
+from osc2check.semantics.model import Context, Model
+from osc2check.semantics.symbols import COMPOUND_KINDS, Symbol, SymbolKind
+from osc2check.semantics.suggest import closest
+from osc2check.syntax import ast
+
+_DECL_KINDS = {
+    ast.StructDecl: SymbolKind.STRUCT,
+    ast.ActorDecl: SymbolKind.ACTOR,
+    ast.ScenarioDecl: SymbolKind.SCENARIO,
+    ast.ActionDecl: SymbolKind.ACTION,
+    ast.ModifierDecl: SymbolKind.MODIFIER,
+}
+TOOLKIT_NAMESPACE = "osc2toolkit"
+
+
+@dataclass
+class Unit:
+    """One file to declare, with the context its first line starts in."""
+
+    uri: str
+    file: ast.File
+    context: Context
+    library: bool = False
+    comments: dict[int, str] = field(default_factory=dict)  # line → comment text
+
+
+@dataclass
+class Pending:
+    decl: ast.Node
+    symbol: Symbol | None
+    context: Context
+    unit: Unit
+
+
+class Declarer:
+    """Runs the definition and structure passes over a set of files."""
+
+    def __init__(self, model: Model, report: Callable[[Diagnostic], None]):
+        self.model = model
+        self.report = report
+        self.pending: list[Pending] = []
+        self.extensions: list[Pending] = []
+
+    # ---- pass 1 ------------------------------------------------------------------
+
+    def declare(self, unit: Unit) -> None:
+        ctx = unit.context
+        for decl in unit.file.declarations:
+            match decl:
+                case ast.NamespaceDecl():
+                    name = "" if decl.name.text == "null" else decl.name.text
+                    uses = tuple(u.text for u in decl.uses)
+                    self.model.namespace(name, create=True) if not self._is_library_ns(name) \
+                        else None
+                    ctx = Context(name, uses)
+                case ast.UseStatement():
+                    added = []
+                    for dotted in decl.names:
+                        added.extend(n.text for n in dotted)
+                    ctx = Context(ctx.namespace, tuple(dict.fromkeys((*ctx.uses, *added))))
+                    if not unit.library:
+                        self.report(messages.use_statement(decl.span, ".".join(
+                            n.text for n in decl.names[0]) if decl.names else ""))
+                case ast.ExportDecl():
+                    self._export(decl, ctx)
+                case ast.ImportDecl():
+                    pass
+                case ast.ExtendDecl() | ast.EnumExtension():
+                    self.extensions.append(Pending(decl, None, ctx, unit))
+                case _:
+                    symbol = self._declare_one(decl, ctx, unit)
+                    self.pending.append(Pending(decl, symbol, ctx, unit))
+
+    def _is_library_ns(self, name: str) -> bool:
+        base = self.model.base
+        return base is not None and name in base.namespaces
+
+    def _export(self, decl: ast.ExportDecl, ctx: Context) -> None:
+        ns = self.model.namespace(ctx.namespace, create=True)
+        for item in decl.items:
+            if item.kind == "all":
+                ns.exports_all = True
+            elif item.kind == "namespace" and item.namespace is not None:
+                ns.reexports.append((item.namespace.text, None))
+            elif item.name is not None:
+                if item.name.namespace not in (None, ctx.namespace):
+                    ns.reexports.append((item.name.namespace, item.name.name.text))
+                else:
+                    ns.exports.add(item.name.name.text)
+
+    def _new(self, kind: SymbolKind, name: ast.Name, decl: ast.Node, ctx: Context,
+             unit: Unit, **kw) -> Symbol:
+        sym = Symbol(kind, name.text, ctx.namespace, unit.uri, decl, name.span,
+                     library=unit.library, toolkit=ctx.namespace == TOOLKIT_NAMESPACE,
+                     doc=_doc_comment(unit, decl), context=ctx, **kw)
+        self.model.declarations[decl] = sym
+        self.model.references[name] = sym
+        self.model.symbols.append(sym)
+        return sym
+
+    def _add_global(self, sym: Symbol, ctx: Context) -> None:
+        ns = self.model.namespace(ctx.namespace, create=True)
+        if ns is None:
+            return
+        before = [s for s in ns.symbols.get(sym.name, ()) if _same_space(s, sym)]
+        if self.model.base is not None and ctx.namespace in self.model.base.namespaces:
+            before += [s for s in self.model.base.namespaces[ctx.namespace].symbols.get(
+                sym.name, ()) if _same_space(s, sym)]
+        ns.add(sym)
+        if before and sym.name_span is not None:
+            self.report(messages.duplicate_definition(sym.name_span, sym.name, before[0]))
+
+    def _declare_one(self, decl: ast.Node, ctx: Context, unit: Unit) -> Symbol | None:
+        match decl:
+            case ast.PhysicalTypeDecl():
+                sym = self._new(SymbolKind.PHYSICAL_TYPE, decl.name, decl, ctx, unit)
+                sym.dimension = self._dimension(decl.si, decl, for_unit=False)[0]
+                sym.type = T.Type(T.Kind.PHYSICAL, sym, sym.dimension)
+                self._add_global(sym, ctx)
+                return sym
+            case ast.UnitDecl():
+                sym = self._new(SymbolKind.UNIT, decl.name, decl, ctx, unit)
+                dim, factor, offset = self._dimension(decl.si, decl, for_unit=True)
+                sym.dimension, sym.factor, sym.offset = dim, factor, offset
+                previous = self.model.unit(sym.name)
+                if previous is not None and previous.decl is not None:
+                    self.report(messages.duplicate_definition(decl.name.span, sym.name,
+                                                              previous))
+                self.model.units[sym.name] = sym
+                return sym
+            case ast.EnumDecl():
+                sym = self._new(SymbolKind.ENUM, decl.name, decl, ctx, unit)
+                sym.type = T.Type(T.Kind.ENUM, sym)
+                self._add_global(sym, ctx)
+                self._enum_members(sym, decl.members, ctx, unit)
+                return sym
+            case ast.GlobalDecl():
+                syms = []
+                for name in decl.field.names:
+                    sym = self._new(SymbolKind.GLOBAL, name, decl.field, ctx, unit,
+                                    default=decl.field.default,
+                                    has_default=decl.field.default is not None)
+                    self._add_global(sym, ctx)
+                    syms.append(sym)
+                return syms[0] if syms else None
+            case ast.StructuredDecl():
+                kind = _DECL_KINDS[type(decl)]
+                sym = self._new(kind, decl.name.name, decl, ctx, unit)
+                if kind is not SymbolKind.MODIFIER:
+                    sym.type = T.Type(T.Kind.COMPOUND, sym)
+                if decl.name.actor is None and kind is not SymbolKind.MODIFIER:
+                    self._add_global(sym, ctx)
+                return sym
+        return None
+
+    def _enum_members(self, enum: Symbol, members, ctx: Context, unit: Unit) -> None:
+        existing = self.model.enum_values(enum)
+        next_value = max((m.value for m in existing), default=-1) + 1
+        by_name = {m.name: m for m in existing}
+        for member in members:
+            value = next_value
+            if isinstance(member.value, ast.IntLiteral):
+                value = member.value.value
+            elif isinstance(member.value, ast.NameRef) and member.value.name.name.text in by_name:
+                value = by_name[member.value.name.name.text].value
+            sym = self._new(SymbolKind.ENUM_MEMBER, member.name, member, ctx, unit,
+                            owner=enum, value=value, type=enum.type)
+            if member.name.text in by_name and not member.name.missing:
+                self.report(messages.duplicate_member(member.name.span, member.name.text,
+                                                      enum.name, by_name[member.name.text]))
+            by_name[member.name.text] = sym
+            self.model.enum_members.setdefault(enum, []).append(sym)
+            next_value = value + 1
+
+    def _dimension(self, args, decl, *, for_unit: bool):
+        dim = [0] * len(T.BASE_UNITS)
+        factor, offset = Fraction(1), Fraction(0)
+        for arg in args:
+            if not isinstance(arg, ast.NamedArgument):
+                self.report(messages.si_argument(arg.span, None))
+                continue
+            key = arg.name.text
+            number = _constant_number(arg.value)
+            if key in T.BASE_UNITS:
+                if number is None or number.denominator != 1:
+                    self.report(messages.si_argument(arg.span, key))
+                    continue
+                dim[T.BASE_UNITS.index(key)] = int(number)
+            elif for_unit and key in ("factor", "offset"):
+                if number is None:
+                    self.report(messages.si_argument(arg.span, key))
+                    continue
+                if key == "factor":
+                    factor = T.snap_factor(number)
+                else:
+                    offset = T.snap_factor(number)
+            else:
+                self.report(messages.si_argument(arg.name.span, key))
+        return tuple(dim), factor, offset
+
+    # ---- pass 2: structure -----------------------------------------------------------
+
+    def structure(self, resolve_type, resolve_behavior_name) -> None:
+        """Bind units, actors, parents, extensions and members (in that order)."""
+        self._resolve_type = resolve_type
+        for p in self.pending:
+            if isinstance(p.decl, ast.UnitDecl) and p.symbol is not None:
+                self._unit_type(p)
+        structured = [p for p in self.pending
+                      if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None]
+        for p in structured:  # modifiers `of` a behaviour need the behaviours first
+            if not (isinstance(p.decl, ast.ModifierDecl) and p.decl.of is not None):
+                self._associate(p, resolve_behavior_name)
+        for p in structured:
+            if isinstance(p.decl, ast.ModifierDecl) and p.decl.of is not None:
+                self._associate(p, resolve_behavior_name)
+        for p in self.pending:
+            if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None:
+                self._inherit(p, resolve_behavior_name)
+        for p in self.pending:
+            if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None:
+                self._members(p.symbol, p.decl.members, p.context, p.unit)
+            elif isinstance(p.decl, ast.GlobalDecl):
+                t = resolve_type(p.decl.field.type, p.context) if p.decl.field.type else T.UNKNOWN
+                for name in p.decl.field.names:
+                    sym = self.model.references.get(name)
+                    if sym is not None:
+                        sym.type = t
+        for p in self.extensions:
+            self._extend(p, resolve_behavior_name)
+
+    def _unit_type(self, p: Pending) -> None:
+        decl: ast.UnitDecl = p.decl  # type: ignore[assignment]
+        sym = p.symbol
+        target = self._lookup_type(decl.type, p.context)
+        if target is None:
+            return
+        if target.kind is not SymbolKind.PHYSICAL_TYPE:
+            self.report(messages.not_a_physical_type(decl.type.span, str(decl.type), target))
+            return
+        sym.type = target.type
+        sym.owner = target
+        if target.dimension is not None and sym.dimension != target.dimension:
+            self.report(messages.unit_dimension(decl.name.span, sym.name, sym.dimension,
+                                                target.name, target.dimension))
+            sym.dimension = target.dimension
+
+    def _lookup_type(self, qname: ast.QualifiedName, ctx: Context) -> Symbol | None:
+        found = [s for s in self.model.lookup(qname.name.text, ctx, qname.namespace)
+                 if s.kind.is_type or s.kind in (SymbolKind.MODIFIER,)]
+        if found:
+            self.model.references[qname.name] = found[0]
+            return found[0]
+        if qname.namespace is None and qname.name.text in T.PRIMITIVES:
+            return None
+        if not qname.name.missing:
+            candidates = [n for ns in self._visible_names(ctx) for n in ns]
+            self.report(messages.undefined_type(qname.span, str(qname),
+                                                closest(qname.name.text, candidates)))
+        return None
+
+    def _visible_names(self, ctx: Context):
+        for ns in (ctx.namespace, *ctx.uses, ""):
+            for part in self.model._namespace_parts(ns):
+                yield [n for n, syms in part.symbols.items() if any(s.kind.is_type for s in syms)]
+
+    def _associate(self, p: Pending, resolve_behavior_name) -> None:
+        decl: ast.StructuredDecl = p.decl  # type: ignore[assignment]
+        sym = p.symbol
+        if decl.name.actor is not None:
+            actor = self._lookup_type(decl.name.actor, p.context)
+            if actor is not None and actor.kind is not SymbolKind.ACTOR:
+                self.report(messages.not_an_actor(decl.name.actor.span, actor))
+                actor = None
+            sym.actor = actor
+            if actor is None:
+                return
+        table = self.model.modifiers if sym.kind is SymbolKind.MODIFIER else \
+            self.model.behaviors if sym.kind.is_behavior else None
+        if isinstance(decl, ast.ModifierDecl) and decl.of is not None:
+            target = resolve_behavior_name(decl.of, p.context)
+            if target is not None and not target.kind.is_behavior:
+                self.report(messages.modifier_of_not_behavior(decl.of.span, target))
+                target = None
+            sym.of = target
+            if target is not None:
+                self._register(self.model.modifiers, target, sym)
+            return
+        if table is not None:
+            if sym.actor is not None or sym.kind is SymbolKind.MODIFIER:
+                self._register(table, sym.actor, sym)
+
+    def _register(self, table, key, sym: Symbol) -> None:
+        group = table.setdefault(key, {}).setdefault(sym.name, [])
+        previous = [s for s in self._existing_keyed(table, key, sym.name) if s is not sym]
+        group.append(sym)
+        if previous and sym.name_span is not None:
+            self.report(messages.duplicate_definition(sym.name_span, sym.qualified_name,
+                                                      previous[0]))
+
+    def _existing_keyed(self, table, key, name) -> list[Symbol]:
+        attr = "modifiers" if table is self.model.modifiers else "behaviors"
+        return self.model._keyed(attr, key, name)
+
+    def _inherit(self, p: Pending, resolve_behavior_name) -> None:
+        decl: ast.StructuredDecl = p.decl  # type: ignore[assignment]
+        sym = p.symbol
+        if decl.inherits is None:
+            return
+        if sym.kind is SymbolKind.MODIFIER:
+            self.report(messages.invalid_inheritance(decl.inherits.span, sym, None,
+                                                     "a modifier cannot inherit"))
+            return
+        parent = resolve_behavior_name(decl.inherits.target, p.context)
+        if parent is None:
+            return
+        if parent.kind is not sym.kind:
+            self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
+                                                     "different kinds"))
+            return
+        if parent is sym or any(a is sym for a in self.model.ancestors(parent)):
+            self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
+                                                     "cycle"))
+            return
+        if sym.actor is not None and parent.actor is not None and not T.is_subtype(
+            sym.actor, parent.actor
+        ):
+            self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
+                                                     "actor"))
+        sym.parent = parent
+        sym.condition = decl.inherits.condition
+        self.model.children.setdefault(parent, []).append(sym)
+
+    def _extend(self, p: Pending, resolve_behavior_name) -> None:
+        decl = p.decl
+        target = resolve_behavior_name(decl.target, p.context)
+        if target is None:
+            return
+        if isinstance(decl, ast.EnumExtension):
+            if target.kind is not SymbolKind.ENUM:
+                self.report(messages.cannot_extend(decl.target.span, target, "enum members"))
+                return
+            self._enum_members(target, decl.members, p.context, p.unit)
+            return
+        if target.kind not in COMPOUND_KINDS and target.kind is not SymbolKind.PRIMITIVE:
+            self.report(messages.cannot_extend(decl.target.span, target, "members"))
+            return
+        self.model.declarations[decl] = target
+        self._members(target, decl.members, p.context, p.unit)
+
+    def _members(self, owner: Symbol, members, ctx: Context, unit: Unit) -> None:
+        for member in members:
+            match member:
+                case ast.FieldDecl():
+                    t = self._resolve_type(member.type, ctx) if member.type else T.UNKNOWN
+                    kind = SymbolKind.VARIABLE if member.is_var else SymbolKind.FIELD
+                    for name in member.names:
+                        sym = self._new(kind, name, member, ctx, unit, type=t, owner=owner,
+                                        default=member.default,
+                                        has_default=member.default is not None or any(
+                                            isinstance(w, ast.KeepConstraint)
+                                            and w.strength == "default"
+                                            for w in member.with_members))
+                        self._add_member(owner, sym)
+                case ast.EventDecl():
+                    params = self._parameters(member.parameters, ctx, unit)
+                    sym = self._new(SymbolKind.EVENT, member.name, member, ctx, unit,
+                                    owner=owner, parameters=params)
+                    self._add_member(owner, sym)
+                case ast.MethodDecl():
+                    params = self._parameters(member.parameters, ctx, unit)
+                    ret = self._resolve_type(member.return_type, ctx) if member.return_type \
+                        else T.NONE
+                    sym = self._new(SymbolKind.METHOD, member.name, member, ctx, unit,
+                                    owner=owner, parameters=params, type=ret)
+                    self._add_member(owner, sym, override=member.only)
+
+    def _parameters(self, params, ctx: Context, unit: Unit) -> tuple[Symbol, ...]:
+        result = []
+        seen: dict[str, Symbol] = {}
+        for param in params:
+            t = self._resolve_type(param.type, ctx)
+            sym = self._new(SymbolKind.ARGUMENT, param.name, param, ctx, unit, type=t,
+                            default=param.default, has_default=param.default is not None)
+            if param.name.text in seen:
+                self.report(messages.duplicate_member(param.name.span, param.name.text, None,
+                                                      seen[param.name.text]))
+            seen[param.name.text] = sym
+            result.append(sym)
+        return tuple(result)
+
+    def _add_member(self, owner: Symbol, sym: Symbol, override: bool = False) -> None:
+        own = self.model.members.setdefault(owner, {}).setdefault(sym.name, [])
+        same_ns = [s for s in self.model.own_members(owner, sym.name) if s.namespace ==
+                   sym.namespace and s is not sym]
+        inherited = [] if override else [
+            s for a in list(self.model.ancestors(owner))[1:]
+            for s in self.model.own_members(a, sym.name) if s.namespace == sym.namespace
+        ]
+        own.append(sym)
+        if sym.name_span is None or sym.name == "":
+            return
+        if same_ns:
+            self.report(messages.duplicate_member(sym.name_span, sym.name, owner.name,
+                                                  same_ns[0]))
+        elif inherited and not (sym.kind is SymbolKind.METHOD):
+            self.report(messages.shadows_inherited(sym.name_span, sym.name, owner.name,
+                                                   inherited[0]))
+
+
+def _same_space(a: Symbol, b: Symbol) -> bool:
+    """Whether two global symbols compete for one name (types and globals do)."""
+    return True
+
+
+def _constant_number(expr) -> Fraction | None:
+    match expr:
+        case ast.IntLiteral():
+            return Fraction(expr.value)
+        case ast.FloatLiteral():
+            try:
+                return Fraction(expr.text)
+            except (ValueError, ZeroDivisionError):
+                return None
+        case ast.Unary(op="-"):
+            inner = _constant_number(expr.operand)
+            return -inner if inner is not None else None
+        case ast.Unary(op="+"):
+            return _constant_number(expr.operand)
+    return None
+
+
+def _doc_comment(unit: Unit, decl: ast.Node) -> str | None:
+    """The comment block directly above a declaration, without the `#` marks."""
+    if not unit.comments:
+        return None
+    line = decl.span.line - 1
+    lines = []
+    while line in unit.comments:
+        lines.append(unit.comments[line].lstrip("#").strip())
+        line -= 1
+    return "\n".join(reversed(lines)) if lines else None

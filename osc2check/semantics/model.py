@@ -1,0 +1,243 @@
+"""The Model: every declaration of a program and what each name refers to.
+
+A program's model sits on top of the standard library's model (``base``),
+which is built once per process and never changed: declarations that a
+program adds to library types (``extend``, new actions of ``vehicle``) are
+kept in the program's own tables. Resolution results are side tables keyed
+by AST node identity (``references``, ``expr_types``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from dataclasses import dataclass, field
+
+from osc2check.semantics.symbols import Namespace, Symbol, SymbolKind
+from osc2check.semantics.types import Type
+from osc2check.syntax import ast
+
+
+@dataclass(frozen=True, slots=True)
+class Context:
+    """Where a declaration was written: its namespace and the namespaces it uses."""
+
+    namespace: str = ""
+    uses: tuple[str, ...] = ()
+
+
+@dataclass(eq=False)
+class Model:
+    base: Model | None = None
+    namespaces: dict[str, Namespace] = field(default_factory=dict)
+    members: dict[Symbol, dict[str, list[Symbol]]] = field(default_factory=dict)
+    behaviors: dict[Symbol | None, dict[str, list[Symbol]]] = field(default_factory=dict)
+    modifiers: dict[Symbol | None, dict[str, list[Symbol]]] = field(default_factory=dict)
+    units: dict[str, Symbol] = field(default_factory=dict)
+    enum_members: dict[Symbol, list[Symbol]] = field(default_factory=dict)
+    children: dict[Symbol, list[Symbol]] = field(default_factory=dict)  # direct subtypes
+    symbols: list[Symbol] = field(default_factory=list)  # every declared symbol, in order
+    declarations: dict[ast.Node, Symbol] = field(default_factory=dict)
+    references: dict[ast.Name, Symbol] = field(default_factory=dict)
+    expr_types: dict[ast.Node, Type] = field(default_factory=dict)
+    scopes: dict[ast.Node, Symbol] = field(default_factory=dict)  # with-block or body owner
+    library_namespaces: set[str] = field(default_factory=set)  # library namespaces imported
+
+    # ---- namespaces ------------------------------------------------------------
+
+    def namespace(self, name: str, create: bool = False) -> Namespace | None:
+        ns = self.namespaces.get(name)
+        if ns is None and self.base is not None and name in self.base.namespaces:
+            return self.base.namespaces[name] if not create else self._own_namespace(name)
+        if ns is None and create:
+            ns = self.namespaces[name] = Namespace(name)
+        return ns
+
+    def _own_namespace(self, name: str) -> Namespace:
+        ns = self.namespaces.get(name)
+        if ns is None:
+            ns = self.namespaces[name] = Namespace(name)
+        return ns
+
+    def _namespace_parts(self, name: str) -> list[Namespace]:
+        parts = []
+        if self.base is not None and name in self.base.namespaces and (
+            name == "" or name in self.library_namespaces
+        ):
+            parts.append(self.base.namespaces[name])
+        if name in self.namespaces:
+            parts.append(self.namespaces[name])
+        return parts
+
+    def has_namespace(self, name: str) -> bool:
+        return bool(self._namespace_parts(name))
+
+    def _own(self, ns: str, name: str) -> list[Symbol]:
+        found: list[Symbol] = []
+        for part in self._namespace_parts(ns):
+            found.extend(part.symbols.get(name, ()))
+        return found
+
+    def _exported(self, ns: str, name: str, seen: set[str] | None = None) -> list[Symbol]:
+        seen = seen if seen is not None else set()
+        if ns in seen:
+            return []
+        seen.add(ns)
+        found: list[Symbol] = []
+        for part in self._namespace_parts(ns):
+            if part.exports_all or name in part.exports:
+                found.extend(part.symbols.get(name, ()))
+            for other, only in part.reexports:
+                if only is None or only == name:
+                    found.extend(self._exported(other, name, seen))
+        return found
+
+    def lookup(self, name: str, ctx: Context, qualifier: str | None = None) -> list[Symbol]:
+        """Global symbols named ``name`` visible from ``ctx`` (nearest first)."""
+        if qualifier is not None:
+            if qualifier == ctx.namespace or qualifier == "":
+                return self._own(qualifier, name)
+            return self._exported(qualifier, name)
+        found = self._own(ctx.namespace, name)
+        if found:
+            return found
+        for used in ctx.uses:
+            found = self._exported(used, name)
+            if found:
+                return found
+        if ctx.namespace:
+            return self._own("", name)
+        return []
+
+    # ---- members, behaviours, modifiers ----------------------------------------
+
+    def _tables(self, attr: str) -> Iterator[dict]:
+        model: Model | None = self
+        while model is not None:
+            yield getattr(model, attr)
+            model = model.base
+
+    def ancestors(self, symbol: Symbol | None) -> Iterator[Symbol]:
+        """``symbol`` and its supertypes, nearest first (stops on cycles)."""
+        seen: set[int] = set()
+        while symbol is not None and id(symbol) not in seen:
+            seen.add(id(symbol))
+            yield symbol
+            symbol = symbol.parent
+
+    def own_members(self, owner: Symbol, name: str | None = None) -> list[Symbol]:
+        """Members declared on ``owner`` itself (and by ``extend``), not inherited."""
+        found: list[Symbol] = []
+        for table in reversed(list(self._tables("members"))):
+            members = table.get(owner)
+            if not members:
+                continue
+            if name is None:
+                for group in members.values():
+                    found.extend(group)
+            else:
+                found.extend(members.get(name, ()))
+        return found
+
+    def member(self, owner: Symbol | None, name: str) -> list[Symbol]:
+        """Members named ``name`` of ``owner`` or its supertypes, nearest first."""
+        for sym in self.ancestors(owner):
+            found = self.own_members(sym, name)
+            if found:
+                return found
+        return []
+
+    def all_members(self, owner: Symbol | None) -> list[Symbol]:
+        """Every member of ``owner``, inherited ones first, in declaration order."""
+        chain = list(self.ancestors(owner))
+        result: list[Symbol] = []
+        for sym in reversed(chain):
+            result.extend(self.own_members(sym))
+        return result
+
+    def parameters(self, owner: Symbol | None) -> list[Symbol]:
+        """Fields that are parameters (not variables, events or methods), in order."""
+        return [m for m in self.all_members(owner) if m.kind is SymbolKind.FIELD]
+
+    def _keyed(self, attr: str, key: Symbol | None, name: str | None) -> list[Symbol]:
+        found: list[Symbol] = []
+        for table in self._tables(attr):
+            entries = table.get(key)
+            if not entries:
+                continue
+            if name is None:
+                for group in entries.values():
+                    found.extend(group)
+            else:
+                found.extend(entries.get(name, ()))
+        return found
+
+    def behavior(self, actor: Symbol | None, name: str) -> list[Symbol]:
+        """Scenarios and actions named ``name`` of ``actor`` or its supertypes."""
+        if actor is None:
+            return self._keyed("behaviors", None, name)
+        for sym in self.ancestors(actor):
+            found = self._keyed("behaviors", sym, name)
+            if found:
+                return found
+        return []
+
+    def behaviors_of(self, actor: Symbol | None) -> list[Symbol]:
+        result: list[Symbol] = []
+        for sym in self.ancestors(actor) if actor is not None else [None]:
+            result.extend(self._keyed("behaviors", sym, None))
+        return result
+
+    def modifier(self, key: Symbol | None, name: str) -> list[Symbol]:
+        """Modifiers named ``name`` associated with ``key`` (an actor or a behaviour)
+        or with one of its supertypes; ``None`` for unassociated modifiers."""
+        if key is None:
+            return self._keyed("modifiers", None, name)
+        for sym in self.ancestors(key):
+            found = self._keyed("modifiers", sym, name)
+            if found:
+                return found
+        return []
+
+    def modifiers_of(self, key: Symbol | None) -> list[Symbol]:
+        result: list[Symbol] = []
+        for sym in self.ancestors(key) if key is not None else [None]:
+            result.extend(self._keyed("modifiers", sym, None))
+        return result
+
+    def unit(self, name: str) -> Symbol | None:
+        for table in self._tables("units"):
+            if name in table:
+                return table[name]
+        return None
+
+    def all_units(self) -> dict[str, Symbol]:
+        result: dict[str, Symbol] = {}
+        for table in reversed(list(self._tables("units"))):
+            result.update(table)
+        return result
+
+    def enum_values(self, enum: Symbol) -> list[Symbol]:
+        found: list[Symbol] = []
+        for table in reversed(list(self._tables("enum_members"))):
+            found.extend(table.get(enum, ()))
+        return found
+
+    def visible_enums(self, ctx: Context) -> Iterator[Symbol]:
+        """Every enum visible from ``ctx`` without qualification."""
+        spaces = [ctx.namespace, *ctx.uses]
+        if ctx.namespace:
+            spaces.append("")
+        seen: set[int] = set()
+        for ns in spaces:
+            for part in self._namespace_parts(ns):
+                for group in part.symbols.values():
+                    for sym in group:
+                        if sym.kind is SymbolKind.ENUM and id(sym) not in seen:
+                            seen.add(id(sym))
+                            yield sym
+
+    def reference(self, name: ast.Name) -> Symbol | None:
+        return self.references.get(name)
+
+    def type_of(self, node: ast.Node) -> Type | None:
+        return self.expr_types.get(node)

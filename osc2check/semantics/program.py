@@ -1,0 +1,117 @@
+"""A program: one root file, everything it imports, and the standard library.
+
+Imports are followed depth first; each file is read and parsed once per
+analysis. ``import osc.standard`` (and the design paper's ``import
+"domain.osc"``) puts the library's namespaces on the file's use list; the
+other ``osc.standard.*`` modules only make them available for qualified names
+and ``namespace ... use``.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from osc2check import messages
+from osc2check.diagnostics import Diagnostic
+from osc2check.semantics.declare import Unit
+from osc2check.semantics.model import Context, Model
+from osc2check.semantics.resolve import resolve
+from osc2check.semantics.stdlib import (
+    AUTO_USE,
+    STANDARD_FILE_NAMES,
+    STANDARD_MODULES,
+    comment_lines,
+    standard_library,
+)
+from osc2check.syntax import ParseResult, ast
+
+Reader = Callable[[str], ParseResult | None]
+
+
+@dataclass
+class Program:
+    root: str
+    model: Model
+    files: dict[str, ParseResult] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    imports: dict[str, list[str]] = field(default_factory=dict)  # uri -> imported uris
+
+
+def _resolve_path(importer: str, target: str) -> Path:
+    base = Path(importer).parent if importer and not importer.startswith("<") else Path.cwd()
+    if target.startswith("file://"):
+        target = target[len("file://"):]
+    path = Path(target)
+    return path if path.is_absolute() else base / path
+
+
+def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = ()) -> Program:
+    """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None."""
+    library = standard_library()
+    model = Model(base=library.model)
+    program = Program(root, model)
+    units: list[Unit] = []
+    visiting: list[str] = []
+    done: set[str] = set()
+
+    def visit(uri: str, result: ParseResult, extra_modules: tuple[str, ...] = ()) -> None:
+        visiting.append(uri)
+        uses: list[str] = []
+        imported: list[str] = []
+        for module in extra_modules:
+            namespaces, auto = STANDARD_MODULES[module]
+            model.library_namespaces.update(namespaces)
+            if auto:
+                uses.extend(AUTO_USE)
+        for decl in result.ast.declarations:
+            if not isinstance(decl, ast.ImportDecl):
+                continue
+            target = decl.target
+            if decl.kind == "module":
+                if target in STANDARD_MODULES:
+                    namespaces, auto = STANDARD_MODULES[target]
+                    model.library_namespaces.update(namespaces)
+                    if auto:
+                        uses.extend(AUTO_USE)
+                    continue
+                if target == "osc" or target.startswith("osc."):
+                    program.diagnostics.append(messages.unresolved_import(
+                        decl.target_span, target, "no such module of the standard library "
+                        "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)"))
+                    continue
+                path = _resolve_path(uri, target.replace(".", "/") + ".osc")
+            else:
+                path = _resolve_path(uri, target)
+            key = str(path)
+            imported_result = read(key)
+            if imported_result is None:
+                if decl.kind == "file" and Path(target).name in STANDARD_FILE_NAMES:
+                    program.diagnostics.append(messages.standard_file_import(decl.span, target))
+                    model.library_namespaces.update(STANDARD_MODULES["osc.standard"][0])
+                    uses.extend(AUTO_USE)
+                    continue
+                program.diagnostics.append(messages.unresolved_import(
+                    decl.target_span, target, f"no file `{key}`"))
+                continue
+            imported.append(key)
+            if key in visiting:
+                chain = visiting[visiting.index(key):] + [key]
+                program.diagnostics.append(messages.import_cycle(decl.target_span, chain))
+                continue
+            if key not in done:
+                visit(key, imported_result)
+        visiting.pop()
+        done.add(uri)
+        program.files[uri] = result
+        program.imports[uri] = imported
+        ctx = Context("", tuple(dict.fromkeys(uses)))
+        units.append(Unit(uri, result.ast, ctx, comments=comment_lines(result)))
+
+    root_result = read(root)
+    if root_result is None:
+        return program
+    visit(root, root_result, implicit_imports)
+    program.diagnostics.extend(resolve(model, units))
+    return program

@@ -1,0 +1,376 @@
+"""The command line: arguments, files, output formats and exit codes.
+
+``osc2check.analysis`` (the lead's module) is replaced by a fake: it reports
+N101 for every ``hreo`` and D805 for every ``100.0`` and applies the config's
+policy, as the real ``analyze`` does. Swap in the real module once it exists.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import subprocess
+import sys
+import types
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+from osc2check import cli, codes, rules
+from osc2check.diagnostics import Diagnostic
+from osc2check.source import Span
+
+CLEAN = "scenario cruise:\n    hero: vehicle\n"
+BROKEN = "scenario follow:\n    hero: vehicle\n    do hreo.drive()\n"
+DIALECT = "scenario wet:\n    env: environment\n    do env.rain(intensity: 100.0)\n"
+
+
+@dataclass(frozen=True)
+class FakeSource:
+    uri: str
+    text: str
+
+
+@dataclass
+class FakeAnalysis:
+    diagnostics: list[Diagnostic]
+    texts: dict[str, str] = field(default_factory=dict)
+
+
+def fake_analyze(sources, config):
+    found = []
+    for s in sources:
+        for line_no, line in enumerate(s.text.splitlines(), start=1):
+            for needle, code, message in (
+                ("hreo", codes.UNDEFINED_NAME, "undefined name `hreo`"),
+                ("100.0", codes.UNITLESS_PHYSICAL_LITERAL, "`100.0` has no unit"),
+            ):
+                column = line.find(needle) + 1
+                if column:
+                    span = Span(s.uri, line_no, column, line_no, column + len(needle))
+                    found.append(Diagnostic(code, message, span, code.severity))
+    return FakeAnalysis(config.policy(found), {s.uri: s.text for s in sources})
+
+
+@pytest.fixture
+def analysis(monkeypatch):
+    """Install the fake ``osc2check.analysis``; its ``calls`` record each analysis."""
+    module = types.ModuleType("osc2check.analysis")
+    module.SourceInput = FakeSource
+    module.calls = []
+
+    def analyze(sources, config):
+        module.calls.append((list(sources), config))
+        return fake_analyze(sources, config)
+
+    module.analyze = analyze
+    monkeypatch.setitem(sys.modules, "osc2check.analysis", module)
+    return module
+
+
+@pytest.fixture
+def project(tmp_path, monkeypatch, analysis):
+    """An empty project folder as the working directory (no configuration above it)."""
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def write(path: Path, text: str | bytes) -> Path:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    if isinstance(text, bytes):
+        path.write_bytes(text)
+    else:
+        path.write_text(text, encoding="utf-8")
+    return path
+
+
+def run(capsys, *argv: str) -> tuple[int, str, str]:
+    status = cli.main(list(argv))
+    out, err = capsys.readouterr()
+    return status, out, err
+
+
+# --- exit codes and the default format ------------------------------------------
+
+
+def test_clean_file_exits_0(project, capsys):
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "a.osc") == (0, "All checks passed (1 file)\n", "")
+
+
+def test_error_exits_1_with_full_output(project, capsys):
+    write(project / "a.osc", BROKEN)
+    status, out, err = run(capsys, "a.osc")
+    assert status == 1
+    assert err == ""
+    assert out == (
+        "a.osc:3:8: N101 [error] undefined name `hreo`\n"
+        "  |\n"
+        "3 |     do hreo.drive()\n"
+        "  |        ^^^^\n"
+        "\n"
+        "Found 1 error in 1 file (1 file checked)\n"
+    )
+
+
+def test_warning_alone_exits_0_unless_fail_on_warning_or_strict(project, capsys):
+    write(project / "w.osc", DIALECT)
+    status, out, _ = run(capsys, "w.osc")
+    assert status == 0 and "D805 [warning]" in out
+    assert run(capsys, "w.osc", "--fail-on", "warning")[0] == 1
+    status, out, _ = run(capsys, "w.osc", "--strict")
+    assert status == 1 and "D805 [error]" in out
+
+
+def test_exit_zero_keeps_0_with_errors(project, capsys):
+    write(project / "a.osc", BROKEN)
+    assert run(capsys, "a.osc", "--exit-zero")[0] == 0
+
+
+def test_select_and_ignore(project, capsys):
+    write(project / "a.osc", BROKEN + "    do env.rain(intensity: 100.0)\n")
+    _, out, _ = run(capsys, "a.osc", "--select", "D", "--output-format", "concise")
+    assert out.splitlines()[0] == "a.osc:4:28: D805 `100.0` has no unit"
+    assert "N101" not in out
+    status, out, _ = run(capsys, "a.osc", "--ignore", "undefined-name,D8", "-q")
+    assert (status, out) == (0, "")
+
+
+def test_quiet_leaves_out_the_summary(project, capsys):
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "a.osc", "--quiet") == (0, "", "")
+
+
+def test_statistics(project, capsys):
+    write(project / "a.osc", BROKEN)
+    write(project / "b.osc", BROKEN)
+    status, out, _ = run(capsys, ".", "--statistics")
+    assert status == 1
+    assert out == "2  N101  undefined-name\nFound 2 errors in 2 files (2 files checked)\n"
+
+
+# --- output formats through main() -------------------------------------------------
+
+
+def test_concise_format(project, capsys):
+    write(project / "a.osc", BROKEN)
+    assert run(capsys, "a.osc", "--output-format", "concise") == (
+        1,
+        "a.osc:3:8: N101 undefined name `hreo`\nFound 1 error in 1 file (1 file checked)\n",
+        "",
+    )
+
+
+def test_github_format(project, capsys):
+    write(project / "w.osc", DIALECT)
+    assert run(capsys, "w.osc", "--output-format", "github") == (
+        0,
+        "::warning file=w.osc,line=3,col=28,endLine=3,endColumn=33,title=D805::"
+        "`100.0` has no unit\n",
+        "",
+    )
+
+
+def test_json_format_is_only_json(project, capsys):
+    write(project / "a.osc", BROKEN)
+    status, out, _ = run(capsys, "a.osc", "--output-format", "json")
+    assert status == 1
+    doc = json.loads(out)
+    assert [(f["code"], f["location"]["path"]) for f in doc["findings"]] == [("N101", "a.osc")]
+    assert doc["findings"][0]["url"] == rules.doc_url(codes.UNDEFINED_NAME)
+
+
+def test_sarif_format_is_only_sarif(project, capsys):
+    write(project / "a.osc", CLEAN)
+    status, out, _ = run(capsys, "a.osc", "--output-format", "sarif")
+    assert status == 0
+    log = json.loads(out)
+    assert log["version"] == "2.1.0" and log["runs"][0]["results"] == []
+
+
+def test_output_format_from_configuration(project, capsys):
+    write(project / "osc2check.toml", 'output-format = "concise"\n')
+    write(project / "a.osc", BROKEN)
+    assert run(capsys, "a.osc")[1].startswith("a.osc:3:8: N101 undefined")
+
+
+# --- files, folders and standard input ---------------------------------------------
+
+
+def test_folders_are_searched_recursively_honouring_exclude(project, capsys, analysis):
+    write(project / "osc2check.toml", 'exclude = ["legacy"]\n')
+    write(project / "b" / "z.osc", CLEAN)
+    write(project / "b" / "a.osc", CLEAN)
+    write(project / "a.osc", CLEAN)
+    write(project / "legacy" / "old.osc", BROKEN)
+    write(project / ".git" / "x.osc", BROKEN)
+    write(project / "build" / "y.osc", BROKEN)
+    write(project / "notes.txt", BROKEN)
+    assert run(capsys, ".") == (0, "All checks passed (3 files)\n", "")
+    ((sources, _),) = analysis.calls
+    assert [s.uri for s in sources] == ["a.osc", "b/a.osc", "b/z.osc"]
+
+
+def test_a_folder_named_explicitly_is_searched_even_if_excluded(project, capsys):
+    write(project / "build" / "y.osc", BROKEN)
+    assert run(capsys, "build")[0] == 1
+
+
+def test_force_exclude_applies_to_named_files(project, capsys):
+    write(project / "osc2check.toml", 'exclude = ["legacy"]\nforce-exclude = true\n')
+    write(project / "legacy" / "old.osc", BROKEN)
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "legacy/old.osc", "a.osc") == (0, "All checks passed (1 file)\n", "")
+
+
+def test_the_same_file_twice_is_checked_once(project, capsys, analysis):
+    write(project / "a.osc", CLEAN)
+    run(capsys, "a.osc", "./a.osc", ".")
+    assert len(analysis.calls[0][0]) == 1
+
+
+def test_stdin_with_a_file_name(project, capsys, monkeypatch, analysis):
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(BROKEN.encode())))
+    status, out, _ = run(
+        capsys, "-", "--stdin-filename", "dir/cut_in.osc", "--output-format", "concise"
+    )
+    assert status == 1
+    assert out.startswith("dir/cut_in.osc:3:8: N101")
+
+
+def test_stdin_without_a_name(project, capsys, monkeypatch):
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(CLEAN.encode())))
+    assert run(capsys, "-") == (0, "All checks passed (1 file)\n", "")
+
+
+def test_invalid_utf8_is_reported_as_p004(project, capsys):
+    write(project / "a.osc", b"# Sc\xe9nario\n" + CLEAN.encode())
+    status, out, _ = run(capsys, "a.osc", "--output-format", "concise")
+    assert status == 1
+    assert out.splitlines()[0].startswith("a.osc:1:5: P004 the file is not valid UTF-8")
+    assert run(capsys, "a.osc", "--ignore", "P004")[0] == 0
+
+
+# --- usage, configuration and I/O errors: exit 2 -------------------------------------
+
+
+def test_missing_path_exits_2_naming_it(project, capsys):
+    assert run(capsys, "nope.osc") == (
+        2,
+        "",
+        "osc2check: error: nope.osc: no such file or directory\n",
+    )
+
+
+def test_no_osc_files_exits_2(project, capsys):
+    write(project / "notes.txt", CLEAN)
+    assert run(capsys, ".") == (2, "", "osc2check: error: no .osc files found in .\n")
+
+
+def test_unreadable_file_exits_2_naming_it(project, capsys, monkeypatch):
+    write(project / "a.osc", CLEAN)
+
+    def refuse(self):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(Path, "read_bytes", refuse)
+    assert run(capsys, "a.osc") == (
+        2,
+        "",
+        "osc2check: error: a.osc: cannot read: Permission denied\n",
+    )
+
+
+def test_bad_configuration_exits_2_naming_file_and_key(project, capsys):
+    config = write(project / "pyproject.toml", '[tool.osc2check]\nfail-on = "fatal"\n')
+    write(project / "a.osc", CLEAN)
+    status, out, err = run(capsys, "a.osc")
+    assert (status, out) == (2, "")
+    assert err.startswith(f"osc2check: error: {config.resolve()}: tool.osc2check.fail-on: ")
+
+
+def test_explicit_config_file_and_isolated(project, capsys, tmp_path):
+    other = write(project / "conf" / "strict.toml", "strict = true\n")
+    write(project / "osc2check.toml", 'fail-on = "info"\n')
+    write(project / "w.osc", DIALECT)
+    assert run(capsys, "w.osc", "--config", str(other))[1].count("D805 [error]") == 1
+    assert run(capsys, "w.osc")[0] == 1  # fail-on info from osc2check.toml
+    assert run(capsys, "w.osc", "--isolated")[0] == 0
+    status, _, err = run(capsys, "w.osc", "--config", "missing.toml")
+    assert status == 2 and "missing.toml: cannot read" in err
+
+
+def test_bad_option_values_exit_2(project, capsys):
+    write(project / "a.osc", CLEAN)
+    status, _, err = run(capsys, "a.osc", "--select", "X99")
+    assert (status, err) == (2, "osc2check: error: --select: unknown code, name or prefix 'X99'\n")
+    status, _, err = run(capsys, "a.osc", "--output-format", "xml")
+    assert status == 2 and "invalid choice: 'xml'" in err
+    assert run(capsys, "--no-such-option")[0] == 2
+
+
+def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
+    write(project / "a.osc", CLEAN)
+
+    def explode(sources, config):
+        raise RuntimeError("boom")
+
+    analysis.analyze = explode
+    status, out, err = run(capsys, "a.osc")
+    assert (status, out) == (2, "")
+    assert err.startswith("osc2check: internal error: RuntimeError: boom\n")
+    assert "Traceback" not in err
+    status, _, err = run(capsys, "a.osc", "--debug")
+    assert status == 2 and "Traceback" in err and "RuntimeError: boom" in err
+
+
+# --- other commands --------------------------------------------------------------------
+
+
+def test_rule_prints_the_page(capsys):
+    assert run(capsys, "rule", "N101") == (0, rules.page_text("N101"), "")
+    assert run(capsys, "rule", "undefined-name")[1] == rules.page_text("N101")
+
+
+def test_rule_without_code_lists_all_codes(capsys):
+    status, out, _ = run(capsys, "rule")
+    assert status == 0
+    lines = out.splitlines()
+    assert len(lines) == len(codes.ALL)
+    assert lines[0].split()[:3] == ["A301", "unknown-action-or-modifier", "error"]
+
+
+def test_rule_with_unknown_code_exits_2(capsys):
+    assert run(capsys, "rule", "X999") == (
+        2,
+        "",
+        "osc2check: error: unknown code 'X999' (osc2check rule lists them)\n",
+    )
+
+
+def test_version_and_help(capsys):
+    status, out, _ = run(capsys, "--version")
+    assert status == 0 and out.startswith("osc2check ")
+    status, out, _ = run(capsys, "--help")
+    assert status == 0 and "osc2check rule CODE" in out and "exit status" in out
+
+
+def test_dump_ast_prints_the_syntax_tree(project, capsys, analysis):
+    write(project / "a.osc", CLEAN)
+    status, out, _ = run(capsys, "a.osc", "--dump-ast")
+    assert status == 0
+    assert out.startswith("File @1:1\n  declarations: ScenarioDecl @1:1")
+    assert analysis.calls == []
+
+
+def test_the_cli_imports_neither_pygls_nor_mujoco():
+    code = (
+        "import sys, osc2check.cli, osc2check.output, osc2check.config, osc2check.suppress;"
+        "print(sorted(m for m in ('pygls', 'lsprotocol', 'mujoco', 'z3') if m in sys.modules))"
+    )
+    root = Path(__file__).resolve().parents[2]
+    done = subprocess.run(
+        [sys.executable, "-c", code], cwd=root, capture_output=True, text=True, check=True
+    )
+    assert done.stdout.strip() == "[]"
