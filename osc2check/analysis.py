@@ -65,16 +65,30 @@ def analyze(sources: list[SourceInput], config=None) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
     implicit = tuple(getattr(config, "implicit_imports", ()) or ())
+    modules = dict(getattr(config, "modules", {}) or {})
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
     for source in sources:
         result = cache.read(source.uri)
-        program = build_program(source.uri, cache.read, implicit)
+        program = build_program(source.uri, cache.read, implicit, modules)
         programs[source.uri] = program
         found.extend(result.diagnostics)
-        found.extend(d for d in program.diagnostics if d.span.uri == source.uri)
+        found.extend(_relevant(program, result, source.uri))
     diagnostics = _finish(found, cache, texts, config)
     return Analysis(diagnostics, texts, programs, cache.parses)
+
+
+# Findings that a missing import or a broken statement explains: reporting them
+# too would bury the real problem.
+_NAME_CODES = frozenset({"N101", "N103", "A301"})
+
+
+def _relevant(program: Program, result: ParseResult, uri: str) -> list[Diagnostic]:
+    own = [d for d in program.diagnostics if d.span.uri == uri]
+    missing_import = any(d.code.code == "N105" for d in own)
+    return [d for d in own
+            if d.span.line not in result.error_lines
+            and not (missing_import and d.code.code in _NAME_CODES)]
 
 
 def _finish(found: list[Diagnostic], cache: FileCache, texts: dict[str, str],

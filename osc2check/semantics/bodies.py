@@ -65,9 +65,9 @@ class BodyChecker:
                     self._members(target, p.decl.members, self._scope_for(target, p.context))
 
     def _scope_for(self, sym: Symbol, ctx: Context) -> Scope:
-        it = None
-        if sym.kind is SymbolKind.MODIFIER and sym.of is not None:
-            it = sym.of.type
+        it = sym.type  # in a declaration's own body, `it` is the instance being declared
+        if sym.kind is SymbolKind.MODIFIER:
+            it = sym.of.type if sym.of is not None else None
         return Scope(ctx, owner=sym, it=it, actor=sym.actor if sym.kind in _BEHAVIOR_KINDS
                      else None)
 

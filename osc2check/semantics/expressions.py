@@ -208,7 +208,8 @@ class ExpressionChecker:
             return scope.actor.type or T.UNKNOWN
         if expected is not None and expected.kind is T.Kind.ENUM and qname.namespace is None:
             member = self._enum_member(expected.symbol, name)
-            if member is not None and self.value_symbol(qname, scope) is None:
+            shadow = self.value_symbol(qname, scope)
+            if member is not None and (shadow is None or shadow.kind.is_type):
                 self.model.references[qname.name] = member
                 return expected
         sym = self.value_symbol(qname, scope)

@@ -204,15 +204,22 @@ class Model:
             result.extend(self._keyed("modifiers", sym, None))
         return result
 
+    def _unit_tables(self) -> list[dict[str, Symbol]]:
+        tables = [self.units]
+        if self.base is not None and "stdtypes" in self.library_namespaces:
+            tables.append(self.base.units)
+        return tables
+
     def unit(self, name: str) -> Symbol | None:
-        for table in self._tables("units"):
+        """The unit named ``name`` (unit names are global; library units once imported)."""
+        for table in self._unit_tables():
             if name in table:
                 return table[name]
         return None
 
     def all_units(self) -> dict[str, Symbol]:
         result: dict[str, Symbol] = {}
-        for table in reversed(list(self._tables("units"))):
+        for table in reversed(self._unit_tables()):
             result.update(table)
         return result
 

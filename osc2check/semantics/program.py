@@ -47,8 +47,14 @@ def _resolve_path(importer: str, target: str) -> Path:
     return path if path.is_absolute() else base / path
 
 
-def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = ()) -> Program:
-    """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None."""
+def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (),
+                  modules: dict[str, str] | None = None) -> Program:
+    """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None.
+
+    ``modules`` maps structured import names to files (``osc.types`` -> a path),
+    checked before the standard modules.
+    """
+    modules = modules or {}
     library = standard_library()
     model = Model(base=library.model)
     program = Program(root, model)
@@ -60,16 +66,17 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
         visiting.append(uri)
         uses: list[str] = []
         imported: list[str] = []
-        for module in extra_modules:
-            namespaces, auto = STANDARD_MODULES[module]
+        for module in extra_modules:  # implicit imports also put their namespaces in use
+            namespaces, _ = STANDARD_MODULES[module]
             model.library_namespaces.update(namespaces)
-            if auto:
-                uses.extend(AUTO_USE)
+            uses.extend(namespaces)
         for decl in result.ast.declarations:
             if not isinstance(decl, ast.ImportDecl):
                 continue
             target = decl.target
-            if decl.kind == "module":
+            if decl.kind == "module" and target in modules:
+                path = _resolve_path(uri, modules[target])
+            elif decl.kind == "module":
                 if target in STANDARD_MODULES:
                     namespaces, auto = STANDARD_MODULES[target]
                     model.library_namespaces.update(namespaces)

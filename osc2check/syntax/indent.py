@@ -31,6 +31,7 @@ class IndentError:
     token: Token
     kind: str  # "dedent" | "indent" | "unclosed"
     expected: int = 0
+    end_line: int = 0  # for "unclosed": the line where the statement was ended
 
 
 def _indentation(text: str, token: Token) -> int:
@@ -72,7 +73,7 @@ def indent(tokens: list[Token], text: str) -> tuple[list[Token], list[IndentErro
                 pending = None  # an ordinary line inside brackets
             else:
                 if brackets:
-                    errors.append(IndentError(brackets[0][0], "unclosed"))
+                    errors.append(IndentError(brackets[0][0], "unclosed", 0, tok.line))
                     brackets.clear()
                 if not stack:
                     if level > 0:
@@ -90,7 +91,8 @@ def indent(tokens: list[Token], text: str) -> tuple[list[Token], list[IndentErro
         out.append(tok)
 
     if brackets:
-        errors.append(IndentError(brackets[0][0], "unclosed"))
+        last_line = tokens[-1].end_line if tokens else 1
+        errors.append(IndentError(brackets[0][0], "unclosed", 0, last_line + 1))
     if out:
         end = out[-1]
         eof = Token("_NL", "", end.end_pos, end.end_line, end.end_column, end.end_line,

@@ -34,6 +34,7 @@ class ParseResult:
     ast: ast.File
     diagnostics: tuple[Diagnostic, ...]
     comments: tuple[Comment, ...]
+    error_lines: frozenset[int] = frozenset()  # lines of statements that did not parse
 
     def comment_spans(self) -> list[tuple[Span, str]]:
         """Comments as (span, text) pairs, the form suppressions read."""
@@ -98,10 +99,12 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
             diagnostics.append(messages.unexpected_character(span, err.text))
     tokens, layout_errors = indent(lexed.tokens, text)
     unclosed_lines = set()
+    error_lines: set[int] = set()
     for err in layout_errors:
         span = _tok_span(uri, err.token)
         if err.kind == "unclosed":
             unclosed_lines.add(err.token.line)
+            error_lines.update(range(err.token.line, max(err.end_line, err.token.line + 1)))
             diagnostics.append(messages.unclosed_bracket(span, str(err.token)))
         elif err.kind == "indent":
             diagnostics.append(messages.unexpected_indent(span))
@@ -130,12 +133,16 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
         else:
             diagnostics.append(messages.syntax_error(span, _found(tok),
                                                      _expected(problem.expected)))
+    error_lines.update(d.span.line for d in diagnostics)
     for problem in problems:
-        diagnostics.append(messages.not_an_invocation(problem.span))
+        if problem.span.line not in error_lines:
+            diagnostics.append(messages.not_an_invocation(problem.span))
+            error_lines.add(problem.span.line)
     if not isinstance(tree, ast.File):
         tree = ast.File(Span(uri, 1, 1, 1, 1, 0, 0), ())
     diagnostics.sort(key=lambda d: d.sort_key)
-    return ParseResult(uri, text, tree, tuple(diagnostics), tuple(lexed.comments))
+    return ParseResult(uri, text, tree, tuple(diagnostics), tuple(lexed.comments),
+                       frozenset(error_lines))
 
 
 def grammar_version() -> str:

@@ -460,6 +460,8 @@ class World:
 
     def set_input(self, name: str, value: VehicleInput | PedestrianInput) -> None:
         """Set the input an actor holds from the next control step on."""
+        if name not in self._index:
+            raise KeyError(f"no actor named `{name}`; actors: {', '.join(self._names)}")
         kind = self._kinds[self._index[name]]
         if kind == "vehicle" and isinstance(value, VehicleInput):
             self.actuators.set_command(self._vrow[name], value.throttle, value.brake, value.steer)

@@ -9,7 +9,11 @@ reference recommends: per-physics-step values are contact noise.
 from __future__ import annotations
 
 import hashlib
+import os
+import subprocess
+import sys
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -261,3 +265,24 @@ def test_two_runs_are_bit_identical():
     first, second = _scripted_run(), _scripted_run()
     assert first[0] == second[0]
     assert first[1] == second[1]
+
+
+def test_a_fresh_process_gives_the_same_run():
+    """Same inputs and versions in a new interpreter: the same bits."""
+    here = Path(__file__).resolve().parent
+    root = here.parents[1]
+    code = (
+        "import sys; sys.path.insert(0, sys.argv[1]); import test_physics as t; "
+        "print(t._scripted_run()[0])"
+    )
+    path = os.pathsep.join([str(root), os.environ.get("PYTHONPATH", "")])
+    env = dict(os.environ, PYTHONPATH=path)
+    out = subprocess.run(
+        [sys.executable, "-c", code, str(here)],
+        capture_output=True,
+        text=True,
+        check=True,
+        env=env,
+        cwd=root,
+    )
+    assert out.stdout.strip() == _scripted_run()[0]
