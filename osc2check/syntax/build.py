@@ -14,10 +14,11 @@ from contextvars import ContextVar
 from dataclasses import dataclass
 from fractions import Fraction
 
-from lark import Token, Transformer
+from lark import Transformer
 
 from osc2check.source import Span
 from osc2check.syntax import ast
+from osc2check.syntax.lexer import Token
 
 _URI: ContextVar[str] = ContextVar("osc2_uri", default="")
 _PROBLEMS: ContextVar[list | None] = ContextVar("osc2_build_problems", default=None)
@@ -115,6 +116,32 @@ def _unescape(body: str) -> str:
     return "".join(out)
 
 
+# Binding strength of binary operators; relations do not chain (`a < b < c`
+# groups to the left and is then a type error, as in the standard's grammar).
+_PRECEDENCE = {"=>": 1, "or": 2, "and": 3, "==": 5, "!=": 5, "<": 5, "<=": 5, ">": 5,
+               ">=": 5, "in": 5, "+": 6, "-": 6, "*": 7, "/": 7, "%": 7}
+
+
+def _group_chain(c):
+    """Group ``operand (op operand)*`` by precedence, left-associative."""
+    operands = c[0::2]
+    ops = [str(t) or "+" for t in c[1::2]]
+    pos = 0
+
+    def parse(min_prec: int):
+        nonlocal pos
+        left = operands[pos]
+        while pos < len(ops) and _PRECEDENCE.get(ops[pos], 6) >= min_prec:
+            op = ops[pos]
+            prec = _PRECEDENCE.get(op, 6)
+            pos += 1
+            right = parse(prec + 1)
+            left = ast.Binary(_cover([left, right]), op, left, right)
+        return left
+
+    return parse(0)
+
+
 class Builder(Transformer):
     """Lark callbacks that return ``ast`` nodes."""
 
@@ -207,11 +234,11 @@ class Builder(Transformer):
     def unary(self, c):
         return ast.Unary(_cover(c), str(c[0]) or "-", c[1])
 
-    def binary(self, c):
-        return ast.Binary(_cover(c), str(c[1]) or "+", c[0], c[2])
+    def logic(self, c):
+        return _group_chain(c)
 
-    def implies(self, c):
-        return ast.Binary(_cover(c), "=>", c[0], c[1])
+    def comparison(self, c):
+        return _group_chain(c)
 
     def ternary(self, c):
         return ast.Ternary(_cover(c), c[0], c[1], c[2])

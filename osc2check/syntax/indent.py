@@ -17,9 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from lark import Token
-
-from osc2check.syntax.lexer import NEWLINE
+from osc2check.syntax.lexer import NEWLINE, Token
 
 OPENERS = {"LPAR", "LSQB"}
 CLOSERS = {"RPAR", "RSQB"}
@@ -48,7 +46,7 @@ def _indentation(text: str, token: Token) -> int:
 
 
 def _marker(kind: str, at: Token) -> Token:
-    return Token(kind, "", at.start_pos, at.line, at.column, at.line, at.column, at.start_pos)
+    return at.synthetic(kind)
 
 
 def indent(tokens: list[Token], text: str) -> tuple[list[Token], list[IndentError]]:

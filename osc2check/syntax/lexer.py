@@ -13,7 +13,6 @@ import re
 from dataclasses import dataclass
 from functools import cache
 
-from lark import Token
 from lark.lexer import PatternStr
 
 from osc2check.syntax.grammar import lark_parser
@@ -26,6 +25,39 @@ NAME = "NAME"
 _REGEX_ORDER = ("HEX", "PHYSICAL", "FLOAT", "INT", "STRING", "NAME")
 # Operator terminals are alternatives of fixed strings in the grammar.
 _OPERATOR_TERMINALS = ("REL_OP", "ADD_OP", "MUL_OP")
+
+
+class Token:
+    """A token: lark's parser reads only ``type``; the rest is for spans and messages.
+
+    Lighter than ``lark.Token`` (not a ``str`` subclass), which matters at
+    tens of thousands of tokens per file.
+    """
+
+    __slots__ = ("type", "value", "start_pos", "line", "column", "end_line", "end_column",
+                 "end_pos")
+
+    def __init__(self, type: str, value: str, start_pos: int, line: int, column: int,
+                 end_line: int, end_column: int, end_pos: int):
+        self.type = type
+        self.value = value
+        self.start_pos = start_pos
+        self.line = line
+        self.column = column
+        self.end_line = end_line
+        self.end_column = end_column
+        self.end_pos = end_pos
+
+    def __str__(self) -> str:
+        return self.value
+
+    def __repr__(self) -> str:
+        return f"Token({self.type!r}, {self.value!r}, {self.line}:{self.column})"
+
+    def synthetic(self, kind: str) -> Token:
+        """A zero-width token of ``kind`` at this token's start (error recovery, layout)."""
+        return Token(kind, "", self.start_pos, self.line, self.column, self.line, self.column,
+                     self.start_pos)
 
 
 @dataclass(frozen=True, slots=True)

@@ -5,8 +5,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cache
 
-from lark import Token
-
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.source import Span
@@ -14,7 +12,7 @@ from osc2check.syntax import ast
 from osc2check.syntax.build import _PROBLEMS, _URI, Builder
 from osc2check.syntax.grammar import grammar_text, lark_parser
 from osc2check.syntax.indent import indent
-from osc2check.syntax.lexer import Comment, tokenize
+from osc2check.syntax.lexer import Comment, Token, tokenize
 from osc2check.syntax.recover import parse_tokens
 
 # How terminals read in messages.
@@ -64,7 +62,8 @@ def _describe(kind: str) -> str:
 def _found(tok: Token) -> str:
     if tok.type in ("_NL", "_INDENT", "_DEDENT", "$END"):
         return _describe(tok.type)
-    return f"`{tok}`" if len(tok) <= 30 else f"`{str(tok)[:27]}...`"
+    text = str(tok)
+    return f"`{text}`" if len(text) <= 30 else f"`{text[:27]}...`"
 
 
 def _expected(kinds) -> list[str]:

@@ -20,8 +20,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from lark import Token
 from lark.exceptions import UnexpectedInput
+
+from osc2check.syntax.lexer import Token
 
 BOUNDARIES = frozenset({"_NL", "_DEDENT", "$END"})
 # Terminals tried at the second and third step of a repair.
@@ -37,7 +38,7 @@ class SyntaxProblem:
 
 
 def _synthetic(kind: str, at: Token) -> Token:
-    return Token(kind, "", at.start_pos, at.line, at.column, at.line, at.column, at.start_pos)
+    return at.synthetic(kind)
 
 
 def _accepts(ip, tokens: list[Token]) -> bool:
@@ -116,7 +117,7 @@ def parse_tokens(lark, tokens: list[Token], start: str = "start"):
         try:
             if i == n:
                 return ip.feed_eof(eof), problems
-            ip.feed_token(tok)
+            ip.parser_state.feed_token(tok)
             if tok.type in BOUNDARIES or tok.type == "_INDENT":
                 at_statement_start = True
             elif at_statement_start:
