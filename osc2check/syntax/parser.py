@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 from dataclasses import dataclass
 from functools import cache
 
@@ -113,9 +114,14 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
     problems: list = []
     uri_token = _URI.set(uri)
     problems_token = _PROBLEMS.set(problems)
+    collecting = gc.isenabled()
+    if collecting:  # the parse makes many objects and frees none: collecting is wasted work
+        gc.disable()
     try:
         tree, syntax = parse_tokens(_builder_parser(), tokens)
     finally:
+        if collecting:
+            gc.enable()
         _URI.reset(uri_token)
         _PROBLEMS.reset(problems_token)
     reported_lines = {d.span.line for d in diagnostics}

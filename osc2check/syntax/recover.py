@@ -21,6 +21,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from lark.exceptions import UnexpectedInput
+from lark.parsers.lalr_analysis import Shift
 
 from osc2check.syntax.lexer import Token
 
@@ -102,13 +103,70 @@ def _resync(ip, following: Token | None) -> object | None:
     return None
 
 
+_TABLES: dict[int, dict] = {}
+
+
+def _table(conf) -> dict:
+    """The LALR table with rules replaced by (size, callback, goto-symbol) tuples.
+
+    Lark keys its callbacks by ``Rule`` objects, whose hashing costs more than the
+    parsing step itself; this form needs no hashing in the loop.
+    """
+    key = id(conf.states)
+    table = _TABLES.get(key)
+    if table is None:
+        callbacks = conf.callbacks
+        table = {}
+        for state, row in conf.states.items():
+            table[state] = {
+                ttype: (arg if action is Shift else
+                        (len(arg.expansion), callbacks[arg], arg.origin.name))
+                for ttype, (action, arg) in row.items()
+            }
+        _TABLES[key] = table
+    return table
+
+
+def _fast_prefix(ip, tokens: list[Token]) -> int:
+    """Feed tokens in a tight loop until the first one the parser cannot take.
+
+    Returns how many tokens were consumed. It works on the interactive
+    parser's own stacks, so recovery can take over where it stopped.
+    """
+    state = ip.parser_state
+    table = _table(state.parse_conf)
+    states, values = state.state_stack, state.value_stack
+    consumed = 0
+    for tok in tokens:
+        ttype = tok.type
+        while True:
+            entry = table[states[-1]].get(ttype)
+            if entry is None:
+                return consumed
+            if entry.__class__ is int:
+                states.append(entry)
+                values.append(tok)
+                break
+            size, callback, origin = entry
+            if size:
+                children = values[-size:]
+                del states[-size:]
+                del values[-size:]
+            else:
+                children = []
+            values.append(callback(children))
+            states.append(table[states[-1]][origin])
+        consumed += 1
+    return consumed
+
+
 def parse_tokens(lark, tokens: list[Token], start: str = "start"):
     """Parse ``tokens``; returns (tree or None, problems). Never raises on bad input."""
     problems: list[SyntaxProblem] = []
     ip = lark.parse_interactive(start=start)
     in_error = False
     at_statement_start = True
-    i, n = 0, len(tokens)
+    i, n = _fast_prefix(ip, tokens), len(tokens)
     end = tokens[-1] if tokens else Token("$END", "", 0, 1, 1, 1, 1, 0)
     eof = Token("$END", "", end.end_pos, end.end_line, end.end_column, end.end_line,
                 end.end_column, end.end_pos)
