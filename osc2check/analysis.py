@@ -7,6 +7,7 @@ which other files were given. Parsed files are shared between programs.
 
 from __future__ import annotations
 
+import gc
 import logging
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -62,6 +63,17 @@ class FileCache:
 
 def analyze(sources: list[SourceInput], config=None) -> Analysis:
     """Check every source; returns the diagnostics (config applied) and the texts."""
+    collecting = gc.isenabled()
+    if collecting:  # analysis builds long-lived tables; cyclic GC passes only cost time
+        gc.disable()
+    try:
+        return _analyze(sources, config)
+    finally:
+        if collecting:
+            gc.enable()
+
+
+def _analyze(sources: list[SourceInput], config) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
     implicit = tuple(getattr(config, "implicit_imports", ()) or ())

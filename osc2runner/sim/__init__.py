@@ -5,6 +5,7 @@ Modules, each one idea:
 * ``vehicle``: actor parameters (sedan, HGV, pedestrian, obstacle) -> MJCF;
 * ``actuators``: the ECU layer (rate limits, ABS, TCS, Ackermann);
 * ``world``: the MuJoCo world, stepped in fixed control steps;
+* ``events``: collisions and road departures from the actors' bounding boxes;
 * ``controllers``: speed PID with rate profiles, Stanley lateral control;
 * ``loop``: a fixed-step driver stepping controllers and world together.
 
@@ -25,12 +26,12 @@ from osc2runner.sim.controllers import (
     StanleyController,
     VehicleController,
 )
+from osc2runner.sim.events import Event
 from osc2runner.sim.loop import ControlLoop
 from osc2runner.sim.vehicle import ObstacleParams, PedestrianParams, VehicleParams, hgv, sedan
 from osc2runner.sim.world import (
     ActorSpec,
     ActorState,
-    Event,
     PedestrianInput,
     VehicleInput,
     Weather,

@@ -148,6 +148,7 @@ class SpeedController:
         self.integral = 0.0
         self.accel_command = 0.0
         self._asap_phase: str | None = None
+        self._fresh = False
 
     def set_target(self, speed: float, profile: RateProfile | str = "none") -> None:
         """Drive towards ``speed`` (m/s, >= 0) shaped by ``profile``."""
@@ -156,6 +157,7 @@ class SpeedController:
         self.target = float(speed)
         self.profile = RateProfile(profile) if isinstance(profile, str) else profile
         self._asap_phase = "start" if self.profile.kind == "asap" else None
+        self._fresh = True
 
     def release(self) -> None:
         """Stop controlling: the next steps return no pedal input."""
@@ -182,8 +184,11 @@ class SpeedController:
             if pedals is not None:
                 return pedals
 
-        if self.v_ref is None:
+        if self.v_ref is None or (self._fresh and abs(self.v_ref - v) > g.reference_lead):
+            # a new target starts from the current reference when the car is on it,
+            # otherwise (first target, car placed or released meanwhile) from the car
             self.v_ref, self.a_ref, self.integral = v, 0.0, 0.0
+        self._fresh = False
         if self.profile.kind == "none":
             self.v_ref, self.a_ref = target, 0.0
         else:

@@ -25,7 +25,7 @@ rain sets a default friction unless friction was set explicitly.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, replace
 
 import mujoco
@@ -33,6 +33,7 @@ import numpy as np
 
 from osc2check.road import Road
 from osc2runner.sim.actuators import ActuatorBank
+from osc2runner.sim.events import Event, EventDetector
 from osc2runner.sim.vehicle import (
     WHEELS,
     ObstacleParams,
@@ -169,17 +170,6 @@ class ActorState:
     width: float
 
 
-@dataclass(frozen=True, slots=True)
-class Event:
-    """Something that happened during a control step (``tick`` is the step's end)."""
-
-    tick: int
-    time: float
-    kind: str  # "collision" or "off_road"
-    actors: tuple[str, ...]
-    detail: str = ""
-
-
 # ---------------------------------------------------------------------- world
 
 
@@ -234,13 +224,14 @@ class World:
         self._index = {a.name: i for i, a in enumerate(self.specs)}
         self._vehicles = [a for a in self.specs if a.kind == "vehicle"]
         self._pedestrians = [a for a in self.specs if a.kind == "pedestrian"]
+        self._vparams = [a.params for a in self._vehicles if isinstance(a.params, VehicleParams)]
         self._vrow = {a.name: i for i, a in enumerate(self._vehicles)}
         self._prow = {a.name: i for i, a in enumerate(self._pedestrians)}
         self.xml = self._build_xml()
         self.model = mujoco.MjModel.from_xml_string(self.xml)
         self.data = mujoco.MjData(self.model)
         self._build_indices()
-        self.actuators = ActuatorBank([a.params for a in self._vehicles], self.dt_control)  # type: ignore[misc]
+        self.actuators = ActuatorBank(self._vparams, self.dt_control)
         self.reset()
 
     # ------------------------------------------------------------------ build
@@ -319,11 +310,11 @@ class World:
                 self._wheel_body[row, w] = bid(f"{name}_wheel")
                 self._tire[row, w] = gid(f"{name}_tire")
                 self._geom_wheel[self._tire[row, w]] = 4 * row + w
-                if spec.params.driven[w]:  # type: ignore[union-attr]
+                if self._vparams[row].driven[w]:
                     drive_act.append(aid(f"{name}_drive"))
             self._steer_act[row] = (aid(f"{prefix}_fl_steer"), aid(f"{prefix}_fr_steer"))
         self._drive_act = np.asarray(drive_act, dtype=int)
-        driven = [a.params.driven for a in self._vehicles]  # type: ignore[union-attr]
+        driven = [p.driven for p in self._vparams]
         self._driven_mask = np.array(driven, dtype=bool).reshape(nv, 4)
         self._mocap = np.array(
             [m.body_mocapid[bid(self._prefix(a.name))] for a in self._pedestrians], dtype=int
@@ -335,31 +326,22 @@ class World:
 
         # bounding boxes of every actor, for events
         n = len(self.specs)
-        self._half = np.array([(0.5 * a.params.length, 0.5 * a.params.width) for a in self.specs])
-        self._radius = np.hypot(self._half[:, 0], self._half[:, 1])
         self._is_static = np.array([a.kind == "obstacle" for a in self.specs])
         self._kinds = tuple(a.kind for a in self.specs)
         self._names = tuple(a.name for a in self.specs)
         self._veh_pos = np.array([self._index[a.name] for a in self._vehicles], dtype=int)
         self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
-        self._obs_pos = np.array(
-            [i for i, a in enumerate(self.specs) if a.kind == "obstacle"], dtype=int
-        )
+        self._obs_pos = np.flatnonzero(self._is_static)
         self._obs_pose = np.array(
             [self.specs[i].pose(self.road) for i in self._obs_pos], dtype=float
         ).reshape(-1, 3)
-        self._n = n
-        self._is_moving = ~self._is_static
-        x0, x1, y0, y1 = self.road.bounds()
-        self._road_mid = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1)])
-        self._road_half = np.array([0.5 * (x1 - x0), 0.5 * (y1 - y0)])
-        # candidate pairs for collisions: every pair except obstacle-obstacle
-        self._margin = 0.1 if self.physical_collisions else 0.0
-        pi, pj = np.triu_indices(n, k=1)
-        keep = ~(self._is_static[pi] & self._is_static[pj])
-        self._pair_i, self._pair_j = pi[keep], pj[keep]
-        reach = self._radius[self._pair_i] + self._radius[self._pair_j] + self._margin
-        self._pair_reach2 = reach * reach
+        self._events = EventDetector(
+            self._names,
+            np.array([(0.5 * a.params.length, 0.5 * a.params.width) for a in self.specs]),
+            self._is_static,
+            self.road.bounds(),
+            margin=0.1 if self.physical_collisions else 0.0,
+        )
         self._centre = np.zeros((n, 2))
         self._yaw_all = np.zeros(n)
 
@@ -372,8 +354,7 @@ class World:
         self.actuators.reset()
         self.tick = 0
         self.events: list[Event] = []
-        self._overlaps: set[tuple[int, int]] = set()
-        self._off_road: set[int] = set()
+        self._events.reset()
         self.weather = self._initial_weather
         self.friction_explicit = self._initial_friction is not None
         if self._initial_friction is not None:
@@ -395,13 +376,13 @@ class World:
         self._ped_speed = np.zeros(len(self._pedestrians))
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
+        self._accel = np.zeros(nv)
         for spec in self.specs:
             if spec.kind != "obstacle":  # obstacles stay where the model put them
                 x, y, yaw = spec.pose(self.road)
                 self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
-        self._accel = np.zeros(nv)
 
     def place(self, name: str, x: float, y: float, yaw: float, speed: float = 0.0) -> None:
         """Move an actor to ``(x, y)`` with heading ``yaw`` and ``speed`` along it.
@@ -425,6 +406,8 @@ class World:
             mujoco.mj_kinematics(m, d)
             radius = d.xpos[self._wheel_body[row], 2]  # rolling radius = wheel centre height
             d.qvel[self._spin_dof[row]] = speed / radius
+            self._read()
+            self._accel[row] = 0.0
         elif kind == "pedestrian":
             row = self._prow[name]
             mid = self._mocap[row]
@@ -508,7 +491,8 @@ class World:
             c, s = np.cos(self._yaw), np.sin(self._yaw)
             dv = (self._vel - prev) / self.dt_control
             self._accel = dv[:, 0] * c + dv[:, 1] * s
-        events = self._detect_events()
+        centre, yaw = self._poses()
+        events = self._events.detect(self.tick, self.time, centre, yaw)
         self.events.extend(events)
         return events
 
@@ -623,13 +607,13 @@ class World:
 
     def wheel_loads(self, name: str) -> tuple[float, float, float, float]:
         """Measured normal load (N) of each tire (fl, fr, rl, rr) of a vehicle."""
-        return tuple(float(v) for v in self._measure_loads()[self._vrow[name]])  # type: ignore[return-value]
+        return _four(self._measure_loads()[self._vrow[name]])
 
     def wheel_speeds(self, name: str) -> tuple[float, float, float, float]:
         """Spin rate times radius (m/s) of each wheel of a vehicle."""
         row = self._vrow[name]
         r = self.actuators.radius[row]
-        return tuple(float(w) * r for w in self.data.qvel[self._spin_dof[row]])  # type: ignore[return-value]
+        return _four(self.data.qvel[self._spin_dof[row]] * r)
 
     def state_array(self) -> np.ndarray:
         """Every number that determines the future, as one array (for replay checks)."""
@@ -685,7 +669,7 @@ class World:
     def wheel_friction(self, name: str) -> tuple[float, float, float, float]:
         """Current friction coefficient of each tire (fl, fr, rl, rr) of a vehicle."""
         row = self._vrow[name]
-        return tuple(float(v) for v in self._mu[row])  # type: ignore[return-value]
+        return _four(self._mu[row])
 
     def set_weather(self, rain: float | None = None, fog: float | None = None) -> None:
         """Record the weather; rain also sets the road friction unless it was set explicitly."""
@@ -703,67 +687,15 @@ class World:
     @property
     def collisions(self) -> frozenset[tuple[str, str]]:
         """Pairs of actors whose bounding boxes overlap now."""
-        return frozenset((self._names[i], self._names[j]) for i, j in self._overlaps)
-
-    def _detect_events(self) -> list[Event]:
-        events: list[Event] = []
-        centre, yaw = self._poses()
-        # off-road: an actor's reference point leaves the road surface
-        away = np.abs(centre - self._road_mid) > self._road_half
-        outside = (away[:, 0] | away[:, 1]) & self._is_moving
-        if self._off_road or outside.any():
-            now_out = set(np.flatnonzero(outside).tolist())
-            for i in sorted(now_out - self._off_road):
-                events.append(self._event("off_road", (i,)))
-            self._off_road = now_out
-        # collisions: circle broad phase over candidate pairs, then separating axes
-        if not len(self._pair_i):
-            return events
-        diff = centre[self._pair_i] - centre[self._pair_j]
-        near = np.flatnonzero(diff[:, 0] ** 2 + diff[:, 1] ** 2 <= self._pair_reach2)
-        if not near.size and not self._overlaps:
-            return events
-        margin = self._margin
-        now: set[tuple[int, int]] = set()
-        for k in near.tolist():
-            a, b = int(self._pair_i[k]), int(self._pair_j[k])
-            if _boxes_overlap(
-                centre[a], yaw[a], self._half[a], centre[b], yaw[b], self._half[b], margin
-            ):
-                now.add((a, b))
-                if (a, b) not in self._overlaps:
-                    events.append(self._event("collision", (a, b)))
-        self._overlaps = now
-        return events
-
-    def _event(self, kind: str, who: Iterable[int]) -> Event:
-        return Event(self.tick, self.time, kind, tuple(self._names[i] for i in who))
+        return self._events.collisions
 
 
 # ---------------------------------------------------------------------- helpers
 
 
-def _boxes_overlap(
-    c1: np.ndarray,
-    yaw1: float,
-    h1: np.ndarray,
-    c2: np.ndarray,
-    yaw2: float,
-    h2: np.ndarray,
-    margin: float,
-) -> bool:
-    """Separating-axis test of two oriented rectangles (centre, yaw, half extents)."""
-    u1 = (math.cos(yaw1), math.sin(yaw1))
-    v1 = (-u1[1], u1[0])
-    u2 = (math.cos(yaw2), math.sin(yaw2))
-    v2 = (-u2[1], u2[0])
-    dx, dy = float(c2[0] - c1[0]), float(c2[1] - c1[1])
-    for ax, ay in (u1, v1, u2, v2):
-        r1 = h1[0] * abs(ax * u1[0] + ay * u1[1]) + h1[1] * abs(ax * v1[0] + ay * v1[1])
-        r2 = h2[0] * abs(ax * u2[0] + ay * u2[1]) + h2[1] * abs(ax * v2[0] + ay * v2[1])
-        if abs(dx * ax + dy * ay) > r1 + r2 + margin:
-            return False
-    return True
+def _four(values: np.ndarray) -> tuple[float, float, float, float]:
+    a, b, c, d = (float(v) for v in values)
+    return (a, b, c, d)
 
 
 def _yaw_quat(yaw: float) -> np.ndarray:

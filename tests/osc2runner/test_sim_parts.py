@@ -245,3 +245,39 @@ def test_speed_controller_asap_uses_full_pedal_then_hands_over():
     assert brake < 1.0
     with pytest.raises(ValueError):
         c.set_target(-1.0)
+
+
+# ---------------------------------------------------------------------- events
+
+
+def test_boxes_overlap_uses_orientation():
+    from osc2runner.sim.events import boxes_overlap
+
+    car = np.array([2.25, 0.9])
+    # side by side 2.0 m apart: clear; rotated 90° the second box reaches across
+    assert not boxes_overlap(np.zeros(2), 0.0, car, np.array([0.0, 2.0]), 0.0, car)
+    assert boxes_overlap(np.zeros(2), 0.0, car, np.array([0.0, 2.0]), math.pi / 2, car)
+    # diagonal gap: the circles overlap, the boxes do not
+    assert not boxes_overlap(np.zeros(2), 0.0, car, np.array([4.6, 1.9]), 0.0, car)
+    assert boxes_overlap(np.zeros(2), 0.0, car, np.array([4.6, 1.9]), 0.0, car, margin=0.2)
+
+
+def test_event_detector_reports_each_contact_once_and_ignores_obstacle_pairs():
+    from osc2runner.sim.events import EventDetector
+
+    half = np.array([[2.25, 0.9], [0.5, 0.5], [0.5, 0.5]])
+    detector = EventDetector(
+        ("car", "rock", "stone"), half, np.array([False, True, True]), (0, 100, 0, 10)
+    )
+    yaw = np.zeros(3)
+    apart = np.array([[10.0, 5.0], [20.0, 5.0], [20.5, 5.0]])  # the obstacles overlap each other
+    touching = np.array([[17.5, 5.0], [20.0, 5.0], [20.5, 5.0]])
+    assert detector.detect(1, 0.05, apart, yaw) == []
+    first = detector.detect(2, 0.1, touching, yaw)
+    assert [(e.kind, e.actors) for e in first] == [("collision", ("car", "rock"))]
+    assert detector.detect(3, 0.15, touching, yaw) == []
+    assert detector.collisions == {("car", "rock")}
+    assert detector.detect(4, 0.2, apart, yaw) == []
+    assert len(detector.detect(5, 0.25, touching, yaw)) == 1
+    off = detector.detect(6, 0.3, np.array([[10.0, -1.0], [20.0, 5.0], [20.5, 5.0]]), yaw)
+    assert [(e.kind, e.actors) for e in off] == [("off_road", ("car",))]

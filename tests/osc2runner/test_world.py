@@ -215,3 +215,13 @@ def test_world_wheel_loads_carry_the_weight():
     loads = world.wheel_loads("ego")
     assert sum(loads) == pytest.approx(sedan().mass * 9.81, rel=0.01)
     assert loads[0] > loads[2]  # the CoG is nearer the front axle
+
+
+def test_world_place_mid_run_updates_the_state_at_once():
+    world = World(ROAD, [ActorSpec("ego", sedan(), s=50.0, lane=2)])
+    world.run(0.5, {})
+    world.place("ego", 100.0, ROAD.lane_center_y(3), 0.0, speed=22.0)
+    state = world.state("ego")
+    assert (state.x, state.lane, state.speed, state.accel) == pytest.approx((100.0, 3, 22.0, 0.0))
+    world.step_control({"ego": VehicleInput()})
+    assert world.state("ego").speed == pytest.approx(22.0, abs=0.1)

@@ -1,0 +1,86 @@
+"""Parse and analysis speed and memory of osc2check.
+
+Prints, for the bundled standard library and for a generated 10,000-line
+scenario file: parse time, full analysis time, peak memory; and the wall time
+of `osc2check` on one small file, interpreter start included.
+Targets (issue 2): 10,000 lines parsed < 0.5 s, analysed < 1.0 s; one small
+file < 0.5 s wall.
+"""
+
+from __future__ import annotations
+
+import statistics
+import subprocess
+import sys
+import time
+import tracemalloc
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
+
+from generate import generate  # noqa: E402
+
+from osc2check.analysis import SourceInput, analyze  # noqa: E402
+from osc2check.semantics.stdlib import standard_library  # noqa: E402
+from osc2check.syntax import parse  # noqa: E402
+
+
+def timed(fn, repeat: int = 5) -> tuple[float, float]:
+    """Median and best CPU-independent wall time of ``fn`` over ``repeat`` runs."""
+    times = []
+    for _ in range(repeat):
+        start = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - start)
+    return statistics.median(times), min(times)
+
+
+def peak_memory(fn) -> float:
+    tracemalloc.start()
+    fn()
+    _, peak = tracemalloc.get_traced_memory()
+    tracemalloc.stop()
+    return peak / 2**20
+
+
+def main() -> None:
+    start = time.perf_counter()
+    standard_library()
+    print(f"standard library: parse + resolve once per process: "
+          f"{(time.perf_counter() - start) * 1000:.0f} ms (includes grammar load)")
+    lib_text = "\n".join(p.read_text() for p in sorted((ROOT / "stdlib").glob("*.osc")))
+    med, best = timed(lambda: parse(lib_text, "stdlib"))
+    print(f"standard library text ({lib_text.count(chr(10))} lines): parse median "
+          f"{med * 1000:.0f} ms, best {best * 1000:.0f} ms")
+
+    text = generate(10_000)
+    lines = text.count("\n")
+    sources = [SourceInput("generated.osc", text)]
+    check = analyze(sources)
+    errors = [d for d in check.diagnostics if d.severity.name == "ERROR"]
+    print(f"generated file: {lines} lines, {len(text) / 1024:.0f} KiB, "
+          f"{len(check.diagnostics)} findings ({len(errors)} errors)")
+    med, best = timed(lambda: parse(text, "generated.osc"))
+    print(f"  parse:    median {med * 1000:.0f} ms, best {best * 1000:.0f} ms   (target < 500 ms)")
+    med, best = timed(lambda: analyze(sources), repeat=3)
+    print(f"  analysis: median {med * 1000:.0f} ms, best {best * 1000:.0f} ms   "
+          "(parse included; target < 1000 ms)")
+    print(f"  peak memory of one analysis: {peak_memory(lambda: analyze(sources)):.0f} MiB "
+          "(traced Python allocations)")
+
+    example = ROOT / "examples" / "cut_in_and_stop.osc"
+    cmd = [sys.executable, "-m", "osc2check.cli", "--output-format", "concise", str(example)]
+    walls = []
+    for _ in range(5):
+        start = time.perf_counter()
+        subprocess.run(cmd, cwd=ROOT, capture_output=True, check=False)
+        walls.append(time.perf_counter() - start)
+    print(f"osc2check on one small file, interpreter start included: median "
+          f"{statistics.median(walls) * 1000:.0f} ms, best {min(walls) * 1000:.0f} ms "
+          "(target < 500 ms)")
+
+
+if __name__ == "__main__":
+    main()
