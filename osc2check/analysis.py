@@ -9,12 +9,13 @@ from __future__ import annotations
 
 import gc
 import logging
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.program import Program, build_program
-from osc2check.source import decode_source
+from osc2check.source import decode_source, point_span
 from osc2check.syntax import ParseResult, parse
 
 log = logging.getLogger(__name__)
@@ -26,6 +27,7 @@ class SourceInput:
 
     uri: str
     text: str
+    problem: str | None = None  # why the file's bytes were not clean UTF-8 (P004)
 
 
 @dataclass
@@ -86,8 +88,19 @@ def _analyze(sources: list[SourceInput], config) -> Analysis:
         programs[source.uri] = program
         found.extend(result.diagnostics)
         found.extend(_relevant(program, result, source.uri))
+        if source.problem:
+            found.append(_encoding_problem(source))
     diagnostics = _finish(found, cache, texts, config)
     return Analysis(diagnostics, texts, programs, cache.parses)
+
+
+def _encoding_problem(source: SourceInput) -> Diagnostic:
+    """P004 at the first replaced character (or the start of the file)."""
+    offset = max(source.text.find("\ufffd"), 0)
+    span = point_span(source.uri, source.text, offset)
+    if offset < len(source.text):
+        span = replace(span, end_column=span.column + 1, end=span.start + 1)
+    return messages.invalid_encoding(span, source.problem or "")
 
 
 # Findings that a missing import or a broken statement explains: reporting them
@@ -118,7 +131,7 @@ def _finish(found: list[Diagnostic], cache: FileCache, texts: dict[str, str],
         for uri in texts:
             result = cache.parses.get(uri)
             if result is not None:
-                suppressions.extend(find_suppressions(uri, result.comment_spans()))
+                suppressions.extend(find_suppressions(uri, result.comment_spans(), result.text))
         diagnostics = apply_suppressions(diagnostics, suppressions)
     if config is not None and hasattr(config, "policy"):
         by_uri: dict[str, list[Diagnostic]] = {}

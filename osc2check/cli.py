@@ -18,7 +18,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any, TextIO
 
-from osc2check import codes, messages, rules
+from osc2check import codes, rules
 from osc2check.config import (
     FORMAT_ALIASES,
     OUTPUT_FORMATS,
@@ -29,9 +29,8 @@ from osc2check.config import (
     parse_codes,
     parse_severity,
 )
-from osc2check.diagnostics import Diagnostic
 from osc2check.output import render, render_statistics, tool
-from osc2check.source import decode_source, point_span
+from osc2check.source import decode_source
 
 __all__ = ["EXIT_ERROR", "EXIT_FINDINGS", "EXIT_OK", "UsageError", "build_parser", "main"]
 
@@ -116,6 +115,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args[:1] == ["rule"]:
             return _rule_command(args[1:], sys.stdout)
         return _check_command(args, sys.stdout)
+    except BrokenPipeError:  # the reader went away (`osc2check . | head`): stop quietly
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        return EXIT_FINDINGS
     except SystemExit as exc:  # argparse: --help, --version, bad options
         return exc.code if isinstance(exc.code, int) else EXIT_ERROR
     except (UsageError, ConfigError) as exc:
@@ -163,14 +166,12 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     paths = args.paths or ["."]
     config = _with_options(_load_config(args, paths), args)
     inputs = _collect(paths, config, args.stdin_filename)
-    sources, problems = _read(inputs)
+    sources = _read(inputs)
     if args.dump_ast:
         return _dump_ast(sources, out)
 
     analysis = _analyze(sources, config)
-    diagnostics = sorted(
-        [*analysis.diagnostics, *config.policy(problems)], key=lambda d: d.sort_key
-    )
+    diagnostics = analysis.diagnostics
     texts = {**{s.uri: s.text for s in sources}, **analysis.texts}
     if args.statistics:
         text = render_statistics(diagnostics, files_checked=len(sources), quiet=args.quiet)
@@ -270,31 +271,19 @@ def _collect(paths: list[str], config: Config, stdin_filename: str | None) -> li
     return inputs
 
 
-def _read(inputs: list[_Input]) -> tuple[list[Any], list[Diagnostic]]:
-    """The decoded sources, and a P004 finding for each file that is not valid UTF-8."""
-    from osc2check.analysis import SourceInput  # the lead's module; imported on use
+def _read(inputs: list[_Input]) -> list[Any]:
+    """The decoded sources; a file that is not valid UTF-8 carries its problem (P004)."""
+    from osc2check.analysis import SourceInput
 
-    sources, problems = [], []
+    sources = []
     for item in inputs:
         try:
             data = sys.stdin.buffer.read() if item.path is None else item.path.read_bytes()
         except OSError as exc:
             raise UsageError(f"{item.uri}: cannot read: {exc.strerror or exc}") from None
         text, problem = decode_source(data)
-        sources.append(SourceInput(uri=item.uri, text=text))
-        if problem is not None:
-            problems.append(_encoding_problem(item.uri, text, problem))
-    return sources, problems
-
-
-def _encoding_problem(uri: str, text: str, problem: str) -> Diagnostic:
-    # TODO(lead): move into analyze (SourceInput could carry the decoding problem) so that
-    # file-ignore applies to P004 like to every other code.
-    offset = max(text.find("\ufffd"), 0)
-    span = point_span(uri, text, offset)
-    if offset < len(text):
-        span = replace(span, end_column=span.column + 1, end=span.start + 1)
-    return messages.invalid_encoding(span, problem)
+        sources.append(SourceInput(uri=item.uri, text=text, problem=problem))
+    return sources
 
 
 def _analyze(sources: list[Any], config: Config) -> Any:
