@@ -1,0 +1,122 @@
+"""The constraint problem of one scenario instance, independent of any solver.
+
+Terms are small immutable trees over exact rationals. Every constraint keeps
+the span and text it came from, so a solver's unsatisfiable core maps back to
+source lines. ``lower.py`` builds a ``Problem`` from the model;
+``z3_backend.py`` solves it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from osc2check.source import Span
+
+
+@dataclass(frozen=True, slots=True)
+class Var:
+    """A parameter of the instance: ``hero.vehicle_category``, ``lag``, ``npc@start.lane``."""
+
+    name: str
+    sort: str  # "real" | "int" | "bool"
+    unit: str = ""  # the unit the witness shows the value in (SI when empty)
+    unit_factor: Fraction = Fraction(1)
+    unit_offset: Fraction = Fraction(0)
+    enum: tuple[tuple[str, int], ...] = ()  # member names and values of an enum parameter
+    span: Span | None = None  # where the parameter is declared
+
+
+@dataclass(frozen=True, slots=True)
+class Const:
+    value: Fraction | bool
+
+
+@dataclass(frozen=True, slots=True)
+class Ref:
+    var: Var
+
+
+@dataclass(frozen=True, slots=True)
+class Op:
+    """``op`` over ``args``: + - * neg, == != < <= > >=, and or not =>, ite."""
+
+    op: str
+    args: tuple[Term, ...]
+
+
+Term = Const | Ref | Op
+
+TRUE = Const(True)
+
+
+def const(value) -> Const:
+    return Const(value if isinstance(value, bool) else Fraction(value))
+
+
+def op(name: str, *args: Term) -> Op:
+    return Op(name, tuple(args))
+
+
+def variables(term: Term) -> set[Var]:
+    """The variables a term mentions."""
+    found: set[Var] = set()
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Ref):
+            found.add(t.var)
+        elif isinstance(t, Op):
+            stack.extend(t.args)
+    return found
+
+
+def is_nonlinear(term: Term) -> bool:
+    """Whether two non-constant factors are multiplied somewhere in ``term``."""
+    if isinstance(term, Op):
+        if term.op == "*" and sum(bool(variables(a)) for a in term.args) > 1:
+            return True
+        return any(is_nonlinear(a) for a in term.args)
+    return False
+
+
+@dataclass(frozen=True, slots=True)
+class Constraint:
+    """One source-level constraint.
+
+    ``kind`` is "keep", "default", "argument", "modifier", "declaration" (a field's
+    `= value`), "domain" or "placement" (implicit constraints of the road and the
+    vehicles). A default constraint on a parameter alone (``p == v`` or
+    ``p in [a..b]``) records that parameter in ``subject``.
+    """
+
+    term: Term
+    span: Span
+    kind: str
+    text: str
+    strength: str = "hard"  # "hard" | "default"
+    subject: Var | None = None
+    explanation: str = ""  # for implicit constraints: where the rule comes from
+
+
+@dataclass
+class Problem:
+    """Everything the solver needs for one scenario instance."""
+
+    scenario: str
+    span: Span
+    variables: dict[str, Var] = field(default_factory=dict)
+    constraints: list[Constraint] = field(default_factory=list)
+    removed_defaults: set[str] = field(default_factory=set)  # parameters after remove_default
+    skipped: list[tuple[Span, str]] = field(default_factory=list)  # not encodable: why
+    strings: dict[int, str] = field(default_factory=dict)  # string constants by their number
+    placement: object | None = None  # placement.Placement, when the scenario has actors
+
+    def var(self, name: str, sort: str, **kw) -> Var:
+        existing = self.variables.get(name)
+        if existing is None:
+            existing = self.variables[name] = Var(name, sort, **kw)
+        return existing
+
+    def add(self, constraint: Constraint) -> None:
+        self.constraints.append(constraint)

@@ -1,0 +1,467 @@
+"""Lower one scenario of the model to a constraint ``Problem``.
+
+The instance tree: the scenario's parameters, its actors' parameters (one
+level, more when a constraint reaches deeper), every behaviour and modifier
+invocation of its ``do`` tree (with its arguments as constraints), and the
+scenarios it invokes, recursively. Variables are named by their path
+(``npc.vehicle_category``, ``hero.drive@31.duration``) and created when first
+mentioned; defaults are attached at the end to the variables that exist.
+
+Values are exact: physical literals become SI rationals through the unit's
+factor and offset; strings and enum members become integers.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from osc2check.semantics import types as T
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.source import Span
+from osc2check.syntax import ast
+from osc2check.verify import ir
+
+MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
+_DISPLAY_UNITS = {  # dimension -> unit the witness shows
+    (1, 0, -1, 0, 0, 0, 0, 0): "kph",
+    (1, 0, -2, 0, 0, 0, 0, 0): "mpsps",
+    (1, 0, 0, 0, 0, 0, 0, 0): "m",
+    (0, 0, 1, 0, 0, 0, 0, 0): "s",
+    (0, 0, 0, 0, 0, 0, 0, 1): "deg",
+}
+_CMP = {"==", "!=", "<", "<=", ">", ">="}
+
+
+class NotEncodable(Exception):
+    """An expression the solver cannot take (a method call, a list, ...)."""
+
+
+@dataclass
+class Scope:
+    prefix: str  # path of the instance whose members are in scope ("" = top scenario)
+    owner: Symbol | None
+    it: str | None  # path `it` stands for
+    it_symbol: Symbol | None = None
+    actor: str | None = None  # path of `actor`
+    locals: dict[str, str] = field(default_factory=dict)
+    it_field: Symbol | None = None  # the field `it` stands for in a field's `with:` block
+
+
+def _join(prefix: str, name: str) -> str:
+    return f"{prefix}.{name}" if prefix else name
+
+
+class Lowerer:
+    def __init__(self, model: Model, problem: ir.Problem, text_of):
+        self.model = model
+        self.problem = problem
+        self.text_of = text_of  # span -> source text
+        self.strings: dict[str, int] = {}
+        self.instances: dict[str, Symbol] = {}  # path -> type of the compound instance there
+        self.pending_defaults: list[tuple[str, Symbol, ast.Node, Scope]] = []
+        self.member_decls = _member_declarations(model)
+        self.depth = 0
+        self.active: list[Symbol] = []
+
+    # ---- instances -----------------------------------------------------------------
+
+    def scenario(self, sym: Symbol) -> None:
+        scope = Scope("", sym, "", sym, actor="actor" if sym.actor else None)
+        self.instances[""] = sym
+        self._instance(sym, scope)
+        for param in self.model.parameters(sym):
+            t = param.type
+            if t is not None and t.kind is T.Kind.COMPOUND and t.symbol is not None and \
+                    t.symbol.kind is SymbolKind.ACTOR:
+                self._compound(param.name, t.symbol)
+                for sub in self.model.parameters(t.symbol):
+                    self._scalar_var(_join(param.name, sub.name), sub)
+            else:
+                self._scalar_var(param.name, param)
+        self._attach_defaults()
+
+    def _compound(self, path: str, type_symbol: Symbol) -> None:
+        if path in self.instances:
+            return
+        self.instances[path] = type_symbol
+        actor = path if type_symbol.kind is SymbolKind.ACTOR else None
+        self._instance(type_symbol, Scope(path, type_symbol, path, type_symbol, actor=actor))
+
+    def _instance(self, sym: Symbol, scope: Scope) -> None:
+        """Constraints of ``sym``'s declaration (and supertypes and extensions)."""
+        if sym in self.active or self.depth > MAX_DEPTH:
+            return
+        self.active.append(sym)
+        self.depth += 1
+        try:
+            for ancestor in reversed(list(self.model.ancestors(sym))):
+                for decl in self.member_decls.get(ancestor, ()):
+                    self._members(decl, scope)
+        finally:
+            self.depth -= 1
+            self.active.pop()
+
+    def _members(self, members, scope: Scope) -> None:
+        for member in members:
+            match member:
+                case ast.FieldDecl():
+                    self._field(member, scope)
+                case ast.KeepConstraint():
+                    self._keep(member, scope, "keep")
+                case ast.RemoveDefault():
+                    path = self._path(member.target, scope)
+                    if path is not None:
+                        self.problem.removed_defaults.add(path)
+                case ast.DoDirective():
+                    self._do_member(member.member, scope)
+
+    def _field(self, decl: ast.FieldDecl, scope: Scope) -> None:
+        for name in decl.names:
+            sym = self.model.references.get(name)
+            if sym is None:
+                continue
+            path = _join(scope.prefix, name.text)
+            if decl.default is not None:
+                self.pending_defaults.append((path, sym, decl, scope))
+            if decl.with_members:
+                inner = Scope(scope.prefix, scope.owner, path, _type_symbol(sym),
+                              scope.actor, dict(scope.locals), it_field=sym)
+                for item in decl.with_members:
+                    if isinstance(item, ast.KeepConstraint):
+                        self._keep(item, inner, "keep")
+                    elif isinstance(item, ast.RemoveDefault):
+                        target = self._path(item.target, inner)
+                        if target is not None:
+                            self.problem.removed_defaults.add(target)
+
+    def _attach_defaults(self) -> None:
+        for path, sym, decl, scope in self.pending_defaults:
+            var = self.problem.variables.get(path)
+            if var is None:
+                continue
+            try:
+                value = self._term(decl.default, scope)
+            except NotEncodable as reason:
+                self.problem.skipped.append((decl.default.span, str(reason)))
+                continue
+            strength = "hard" if decl.is_var else "default"
+            self.problem.add(ir.Constraint(
+                ir.op("==", ir.Ref(var), value), decl.span, "declaration",
+                self.text_of(decl.span), strength, var if strength == "default" else None))
+
+    # ---- constraints ------------------------------------------------------------------
+
+    def _keep(self, keep: ast.KeepConstraint, scope: Scope, kind: str) -> None:
+        try:
+            term = self._term(keep.expr, scope)
+        except NotEncodable as reason:
+            self.problem.skipped.append((keep.span, str(reason)))
+            return
+        subject = self._subject(keep.expr, scope)
+        strength = "default" if keep.strength == "default" else "hard"
+        kind = "default" if strength == "default" else kind
+        self.problem.add(ir.Constraint(term, keep.span, kind, self.text_of(keep.span),
+                                       strength, subject))
+
+    def _subject(self, expr: ast.Node, scope: Scope) -> ir.Var | None:
+        """The parameter alone on the left of `==` or `in` (the override rule's form)."""
+        if isinstance(expr, ast.Binary) and expr.op in ("==", "in"):
+            path = self._path(expr.left, scope)
+            if path is not None:
+                return self.problem.variables.get(path)
+        return None
+
+    # ---- behaviour ----------------------------------------------------------------------
+
+    def _do_member(self, member: ast.DoMember, scope: Scope) -> None:
+        body = member.body
+        match body:
+            case ast.Composition():
+                for sub in body.members:
+                    self._do_member(sub, scope)
+                for item in body.with_members:
+                    if isinstance(item, ast.KeepConstraint):
+                        self._keep(item, scope, "keep")
+            case ast.Invocation():
+                self._invocation(body, scope, member.label)
+
+    def _invocation(self, inv: ast.Invocation, scope: Scope, label: ast.Name | None) -> None:
+        behavior = self.model.references.get(inv.name)
+        if behavior is None or not behavior.kind.is_behavior:
+            return
+        actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
+        name = label.text if label is not None else f"{behavior.name}@{inv.span.line}"
+        path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix,
+                                                                                 name)
+        inner = Scope(path, behavior, path, behavior, actor_path, dict(scope.locals))
+        self._arguments(behavior, inv.arguments, path, scope, "argument")
+        if self.depth <= MAX_DEPTH and not behavior.library:
+            self.instances[path] = behavior
+            self._instance(behavior, inner)
+        for item in inv.with_members:
+            match item:
+                case ast.KeepConstraint():
+                    self._keep(item, inner, "keep")
+                case ast.Invocation():
+                    modifier = self.model.references.get(item.name)
+                    if modifier is not None and modifier.kind is SymbolKind.MODIFIER:
+                        mod_path = _join(path, f"{modifier.name}@{item.span.line}")
+                        self._arguments(modifier, item.arguments, mod_path, inner, "modifier")
+
+    def _arguments(self, callee: Symbol, arguments, path: str, scope: Scope, kind: str) -> None:
+        params = self.model.parameters(callee)
+        by_name = {p.name: p for p in params}
+        position = 0
+        for arg in arguments:
+            if isinstance(arg, ast.PositionalArgument):
+                if position >= len(params):
+                    continue
+                param = params[position]
+                position += 1
+            elif isinstance(arg, ast.NamedArgument):
+                param = by_name.get(arg.name.text)
+                if param is None:
+                    continue
+            else:
+                continue
+            if not _scalar(param.type):
+                continue
+            var = self._scalar_var(_join(path, param.name), param)
+            if var is None:
+                continue
+            try:
+                term = self._membership(ir.Ref(var), arg.value, scope)
+            except NotEncodable as reason:
+                self.problem.skipped.append((arg.span, str(reason)))
+                continue
+            self.problem.add(ir.Constraint(term, arg.span, kind, self.text_of(arg.span),
+                                           "hard", var))
+
+    def _membership(self, target: ir.Term, value: ast.Node, scope: Scope) -> ir.Term:
+        """``target == value``, or ``target in value`` for a range argument."""
+        if isinstance(value, ast.RangeLiteral):
+            return self._in_range(target, value, scope)
+        return ir.op("==", target, self._term(value, scope))
+
+    # ---- paths and variables ------------------------------------------------------------
+
+    def _scalar_var(self, path: str, sym: Symbol) -> ir.Var | None:
+        t = sym.type
+        if t is None or not _scalar(t):
+            return None
+        existing = self.problem.variables.get(path)
+        if existing is not None:
+            return existing
+        kw: dict = {"span": sym.name_span}
+        if t.kind is T.Kind.PHYSICAL:
+            sort = "real"
+            unit_name = _DISPLAY_UNITS.get(t.dimension or ())
+            unit = self.model.unit(unit_name) if unit_name else None
+            if unit is not None:
+                kw.update(unit=unit.name, unit_factor=unit.factor, unit_offset=unit.offset)
+        elif t.kind is T.Kind.FLOAT:
+            sort = "real"
+        elif t.kind is T.Kind.BOOL:
+            sort = "bool"
+        elif t.kind is T.Kind.ENUM and t.symbol is not None:
+            sort = "int"
+            kw["enum"] = tuple((m.name, m.value) for m in self.model.enum_values(t.symbol))
+        else:
+            sort = "int"
+        var = self.problem.var(path, sort, **kw)
+        self._domain(var, t, sym)
+        return var
+
+    def _domain(self, var: ir.Var, t: T.Type, sym: Symbol) -> None:
+        span = sym.name_span or self.problem.span
+        if t.kind is T.Kind.UINT:
+            term = ir.op(">=", ir.Ref(var), ir.const(0))
+            text = f"`{sym.name}` is a uint"
+        elif t.kind is T.Kind.ENUM and var.enum:
+            term = ir.op("or", *(ir.op("==", ir.Ref(var), ir.const(v)) for _, v in var.enum))
+            text = f"`{sym.name}` is one of its enum's members"
+        else:
+            return
+        self.problem.add(ir.Constraint(term, span, "domain", text, "hard",
+                                       explanation=text))
+
+    def _path(self, expr: ast.Node | None, scope: Scope) -> str | None:
+        """The instance path an expression names, or None if it names no parameter."""
+        match expr:
+            case ast.NameRef():
+                name = expr.name.name.text
+                if expr.name.namespace is None and name == "it":
+                    return scope.it
+                if expr.name.namespace is None and name == "actor":
+                    return scope.actor
+                if name in scope.locals:
+                    return scope.locals[name]
+                sym = self.model.references.get(expr.name.name)
+                if sym is None:
+                    return None
+                if sym.kind is SymbolKind.GLOBAL:
+                    return f"::{sym.name}"
+                if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
+                    return self._member_path(scope, sym)
+                return None
+            case ast.MemberAccess():
+                base = self._path(expr.target, scope)
+                sym = self.model.references.get(expr.member)
+                if base is None or sym is None or sym.kind not in (SymbolKind.FIELD,
+                                                                    SymbolKind.VARIABLE):
+                    return None
+                owner_type = _type_symbol_at(self, base)
+                if owner_type is None:
+                    target_type = self.model.expr_types.get(expr.target)
+                    if target_type is not None and target_type.symbol is not None:
+                        self._compound(base, target_type.symbol)
+                return _join(base, sym.name)
+        return None
+
+    def _member_path(self, scope: Scope, sym: Symbol) -> str:
+        """Path of field ``sym`` seen from ``scope``: a member of `it`'s type or of the owner."""
+        if scope.it is not None and scope.it_symbol is not None and any(
+            a is sym.owner for a in self.model.ancestors(scope.it_symbol)
+        ):
+            return _join(scope.it, sym.name)
+        return _join(scope.prefix, sym.name)
+
+    def _var_at(self, path: str, expr: ast.Node, scope: Scope) -> ir.Var:
+        var = self.problem.variables.get(path)
+        if var is not None:
+            return var
+        sym = None
+        if isinstance(expr, ast.NameRef) and expr.name.name.text == "it" and path == scope.it:
+            sym = scope.it_field
+        elif isinstance(expr, ast.NameRef):
+            sym = self.model.references.get(expr.name.name)
+        elif isinstance(expr, ast.MemberAccess):
+            sym = self.model.references.get(expr.member)
+        if sym is None or not _scalar(sym.type):
+            raise NotEncodable(f"`{path}` is not a number, boolean, enum or string")
+        created = self._scalar_var(path, sym)
+        if created is None:
+            raise NotEncodable(f"`{path}` cannot be encoded")
+        owner = path.rsplit(".", 1)[0] if "." in path else ""
+        owner_type = self.instances.get(owner)
+        if owner_type is None and sym.owner is not None and owner:
+            self._compound(owner, sym.owner)
+        return created
+
+    # ---- expressions ---------------------------------------------------------------------
+
+    def _term(self, expr: ast.Node, scope: Scope) -> ir.Term:
+        match expr:
+            case ast.IntLiteral():
+                return ir.const(expr.value)
+            case ast.FloatLiteral():
+                try:
+                    return ir.const(Fraction(expr.text))
+                except (ValueError, ZeroDivisionError):
+                    raise NotEncodable("`inf` and `nan` have no exact value") from None
+            case ast.PhysicalLiteral():
+                unit = self.model.references.get(expr.unit)
+                if unit is None or isinstance(expr.number, float):
+                    raise NotEncodable("unknown unit")
+                return ir.const(Fraction(expr.number) * unit.factor + unit.offset)
+            case ast.BoolLiteral():
+                return ir.const(expr.value)
+            case ast.StringLiteral():
+                return ir.const(self.strings.setdefault(expr.value, len(self.strings)))
+            case ast.EnumRef():
+                member = self.model.references.get(expr.member)
+                if member is None:
+                    raise NotEncodable("unknown enum member")
+                return ir.const(member.value)
+            case ast.NameRef() | ast.MemberAccess():
+                target = self.model.references.get(
+                    expr.name.name if isinstance(expr, ast.NameRef) else expr.member)
+                if target is not None and target.kind is SymbolKind.ENUM_MEMBER:
+                    return ir.const(target.value)
+                path = self._path(expr, scope)
+                if path is None:
+                    raise NotEncodable(f"`{self.text_of(expr.span)}` is not a parameter")
+                return ir.Ref(self._var_at(path, expr, scope))
+            case ast.Unary():
+                inner = self._term(expr.operand, scope)
+                if expr.op == "not":
+                    return ir.op("not", inner)
+                return ir.op("neg", inner) if expr.op == "-" else inner
+            case ast.Binary():
+                return self._binary(expr, scope)
+            case ast.Ternary():
+                return ir.op("ite", self._term(expr.condition, scope),
+                             self._term(expr.then, scope), self._term(expr.otherwise, scope))
+        raise NotEncodable(f"`{self.text_of(expr.span)}` cannot be solved for")
+
+    def _binary(self, expr: ast.Binary, scope: Scope) -> ir.Term:
+        if expr.op == "in":
+            left = self._term(expr.left, scope)
+            if isinstance(expr.right, ast.RangeLiteral):
+                return self._in_range(left, expr.right, scope)
+            if isinstance(expr.right, ast.ListLiteral):
+                return ir.op("or", *(ir.op("==", left, self._term(i, scope))
+                                     for i in expr.right.items))
+            raise NotEncodable("`in` needs a range or a list written in place")
+        left = self._term(expr.left, scope)
+        right = self._term(expr.right, scope)
+        if expr.op in ("and", "or", "=>"):
+            return ir.op(expr.op, left, right)
+        if expr.op in _CMP or expr.op in ("+", "-"):
+            return ir.op(expr.op, left, right)
+        if expr.op == "*":
+            return ir.op("*", left, right)
+        if expr.op == "/":
+            if isinstance(right, ir.Const) and right.value:
+                return ir.op("*", left, ir.const(1 / Fraction(right.value)))
+            raise NotEncodable("division by a parameter")
+        raise NotEncodable(f"operator `{expr.op}`")
+
+    def _in_range(self, target: ir.Term, rng: ast.RangeLiteral, scope: Scope) -> ir.Term:
+        low, high = self._term(rng.low, scope), self._term(rng.high, scope)
+        if isinstance(low, ir.Const) and isinstance(high, ir.Const) and low.value > high.value:
+            low, high = high, low  # the bounds of a range may come in either order
+        return ir.op("and", ir.op(">=", target, low), ir.op("<=", target, high))
+
+
+def _scalar(t: T.Type | None) -> bool:
+    return t is not None and t.kind in (T.Kind.PHYSICAL, T.Kind.FLOAT, T.Kind.INT, T.Kind.UINT,
+                                        T.Kind.BOOL, T.Kind.ENUM, T.Kind.STRING)
+
+
+def _type_symbol(sym: Symbol) -> Symbol | None:
+    return sym.type.symbol if sym.type is not None and sym.type.kind is T.Kind.COMPOUND \
+        else None
+
+
+def _type_symbol_at(lowerer: Lowerer, path: str) -> Symbol | None:
+    return lowerer.instances.get(path)
+
+
+def _member_declarations(model: Model) -> dict[Symbol, list[tuple]]:
+    """Each type's member lists: its declaration's body and every `extend` of it."""
+    result: dict[Symbol, list[tuple]] = {}
+    chain = []
+    current: Model | None = model
+    while current is not None:
+        chain.append(current)
+        current = current.base
+    for m in reversed(chain):
+        for node, sym in m.declarations.items():
+            if isinstance(node, ast.StructuredDecl) and m.declarations.get(node) is sym:
+                result.setdefault(sym, []).insert(0, node.members)
+            elif isinstance(node, ast.ExtendDecl):
+                result.setdefault(sym, []).append(node.members)
+    return result
+
+
+def lower_scenario(model: Model, scenario: Symbol, text_of) -> ir.Problem:
+    """The constraint problem of ``scenario`` as a top-level instance."""
+    span = scenario.name_span or Span("", 1, 1, 1, 1)
+    problem = ir.Problem(scenario.name, span)
+    lowerer = Lowerer(model, problem, text_of)
+    lowerer.scenario(scenario)
+    problem.strings = {v: k for k, v in lowerer.strings.items()}
+    return problem
