@@ -18,9 +18,15 @@ Frames and conventions
   from the start of the road (0 at the entry, ``length`` at the exit); ``t``
   is the lateral offset to the *left* of the driving direction, measured from
   the right edge of the road.
-* **Lane numbering**: lane 1 is the rightmost lane in the driving direction;
-  numbers grow to the left, up to ``lane_count``. This matches the checker's
-  default convention ("1 = rightmost lane in driving direction").
+* **Lane numbering**: internally (``lane_center_y``, ``lane_of``, ...) lane 1 is
+  the rightmost lane in the driving direction and numbers grow to the left, up
+  to ``lane_count``. That is also how scenarios count lanes on most maps (the
+  standard's `lane()` counts from the right by default). A map may count the
+  scenario's lane numbers from the left instead (``numbering="from_left"``):
+  the Town06 stand-in does, as CARLA numbers lanes outward from the centre
+  line, so the design paper's `lane(1)` is the lane next to the median and
+  "one lane to the right of it" exists. ``from_scenario_lane`` and
+  ``to_scenario_lane`` convert.
 
 OpenDRIVE maps are a later extension behind the same interface
 (``lane_center_y``, ``lane_of``, ``to_xy``, ``to_st``, ``bounds``).
@@ -60,6 +66,7 @@ class Road:
     direction: int = 1
     speed_limit: float | None = None
     description: str = ""
+    numbering: str = "from_right"  # how scenarios number lanes: "from_right" | "from_left"
 
     def __post_init__(self) -> None:
         if self.lane_count < 1:
@@ -90,6 +97,14 @@ class Road:
     def has_lane(self, lane: int) -> bool:
         """True when ``lane`` is a valid lane number (1 .. lane_count)."""
         return 1 <= lane <= self.lane_count
+
+    def from_scenario_lane(self, number: int) -> int:
+        """The internal lane (1 = rightmost) that a scenario's lane number names."""
+        return self.lane_count + 1 - number if self.numbering == "from_left" else number
+
+    def to_scenario_lane(self, lane: int) -> int:
+        """The scenario's number for internal lane ``lane`` (the inverse of the above)."""
+        return self.lane_count + 1 - lane if self.numbering == "from_left" else lane
 
     def lane_center_t(self, lane: int) -> float:
         """Lateral road coordinate ``t`` of the centre of ``lane``."""
@@ -199,7 +214,9 @@ _MAPS: dict[str, Road] = {
         lane_width=3.5,
         length=1500.0,
         speed_limit=90.0 * _KPH,
-        description="stand-in for CARLA Town06: one straight 4-lane carriageway, 1500 m",
+        description="stand-in for CARLA Town06: one straight 4-lane carriageway, 1500 m; "
+        "lanes numbered from the left as in CARLA",
+        numbering="from_left",
     ),
 }
 

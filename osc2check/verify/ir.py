@@ -24,6 +24,7 @@ class Var:
     unit_factor: Fraction = Fraction(1)
     unit_offset: Fraction = Fraction(0)
     enum: tuple[tuple[str, int], ...] = ()  # member names and values of an enum parameter
+    is_string: bool = False  # a string parameter, encoded as the number of its constant
     span: Span | None = None  # where the parameter is declared
 
 
@@ -97,6 +98,7 @@ class Constraint:
     strength: str = "hard"  # "hard" | "default"
     subject: Var | None = None
     explanation: str = ""  # for implicit constraints: where the rule comes from
+    rule: str = ""  # implicit constraints: "lane-range", "road-extent", "max-speed", "overlap"
 
 
 @dataclass

@@ -71,7 +71,9 @@ class Lowerer:
         scope = Scope("", sym, "", sym, actor="actor" if sym.actor else None)
         self.instances[""] = sym
         self._instance(sym, scope)
-        for param in self.model.parameters(sym):
+        for param in self.model.all_members(sym):
+            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE):
+                continue
             t = param.type
             if t is not None and t.kind is T.Kind.COMPOUND and t.symbol is not None and \
                     t.symbol.kind is SymbolKind.ACTOR:
@@ -80,7 +82,6 @@ class Lowerer:
                     self._scalar_var(_join(param.name, sub.name), sub)
             else:
                 self._scalar_var(param.name, param)
-        self._attach_defaults()
 
     def _compound(self, path: str, type_symbol: Symbol) -> None:
         if path in self.instances:
@@ -136,7 +137,8 @@ class Lowerer:
                         if target is not None:
                             self.problem.removed_defaults.add(target)
 
-    def _attach_defaults(self) -> None:
+    def attach_defaults(self) -> None:
+        """Add field defaults and `var` initialisers for every variable created so far."""
         for path, sym, decl, scope in self.pending_defaults:
             var = self.problem.variables.get(path)
             if var is None:
@@ -195,11 +197,13 @@ class Lowerer:
         name = label.text if label is not None else f"{behavior.name}@{inv.span.line}"
         path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix,
                                                                                  name)
-        inner = Scope(path, behavior, path, behavior, actor_path, dict(scope.locals))
+        body = Scope(path, behavior, path, behavior, actor_path)  # the behaviour's own members
+        inner = Scope(scope.prefix, scope.owner, path, behavior, scope.actor,
+                      dict(scope.locals))  # its `with:` block: `it` is the behaviour
         self._arguments(behavior, inv.arguments, path, scope, "argument")
         if self.depth <= MAX_DEPTH and not behavior.library:
             self.instances[path] = behavior
-            self._instance(behavior, inner)
+            self._instance(behavior, body)
         for item in inv.with_members:
             match item:
                 case ast.KeepConstraint():
@@ -208,7 +212,7 @@ class Lowerer:
                     modifier = self.model.references.get(item.name)
                     if modifier is not None and modifier.kind is SymbolKind.MODIFIER:
                         mod_path = _join(path, f"{modifier.name}@{item.span.line}")
-                        self._arguments(modifier, item.arguments, mod_path, inner, "modifier")
+                        self._arguments(modifier, item.arguments, mod_path, scope, "modifier")
 
     def _arguments(self, callee: Symbol, arguments, path: str, scope: Scope, kind: str) -> None:
         params = self.model.parameters(callee)
@@ -270,6 +274,7 @@ class Lowerer:
             kw["enum"] = tuple((m.name, m.value) for m in self.model.enum_values(t.symbol))
         else:
             sort = "int"
+            kw["is_string"] = t.kind is T.Kind.STRING
         var = self.problem.var(path, sort, **kw)
         self._domain(var, t, sym)
         return var
@@ -457,11 +462,17 @@ def _member_declarations(model: Model) -> dict[Symbol, list[tuple]]:
     return result
 
 
-def lower_scenario(model: Model, scenario: Symbol, text_of) -> ir.Problem:
-    """The constraint problem of ``scenario`` as a top-level instance."""
+def lower_scenario(model: Model, scenario: Symbol, text_of,
+                   default_map: str = "default") -> ir.Problem:
+    """The constraint problem of ``scenario`` as a top-level instance, placement included."""
+    from osc2check.verify.placement import lower_placement
+
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.Problem(scenario.name, span)
     lowerer = Lowerer(model, problem, text_of)
     lowerer.scenario(scenario)
+    problem.strings = {v: k for k, v in lowerer.strings.items()}
+    problem.placement = lower_placement(lowerer, scenario, default_map)
+    lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     return problem
