@@ -1,0 +1,29 @@
+"""osc2check: the analysis core and static checker for ASAM OpenSCENARIO DSL 2.x.
+
+Public entry points (imported on first use, so that ``import osc2check`` stays cheap):
+
+- ``parse(text, uri) -> ParseResult``: tolerant parsing, never raises;
+- ``analyze(sources, config) -> Analysis``: names, types, units, constraints, placement;
+- ``solve(analysis, scenario=None, seed=0) -> Witness | Unsolvable``: the concrete instance
+  the runner executes.
+"""
+
+from __future__ import annotations
+
+__all__ = ["analyze", "parse", "solve", "SourceInput"]
+
+
+def __getattr__(name: str):
+    if name == "parse":
+        from osc2check.syntax import parse
+
+        return parse
+    if name in ("analyze", "SourceInput"):
+        from osc2check import analysis
+
+        return getattr(analysis, name)
+    if name == "solve":
+        from osc2check.verify.api import solve
+
+        return solve
+    raise AttributeError(name)

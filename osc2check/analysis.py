@@ -13,10 +13,11 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from osc2check import messages
-from osc2check.diagnostics import Diagnostic
+from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span
 from osc2check.syntax import ParseResult, parse
+from osc2check.verify.check import VerifyResult, verify_program
 
 log = logging.getLogger(__name__)
 
@@ -36,6 +37,7 @@ class Analysis:
     texts: dict[str, str]
     programs: dict[str, Program] = field(default_factory=dict)
     parses: dict[str, ParseResult] = field(default_factory=dict)
+    verified: dict[str, VerifyResult] = field(default_factory=dict)  # by root file
 
 
 class FileCache:
@@ -63,23 +65,32 @@ class FileCache:
         return result
 
 
-def analyze(sources: list[SourceInput], config=None) -> Analysis:
-    """Check every source; returns the diagnostics (config applied) and the texts."""
+def analyze(sources: list[SourceInput], config=None, *, seed: int = 0,
+            scenario: str | None = None) -> Analysis:
+    """Check every source; returns the diagnostics (config applied) and the texts.
+
+    ``seed`` picks the witness among the many that satisfy a scenario (the same seed
+    always gives the same one); ``scenario`` limits verification to one scenario.
+    """
     collecting = gc.isenabled()
     if collecting:  # analysis builds long-lived tables; cyclic GC passes only cost time
         gc.disable()
     try:
-        return _analyze(sources, config)
+        return _analyze(sources, config, seed, scenario)
     finally:
         if collecting:
             gc.enable()
 
 
-def _analyze(sources: list[SourceInput], config) -> Analysis:
+def _analyze(sources: list[SourceInput], config, seed: int, scenario: str | None) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
     implicit = tuple(getattr(config, "implicit_imports", ()) or ())
     modules = dict(getattr(config, "modules", {}) or {})
+    verify = getattr(config, "verify", True)
+    solver = dict(getattr(config, "solver", {}) or {})
+    road_map = str((getattr(config, "road", {}) or {}).get("map", "default"))
+    verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
     for source in sources:
@@ -87,11 +98,17 @@ def _analyze(sources: list[SourceInput], config) -> Analysis:
         program = build_program(source.uri, cache.read, implicit, modules)
         programs[source.uri] = program
         found.extend(result.diagnostics)
-        found.extend(_relevant(program, result, source.uri))
+        own = _relevant(program, result, source.uri)
+        found.extend(own)
         if source.problem:
             found.append(_encoding_problem(source))
+        if verify and not any(d.severity is Severity.ERROR for d in [*result.diagnostics, *own]):
+            checked = verify_program(program, seed=seed, scenario=scenario, solver=solver,
+                                     default_map=road_map)
+            verified[source.uri] = checked
+            found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
     diagnostics = _finish(found, cache, texts, config)
-    return Analysis(diagnostics, texts, programs, cache.parses)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified)
 
 
 def _encoding_problem(source: SourceInput) -> Diagnostic:

@@ -31,6 +31,7 @@ from osc2check.config import (
 )
 from osc2check.output import render, render_statistics, tool
 from osc2check.source import decode_source
+from osc2check.verify.check import scenario_summary
 
 __all__ = ["EXIT_ERROR", "EXIT_FINDINGS", "EXIT_OK", "UsageError", "build_parser", "main"]
 
@@ -102,6 +103,20 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("-q", "--quiet", action="store_true", help="leave out the summary line")
     p.add_argument("--dump-ast", action="store_true", help="print the syntax tree of each file")
+    p.add_argument(
+        "--witness",
+        action="store_true",
+        help="also print, for each scenario whose constraints can hold, the concrete values "
+        "of its parameters and every actor's start lane, position, heading and speed",
+    )
+    p.add_argument("--scenario", metavar="NAME", help="verify only the scenario NAME")
+    p.add_argument(
+        "--seed",
+        type=int,
+        default=0,
+        metavar="N",
+        help="pick the witness with seed N (default 0): different seeds, different witnesses",
+    )
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     p.add_argument("--version", action="version", version=f"%(prog)s {tool.version()}")
     return p
@@ -170,15 +185,23 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     if args.dump_ast:
         return _dump_ast(sources, out)
 
-    analysis = _analyze(sources, config)
+    analysis = _analyze(sources, config, args.seed, args.scenario)
     diagnostics = analysis.diagnostics
+    results = [r for checked in analysis.verified.values() for r in checked.scenarios]
     texts = {**{s.uri: s.text for s in sources}, **analysis.texts}
     if args.statistics:
         text = render_statistics(diagnostics, files_checked=len(sources), quiet=args.quiet)
     else:
         text = render(
-            config.output_format, diagnostics, texts, files_checked=len(sources), quiet=args.quiet
+            config.output_format,
+            diagnostics,
+            texts,
+            files_checked=len(sources),
+            quiet=args.quiet,
+            scenarios=[scenario_summary(r, args.witness) for r in results],
         )
+        if args.witness and config.output_format not in ("json", "sarif", "github"):
+            text += _witness_tables(results)
     out.write(text)
     out.flush()
     if args.exit_zero or not config.fails(diagnostics):
@@ -286,10 +309,23 @@ def _read(inputs: list[_Input]) -> list[Any]:
     return sources
 
 
-def _analyze(sources: list[Any], config: Config) -> Any:
-    from osc2check.analysis import analyze  # the lead's module; imported on use
+def _analyze(sources: list[Any], config: Config, seed: int, scenario: str | None) -> Any:
+    from osc2check.analysis import analyze
 
-    return analyze(sources, config)
+    return analyze(sources, config, seed=seed, scenario=scenario)
+
+
+def _witness_tables(results: list[Any]) -> str:
+    """The readable witness of every scenario, or why there is none."""
+    parts = []
+    for r in results:
+        if r.witness is not None:
+            parts.append(r.witness.table())
+        else:
+            why = "its constraints cannot all hold" if r.outcome.status == "unsat" else \
+                "the solver could not decide"
+            parts.append(f"no witness for scenario `{r.scenario.name}`: {why}")
+    return ("\n" + "\n\n".join(parts) + "\n") if parts else ""
 
 
 def _dump_ast(sources: list[Any], out: TextIO) -> int:

@@ -78,6 +78,8 @@ INVALID_INHERITANCE = Code("N109", "invalid-inheritance", E, "a declaration inhe
 RESERVED_NAME = Code("N110", "reserved-name", E, "a declaration uses a name reserved by the standard")
 INVALID_IMPLICIT_NAME = Code("N111", "invalid-implicit-name", E, "`it` or `actor` is used where it has no meaning")
 MISPLACED_MEMBER = Code("N112", "misplaced-member", E, "a member that this kind of declaration cannot have, such as `do` in a struct or a second `do`")
+AMBIGUOUS_NAME = Code("N113", "ambiguous-name", E, "a name is exported by several used namespaces and nothing closer decides")
+ENUM_VALUE_CYCLE = Code("N114", "enum-value-cycle", E, "enum members take their values from each other in a cycle")
 
 # --- T: types and units ----------------------------------------------------
 DIMENSION_MISMATCH = Code("T201", "dimension-mismatch", E, "physical quantities of different dimensions are combined")
@@ -97,6 +99,36 @@ DUPLICATE_ARGUMENT = Code("A305", "duplicate-argument", E, "a parameter is given
 EXCLUSIVE_ARGUMENTS = Code("A306", "mutually-exclusive-arguments", E, "arguments that exclude each other are given together")
 INCOMPLETE_ARGUMENTS = Code("A307", "incomplete-argument-group", E, "an argument is given without the argument it needs")
 MISSING_ARGUMENT = Code("A303", "missing-argument", E, "a method call omits a parameter that has no default")
+
+# --- C: constraints (keep, defaults, arguments) --------------------------------
+UNSATISFIABLE_CONSTRAINTS = Code("C401", "unsatisfiable-constraints", E, "constraints of a scenario cannot all hold")
+REVERSED_RANGE = Code("C402", "reversed-range", W, "a range is written from its upper to its lower bound")
+DEFAULT_OVERRIDDEN = Code("C403", "default-overridden", I, "a default constraint is replaced by a hard constraint or `remove_default`")
+CONFLICTING_DEFAULTS = Code("C404", "conflicting-defaults", W, "two defaults of one parameter give different values")
+VACUOUS_CONSTRAINT = Code("C405", "vacuous-constraint", W, "a constraint holds for every value its parameters can take")
+SOLVER_INCONCLUSIVE = Code("C408", "solver-inconclusive", I, "the solver could not decide within its budget")
+NONLINEAR_CONSTRAINT = Code("C410", "nonlinear-constraint", I, "a constraint multiplies two unknowns; it is solved with a budget")
+
+# --- L: initial placement ------------------------------------------------------
+INFEASIBLE_PLACEMENT = Code("L501", "infeasible-initial-placement", E, "the start positions that the scenario asks for cannot all hold")
+FOOTPRINT_OVERLAP = Code("L502", "footprint-overlap-at-start", E, "actors would overlap at the start")
+LANE_OUT_OF_RANGE = Code("L503", "lane-out-of-range", E, "an actor is placed in a lane the road does not have")
+REFERENCE_NOT_PLACED = Code("L504", "reference-actor-not-placed", W, "an actor is placed relative to one that is not on the road at the start")
+CYCLIC_PLACEMENT = Code("L505", "cyclic-relative-placement", W, "actors are placed relative to each other in a cycle")
+UNPLACED_ACTOR = Code("L506", "unplaced-actor", I, "an actor has no start position; the solver picks one")
+OFF_ROAD = Code("L507", "off-road-placement", E, "an actor would start beyond the ends of the road")
+SPEED_ABOVE_MAX = Code("L508", "speed-exceeds-vehicle-max", E, "a start speed is above what the vehicle can reach")
+UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
+
+# --- B: behaviour flow -----------------------------------------------------------
+WAIT_WITHOUT_EMITTER = Code("B601", "wait-without-emitter", E, "a `wait` for an event that nothing emits")
+WAIT_BLOCKS_EMITTER = Code("B602", "wait-blocks-own-emitter", E, "a `wait` comes before the only `emit` of its event in the same serial chain")
+NEGATIVE_DURATION = Code("B604", "negative-duration", E, "a duration is negative")
+EMPTY_ONE_OF = Code("B605", "empty-one-of", E, "a `one_of` has no members")
+EMPTY_COMPOSITION = Code("B606", "empty-composition", W, "a `serial` or `parallel` has no members")
+CONSTANT_CONDITION = Code("B609", "constant-condition", W, "a condition is always true or always false")
+PARALLEL_MOVEMENTS = Code("B610", "conflicting-parallel-movements", W, "one actor is given two movement actions at the same time")
+RECURSIVE_SCENARIO = Code("B611", "recursive-scenario", E, "a scenario invokes itself, directly or through others")
 
 # --- D: dialect forms (the design paper's and the standard's own examples) --
 USE_STATEMENT = Code("D801", "use-statement", W, "`use` written as a statement instead of a `namespace ... use` clause")

@@ -119,6 +119,29 @@ def shadows_inherited(span: Span, name: str, owner: str, previous) -> Diagnostic
                  "again", span, _first_declared(previous))
 
 
+def override_without_only(span: Span, name: str, previous) -> Diagnostic:
+    owner = previous.owner.name if previous is not None and previous.owner is not None else "?"
+    return _diag(codes.DUPLICATE_DEFINITION,
+                 f"`{name}` is already a method of `{owner}`; an override is written "
+                 "`is only ...`", span, _first_declared(previous))
+
+
+def ambiguous_name(span: Span, name: str, candidates) -> Diagnostic:
+    names = _quote_list((c.qualified_name for c in candidates), conj="and")
+    first = candidates[0].qualified_name
+    return _diag(codes.AMBIGUOUS_NAME,
+                 f"`{name}` is exported by more than one used namespace ({names}); write the "
+                 f"namespace, for example `{first}`", span,
+                 [Related(c.name_span, f"`{c.qualified_name}` is declared here")
+                  for c in candidates if c.name_span is not None])
+
+
+def enum_value_cycle(span: Span, name: str, chain: Sequence[str]) -> Diagnostic:
+    return _diag(codes.ENUM_VALUE_CYCLE,
+                 f"the value of `{name}` is defined through itself: " + " -> ".join(
+                     f"`{n}`" for n in chain), span)
+
+
 def undefined_name(span: Span, name: str, suggestion: str | None) -> Diagnostic:
     return _diag(codes.UNDEFINED_NAME, f"undefined name `{name}`{_did_you_mean(suggestion)}",
                  span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
@@ -185,6 +208,13 @@ def invalid_inheritance(span: Span, symbol, parent, reason: str) -> Diagnostic:
     elif reason == "actor" and parent is not None:
         text = (f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
                 "behaviour of an actor inherits from one of the same or a more general actor")
+    elif reason == "no actor" and parent is not None:
+        text = (f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
+                "behaviour without an actor inherits only from one without an actor")
+    elif reason == "conditional" and parent is not None:
+        text = (f"`{parent.name}` is a conditional subtype and cannot be inherited "
+                f"unconditionally; give `{symbol.name}` a condition too, or inherit from "
+                "its supertype")
     else:
         text = f"`{symbol.name}` cannot inherit: {reason}"
     return _diag(codes.INVALID_INHERITANCE, text, span)
@@ -230,10 +260,26 @@ def invalid_implicit(span: Span, name: str) -> Diagnostic:
                  f"`{name}` has no meaning here; it stands for {meaning}", span)
 
 
+def _a(noun: str) -> str:
+    return ("an " if noun[:1] in "aeiou" else "a ") + noun
+
+
 def misplaced_member(span: Span, owner, what: str) -> Diagnostic:
     return _diag(codes.MISPLACED_MEMBER,
-                 f"a {owner.kind.value} has no behaviour; `{what}` belongs to a scenario, an "
+                 f"{_a(owner.kind.value)} has no behaviour; `{what}` belongs to a scenario, an "
                  "action or a modifier", span)
+
+
+def misplaced_modifier(span: Span, owner) -> Diagnostic:
+    return _diag(codes.MISPLACED_MEMBER,
+                 f"{_a(owner.kind.value)} cannot apply modifiers; apply them in a scenario, an "
+                 "action or a modifier", span)
+
+
+def event_spec_with_parameters(span: Span, name: str) -> Diagnostic:
+    return _diag(codes.MISPLACED_MEMBER,
+                 f"event `{name}` has parameters, so it cannot have an event specification "
+                 "(`is ...`); only an event without parameters can", span)
 
 
 def second_do(span: Span, owner) -> Diagnostic:
@@ -295,6 +341,20 @@ def float_to_int(span: Span, expected) -> Diagnostic:
 def non_boolean(span: Span, actual, what: str) -> Diagnostic:
     return _diag(codes.NON_BOOLEAN_CONDITION,
                  f"the {what} must be a boolean expression, found `{actual}`", span)
+
+
+def override_return_type(span: Span, name: str, previous, actual) -> Diagnostic:
+    owner = previous.owner.name if previous.owner is not None else "?"
+    return _diag(codes.TYPE_MISMATCH,
+                 f"the override of `{name}` must return `{previous.type}` like `{owner}.{name}`, "
+                 f"not `{actual}`", span, _first_declared(previous))
+
+
+def override_parameters(span: Span, name: str, previous) -> Diagnostic:
+    owner = previous.owner.name if previous.owner is not None else "?"
+    return _diag(codes.TYPE_MISMATCH,
+                 f"the override of `{name}` must take the same argument types as "
+                 f"`{owner}.{name}`", span, _first_declared(previous))
 
 
 def range_bounds(span: Span, low, high) -> Diagnostic:
@@ -441,3 +501,145 @@ def spec_example_parameter(span: Span, callee, name: str) -> Diagnostic:
     return _diag(codes.SPEC_EXAMPLE_PARAMETER,
                  f"`{name}` is used in the standard's examples but {_callee(callee)} does not "
                  "declare it", span)
+
+
+# ---- C and L: constraints and initial placement ------------------------------------
+
+
+def _member_notes(members) -> list[Related]:
+    """Related locations for the other members of a conflict, each with its source text."""
+    notes = []
+    for c in members:
+        if c.kind in ("domain", "placement"):
+            notes.append(Related(c.span, c.explanation or c.text))
+        else:
+            notes.append(Related(c.span, f"conflicts with `{c.text}`"))
+    return notes
+
+
+def unsatisfiable(code: Code, primary, others, scenario: str) -> Diagnostic:
+    lead = {
+        "C401": "constraints of scenario `{s}` cannot all hold",
+        "L501": "the start positions of scenario `{s}` cannot all hold",
+        "L502": "actors of scenario `{s}` would overlap at the start",
+        "L503": "this puts an actor of scenario `{s}` in a lane the road does not have",
+        "L507": "this puts an actor of scenario `{s}` beyond the end of the road",
+        "L508": "this start speed of scenario `{s}` is above what the vehicle can reach",
+    }[code.code].format(s=scenario)
+    texts = [f"`{primary.text}`"] + [f"`{c.text}`" if c.kind not in ("domain", "placement")
+                                      else (c.explanation or c.text) for c in others]
+    message = f"{lead}: " + "; ".join(texts)
+    if any(c.strength == "default" for c in [primary, *others]):
+        message += "; a default yields only to `==` or `in` on the parameter alone, or to " \
+                   "`remove_default`"
+    return _diag(code, message, primary.span, _member_notes(others))
+
+
+def reversed_range(span: Span, low: str, high: str) -> Diagnostic:
+    return _diag(codes.REVERSED_RANGE,
+                 f"the range is written from `{low}` down to `{high}`; OSC2 reads it as "
+                 f"`[{high}..{low}]`, write it that way", span,
+                 fix=Fix(f"write `[{high}..{low}]`", (TextEdit(span, f"[{high}..{low}]"),)))
+
+
+def default_overridden(default, by) -> Diagnostic:
+    if by is None:
+        return _diag(codes.DEFAULT_OVERRIDDEN,
+                     f"default `{default.text}` is removed by `remove_default`", default.span)
+    return _diag(codes.DEFAULT_OVERRIDDEN,
+                 f"default `{default.text}` is replaced by `{by.text}`", default.span,
+                 [Related(by.span, "the constraint that replaces it")])
+
+
+def conflicting_defaults(later, earlier) -> Diagnostic:
+    return _diag(codes.CONFLICTING_DEFAULTS,
+                 f"`{later.text}` gives the parameter another default than `{earlier.text}`; "
+                 "the later one wins", later.span, [Related(earlier.span, "the earlier default")])
+
+
+def vacuous_constraint(constraint) -> Diagnostic:
+    return _diag(codes.VACUOUS_CONSTRAINT,
+                 f"`{constraint.text}` holds for every value its parameters can take; it "
+                 "constrains nothing", constraint.span)
+
+
+def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
+    return _diag(codes.SOLVER_INCONCLUSIVE,
+                 f"the solver could not decide whether the constraints of scenario `{scenario}` "
+                 f"can all hold ({reason}); raise `[tool.osc2check.solver] rlimit` to try "
+                 "harder", span)
+
+
+def nonlinear_constraint(constraint) -> Diagnostic:
+    return _diag(codes.NONLINEAR_CONSTRAINT,
+                 f"`{constraint.text}` multiplies two unknowns; it is solved within the "
+                 "solver's budget and may be inconclusive", constraint.span)
+
+
+def reference_not_placed(span: Span, actor: str, reference: str) -> Diagnostic:
+    return _diag(codes.REFERENCE_NOT_PLACED,
+                 f"`{actor}` is placed relative to `{reference}`, which is not an actor of "
+                 "this scenario at the start", span)
+
+
+def cyclic_placement(span: Span, cycle: Sequence[str]) -> Diagnostic:
+    return _diag(codes.CYCLIC_PLACEMENT,
+                 "actors are placed relative to each other in a cycle: "
+                 + " -> ".join(f"`{a}`" for a in cycle)
+                 + "; runners that place actors one after the other cannot do this", span)
+
+
+def unplaced_actor(span: Span, actor: str) -> Diagnostic:
+    return _diag(codes.UNPLACED_ACTOR,
+                 f"`{actor}` has no `lane(..., at: start)` or `position(..., at: start)`; the "
+                 "solver picks its start (see `--witness`)", span)
+
+
+def unknown_map(span: Span, name: str, known: Sequence[str]) -> Diagnostic:
+    return _diag(codes.UNKNOWN_MAP,
+                 f"unknown map `{name}`; the built-in maps are {_quote_list(known, 10, 'and')}",
+                 span)
+
+
+# ---- B: behaviour flow ----------------------------------------------------------------
+
+
+def wait_without_emitter(span: Span, event: str) -> Diagnostic:
+    return _diag(codes.WAIT_WITHOUT_EMITTER,
+                 f"nothing emits `{event}`, so this `wait` never ends; add `emit {event}` or "
+                 f"declare `event {event} is <condition>`", span)
+
+
+def wait_blocks_emitter(span: Span, event: str, emit_span: Span) -> Diagnostic:
+    return _diag(codes.WAIT_BLOCKS_EMITTER,
+                 f"this `wait` for `{event}` comes before its only `emit` in the same serial "
+                 "chain, so neither ever happens", span,
+                 [Related(emit_span, f"`{event}` is emitted only here, after the wait")])
+
+
+def negative_duration(span: Span, text: str) -> Diagnostic:
+    return _diag(codes.NEGATIVE_DURATION, f"duration `{text}` is negative", span)
+
+
+def empty_one_of(span: Span) -> Diagnostic:
+    return _diag(codes.EMPTY_ONE_OF, "`one_of` has no members to choose from", span)
+
+
+def empty_composition(span: Span, op: str) -> Diagnostic:
+    return _diag(codes.EMPTY_COMPOSITION, f"`{op}` has no members; it ends at once", span)
+
+
+def constant_condition(span: Span, value: bool, what: str) -> Diagnostic:
+    effect = "is always true" if value else "is never true"
+    return _diag(codes.CONSTANT_CONDITION, f"this {what} {effect}", span)
+
+
+def parallel_movements(span: Span, actor: str, other: Span) -> Diagnostic:
+    return _diag(codes.PARALLEL_MOVEMENTS,
+                 f"`{actor}` gets two movement actions at the same time in this `parallel`",
+                 span, [Related(other, "the other movement action")])
+
+
+def recursive_scenario(span: Span, chain: Sequence[str]) -> Diagnostic:
+    return _diag(codes.RECURSIVE_SCENARIO,
+                 "scenario invokes itself: " + " -> ".join(f"`{n}`" for n in chain), span)

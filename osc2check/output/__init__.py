@@ -26,6 +26,7 @@ def render(
     *,
     files_checked: int | None = None,
     quiet: bool = False,
+    scenarios: Sequence[dict] = (),
 ) -> str:
     """The findings in format ``fmt``, ready to write to stdout.
 
@@ -38,7 +39,7 @@ def render(
     elif fmt == "concise":
         body = concise.render(diagnostics)
     elif fmt == "json":
-        return json.render(diagnostics)
+        return json.render(diagnostics, scenarios)
     elif fmt == "sarif":
         return sarif.render(diagnostics)
     elif fmt == "github":

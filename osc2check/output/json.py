@@ -50,11 +50,16 @@ def finding(d: Diagnostic) -> dict[str, Any]:
     }
 
 
-def render(diagnostics: Sequence[Diagnostic]) -> str:
-    """The whole document, indented, with a final newline."""
+def render(diagnostics: Sequence[Diagnostic], scenarios: Sequence[dict] = ()) -> str:
+    """The whole document, indented, with a final newline.
+
+    ``scenarios`` are the verified scenarios (``verify.check.scenario_summary``):
+    name, file, status and, when the constraints can hold, the witness.
+    """
     document = {
         "version": FORMAT_VERSION,
         "tool": {"name": tool.NAME, "version": tool.version()},
         "findings": [finding(d) for d in diagnostics],
+        "scenarios": list(scenarios),
     }
     return json.dumps(document, indent=2, ensure_ascii=False) + "\n"

@@ -1,0 +1,205 @@
+"""Behaviour flow: waits that cannot end, empty compositions, negative durations,
+constant conditions, parallel movements of one actor, recursive scenarios.
+
+These checks read the AST and the model only; no solver.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from osc2check import messages
+from osc2check.diagnostics import Diagnostic
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
+
+STANDARD_EVENTS = ("start", "end", "fail")
+_MOVEMENT_BASE = "action_for_movable_object"
+
+
+def _do_trees(sym: Symbol) -> list[ast.Node]:
+    decl = sym.decl
+    if not isinstance(decl, ast.StructuredDecl):
+        return []
+    return [m for m in decl.members if isinstance(m, (ast.DoDirective, ast.OnDirective))]
+
+
+def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
+    """Flow findings for one scenario declaration."""
+    found: list[Diagnostic] = []
+    trees = _do_trees(scenario)
+    emits: dict[str, list[ast.Emit]] = {}
+    for tree in trees:
+        for node in walk(tree):
+            if isinstance(node, ast.Emit) and not node.event.missing:
+                emits.setdefault(node.event.text, []).append(node)
+    conditional = _conditional_events(model, scenario)
+    for tree in trees:
+        for node in walk(tree):
+            match node:
+                case ast.Wait(event=ast.EventReference() as ref):
+                    _wait(ref, node, emits, conditional, found)
+                case ast.Composition():
+                    _composition(model, node, found)
+                case ast.Wait(event=ast.EventCondition() as cond) | \
+                        ast.Until(event=ast.EventCondition() as cond):
+                    value = _fold_bool(cond.expr)
+                    if value is not None:
+                        found.append(messages.constant_condition(cond.span, value,
+                                                                 "condition"))
+                case ast.NamedArgument() if node.name.text == "duration":
+                    _duration(node.value, found)
+            if isinstance(node, ast.Composition) and node.op == "serial":
+                _serial_order(node, emits, found)
+    chain = _recursion(model, scenario, [scenario], set())
+    if chain is not None and scenario.name_span is not None:
+        found.append(messages.recursive_scenario(scenario.name_span, [s.name for s in chain]))
+    return found
+
+
+def _conditional_events(model: Model, scenario: Symbol) -> set[str]:
+    return {m.name for m in model.all_members(scenario)
+            if m.kind is SymbolKind.EVENT and isinstance(m.decl, ast.EventDecl)
+            and m.decl.spec is not None}
+
+
+def _wait(ref: ast.EventReference, wait: ast.Wait, emits, conditional, found) -> None:
+    if len(ref.path) != 1 or ref.path[0].missing:
+        return
+    name = ref.path[0].text
+    if name in STANDARD_EVENTS or name in conditional or name in emits:
+        return
+    found.append(messages.wait_without_emitter(wait.span, name))
+
+
+def _serial_order(serial: ast.Composition, emits, found) -> None:
+    """A wait whose every emitter comes later in the same serial chain."""
+    for i, member in enumerate(serial.members):
+        body = member.body
+        if not (isinstance(body, ast.Wait) and isinstance(body.event, ast.EventReference)
+                and len(body.event.path) == 1):
+            continue
+        name = body.event.path[0].text
+        emitters = emits.get(name, [])
+        if not emitters:
+            continue
+        later = {id(n) for m in serial.members[i + 1:] for n in walk(m)}
+        if all(id(e) in later for e in emitters):
+            found.append(messages.wait_blocks_emitter(body.span, name, emitters[0].span))
+
+
+def _composition(model: Model, comp: ast.Composition, found) -> None:
+    if not comp.members:
+        if comp.op == "one_of":
+            found.append(messages.empty_one_of(comp.span))
+        else:
+            found.append(messages.empty_composition(comp.span, comp.op))
+        return
+    if comp.op != "parallel":
+        return
+    seen: dict[str, ast.Invocation] = {}
+    for member in comp.members:
+        inv = member.body
+        if not isinstance(inv, ast.Invocation) or not isinstance(inv.actor, ast.NameRef):
+            continue
+        behavior = model.references.get(inv.name)
+        if behavior is None or not any(a.name == _MOVEMENT_BASE
+                                       for a in model.ancestors(behavior)):
+            continue
+        actor = inv.actor.name.name.text
+        if actor in seen:
+            found.append(messages.parallel_movements(inv.span, actor, seen[actor].span))
+        else:
+            seen[actor] = inv
+
+
+def _duration(value: ast.Node, found) -> None:
+    for node in ([value.low, value.high] if isinstance(value, ast.RangeLiteral) else [value]):
+        number = _number(node)
+        if number is not None and number < 0:
+            found.append(messages.negative_duration(node.span, _written(node)))
+
+
+def _number(node: ast.Node) -> Fraction | None:
+    match node:
+        case ast.PhysicalLiteral():
+            return Fraction(node.number)
+        case ast.IntLiteral():
+            return Fraction(node.value)
+        case ast.Unary(op="-"):
+            inner = _number(node.operand)
+            return -inner if inner is not None else None
+    return None
+
+
+def _written(node: ast.Node) -> str:
+    match node:
+        case ast.PhysicalLiteral():
+            return f"{node.number_text}{node.unit.text}"
+        case ast.Unary(op="-"):
+            return "-" + _written(node.operand)
+        case ast.IntLiteral():
+            return node.text
+    return "?"
+
+
+def _fold_bool(expr: ast.Node) -> bool | None:
+    """The value of a condition that does not depend on anything, else None."""
+    match expr:
+        case ast.BoolLiteral():
+            return expr.value
+        case ast.Unary(op="not"):
+            inner = _fold_bool(expr.operand)
+            return None if inner is None else not inner
+        case ast.Binary(op=op) if op in ("<", "<=", ">", ">=", "==", "!="):
+            a, b = _comparable(expr.left), _comparable(expr.right)
+            if a is None or b is None or a[1] != b[1]:
+                return None
+            x, y = a[0], b[0]
+            return {"<": x < y, "<=": x <= y, ">": x > y, ">=": x >= y, "==": x == y,
+                    "!=": x != y}[op]
+        case ast.Binary(op="and"):
+            a, b = _fold_bool(expr.left), _fold_bool(expr.right)
+            if a is False or b is False:
+                return False
+            return True if a and b else None
+        case ast.Binary(op="or"):
+            a, b = _fold_bool(expr.left), _fold_bool(expr.right)
+            if a or b:
+                return True
+            return False if a is False and b is False else None
+    return None
+
+
+def _comparable(node: ast.Node) -> tuple[Fraction, str] | None:
+    match node:
+        case ast.PhysicalLiteral():
+            return Fraction(node.number), node.unit.text
+        case ast.IntLiteral():
+            return Fraction(node.value), ""
+        case ast.Unary(op="-"):
+            inner = _comparable(node.operand)
+            return (-inner[0], inner[1]) if inner is not None else None
+    return None
+
+
+def _recursion(model: Model, sym: Symbol, chain: list[Symbol], done: set[int]):
+    """A chain of scenario invocations that comes back to its start, or None."""
+    for tree in _do_trees(sym):
+        for node in walk(tree):
+            if not isinstance(node, ast.Invocation):
+                continue
+            target = model.references.get(node.name)
+            if target is None or target.kind is not SymbolKind.SCENARIO or target.library:
+                continue
+            if target is chain[0]:
+                return [*chain, target]
+            if id(target) in done or target in chain:
+                continue
+            done.add(id(target))
+            found = _recursion(model, target, [*chain, target], done)
+            if found is not None:
+                return found
+    return None
