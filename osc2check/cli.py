@@ -31,7 +31,6 @@ from osc2check.config import (
 )
 from osc2check.output import render, render_statistics, tool
 from osc2check.source import decode_source
-from osc2check.verify.check import scenario_summary
 
 __all__ = ["EXIT_ERROR", "EXIT_FINDINGS", "EXIT_OK", "UsageError", "build_parser", "main"]
 
@@ -188,6 +187,11 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     analysis = _analyze(sources, config, args.seed, args.scenario)
     diagnostics = analysis.diagnostics
     results = [r for checked in analysis.verified.values() for r in checked.scenarios]
+    summaries = []
+    if results:
+        from osc2check.verify.check import scenario_summary  # z3 loads only when needed
+
+        summaries = [scenario_summary(r, args.witness) for r in results]
     texts = {**{s.uri: s.text for s in sources}, **analysis.texts}
     if args.statistics:
         text = render_statistics(diagnostics, files_checked=len(sources), quiet=args.quiet)
@@ -198,7 +202,7 @@ def _check_command(argv: list[str], out: TextIO) -> int:
             texts,
             files_checked=len(sources),
             quiet=args.quiet,
-            scenarios=[scenario_summary(r, args.witness) for r in results],
+            scenarios=summaries,
         )
         if args.witness and config.output_format not in ("json", "sarif", "github"):
             text += _witness_tables(results)

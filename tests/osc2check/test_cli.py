@@ -17,7 +17,7 @@ from pathlib import Path
 
 import pytest
 
-from osc2check import cli, codes, rules
+from osc2check import cli, codes, messages, rules
 from osc2check.diagnostics import Diagnostic
 from osc2check.source import Span
 
@@ -30,17 +30,23 @@ DIALECT = "scenario wet:\n    env: environment\n    do env.rain(intensity: 100.0
 class FakeSource:
     uri: str
     text: str
+    problem: str | None = None
 
 
 @dataclass
 class FakeAnalysis:
     diagnostics: list[Diagnostic]
     texts: dict[str, str] = field(default_factory=dict)
+    verified: dict = field(default_factory=dict)
 
 
 def fake_analyze(sources, config):
     found = []
     for s in sources:
+        if s.problem:  # as the real analysis does: P004 at the first replaced character
+            column = s.text.find("\ufffd") + 1
+            span = Span(s.uri, 1, column, 1, column + 1)
+            found.append(messages.invalid_encoding(span, s.problem))
         for line_no, line in enumerate(s.text.splitlines(), start=1):
             for needle, code, message in (
                 ("hreo", codes.UNDEFINED_NAME, "undefined name `hreo`"),
@@ -60,7 +66,7 @@ def analysis(monkeypatch):
     module.SourceInput = FakeSource
     module.calls = []
 
-    def analyze(sources, config):
+    def analyze(sources, config, seed=0, scenario=None):
         module.calls.append((list(sources), config))
         return fake_analyze(sources, config)
 
@@ -313,7 +319,7 @@ def test_bad_option_values_exit_2(project, capsys):
 def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
     write(project / "a.osc", CLEAN)
 
-    def explode(sources, config):
+    def explode(sources, config, **options):
         raise RuntimeError("boom")
 
     analysis.analyze = explode
