@@ -65,12 +65,13 @@ class FileCache:
         return result
 
 
-def analyze(sources: list[SourceInput], config=None, *, seed: int = 0,
+def analyze(sources: list[SourceInput], config=None, *, seed: int | None = None,
             scenario: str | None = None) -> Analysis:
     """Check every source; returns the diagnostics (config applied) and the texts.
 
     ``seed`` picks the witness among the many that satisfy a scenario (the same seed
-    always gives the same one); ``scenario`` limits verification to one scenario.
+    always gives the same one; None takes the solver's first model, which is the
+    cheapest); ``scenario`` limits verification to one scenario.
     """
     collecting = gc.isenabled()
     if collecting:  # analysis builds long-lived tables; cyclic GC passes only cost time
@@ -82,11 +83,13 @@ def analyze(sources: list[SourceInput], config=None, *, seed: int = 0,
             gc.enable()
 
 
-def _analyze(sources: list[SourceInput], config, seed: int, scenario: str | None) -> Analysis:
+def _analyze(sources: list[SourceInput], config, seed: int | None,
+             scenario: str | None) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
     implicit = tuple(getattr(config, "implicit_imports", ()) or ())
     modules = dict(getattr(config, "modules", {}) or {})
+    search_paths = tuple(str(p) for p in getattr(config, "search_paths", ()) or ())
     verify = getattr(config, "verify", True)
     solver = dict(getattr(config, "solver", {}) or {})
     road_map = str((getattr(config, "road", {}) or {}).get("map", "default"))
@@ -95,7 +98,7 @@ def _analyze(sources: list[SourceInput], config, seed: int, scenario: str | None
     found: list[Diagnostic] = []
     for source in sources:
         result = cache.read(source.uri)
-        program = build_program(source.uri, cache.read, implicit, modules)
+        program = build_program(source.uri, cache.read, implicit, modules, search_paths)
         programs[source.uri] = program
         found.extend(result.diagnostics)
         own = _relevant(program, result, source.uri)

@@ -184,7 +184,7 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     if args.dump_ast:
         return _dump_ast(sources, out)
 
-    analysis = _analyze(sources, config, args.seed, args.scenario)
+    analysis = _analyze(sources, config, args.seed if args.witness else None, args.scenario)
     diagnostics = analysis.diagnostics
     results = [r for checked in analysis.verified.values() for r in checked.scenarios]
     summaries = []
@@ -313,7 +313,7 @@ def _read(inputs: list[_Input]) -> list[Any]:
     return sources
 
 
-def _analyze(sources: list[Any], config: Config, seed: int, scenario: str | None) -> Any:
+def _analyze(sources: list[Any], config: Config, seed: int | None, scenario: str | None) -> Any:
     from osc2check.analysis import analyze
 
     return analyze(sources, config, seed=seed, scenario=scenario)

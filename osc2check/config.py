@@ -83,6 +83,7 @@ class Config:
     force_exclude: bool = False
     road: Mapping[str, Any] = field(default_factory=dict)
     solver: Mapping[str, Any] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()  # folders for `import a.b` (a/b.osc), after the file's own
     root: Path | None = None
 
     def enabled(self, code: Code) -> bool:
@@ -277,6 +278,11 @@ def _raw_table(name: str):
     return read
 
 
+def _read_search_paths(v: object, path, key) -> dict[str, Any]:
+    base = Path(path).resolve().parent if path else Path.cwd()
+    return {"search_paths": tuple(str(base / p) for p in _string_list(v, path, key))}
+
+
 _READERS = {
     "select": _read_select,
     "ignore": _read_ignore,
@@ -289,6 +295,7 @@ _READERS = {
     "force-exclude": _read_force_exclude,
     "road": _raw_table("road"),
     "solver": _raw_table("solver"),
+    "search-paths": _read_search_paths,
 }
 
 

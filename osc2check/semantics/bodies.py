@@ -32,6 +32,7 @@ class BodyChecker:
         self.expr = ExpressionChecker(model, report, self._method_call)
         self.calls.expressions = self.expr
         self._time: T.Type | None = None
+        self._dos: dict[Symbol, int] = {}  # `do` directives per declaration, extensions too
 
     # ---- helpers -------------------------------------------------------------------
 
@@ -73,8 +74,9 @@ class BodyChecker:
 
     def _enum_values(self, decl: ast.EnumDecl, ctx: Context) -> None:
         for member in decl.members:
-            if member.value is not None and not isinstance(member.value, (ast.IntLiteral,
-                                                                           ast.NameRef)):
+            if member.value is not None and not isinstance(
+                member.value, (ast.IntLiteral, ast.NameRef, ast.EnumRef)
+            ):
                 self.expr.check(member.value, Scope(ctx), T.UINT, "enum value")
 
     def _structured(self, sym: Symbol, decl: ast.StructuredDecl, ctx: Context) -> None:
@@ -96,14 +98,12 @@ class BodyChecker:
 
     def _members(self, owner: Symbol, members, scope: Scope) -> None:
         emitted = self._implicit_events(owner, members)
-        do_count = 0
         for member in members:
             match member:
                 case ast.FieldDecl():
                     self._field(member, scope, owner)
                 case ast.EventDecl():
-                    if member.spec is not None:
-                        self._event_spec(member.spec, scope)
+                    self._event_declaration(member, scope)
                 case ast.KeepConstraint():
                     self.expr.condition(member.expr, scope, "constraint")
                 case ast.RemoveDefault():
@@ -113,7 +113,10 @@ class BodyChecker:
                 case ast.CoverageDecl():
                     self._coverage(member, scope)
                 case ast.Invocation():
-                    self._modifier_application(member, scope, None, None)
+                    if owner.kind in _BEHAVIOR_KINDS:
+                        self._modifier_application(member, scope, None, None)
+                    else:  # struct and actor members include no modifier application
+                        self.report(messages.misplaced_modifier(member.span, owner))
                 case ast.OnDirective():
                     self._behavior_allowed(owner, member)
                     local = self._event_spec(member.event, scope)
@@ -121,8 +124,8 @@ class BodyChecker:
                         self._do_body(item, local, emitted)
                 case ast.DoDirective():
                     if self._behavior_allowed(owner, member):
-                        do_count += 1
-                        if do_count > 1:
+                        self._dos[owner] = self._dos.get(owner, 0) + 1
+                        if self._dos[owner] > 1:  # §7.3.9: extensions included
                             self.report(messages.second_do(member.span, owner))
                     self._do_member(member.member, scope.child(), emitted)
 
@@ -196,27 +199,59 @@ class BodyChecker:
             expected = sym.type if sym is not None and sym.type is not T.NONE else None
             self.expr.check(member.body, inner, expected, "method result")
 
+    def _event_declaration(self, member: ast.EventDecl, scope: Scope) -> None:
+        sym = self.model.declarations.get(member)
+        params = sym.parameters if sym is not None else ()
+        inner = scope.child()
+        for param in params:
+            inner.locals[param.name] = param
+            if param.default is not None:
+                self.expr.check(param.default, scope, param.type, f"default of `{param.name}`")
+        if member.spec is None:
+            return
+        if params:  # §7.3.10.2: only an event without parameters has a specification
+            self.report(messages.event_spec_with_parameters(member.spec.span,
+                                                            member.name.text))
+        self._event_spec(member.spec, inner)
+
     def _coverage(self, member: ast.CoverageDecl, scope: Scope) -> None:
-        for i, arg in enumerate(member.arguments):
-            if isinstance(arg, ast.PositionalArgument):
-                if i == 0 and isinstance(arg.value, ast.NameRef):
-                    continue  # the coverage item's name
-                self.expr.check(arg.value, scope)
-            elif isinstance(arg, ast.NamedArgument):
-                key = arg.name.text
-                if key == "unit" and isinstance(arg.value, ast.NameRef):
-                    unit_name = arg.value.name.name
-                    if self.model.unit(unit_name.text) is None:
-                        self.report(messages.unknown_unit(unit_name.span, unit_name.text, closest(
-                            unit_name.text, self.model.all_units())))
-                    else:
-                        self.model.references[unit_name] = self.model.unit(unit_name.text)
-                elif key == "event" and isinstance(arg.value, ast.NameRef):
-                    self._event_path((arg.value.name.name,), scope, arg.value.span)
-                elif key in ("text",):
-                    self.expr.check(arg.value, scope, T.STRING, key)
+        """`cover`/`record` (§7.5): the item's name is also its expression unless an
+        `expression:` is given; `items:` and `override:` name other items."""
+        named = {a.name.text: a.value for a in member.arguments
+                 if isinstance(a, ast.NamedArgument)}
+        positional = [a.value for a in member.arguments if isinstance(a, ast.PositionalArgument)]
+        item = named.get("name", positional[0] if positional else None)
+        item_type = T.UNKNOWN
+        if "expression" in named:
+            item_type = self.expr.check(named["expression"], scope)
+        elif item is not None and not {"items", "override"} & named.keys():
+            item_type = self.expr.check(item, scope)
+        inner = scope.child()  # `ignore:` and `illegal:` speak of the item by its name
+        if isinstance(item, ast.NameRef) and item.name.namespace is None:
+            inner.locals[item.name.name.text] = Symbol(
+                SymbolKind.IMPLICIT, item.name.name.text, decl=member,
+                name_span=item.name.name.span, type=item_type)
+        for value in positional[1:]:
+            self.expr.check(value, scope)
+        for key, value in named.items():
+            if key in ("name", "expression", "items", "override"):
+                continue
+            if key == "unit" and isinstance(value, ast.NameRef):
+                unit_name = value.name.name
+                unit = self.model.unit(unit_name.text)
+                if unit is None:
+                    self.report(messages.unknown_unit(unit_name.span, unit_name.text, closest(
+                        unit_name.text, self.model.all_units())))
                 else:
-                    self.expr.check(arg.value, scope)
+                    self.model.references[unit_name] = unit
+            elif key == "event" and isinstance(value, ast.NameRef):
+                self._event_path((value.name.name,), scope, value.span)
+            elif key == "text":
+                self.expr.check(value, scope, T.STRING, key)
+            elif key in ("ignore", "illegal"):
+                self.expr.condition(value, inner, f"`{key}` expression")
+            else:
+                self.expr.check(value, scope)
 
     # ---- events ---------------------------------------------------------------------
 
@@ -375,8 +410,12 @@ class BodyChecker:
             if scope.actor is not None:
                 found = self.model.behavior(scope.actor, name)
             if not found:
-                found = [s for s in self.model.lookup(name, scope.context)
-                         if s.kind.is_behavior]
+                found = self.model.lookup(name, scope.context, None,
+                                          lambda s: s.kind.is_behavior)
+                if self.model.ambiguous(found):
+                    self.report(messages.ambiguous_name(inv.name.span, name, found))
+                    self._loose(inv, scope)
+                    return None
         if not found:
             pool = [s.name for s in self.model.behaviors_of(actor or scope.actor)]
             self.report(messages.unknown_behavior(inv.name.span, name, actor,

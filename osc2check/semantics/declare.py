@@ -15,9 +15,11 @@ from fractions import Fraction
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
+from osc2check.semantics.enums import resolve_aliases
 from osc2check.semantics.model import Context, Model
-from osc2check.semantics.symbols import COMPOUND_KINDS, Symbol, SymbolKind
+from osc2check.semantics.overrides import check_overrides
 from osc2check.semantics.suggest import closest
+from osc2check.semantics.symbols import COMPOUND_KINDS, Symbol, SymbolKind
 from osc2check.syntax import ast
 
 _DECL_KINDS = {
@@ -57,6 +59,9 @@ class Declarer:
         self.report = report
         self.pending: list[Pending] = []
         self.extensions: list[Pending] = []
+        self.methods: list[tuple[Symbol, Symbol]] = []  # (owner, method), declaration order
+        self.exported_names: list[tuple[ast.QualifiedName, Context]] = []
+        self.aliases: list[Symbol] = []  # enum members whose value names another member
 
     # ---- pass 1 ------------------------------------------------------------------
 
@@ -100,6 +105,7 @@ class Declarer:
             elif item.kind == "namespace" and item.namespace is not None:
                 ns.reexports.append((item.namespace.text, None))
             elif item.name is not None:
+                self.exported_names.append((item.name, ctx))
                 if item.name.namespace not in (None, ctx.namespace):
                     ns.reexports.append((item.name.namespace, item.name.name.text))
                 else:
@@ -171,23 +177,29 @@ class Declarer:
         return None
 
     def _enum_members(self, enum: Symbol, members, ctx: Context, unit: Unit) -> None:
+        """Declare members; a literal value sets the count for the next implicit ones, a
+        value that names another member is an alias, resolved by `enums.resolve_aliases`."""
         existing = self.model.enum_values(enum)
-        next_value = max((m.value for m in existing), default=-1) + 1
+        plain = [m.value for m in existing if "alias" not in m.extra]
+        next_value = max(plain, default=-1) + 1
         by_name = {m.name: m for m in existing}
         for member in members:
             value = next_value
+            alias = isinstance(member.value, (ast.NameRef, ast.EnumRef))
             if isinstance(member.value, ast.IntLiteral):
                 value = member.value.value
-            elif isinstance(member.value, ast.NameRef) and member.value.name.name.text in by_name:
-                value = by_name[member.value.name.name.text].value
             sym = self._new(SymbolKind.ENUM_MEMBER, member.name, member, ctx, unit,
                             owner=enum, value=value, type=enum.type)
+            if alias:
+                sym.extra["alias"] = member.value
+                self.aliases.append(sym)
+            else:
+                next_value = value + 1
             if member.name.text in by_name and not member.name.missing:
                 self.report(messages.duplicate_member(member.name.span, member.name.text,
                                                       enum.name, by_name[member.name.text]))
             by_name[member.name.text] = sym
             self.model.enum_members.setdefault(enum, []).append(sym)
-            next_value = value + 1
 
     def _dimension(self, args, decl, *, for_unit: bool):
         dim = [0] * len(T.BASE_UNITS)
@@ -220,6 +232,7 @@ class Declarer:
     def structure(self, resolve_type, resolve_behavior_name) -> None:
         """Bind units, actors, parents, extensions and members (in that order)."""
         self._resolve_type = resolve_type
+        self._bind_exports()
         for p in self.pending:
             if isinstance(p.decl, ast.UnitDecl) and p.symbol is not None:
                 self._unit_type(p)
@@ -245,6 +258,20 @@ class Declarer:
                         sym.type = t
         for p in self.extensions:
             self._extend(p, resolve_behavior_name)
+        check_overrides(self.model, self.methods, self.report)
+        resolve_aliases(self.model, self.aliases, self.report)
+
+    def _bind_exports(self) -> None:
+        """Bind `export name` to the declaration; an unprefixed name that a used
+        namespace declares is re-exported from there (§7.7.4.1)."""
+        for qname, ctx in self.exported_names:
+            found = self.model.lookup(qname.name.text, ctx, qname.namespace)
+            if not found:
+                continue  # fields and methods are exported too; globals are bound here
+            self.model.references[qname.name] = found[0]
+            if qname.namespace is None and found[0].namespace != ctx.namespace:
+                ns = self.model.namespace(ctx.namespace, create=True)
+                ns.reexports.append((found[0].namespace, qname.name.text))
 
     def _unit_type(self, p: Pending) -> None:
         decl: ast.UnitDecl = p.decl  # type: ignore[assignment]
@@ -263,8 +290,11 @@ class Declarer:
             sym.dimension = target.dimension
 
     def _lookup_type(self, qname: ast.QualifiedName, ctx: Context) -> Symbol | None:
-        found = [s for s in self.model.lookup(qname.name.text, ctx, qname.namespace)
-                 if s.kind.is_type or s.kind in (SymbolKind.MODIFIER,)]
+        found = self.model.lookup(qname.name.text, ctx, qname.namespace,
+                                  lambda s: s.kind.is_type or s.kind is SymbolKind.MODIFIER)
+        if self.model.ambiguous(found):
+            self.report(messages.ambiguous_name(qname.span, qname.name.text, found))
+            return None
         if found:
             self.model.references[qname.name] = found[0]
             return found[0]
@@ -339,11 +369,19 @@ class Declarer:
             self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
                                                      "cycle"))
             return
-        if sym.actor is not None and parent.actor is not None and not T.is_subtype(
+        span = decl.inherits.target.span
+        if sym.kind.is_behavior and _has_actor(sym) != _has_actor(parent):
+            # §7.3.8.1: a behaviour of an actor inherits from a behaviour of an actor,
+            # one without an actor from one without.
+            self.report(messages.invalid_inheritance(
+                span, sym, parent, "actor" if _has_actor(sym) else "no actor"))
+        elif sym.actor is not None and parent.actor is not None and not T.is_subtype(
             sym.actor, parent.actor
         ):
-            self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
-                                                     "actor"))
+            self.report(messages.invalid_inheritance(span, sym, parent, "actor"))
+        if decl.inherits.condition is None and _is_conditional(parent):
+            # §7.3.8.2.3, rule 1: a conditional type cannot be inherited unconditionally.
+            self.report(messages.invalid_inheritance(span, sym, parent, "conditional"))
         sym.parent = parent
         sym.condition = decl.inherits.condition
         self.model.children.setdefault(parent, []).append(sym)
@@ -390,7 +428,7 @@ class Declarer:
                         else T.NONE
                     sym = self._new(SymbolKind.METHOD, member.name, member, ctx, unit,
                                     owner=owner, parameters=params, type=ret)
-                    self._add_member(owner, sym, override=member.only)
+                    self._add_member(owner, sym)
 
     def _parameters(self, params, ctx: Context, unit: Unit) -> tuple[Symbol, ...]:
         result = []
@@ -406,23 +444,40 @@ class Declarer:
             result.append(sym)
         return tuple(result)
 
-    def _add_member(self, owner: Symbol, sym: Symbol, override: bool = False) -> None:
+    def _add_member(self, owner: Symbol, sym: Symbol) -> None:
         own = self.model.members.setdefault(owner, {}).setdefault(sym.name, [])
         same_ns = [s for s in self.model.own_members(owner, sym.name) if s.namespace ==
                    sym.namespace and s is not sym]
-        inherited = [] if override else [
-            s for a in list(self.model.ancestors(owner))[1:]
-            for s in self.model.own_members(a, sym.name) if s.namespace == sym.namespace
-        ]
         own.append(sym)
+        if sym.kind is SymbolKind.METHOD:
+            # methods may be redeclared to override; `overrides.check_overrides` decides
+            self.methods.append((owner, sym))
+            same_ns = [s for s in same_ns if s.kind is not SymbolKind.METHOD]
         if sym.name_span is None or sym.name == "":
             return
         if same_ns:
             self.report(messages.duplicate_member(sym.name_span, sym.name, owner.name,
                                                   same_ns[0]))
-        elif inherited and not (sym.kind is SymbolKind.METHOD):
+            return
+        if sym.kind in (SymbolKind.METHOD, SymbolKind.EVENT):
+            return  # an inheriting type may override a method or an event (§7.3.7.2, §7.3.10.2)
+        inherited = [s for a in list(self.model.ancestors(owner))[1:]
+                     for s in self.model.own_members(a, sym.name) if s.namespace == sym.namespace]
+        if inherited:
             self.report(messages.shadows_inherited(sym.name_span, sym.name, owner.name,
                                                    inherited[0]))
+
+
+def _has_actor(behavior: Symbol) -> bool:
+    """Whether a scenario or action is declared `actor.name` (resolved or not)."""
+    decl = behavior.decl
+    return isinstance(decl, ast.StructuredDecl) and decl.name.actor is not None
+
+
+def _is_conditional(symbol: Symbol) -> bool:
+    decl = symbol.decl
+    return isinstance(decl, ast.StructuredDecl) and decl.inherits is not None \
+        and decl.inherits.condition is not None
 
 
 def _same_space(a: Symbol, b: Symbol) -> bool:

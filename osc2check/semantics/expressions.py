@@ -111,7 +111,8 @@ class ExpressionChecker:
                 if target.kind is T.Kind.LIST and target.element is not None:
                     return target.element
                 if not target.is_unknown:
-                    self.report(messages.type_mismatch(expr.target.span, target, None, "indexed value"))
+                    self.report(messages.type_mismatch(expr.target.span, target, None,
+                                                       "indexed value"))
                 return T.UNKNOWN
             case ast.Unary():
                 return self._unary(expr, scope, expected)
@@ -181,10 +182,13 @@ class ExpressionChecker:
                 if found:
                     return found[0]
             current = current.parent
-        for sym in self.model.lookup(name, scope.context, qname.namespace):
-            if sym.kind in (SymbolKind.GLOBAL,) or sym.kind.is_type:
-                return sym
-        return None
+        found = self._globals(qname, scope)
+        return found[0] if found else None
+
+    def _globals(self, qname: ast.QualifiedName, scope: Scope) -> list[Symbol]:
+        """Global parameters and types that ``qname`` may name."""
+        return self.model.lookup(qname.name.text, scope.context, qname.namespace,
+                                 lambda s: s.kind is SymbolKind.GLOBAL or s.kind.is_type)
 
     def _members(self, owner: Symbol, name: str, namespace: str | None) -> list[Symbol]:
         found = self.model.member(owner, name)
@@ -213,6 +217,11 @@ class ExpressionChecker:
                 self.model.references[qname.name] = member
                 return expected
         sym = self.value_symbol(qname, scope)
+        if sym is not None and (sym.kind is SymbolKind.GLOBAL or sym.kind.is_type):
+            candidates = self._globals(qname, scope)
+            if self.model.ambiguous(candidates):
+                self.report(messages.ambiguous_name(qname.span, name, candidates))
+                return T.UNKNOWN
         if sym is not None:
             self.model.references[qname.name] = sym
             if sym.toolkit and not scope.context.namespace == "osc2toolkit":
@@ -247,6 +256,17 @@ class ExpressionChecker:
                                             closest(name, self._visible_values(scope))))
         return T.UNKNOWN
 
+    def _overloaded_literal(self, expr: ast.Node, scope: Scope) -> bool:
+        """Whether ``expr`` is a bare name that only enum members of several enums bear."""
+        if not isinstance(expr, ast.NameRef) or expr.name.namespace is not None:
+            return False
+        name = expr.name.name.text
+        if name in ("it", "actor") or self.value_symbol(expr.name, scope) is not None:
+            return False
+        owners = [e for e in self.model.visible_enums(scope.context)
+                  if self._enum_member(e, name) is not None]
+        return len(owners) > 1
+
     def _visible_values(self, scope: Scope) -> list[str]:
         names: list[str] = []
         current: Scope | None = scope
@@ -266,8 +286,11 @@ class ExpressionChecker:
         return None
 
     def _enum_ref(self, expr: ast.EnumRef, scope: Scope) -> T.Type:
-        enums = [s for s in self.model.lookup(expr.enum.name.text, scope.context,
-                                              expr.enum.namespace) if s.kind is SymbolKind.ENUM]
+        enums = self.model.lookup(expr.enum.name.text, scope.context, expr.enum.namespace,
+                                  lambda s: s.kind is SymbolKind.ENUM)
+        if self.model.ambiguous(enums):
+            self.report(messages.ambiguous_name(expr.enum.span, expr.enum.name.text, enums))
+            return T.UNKNOWN
         if not enums:
             self.report(messages.undefined_type(expr.enum.span, str(expr.enum), None))
             return T.UNKNOWN
@@ -442,7 +465,8 @@ class ExpressionChecker:
             return T.BOOL
         t = self.check(expr.operand, scope, None)
         if not t.is_unknown and not t.is_numeric:
-            self.report(messages.type_mismatch(expr.operand.span, t, None, f"operand of `{expr.op}`"))
+            self.report(messages.type_mismatch(expr.operand.span, t, None,
+                                               f"operand of `{expr.op}`"))
             return T.UNKNOWN
         if expr.op == "-" and t.kind is T.Kind.UINT:
             return T.INT
@@ -465,6 +489,11 @@ class ExpressionChecker:
             elif not right.is_unknown:
                 self.report(messages.type_mismatch(expr.right.span, right, None,
                                                    "right operand of `in` (a range or a list)"))
+            return T.BOOL
+        if op in _EQUALITY and self._overloaded_literal(expr.left, scope):
+            # `ahead == where`: the other operand decides the literal (§7.3.3)
+            right = self.check(expr.right, scope)
+            self.infer(expr.left, scope, right if right.kind is T.Kind.ENUM else None)
             return T.BOOL
         left = self.check(expr.left, scope)
         right_expected = left if (left.kind is T.Kind.ENUM and op in _EQUALITY) else None

@@ -9,7 +9,7 @@ by AST node identity (``references``, ``expr_types``).
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 
 from osc2check.semantics.symbols import Namespace, Symbol, SymbolKind
@@ -87,26 +87,44 @@ class Model:
             if part.exports_all or name in part.exports:
                 found.extend(part.symbols.get(name, ()))
             for other, only in part.reexports:
-                if only is None or only == name:
+                if only is None or only == name:  # `other::*` and `other::name` reach
+                    found.extend(self._own(other, name))  # what `other` has, exported or not
                     found.extend(self._exported(other, name, seen))
         return found
 
-    def lookup(self, name: str, ctx: Context, qualifier: str | None = None) -> list[Symbol]:
-        """Global symbols named ``name`` visible from ``ctx`` (nearest first)."""
+    def lookup(self, name: str, ctx: Context, qualifier: str | None = None,
+               accept: Callable[[Symbol], bool] | None = None) -> list[Symbol]:
+        """Global symbols named ``name`` visible from ``ctx`` (nearest first).
+
+        ``ns::name`` finds what namespace ``ns`` declares or re-exports; export
+        lists only matter to ``use`` (§7.7.4.1). An unprefixed name is looked up
+        in the current namespace, then in every used namespace at once (§7.7.4.2:
+        several same-named candidates there make the name ambiguous, see
+        ``ambiguous``), then in the null namespace. ``accept`` keeps only the
+        symbols of the wanted kind at each step.
+        """
+        def kept(symbols: list[Symbol]) -> list[Symbol]:
+            unique = list({id(s): s for s in symbols}.values())
+            return [s for s in unique if accept(s)] if accept is not None else unique
+
         if qualifier is not None:
             if qualifier == ctx.namespace or qualifier == "":
-                return self._own(qualifier, name)
-            return self._exported(qualifier, name)
-        found = self._own(ctx.namespace, name)
+                return kept(self._own(qualifier, name))
+            return kept(self._own(qualifier, name) + self._exported(qualifier, name))
+        found = kept(self._own(ctx.namespace, name))
         if found:
             return found
-        for used in ctx.uses:
-            found = self._exported(used, name)
-            if found:
-                return found
+        found = kept([s for used in ctx.uses for s in self._exported(used, name)])
+        if found:
+            return found
         if ctx.namespace:
-            return self._own("", name)
+            return kept(self._own("", name))
         return []
+
+    @staticmethod
+    def ambiguous(found: list[Symbol]) -> bool:
+        """Whether a lookup's result names declarations of several namespaces."""
+        return len({s.namespace for s in found}) > 1
 
     # ---- members, behaviours, modifiers ----------------------------------------
 

@@ -47,12 +47,30 @@ def _resolve_path(importer: str, target: str) -> Path:
     return path if path.is_absolute() else base / path
 
 
+def _module_path(importer: str, target: str, search_paths: tuple[str, ...],
+                 read: Reader) -> tuple[Path, ParseResult | None]:
+    """The file of ``import a.b``: ``a/b.osc`` beside the importing file, else in the
+    first search path that has it; the file beside the importer when none does."""
+    relative = target.replace(".", "/") + ".osc"
+    first = _resolve_path(importer, relative)
+    for path in (first, *(Path(folder) / relative for folder in search_paths)):
+        result = read(str(path))
+        if result is not None:
+            return path, result
+    return first, None
+
+
 def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (),
-                  modules: dict[str, str] | None = None) -> Program:
+                  modules: dict[str, str] | None = None,
+                  search_paths: tuple[str, ...] = ()) -> Program:
     """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None.
 
     ``modules`` maps structured import names to files (``osc.types`` -> a path),
-    checked before the standard modules.
+    checked before the standard modules. Other structured imports (``import
+    a.b``, §7.7.5.1.2 leaves their resolution to the implementation) name the
+    file ``a/b.osc``, looked for beside the importing file and then in each of
+    ``search_paths`` in order; a relative search path is taken from the current
+    directory, as any relative path a program is given.
     """
     modules = modules or {}
     library = standard_library()
@@ -74,6 +92,7 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
             if not isinstance(decl, ast.ImportDecl):
                 continue
             target = decl.target
+            found: ParseResult | None = None
             if decl.kind == "module" and target in modules:
                 path = _resolve_path(uri, modules[target])
             elif decl.kind == "module":
@@ -88,11 +107,11 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
                         decl.target_span, target, "no such module of the standard library "
                         "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)"))
                     continue
-                path = _resolve_path(uri, target.replace(".", "/") + ".osc")
+                path, found = _module_path(uri, target, search_paths, read)
             else:
                 path = _resolve_path(uri, target)
             key = str(path)
-            imported_result = read(key)
+            imported_result = found if found is not None else read(key)
             if imported_result is None:
                 if decl.kind == "file" and Path(target).name in STANDARD_FILE_NAMES:
                     program.diagnostics.append(messages.standard_file_import(decl.span, target))

@@ -33,9 +33,14 @@ class _Names:
         self.model = model
         self.report = report
 
-    def _types(self, qname: ast.QualifiedName, ctx: Context) -> list[Symbol]:
-        return [s for s in self.model.lookup(qname.name.text, ctx, qname.namespace)
-                if s.kind.is_type]
+    def _types(self, qname: ast.QualifiedName, ctx: Context) -> list[Symbol] | None:
+        """The types ``qname`` names; None for an ambiguous name (reported here)."""
+        found = self.model.lookup(qname.name.text, ctx, qname.namespace,
+                                  lambda s: s.kind.is_type)
+        if self.model.ambiguous(found):
+            self.report(messages.ambiguous_name(qname.span, qname.name.text, found))
+            return None
+        return found
 
     def type_of(self, ref, ctx: Context) -> T.Type:
         match ref:
@@ -52,6 +57,8 @@ class _Names:
                 if qname.name.missing:
                     return T.UNKNOWN
                 found = self._types(qname, ctx)
+                if found is None:
+                    return T.UNKNOWN
                 if found:
                     self.model.references[qname.name] = found[0]
                     return found[0].type or T.UNKNOWN
@@ -75,8 +82,11 @@ class _Names:
             return None
         if name.actor is None:
             qname = ast.QualifiedName(name.span, name.namespace, name.name)
-            found = [s for s in self.model.lookup(name.name.text, ctx, name.namespace)
-                     if s.kind.is_type or s.kind is SymbolKind.MODIFIER]
+            found = self.model.lookup(name.name.text, ctx, name.namespace,
+                                      lambda s: s.kind.is_type or s.kind is SymbolKind.MODIFIER)
+            if self.model.ambiguous(found):
+                self.report(messages.ambiguous_name(name.span, name.name.text, found))
+                return None
             if not found and name.namespace is None and name.name.text in T.PRIMITIVES:
                 return Symbol(SymbolKind.PRIMITIVE, name.name.text,
                               type=T.PRIMITIVES[name.name.text])
@@ -87,6 +97,8 @@ class _Names:
             self.model.references[name.name] = found[0]
             return found[0]
         actors = self._types(name.actor, ctx)
+        if actors is None:
+            return None
         if not actors:
             self.report(messages.undefined_type(name.actor.span, str(name.actor), closest(
                 name.actor.name.text, self._type_names(ctx))))
