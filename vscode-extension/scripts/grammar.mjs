@@ -55,12 +55,14 @@ const BUILTIN_METHODS = [
 const scopeName = (prefix, word) => `${prefix}.${word.toLowerCase()}.osc2`;
 
 function keywordRules(list, prefix) {
-  // One rule per keyword keeps the scope specific (keyword.control.wait.osc2 …).
+  // One rule per group; the scope names the keyword (keyword.control.wait.osc2 …).
   // A keyword right after `.` is a member name (it.unit, x.event), never a keyword.
-  return list.map((w) => ({
-    match: `(?<![.\\w])${w}\\b`,
-    name: scopeName(prefix, w),
-  }));
+  const lower = list.filter((w) => w === w.toLowerCase());
+  const rules = [{ match: `(?<![.\\w])(${words(lower)})\\b`, name: `${prefix}.$1.osc2` }];
+  for (const w of list.filter((w) => w !== w.toLowerCase())) {
+    rules.push({ match: `(?<![.\\w])${w}\\b`, name: scopeName(prefix, w) });
+  }
+  return rules;
 }
 
 const typeRef = {
