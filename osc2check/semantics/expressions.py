@@ -42,6 +42,7 @@ class ExpressionChecker:
         self.model = model
         self.report = report
         self.check_call = check_call  # (symbol, arguments, scope, span) -> None
+        self._physical_types: dict | None = None  # dimension -> named physical type
 
     # ---- entry points ------------------------------------------------------------
 
@@ -575,13 +576,16 @@ class ExpressionChecker:
 
     def physical_type(self, dim: T.Dimension) -> T.Type:
         """The named physical type of a dimension (``length`` for m), or an anonymous one."""
-        for model in (self.model, self.model.base):
-            if model is None:
-                continue
-            for sym in model.symbols:
-                if sym.kind is SymbolKind.PHYSICAL_TYPE and sym.dimension == dim:
-                    return sym.type or T.Type(T.Kind.PHYSICAL, None, dim)
-        return T.Type(T.Kind.PHYSICAL, None, dim)
+        if self._physical_types is None:
+            table: dict = {}
+            for model in (self.model, self.model.base):  # the first declared wins
+                if model is None:
+                    continue
+                for sym in model.symbols:
+                    if sym.kind is SymbolKind.PHYSICAL_TYPE and sym.type is not None:
+                        table.setdefault(sym.dimension, sym.type)
+            self._physical_types = table
+        return self._physical_types.get(dim) or T.Type(T.Kind.PHYSICAL, None, dim)
 
 
 def _plain_result(left: T.Type, right: T.Type) -> T.Type:
