@@ -98,7 +98,12 @@ def _analyze(sources: list[SourceInput], config, seed: int | None,
     found: list[Diagnostic] = []
     for source in sources:
         result = cache.read(source.uri)
-        program = build_program(source.uri, cache.read, implicit, modules, search_paths)
+        try:
+            program = build_program(source.uri, cache.read, implicit, modules, search_paths)
+        except RecursionError:  # pathological nesting: say so instead of crashing
+            found.extend(result.diagnostics)
+            found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
+            continue
         programs[source.uri] = program
         found.extend(result.diagnostics)
         own = _relevant(program, result, source.uri)
@@ -106,8 +111,12 @@ def _analyze(sources: list[SourceInput], config, seed: int | None,
         if source.problem:
             found.append(_encoding_problem(source))
         if verify and not any(d.severity is Severity.ERROR for d in [*result.diagnostics, *own]):
-            checked = verify_program(program, seed=seed, scenario=scenario, solver=solver,
-                                     default_map=road_map)
+            try:
+                checked = verify_program(program, seed=seed, scenario=scenario, solver=solver,
+                                         default_map=road_map)
+            except RecursionError:
+                found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
+                continue
             verified[source.uri] = checked
             found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
     diagnostics = _finish(found, cache, texts, config)
@@ -125,7 +134,7 @@ def _encoding_problem(source: SourceInput) -> Diagnostic:
 
 # Findings that a missing import or a broken statement explains: reporting them
 # too would bury the real problem.
-_NAME_CODES = frozenset({"N101", "N103", "A301"})
+_NAME_CODES = frozenset({"N101", "N103", "N104", "N106", "N108", "N113", "A301", "A302"})
 
 
 def _relevant(program: Program, result: ParseResult, uri: str) -> list[Diagnostic]:

@@ -64,6 +64,7 @@ SYNTAX_ERROR = Code("P001", "syntax-error", E, "the text does not follow the OSC
 INDENTATION_ERROR = Code("P002", "indentation-error", E, "a line is indented to a level no enclosing block uses")
 INVALID_LITERAL = Code("P003", "invalid-literal", E, "a number, string or physical literal is malformed")
 INVALID_ENCODING = Code("P004", "invalid-encoding", E, "the file is not valid UTF-8 text")
+NESTING_TOO_DEEP = Code("P005", "nesting-too-deep", E, "an expression or block is nested too deeply to analyse")
 
 # --- N: names and resolution -----------------------------------------------
 UNDEFINED_NAME = Code("N101", "undefined-name", E, "a name is used that no visible declaration defines")

@@ -84,6 +84,12 @@ def unterminated_string(span: Span) -> Diagnostic:
     return _diag(codes.INVALID_LITERAL, "string is never closed", span)
 
 
+def nesting_too_deep(span: Span) -> Diagnostic:
+    return _diag(codes.NESTING_TOO_DEEP,
+                 "this file nests expressions or blocks too deeply to analyse; split the "
+                 "expression or the block into named parts", span)
+
+
 def invalid_encoding(span: Span, problem: str) -> Diagnostic:
     return _diag(codes.INVALID_ENCODING, f"the file is not valid UTF-8 text ({problem})", span)
 
@@ -327,6 +333,8 @@ def unitless_literal(span: Span, expected) -> Diagnostic:
 
 
 def _example_unit(expected) -> str:
+    while getattr(expected, "element", None) is not None:  # range of time -> time
+        expected = expected.element
     examples = {"speed": "50kph", "length": "10m", "time": "2s", "acceleration": "2mpsps",
                 "angle": "90deg", "mass": "1000kg", "temperature": "20celsius"}
     name = getattr(getattr(expected, "symbol", None), "name", "")

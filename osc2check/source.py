@@ -44,8 +44,9 @@ class Span:
 def point_span(uri: str, text: str, offset: int) -> Span:
     """A zero-width span at ``offset`` of ``text``."""
     offset = max(0, min(offset, len(text)))
-    line = text.count("\n", 0, offset) + 1
-    column = offset - (text.rfind("\n", 0, offset) + 1) + 1
+    line = text.count("\n", 0, offset) + text.count("\r", 0, offset) - \
+        text.count("\r\n", 0, offset) + 1
+    column = offset - (max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1) + 1
     return Span(uri, line, column, line, column, offset, offset)
 
 

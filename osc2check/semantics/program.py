@@ -9,6 +9,8 @@ and ``namespace ... use``.
 
 from __future__ import annotations
 
+import os
+
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -77,11 +79,12 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
     model = Model(base=library.model)
     program = Program(root, model)
     units: list[Unit] = []
-    visiting: list[str] = []
+    visiting: list[str] = []  # normalised paths of the files being read, root first
+    leads: list = []  # span of the import in visiting[i] that leads to visiting[i + 1]
     done: set[str] = set()
 
     def visit(uri: str, result: ParseResult, extra_modules: tuple[str, ...] = ()) -> None:
-        visiting.append(uri)
+        visiting.append(os.path.normpath(uri))
         uses: list[str] = []
         imported: list[str] = []
         for module in extra_modules:  # implicit imports also put their namespaces in use
@@ -122,14 +125,20 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
                     decl.target_span, target, f"no file `{key}`"))
                 continue
             imported.append(key)
-            if key in visiting:
-                chain = visiting[visiting.index(key):] + [key]
-                program.diagnostics.append(messages.import_cycle(decl.target_span, chain))
+            norm = os.path.normpath(key)
+            if norm in visiting:
+                # Said at the root's own import that leads into the cycle: the root's
+                # findings are the ones reported for it.
+                chain = visiting[visiting.index(norm):] + [norm]
+                span = leads[0] if leads else decl.target_span
+                program.diagnostics.append(messages.import_cycle(span, chain))
                 continue
-            if key not in done:
+            if norm not in done:
+                leads.append(decl.target_span)
                 visit(key, imported_result)
+                leads.pop()
         visiting.pop()
-        done.add(uri)
+        done.add(os.path.normpath(uri))
         program.files[uri] = result
         program.imports[uri] = imported
         ctx = Context("", tuple(dict.fromkeys(uses)))

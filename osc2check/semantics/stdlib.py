@@ -47,7 +47,7 @@ def comment_lines(result: ParseResult) -> dict[int, str]:
     lines: dict[int, str] = {}
     text = result.text
     for c in result.comments:
-        line_start = text.rfind("\n", 0, c.offset) + 1
+        line_start = max(text.rfind("\n", 0, c.offset), text.rfind("\r", 0, c.offset)) + 1
         if not text[line_start:c.offset].strip():
             lines[c.line] = c.text
     return lines

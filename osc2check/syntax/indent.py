@@ -33,7 +33,7 @@ class IndentError:
 
 
 def _indentation(text: str, token: Token) -> int:
-    line_start = text.rfind("\n", 0, token.start_pos) + 1
+    line_start = max(text.rfind("\n", 0, token.start_pos), text.rfind("\r", 0, token.start_pos)) + 1
     width = 0
     for ch in text[line_start : token.start_pos]:
         if ch == "\t":

@@ -68,7 +68,7 @@ def _found(tok: Token) -> str:
 
 
 def _expected(kinds) -> list[str]:
-    preferred = [k for k in kinds if not k.startswith("_") and k != "$END"]
+    preferred = [k for k in kinds if not k.startswith("_") and k != "$END" and k.isupper()]
     names = sorted({_describe(k) for k in preferred})
     if len(names) > 6:
         return []
@@ -82,9 +82,15 @@ def _tok_span(uri: str, tok: Token) -> Span:
 
 
 def _offset_span(uri: str, text: str, start: int, length: int) -> Span:
-    line = text.count("\n", 0, start) + 1
-    col = start - (text.rfind("\n", 0, start) + 1) + 1
+    line = _line_of(text, start)
+    col = start - (max(text.rfind("\n", 0, start), text.rfind("\r", 0, start)) + 1) + 1
     return Span(uri, line, col, line, col + length, start, start + length)
+
+
+def _line_of(text: str, offset: int) -> int:
+    """1-based line of ``offset``; CRLF, LF and lone CR each end a line."""
+    return text.count("\n", 0, offset) + text.count("\r", 0, offset) - \
+        text.count("\r\n", 0, offset) + 1
 
 
 def parse(text: str, uri: str = "<string>") -> ParseResult:
@@ -125,9 +131,10 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
         _URI.reset(uri_token)
         _PROBLEMS.reset(problems_token)
     reported_lines = {d.span.line for d in diagnostics}
+    bracket_lines = set(error_lines)  # statements an unclosed bracket ran into
     for problem in syntax:
         tok = problem.token
-        if problem.inserted and (tok.line in unclosed_lines or tok.line in reported_lines):
+        if tok.line in bracket_lines or (problem.inserted and tok.line in reported_lines):
             continue
         span = _tok_span(uri, tok)
         if problem.inserted and all(k in _terminal_text() for k in problem.inserted):

@@ -160,6 +160,18 @@ def _fast_prefix(ip, tokens: list[Token]) -> int:
     return consumed
 
 
+def _matching_dedent(tokens: list[Token], i: int) -> int:
+    """Index of the _DEDENT that closes the _INDENT at ``i`` (or the last index)."""
+    depth = 0
+    for j in range(i, len(tokens)):
+        kind = tokens[j].type
+        depth += kind == "_INDENT"
+        depth -= kind == "_DEDENT"
+        if depth == 0:
+            return j
+    return len(tokens) - 1
+
+
 def parse_tokens(lark, tokens: list[Token], start: str = "start"):
     """Parse ``tokens``; returns (tree or None, problems). Never raises on bad input."""
     problems: list[SyntaxProblem] = []
@@ -170,8 +182,13 @@ def parse_tokens(lark, tokens: list[Token], start: str = "start"):
     end = tokens[-1] if tokens else Token("$END", "", 0, 1, 1, 1, 1, 0)
     eof = Token("$END", "", end.end_pos, end.end_line, end.end_column, end.end_line,
                 end.end_column, end.end_pos)
+    skip: set[int] = set()  # dedents that close an indentation read as not there
     while i <= n:
+        if i in skip:
+            i += 1
+            continue
         tok = tokens[i] if i < n else eof
+        was_in_error = in_error
         try:
             if i == n:
                 return ip.feed_eof(eof), problems
@@ -217,14 +234,14 @@ def parse_tokens(lark, tokens: list[Token], start: str = "start"):
             i += 1
             continue
         if tok.type == "_INDENT":
-            depth = 0
-            while i < n:
-                kind = tokens[i].type
-                depth += kind == "_INDENT"
-                depth -= kind == "_DEDENT"
+            close = _matching_dedent(tokens, i)
+            if not was_in_error:
+                # Over-indented lines after a sound statement: read them at the
+                # enclosing level, so their declarations are not lost.
+                skip.add(close)
                 i += 1
-                if depth == 0:
-                    break
+                continue
+            i = close + 1  # the body of a broken statement: skip it whole
             continue
         i += 1
     return None, problems

@@ -17,6 +17,8 @@ import numpy as np
 
 __all__ = ["Event", "EventDetector"]
 
+SMALL_PAIRS = 15  # up to 6 actors: the pure-Python path
+
 
 @dataclass(frozen=True, slots=True)
 class Event:
@@ -51,6 +53,7 @@ class EventDetector:
         n = len(names)
         self.names = tuple(names)
         self.half = np.asarray(half_extents, dtype=float).reshape(n, 2)
+        self._half_list = [tuple(h) for h in self.half.tolist()]  # floats for the SAT test
         self.static = np.asarray(static, dtype=bool)
         self.moving = ~self.static
         self.margin = margin
@@ -63,6 +66,13 @@ class EventDetector:
         self._pi, self._pj = pi[keep], pj[keep]
         reach = radius[self._pi] + radius[self._pj] + margin
         self._reach2 = reach * reach
+        # few actors: plain Python loops beat numpy's per-call overhead
+        self._small = len(self._pi) <= SMALL_PAIRS
+        self._pairs = list(zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(),
+                               strict=True))
+        self._moving_list = np.flatnonzero(self.moving).tolist()
+        self._bounds = (float(self._mid[0]), float(self._mid[1]), float(self._half_road[0]),
+                        float(self._half_road[1]))
         self.reset()
 
     def reset(self) -> None:
@@ -77,6 +87,8 @@ class EventDetector:
 
     def detect(self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray) -> list[Event]:
         """Events at this tick, given every actor's box centre (n, 2) and yaw (n,)."""
+        if self._small:
+            return self._detect_small(tick, time, centre.tolist(), yaw.tolist())
         events: list[Event] = []
         # off-road: an actor's reference point leaves the road surface
         away = np.abs(centre - self._mid) > self._half_road
@@ -93,10 +105,12 @@ class EventDetector:
         if not near.size and not self._overlaps:
             return events
         now: set[tuple[int, int]] = set()
+        half = self._half_list
         for k in near.tolist():
             a, b = int(self._pi[k]), int(self._pj[k])
             if boxes_overlap(
-                centre[a], yaw[a], self.half[a], centre[b], yaw[b], self.half[b], self.margin
+                centre[a].tolist(), float(yaw[a]), half[a], centre[b].tolist(), float(yaw[b]),
+                half[b], self.margin
             ):
                 now.add((a, b))
                 if (a, b) not in self._overlaps:
@@ -105,13 +119,40 @@ class EventDetector:
         return events
 
 
+    def _detect_small(self, tick: int, time: float, centre: list, yaw: list) -> list[Event]:
+        """:meth:`detect` for a few actors, in plain Python (the same results)."""
+        events: list[Event] = []
+        mx, my, hx, hy = self._bounds
+        now_out = {i for i in self._moving_list
+                   if abs(centre[i][0] - mx) > hx or abs(centre[i][1] - my) > hy}
+        if now_out or self._off_road:
+            for i in sorted(now_out - self._off_road):
+                events.append(Event(tick, time, "off_road", (self.names[i],)))
+            self._off_road = now_out
+        if not self._pairs:
+            return events
+        now: set[tuple[int, int]] = set()
+        half = self._half_list
+        for a, b, reach2 in self._pairs:
+            ca, cb = centre[a], centre[b]
+            dx, dy = ca[0] - cb[0], ca[1] - cb[1]
+            if dx * dx + dy * dy > reach2:
+                continue
+            if boxes_overlap(ca, yaw[a], half[a], cb, yaw[b], half[b], self.margin):
+                now.add((a, b))
+                if (a, b) not in self._overlaps:
+                    events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
+        self._overlaps = now
+        return events
+
+
 def boxes_overlap(
-    c1: np.ndarray,
+    c1: Sequence[float],
     yaw1: float,
-    h1: np.ndarray,
-    c2: np.ndarray,
+    h1: Sequence[float],
+    c2: Sequence[float],
     yaw2: float,
-    h2: np.ndarray,
+    h2: Sequence[float],
     margin: float = 0.0,
 ) -> bool:
     """Separating-axis test of two oriented rectangles (centre, yaw, half extents)."""

@@ -488,7 +488,7 @@ class World:
         prev = self._vel
         self._read()
         if len(self._vehicles):
-            c, s = np.cos(self._yaw), np.sin(self._yaw)
+            c, s = self._cos, self._sin  # of the new yaw, from _read
             dv = (self._vel - prev) / self.dt_control
             self._accel = dv[:, 0] * c + dv[:, 1] * s
         centre, yaw = self._poses()
@@ -514,6 +514,7 @@ class World:
             self._vel = v[:, :3]
             self._yaw_rate = v[:, 5]
             c, s = np.cos(self._yaw), np.sin(self._yaw)
+            self._cos, self._sin = c, s
             self._speed = v[:, 0] * c + v[:, 1] * s
             self._lat_speed = -v[:, 0] * s + v[:, 1] * c
         else:
@@ -604,6 +605,43 @@ class World:
     def states(self) -> dict[str, ActorState]:
         """The state of every actor, by name."""
         return {name: self.state(name) for name in self._names}
+
+    def read_states(self, out: dict[str, ActorState], static: bool = True) -> None:
+        """Write the state of every actor into ``out`` (the same values as :meth:`state`).
+
+        Vehicles are read in one pass over the model's arrays, which is what
+        a runner needs every tick; ``static=False`` leaves obstacles (which
+        never move) as they are in ``out``.
+        """
+        road = self.road
+        tick, time = self.tick, self.time
+        if len(self._vehicles):
+            bank = self.actuators
+            pos = self._pos.tolist()
+            yaw = self._yaw.tolist()
+            speed = self._speed.tolist()
+            lat = self._lat_speed.tolist()
+            yaw_rate = self._yaw_rate.tolist()
+            accel = self._accel.tolist()
+            throttle = bank.throttle.tolist()
+            brake = bank.brake.tolist()
+            steer = (bank.delta / bank.max_steer).tolist()
+            mu = self._mu_mean
+            to_st, lane_of = road.to_st, road.lane_of
+            for row, spec in enumerate(self._vehicles):
+                x, y = pos[row]
+                s, t = to_st(x, y)
+                params = spec.params
+                out[spec.name] = ActorState(
+                    spec.name, "vehicle", tick, time, x, y, yaw[row], speed[row], lat[row],
+                    yaw_rate[row], accel[row], lane_of(y), s, t, mu[row], throttle[row],
+                    brake[row], steer[row], params.length, params.width)
+        for spec in self._pedestrians:
+            out[spec.name] = self.state(spec.name)
+        if static or any(spec.name not in out for spec in self.specs if spec.kind == "obstacle"):
+            for i in self._obs_pos:
+                name = self._names[i]
+                out[name] = self.state(name)
 
     def wheel_loads(self, name: str) -> tuple[float, float, float, float]:
         """Measured normal load (N) of each tire (fl, fr, rl, rr) of a vehicle."""

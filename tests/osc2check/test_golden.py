@@ -61,15 +61,7 @@ NOT_IMPLEMENTED: dict[str, str] = {
 # Cases that fail today because of a checker bug or a missing check; they must pass once it
 # is fixed (strict xfail), and --update-goldens leaves their expectations alone.
 KNOWN_BUGS: dict[str, str] = {
-    "names/N107_two_file_cycle": "a cycle through two files is found while reading the "
-    "imported file, and analyze() keeps only the root file's findings, so neither file "
-    "reports N107 (a file importing itself does)",
     "names/N110_std_namespace.osc": NOT_IMPLEMENTED["N110"],
-    "names/N105_misspelled_standard_module.osc": "without the standard library every unit is "
-    "unknown: N104 `s` is reported for `10s` although the failed import explains it (N104 is "
-    "not among the codes analysis._relevant drops after an N105)",
-    "syntax/P002_unexpected_indent.osc": "the over-indented field `npc: vehicle` is skipped, "
-    "and its later use reports N101 undefined name `npc`",
     "types/T204_fractional_lane.osc": "the solver takes `lane(1.5)` literally and adds "
     "C401 (lane == 1.5 contradicts `lane` is a uint), an error caused by what T204 reports "
     "as a warning; and C401 quotes the marker comment of the line",
@@ -394,12 +386,6 @@ def case_named(case_id: str) -> Case:
 # Goldens record what the checker says today; these tests fail until a message is fixed.
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="messages.py's _example_unit knows no `range of ...` "
-    "type and suggests `1m` for a plain-number duration",
-)
 @pytest.mark.parametrize(
     "case_id", ["types/T202_float_field_as_duration.osc", "dialect/D805_unitless_duration.osc"]
 )
@@ -428,12 +414,6 @@ SYNTAX_ERRORS = [
 ]
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="the parser names grammar rules (`member_end`, "
-    "`with_block`) in the expected-token list of P001",
-)
 @pytest.mark.parametrize("line", SYNTAX_ERRORS)
 def test_syntax_messages_name_tokens_not_grammar_rules(line: str, tmp_path: Path):
     source = tmp_path / "P001_grammar_rule_names.osc"
@@ -446,13 +426,6 @@ def test_syntax_messages_name_tokens_not_grammar_rules(line: str, tmp_path: Path
         assert not rules, message
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="an unclosed `(` in an action header gives two P001 "
-    "at the same place (`( is never closed`, `unexpected (`) and a third "
-    "on the next line",
-)
 def test_one_mistake_gives_one_finding(tmp_path: Path):
     source = tmp_path / "P001_unclosed_header.osc"
     source.write_text("import osc.standard\n\naction vehicle.slow_down(\n    target: speed\n")

@@ -1,0 +1,283 @@
+"""Base classes of the registered leaves: actions and the modifiers that constrain them.
+
+An :class:`ActionBehaviour` is one action invocation (``hero.drive() with:
+...``). The compiler hands it an :class:`ActionUse`: the actor, the argument
+closures (evaluated when the action starts), the modifier objects of its
+``with:`` block and the phase duration. Lifecycle:
+
+* ``initialise`` (the phase starts): arguments are evaluated, then
+  :meth:`ActionBehaviour.start` sets the actor's controller targets, then
+  each modifier's :meth:`Modifier.begin` constrains them;
+* ``update`` (every tick): each modifier's :meth:`Modifier.step`, then
+  :meth:`ActionBehaviour.step` decides the status;
+* ``terminate``: the action's end is logged; controller targets persist.
+
+A :class:`Modifier` is a constraint on the controllers of its action's actor.
+``at`` says when it applies: ``start`` (realised by the scenario initializer
+for phases that start the scenario, else applied when the phase starts),
+``end`` (reached by the end of the phase), ``all`` (held throughout).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import py_trees
+from py_trees.common import Status
+
+from osc2check.semantics.symbols import Symbol
+from osc2check.syntax import ast
+from osc2runner.actors import Actor
+from osc2runner.context import ExecutionContext
+from osc2runner.expressions import Closure
+
+if TYPE_CHECKING:
+    from osc2runner.initializer import StartPlan
+    from osc2runner.sim import ActorState
+
+__all__ = [
+    "FastLeaf",
+    "ActionBehaviour",
+    "ActionUse",
+    "InstantAction",
+    "Modifier",
+    "ModifierUse",
+    "ScenarioBehaviour",
+]
+
+
+class FastLeaf:
+    """The py_trees leaf lifecycle as ``tick_status()`` (see :mod:`osc2runner.compile.composites`).
+
+    Same order as ``Behaviour.tick``: ``initialise`` when not running,
+    ``update``, ``stop`` (hence ``terminate``) on leaving RUNNING; without
+    py_trees' per-tick debug formatting, which is most of a leaf's cost at 20 Hz.
+    """
+
+    def tick_status(self) -> Status:
+        if self.status != Status.RUNNING:  # type: ignore[attr-defined]
+            self.initialise()  # type: ignore[attr-defined]
+        new_status = self.update()  # type: ignore[attr-defined]
+        if new_status != Status.RUNNING:
+            self.stop(new_status)  # type: ignore[attr-defined]
+        self.status = new_status
+        return new_status
+
+    def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
+        self.tick_status()
+        yield self  # type: ignore[misc]
+
+
+@dataclass
+class ModifierUse:
+    """One modifier application in a ``with:`` block, compiled."""
+
+    node: ast.Invocation
+    symbol: Symbol
+    arguments: dict[str, Closure]
+    actor: Actor | None = None
+
+    @property
+    def name(self) -> str:
+        return self.symbol.name
+
+
+@dataclass
+class ActionUse:
+    """One action invocation, compiled."""
+
+    node: ast.Invocation
+    symbol: Symbol
+    actor: Actor
+    arguments: dict[str, Closure]
+    modifiers: list[Modifier] = field(default_factory=list)
+    duration: Callable[[], tuple[float | None, float | None]] | None = None
+    behaviour: type | None = None  # the registered class
+
+    @property
+    def label(self) -> str:
+        return f"{self.actor.name}.{self.symbol.name}"
+
+
+class ScenarioBehaviour(FastLeaf, py_trees.behaviour.Behaviour):
+    """A leaf that takes the execution context from ``tree.setup(context=ctx)``."""
+
+    ctx: ExecutionContext
+
+    def setup(self, **kwargs: Any) -> None:
+        ctx = kwargs.get("context")
+        if ctx is not None:
+            self.ctx = ctx
+
+
+class Modifier:
+    """A constraint of one modifier application on its action's actor (see the module docs).
+
+    Subclasses set ``longitudinal`` / ``lateral`` when they drive the speed or
+    the lateral position, so that an action does not override them.
+    """
+
+    longitudinal = False
+    lateral = False
+
+    def __init__(self, use: ModifierUse) -> None:
+        self.use = use
+        self.args: dict[str, Any] = {}
+        self.at = "all"
+
+    # ---- helpers
+
+    def evaluate(self) -> dict[str, Any]:
+        self.args = {k: fn() for k, fn in self.use.arguments.items()}
+        self.at = str(self.args.get("at", "all"))
+        return self.args
+
+    # ---- hooks
+
+    def begin(self, action: ActionBehaviour) -> None:
+        """The phase starts (arguments are evaluated here)."""
+        self.evaluate()
+
+    def step(self, action: ActionBehaviour) -> None:
+        """Every tick of the phase."""
+
+    def finished(self, action: ActionBehaviour) -> bool:
+        """True when the modifier ends the phase (``distance``)."""
+        return False
+
+    def end(self, action: ActionBehaviour) -> None:
+        """The phase ended (or was stopped)."""
+
+    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
+        """Contribute to the start pose (``at: start`` on a phase starting the scenario)."""
+
+    @property
+    def node(self) -> ast.Invocation:
+        return self.use.node
+
+
+class ActionBehaviour(ScenarioBehaviour):
+    """One action invocation (see the module docstring)."""
+
+    #: the phase ends on its own (True) or only by duration/until/race (False)
+    finite = True
+    #: the action realises its modifiers itself (assign_position): they are not begun
+    modifiers_realised = False
+
+    def __init__(self, name: str, use: ActionUse) -> None:
+        super().__init__(name)
+        self.use = use
+        self.actor = use.actor
+        self.args: dict[str, Any] = {}
+        self.start_tick = 0
+        self.phase: float | None = None  # the phase's planned duration, when known
+        self.at_scenario_start = False
+
+    # ---- conveniences
+
+    @property
+    def state(self) -> ActorState:
+        return self.ctx.states[self.actor.name]
+
+    @property
+    def controller(self) -> Any:
+        return self.ctx.controllers.get(self.actor.name)
+
+    @property
+    def elapsed(self) -> float:
+        return (self.ctx.tick - self.start_tick) * self.ctx.dt
+
+    def remaining(self) -> float | None:
+        if self.phase is None:
+            return None
+        return max(self.phase - self.elapsed, 0.0)
+
+    def drives(self, channel: str) -> bool:
+        """True when one of the modifiers controls ``longitudinal`` or ``lateral`` motion."""
+        return any(getattr(m, channel) for m in self.use.modifiers)
+
+    def fail(self, message: str) -> Status:
+        """Fail the phase (and the run) with a message naming the invocation."""
+        node = self.use.node
+        where = f"{node.span.uri}:{node.span.line}:{node.span.column}"
+        self.ctx.fail(f"{where}: {self.use.label}: {message}")
+        self.feedback_message = message
+        return Status.FAILURE
+
+    # ---- lifecycle
+
+    def initialise(self) -> None:
+        ctx = self.ctx
+        self.start_tick = ctx.tick
+        self.args = {k: fn() for k, fn in self.use.arguments.items()}
+        self.phase = None
+        if self.use.duration is not None:
+            low, high = self.use.duration()
+            self.phase = high if high is not None else low
+        self.at_scenario_start = ctx.tick == 0 and self.use.node in ctx.placed
+        ctx.record("start", self.use.label, actors=(self.actor.name,))
+        self._failure: str | None = None
+        modifiers = [] if self.modifiers_realised else self.use.modifiers
+        # only the modifiers that act every tick are called every tick
+        self._stepping = [m for m in modifiers if type(m).step is not Modifier.step]
+        self._finishing = [m for m in modifiers if type(m).finished is not Modifier.finished]
+        try:
+            self.start()
+            for modifier in modifiers:
+                modifier.begin(self)
+        except ActionError as exc:
+            self._failure = str(exc)
+
+    def update(self) -> Status:
+        if self._failure is not None:
+            return self.fail(self._failure)
+        try:
+            for modifier in self._stepping:
+                modifier.step(self)
+            status = self.step()
+        except ActionError as exc:
+            return self.fail(str(exc))
+        if status == Status.RUNNING:
+            for modifier in self._finishing:
+                if modifier.finished(self):
+                    return Status.SUCCESS
+        return status
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID and self.status != Status.RUNNING:
+            return
+        how = {Status.SUCCESS: "end", Status.FAILURE: "fail"}.get(new_status, "stop")
+        self.ctx.record(how, self.use.label, actors=(self.actor.name,))
+        if not self.modifiers_realised:
+            for modifier in self.use.modifiers:
+                modifier.end(self)
+
+    # ---- hooks
+
+    def start(self) -> None:
+        """Set the controller targets when the phase starts."""
+
+    def step(self) -> Status:
+        """The status at this tick (after the modifiers' step)."""
+        return Status.RUNNING
+
+
+class InstantAction(ActionBehaviour):
+    """An action that takes effect at once and succeeds in the tick it starts."""
+
+    def step(self) -> Status:
+        return Status.SUCCESS
+
+
+class ActionError(Exception):
+    """An action cannot do what it was asked (fails the run with this message)."""
+
+
+def finite(value: object) -> bool:
+    return isinstance(value, (int, float)) and math.isfinite(value)
+
+
+__all__ += ["ActionError", "finite"]

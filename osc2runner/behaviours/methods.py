@@ -1,0 +1,137 @@
+"""Methods of the domain model that the runner implements (``is undefined`` in the library).
+
+Each is ``fn(ctx, subject, *arguments)`` with arguments in declaration order
+(defaults filled in by the compiler); distances in metres, times in seconds.
+Reference points are the bounding-box centres the world reports; ``bounding_boxes``
+mode measures between the boxes along the asked axis.
+"""
+
+from __future__ import annotations
+
+import math
+
+from osc2runner.actors import Actor
+from osc2runner.compile.registry import registry
+from osc2runner.context import ExecutionContext
+from osc2runner.expressions import PositionOf
+
+__all__ = [
+    "ahead_of",
+    "norm",
+    "get_s_coord",
+    "get_t_coord",
+    "object_distance",
+    "road_distance",
+    "space_gap",
+    "space_headway",
+    "time_gap",
+    "time_headway",
+    "time_to_collision",
+]
+
+
+def _shrink(distance: float, extent: float) -> float:
+    """A centre distance made a box distance: ``extent`` less, never past zero."""
+    if distance >= 0.0:
+        return max(distance - extent, 0.0)
+    return min(distance + extent, 0.0)
+
+
+@registry.method("physical_object", "object_distance")
+def object_distance(ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str,
+                    mode: str = "reference_points") -> float:
+    """Distance to ``reference`` in the subject's frame (positive: reference in front / left)."""
+    me, other = ctx.states[subject.name], ctx.states[reference.name]
+    dx, dy = other.x - me.x, other.y - me.y
+    c, s = math.cos(me.yaw), math.sin(me.yaw)
+    lon, lat = dx * c + dy * s, -dx * s + dy * c
+    boxes = mode == "bounding_boxes"
+    if direction == "longitudinal":
+        return _shrink(lon, 0.5 * (me.length + other.length)) if boxes else lon
+    if direction == "lateral":
+        return _shrink(lat, 0.5 * (me.width + other.width)) if boxes else lat
+    if direction == "vertical":
+        return 0.0
+    if boxes:
+        return math.hypot(_shrink(lon, 0.5 * (me.length + other.length)),
+                          _shrink(lat, 0.5 * (me.width + other.width)))
+    return math.hypot(lon, lat)
+
+
+@registry.method("physical_object", "road_distance")
+def road_distance(ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str,
+                  mode: str = "reference_points", route_type: str = "on_road") -> float:
+    """Distance to ``reference`` along the road's s (longitudinal) or t (lateral) axis."""
+    me, other = ctx.states[subject.name], ctx.states[reference.name]
+    boxes = mode == "bounding_boxes"
+    if direction == "lateral":
+        d = other.t - me.t
+        return _shrink(d, 0.5 * (me.width + other.width)) if boxes else d
+    d = other.s - me.s
+    return _shrink(d, 0.5 * (me.length + other.length)) if boxes else d
+
+
+@registry.method("physical_object", "get_s_coord")
+def get_s_coord(ctx: ExecutionContext, subject: Actor, route_type: str = "on_road") -> float:
+    return ctx.states[subject.name].s
+
+
+@registry.method("physical_object", "get_t_coord")
+def get_t_coord(ctx: ExecutionContext, subject: Actor, route_type: str = "on_road") -> float:
+    return ctx.states[subject.name].t
+
+
+@registry.method("actor_position", "ahead_of")
+def ahead_of(ctx: ExecutionContext, subject: PositionOf, reference: Actor) -> float:
+    """(Toolkit) the subject's position projected on the reference's heading, from the reference."""
+    me = ctx.states[subject.actor.name]  # type: ignore[attr-defined]
+    ref = ctx.states[reference.name]
+    return (me.x - ref.x) * math.cos(ref.yaw) + (me.y - ref.y) * math.sin(ref.yaw)
+
+
+@registry.method("position_3d", "norm")
+@registry.method("translational_velocity_3d", "norm")
+@registry.method("translational_acceleration_3d", "norm")
+def norm(ctx: ExecutionContext, subject: object) -> float:
+    """Euclidean length of a 3-D vector struct (``hero.velocity.translational.norm()``)."""
+    return math.sqrt(sum(float(getattr(subject, k, 0.0)) ** 2 for k in ("x", "y", "z")))
+
+
+@registry.method("traffic_participant", "space_gap")
+def space_gap(ctx: ExecutionContext, subject: Actor, reference: Actor,
+              direction: str = "longitudinal") -> float:
+    """Bumper-to-bumper gap along the road (positive: the reference ahead / left)."""
+    return road_distance(ctx, subject, reference, direction, "bounding_boxes")
+
+
+@registry.method("traffic_participant", "time_gap")
+def time_gap(ctx: ExecutionContext, subject: Actor, reference: Actor,
+             direction: str = "longitudinal") -> float:
+    """The space gap divided by the subject's speed (infinite at standstill)."""
+    speed = ctx.states[subject.name].speed
+    gap = space_gap(ctx, subject, reference, direction)
+    return gap / speed if speed > 1e-6 else math.copysign(math.inf, gap)
+
+
+@registry.method("traffic_participant", "space_headway")
+def space_headway(ctx: ExecutionContext, subject: Actor, reference: Actor) -> float:
+    """Distance between reference points along the road (positive: the reference ahead)."""
+    return road_distance(ctx, subject, reference, "longitudinal")
+
+
+@registry.method("traffic_participant", "time_headway")
+def time_headway(ctx: ExecutionContext, subject: Actor, reference: Actor) -> float:
+    speed = ctx.states[subject.name].speed
+    d = space_headway(ctx, subject, reference)
+    return d / speed if speed > 1e-6 else math.copysign(math.inf, d)
+
+
+@registry.method("traffic_participant", "time_to_collision")
+def time_to_collision(ctx: ExecutionContext, subject: Actor, reference: Actor) -> float:
+    """Space gap over closing speed along the road; infinite when not closing."""
+    me, other = ctx.states[subject.name], ctx.states[reference.name]
+    gap = road_distance(ctx, subject, reference, "longitudinal", "bounding_boxes")
+    closing = (me.speed - other.speed) if gap >= 0.0 else (other.speed - me.speed)
+    if closing <= 1e-9:
+        return math.inf
+    return abs(gap) / closing

@@ -1,0 +1,251 @@
+"""Movement actions of vehicles and persons: drive, speed changes, lanes, gaps.
+
+Open-ended actions (``drive``, ``move``, ``walk``, ``keep_speed``,
+``follow_lane``, ``remain_stationary``, ``keep_*_gap``) run until their
+phase is ended by ``duration``, ``until``, a race, or by the end of the other
+members of their ``parallel``. The others end on their own when their goal is
+reached (``change_speed``: the target speed; ``change_lane``: the front axle
+at the end of the lateral path; ``change_*_gap``: the gap held).
+"""
+
+from __future__ import annotations
+
+from py_trees.common import Status
+
+from osc2runner.actors import Actor
+from osc2runner.behaviours.base import ActionBehaviour, ActionError
+from osc2runner.behaviours.driving import (
+    gap_between,
+    lane_change_duration,
+    lane_of,
+    profile_for,
+    retarget,
+    set_speed,
+    side_of,
+)
+from osc2runner.compile.registry import registry
+
+__all__ = [
+    "ChangeLane",
+    "ChangeSpeed",
+    "Drive",
+    "FollowLane",
+    "GapAction",
+    "KeepSpeed",
+    "RemainStationary",
+]
+
+#: speed tolerance at which change_speed has reached its target (m/s)
+SPEED_REACHED = 0.1
+#: gain of gap tracking: speed change per metre of gap error (1/s)
+GAP_GAIN = 0.4
+
+
+def _hold(action: ActionBehaviour) -> None:
+    """Keep what the actor does now where the action's modifiers say nothing."""
+    ctrl = action.controller
+    if ctrl is None:
+        raise ActionError("this actor has no driver (it cannot move)")
+    if not action.drives("longitudinal") and ctrl.speed.target is None:
+        set_speed(ctrl, action.state.speed, "none")
+    lateral = getattr(ctrl, "lateral", None)
+    if lateral is not None and not action.drives("lateral") and lateral.path is None:
+        lateral.keep_offset(action.state.t)
+
+
+@registry.action("vehicle", "drive")
+class Drive(ActionBehaviour):
+    """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane."""
+
+    finite = False
+
+    def start(self) -> None:
+        _hold(self)
+
+
+@registry.action("movable_object", "move")
+class Move(Drive):
+    """``move()``: as ``drive`` for any movable object."""
+
+
+@registry.action("person", "walk")
+class Walk(Drive):
+    """``walk()``: as ``drive`` for persons (kinematic pedestrian)."""
+
+
+@registry.action("movable_object", "keep_speed")
+class KeepSpeed(ActionBehaviour):
+    """``keep_speed()``: hold the speed the actor has when the phase starts."""
+
+    finite = False
+
+    def start(self) -> None:
+        _hold(self)
+        set_speed(self.controller, self.state.speed, "none")
+
+
+@registry.action("movable_object", "remain_stationary")
+class RemainStationary(ActionBehaviour):
+    """``remain_stationary()``: come to a stop (comfortably) and stay stopped."""
+
+    finite = False
+
+    def start(self) -> None:
+        _hold(self)
+        set_speed(self.controller, 0.0, "smooth")
+
+
+@registry.action("movable_object", "change_speed")
+class ChangeSpeed(ActionBehaviour):
+    """``change_speed(target, rate_profile, rate_peak)``: ends when the target speed is reached.
+
+    With a ``duration`` and no profile the change is spread evenly over it.
+    """
+
+    def start(self) -> None:
+        _hold(self)
+        target = float(self.args["target"])
+        kind = str(self.args.get("rate_profile", "none"))
+        peak = self.args.get("rate_peak")
+        profile = profile_for(kind, float(peak) if peak is not None else None,
+                              change=target - self.state.speed, duration=self.phase)
+        set_speed(self.controller, target, profile)
+        self.target = target
+
+    def step(self) -> Status:
+        if self.controller.speed.reached(self.state, SPEED_REACHED):
+            return Status.SUCCESS
+        return Status.RUNNING
+
+
+@registry.action("vehicle", "change_lane")
+class ChangeLane(ActionBehaviour):
+    """``change_lane(num_of_lanes, side, reference, offset, rate_profile, rate_peak)``.
+
+    The target lane is ``num_of_lanes`` lanes to ``side`` of the reference's
+    lane (the actor's own by default); ``same`` is the reference's lane.
+    The path is a minimum-jerk lateral blend over the phase duration, over
+    the time a ``rate_peak`` lateral speed gives, or over 4 s (2.5 s for
+    ``asap``); it ends when the front axle reaches the end of the blend.
+    """
+
+    def start(self) -> None:
+        ctx = self.ctx
+        args = self.args
+        if "target" in args:
+            raise ActionError("change_lane(target: lane) needs a road network; use "
+                              "num_of_lanes and side")
+        _hold(self)
+        reference = args.get("reference")
+        ref = reference if isinstance(reference, Actor) else self.actor
+        n = int(args.get("num_of_lanes", 1))
+        side = str(args.get("side", "left"))
+        start_lane = lane_of(ctx, ref)
+        target = start_lane if side == "same" else ctx.lanes.beside(start_lane, side_of(side), n)
+        if not ctx.road.has_lane(target):
+            raise ActionError(
+                f"there is no lane {n} lane(s) to the {side} of lane "
+                f"{ctx.lanes.to_scenario(start_lane)} on map `{ctx.road.name}`")
+        peak = args.get("rate_peak")
+        lanes = abs(target - lane_of(ctx, self.actor)) or 1
+        duration = lane_change_duration(
+            lanes, ctx.road.lane_width, phase=self.phase,
+            rate_peak=float(peak) if peak is not None else None,
+            profile=str(args.get("rate_profile", "none")))
+        lateral = self.controller.lateral
+        lateral.change_lane(self.state, target, offset=float(args.get("offset", 0.0)),
+                            duration=duration)
+        self.target_lane = target
+
+    def step(self) -> Status:
+        if self.controller.lateral.done(self.state):
+            return Status.SUCCESS
+        return Status.RUNNING
+
+
+@registry.action("vehicle", "follow_lane")
+class FollowLane(ActionBehaviour):
+    """``follow_lane(offset)``: keep the lane of the start at ``offset`` from its centre."""
+
+    finite = False
+
+    def start(self) -> None:
+        if "target" in self.args:
+            raise ActionError("follow_lane(target: lane) needs a road network; drive in a lane "
+                              "with the lane() modifier instead")
+        _hold(self)
+        self.controller.lateral.keep_lane(lane_of(self.ctx, self.actor),
+                                          offset=float(self.args.get("offset", 0.0)))
+
+
+# ---------------------------------------------------------------------- gaps
+
+
+class GapAction(ActionBehaviour):
+    """Gap and headway actions: the speed tracks the reference to hold a longitudinal gap.
+
+    ``space`` gaps are between bounding boxes (bumper to bumper), headways
+    between reference points; ``time`` forms divide by the actor's speed.
+    ``change_*`` actions end once the gap is within tolerance and the speeds
+    match; ``keep_*`` actions hold the gap they start with.
+    """
+
+    finite = True
+    bumpers = True  # space gap (bounding boxes) vs headway (reference points)
+    timed = False  # time gap/headway vs distance
+    keep = False
+
+    def start(self) -> None:
+        _hold(self)
+        args = self.args
+        ref = args.get("reference")
+        if not isinstance(ref, Actor):
+            raise ActionError("needs a `reference` actor")
+        self.reference = ref
+        direction = str(args.get("direction", "longitudinal"))
+        if direction in ("left", "right", "inside", "outside", "lateral"):
+            raise ActionError(f"lateral gaps (direction `{direction}`) are not supported")
+        me, other = self.state, self.ctx.states[ref.name]
+        gap = gap_between(me, other, bumpers=self.bumpers)
+        if direction in ("ahead", "behind"):
+            self.sign = 1.0 if direction == "behind" else -1.0
+        else:
+            self.sign = 1.0 if gap >= 0.0 else -1.0
+        if self.keep:
+            self.goal = self._measure(me, other)
+        else:
+            self.goal = float(args["target"])
+
+    def _measure(self, me, other) -> float:  # noqa: ANN001
+        gap = self.sign * gap_between(me, other, bumpers=self.bumpers)
+        if self.timed:
+            return gap / max(me.speed, 0.1)
+        return gap
+
+    def step(self) -> Status:
+        me, other = self.state, self.ctx.states[self.reference.name]
+        distance = self.sign * gap_between(me, other, bumpers=self.bumpers)
+        wanted = self.goal * max(me.speed, 0.1) if self.timed else self.goal
+        error = distance - wanted  # >0: too far apart
+        retarget(self.controller, other.speed + self.sign * GAP_GAIN * error)
+        if not self.keep and abs(error) < (0.5 if not self.timed else 0.1 * max(me.speed, 1.0)) \
+                and abs(me.speed - other.speed) < 0.3:
+            return Status.SUCCESS
+        return Status.RUNNING
+
+
+def _gap(name: str, *, bumpers: bool, timed: bool, keep: bool) -> type[GapAction]:
+    cls = type(f"{''.join(p.title() for p in name.split('_'))}", (GapAction,), {
+        "bumpers": bumpers, "timed": timed, "keep": keep, "finite": not keep,
+        "__doc__": f"``{name}``: see :class:`GapAction`."})
+    return registry.action("vehicle", name)(cls)
+
+
+ChangeSpaceGap = _gap("change_space_gap", bumpers=True, timed=False, keep=False)
+KeepSpaceGap = _gap("keep_space_gap", bumpers=True, timed=False, keep=True)
+ChangeTimeGap = _gap("change_time_gap", bumpers=True, timed=True, keep=False)
+KeepTimeGap = _gap("keep_time_gap", bumpers=True, timed=True, keep=True)
+ChangeSpaceHeadway = _gap("change_space_headway", bumpers=False, timed=False, keep=False)
+KeepSpaceHeadway = _gap("keep_space_headway", bumpers=False, timed=False, keep=True)
+ChangeTimeHeadway = _gap("change_time_headway", bumpers=False, timed=True, keep=False)
+KeepTimeHeadway = _gap("keep_time_headway", bumpers=False, timed=True, keep=True)

@@ -1,0 +1,334 @@
+"""Composites and decorators for OSC2 compositions: serial, parallel, one_of, duration, labels.
+
+* :class:`Serial` is a py_trees ``Sequence`` with memory: members run one
+  after the other; a member that finishes hands over to the next in the same
+  tick.
+* :class:`Parallel` starts all members together (``overlap: start``) and
+  joins on all: a member that has succeeded is not ticked again; the first
+  failure stops the others and fails the composition. Open-ended members
+  (``drive()`` without ``duration`` or ``until``) end with the others.
+* :class:`OneOf` is a race (the design paper's semantics): members run side
+  by side, the first to succeed wins and the others are stopped. A member
+  that fails drops out; the race fails only when every member has failed.
+* :class:`DurationBound` bounds its child in simulated time: it succeeds at
+  the upper bound (stopping the child), and holds an early success until the
+  lower bound.
+* :class:`Labelled` emits ``<label>.start`` and ``<label>.end`` events.
+* :class:`ScenarioRoot` runs the scenario's ``do`` and its ``on`` handlers;
+  its status is that of the ``do``.
+
+None of them read a clock: time comes from the execution context.
+
+Ticking: every node of the runner implements ``tick_status()`` (one tick, the
+py_trees lifecycle, returns the new status) and its ``tick()`` generator
+delegates to it, so ``tick_once()`` and ``BehaviourTree.tick()`` work as for
+any py_trees tree. Composites tick their children through :func:`tick_child`,
+which takes the fast path when the child has one and py_trees' generator
+otherwise (scripted test children). The generators yield only the node
+ticked, not its descendants: the runner attaches no tick visitors.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator, Sequence
+from typing import Any
+
+import py_trees
+from py_trees.common import ParallelPolicy, Status
+
+__all__ = [
+    "DurationBound", "Labelled", "OneOf", "Parallel", "ScenarioRoot", "Serial", "running_open",
+    "tick_child",
+]
+
+RUNNING, SUCCESS, FAILURE, INVALID = Status.RUNNING, Status.SUCCESS, Status.FAILURE, Status.INVALID
+Behaviour = py_trees.behaviour.Behaviour
+
+
+def tick_child(child: Behaviour) -> Status:
+    """Tick ``child`` once and return its status."""
+    fast = getattr(child, "tick_status", None)
+    if fast is not None:
+        return fast()
+    for _ in child.tick():
+        pass
+    return child.status
+
+
+def _reset(children: Sequence[Behaviour]) -> None:
+    for child in children:
+        if child.status != INVALID:
+            child.stop(INVALID)
+
+
+class _Fast:
+    """``tick()`` as a generator over ``tick_status()``."""
+
+    def tick(self) -> Iterator[Behaviour]:
+        self.tick_status()  # type: ignore[attr-defined]
+        yield self  # type: ignore[misc]
+
+
+class Serial(_Fast, py_trees.composites.Sequence):
+    """``serial``: members one after the other."""
+
+    def __init__(self, name: str, children: Sequence[Behaviour] = ()) -> None:
+        super().__init__(name, memory=True, children=list(children))
+        self._index = 0
+
+    def tick_status(self) -> Status:
+        children = self.children
+        if self.status != RUNNING:
+            self.current_child = children[0] if children else None
+            _reset(children)
+            self.initialise()
+            self._index = 0
+        for index in range(self._index, len(children)):
+            child = children[index]
+            self.current_child = child
+            self._index = index
+            status = tick_child(child)
+            if status == RUNNING:
+                self.status = RUNNING
+                return RUNNING
+            if status != SUCCESS:
+                self.stop(status)
+                return status
+        self.stop(SUCCESS)
+        return SUCCESS
+
+
+class Parallel(_Fast, py_trees.composites.Parallel):
+    """``parallel``: members start together; success when all have succeeded.
+
+    Members that cannot end on their own (open-ended actions such as
+    ``drive()`` without ``duration`` or ``until``) end with the others: once
+    every other member has succeeded and only open-ended ones still run, the
+    parallel succeeds.
+    """
+
+    def __init__(self, name: str, children: Sequence[Behaviour] = ()) -> None:
+        super().__init__(name, policy=ParallelPolicy.SuccessOnAll(synchronise=True),
+                         children=list(children))
+        self._open = [may_be_open(c) for c in self.children]
+
+    def tick_status(self) -> Status:
+        children = self.children
+        if self.status != RUNNING:
+            _reset(children)
+            self.current_child = None
+            self.initialise()
+        if not children:
+            self.stop(SUCCESS)
+            return SUCCESS
+        done = 0
+        for child in children:
+            if child.status == SUCCESS:
+                done += 1
+                continue
+            status = tick_child(child)
+            if status == FAILURE:
+                self.current_child = child
+                self.stop(FAILURE)
+                return FAILURE
+            if status == SUCCESS:
+                done += 1
+        if done == len(children):
+            self.stop(SUCCESS)
+            return SUCCESS
+        if done and all(c.status == SUCCESS or (o and running_open(c))
+                        for c, o in zip(children, self._open, strict=True)):
+            self.feedback_message = "open-ended members ended with the others"
+            self.stop(SUCCESS)
+            return SUCCESS
+        self.current_child = next((c for c in children if c.status == RUNNING), None)
+        self.status = RUNNING
+        return RUNNING
+
+
+class OneOf(_Fast, py_trees.composites.Parallel):
+    """``one_of`` as a race: the first member to succeed wins, the others are stopped."""
+
+    def __init__(self, name: str, children: Sequence[Behaviour] = ()) -> None:
+        super().__init__(name, policy=ParallelPolicy.SuccessOnOne(), children=list(children))
+        self.winner: Behaviour | None = None
+
+    def tick_status(self) -> Status:
+        children = self.children
+        if self.status != RUNNING:
+            _reset(children)
+            self.current_child = None
+            self.winner = None
+            self.initialise()
+        if not children:
+            self.stop(SUCCESS)
+            return SUCCESS
+        new_status = FAILURE
+        for child in children:
+            if child.status == FAILURE:
+                continue  # dropped out of the race
+            status = tick_child(child)
+            if status == SUCCESS:
+                self.winner = child
+                self.current_child = child
+                self.stop(SUCCESS)
+                return SUCCESS
+            if status == RUNNING:
+                new_status = RUNNING
+        if new_status == RUNNING:
+            self.current_child = next((c for c in children if c.status == RUNNING), None)
+            self.status = RUNNING
+            return RUNNING
+        self.stop(FAILURE)
+        return FAILURE
+
+    def stop(self, new_status: Status = INVALID) -> None:
+        for child in self.children:
+            if child.status == RUNNING:
+                child.stop(INVALID)
+        py_trees.composites.Composite.stop(self, new_status)
+
+
+def may_be_open(node: Behaviour) -> bool:
+    """Whether ``node`` has open-ended leaves outside bounds (see :func:`running_open`)."""
+    if getattr(node, "open_ended", False):
+        return True
+    if isinstance(node, py_trees.decorators.Decorator) and not isinstance(node, Labelled):
+        return False
+    return any(may_be_open(c) for c in node.children)
+
+
+def running_open(node: Behaviour) -> bool:
+    """True when ``node`` runs and everything running under it is open-ended.
+
+    Open-ended leaves carry ``open_ended = True`` (set by the compiler on
+    actions that never end on their own and have no ``duration``/``until``).
+    """
+    if node.status != RUNNING:
+        return False
+    if getattr(node, "open_ended", False):
+        return True
+    if isinstance(node, py_trees.decorators.Decorator) and not isinstance(node, Labelled):
+        return False
+    running = [c for c in node.children if c.status == RUNNING]
+    return bool(running) and all(running_open(c) for c in running)
+
+
+class DurationBound(_Fast, py_trees.decorators.Decorator):
+    """Bounds the child's phase to ``[low, high]`` seconds of simulated time.
+
+    ``bounds()`` is evaluated when the phase starts and returns ``(low, high)``
+    (either may be None). At ``high`` the child is stopped and the phase
+    succeeds; a child that succeeds before ``low`` is held (not re-ticked)
+    until ``low``. A failing child fails the phase.
+    """
+
+    def __init__(self, name: str, child: Behaviour,
+                 bounds: Callable[[], tuple[float | None, float | None]]) -> None:
+        super().__init__(name=name, child=child)
+        self.bounds = bounds
+        self.ctx: Any = None
+        self.low: float | None = None
+        self.high: float | None = None
+        self.start_tick = 0
+
+    def setup(self, **kwargs: Any) -> None:
+        self.ctx = kwargs.get("context", self.ctx)
+
+    def initialise(self) -> None:
+        self.low, self.high = self.bounds()
+        self.start_tick = self.ctx.tick
+
+    def elapsed(self) -> float:
+        return (self.ctx.tick - self.start_tick) * self.ctx.dt
+
+    def tick_status(self) -> Status:
+        if self.status != RUNNING:
+            self.initialise()
+        elapsed = self.elapsed()
+        eps = 1e-9
+        child = self.decorated
+        if self.high is not None and elapsed >= self.high - eps:
+            if child.status == RUNNING:
+                child.stop(INVALID)
+            self.feedback_message = f"ended at {elapsed:.3f} s"
+            self.stop(SUCCESS)
+            return SUCCESS
+        if child.status != SUCCESS or self.status != RUNNING:
+            status = tick_child(child)
+        else:
+            status = SUCCESS  # held: done early, waiting for the lower bound
+        if status == FAILURE:
+            self.stop(FAILURE)
+            return FAILURE
+        if status == SUCCESS and (self.low is None or elapsed >= self.low - eps):
+            self.stop(SUCCESS)
+            return SUCCESS
+        self.status = RUNNING
+        return RUNNING
+
+    def update(self) -> Status:  # pragma: no cover - tick_status() decides
+        return self.status
+
+
+class Labelled(_Fast, py_trees.decorators.Decorator):
+    """A labelled member: emits ``<label>.start`` when it starts and ``<label>.end`` on success."""
+
+    def __init__(self, name: str, child: Behaviour, label: str) -> None:
+        super().__init__(name=name, child=child)
+        self.label = label
+        self.ctx: Any = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.ctx = kwargs.get("context", self.ctx)
+
+    def tick_status(self) -> Status:
+        if self.status != RUNNING:
+            self.ctx.emit(f"{self.label}.start", kind="start")
+        status = tick_child(self.decorated)
+        if status == SUCCESS:
+            self.ctx.emit(f"{self.label}.end", kind="end")
+        elif status == FAILURE:
+            self.ctx.emit(f"{self.label}.fail", kind="fail")
+        if status != RUNNING:
+            self.stop(status)
+        self.status = status
+        return status
+
+    def update(self) -> Status:  # pragma: no cover - tick_status() decides
+        return self.decorated.status
+
+
+class ScenarioRoot(_Fast, py_trees.composites.Parallel):
+    """The scenario: its ``do`` (first child) and its ``on`` handlers (the rest).
+
+    Handlers run for as long as the ``do`` runs and are ticked first, so they
+    see this tick's edges; the root's status is the ``do``'s. The scenario's
+    predefined events ``start`` and ``end`` (or ``fail``) are emitted here.
+    """
+
+    def __init__(self, name: str, do: Behaviour, handlers: Sequence[Behaviour] = ()) -> None:
+        super().__init__(name, policy=ParallelPolicy.SuccessOnSelected(children=[do]),
+                         children=[do, *handlers])
+        self.do = do
+        self.ctx: Any = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.ctx = kwargs.get("context", self.ctx)
+
+    def tick_status(self) -> Status:
+        if self.status != RUNNING:
+            _reset(self.children)
+            if self.ctx is not None:
+                self.ctx.emit("start", kind="start")
+        for child in self.children[1:]:
+            tick_child(child)
+        status = tick_child(self.do)
+        if status == RUNNING:
+            self.status = RUNNING
+            return RUNNING
+        if self.ctx is not None:
+            end = status == SUCCESS
+            self.ctx.emit("end" if end else "fail", kind="end" if end else "fail")
+        self.stop(status)
+        return status

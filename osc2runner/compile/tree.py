@@ -1,0 +1,559 @@
+"""``compile_scenario``: one scenario of an analysed program -> a py_trees tree.
+
+One method per OSC2 construct. Every invocation is looked up in the method
+registry; what the registry lacks, or what the runner cannot evaluate, is
+collected as a :class:`~osc2runner.errors.Problem` with its location, and the
+run does not start. Expressions become closures over the execution context
+(:mod:`osc2runner.expressions`).
+
+A node's name is its OSC2 text and line, e.g. ``hero.drive() [34]``, so that
+``py_trees.display.unicode_tree`` shows the scenario as written.
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Any
+
+import py_trees
+
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.syntax import ast
+from osc2runner.actors import Actor
+from osc2runner.behaviours.base import ActionUse, InstantAction, Modifier, ModifierUse
+from osc2runner.compile.composites import (
+    DurationBound,
+    Labelled,
+    OneOf,
+    Parallel,
+    ScenarioRoot,
+    Serial,
+)
+from osc2runner.compile.conditions import (
+    CallDirective,
+    EdgeWatch,
+    ElapsedWatch,
+    Emit,
+    LevelWatch,
+    NamedEventWatch,
+    OnHandler,
+    Until,
+    Wait,
+    Watch,
+    emit_now,
+)
+from osc2runner.context import ExecutionContext
+from osc2runner.errors import CompileProblem, Problem
+from osc2runner.expressions import Closure, Scope, constant, is_constant
+from osc2runner.values import NoValue, scenario_fields
+
+__all__ = ["CompiledScenario", "compile_scenario", "node_name", "unparse"]
+
+log = logging.getLogger(__name__)
+
+PREDEFINED_EVENTS = ("start", "end", "fail")
+_OVERLAPS = ("start", "any")
+
+
+@dataclass
+class CompiledScenario:
+    """The tree and what the initializer and the runner need besides it."""
+
+    root: py_trees.behaviour.Behaviour
+    start_uses: list[ActionUse] = field(default_factory=list)
+    problems: list[Problem] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+
+def node_name(text: str, node: ast.Node) -> str:
+    """``text [line]``: a behaviour's display name."""
+    return f"{text} [{node.span.line}]"
+
+
+def unparse(node: ast.Node | None) -> str:
+    """OSC2 text of an expression, argument or event spec (for display names)."""
+    match node:
+        case None:
+            return ""
+        case ast.IntLiteral() | ast.FloatLiteral():
+            return node.text
+        case ast.PhysicalLiteral():
+            return f"{node.number_text}{node.unit.text}"
+        case ast.StringLiteral():
+            return f'"{node.value}"'
+        case ast.BoolLiteral():
+            return "true" if node.value else "false"
+        case ast.NameRef():
+            return str(node.name)
+        case ast.EnumRef():
+            return f"{node.enum}!{node.member.text}"
+        case ast.MemberAccess():
+            return f"{unparse(node.target)}.{node.member.text}"
+        case ast.Call():
+            return f"{unparse(node.callee)}({', '.join(unparse(a) for a in node.arguments)})"
+        case ast.Index():
+            return f"{unparse(node.target)}[{unparse(node.index)}]"
+        case ast.Unary():
+            return f"not {unparse(node.operand)}" if node.op == "not" else \
+                f"{node.op}{unparse(node.operand)}"
+        case ast.Binary():
+            return f"{unparse(node.left)} {node.op} {unparse(node.right)}"
+        case ast.Ternary():
+            return f"{unparse(node.condition)} ? {unparse(node.then)} : {unparse(node.otherwise)}"
+        case ast.ListLiteral():
+            return f"[{', '.join(unparse(i) for i in node.items)}]"
+        case ast.RangeLiteral():
+            return f"[{unparse(node.low)}..{unparse(node.high)}]"
+        case ast.PositionalArgument():
+            return unparse(node.value)
+        case ast.NamedArgument():
+            return f"{node.name.text}: {unparse(node.value)}"
+        case ast.EventArgument():
+            return "@" + ".".join(p.text for p in node.path)
+        case ast.EventReference():
+            text = "@" + ".".join(p.text for p in node.path)
+            if node.alias is not None:
+                text += f" as {node.alias.text}"
+            if node.condition is not None:
+                text += f" if {unparse(node.condition)}"
+            return text
+        case ast.EventCondition():
+            return unparse(node.expr)
+        case ast.Emit():
+            args = ", ".join(unparse(a) for a in node.arguments)
+            return f"emit {node.event.text}" + (f"({args})" if node.arguments else "")
+    return type(node).__name__
+
+
+def compile_scenario(ctx: ExecutionContext, scenario: Symbol,
+                     texts: dict[str, str] | None = None) -> CompiledScenario:
+    """Compile ``scenario`` against ``ctx``; problems are collected, not raised."""
+    import osc2runner.behaviours  # noqa: F401 - fills the registry
+
+    return TreeCompiler(ctx, texts or {}).scenario(scenario)
+
+
+class TreeCompiler:
+    """Walks one scenario's declarations and behaviour (see the module docstring)."""
+
+    def __init__(self, ctx: ExecutionContext, texts: dict[str, str]) -> None:
+        self.ctx = ctx
+        self.model = ctx.model
+        self.texts = texts
+        self.problems: list[Problem] = []
+        self.notes: list[str] = []
+        self.uses: dict[ast.Invocation, tuple[ActionUse, type]] = {}
+
+    # ---- helpers
+
+    def _problem(self, exc: CompileProblem) -> None:
+        self.problems.append(exc.problem)
+
+    def _text(self, node: ast.Node, limit: int = 60) -> str:
+        """The node's OSC2 text, shortened (display names, messages)."""
+        if isinstance(node, (ast.Expr, ast.Argument, ast.EventReference, ast.EventCondition,
+                             ast.Emit)):
+            piece = unparse(node)
+        else:
+            text = self.texts.get(node.span.uri)
+            if text is None:
+                return type(node).__name__
+            piece = " ".join(text[node.span.start:node.span.end].split())
+        return piece if len(piece) <= limit else piece[: limit - 3] + "..."
+
+    def _failed(self, name: str) -> py_trees.behaviour.Behaviour:
+        return py_trees.behaviours.Failure(name=name)
+
+    # ---- scenario
+
+    def scenario(self, scenario: Symbol) -> CompiledScenario:
+        ctx = self.ctx
+        for name in PREDEFINED_EVENTS:
+            ctx.declare_event(name)
+        for member in self.model.all_members(scenario):
+            if member.kind is SymbolKind.EVENT:
+                ctx.declare_event(member.name)
+        self._variables(scenario)
+        do: ast.DoDirective | None = None
+        handlers: list[py_trees.behaviour.Behaviour] = []
+        for sym in reversed(list(self.model.ancestors(scenario))):
+            decl = sym.decl
+            if not isinstance(decl, ast.StructuredDecl):
+                continue
+            for member in decl.members:
+                match member:
+                    case ast.DoDirective():
+                        do = member
+                    case ast.OnDirective():
+                        handler = self._guard(lambda m=member: self.on(m), member)
+                        if handler is not None:
+                            handlers.append(handler)
+                    case ast.Invocation():
+                        self._scenario_modifier(member)
+                    case ast.CoverageDecl():
+                        self.notes.append(f"line {member.span.line}: coverage "
+                                          f"({member.kind}) is not collected by the runner")
+        if do is None:
+            main: py_trees.behaviour.Behaviour = Serial("do (empty)")
+        else:
+            main = self._guard(lambda: self.do_member(do.member, Scope()), do) or \
+                self._failed("do")
+        root = ScenarioRoot(node_name(f"scenario {scenario.name}", scenario.decl or do or
+                                      ast.Missing(_no_span())), main, handlers)
+        return CompiledScenario(root, self._start_uses(do), self.problems, self.notes)
+
+    def _guard(self, build: Callable[[], Any], node: ast.Node) -> Any:
+        try:
+            return build()
+        except CompileProblem as exc:
+            self._problem(exc)
+            return None
+
+    def _variables(self, scenario: Symbol) -> None:
+        """``var`` fields whose initialiser is not a constant are evaluated at tick 0."""
+        ctx = self.ctx
+        for sym in scenario_fields(self.model, scenario):
+            if sym.kind is not SymbolKind.VARIABLE or sym.name in ctx.actors:
+                continue
+            try:
+                ctx.values.value(sym)
+                continue
+            except NoValue:
+                pass
+            decl = sym.decl
+            default = getattr(decl, "default", None)
+            if default is None:
+                continue
+            try:
+                fn = ctx.compile(default)
+            except CompileProblem as exc:
+                self._problem(exc)
+                continue
+            ctx.variable_symbols.add(sym)
+            ctx.variable_inits.append((sym.name, fn))
+
+    def _scenario_modifier(self, member: ast.Invocation) -> None:
+        sym = self.model.references.get(member.name)
+        if sym is not None and sym.kind is SymbolKind.MODIFIER and \
+                self.ctx.registry.find_modifier(self.model, sym) is not None and \
+                sym.actor is not None and sym.actor.name == "map":
+            return  # the road is chosen from it before compiling
+        self._problem(CompileProblem(
+            f"`{self._text(member)}`: modifiers applied to the whole scenario are not supported "
+            "by the runner", member))
+
+    # ---- behaviour
+
+    def do_member(self, member: ast.DoMember, scope: Scope) -> py_trees.behaviour.Behaviour:
+        body = member.body
+        node: py_trees.behaviour.Behaviour
+        try:
+            match body:
+                case ast.Composition():
+                    node = self.composition(body, scope)
+                case ast.Invocation():
+                    node = self.invocation(body, scope)
+                case ast.Wait():
+                    node = self.wait(body, scope)
+                case ast.Emit():
+                    node = self.emit(body, scope)
+                case ast.CallDirective():
+                    node = CallDirective(node_name(f"call {self._text(body.call)}", body),
+                                         self.ctx.compile(body.call, scope))
+                case _:
+                    raise CompileProblem("the runner cannot run this member", body)
+        except CompileProblem as exc:
+            self._problem(exc)
+            node = self._failed(node_name(self._text(body), body))
+        if member.label is not None and not member.label.missing:
+            label = member.label.text
+            for suffix in PREDEFINED_EVENTS:
+                self.ctx.declare_event(f"{label}.{suffix}")
+            node = Labelled(node_name(f"{label}:", member), node, label)
+        return node
+
+    def composition(self, comp: ast.Composition, scope: Scope) -> py_trees.behaviour.Behaviour:
+        args = self._named(comp.arguments, ("duration", "overlap", "start_to_start",
+                                            "end_to_end"), comp)
+        children = [self.do_member(m, scope) for m in comp.members]
+        name = node_name(comp.op, comp)
+        node: py_trees.behaviour.Behaviour
+        if comp.op == "serial":
+            node = Serial(name, children)
+        elif comp.op == "parallel":
+            overlap = args.get("overlap")
+            if overlap is not None:
+                value = self.ctx.compiler.constant_value(overlap, scope)
+                if value not in _OVERLAPS:
+                    raise CompileProblem(
+                        f"parallel(overlap: {value}) is not supported; the runner starts all "
+                        "members together (overlap: start)", overlap)
+            for key in ("start_to_start", "end_to_end"):
+                if key in args:
+                    raise CompileProblem(f"parallel({key}: ...) is not supported", args[key])
+            node = Parallel(name, children)
+        elif comp.op == "one_of":
+            node = OneOf(name, children)
+        else:
+            raise CompileProblem(f"unknown composition `{comp.op}`", comp)
+        untils = []
+        for wm in comp.with_members:
+            if isinstance(wm, ast.Until):
+                untils.append(wm)
+            elif isinstance(wm, ast.Invocation):
+                raise CompileProblem(f"`{self._text(wm)}`: modifiers on a composition are not "
+                                     "supported by the runner", wm)
+            else:
+                self.notes.append(f"line {wm.span.line}: constraint on a composition is left "
+                                  "to the solver")
+        return self._wrap(node, comp, args.get("duration"), untils, scope)
+
+    def _named(self, arguments: tuple[ast.Argument, ...], allowed: tuple[str, ...],
+               owner: ast.Node) -> dict[str, ast.Node]:
+        result: dict[str, ast.Node] = {}
+        for arg in arguments:
+            if isinstance(arg, ast.NamedArgument) and arg.name.text in allowed:
+                result[arg.name.text] = arg.value
+            elif isinstance(arg, ast.PositionalArgument) and "duration" in allowed and \
+                    "duration" not in result and not result:
+                result["duration"] = arg.value
+            else:
+                raise CompileProblem("unsupported argument of a composition", arg)
+        return result
+
+    def _wrap(self, node: py_trees.behaviour.Behaviour, owner: ast.Node,
+              duration: ast.Node | None, untils: list[ast.Until],
+              scope: Scope) -> py_trees.behaviour.Behaviour:
+        for until in untils:
+            watch = self.watch(until.event, scope)
+            node = Until(node_name(f"until {self._text(until.event)}", until), node, watch)
+        if duration is not None:
+            bounds = self._bounds(self.ctx.compile(duration, scope))
+            node = DurationBound(node_name(f"duration: {self._text(duration)}", duration), node,
+                                 bounds)
+        return node
+
+    @staticmethod
+    def _bounds(fn: Closure) -> Callable[[], tuple[float | None, float | None]]:
+        def bounds() -> tuple[float | None, float | None]:
+            value = fn()
+            if isinstance(value, tuple):
+                lo, hi = sorted(float(v) for v in value)
+                return lo, hi
+            return float(value), float(value)
+
+        return bounds
+
+    # ---- invocations
+
+    def invocation(self, inv: ast.Invocation, scope: Scope) -> py_trees.behaviour.Behaviour:
+        sym = self.model.references.get(inv.name)
+        if sym is None:
+            raise CompileProblem(f"`{inv.name.text}` is not a behaviour the runner knows", inv)
+        if sym.kind is SymbolKind.SCENARIO:
+            raise CompileProblem(f"invoking the scenario `{sym.name}` from another scenario is "
+                                 "not supported by the runner yet", inv)
+        if sym.kind is not SymbolKind.ACTION:
+            raise CompileProblem(f"`{inv.name.text}` is a {sym.kind.value}, not an action", inv)
+        if inv.actor is None:
+            raise CompileProblem(f"`{inv.name.text}()` needs an actor (`hero.{inv.name.text}()`)",
+                                 inv)
+        actor = self.ctx.compiler.constant_value(inv.actor, scope)
+        if not isinstance(actor, Actor):
+            raise CompileProblem("the actor of an action must be an actor field of the "
+                                 "scenario", inv.actor)
+        entry = self.ctx.registry.find_action(self.model, actor.type, sym)
+        label = f"{actor.type.name}.{sym.name}"
+        if entry is None:
+            raise CompileProblem(f"action `{label}` has no runner behaviour (see "
+                                 "docs/coverage.md for what the runner supports)", inv.name)
+        inner = scope.child(actor=constant(actor))
+        arguments, duration = self._arguments(sym, inv.arguments, inner, inv, allow_duration=True)
+        modifiers: list[Modifier] = []
+        untils: list[ast.Until] = []
+        for wm in inv.with_members:
+            if isinstance(wm, ast.Invocation):
+                modifiers.append(self.modifier(wm, actor, inner))
+            elif isinstance(wm, ast.Until):
+                untils.append(wm)
+            else:
+                self.notes.append(f"line {wm.span.line}: `{self._text(wm)}` is left to the "
+                                  "solver (not enforced at run time)")
+        use = ActionUse(inv, sym, actor, arguments, modifiers,
+                        self._bounds(self.ctx.compile(duration, inner)) if duration else None)
+        cls = entry.target
+        use.behaviour = cls
+        behaviour = cls(node_name(f"{actor.name}.{sym.name}()", inv), use)
+        behaviour.open_ended = not cls.finite and duration is None and not untils
+        self.uses[inv] = (use, cls)
+        return self._wrap(behaviour, inv, duration, untils, inner)
+
+    def _arguments(self, sym: Symbol, arguments: tuple[ast.Argument, ...], scope: Scope,
+                   owner: ast.Node, allow_duration: bool = False
+                   ) -> tuple[dict[str, Closure], ast.Node | None]:
+        params = [p.name for p in self.model.parameters(sym)]
+        result: dict[str, Closure] = {}
+        duration: ast.Node | None = None
+        position = 0
+        for arg in arguments:
+            if isinstance(arg, ast.NamedArgument):
+                key = arg.name.text
+                if key == "duration" and allow_duration and key not in params:
+                    duration = arg.value
+                    continue
+                result[key] = self.ctx.compile(arg.value, scope)
+            elif isinstance(arg, ast.PositionalArgument):
+                if position >= len(params):
+                    raise CompileProblem(f"too many arguments for `{sym.name}`", arg)
+                result[params[position]] = self.ctx.compile(arg.value, scope)
+                position += 1
+            else:
+                raise CompileProblem("event arguments are not supported here", arg)
+        return result, duration
+
+    def modifier(self, wm: ast.Invocation, actor: Actor, scope: Scope) -> Modifier:
+        sym = self.model.references.get(wm.name)
+        if sym is None or sym.kind is not SymbolKind.MODIFIER:
+            raise CompileProblem(f"`{wm.name.text}` is not a modifier the runner knows", wm)
+        entry = self.ctx.registry.find_modifier(self.model, sym)
+        if entry is None:
+            raise CompileProblem(f"modifier `{sym.qualified_name}` has no runner behaviour (see "
+                                 "docs/coverage.md for what the runner supports)", wm.name)
+        arguments, _ = self._arguments(sym, wm.arguments, scope, wm)
+        arguments.setdefault("at", constant("all"))
+        if wm.with_members:
+            self.notes.append(f"line {wm.span.line}: the with: block of a modifier is ignored")
+        return entry.target(ModifierUse(wm, sym, arguments, actor))
+
+    # ---- events
+
+    def wait(self, wait: ast.Wait, scope: Scope) -> py_trees.behaviour.Behaviour:
+        return Wait(node_name(f"wait {self._text(wait.event)}", wait),
+                    self.watch(wait.event, scope))
+
+    def emit(self, emit: ast.Emit, scope: Scope) -> py_trees.behaviour.Behaviour:
+        name, key, args = self._emission(emit, scope)
+        return Emit(node_name(self._text(emit), emit), name, key, args)
+
+    def _emission(self, emit: ast.Emit, scope: Scope) -> tuple[str, str, dict[str, Closure]]:
+        name = emit.event.text
+        key = self.ctx.declare_event(name)
+        sym = self.model.references.get(emit.event)
+        params = [p.name for p in sym.parameters] if sym is not None else []
+        args: dict[str, Closure] = {}
+        position = 0
+        for arg in emit.arguments:
+            if isinstance(arg, ast.NamedArgument):
+                args[arg.name.text] = self.ctx.compile(arg.value, scope)
+            elif isinstance(arg, ast.PositionalArgument):
+                if position >= len(params):
+                    raise CompileProblem(f"too many arguments for event `{name}`", arg)
+                args[params[position]] = self.ctx.compile(arg.value, scope)
+                position += 1
+        return name, key, args
+
+    def on(self, on: ast.OnDirective) -> py_trees.behaviour.Behaviour:
+        scope = Scope()
+        watch = self.watch(on.event, scope)
+        members: list[Callable[[Any], None]] = []
+        keys: list[str] = []
+        ctx = self.ctx
+        for member in on.members:
+            if isinstance(member, ast.Emit):
+                name, key, args = self._emission(member, scope)
+                keys.append(key)
+                members.append(lambda h, n=name, k=key, a=args: emit_now(ctx, h.blackboard, n,
+                                                                         k, a))
+            elif isinstance(member, ast.CallDirective):
+                call = ctx.compile(member.call, scope)
+                members.append(lambda h, c=call: c())
+        return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
+
+    def watch(self, spec: ast.Node, scope: Scope) -> Watch:
+        """The watch of an event spec (see :mod:`osc2runner.compile.conditions`)."""
+        ctx = self.ctx
+        if isinstance(spec, ast.EventReference):
+            name = ".".join(p.text for p in spec.path)
+            condition = None
+            cell: list[Any] | None = None
+            if spec.condition is not None:
+                inner = scope
+                if spec.alias is not None:
+                    cell = [None]
+                    inner = scope.child(**{spec.alias.text: lambda c=cell: c[0]})
+                condition = ctx.compile(spec.condition, inner)
+            return NamedEventWatch(ctx, name, condition, cell)
+        if isinstance(spec, ast.EventCondition):
+            expr = spec.expr
+            if isinstance(expr, ast.Call) and isinstance(expr.callee, ast.NameRef) and \
+                    self.model.references.get(expr.callee.name.name) is None:
+                fname = expr.callee.name.name.text
+                if fname in ("rise", "fall", "elapsed", "every"):
+                    return self._event_function(fname, expr, scope)
+            return LevelWatch(ctx.compile(expr, scope))
+        raise CompileProblem("unsupported event", spec)
+
+    def _event_function(self, fname: str, call: ast.Call, scope: Scope) -> Watch:
+        ctx = self.ctx
+        positional = [a.value for a in call.arguments if isinstance(a, ast.PositionalArgument)]
+        named = {a.name.text: a.value for a in call.arguments if isinstance(a, ast.NamedArgument)}
+        first = positional[0] if positional else next(iter(named.values()), None)
+        if first is None:
+            raise CompileProblem(f"`{fname}` needs an argument", call)
+        if fname in ("rise", "fall"):
+            return EdgeWatch(ctx.edge(ctx.compile(first, scope), fname == "rise", call))
+        if fname == "elapsed":
+            return ElapsedWatch(ctx, ctx.compile(first, scope))
+        period = ctx.compile(first, scope)
+        offset_node = named.get("offset") or (positional[1] if len(positional) > 1 else None)
+        offset = ctx.compile(offset_node, scope) if offset_node is not None else None
+        if not is_constant(period) or (offset is not None and not is_constant(offset)):
+            raise CompileProblem("every() needs constant durations", call)
+        try:
+            detector = ctx.every(float(period()), float(offset()) if offset else None)
+        except ValueError as exc:
+            raise CompileProblem(str(exc), call) from None
+        return EdgeWatch(detector)
+
+    # ---- the phases that start the scenario
+
+    def _start_uses(self, do: ast.DoDirective | None) -> list[ActionUse]:
+        if do is None:
+            return []
+        found: list[ActionUse] = []
+        self._starts(do.member.body, found)
+        return found
+
+    def _starts(self, body: ast.Node, found: list[ActionUse]) -> bool:
+        """Collect the invocations starting at time 0; True when ``body`` takes no time."""
+        match body:
+            case ast.Invocation():
+                entry = self.uses.get(body)
+                if entry is None:
+                    return False
+                use, cls = entry
+                found.append(use)
+                return issubclass(cls, InstantAction) and use.duration is None
+            case ast.Composition():
+                if any(isinstance(a, ast.NamedArgument) and a.name.text == "duration"
+                       for a in body.arguments):
+                    for m in body.members[:1] if body.op == "serial" else body.members:
+                        self._starts(m.body, found)
+                    return False
+                if body.op == "serial":
+                    for m in body.members:
+                        if not self._starts(m.body, found):
+                            return False
+                    return True
+                return all([self._starts(m.body, found) for m in body.members])
+            case ast.Emit() | ast.CallDirective():
+                return True
+        return False
+
+
+def _no_span() -> Any:
+    from osc2check.source import Span
+
+    return Span("", 0, 0, 0, 0)

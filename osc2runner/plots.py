@@ -1,0 +1,154 @@
+"""PNG plots of a run, of the kinds the design paper shows.
+
+* ``speed_throttle.png``: speed, and throttle and brake, over time;
+* ``accel_jerk.png``: acceleration and the 1 s-filtered jerk over time;
+* ``braking.png``: speed against the distance travelled since each brake
+  onset (when the run has hard or comfortable stops);
+* ``gap_steering.png``: the longitudinal gap from the first vehicle to each
+  other actor (projected on its heading), and the steering inputs.
+
+Emitted events are marked on the time axes. Figures are drawn with
+matplotlib's Agg canvas directly (no pyplot state, no display needed).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+__all__ = ["brake_onsets", "plot_run"]
+
+KPH = 3.6
+
+
+def _figure(rows: int) -> tuple[Figure, list[Any]]:
+    fig = Figure(figsize=(10, 3.2 * rows), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = [fig.add_subplot(rows, 1, i + 1) for i in range(rows)]
+    return fig, axes
+
+
+def _mark_events(ax: Any, result: Any) -> None:
+    for e in result.events:
+        if e.kind == "emit":
+            ax.axvline(e.time, color="0.6", lw=0.8, ls="--")
+            ax.annotate(e.name, (e.time, 1.0), xycoords=("data", "axes fraction"),
+                        rotation=90, va="top", ha="right", fontsize=7, color="0.4")
+
+
+def _moving(result: Any) -> dict[str, dict[str, np.ndarray]]:
+    return {n: ch for n, ch in result.telemetry.items()
+            if not np.all(np.isnan(ch["throttle"])) or np.any(ch["speed"] != 0.0)}
+
+
+def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[int, int]]:
+    """``(start, end)`` tick indices of each stop: brake applied after ``quiet`` s without,
+    while moving, until standstill."""
+    brake, speed, time = ch["brake"], ch["speed"], ch["time"]
+    segments = []
+    last_free = 0.0
+    i, n = 0, len(time)
+    while i < n:
+        b = brake[i]
+        if not (b > 0.02) or math.isnan(b):
+            last_free = time[i]
+            i += 1
+            continue
+        if time[i] - last_free > 0.2 or speed[i] < 1.0 or (
+                segments and time[i] - time[segments[-1][1]] < quiet):
+            i += 1
+            continue
+        start = max(i - 1, 0)
+        j = i
+        while j < n - 1 and speed[j] > 0.05:
+            j += 1
+        if speed[j] <= 0.05:
+            segments.append((start, j))
+        i = j + 1
+    return segments
+
+
+def plot_run(result: Any, out: Path) -> list[Path]:
+    """Write the plots of ``result`` into ``out``; returns the files written."""
+    out.mkdir(parents=True, exist_ok=True)
+    actors = _moving(result)
+    written: list[Path] = []
+    if not actors:
+        return written
+    title = f"{result.metadata['scenario']}: {result.outcome.status}"
+
+    fig, (ax1, ax2) = _figure(2)
+    for name, ch in actors.items():
+        ax1.plot(ch["time"], ch["speed"] * KPH, label=name)
+        if not np.all(np.isnan(ch["throttle"])):
+            line, = ax2.plot(ch["time"], ch["throttle"], label=f"{name} throttle")
+            ax2.plot(ch["time"], -ch["brake"], ls=":", color=line.get_color(),
+                     label=f"{name} brake (down)")
+    ax1.set(ylabel="speed (kph)", title=title)
+    ax2.set(ylabel="throttle / -brake", xlabel="time (s)")
+    for ax in (ax1, ax2):
+        _mark_events(ax, result)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower right")
+    written.append(_save(fig, out / "speed_throttle.png"))
+
+    fig, (ax1, ax2) = _figure(2)
+    for name, ch in actors.items():
+        ax1.plot(ch["time"], ch["accel"], label=name, lw=0.9)
+        ax2.plot(ch["time"], ch["jerk"], label=name, lw=0.9)
+    ax1.set(ylabel="acceleration (m/s²)", title=f"{title}: acceleration (50 ms windows)")
+    ax2.set(ylabel="jerk, 1 s filter (m/s³)", xlabel="time (s)")
+    for ax in (ax1, ax2):
+        _mark_events(ax, result)
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8, loc="lower right")
+    written.append(_save(fig, out / "accel_jerk.png"))
+
+    stops = [(name, seg) for name, ch in actors.items() for seg in brake_onsets(ch)]
+    if stops:
+        fig, (ax,) = _figure(1)
+        for name, (a, b) in stops:
+            ch = actors[name]
+            x, y = ch["x"][a:b + 1], ch["y"][a:b + 1]
+            distance = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))))
+            mu = ch["friction"][a]
+            ax.plot(distance, ch["speed"][a:b + 1] * KPH,
+                    label=f"{name} at {ch['time'][a]:.1f} s, µ {mu:.2g}: {distance[-1]:.1f} m")
+        ax.set(xlabel="distance from brake onset (m)", ylabel="speed (kph)",
+               title=f"{title}: stopping")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=8)
+        written.append(_save(fig, out / "braking.png"))
+
+    names = list(actors)
+    if len(result.telemetry) > 1:
+        fig, (ax1, ax2) = _figure(2)
+        ref = result.telemetry[names[0]]
+        for name, ch in result.telemetry.items():
+            if name == names[0]:
+                continue
+            n = min(len(ch["x"]), len(ref["x"]))
+            gap = (ch["x"][:n] - ref["x"][:n]) * np.cos(ref["yaw"][:n]) + \
+                (ch["y"][:n] - ref["y"][:n]) * np.sin(ref["yaw"][:n])
+            ax1.plot(ref["time"][:n], gap, label=f"{name} ahead of {names[0]}")
+        for name, ch in actors.items():
+            if not np.all(np.isnan(ch["steer"])):
+                ax2.plot(ch["time"], ch["steer"], label=name)
+        ax1.set(ylabel="longitudinal gap (m)", title=f"{title}: gap and steering")
+        ax2.set(ylabel="steer (fraction of max)", xlabel="time (s)")
+        for ax in (ax1, ax2):
+            _mark_events(ax, result)
+            ax.grid(alpha=0.3)
+            ax.legend(fontsize=8, loc="lower right")
+        written.append(_save(fig, out / "gap_steering.png"))
+    return written
+
+
+def _save(fig: Figure, path: Path) -> Path:
+    fig.savefig(path)
+    return path

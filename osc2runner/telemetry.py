@@ -1,0 +1,150 @@
+"""Telemetry: what every actor did at every control tick, the event log, and the run's metadata.
+
+Per actor per tick (SI units, world frame): ``tick, time, x, y, yaw, speed,
+accel, jerk, throttle, brake, steer, lane, friction``. ``accel`` is the
+change of speed over the last tick (50 ms by default); ``jerk`` is the jerk
+averaged over the last second, i.e. ``(accel(t) - accel(t - 1 s)) / 1 s``
+(over the time since the start during the first second). ``lane`` is the road
+lane (1 = rightmost, NaN off the road); ``throttle``/``brake``/``steer``
+(NaN for actors without them) are the applied inputs; ``lateral_error`` is
+the lateral controller's cross-track error of the front axle from its path
+(m, positive: left of the path; NaN without one).
+
+Files (``write``):
+
+* ``telemetry.csv``: one row per actor and tick, columns as above after
+  ``actor``; floats written with ``repr`` (exact, so identical runs give
+  identical bytes);
+* ``events.csv``: the event log (``tick, time, kind, name, actors, detail``);
+* ``run.json``: metadata (versions, seed, steps, parameter values, actors,
+  outcome) and the event log.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from collections.abc import Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from osc2runner.context import LogRecord
+from osc2runner.sim import ActorState
+
+__all__ = ["CHANNELS", "Recorder", "write"]
+
+CHANNELS = ("tick", "time", "x", "y", "yaw", "speed", "accel", "jerk", "throttle", "brake",
+            "steer", "lane", "friction", "lateral_error")
+JERK_WINDOW = 1.0  # s
+
+
+class Recorder:
+    """Collects one row per actor per tick (see the module docstring).
+
+    Parameters:
+        names: the actors to record, in order.
+        dt: control period in seconds (for the jerk window).
+    """
+
+    def __init__(self, names: Iterable[str], dt: float, jerk_window: float = JERK_WINDOW) -> None:
+        self.names = list(names)
+        self.dt = dt
+        self.window = max(1, round(jerk_window / dt))
+        self.rows: dict[str, list[tuple[float, ...]]] = {n: [] for n in self.names}
+        self._accel: dict[str, list[float]] = {n: [] for n in self.names}
+
+    def record(self, states: Mapping[str, ActorState], tick: int, time: float,
+               controllers: Mapping[str, Any] | None = None) -> None:
+        """Add this tick's row of every actor (``controllers`` give the path errors)."""
+        window = self.window
+        controllers = controllers or {}
+        for name in self.names:
+            s = states[name]
+            history = self._accel[name]
+            history.append(s.accel)
+            n = len(history)
+            if n > 1:
+                back = min(window, n - 1)
+                jerk = (s.accel - history[n - 1 - back]) / (back * self.dt)
+            else:
+                jerk = 0.0
+            if n > window + 1:
+                del history[0]
+            lane = float(s.lane) if s.lane is not None else math.nan
+            lateral = getattr(controllers.get(name), "lateral", None)
+            error = lateral.error if lateral is not None and lateral.path is not None \
+                else math.nan
+            self.rows[name].append((tick, time, s.x, s.y, s.yaw, s.speed, s.accel, jerk,
+                                    s.throttle, s.brake, s.steer, lane, s.friction, error))
+
+    @property
+    def ticks(self) -> int:
+        rows = next(iter(self.rows.values()), [])
+        return len(rows)
+
+    def arrays(self) -> dict[str, dict[str, np.ndarray]]:
+        """Per actor, per channel: a numpy array over the recorded ticks."""
+        result: dict[str, dict[str, np.ndarray]] = {}
+        for name, rows in self.rows.items():
+            table = np.array(rows, dtype=float).reshape(-1, len(CHANNELS))
+            channels = {c: table[:, i].copy() for i, c in enumerate(CHANNELS)}
+            channels["tick"] = channels["tick"].astype(np.int64)
+            result[name] = channels
+        return result
+
+
+def _number(value: float) -> str:
+    if isinstance(value, (int, np.integer)):
+        return str(int(value))
+    if math.isnan(value):
+        return "nan"
+    return repr(float(value))
+
+
+def write_telemetry(path: Path, recorder: Recorder) -> None:
+    with path.open("w", newline="", encoding="utf-8") as f:
+        f.write("actor," + ",".join(CHANNELS) + "\n")
+        for name, rows in recorder.rows.items():
+            for row in rows:
+                f.write(name + "," + str(int(row[0])) + "," +
+                        ",".join(_number(v) for v in row[1:]) + "\n")
+
+
+def write_events(path: Path, records: Iterable[LogRecord]) -> None:
+    with path.open("w", newline="", encoding="utf-8") as f:
+        writer = csv.writer(f, lineterminator="\n")
+        writer.writerow(["tick", "time", "kind", "name", "actors", "detail"])
+        for r in records:
+            writer.writerow([r.tick, repr(r.time), r.kind, r.name, " ".join(r.actors), r.detail])
+
+
+def event_dicts(records: Iterable[LogRecord]) -> list[dict[str, Any]]:
+    return [{"tick": r.tick, "time": r.time, "kind": r.kind, "name": r.name,
+             "actors": list(r.actors), "detail": r.detail} for r in records]
+
+
+def write(out: Path, recorder: Recorder, records: list[LogRecord],
+          metadata: dict[str, Any]) -> list[Path]:
+    """Write ``telemetry.csv``, ``events.csv`` and ``run.json`` into ``out``; returns the paths."""
+    out.mkdir(parents=True, exist_ok=True)
+    telemetry = out / "telemetry.csv"
+    events = out / "events.csv"
+    meta = out / "run.json"
+    write_telemetry(telemetry, recorder)
+    write_events(events, records)
+    document = dict(metadata)
+    document["events"] = event_dicts(records)
+    meta.write_text(json.dumps(document, indent=2, default=_json_default) + "\n",
+                    encoding="utf-8")
+    return [telemetry, events, meta]
+
+
+def _json_default(value: object) -> object:
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return str(value)
+    return str(value)

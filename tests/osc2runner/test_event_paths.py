@@ -1,0 +1,28 @@
+"""The event detector's plain-Python path (few actors) agrees with its numpy path."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from osc2runner.sim.events import EventDetector
+
+
+def test_small_and_vector_paths_report_the_same_events():
+    rng = np.random.default_rng(3)
+    names = ["a", "b", "c", "d"]
+    half = np.array([[2.25, 0.9], [6.0, 1.25], [2.25, 0.9], [0.5, 0.5]])
+    static = np.array([False, False, False, True])
+    small = EventDetector(names, half, static, (0.0, 100.0, 0.0, 10.5))
+    vector = EventDetector(names, half, static, (0.0, 100.0, 0.0, 10.5))
+    vector._small = False
+    assert small._small
+    seen = 0
+    for tick in range(400):
+        centre = rng.uniform([-5.0, -2.0], [105.0, 12.5], size=(4, 2))
+        centre[:3] = centre[3] + rng.normal(0.0, 6.0, size=(3, 2))  # crowd around the box
+        yaw = rng.uniform(-0.5, 0.5, size=4)
+        a = small.detect(tick, 0.05 * tick, centre, yaw)
+        b = vector.detect(tick, 0.05 * tick, centre, yaw)
+        assert a == b
+        seen += len(a)
+    assert seen > 50

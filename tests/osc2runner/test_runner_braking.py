@@ -1,0 +1,90 @@
+"""Braking physics through the runner: ``examples/braking_friction.osc`` (sedan from 80 kph).
+
+One run (module fixture) with three stops: dry ``asap``, dry ``smooth``,
+friction 0.4 ``asap``. A stop starts at the tick its ``change_speed`` starts
+and ends at standstill. Decelerations are the telemetry's 50 ms windows.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from osc2runner import run
+from osc2runner.runner import RunResult
+
+ROOT = Path(__file__).resolve().parents[2]
+G = 9.81
+V80 = 80 / 3.6
+
+
+@pytest.fixture(scope="module")
+def braking() -> RunResult:
+    result = run(ROOT / "examples" / "braking_friction.osc", duration=120.0)
+    assert result.outcome.status == "success", result.outcome.reason
+    return result
+
+
+def _stops(result: RunResult) -> list[tuple[int, int]]:
+    hero = result.telemetry["hero"]
+    stops = []
+    for onset in result.event_ticks("start", "hero.change_speed"):
+        end = onset + int(np.flatnonzero(hero["speed"][onset:] < 0.01)[0])
+        stops.append((onset, end))
+    assert len(stops) == 3
+    return stops
+
+
+def _distance(result: RunResult, stop: tuple[int, int]) -> float:
+    x = result.telemetry["hero"]["x"]
+    return float(x[stop[1]] - x[stop[0]])
+
+
+def test_every_stop_starts_from_80_kph(braking):
+    speed = braking.telemetry["hero"]["speed"]
+    for onset, _ in _stops(braking):
+        assert speed[onset] == pytest.approx(V80, abs=0.3 / 3.6)
+
+
+def test_dry_asap_stopping_distance(braking):
+    dry = _stops(braking)[0]
+    assert 25.2 <= _distance(braking, dry) <= 30.5
+
+
+def test_dry_smooth_plateau_and_distance(braking):
+    onset, end = _stops(braking)[1]
+    accel = braking.telemetry["hero"]["accel"][onset:end + 1]
+    n = len(accel)
+    plateau = -accel[n // 4: 3 * n // 4]
+    assert np.all(np.abs(plateau - 2.5) <= 0.15)
+    assert _distance(braking, (onset, end)) == pytest.approx(V80**2 / (2 * 2.5), rel=0.05)
+
+
+def test_wet_asap_peak_deceleration_and_distance(braking):
+    onset, end = _stops(braking)[2]
+    hero = braking.telemetry["hero"]
+    assert hero["friction"][onset] == pytest.approx(0.4)
+    peak = -hero["accel"][onset:end + 1].min()
+    assert 3.5 <= peak <= 4.3
+    assert _distance(braking, (onset, end)) == pytest.approx(V80**2 / (2 * 0.4 * G), rel=0.15)
+
+
+def test_acceleration_to_80_kph_is_slower_on_the_wet_road(braking):
+    hero = braking.telemetry["hero"]
+    drives = braking.event_ticks("start", "hero.drive")
+    assert len(drives) == 3
+    times = []
+    for start in (drives[0], drives[2]):  # dry, then friction 0.4
+        reached = start + int(np.flatnonzero(hero["speed"][start:] >= 0.99 * V80)[0])
+        times.append(hero["time"][reached] - hero["time"][start])
+    dry, wet = times
+    assert dry < 10.0
+    assert wet > 1.5 * dry
+
+
+def test_filtered_jerk_is_bounded_while_braking_smoothly(braking):
+    onset, end = _stops(braking)[1]
+    jerk = braking.telemetry["hero"]["jerk"][onset + 20:end - 20]
+    assert np.all(np.abs(jerk) <= 3.0)  # a 1 s average of a 10 m/s³-limited profile
