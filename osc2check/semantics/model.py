@@ -262,7 +262,15 @@ class Model:
                             yield sym
 
     def reference(self, name: ast.Name) -> Symbol | None:
-        return self.references.get(name)
+        """What ``name`` refers to; names in the library resolve through the base model."""
+        for table in self._tables("references"):
+            if name in table:
+                return table[name]
+        return None
 
     def type_of(self, node: ast.Node) -> Type | None:
-        return self.expr_types.get(node)
+        """The type of an expression node, in this program or in the library."""
+        for table in self._tables("expr_types"):
+            if node in table:
+                return table[node]
+        return None

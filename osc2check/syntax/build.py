@@ -225,8 +225,7 @@ class Builder(Transformer):
 
     def call(self, c):
         args = c[1].items if isinstance(c[1], _Group) else ()
-        end = c[1].span if isinstance(c[1], _Group) and c[1].span else c[0].span
-        return ast.Call(_cover([c[0], end]), c[0], args)
+        return ast.Call(_cover(c), c[0], args)
 
     def index(self, c):
         return ast.Index(_cover(c), c[0], c[1])
@@ -248,7 +247,7 @@ class Builder(Transformer):
         return ast.ListLiteral(_cover(c), items)
 
     def range_literal(self, c):
-        return ast.RangeLiteral(_cover(c), c[0], c[-1])
+        return ast.RangeLiteral(_cover(c), c[1], c[3])
 
     def arguments(self, c):
         return _Group("args", tuple(c), _cover(c))
@@ -328,11 +327,13 @@ class Builder(Transformer):
 
     def keep_stmt(self, c):
         strength = "default" if _has(c, "DEFAULT") else "hard"
-        expr = c[-1] if isinstance(c[-1], ast.Node) else ast.Missing(_cover(c))
+        nodes = [x for x in c if isinstance(x, ast.Node)]
+        expr = nodes[-1] if nodes else ast.Missing(_cover(c))
         return ast.KeepConstraint(_cover(c), strength, expr)
 
     def remove_default_stmt(self, c):
-        return ast.RemoveDefault(_cover(c), c[-1])
+        nodes = [x for x in c if isinstance(x, ast.Node)]
+        return ast.RemoveDefault(_cover(c), nodes[-1] if nodes else ast.Missing(_cover(c)))
 
     def method_expression(self, c):
         return ("expression", c[-1], (), ())
