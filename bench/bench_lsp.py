@@ -1,0 +1,252 @@
+"""Latency of the language server on a generated 2,000-line document.
+
+Prints p50/p95 latencies, measured through the real protocol (the server runs
+as a subprocess, driven by pygls' client) unless marked "in process":
+
+* start-up: process start → `initialize` answered, and → first diagnostics of
+  the document (grammar, library and analysis included);
+* completion: on an analysed document, and while typing (right after each
+  keystroke, when the latest analysis is a version behind);
+* hover and definition on names across the document;
+* diagnostics after an edit: `didChange` sent → `publishDiagnostics` for that
+  version received (the debounce included);
+* the same features called in process, without the protocol.
+
+Targets (issue): completion p95 < 50 ms, hover and definition p95 < 30 ms,
+diagnostics < 300 ms after the last keystroke, start-up < 1 s. Figures only,
+no assertions: `python bench/bench_lsp.py [lines]`.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import re
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "bench"))
+
+from generate import generate  # noqa: E402
+from lsprotocol import types  # noqa: E402
+from pygls.lsp.client import BaseLanguageClient  # noqa: E402
+
+URI = "file:///tmp/osc2lsp-bench/generated.osc"
+SERVER = [sys.executable, "-m", "osc2lsp"]
+OPTIONS: dict = {}
+
+
+def pct(values: list[float], q: float) -> float:
+    ordered = sorted(values)
+    return ordered[min(len(ordered) - 1, int(round(q * (len(ordered) - 1))))]
+
+
+def report(name: str, values: list[float], target: str = "") -> None:
+    ms = [v * 1000 for v in values]
+    print(f"  {name:<44} p50 {pct(ms, .5):7.1f} ms   p95 {pct(ms, .95):7.1f} ms"
+          f"   (n={len(ms)}){'   target ' + target if target else ''}")
+
+
+def position(text: str, offset: int) -> types.Position:
+    line = text.count("\n", 0, offset)
+    start = text.rfind("\n", 0, offset) + 1
+    return types.Position(line=line, character=len(text[start:offset].encode("utf-16-le")) // 2)
+
+
+class Client(BaseLanguageClient):
+    """A pygls client that records when each version's diagnostics arrive."""
+
+    def __init__(self):
+        super().__init__("osc2lsp-bench", "1")
+        self.arrived: dict[int | None, float] = {}
+        self.event = asyncio.Event()
+
+        @self.feature(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
+        def _diagnostics(params: types.PublishDiagnosticsParams):
+            self.arrived[params.version] = time.perf_counter()
+            self.event.set()
+
+    async def wait_version(self, version: int, timeout: float = 30) -> float:
+        deadline = time.perf_counter() + timeout
+        while version not in self.arrived:
+            self.event.clear()
+            await asyncio.wait_for(self.event.wait(), max(deadline - time.perf_counter(), 0.01))
+        return self.arrived[version]
+
+
+def _env() -> dict[str, str]:
+    env = dict(os.environ)
+    env["PYTHONPATH"] = os.pathsep.join([str(ROOT), env.get("PYTHONPATH", "")])
+    return env
+
+
+async def start(text: str | None) -> tuple[Client, float, float | None]:
+    """Start a server; returns the client, seconds to `initialize`, to first diagnostics."""
+    client = Client()
+    began = time.perf_counter()
+    await client.start_io(*SERVER, env=_env())
+    await client.initialize_async(types.InitializeParams(
+        capabilities=types.ClientCapabilities(), root_uri=ROOT.as_uri(),
+        initialization_options=OPTIONS))
+    ready = time.perf_counter() - began
+    client.initialized(types.InitializedParams())
+    first = None
+    if text is not None:
+        client.text_document_did_open(types.DidOpenTextDocumentParams(
+            text_document=types.TextDocumentItem(uri=URI, language_id="osc2", version=1,
+                                                 text=text)))
+        first = await client.wait_version(1) - began
+    return client, ready, first
+
+
+async def stop(client: Client) -> None:
+    await client.shutdown_async(None)
+    client.exit(None)
+    await client.stop()
+
+
+def _doc(uri: str) -> types.TextDocumentIdentifier:
+    return types.TextDocumentIdentifier(uri=uri)
+
+
+def completion_points(text: str) -> list[int]:
+    """Offsets right after `hero.`, inside `lane(`/`speed(`, after a number, in a block."""
+    points = [m.end() for m in re.finditer(r"hero\.", text)][:30]
+    points += [m.end() for m in re.finditer(r"(lane|speed)\(", text)][:30]
+    points += [m.end() - 1 for m in re.finditer(r"elapsed\(\d+\.\d+s", text)][:20]
+    points += [m.start() for m in re.finditer(r"(?m)^        \S", text)][:20]
+    return points
+
+
+def name_points(text: str) -> list[int]:
+    return [m.start() + 1 for m in re.finditer(r"\b(gap_\d+|top_\d+|hero|change_lane|drive)\b",
+                                               text)][::7][:100]
+
+
+async def protocol(text: str, debounce_note: str) -> None:
+    client, ready, first = await start(text)
+    print(f"\nthrough the protocol ({text.count(chr(10))} lines, {debounce_note}):")
+    doc = _doc(URI)
+    comp = []
+    for offset in completion_points(text):
+        t = time.perf_counter()
+        await client.text_document_completion_async(types.CompletionParams(
+            text_document=doc, position=position(text, offset)))
+        comp.append(time.perf_counter() - t)
+    report("completion (analysed document)", comp, "p95 < 50 ms")
+    hov, dfn = [], []
+    for offset in name_points(text):
+        t = time.perf_counter()
+        await client.text_document_hover_async(types.HoverParams(
+            text_document=doc, position=position(text, offset)))
+        hov.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        await client.text_document_definition_async(types.DefinitionParams(
+            text_document=doc, position=position(text, offset)))
+        dfn.append(time.perf_counter() - t)
+    report("hover", hov, "p95 < 30 ms")
+    report("definition", dfn, "p95 < 30 ms")
+
+    # typing: write `hero.drive()` on a new line before a do-block statement, one
+    # keystroke at a time, completing after the `.`; then wait for the diagnostics of
+    # the last version
+    typing, diag = [], []
+    version = 1
+    snippet = "hero.drive()"
+    anchors = [text.count("\n", 0, m.start())
+               for m in re.finditer(r"(?m)^        hero\.change_speed", text)][:30]
+    for done, anchor in enumerate(anchors):
+        line = anchor + done  # each earlier edit added a line above
+        for i, ch in enumerate(snippet):
+            version += 1
+            _insert(client, version, types.Position(line=line, character=8 + i), ch)
+            if ch == ".":
+                t = time.perf_counter()
+                await client.text_document_completion_async(types.CompletionParams(
+                    text_document=doc, position=types.Position(line=line, character=9 + i)))
+                typing.append(time.perf_counter() - t)
+        version += 1
+        _insert(client, version, types.Position(line=line, character=8 + len(snippet)), "\n")
+        version += 1
+        _insert(client, version, types.Position(line=line + 1, character=0), " " * 8)
+        sent = time.perf_counter()
+        arrived = await client.wait_version(version)
+        diag.append(arrived - sent)
+    report("completion right after a keystroke", typing, "p95 < 50 ms")
+    report("diagnostics after the last keystroke", diag, "< 300 ms")
+    await stop(client)
+    print(f"  start-up: initialize answered after {ready * 1000:.0f} ms; first diagnostics "
+          f"of the document after {first * 1000:.0f} ms")
+
+
+def _insert(client: Client, version: int, at: types.Position, text: str) -> None:
+    client.text_document_did_change(types.DidChangeTextDocumentParams(
+        text_document=types.VersionedTextDocumentIdentifier(uri=URI, version=version),
+        content_changes=[types.TextDocumentContentChangePartial(
+            range=types.Range(start=at, end=at), text=text)]))
+
+
+async def startup(runs: int = 5) -> None:
+    ready, first = [], []
+    small = (ROOT / "examples" / "cut_in_and_stop.osc").read_text(encoding="utf-8")
+    for _ in range(runs):
+        client, r, f = await start(small)
+        ready.append(r)
+        first.append(f)
+        await stop(client)
+    print("\nstart-up (new process each time, small example document):")
+    report("process start -> initialize answered", ready, "< 1 s")
+    report("process start -> first diagnostics", first)
+
+
+def in_process(text: str) -> None:
+    from osc2lsp.features.completion import complete
+    from osc2lsp.features.hover import hover
+    from osc2lsp.features.navigation import definition
+    from osc2lsp.state import analyse, snapshot_of
+
+    print("\nin process (the feature functions alone):")
+    analysis = []
+    for _ in range(5):
+        t = time.perf_counter()
+        snap = snapshot_of(text, URI)
+        analysis.append(time.perf_counter() - t)
+    report("analysis with the solver (both phases)", analysis)
+    quick = []
+    for _ in range(5):
+        t = time.perf_counter()
+        analyse([(URI, text, 1)], None, verify=False)
+        quick.append(time.perf_counter() - t)
+    report("analysis without the solver (first phase)", quick)
+    comp, hov, dfn = [], [], []
+    for offset in completion_points(text):
+        t = time.perf_counter()
+        complete(snap, text, offset)
+        comp.append(time.perf_counter() - t)
+    for offset in name_points(text):
+        t = time.perf_counter()
+        hover(snap, offset)
+        hov.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        definition(snap, offset)
+        dfn.append(time.perf_counter() - t)
+    report("completion", comp)
+    report("hover", hov)
+    report("definition", dfn)
+
+
+def main() -> None:
+    lines = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
+    text = generate(lines)
+    print(f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
+          f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}")
+    asyncio.run(startup())
+    asyncio.run(protocol(text, "server default debounce 100 ms"))
+    in_process(text)
+
+
+if __name__ == "__main__":
+    main()

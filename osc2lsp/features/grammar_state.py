@@ -1,0 +1,158 @@
+"""What the grammar accepts at a point: lark's LALR table driven over a token prefix.
+
+Only the state stack is kept (no values, no tree callbacks), so a prefix of a
+few hundred tokens is fed in well under a millisecond. Tokens the parser
+cannot take are repaired the way the checker's recovery does it, in a
+simpler form: a missing `)`/`]`/`:` before a line end is inserted, a
+statement that cannot be completed is popped, other tokens are dropped.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+
+from lark.lexer import PatternStr
+from lark.parsers.lalr_analysis import Shift
+
+from osc2check.syntax.grammar import lark_parser
+
+_BOUNDARIES = frozenset({"_NL", "_DEDENT"})
+_REPAIRS = (("RPAR",), ("RSQB",), ("COLON",), ("NAME",), ("RPAR", "RPAR"), ("RPAR", "COLON"),
+            ("NAME", "RPAR"), ("RSQB", "RPAR"))
+_IDENTIFIER = re.compile(r"[^\W\d]\w*")
+
+
+@cache
+def _table():
+    ip = lark_parser().parse_interactive(start="start")
+    table = ip.parser_state.parse_conf.parse_table
+    states = {}
+    for state, row in table.states.items():
+        states[state] = {
+            ttype: (True, arg) if action is Shift else (False, (len(arg.expansion),
+                                                                arg.origin.name))
+            for ttype, (action, arg) in row.items()
+        }
+    return states, table.start_states["start"]
+
+
+@cache
+def keywords() -> dict[str, str]:
+    """Keyword terminals (``SCENARIO``) and their text (``scenario``)."""
+    found = {}
+    for term in lark_parser().terminals:
+        if isinstance(term.pattern, PatternStr) and _IDENTIFIER.fullmatch(term.pattern.value):
+            found[term.name] = term.pattern.value
+    return found
+
+
+@cache
+def soft_keywords() -> frozenset[str]:
+    """Keywords that may also be names (the alternatives of the grammar rule ``name``)."""
+    return frozenset(r.expansion[0].name for r in lark_parser().rules
+                     if r.origin.name == "name" and len(r.expansion) == 1
+                     and r.expansion[0].name != "NAME")
+
+
+class GrammarState:
+    """A parser state stack that tokens are fed into."""
+
+    __slots__ = ("stack",)
+
+    def __init__(self, stack: list[int] | None = None):
+        self.stack = stack if stack is not None else [_table()[1]]
+
+    def copy(self) -> GrammarState:
+        return GrammarState(list(self.stack))
+
+    def feed(self, ttype: str) -> bool:
+        """Feed one terminal; on failure the state is left unchanged."""
+        states = _table()[0]
+        stack = list(self.stack)
+        while True:
+            entry = states[stack[-1]].get(ttype)
+            if entry is None:
+                return False
+            shift, arg = entry
+            if shift:
+                stack.append(arg)
+                self.stack = stack
+                return True
+            size, origin = arg
+            if size:
+                del stack[-size:]
+            goto = states[stack[-1]].get(origin)
+            if goto is None:
+                return False
+            stack.append(goto[1])
+
+    def feed_all(self, types) -> bool:
+        trial = self.copy()
+        for t in types:
+            if not trial.feed(t):
+                return False
+        self.stack = trial.stack
+        return True
+
+    def accepts(self) -> frozenset[str]:
+        """Terminals that can come next."""
+        states = _table()[0]
+        return frozenset(t for t in states[self.stack[-1]]
+                         if t.isupper() and self.copy().feed(t))
+
+    def keyword_use(self, ttype: str) -> bool:
+        """Whether keyword ``ttype`` is accepted as itself, not only as a name."""
+        trial = self.copy()
+        if not trial.feed(ttype):
+            return False
+        if ttype not in soft_keywords():
+            return True
+        row = _table()[0][trial.stack[-1]]
+        return not all(not shift and arg[1] == "name" for shift, arg in row.values())
+
+
+def run(types: list[str]) -> GrammarState:
+    """The state after feeding ``types`` (terminal names), repairing what does not fit."""
+    state = GrammarState()
+    i, n = 0, len(types)
+    while i < n:
+        t = types[i]
+        if state.feed(t):
+            i += 1
+            continue
+        if t in _BOUNDARIES or t == "_INDENT":
+            repaired = False
+            for fix in _REPAIRS:
+                trial = state.copy()
+                if trial.feed_all(fix) and trial.feed(t):
+                    state = trial
+                    repaired = True
+                    break
+            if repaired:
+                i += 1
+                continue
+            if t == "_INDENT":  # an unexpected block: skip it
+                depth = 0
+                while i < n:
+                    depth += types[i] == "_INDENT"
+                    depth -= types[i] == "_DEDENT"
+                    i += 1
+                    if depth == 0:
+                        break
+                continue
+            popped = _pop_until(state, t)
+            if popped is not None:
+                state = popped
+                i += 1
+                continue
+        i += 1  # drop the token
+    return state
+
+
+def _pop_until(state: GrammarState, ttype: str) -> GrammarState | None:
+    for pops in range(1, len(state.stack)):
+        trial = GrammarState(state.stack[:-pops])
+        if trial.feed(ttype):
+            return trial
+    return None

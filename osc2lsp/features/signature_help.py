@@ -1,0 +1,87 @@
+"""Signature help inside the argument list of an invocation or a call."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.syntax import ast
+from osc2lsp.features import describe
+from osc2lsp.features.completion import _enclosing_call
+from osc2lsp.features.context import cursor_at, focus
+from osc2lsp.snapshot import Snapshot
+
+BUILTINS = {
+    "elapsed": ("elapsed(duration: time)", ["duration: time"],
+                "True once the duration has passed since the enclosing phase started."),
+    "every": ("every(period: time)", ["period: time"], "True once per period."),
+    "rise": ("rise(condition: bool)", ["condition: bool"],
+             "True when the condition becomes true."),
+    "fall": ("fall(condition: bool)", ["condition: bool"],
+             "True when the condition becomes false."),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class SignatureResult:
+    label: str
+    parameters: list[tuple[int, int, str]]  # (start, end) in label, documentation
+    active: int | None
+    documentation: str = ""
+
+
+def signature_help(snapshot: Snapshot | None, text: str, offset: int) -> SignatureResult | None:
+    cursor = cursor_at(text, offset)
+    if cursor.in_comment or cursor.in_string:
+        return None
+    f = focus(snapshot, text, offset, cursor)
+    call = _enclosing_call(f)
+    if call is None:
+        return _builtin(f)
+    node, callee = call
+    params = describe.parameters_of(f.model, callee)
+    snap = snapshot
+    texts = [describe.parameter_text(snap, p) if snap is not None else p.name for p in params]
+    name = callee.qualified_name if callee.kind is not SymbolKind.METHOD else callee.name
+    label = f"{name}("
+    spans = []
+    for i, t in enumerate(texts):
+        if i:
+            label += ", "
+        spans.append((len(label), len(label) + len(t), describe.markdown_doc(params[i])))
+        label += t
+    label += ")"
+    return SignatureResult(label, spans, _active(f, node, params), describe.markdown_doc(callee))
+
+
+def _active(f, node: ast.Node, params: list[Symbol]) -> int | None:
+    path = f.path
+    arg = next((n for n in path if any(n is a for a in getattr(node, "arguments", ()))), None)
+    if arg is None:
+        index = f.cursor.argument_index()
+        args = list(getattr(node, "arguments", ()))
+        if index is not None and index < len(args):
+            arg = args[index]
+        elif index is not None:
+            positional = sum(isinstance(a, ast.PositionalArgument) for a in args)
+            named = any(isinstance(a, ast.NamedArgument) for a in args)
+            return None if named else (positional if positional < len(params) else None)
+        else:
+            return 0 if params else None
+    if isinstance(arg, ast.NamedArgument):
+        names = [p.name for p in params]
+        return names.index(arg.name.text) if arg.name.text in names else None
+    positional = [a for a in node.arguments if isinstance(a, ast.PositionalArgument)]
+    index = next((i for i, a in enumerate(positional) if a is arg), 0)
+    return index if index < len(params) else None
+
+
+def _builtin(f) -> SignatureResult | None:
+    for node in reversed(f.path):
+        if isinstance(node, ast.Call) and isinstance(node.callee, ast.NameRef):
+            name = node.callee.name.name.text
+            if name in BUILTINS:
+                label, params, doc = BUILTINS[name]
+                start = label.index("(") + 1
+                return SignatureResult(label, [(start, start + len(params[0]), "")], 0, doc)
+    return None

@@ -1,0 +1,173 @@
+"""An analysis snapshot of one document version, and the position helpers on it.
+
+A ``Snapshot`` is immutable: the text of one version of a document, the
+``osc2check`` analysis that was made of it, and indexes built lazily on first
+use. Features take a snapshot and a code-point offset into its text; they
+never see LSP positions (``convert.py`` does that translation).
+
+Two names exist for every file: the *uri* the client uses (``file:///...``,
+``untitled:...``) and the *key* the analysis uses (a file-system path for
+``file:`` URIs, since imports are resolved relative to it, else the URI).
+"""
+
+from __future__ import annotations
+
+import bisect
+from dataclasses import dataclass, field, replace
+from functools import cached_property
+
+from osc2check.analysis import Analysis
+from osc2check.diagnostics import Diagnostic
+from osc2check.semantics.model import Model
+from osc2check.semantics.program import Program
+from osc2check.semantics.stdlib import standard_library
+from osc2check.semantics.symbols import Symbol
+from osc2check.syntax import ParseResult, ast, parse
+from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
+
+__all__ = ["LineIndex", "NameEntry", "Snapshot", "key_to_uri", "symbol_key", "uri_to_key"]
+
+# ---- the snapshot -------------------------------------------------------------
+
+
+@dataclass(frozen=True, slots=True)
+class NameEntry:
+    """A name in the document and the symbol it refers to (or declares)."""
+
+    start: int
+    end: int
+    name: ast.Name
+    symbol: Symbol
+
+
+def symbol_key(symbol: Symbol) -> tuple:
+    """Identity of a declaration across analyses (each program builds its own symbols)."""
+    span = symbol.name_span
+    return (symbol.uri or (span.uri if span else ""), span.start if span else -1,
+            symbol.name, symbol.kind)
+
+
+@dataclass(frozen=True, eq=False)
+class Snapshot:
+    """One version of one document and what the analysis found in it."""
+
+    uri: str
+    key: str
+    version: int | None
+    text: str
+    analysis: Analysis
+    config: object = None
+    verified: bool = True  # the findings include the solver's checks (C, L, B codes)
+    findings: tuple[Diagnostic, ...] | None = None  # all findings, from the solver process
+    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+
+    @cached_property
+    def lines(self) -> LineIndex:
+        return LineIndex(self.text)
+
+    @cached_property
+    def parse(self) -> ParseResult:
+        found = self.analysis.parses.get(self.key)
+        return found if found is not None else parse(self.text, self.key)
+
+    @cached_property
+    def program(self) -> Program | None:
+        return self.analysis.programs.get(self.key)
+
+    @cached_property
+    def model(self) -> Model:
+        program = self.program
+        if program is not None:
+            return program.model
+        return Model(base=standard_library().model)
+
+    @property
+    def ast(self) -> ast.File:
+        return self.parse.ast
+
+    @cached_property
+    def diagnostics(self) -> list[Diagnostic]:
+        if self.findings is not None:
+            return list(self.findings)
+        return [d for d in self.analysis.diagnostics if d.span.uri == self.key]
+
+    def with_findings(self, findings: list[Diagnostic]) -> Snapshot:
+        """This snapshot with the complete findings (the solver's checks included)."""
+        return replace(self, verified=True, findings=tuple(findings), _cache=self._cache)
+
+    @cached_property
+    def _names_by_file(self) -> dict[str, list[NameEntry]]:
+        by_file: dict[str, list[NameEntry]] = {}
+        for name, sym in self.model.references.items():
+            if name.text:
+                span = name.span
+                by_file.setdefault(span.uri, []).append(NameEntry(span.start, span.end, name, sym))
+        for entries in by_file.values():
+            entries.sort(key=lambda e: e.start)
+        return by_file
+
+    @property
+    def names(self) -> list[NameEntry]:
+        """Every resolved name of this document, ordered by offset."""
+        return self._names_by_file.get(self.key, [])
+
+    def names_in(self, key: str) -> list[NameEntry]:
+        """Every resolved name of file ``key`` of this document's program."""
+        return self._names_by_file.get(key, [])
+
+    @cached_property
+    def _name_starts(self) -> list[int]:
+        return [e.start for e in self.names]
+
+    def name_at(self, offset: int) -> NameEntry | None:
+        """The resolved name under ``offset`` (a cursor at either end counts)."""
+        i = bisect.bisect_right(self._name_starts, offset) - 1
+        best = None
+        for j in (i, i - 1):
+            if 0 <= j < len(self.names):
+                entry = self.names[j]
+                if entry.start <= offset <= entry.end:
+                    if best is None or entry.start <= offset < entry.end:
+                        best = entry
+        return best
+
+    def text_of(self, key: str) -> str | None:
+        """The text of any file the analysis read (the document, imports, the library)."""
+        if key == self.key:
+            return self.text
+        if key in self.analysis.texts:
+            return self.analysis.texts[key]
+        found = self.analysis.parses.get(key)
+        if found is not None:
+            return found.text
+        library = standard_library().parses.get(key)
+        if library is not None:
+            return library.text
+        return None
+
+    def lines_of(self, key: str) -> LineIndex | None:
+        if key == self.key:
+            return self.lines
+        cache = self._cache.setdefault("lines", {})
+        if key not in cache:
+            text = self.text_of(key)
+            cache[key] = LineIndex(text) if text is not None else None
+        return cache[key]
+
+    def parse_of(self, key: str) -> ParseResult | None:
+        if key == self.key:
+            return self.parse
+        found = self.analysis.parses.get(key)
+        if found is None:
+            found = standard_library().parses.get(key)
+        return found
+
+    def files(self) -> list[str]:
+        """The keys of the files of this document's program (itself first)."""
+        keys = [self.key]
+        if self.program is not None:
+            keys += [k for k in self.program.files if k != self.key]
+        return keys
+
+    def offset(self, line: int, column: int) -> int:
+        return self.lines.offset(line, column)

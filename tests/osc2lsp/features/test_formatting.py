@@ -1,0 +1,77 @@
+"""The formatter: spacing rules, idempotence, tokens and comments kept, refusal."""
+
+from __future__ import annotations
+
+import glob
+import sys
+
+import pytest
+
+from osc2check.syntax.lexer import tokenize
+from osc2lsp.features.formatting import FormatOptions, format_text
+from tests.osc2lsp.lsp_helpers import REPO, seed_path
+
+sys.path.insert(0, str(REPO / "bench"))
+from generate import generate  # noqa: E402
+
+CORPUS = sorted(glob.glob(str(REPO / "examples" / "*.osc")) + glob.glob(str(REPO / "stdlib" /
+                                                                            "*.osc")))
+
+
+@pytest.mark.parametrize("ugly, pretty", [
+    ("scenario  s :\n  x : int=1+2 # one\n", "scenario s:\n    x: int = 1 + 2  # one\n"),
+    ("scenario s:\n keep( x>=-3m and y in [ 1m .. 2m ] )\n",
+     "scenario s:\n    keep(x >= -3m and y in [1m..2m])\n"),
+    ("scenario s:\n    do serial:\n          wait @ e\n          hero . drive ( )\n",
+     "scenario s:\n    do serial:\n        wait @e\n        hero.drive()\n"),
+    ("enum c:[ red,green ]\n", "enum c: [red, green]\n"),
+    ("type t is SI (m : 1 , s : - 1)\n", "type t is SI(m: 1, s: -1)\n"),
+    ("struct p:\n  def f(x:int)->int is expression x*2\n",
+     "struct p:\n    def f(x: int) -> int is expression x * 2\n"),
+    ("export ns :: * , *\n", "export ns::*, *\n"),
+    ("scenario s:\n    x: c = c ! red\n", "scenario s:\n    x: c = c!red\n"),
+    ("\n\n\nscenario s:\n\n\n\n\n    x: int\n\n\n", "scenario s:\n\n\n    x: int\n"),
+    ("scenario s:\n    x: int = a[ 0 ] - (b) * - 2\n",
+     "scenario s:\n    x: int = a[0] - (b) * -2\n"),
+])
+def test_formatting_rules(ugly, pretty):
+    assert format_text(ugly) == pretty
+
+
+def test_formatting_indents_comments_like_the_next_statement():
+    text = "scenario s:\n  # about x\n  x: int\n        # trailing block comment\n  y: int\n"
+    assert format_text(text) == ("scenario s:\n    # about x\n    x: int\n"
+                                 "    # trailing block comment\n    y: int\n")
+
+
+def test_formatting_moves_continuation_lines_with_their_statement():
+    text = "scenario s:\n  x: int = f(1,\n             2)\n"
+    assert format_text(text) == "scenario s:\n    x: int = f(1,\n               2)\n"
+
+
+def test_formatting_with_tabs_and_other_widths():
+    text = "scenario s:\n    x: int\n"
+    assert format_text(text, FormatOptions(use_tabs=True)) == "scenario s:\n\tx: int\n"
+    assert format_text(text, FormatOptions(indent_width=2)) == "scenario s:\n  x: int\n"
+
+
+def test_formatting_refuses_a_file_with_syntax_errors():
+    assert format_text("scenario s:\n    x: int = (1 +\n") is None
+
+
+@pytest.mark.parametrize("path", CORPUS + [str(seed_path(required=False))])
+def test_formatting_is_idempotent_and_keeps_tokens_and_comments(path):
+    text = open(path, encoding="utf-8", errors="replace").read()
+    once = format_text(text)
+    assert once is not None
+    assert format_text(once) == once
+    assert [(t.type, t.value) for t in tokenize(once).tokens if t.type != "NEWLINE"] == \
+        [(t.type, t.value) for t in tokenize(text).tokens if t.type != "NEWLINE"]
+    assert [c.text.rstrip() for c in tokenize(once).comments] == \
+        [c.text.rstrip() for c in tokenize(text).comments]
+
+
+def test_formatting_generated_files_is_idempotent():
+    text = generate(400)
+    once = format_text(text)
+    assert once is not None and format_text(once) == once

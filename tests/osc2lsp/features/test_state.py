@@ -1,0 +1,119 @@
+"""Scheduling of analyses: debounce, newer edits win, importers are re-checked."""
+
+from __future__ import annotations
+
+import asyncio
+
+from osc2lsp.options import Options
+from osc2lsp.state import State
+
+
+def _run(coro):
+    return asyncio.run(coro)
+
+
+def test_fresh_returns_the_analysis_of_the_current_version():
+    async def scenario():
+        published = []
+        state = State(Options(debounce=5000), lambda trigger, snaps: published.append(snaps))
+        state.open("file:///tmp/s.osc", "scenario a:\n", 1)
+        state.change("file:///tmp/s.osc", "scenario b:\n", 2)
+        state.change("file:///tmp/s.osc", "scenario c:\n", 3)
+        snap = await state.fresh("file:///tmp/s.osc")  # does not wait out the debounce
+        await state.shutdown()
+        return snap, published
+
+    snap, published = _run(scenario())
+    assert snap.version == 3 and snap.text == "scenario c:\n"
+    assert all(s.version in (1, 3) for batch in published for s in batch)
+
+
+def test_a_change_re_checks_the_open_importers(tmp_path):
+    lib, main = tmp_path / "lib.osc", tmp_path / "main.osc"
+    lib.write_text("actor robot\n", encoding="utf-8")
+
+    async def scenario():
+        published: list[tuple[str, list[int]]] = []
+        state = State(Options(debounce=0),
+                      lambda trigger, snaps: published.append(
+                          (trigger, sorted(s.uri for s in snaps))))
+        state.open(lib.as_uri(), "actor robot\n", 1)
+        state.open(main.as_uri(), 'import "lib.osc"\nscenario s:\n    r: robot\n', 1)
+        first = await state.fresh(main.as_uri())
+        state.change(lib.as_uri(), "actor droid\n", 2)
+        second = await state.fresh(main.as_uri())
+        await state.shutdown()
+        return first, second
+
+    first, second = _run(scenario())
+    assert first.diagnostics == []
+    assert [d.code.code for d in second.diagnostics] == ["N101"]
+
+
+def test_closing_releases_waiters_and_state():
+    async def scenario():
+        state = State(Options(debounce=5000))
+        state.open("file:///tmp/c.osc", "scenario a:\n", 1)
+        waiter = asyncio.ensure_future(state.fresh("file:///tmp/c.osc"))
+        state.close("file:///tmp/c.osc")
+        result = await waiter
+        await state.shutdown()
+        return result, state.latest("file:///tmp/c.osc")
+
+    assert _run(scenario()) == (None, None)
+
+
+def test_closed_workspace_files_that_mention_a_name_are_analysed(tmp_path):
+    (tmp_path / "lib.osc").write_text("actor robot\n", encoding="utf-8")
+    (tmp_path / "user.osc").write_text('import "lib.osc"\nscenario u:\n    r: robot\n',
+                                       encoding="utf-8")
+    (tmp_path / "other.osc").write_text("actor robotic\n", encoding="utf-8")
+    (tmp_path / ".hidden").mkdir()
+    (tmp_path / ".hidden" / "x.osc").write_text("actor robot\n", encoding="utf-8")
+
+    async def scenario():
+        state = State(Options(), root=str(tmp_path))
+        state.open((tmp_path / "lib.osc").as_uri(), "actor robot\n", 1)
+        found = await state.closed_files("robot")
+        again = await state.closed_files("robot")
+        await state.shutdown()
+        return found, again
+
+    found, again = _run(scenario())
+    assert [s.key.rsplit("/", 1)[-1] for s in found] == ["user.osc"]
+    assert again[0] is found[0]  # cached until the file changes
+
+
+CONFLICT = """import osc.standard
+
+scenario cruise_band:
+    hero: vehicle
+    cruise: speed
+    keep(cruise in [30kph..50kph])
+    keep(cruise > 60kph)
+    do hero.drive(duration: 10s) with:
+        lane(1, at: start)
+        speed(cruise)
+"""
+
+
+def test_the_solver_phase_adds_its_findings_after_the_first():
+    async def scenario():
+        batches: list[list] = []
+        done = asyncio.Event()
+
+        def publish(trigger, snaps):
+            batches.append([(s.verified, sorted({d.code.code for d in s.diagnostics}))
+                            for s in snaps])
+            if any(s.verified for s in snaps):
+                done.set()
+
+        state = State(Options(debounce=0, verify_delay=0), publish)
+        state.open("file:///tmp/conflict.osc", CONFLICT, 1)
+        await asyncio.wait_for(done.wait(), 120)
+        await state.shutdown()
+        return batches
+
+    batches = _run(scenario())
+    assert batches[0] == [(False, [])]
+    assert batches[-1][0][0] is True and "C401" in batches[-1][0][1]
