@@ -66,31 +66,33 @@ class FileCache:
 
 
 def analyze(sources: list[SourceInput], config=None, *, seed: int | None = None,
-            scenario: str | None = None) -> Analysis:
+            scenario: str | None = None, verify: bool | None = None) -> Analysis:
     """Check every source; returns the diagnostics (config applied) and the texts.
 
     ``seed`` picks the witness among the many that satisfy a scenario (the same seed
     always gives the same one; None takes the solver's first model, which is the
-    cheapest); ``scenario`` limits verification to one scenario.
+    cheapest); ``scenario`` limits verification to one scenario; ``verify=False``
+    leaves out the solver (constraints, placement, flow), as editors do between keystrokes.
     """
     collecting = gc.isenabled()
     if collecting:  # analysis builds long-lived tables; cyclic GC passes only cost time
         gc.disable()
     try:
-        return _analyze(sources, config, seed, scenario)
+        if verify is None:
+            verify = getattr(config, "verify", True)
+        return _analyze(sources, config, seed, scenario, verify)
     finally:
         if collecting:
             gc.enable()
 
 
 def _analyze(sources: list[SourceInput], config, seed: int | None,
-             scenario: str | None) -> Analysis:
+             scenario: str | None, verify: bool) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
     implicit = tuple(getattr(config, "implicit_imports", ()) or ())
     modules = dict(getattr(config, "modules", {}) or {})
     search_paths = tuple(str(p) for p in getattr(config, "search_paths", ()) or ())
-    verify = getattr(config, "verify", True)
     solver = dict(getattr(config, "solver", {}) or {})
     road_map = str((getattr(config, "road", {}) or {}).get("map", "default"))
     verified: dict[str, VerifyResult] = {}

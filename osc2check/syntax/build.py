@@ -369,8 +369,9 @@ class Builder(Transformer):
                 return ast.Invocation(span, None, callee.name.name, expr.arguments,
                                       with_group.items)
         _report(expr.span, "not-invocation")
-        name = expr.member if isinstance(expr, ast.MemberAccess) else ast.Name(expr.span, "")
-        return ast.Invocation(span, None, name, (), with_group.items)
+        if isinstance(expr, ast.MemberAccess):  # `hero.dr` while typing: keep the actor
+            return ast.Invocation(span, expr.target, expr.member, (), with_group.items)
+        return ast.Invocation(span, None, ast.Name(expr.span, ""), (), with_group.items)
 
     def until_stmt(self, c):
         return ast.Until(_cover(c), c[-1])
