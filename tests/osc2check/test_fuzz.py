@@ -339,7 +339,7 @@ EDGE_CASES: dict[str, bytes] = {
     "long_line": (HEADER + "    keep(x == " + " + ".join(["1"] * 200) + ")\n").encode(),
 }
 
-# Edge cases on which analysis raises today (RecursionError in the expression checker).
+# Pathologically deep expressions: analysis reports P005 instead of exhausting the stack.
 DEEP_EXPRESSIONS: dict[str, bytes] = {
     "deep_brackets": (HEADER + "    keep(x in " + "[" * 500 + "1..2" + "]" * 500 + ")\n").encode(),
     "deep_list": ("global g: list of int = " + "[" * 500 + "1" + "]" * 500 + "\n").encode(),
@@ -349,16 +349,8 @@ DEEP_EXPRESSIONS: dict[str, bytes] = {
     "deep_minus": (HEADER + "    keep(x == " + "-" * 500 + "1)\n").encode(),
     "long_member_chain": (HEADER + "    keep(hero" + ".speed" * 500 + " > 1kph)\n").encode(),
 }
-RECURSION = pytest.mark.xfail(
-    strict=True,
-    raises=(RecursionError, AssertionError),
-    reason="semantics.expressions checks expressions recursively: about 250 nested `not`/`and`, "
-    "330 chained `+`/unary `-`/member accesses or 490 nested brackets raise RecursionError out "
-    "of analyze(), and the CLI exits 2 with an internal error",
-)
-ALL_EDGES = [pytest.param(data, id=name) for name, data in EDGE_CASES.items()] + [
-    pytest.param(data, id=name, marks=RECURSION) for name, data in DEEP_EXPRESSIONS.items()
-]
+ALL_EDGES = [pytest.param(data, id=name) for name, data in {**EDGE_CASES,
+                                                             **DEEP_EXPRESSIONS}.items()]
 
 
 @pytest.mark.parametrize("data", ALL_EDGES)
@@ -367,13 +359,6 @@ def test_edge_case_parses_analyzes_and_runs(data: bytes, workdir: Path):
     check_parse(text)
     check_cli(workdir, data)
     check_analyze(text, problem)
-
-
-LONE_CR = pytest.mark.xfail(
-    strict=True,
-    reason="with lone CR line endings the import swallows later lines: `import osc.standard` "
-    "is read as `osc.standard.drive` (N105) and P001 follows, though the lexer knows \\r",
-)
 
 
 @pytest.mark.parametrize(
@@ -388,7 +373,7 @@ LONE_CR = pytest.mark.xfail(
         "deep_serial",
         "deep_parentheses",
         "tabs_aligned_with_spaces",
-        pytest.param("lone_cr", marks=LONE_CR),
+        "lone_cr",
     ],
 )
 def test_valid_edge_case_reports_nothing_but_the_unplaced_hero(name: str):
@@ -428,3 +413,10 @@ def test_corpus_is_found():
     assert CORPUS, "no conformance files and no examples"
     assert any(p.parent.name == "examples" for p in corpus_files())
     assert any(p.parent.name == "placement" for p in corpus_files())
+
+
+@pytest.mark.parametrize("name", sorted(DEEP_EXPRESSIONS))
+def test_too_deep_expression_is_reported_as_p005(name: str):
+    text, _ = decode_source(DEEP_EXPRESSIONS[name])
+    found = analyze([SourceInput(uri="deep.osc", text=text)], CONFIG).diagnostics
+    assert "P005" in {d.code.code for d in found}, found
