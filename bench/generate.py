@@ -21,7 +21,8 @@ def _scenario(rng: random.Random, i: int) -> list[str]:
     for j in range(rng.randint(2, 4)):
         kind = rng.random()
         if kind < 0.35:
-            members += [f"        phase_{j}: parallel(duration: [{rng.randint(2, 5)}s..{rng.randint(6, 12)}s]):",
+            low, high = rng.randint(2, 5), rng.randint(6, 12)
+            members += [f"        phase_{j}: parallel(duration: [{low}s..{high}s]):",
                         "            hero.drive() with:",
                         f"                speed({rng.randint(20, 90)}kph, at: start)",
                         f"                lane({rng.randint(1, 3)})",

@@ -31,7 +31,8 @@ class Span:
     def cover(self, other: Span) -> Span:
         """The smallest span of the same file that covers both spans."""
         first = self if (self.line, self.column) <= (other.line, other.column) else other
-        last = self if (self.end_line, self.end_column) >= (other.end_line, other.end_column) else other
+        ends = (self.end_line, self.end_column) >= (other.end_line, other.end_column)
+        last = self if ends else other
         return Span(
             self.uri, first.line, first.column, last.end_line, last.end_column,
             min(self.start, other.start), max(self.end, other.end),

@@ -10,7 +10,6 @@ and ``namespace ... use``.
 from __future__ import annotations
 
 import os
-
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path

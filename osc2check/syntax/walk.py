@@ -7,7 +7,6 @@ from dataclasses import fields
 
 from osc2check.syntax import ast
 
-
 _FIELD_NAMES: dict[type, tuple[str, ...]] = {}
 
 
