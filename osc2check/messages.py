@@ -531,8 +531,8 @@ def unsatisfiable(code: Code, primary, others, scenario: str) -> Diagnostic:
         "L501": "the start positions of scenario `{s}` cannot all hold",
         "L502": "actors of scenario `{s}` would overlap at the start",
         "L503": "this puts an actor of scenario `{s}` in a lane the road does not have",
-        "L507": "this puts an actor of scenario `{s}` beyond the end of the road",
-        "L508": "this start speed of scenario `{s}` is above what the vehicle can reach",
+        "L507": "this puts an actor of scenario `{s}` off the road",
+        "L508": "this speed in scenario `{s}` is above what the vehicle can reach",
     }[code.code].format(s=scenario)
     texts = [f"`{primary.text}`"] + [f"`{c.text}`" if c.kind not in ("domain", "placement")
                                       else (c.explanation or c.text) for c in others]
@@ -599,8 +599,8 @@ def cyclic_placement(span: Span, cycle: Sequence[str]) -> Diagnostic:
 
 def unplaced_actor(span: Span, actor: str) -> Diagnostic:
     return _diag(codes.UNPLACED_ACTOR,
-                 f"`{actor}` has no `lane(..., at: start)` or `position(..., at: start)`; the "
-                 "solver picks its start (see `--witness`)", span)
+                 f"nothing that begins at time 0 places `{actor}`; the solver picks its start "
+                 "(see `--witness`)", span)
 
 
 def unknown_map(span: Span, name: str, known: Sequence[str]) -> Diagnostic:

@@ -1,42 +1,82 @@
 """Verify the scenarios of a program: constraints, placement, flow; and witnesses.
 
 ``verify_program`` lowers every scenario declared in the program's root file,
-solves it, and turns the outcome into diagnostics (C, L and B codes); for a
-satisfiable scenario it keeps the witness the solver found.
+decides it (``z3_backend.check``: by propagation when that finds a model, else
+by z3), and turns the outcome into diagnostics (C, L and B codes). The
+witness of a satisfiable scenario is drawn with the seed when it is first asked
+for (``ScenarioResult.witness``, ``z3_backend.Sampler``), so an analysis that
+prints no witness never pays for one.
+
+A conflict is reported at its last user-written constraint in the scenario's
+own file, with the other members as related locations; when every member is in
+another file, at the scenario's name, so the file being checked shows it.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from osc2check import codes, messages
-from osc2check.diagnostics import Diagnostic
+from osc2check.diagnostics import Diagnostic, Related
 from osc2check.semantics.program import Program
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify import flow, ir
-from osc2check.verify.lower import lower_scenario
+from osc2check.verify import flow, ir, quick
+from osc2check.verify.lower import lower_scenario, member_declarations
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
     Conflict,
     Outcome,
+    Sampler,
+    Session,
     active_constraints,
+    check,
     solve,
 )
 
 _PLACEMENT_CODES = {"lane-range": codes.LANE_OUT_OF_RANGE, "road-extent": codes.OFF_ROAD,
                     "max-speed": codes.SPEED_ABOVE_MAX, "overlap": codes.FOOTPRINT_OVERLAP}
+_UNSET = object()
 
 
 @dataclass
 class ScenarioResult:
+    """One verified scenario: its problem, the outcome, and (on demand) its witness."""
+
     scenario: Symbol
     problem: ir.Problem
     outcome: Outcome
-    witness: Witness | None
+    seed: int | None = None
+    rlimit: int = DEFAULT_RLIMIT
+    timeout_ms: int = DEFAULT_TIMEOUT_MS
+    _witness: object = field(default=_UNSET, repr=False, compare=False)
+
+    @property
+    def witness(self) -> Witness | None:
+        """The scenario's witness for ``seed`` (None unless its constraints can hold)."""
+        if self._witness is _UNSET:
+            self._witness = self.witness_for(self.seed)
+        return self._witness  # type: ignore[return-value]
+
+    def witness_for(self, seed: int | None) -> Witness | None:
+        """The witness of ``seed``: a sample drawn by propagation, else by z3; without a
+        seed, the model that decided the scenario. None unless the constraints hold."""
+        if self.outcome.status != "sat":
+            return None
+        active = active_constraints(self.problem, Outcome("sat"))
+        values = self.outcome.values
+        if seed is not None:
+            sample = Sampler(self.problem, active, values, timeout_ms=self.timeout_ms,
+                             rlimit=self.rlimit).sample(seed)
+            if sample is None:
+                drawn = solve(self.problem, seed=seed, rlimit=self.rlimit,
+                              timeout_ms=self.timeout_ms)
+                sample = drawn.values if drawn.status == "sat" else None
+            values = sample if sample is not None else values
+        return build_witness(self.problem, values, active, seed)
 
 
 @dataclass
@@ -46,17 +86,62 @@ class VerifyResult:
 
 
 def source_text(program: Program):
-    """A function from a span to its source line(s), stripped and joined."""
-    lines: dict[str, list[str]] = {}
+    """A function from a span to its source text, one line, without comments.
+
+    A node's span may stop before its closing brackets (a `keep(...)`'s does), so
+    brackets the text opens are closed from the source that follows.
+    """
 
     def text_of(span) -> str:
-        if span.uri not in lines:
-            result = program.files.get(span.uri)
-            lines[span.uri] = result.text.splitlines() if result is not None else []
-        chosen = lines[span.uri][span.line - 1:span.end_line]
-        return " ".join(part.strip() for part in chosen)
+        result = program.files.get(span.uri)
+        if result is None:
+            return ""
+        text = result.text
+        if span.end <= span.start:
+            chosen = text.splitlines()[span.line - 1:span.end_line]
+            return " ".join(_without_comment(part).strip() for part in chosen)
+        end = span.end
+        open_count = _open_brackets(text[span.start:end])
+        while open_count > 0 and end < len(text):
+            rest = len(text[end:]) - len(text[end:].lstrip(" \t"))
+            if end + rest < len(text) and text[end + rest] in ")]":
+                end += rest + 1
+                open_count -= 1
+            else:
+                break
+        parts = text[span.start:end].splitlines()
+        return " ".join(p for p in (_without_comment(part).strip() for part in parts) if p)
 
     return text_of
+
+
+def _open_brackets(text: str) -> int:
+    depth = 0
+    quote = None
+    for ch in text:
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "\"'":
+            quote = ch
+        elif ch in "([":
+            depth += 1
+        elif ch in ")]":
+            depth -= 1
+    return depth
+
+
+def _without_comment(line: str) -> str:
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            return line[:i]
+    return line
 
 
 def scenarios_of(program: Program) -> list[Symbol]:
@@ -68,33 +153,38 @@ def scenarios_of(program: Program) -> list[Symbol]:
 
 def verify_program(program: Program, *, seed: int | None = 0, scenario: str | None = None,
                    solver: dict | None = None, default_map: str = "default") -> VerifyResult:
-    """Check every scenario of ``program`` (or the one named); build their witnesses."""
+    """Check every scenario of ``program`` (or the one named).
+
+    Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``).
+    """
     solver = solver or {}
     rlimit = int(solver.get("rlimit", DEFAULT_RLIMIT))
     timeout_ms = int(solver.get("timeout-ms", DEFAULT_TIMEOUT_MS))
     result = VerifyResult()
     text_of = source_text(program)
     report = result.diagnostics.append
+    session = Session()
+    decls = None
     for sym in scenarios_of(program):
         if scenario is not None and sym.name != scenario:
             continue
         for d in flow.check_flow(program.model, sym):
             report(d)
-        problem = lower_scenario(program.model, sym, text_of, default_map)
-        _reversed_ranges(sym, text_of, report)
-        outcome = solve(problem, seed=seed, rlimit=rlimit, timeout_ms=timeout_ms)
+        if decls is None:
+            decls = member_declarations(program.model)
+        problem = lower_scenario(program.model, sym, text_of, default_map, decls)
+        _reversed_ranges(sym, program, text_of, report)
+        outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
         _placement_notes(problem, report)
-        witness = None
         if outcome.status == "unsat":
             for conflict in outcome.conflicts:
-                report(_conflict(conflict, sym.name))
+                report(_conflict(conflict, sym))
         elif outcome.status == "unknown":
             report(messages.solver_inconclusive(sym.name_span or problem.span, sym.name,
                                                 outcome.reason or "unknown"))
         else:
             active = active_constraints(problem, Outcome("sat"))
-            witness = build_witness(problem, outcome.values, active, seed)
-            for c in _vacuous(problem, active, rlimit):
+            for c in _vacuous(problem, active, rlimit, session):
                 report(messages.vacuous_constraint(c))
         for default, by in outcome.overridden:
             if _user_written(default, program) and (by is None or _user_written(by, program)):
@@ -105,7 +195,7 @@ def verify_program(program: Program, *, seed: int | None = 0, scenario: str | No
         for c in outcome.nonlinear:
             if _user_written(c, program):
                 report(messages.nonlinear_constraint(c))
-        result.scenarios.append(ScenarioResult(sym, problem, outcome, witness))
+        result.scenarios.append(ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms))
     return result
 
 
@@ -113,7 +203,7 @@ def _user_written(c: ir.Constraint, program: Program) -> bool:
     return c.span.uri in program.files
 
 
-def _conflict(conflict: Conflict, scenario: str) -> Diagnostic:
+def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     members = [conflict.primary, *conflict.others]
     code = codes.UNSATISFIABLE_CONSTRAINTS
     rules = [c.rule for c in members if c.kind == "placement"]
@@ -124,7 +214,13 @@ def _conflict(conflict: Conflict, scenario: str) -> Diagnostic:
     else:
         if any("@start." in v.name for c in members for v in ir.variables(c.term)):
             code = codes.INFEASIBLE_PLACEMENT
-    return messages.unsatisfiable(code, conflict.primary, conflict.others, scenario)
+    found = messages.unsatisfiable(code, conflict.primary, conflict.others, scenario.name)
+    home = scenario.name_span
+    if home is not None and conflict.primary.span.uri != home.uri:
+        # every member is in another file: report at the scenario, which is in this one
+        first = Related(conflict.primary.span, f"conflicts with `{conflict.primary.text}`")
+        found = replace(found, span=home, related=(first, *found.related))
+    return found
 
 
 def _placement_notes(problem: ir.Problem, report) -> None:
@@ -139,7 +235,7 @@ def _placement_notes(problem: ir.Problem, report) -> None:
     for cycle, span in _cycles(placement.edges):
         report(messages.cyclic_placement(span, cycle))
     for actor in placement.actors.values():
-        if not actor.placed and actor.kind != "stationary_object":
+        if actor.acts and not actor.placed and actor.kind != "stationary_object":
             report(messages.unplaced_actor(actor.span, actor.name))
 
 
@@ -164,10 +260,14 @@ def _cycles(edges) -> list[tuple[list[str], object]]:
     return found
 
 
-def _reversed_ranges(sym: Symbol, text_of, report) -> None:
+def _reversed_ranges(sym: Symbol, program: Program, text_of, report) -> None:
     decl = sym.decl
     if decl is None:
         return
+    source = program.files.get(decl.span.uri)
+    if source is not None and decl.span.end > decl.span.start and \
+            ".." not in source.text[decl.span.start:decl.span.end]:
+        return  # no range is written in it
     for node in walk(decl):
         if isinstance(node, ast.RangeLiteral):
             low, high = _literal_value(node.low), _literal_value(node.high)
@@ -207,12 +307,13 @@ def _literal_value(node: ast.Node):
     return None
 
 
-def _vacuous(problem: ir.Problem, active: list[ir.Constraint], rlimit: int):
-    """User keeps that hold for every value of their parameters' own domains."""
-    import z3
+def _vacuous(problem: ir.Problem, active: list[ir.Constraint], rlimit: int,
+             session: Session | None = None):
+    """User keeps that hold for every value of their parameters' own domains.
 
-    from osc2check.verify.z3_backend import _Encoder
-
+    A value that breaks the keep is looked for first by trying a few (cheap, and
+    it settles most keeps); only a keep that none breaks goes to z3.
+    """
     domains: dict[str, list[ir.Constraint]] = {}
     for c in active:
         if c.kind == "domain":
@@ -221,19 +322,62 @@ def _vacuous(problem: ir.Problem, active: list[ir.Constraint], rlimit: int):
     for c in active:
         if c.kind != "keep" or c.strength != "hard":
             continue
-        names = {v.name for v in ir.variables(c.term)}
-        if not names:
+        variables = ir.variables(c.term)
+        if not variables:
             continue
-        ctx = z3.Context()
-        enc = _Encoder(problem, ctx)
-        s = z3.Solver(ctx=ctx)
-        s.set("rlimit", rlimit)
-        for name in names:
-            for d in domains.get(name, ()):
-                s.add(enc.term(d.term))
-        s.add(z3.Not(enc.term(c.term)))
-        if s.check() == z3.unsat:
+        limits = [d.term for v in variables for d in domains.get(v.name, ())]
+        if _broken_by_probe(c.term, sorted(variables, key=lambda v: v.name), limits):
+            continue
+        if _holds_always(problem, c, limits, rlimit, session):
             yield c
+
+
+def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Term]) -> bool:
+    """Whether one of a few assignments inside the domains makes ``term`` false."""
+    from fractions import Fraction
+
+    numbers = {Fraction(0), Fraction(1), Fraction(-1), Fraction(10**6), Fraction(-10**6)}
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, ir.Const) and not isinstance(t.value, bool):
+            numbers.update({t.value, t.value + 1, t.value - 1})
+        elif isinstance(t, ir.Op):
+            stack.extend(t.args)
+    probes = sorted(numbers)
+    for i, first in enumerate(probes):
+        for second in (first, probes[(i + 1) % len(probes)], probes[i - 1]):
+            values = {}
+            for k, v in enumerate(variables):
+                value = first if k % 2 == 0 else second
+                if v.sort == "bool":
+                    values[v.name] = bool(value > 0)
+                elif v.sort == "int":
+                    values[v.name] = Fraction(int(value))
+                else:
+                    values[v.name] = value
+            try:
+                if all(quick.evaluate(d, values) for d in limits) and \
+                        not quick.evaluate(term, values):
+                    return True
+            except (KeyError, TypeError, ZeroDivisionError):
+                return False
+    return False
+
+
+def _holds_always(problem: ir.Problem, c: ir.Constraint, limits: list[ir.Term], rlimit: int,
+                  session: Session | None) -> bool:
+    from osc2check.verify.z3_backend import _Encoder, _z3
+
+    z3 = _z3()
+    ctx = session.ctx if session is not None else z3.Context()
+    enc = _Encoder(problem, ctx)
+    s = z3.Solver(ctx=ctx)
+    s.set("rlimit", rlimit)
+    for d in limits:
+        s.add(enc.term(d))
+    s.add(z3.Not(enc.term(c.term)))
+    return s.check() == z3.unsat
 
 
 def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict:

@@ -27,22 +27,22 @@ def _do_trees(sym: Symbol) -> list[ast.Node]:
 
 
 def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
-    """Flow findings for one scenario declaration."""
+    """Flow findings for one scenario declaration (each `do`/`on` tree is walked once)."""
     found: list[Diagnostic] = []
-    trees = _do_trees(scenario)
     emits: dict[str, list[ast.Emit]] = {}
-    for tree in trees:
-        for node in walk(tree):
-            if isinstance(node, ast.Emit) and not node.event.missing:
-                emits.setdefault(node.event.text, []).append(node)
-    conditional = _conditional_events(model, scenario)
-    for tree in trees:
+    waits: list[tuple[ast.EventReference, ast.Wait]] = []
+    serials: list[ast.Composition] = []
+    for tree in _do_trees(scenario):
         for node in walk(tree):
             match node:
+                case ast.Emit() if not node.event.missing:
+                    emits.setdefault(node.event.text, []).append(node)
                 case ast.Wait(event=ast.EventReference() as ref):
-                    _wait(ref, node, emits, conditional, found)
+                    waits.append((ref, node))
                 case ast.Composition():
                     _composition(model, node, found)
+                    if node.op == "serial":
+                        serials.append(node)
                 case ast.Wait(event=ast.EventCondition() as cond) | \
                         ast.Until(event=ast.EventCondition() as cond):
                     value = _fold_bool(cond.expr)
@@ -51,11 +51,16 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
                                                                  "condition"))
                 case ast.NamedArgument() if node.name.text == "duration":
                     _duration(node.value, found)
-            if isinstance(node, ast.Composition) and node.op == "serial":
-                _serial_order(node, emits, found)
+    if waits:
+        conditional = _conditional_events(model, scenario)
+        for ref, wait in waits:
+            _wait(ref, wait, emits, conditional, found)
+        for serial in serials:
+            _serial_order(serial, emits, found)
     chain = _recursion(model, scenario, [scenario], set())
     if chain is not None and scenario.name_span is not None:
         found.append(messages.recursive_scenario(scenario.name_span, [s.name for s in chain]))
+    found.sort(key=lambda d: d.sort_key)
     return found
 
 
@@ -188,9 +193,7 @@ def _comparable(node: ast.Node) -> tuple[Fraction, str] | None:
 def _recursion(model: Model, sym: Symbol, chain: list[Symbol], done: set[int]):
     """A chain of scenario invocations that comes back to its start, or None."""
     for tree in _do_trees(sym):
-        for node in walk(tree):
-            if not isinstance(node, ast.Invocation):
-                continue
+        for node in _invocations(tree):
             target = model.references.get(node.name)
             if target is None or target.kind is not SymbolKind.SCENARIO or target.library:
                 continue
@@ -203,3 +206,18 @@ def _recursion(model: Model, sym: Symbol, chain: list[Symbol], done: set[int]):
             if found is not None:
                 return found
     return None
+
+
+def _invocations(node):
+    """The invocations of a `do` or `on` tree (members only, not modifiers)."""
+    match node:
+        case ast.DoDirective():
+            yield from _invocations(node.member.body)
+        case ast.OnDirective():
+            for member in node.members:
+                yield from _invocations(member)
+        case ast.Composition():
+            for member in node.members:
+                yield from _invocations(member.body)
+        case ast.Invocation():
+            yield node

@@ -27,6 +27,9 @@ class Var:
     is_string: bool = False  # a string parameter, encoded as the number of its constant
     span: Span | None = None  # where the parameter is declared
 
+    def __hash__(self) -> int:  # a problem has one variable per name; hash only that
+        return hash(self.name)
+
 
 @dataclass(frozen=True, slots=True)
 class Const:
@@ -51,8 +54,13 @@ Term = Const | Ref | Op
 TRUE = Const(True)
 
 
+_SMALL = {i: Const(Fraction(i)) for i in range(-8, 65)}
+
+
 def const(value) -> Const:
-    return Const(value if isinstance(value, bool) else Fraction(value))
+    if isinstance(value, int) and not isinstance(value, bool) and value in _SMALL:
+        return _SMALL[value]
+    return Const(value if isinstance(value, (bool, Fraction)) else Fraction(value))
 
 
 def op(name: str, *args: Term) -> Op:
@@ -72,12 +80,28 @@ def variables(term: Term) -> set[Var]:
     return found
 
 
+def names(term: Term) -> set[str]:
+    """The names of the variables a term mentions."""
+    found: set[str] = set()
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Ref):
+            found.add(t.var.name)
+        elif isinstance(t, Op):
+            stack.extend(t.args)
+    return found
+
+
 def is_nonlinear(term: Term) -> bool:
     """Whether two non-constant factors are multiplied somewhere in ``term``."""
-    if isinstance(term, Op):
-        if term.op == "*" and sum(bool(variables(a)) for a in term.args) > 1:
-            return True
-        return any(is_nonlinear(a) for a in term.args)
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Op):
+            if t.op == "*" and sum(bool(names(a)) for a in t.args) > 1:
+                return True
+            stack.extend(t.args)
     return False
 
 
@@ -87,8 +111,10 @@ class Constraint:
 
     ``kind`` is "keep", "default", "argument", "modifier", "declaration" (a field's
     `= value`), "domain" or "placement" (implicit constraints of the road and the
-    vehicles). A default constraint on a parameter alone (``p == v`` or
-    ``p in [a..b]``) records that parameter in ``subject``.
+    vehicles). A constraint on a parameter alone (``p == v`` or ``p in [a..b]``, and
+    every argument) records that parameter in ``subject``: a hard one replaces the
+    parameter's defaults. ``origin`` names the declaration body the constraint is
+    written in; two defaults of one parameter in one body conflict (C404).
     """
 
     term: Term
@@ -99,6 +125,7 @@ class Constraint:
     subject: Var | None = None
     explanation: str = ""  # for implicit constraints: where the rule comes from
     rule: str = ""  # implicit constraints: "lane-range", "road-extent", "max-speed", "overlap"
+    origin: str = ""
 
 
 @dataclass

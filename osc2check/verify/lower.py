@@ -5,14 +5,25 @@ level, more when a constraint reaches deeper), every behaviour and modifier
 invocation of its ``do`` tree (with its arguments as constraints), and the
 scenarios it invokes, recursively. Variables are named by their path
 (``npc.vehicle_category``, ``hero.drive@31.duration``) and created when first
-mentioned; defaults are attached at the end to the variables that exist.
+mentioned; field values (``x: speed = 50kph``) are attached at the end to the
+variables that exist.
+
+The override rule reads the order of the constraint list: a type's members come
+before those of its subtypes, and an actor type's before the `with:` block of
+the field that instantiates it, so of two defaults of one parameter the later
+is the more specific (see ``z3_backend.active_constraints``). A hard constraint
+with the parameter alone on the left of `==` or `in` (an argument is one)
+records the parameter as its ``subject`` and replaces the parameter's defaults.
 
 Values are exact: physical literals become SI rationals through the unit's
-factor and offset; strings and enum members become integers.
+factor and offset; strings and enum members become integers. A constant given
+to an integer parameter loses its fraction (``lane(1.5)`` is lane 1, with the
+T204 warning), and a range's bounds may come in either order.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -54,16 +65,21 @@ def _join(prefix: str, name: str) -> str:
 
 
 class Lowerer:
-    def __init__(self, model: Model, problem: ir.Problem, text_of):
+    def __init__(self, model: Model, problem: ir.Problem, text_of, member_decls=None):
         self.model = model
         self.problem = problem
         self.text_of = text_of  # span -> source text
         self.strings: dict[str, int] = {}
         self.instances: dict[str, Symbol] = {}  # path -> type of the compound instance there
-        self.pending_defaults: list[tuple[str, Symbol, ast.Node, Scope]] = []
-        self.member_decls = _member_declarations(model)
+        # (path, field, declaration, scope, where its default goes in the constraint list,
+        # the body it is written in)
+        self.pending_defaults: list[tuple[str, Symbol, ast.FieldDecl, Scope, int, str]] = []
+        self.member_decls = member_decls if member_decls is not None else \
+            member_declarations(model)
+        self.kinds = self.member_decls.kinds  # shared by the scenarios of a model
         self.depth = 0
         self.active: list[Symbol] = []
+        self.body = ""  # the declaration whose members are being lowered (C404 compares)
 
     # ---- instances -----------------------------------------------------------------
 
@@ -96,11 +112,14 @@ class Lowerer:
             return
         self.active.append(sym)
         self.depth += 1
+        outer = self.body
         try:
             for ancestor in reversed(list(self.model.ancestors(sym))):
+                self.body = ancestor.name
                 for decl in self.member_decls.get(ancestor, ()):
                     self._members(decl, scope)
         finally:
+            self.body = outer
             self.depth -= 1
             self.active.pop()
 
@@ -124,8 +143,16 @@ class Lowerer:
             if sym is None:
                 continue
             path = _join(scope.prefix, name.text)
+            type_symbol = _type_symbol(sym)
+            if decl.with_members and type_symbol is not None and \
+                    type_symbol.kind is SymbolKind.ACTOR:
+                # the type's own constraints come first: the instance's `with:` block is
+                # more specific, so its defaults override the type's (see attach_defaults)
+                self._compound(path, type_symbol)
             if decl.default is not None:
-                self.pending_defaults.append((path, sym, decl, scope))
+                self.pending_defaults.append((path, sym, decl, scope,
+                                              len(self.problem.constraints),
+                                              self._origin(scope)))
             if decl.with_members:
                 inner = Scope(scope.prefix, scope.owner, path, _type_symbol(sym),
                               scope.actor, dict(scope.locals), it_field=sym)
@@ -138,22 +165,38 @@ class Lowerer:
                             self.problem.removed_defaults.add(target)
 
     def attach_defaults(self) -> None:
-        """Add field defaults and `var` initialisers for every variable created so far."""
-        for path, sym, decl, scope in self.pending_defaults:
+        """Add field defaults and `var` initialisers for every variable created so far.
+
+        Each goes where its declaration was lowered, so the order of the constraint
+        list stays the order of specificity that the override rule reads: a type's
+        field default (`x: speed = 50kph`) comes before the type's later
+        `keep(default x == ...)`, before a subtype's, and before the instance's.
+        """
+        placed: list[tuple[int, ir.Constraint]] = []
+        for path, _sym, decl, scope, at, origin in self.pending_defaults:
             var = self.problem.variables.get(path)
             if var is None:
                 continue
             try:
-                value = self._term(decl.default, scope)
+                value = coerce(var, self._term(decl.default, scope))
             except NotEncodable as reason:
                 self.problem.skipped.append((decl.default.span, str(reason)))
                 continue
             strength = "hard" if decl.is_var else "default"
-            self.problem.add(ir.Constraint(
-                ir.op("==", ir.Ref(var), value), decl.span, "declaration",
-                self.text_of(decl.span), strength, var if strength == "default" else None))
+            span = _up_to(decl.span, decl.default.span)
+            placed.append((at, ir.Constraint(
+                ir.op("==", ir.Ref(var), value), span, "declaration",
+                self.text_of(span), strength, var if strength == "default" else None,
+                origin=origin)))
+        for at, constraint in sorted(placed, key=lambda p: p[0], reverse=True):
+            self.problem.constraints.insert(at, constraint)
 
     # ---- constraints ------------------------------------------------------------------
+
+    def _origin(self, scope: Scope) -> str:
+        """The declaration body a constraint is written in, for one instance; the
+        `with:` blocks of its fields and invocations belong to that body."""
+        return f"{scope.prefix}|{self.body}"
 
     def _keep(self, keep: ast.KeepConstraint, scope: Scope, kind: str) -> None:
         try:
@@ -165,7 +208,7 @@ class Lowerer:
         strength = "default" if keep.strength == "default" else "hard"
         kind = "default" if strength == "default" else kind
         self.problem.add(ir.Constraint(term, keep.span, kind, self.text_of(keep.span),
-                                       strength, subject))
+                                       strength, subject, origin=self._origin(scope)))
 
     def _subject(self, expr: ast.Node, scope: Scope) -> ir.Var | None:
         """The parameter alone on the left of `==` or `in` (the override rule's form)."""
@@ -236,29 +279,55 @@ class Lowerer:
             if var is None:
                 continue
             try:
-                term = self._membership(ir.Ref(var), arg.value, scope)
+                term = self._membership(var, arg.value, scope)
             except NotEncodable as reason:
                 self.problem.skipped.append((arg.span, str(reason)))
                 continue
-            self.problem.add(ir.Constraint(term, arg.span, kind, self.text_of(arg.span),
+            written = self.text_of(arg.span)
+            if isinstance(arg, ast.PositionalArgument):
+                written = f"{param.name}: {written}"
+            self.problem.add(ir.Constraint(term, arg.span, kind, f"{callee.name}({written})",
                                            "hard", var))
 
-    def _membership(self, target: ir.Term, value: ast.Node, scope: Scope) -> ir.Term:
-        """``target == value``, or ``target in value`` for a range argument."""
+    def _membership(self, var: ir.Var, value: ast.Node, scope: Scope) -> ir.Term:
+        """``var == value`` (an argument is a constraint), or ``var in value`` for a range."""
         if isinstance(value, ast.RangeLiteral):
-            return self._in_range(target, value, scope)
-        return ir.op("==", target, self._term(value, scope))
+            return self._in_range(ir.Ref(var), value, scope)
+        return ir.op("==", ir.Ref(var), coerce(var, self._term(value, scope)))
 
     # ---- paths and variables ------------------------------------------------------------
 
     def _scalar_var(self, path: str, sym: Symbol) -> ir.Var | None:
-        t = sym.type
-        if t is None or not _scalar(t):
-            return None
         existing = self.problem.variables.get(path)
         if existing is not None:
             return existing
-        kw: dict = {"span": sym.name_span}
+        kind = self.kinds.get(sym)
+        if kind is None:
+            kind = self.kinds[sym] = self._kind(sym)
+        if kind is False:
+            return None
+        sort, kw, domain, text = kind
+        var = self.problem.var(path, sort, span=sym.name_span, **kw)
+        if domain is not None:
+            lo, hi, values = domain
+            ref = ir.Ref(var)
+            if values is None:
+                term = ir.op(">=", ref, lo) if hi is None else \
+                    ir.op("and", ir.op(">=", ref, lo), ir.op("<=", ref, hi))
+            else:
+                term = ir.op("or", *(ir.op("==", ref, v) for v in values))
+            self.problem.add(ir.Constraint(term, sym.name_span or self.problem.span, "domain",
+                                           text, "hard", explanation=text))
+        return var
+
+    def _kind(self, sym: Symbol):
+        """(sort, var keywords, domain, its text) of a parameter's variables, or False."""
+        t = sym.type
+        if t is None or not _scalar(t):
+            return False
+        kw: dict = {}
+        domain = None
+        text = ""
         if t.kind is T.Kind.PHYSICAL:
             sort = "real"
             unit_name = _DISPLAY_UNITS.get(t.dimension or ())
@@ -272,25 +341,20 @@ class Lowerer:
         elif t.kind is T.Kind.ENUM and t.symbol is not None:
             sort = "int"
             kw["enum"] = tuple((m.name, m.value) for m in self.model.enum_values(t.symbol))
+            values = sorted({v for _, v in kw["enum"]})
+            if values:
+                text = f"`{sym.name}` is one of its enum's members"
+                if values == list(range(values[0], values[-1] + 1)):  # the usual 0..n-1
+                    domain = (ir.const(values[0]), ir.const(values[-1]), None)
+                else:
+                    domain = (None, None, tuple(ir.const(v) for v in values))
         else:
             sort = "int"
             kw["is_string"] = t.kind is T.Kind.STRING
-        var = self.problem.var(path, sort, **kw)
-        self._domain(var, t, sym)
-        return var
-
-    def _domain(self, var: ir.Var, t: T.Type, sym: Symbol) -> None:
-        span = sym.name_span or self.problem.span
-        if t.kind is T.Kind.UINT:
-            term = ir.op(">=", ir.Ref(var), ir.const(0))
-            text = f"`{sym.name}` is a uint"
-        elif t.kind is T.Kind.ENUM and var.enum:
-            term = ir.op("or", *(ir.op("==", ir.Ref(var), ir.const(v)) for _, v in var.enum))
-            text = f"`{sym.name}` is one of its enum's members"
-        else:
-            return
-        self.problem.add(ir.Constraint(term, span, "domain", text, "hard",
-                                       explanation=text))
+            if t.kind is T.Kind.UINT:
+                domain = (ir.const(0), None, None)
+                text = f"`{sym.name}` is a uint"
+        return sort, kw, domain, text
 
     def _path(self, expr: ast.Node | None, scope: Scope) -> str | None:
         """The instance path an expression names, or None if it names no parameter."""
@@ -425,10 +489,47 @@ class Lowerer:
         raise NotEncodable(f"operator `{expr.op}`")
 
     def _in_range(self, target: ir.Term, rng: ast.RangeLiteral, scope: Scope) -> ir.Term:
+        """``target in [low..high]``; the bounds of a range may come in either order."""
         low, high = self._term(rng.low, scope), self._term(rng.high, scope)
-        if isinstance(low, ir.Const) and isinstance(high, ir.Const) and low.value > high.value:
-            low, high = high, low  # the bounds of a range may come in either order
+        return in_range(target, low, high)
+
+
+def in_range(target: ir.Term, low: ir.Term, high: ir.Term) -> ir.Term:
+    """``target`` lies between ``low`` and ``high``, whichever of them is the larger."""
+    if isinstance(low, ir.Const) and isinstance(high, ir.Const):
+        if low.value > high.value:
+            low, high = high, low
         return ir.op("and", ir.op(">=", target, low), ir.op("<=", target, high))
+    return ir.op("or", ir.op("and", ir.op(">=", target, low), ir.op("<=", target, high)),
+                 ir.op("and", ir.op(">=", target, high), ir.op("<=", target, low)))
+
+
+def coerce(var: ir.Var, value: ir.Term) -> ir.Term:
+    """A value given to an integer parameter loses its fraction (T204 says so), as in
+    the runner: ``lane(1.5)`` is lane 1. Only constants are converted."""
+    if var.sort == "int" and isinstance(value, ir.Const) and \
+            not isinstance(value.value, bool) and value.value.denominator != 1:
+        return ir.const(math.trunc(value.value))
+    return value
+
+
+def call_span(inv: ast.Invocation) -> Span:
+    """The span of an invocation's name and arguments (not its `with:` block)."""
+    span = inv.name.span if inv.actor is None else inv.span
+    last = inv.arguments[-1].span if inv.arguments else inv.name.span
+    if last.uri != span.uri or last.end < span.start:
+        return span
+    return Span(span.uri, span.line, span.column, last.end_line, last.end_column, span.start,
+                last.end)
+
+
+def _up_to(decl: Span, default: Span) -> Span:
+    """The span of a field declaration up to the end of its default value (not its
+    `with:` block)."""
+    if decl.uri != default.uri:
+        return decl
+    return Span(decl.uri, decl.line, decl.column, default.end_line, default.end_column,
+                decl.start, default.end)
 
 
 def _scalar(t: T.Type | None) -> bool:
@@ -445,9 +546,18 @@ def _type_symbol_at(lowerer: Lowerer, path: str) -> Symbol | None:
     return lowerer.instances.get(path)
 
 
-def _member_declarations(model: Model) -> dict[Symbol, list[tuple]]:
+class Declarations(dict):
+    """Each type's member lists (symbol -> lists), and how each parameter symbol becomes
+    a variable (``kinds``): what the scenarios of one model share."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.kinds: dict[Symbol, object] = {}
+
+
+def member_declarations(model: Model) -> Declarations:
     """Each type's member lists: its declaration's body and every `extend` of it."""
-    result: dict[Symbol, list[tuple]] = {}
+    result = Declarations()
     chain = []
     current: Model | None = model
     while current is not None:
@@ -463,13 +573,17 @@ def _member_declarations(model: Model) -> dict[Symbol, list[tuple]]:
 
 
 def lower_scenario(model: Model, scenario: Symbol, text_of,
-                   default_map: str = "default") -> ir.Problem:
-    """The constraint problem of ``scenario`` as a top-level instance, placement included."""
+                   default_map: str = "default", member_decls=None) -> ir.Problem:
+    """The constraint problem of ``scenario`` as a top-level instance, placement included.
+
+    ``member_decls`` (from ``member_declarations(model)``) can be shared by the
+    scenarios of one model.
+    """
     from osc2check.verify.placement import lower_placement
 
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.Problem(scenario.name, span)
-    lowerer = Lowerer(model, problem, text_of)
+    lowerer = Lowerer(model, problem, text_of, member_decls)
     lowerer.scenario(scenario)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     problem.placement = lower_placement(lowerer, scenario, default_map)

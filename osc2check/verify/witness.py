@@ -165,6 +165,9 @@ def build_witness(problem: ir.Problem, values: dict[str, Fraction | bool], activ
                 a.footprint.width, a.placed))
         if placement.unknown_map is not None:
             notes.append(f"unknown map `{placement.unknown_map[1]}`: placed on `{road.name}`")
+        if placement.unread_map is not None:
+            notes.append(f"OpenDRIVE maps are not read yet: placed on `{road.name}` instead "
+                         f"of `{placement.unread_map}`")
         map_name, numbering = road.name, road.numbering
     else:
         map_name, numbering = "", "from_right"

@@ -1,25 +1,38 @@
 """Solve a ``Problem`` with z3: satisfiability, minimal conflicts, defaults, samples.
 
-One z3 context per solve, so analyses never share solver state and a thread
-can interrupt its own. ``rlimit`` is z3's deterministic resource budget:
-results do not depend on the machine's speed; the wall-clock timeout is only
-a safety net. An undecided check is "unknown", never an error.
+``check`` decides a problem for the analysis: a model found by propagation
+(``quick``) settles a plainly satisfiable problem without z3 (z3 is not even
+loaded); anything else goes to z3, which reports minimal conflicts.
+``solve`` always asks z3, and with a seed returns a sample (the witness).
+
+z3 state is never shared between analyses: the scenarios of one analysis share
+a ``Session`` (one z3 context, made when first needed), and each witness is
+drawn in a context of its own, so the same seed gives the same witness however
+many scenarios were solved before. ``rlimit`` is z3's deterministic resource
+budget: results do not depend on the machine's speed; the wall-clock timeout
+is only a safety net. An undecided check is "unknown", never an error.
 """
 
 from __future__ import annotations
 
+import math
 import random
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-import z3
-
-from osc2check.verify import ir
+from osc2check.verify import ir, quick
 
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
 MAX_CONFLICTS = 10
 _USER_KINDS = ("keep", "default", "argument", "modifier", "declaration")
+
+
+def _z3():
+    """z3, imported when first needed (the import takes about 0.1 s)."""
+    import z3
+
+    return z3
 
 
 @dataclass
@@ -37,6 +50,20 @@ class Outcome:
     conflicting_defaults: list[tuple[ir.Constraint, ir.Constraint]] = field(default_factory=list)
     nonlinear: list[ir.Constraint] = field(default_factory=list)
     reason: str = ""
+    method: str = "z3"  # "z3" | "propagation": what decided the status
+
+
+class Session:
+    """The z3 context that the scenarios of one analysis share, made when first needed."""
+
+    def __init__(self) -> None:
+        self._ctx = None
+
+    @property
+    def ctx(self):
+        if self._ctx is None:
+            self._ctx = _z3().Context()
+        return self._ctx
 
 
 def _position(c: ir.Constraint) -> tuple:
@@ -46,18 +73,27 @@ def _position(c: ir.Constraint) -> tuple:
 def active_constraints(problem: ir.Problem, outcome: Outcome) -> list[ir.Constraint]:
     """The constraints that hold after the override rule (see module ``lower``).
 
-    A default on a parameter is overridden by a hard constraint that has the
-    parameter alone on the left of `==` or `in`, by `remove_default`, or by a
-    later default of the same form; the rest stay.
+    A default on a parameter yields to a hard constraint that has the parameter
+    alone on the left of `==` or `in` (an argument is such a constraint), and to
+    `remove_default`; these are recorded in ``outcome.overridden`` (C403). Of
+    several defaults of one parameter the last in the list holds: the lowering
+    orders them from the most general (a type's) to the most specific (the
+    instance's). Two defaults written in one body with different values are
+    recorded in ``outcome.conflicting_defaults`` (C404).
     """
     hard_subjects: dict[str, ir.Constraint] = {}
     for c in problem.constraints:
         if c.strength == "hard" and c.subject is not None:
             hard_subjects.setdefault(c.subject.name, c)
     last_default: dict[str, ir.Constraint] = {}
+    in_body: dict[tuple[str, str], ir.Constraint] = {}
     for c in problem.constraints:
         if c.strength == "default" and c.subject is not None:
             last_default[c.subject.name] = c
+            earlier = in_body.get((c.subject.name, c.origin))
+            if earlier is not None and earlier.term != c.term:
+                outcome.conflicting_defaults.append((c, earlier))
+            in_body[(c.subject.name, c.origin)] = c
     active = []
     for c in problem.constraints:
         if c.strength != "default":
@@ -69,19 +105,18 @@ def active_constraints(problem: ir.Problem, outcome: Outcome) -> list[ir.Constra
         elif subject is not None and subject in hard_subjects:
             outcome.overridden.append((c, hard_subjects[subject]))
         elif subject is not None and last_default[subject] is not c:
-            later = last_default[subject]
-            if later.term != c.term and later.span.uri == c.span.uri:
-                outcome.conflicting_defaults.append((later, c))
-            outcome.overridden.append((c, later))
+            pass  # a later, more specific default of the same parameter holds instead
         else:
             active.append(c)
     return active
 
 
 class _Encoder:
-    def __init__(self, problem: ir.Problem, ctx: z3.Context):
+    def __init__(self, problem: ir.Problem, ctx):
+        z3 = _z3()
+        self.z3 = z3
         self.ctx = ctx
-        self.vars: dict[str, z3.ExprRef] = {}
+        self.vars: dict[str, object] = {}
         for var in problem.variables.values():
             if var.sort == "real":
                 self.vars[var.name] = z3.Real(var.name, ctx)
@@ -90,12 +125,18 @@ class _Encoder:
             else:
                 self.vars[var.name] = z3.Int(var.name, ctx)
 
-    def num(self, value: Fraction) -> z3.ExprRef:
-        if value.denominator == 1:
-            return z3.IntVal(value.numerator, self.ctx)
-        return z3.RealVal(f"{value.numerator}/{value.denominator}", self.ctx)
+    def num_or_bool(self, value: Fraction | bool):
+        if isinstance(value, bool):
+            return self.z3.BoolVal(value, self.ctx)
+        return self.num(value)
 
-    def term(self, t: ir.Term) -> z3.ExprRef:
+    def num(self, value: Fraction):
+        if value.denominator == 1:
+            return self.z3.IntVal(value.numerator, self.ctx)
+        return self.z3.RealVal(f"{value.numerator}/{value.denominator}", self.ctx)
+
+    def term(self, t: ir.Term):
+        z3 = self.z3
         if isinstance(t, ir.Const):
             if isinstance(t.value, bool):
                 return z3.BoolVal(t.value, self.ctx)
@@ -137,7 +178,8 @@ class _Encoder:
         raise ValueError(f"unknown operator {t.op}")
 
 
-def _value(expr: z3.ExprRef) -> Fraction | bool:
+def _value(expr) -> Fraction | bool:
+    z3 = _z3()
     if z3.is_true(expr):
         return True
     if z3.is_false(expr):
@@ -151,35 +193,62 @@ def _value(expr: z3.ExprRef) -> Fraction | bool:
     return Fraction(0)
 
 
-def solve(problem: ir.Problem, *, seed: int | None = None, rlimit: int = DEFAULT_RLIMIT,
-          timeout_ms: int = DEFAULT_TIMEOUT_MS) -> Outcome:
-    """Check the problem; report conflicts, or a model (a sample picked by ``seed``)."""
+def check(problem: ir.Problem, *, rlimit: int = DEFAULT_RLIMIT,
+          timeout_ms: int = DEFAULT_TIMEOUT_MS, session: Session | None = None) -> Outcome:
+    """Decide the problem: a model by propagation if an easy one exists, else z3.
+
+    The values of a satisfiable outcome are a model, but not the seeded sample
+    that ``solve`` gives: witnesses come from ``solve``.
+    """
     outcome = Outcome("sat")
     active = active_constraints(problem, outcome)
     outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
-    ctx = z3.Context()
+    model = quick.find_model(problem.variables, [c.term for c in active])
+    if model is not None:
+        outcome.values = model
+        outcome.method = "propagation"
+        return outcome
+    ctx = session.ctx if session is not None else _z3().Context()
+    return _solve(problem, outcome, active, None, rlimit, timeout_ms, ctx)
+
+
+def solve(problem: ir.Problem, *, seed: int | None = None, rlimit: int = DEFAULT_RLIMIT,
+          timeout_ms: int = DEFAULT_TIMEOUT_MS, ctx=None) -> Outcome:
+    """Check the problem with z3; report conflicts, or a model (a sample picked by
+    ``seed``; without a seed, z3's first model)."""
+    outcome = Outcome("sat")
+    active = active_constraints(problem, outcome)
+    outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
+    return _solve(problem, outcome, active, seed, rlimit, timeout_ms,
+                  ctx if ctx is not None else _z3().Context())
+
+
+def _solve(problem: ir.Problem, outcome: Outcome, active: list[ir.Constraint],
+           seed: int | None, rlimit: int, timeout_ms: int, ctx) -> Outcome:
+    z3 = _z3()
     enc = _Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("core.minimize", True)
     solver.set("rlimit", rlimit)
     solver.set("timeout", timeout_ms)
-    literals: dict[str, ir.Constraint] = {}
-    enabled: list[z3.ExprRef] = []
-    for i, c in enumerate(active):
-        lit = z3.Bool(f"c{i}", ctx)
-        solver.add(z3.Implies(lit, enc.term(c.term)))
-        literals[str(lit)] = c
-        enabled.append(lit)
+    exprs = [enc.term(c.term) for c in active]
+    literals = [z3.Bool(f"c{i}", ctx) for i in range(len(active))]
+    constraint_of = {lit.get_id(): c for lit, c in zip(literals, active, strict=True)}
+    for lit, expr in zip(literals, exprs, strict=True):
+        solver.add(z3.Implies(lit, expr))
+    enabled = list(literals)
 
     result = solver.check(*enabled)
+    home = problem.span.uri
     while result == z3.unsat and len(outcome.conflicts) < MAX_CONFLICTS:
-        core = _minimal_core(solver, [lit for lit in solver.unsat_core()])
-        members = sorted((literals[str(lit)] for lit in core), key=_position)
+        core = _minimal_core(solver, list(solver.unsat_core()))
+        members = sorted((constraint_of[lit.get_id()] for lit in core), key=_position)
         users = [c for c in members if c.kind in _USER_KINDS]
-        primary = users[-1] if users else members[-1]
+        at_home = [c for c in users if c.span.uri == home]
+        primary = (at_home or users or members)[-1]
         outcome.conflicts.append(Conflict(primary, [c for c in members if c is not primary]))
-        primary_lit = next(lit for lit in core if literals[str(lit)] is primary)
-        enabled = [lit for lit in enabled if not lit.eq(primary_lit)]
+        primary_id = next(lit.get_id() for lit in core if constraint_of[lit.get_id()] is primary)
+        enabled = [lit for lit in enabled if lit.get_id() != primary_id]
         result = solver.check(*enabled)
     if outcome.conflicts:
         outcome.status = "unsat"
@@ -189,18 +258,20 @@ def solve(problem: ir.Problem, *, seed: int | None = None, rlimit: int = DEFAULT
         outcome.reason = solver.reason_unknown()
         return outcome
     model = solver.model()
-    if seed is not None:
-        sample = _sample(problem, enc, [literals[str(lit)] for lit in enabled], model, seed,
-                         rlimit, timeout_ms)
+    values = {name: _value(model.eval(var, model_completion=True))
+              for name, var in enc.vars.items()}
+    if seed is not None:  # satisfiable without dropping anything: every constraint holds
+        sample = Sampler(problem, active, values, timeout_ms=timeout_ms, rlimit=rlimit,
+                         enc=enc, exprs=exprs).sample(seed)
         if sample is not None:
-            model = sample
-    for name, var in enc.vars.items():
-        outcome.values[name] = _value(model.eval(var, model_completion=True))
+            values = sample
+    outcome.values = values
     return outcome
 
 
-def _minimal_core(solver: z3.Solver, core: list[z3.ExprRef]) -> list[z3.ExprRef]:
+def _minimal_core(solver, core: list) -> list:
     """Drop core members one by one while the rest stays unsatisfiable."""
+    z3 = _z3()
     needed = list(core)
     i = 0
     while i < len(needed) and len(needed) > 1:
@@ -212,34 +283,196 @@ def _minimal_core(solver: z3.Solver, core: list[z3.ExprRef]) -> list[z3.ExprRef]
     return needed
 
 
-def _sample(problem: ir.Problem, enc: _Encoder, constraints: list[ir.Constraint],
-            model: z3.ModelRef, seed: int, rlimit: int, timeout_ms: int):
-    """A model near a random target: spread over the feasible space, fixed by ``seed``."""
-    rng = random.Random(seed)
-    opt = z3.Optimize(ctx=enc.ctx)
-    opt.set("timeout", timeout_ms)
-    for c in constraints:
-        opt.add(enc.term(c.term))
-    distance = []
-    for var in sorted(problem.variables.values(), key=lambda v: v.name):
-        if var.sort == "bool":
+def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Fraction | None]]:
+    """Lower and upper bounds that constraints on one variable alone give it."""
+    found: dict[str, list] = {}
+    conjuncts: list[ir.Term] = []
+    for c in active:
+        quick._conjuncts(c.term, conjuncts)
+    for term in conjuncts:
+        atom = quick._atom(term)
+        if len(atom.names) != 1:
             continue
-        expr = enc.vars[var.name]
-        base = _value(model.eval(expr, model_completion=True))
-        if var.enum:
-            target = enc.num(Fraction(rng.choice(var.enum)[1]))
+        name = atom.names[0]
+        low, high = found.setdefault(name, [None, None])
+        if atom.kind == "set" and atom.values and \
+                not any(isinstance(v, bool) for v in atom.values):
+            values = [Fraction(v) for v in atom.values]
+            candidates = [(min(values), ">="), (max(values), "<=")]
+        elif atom.kind in ("cmp", "eq"):
+            coeffs, constant = atom.form
+            c = coeffs[name]
+            bound = -constant / c
+            op = atom.op if c > 0 else quick._FLIP[atom.op]
+            candidates = [(bound, ">="), (bound, "<=")] if op == "==" else \
+                [(bound, ">=")] if op in (">", ">=") else \
+                [(bound, "<=")] if op in ("<", "<=") else []
         else:
-            spread = abs(base) + (10 if var.sort == "real" else 3)
-            offset = Fraction(rng.randint(-1000, 1000), 1000) * spread
-            if var.sort == "int":
-                offset = Fraction(round(offset))
-            target = enc.num(base + offset)
-        d = z3.Real(f"d_{var.name}", enc.ctx)
-        opt.add(d >= expr - target, d >= target - expr)
-        distance.append(d)
-    if not distance:
-        return None
-    opt.minimize(z3.Sum(*distance))
-    if opt.check() != z3.sat:
-        return None
-    return opt.model()
+            continue
+        for bound, op in candidates:
+            if op == ">=" and (low is None or bound > low):
+                low = bound
+            elif op == "<=" and (high is None or bound < high):
+                high = bound
+        found[name] = [low, high]
+    return {name: (low, high) for name, (low, high) in found.items()}
+
+
+class Sampler:
+    """Models of one problem spread over its feasible space, one per seed.
+
+    A seed draws a random target for every variable: inside the bounds that
+    constraints on the variable alone give (the road, the vehicle, a range), else
+    around 0. A variable that only such constraints mention (or none) takes a
+    drawn value that satisfies them; one that equations fix keeps its value. The
+    others ("linked") are drawn by propagation, each at random inside the bounds
+    that the values drawn before leave it (``quick.find_model`` with a seeded
+    generator: no solver, and checked exactly). Only when that fails does z3 come
+    in: ``z3.Optimize`` puts the real ones as near to their targets as possible
+    (the sum of distances is minimised, for one variable of each equation between
+    unknowns) and the integer ones at their targets where they can be (soft
+    constraints; integer distances would make it a slow mixed-integer problem). One
+    ``Optimize``, made when first needed, serves every sample: a sample only fixes
+    the targets, inside ``push``/``pop``. The same seed gives the same sample.
+    """
+
+    TRIES = 3  # draws by propagation before asking z3
+
+    def __init__(self, problem: ir.Problem, active: list[ir.Constraint],
+                 base: dict[str, Fraction | bool], *, timeout_ms: int = DEFAULT_TIMEOUT_MS,
+                 rlimit: int = DEFAULT_RLIMIT, enc: _Encoder | None = None,
+                 exprs: list | None = None):
+        self.problem = problem
+        self.active = active
+        self.base = base
+        self.timeout_ms, self.rlimit = timeout_ms, rlimit
+        self.enc, self.exprs = enc, exprs
+        self.opt = None
+        self.terms = quick.Prepared([c.term for c in active])
+        self.order = sorted(problem.variables)
+        self.bounds = bounds(active)
+        self.alone: dict[str, list[ir.Term]] = {}  # constraints on one variable only
+        linked: set[str] = set()
+        for c in active:
+            names = ir.names(c.term)
+            if len(names) == 1:
+                self.alone.setdefault(next(iter(names)), []).append(c.term)
+            else:
+                linked.update(names)
+        fixed = self.fixed = quick.determined([c.term for c in active])
+        self.linked = [n for n in self.order if n in linked and n not in fixed]
+        self.linked_set = set(self.linked)
+        # an equation between unknowns makes one of them follow from the others: only
+        # the others get a target (fewer terms to minimise, the same spread)
+        follows = _dependent([c.term for c in active], fixed)
+        self.aimed = [n for n in self.linked if n not in follows]
+
+    def _optimizer(self):
+        """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
+        if self.opt is not None:
+            return self.opt
+        z3 = _z3()
+        if self.enc is None:
+            self.enc = _Encoder(self.problem, z3.Context())
+            self.exprs = [self.enc.term(c.term) for c in self.active]
+        enc = self.enc
+        opt = self.opt = z3.Optimize(ctx=enc.ctx)
+        opt.set("timeout", self.timeout_ms)
+        opt.set("rlimit", self.rlimit)
+        for expr in self.exprs:
+            opt.add(expr)
+        self.target = {}
+        distances = []
+        for name in self.aimed:
+            if self.problem.variables[name].sort != "real":
+                continue
+            x = enc.vars[name]
+            t = self.target[name] = z3.Real(f"target {name}", enc.ctx)
+            d = z3.Real(f"distance {name}", enc.ctx)
+            opt.add(d >= x - t, d >= t - x)
+            distances.append(d)
+        if distances:
+            opt.minimize(z3.Sum(*distances))
+        return opt
+
+    def _target(self, var: ir.Var, rng: random.Random) -> Fraction | bool:
+        if var.sort == "bool":
+            return rng.random() < 0.5
+        if var.enum:
+            return Fraction(rng.choice(var.enum)[1])
+        low, high = self.bounds.get(var.name, (None, None))
+        spread = Fraction(10 if var.sort == "real" else 3)
+        if low is None and high is None:
+            low, high = -spread, spread
+        elif low is None:
+            low = high - spread - abs(high)
+        elif high is None:
+            high = low + spread + abs(low)
+        if var.sort == "int":
+            lo, hi = math.ceil(low), math.floor(high)
+            return Fraction(rng.randint(lo, hi)) if lo <= hi else Fraction(lo)
+        return low + (high - low) * Fraction(rng.randint(0, 1_000_000), 1_000_000)
+
+    def sample(self, seed: int) -> dict[str, Fraction | bool] | None:
+        """A model drawn with ``seed``, or None if none is found."""
+        rng = random.Random(seed)
+        targets = {name: self._target(self.problem.variables[name], rng)
+                   for name in self.order}
+        values = dict(self.base)
+        for name in self.order:
+            if name in self.linked_set or name in self.fixed:
+                continue  # drawn below, or fixed by equations: keeps its value
+            if name not in self.terms.by_var:  # no constraint mentions it
+                is_string = self.problem.variables[name].is_string
+                values[name] = Fraction(-1) if is_string else targets[name]  # -1: any string
+                continue
+            own = self.alone.get(name, ())
+            if all(quick.evaluate(t, {name: targets[name]}) is True for t in own):
+                values[name] = targets[name]
+        if not self.linked:
+            return values
+        for attempt in range(self.TRIES):
+            drawn = quick.find_model(self.problem.variables, self.terms,
+                                     random.Random(f"{seed}/{attempt}"))
+            if drawn is not None:
+                values.update((name, drawn[name]) for name in self.linked)
+                return values
+        z3 = _z3()
+        opt = self._optimizer()
+        opt.push()
+        try:
+            for name in self.aimed:
+                t = self.enc.num_or_bool(targets[name])
+                if name in self.target:
+                    opt.add(self.target[name] == t)
+                else:
+                    opt.add_soft(self.enc.vars[name] == t)
+            if opt.check() != z3.sat:
+                return None
+            model = opt.model()
+            for name in self.linked:
+                values[name] = _value(model.eval(self.enc.vars[name], model_completion=True))
+        finally:
+            opt.pop()
+        return values
+
+
+def _dependent(terms: list[ir.Term], fixed: dict) -> set[str]:
+    """Variables that equations express through other unknowns, one per equation."""
+    conjuncts: list[ir.Term] = []
+    for t in terms:
+        quick._conjuncts(t, conjuncts)
+    dependent: set[str] = set()
+    for term in conjuncts:
+        if not (isinstance(term, ir.Op) and term.op == "=="):
+            continue
+        atom = quick._atom(term)
+        if atom.kind != "eq":
+            continue
+        free = [n for n in atom.names if n not in fixed and n not in dependent]
+        if len(free) >= 2:
+            left = term.args[0]
+            chosen = left.var.name if isinstance(left, ir.Ref) and left.var.name in free \
+                else free[-1]
+            dependent.add(chosen)
+    return dependent

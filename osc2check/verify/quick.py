@@ -1,0 +1,406 @@
+"""Find a model of a constraint set without a solver, when an easy one exists.
+
+Most scenarios fix their parameters by equalities (defaults, arguments, `var`
+initialisers), bound the others by intervals (ranges, the road, the vehicles)
+and relate actors by linear equations (gaps, neighbouring lanes). For such a
+set a model is found by propagation: solve each equation with one unknown,
+then give the first unknown left a value inside its bounds, and repeat. The
+model is then checked against every constraint with exact arithmetic, so a
+model returned here is a model; when none is found (the set may be
+unsatisfiable, or just harder), the z3 backend decides. Nothing here ever
+reports a conflict.
+
+The analysis uses this to skip the solver (and loading z3) for scenarios that
+are plainly satisfiable; witnesses and conflicts always come from z3.
+"""
+
+from __future__ import annotations
+
+import math
+import random
+from fractions import Fraction
+
+from osc2check.verify import ir
+
+Linear = tuple[dict[str, Fraction], Fraction]  # sum of coefficient * variable, plus constant
+_FLIP = {"<": ">", "<=": ">=", ">": "<", ">=": "<=", "==": "==", "!=": "!="}
+_MAX_STEPS = 10_000
+_ZERO, _ONE = Fraction(0), Fraction(1)
+
+
+class _Unsupported(Exception):
+    pass
+
+
+def linear(term: ir.Term) -> Linear | None:
+    """``term`` as a linear form over its numeric variables, or None."""
+    try:
+        return _linear(term)
+    except _Unsupported:
+        return None
+
+
+def _linear(term: ir.Term) -> Linear:
+    if isinstance(term, ir.Const):
+        if isinstance(term.value, bool):
+            raise _Unsupported
+        return {}, term.value
+    if isinstance(term, ir.Ref):
+        if term.var.sort == "bool":
+            raise _Unsupported
+        return {term.var.name: _ONE}, _ZERO
+    if not isinstance(term, ir.Op):
+        raise _Unsupported
+    if term.op == "neg":
+        coeffs, k = _linear(term.args[0])
+        return {v: -c for v, c in coeffs.items()}, -k
+    if term.op in ("+", "-"):
+        (a, ka), (b, kb) = _linear(term.args[0]), _linear(term.args[1])
+        sign = 1 if term.op == "+" else -1
+        out = dict(a)
+        for v, c in b.items():
+            out[v] = out.get(v, _ZERO) + sign * c
+        return {v: c for v, c in out.items() if c}, ka + sign * kb
+    if term.op == "*":
+        (a, ka), (b, kb) = _linear(term.args[0]), _linear(term.args[1])
+        if a and b:
+            raise _Unsupported
+        if not a:
+            a, ka, b, kb = b, kb, a, ka
+        # a * kb (b is a constant)
+        return ({v: c * kb for v, c in a.items() if c * kb}, ka * kb)
+    raise _Unsupported
+
+
+def evaluate(term: ir.Term, values: dict[str, Fraction | bool]):
+    """The value of ``term`` under ``values`` (every variable it mentions must be there)."""
+    if isinstance(term, ir.Const):
+        return term.value
+    if isinstance(term, ir.Ref):
+        return values[term.var.name]
+    op, args = term.op, term.args
+    if op == "and":
+        return all(evaluate(a, values) for a in args)
+    if op == "or":
+        return any(evaluate(a, values) for a in args)
+    if op == "not":
+        return not evaluate(args[0], values)
+    if op == "=>":
+        return (not evaluate(args[0], values)) or bool(evaluate(args[1], values))
+    if op == "ite":
+        return evaluate(args[1], values) if evaluate(args[0], values) else \
+            evaluate(args[2], values)
+    if op == "neg":
+        return -evaluate(args[0], values)
+    a = evaluate(args[0], values)
+    b = evaluate(args[1], values)
+    match op:
+        case "+":
+            return a + b
+        case "-":
+            return a - b
+        case "*":
+            return a * b
+        case "==":
+            return a == b
+        case "!=":
+            return a != b
+        case "<":
+            return a < b
+        case "<=":
+            return a <= b
+        case ">":
+            return a > b
+        case ">=":
+            return a >= b
+    raise ValueError(f"unknown operator {op}")
+
+
+class _Atom:
+    """One conjunct: ``form op 0`` (linear), a finite set of values of one variable,
+    a boolean literal, or anything else (only checked at the end)."""
+
+    __slots__ = ("kind", "form", "op", "var", "values", "names", "unknown")
+
+    def __init__(self, kind, names, form=None, op="", var="", values=()):
+        self.kind = kind
+        self.form: Linear | None = form
+        self.op = op
+        self.var = var
+        self.values = values
+        self.names: tuple[str, ...] = names
+        self.unknown = len(names)
+
+
+def _conjuncts(term: ir.Term, out: list[ir.Term]) -> None:
+    if isinstance(term, ir.Op) and term.op == "and":
+        for a in term.args:
+            _conjuncts(a, out)
+    else:
+        out.append(term)
+
+
+def _atom(term: ir.Term) -> _Atom:
+    if isinstance(term, ir.Op) and term.op in _FLIP:  # the common `x op constant`
+        left, right = term.args
+        if isinstance(left, ir.Ref) and isinstance(right, ir.Const) and \
+                left.var.sort != "bool" and not isinstance(right.value, bool):
+            name = left.var.name
+            return _Atom("eq" if term.op == "==" else "cmp", (name,),
+                         form=({name: _ONE}, -right.value), op=term.op)
+    names = tuple(sorted(ir.names(term)))
+    if isinstance(term, ir.Ref) and term.var.sort == "bool":
+        return _Atom("bool", names, var=term.var.name, values=(True,))
+    if isinstance(term, ir.Op):
+        if term.op == "not" and isinstance(term.args[0], ir.Ref) and \
+                term.args[0].var.sort == "bool":
+            return _Atom("bool", names, var=term.args[0].var.name, values=(False,))
+        if term.op in _FLIP:
+            left, right = term.args
+            if term.op == "==" and isinstance(left, ir.Ref) and left.var.sort == "bool" and \
+                    isinstance(right, ir.Const) and isinstance(right.value, bool):
+                return _Atom("bool", names, var=left.var.name, values=(right.value,))
+            a, b = linear(left), linear(right)
+            if a is not None and b is not None:
+                form = dict(a[0])
+                for v, c in b[0].items():
+                    form[v] = form.get(v, _ZERO) - c
+                form = {v: c for v, c in form.items() if c}
+                return _Atom("eq" if term.op == "==" else "cmp", tuple(sorted(form)),
+                             form=(form, a[1] - b[1]), op=term.op)
+        if term.op == "or" and names and len(names) == 1:
+            values = []
+            for alt in term.args:
+                if not (isinstance(alt, ir.Op) and alt.op == "==" and
+                        isinstance(alt.args[0], ir.Ref) and isinstance(alt.args[1], ir.Const)):
+                    break
+                values.append(alt.args[1].value)
+            else:
+                return _Atom("set", names, var=names[0], values=tuple(values))
+    return _Atom("other", names)
+
+
+def _van_der_corput(k: int) -> Fraction:
+    """The k-th point of the van der Corput sequence in (0, 1): 1/2, 1/4, 3/4, 1/8, ..."""
+    k += 1
+    numerator, denominator = 0, 1
+    while k:
+        k, bit = divmod(k, 2)
+        numerator, denominator = numerator * 2 + bit, denominator * 2
+    return Fraction(numerator, denominator)
+
+
+_SPREAD = [_van_der_corput(k) for k in range(256)]
+
+
+def _spread(k: int) -> Fraction:
+    return _SPREAD[k] if k < len(_SPREAD) else _van_der_corput(k)
+
+
+class Prepared:
+    """A constraint set split into atoms once, for many ``find_model`` calls."""
+
+    def __init__(self, terms: list[ir.Term]):
+        self.conjuncts: list[ir.Term] = []
+        for t in terms:
+            _conjuncts(t, self.conjuncts)
+        self.atoms = [_atom(t) for t in self.conjuncts]
+        self.by_var: dict[str, list[_Atom]] = {}
+        self.order: list[str] = []
+        for a in self.atoms:
+            for name in a.names:
+                if name not in self.by_var:
+                    self.by_var[name] = []
+                    self.order.append(name)
+                self.by_var[name].append(a)
+
+
+def find_model(variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared,
+               rng: random.Random | None = None) -> dict[str, Fraction | bool] | None:
+    """A model of the conjunction of ``terms``, or None when none is found easily.
+
+    Without ``rng`` the choices are fixed (points spread over each variable's bounds in
+    a fixed sequence); with it they are drawn at random, so a seeded ``rng`` draws one
+    model of many (the sampler's first try).
+    ``terms`` may be a ``Prepared`` set, to draw many models of one set.
+    """
+    prepared = terms if isinstance(terms, Prepared) else Prepared(terms)
+    conjuncts, atoms, by_var, order = (prepared.conjuncts, prepared.atoms, prepared.by_var,
+                                       prepared.order)
+    for a in atoms:
+        a.unknown = len(a.names)
+    values: dict[str, Fraction | bool] = {}
+    ready = [a for a in atoms if a.kind in ("eq", "bool") and a.unknown == 1]
+    picks = 0
+    steps = 0
+    next_pick = 0
+
+    def assign(name: str, value) -> bool:
+        var = variables.get(name)
+        if var is not None and var.sort == "int" and \
+                (isinstance(value, bool) or Fraction(value).denominator != 1):
+            return False
+        values[name] = value
+        for a in by_var[name]:
+            a.unknown -= 1
+            if a.unknown == 1 and a.kind in ("eq", "bool"):
+                ready.append(a)
+        return True
+
+    while True:
+        steps += 1
+        if steps > _MAX_STEPS:
+            return None
+        if ready:
+            a = ready.pop()
+            if a.unknown != 1:
+                continue
+            name = next(n for n in a.names if n not in values)
+            if a.kind == "bool":
+                if not assign(name, a.values[0]):
+                    return None
+                continue
+            coeffs, constant = a.form
+            rest = constant + sum(c * values[v] for v, c in coeffs.items() if v != name)
+            if not assign(name, -rest / coeffs[name]):
+                return None
+            continue
+        while next_pick < len(order) and order[next_pick] in values:
+            next_pick += 1
+        if next_pick >= len(order):
+            break
+        name = order[next_pick]
+        where = _spread(picks) if rng is None else \
+            Fraction(rng.randint(1, 999_999), 1_000_000)
+        value = _choose(variables.get(name), name, by_var[name], values, where, rng)
+        picks += 1
+        if value is None or not assign(name, value):
+            return None
+    try:
+        if all(evaluate(t, values) is True for t in conjuncts):
+            return values
+    except (KeyError, ZeroDivisionError, TypeError):
+        return None
+    return None
+
+
+def _choose(var: ir.Var | None, name: str, atoms: list[_Atom], values, where: Fraction,
+            rng: random.Random | None = None):
+    """A value for ``name`` inside the bounds its one-variable constraints give."""
+    sort = var.sort if var is not None else "real"
+    if sort == "bool":
+        for a in atoms:
+            if a.kind == "bool" and a.unknown == 1:
+                return a.values[0]
+        return rng.random() < 0.5 if rng is not None else False
+    low = high = None
+    low_strict = high_strict = False
+    allowed: set | None = None
+    excluded: set = set()
+    for a in atoms:
+        if a.unknown != 1:
+            continue
+        if a.kind == "set":
+            allowed = set(a.values) if allowed is None else allowed & set(a.values)
+            continue
+        if a.kind not in ("cmp", "eq"):
+            continue
+        coeffs, constant = a.form
+        c = coeffs.get(name)
+        if not c:
+            continue
+        if len(coeffs) == 1:  # the common `x op constant`
+            bound = -constant if c == 1 else -constant / c
+        else:
+            rest = constant + sum(k * values[v] for v, k in coeffs.items() if v != name)
+            bound = -rest / c
+        op = a.op if c > 0 else _FLIP[a.op]
+        if op == "!=":
+            excluded.add(bound)
+        elif op == "==":
+            allowed = {bound} if allowed is None else allowed & {bound}
+        elif op in (">", ">="):
+            if low is None or bound > low or (bound == low and op == ">"):
+                low, low_strict = bound, op == ">"
+        elif high is None or bound < high or (bound == high and op == "<"):
+            high, high_strict = bound, op == "<"
+
+    def fits(x) -> bool:
+        if x in excluded:
+            return False
+        if low is not None and (x < low or (low_strict and x == low)):
+            return False
+        if high is not None and (x > high or (high_strict and x == high)):
+            return False
+        return sort != "int" or Fraction(x).denominator == 1
+
+    if allowed is not None:
+        fitting = [x for x in sorted(allowed) if fits(x)]
+        if not fitting:
+            return None
+        return fitting[0] if rng is None else rng.choice(fitting)
+    if sort == "int":
+        lo = None if low is None else (math.floor(low) + 1 if low_strict else math.ceil(low))
+        hi = None if high is None else (math.ceil(high) - 1 if high_strict else math.floor(high))
+        if lo is not None and hi is not None and lo > hi:
+            return None
+        candidates = _int_candidates(lo, hi, where)
+    elif low is not None and high is not None:
+        if low > high:
+            return None
+        candidates = iter((low + (high - low) * where, (low + high) / 2, low, high))
+    elif low is not None:
+        candidates = iter((low + 1, low + Fraction(1, 2), low))
+    elif high is not None:
+        candidates = iter((high - 1, high - Fraction(1, 2), high))
+    else:
+        candidates = iter((_ZERO, _ONE, -_ONE))
+    return next((x for x in candidates if fits(x)), None)
+
+
+def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
+    """The values that equations fix by propagation from constants alone (no choices)."""
+    conjuncts: list[ir.Term] = []
+    for t in terms:
+        _conjuncts(t, conjuncts)
+    atoms = [a for a in map(_atom, conjuncts) if a.kind in ("eq", "bool")]
+    by_var: dict[str, list[_Atom]] = {}
+    for a in atoms:
+        for name in a.names:
+            by_var.setdefault(name, []).append(a)
+    values: dict[str, Fraction | bool] = {}
+    ready = [a for a in atoms if a.unknown == 1]
+    while ready:
+        a = ready.pop()
+        if a.unknown != 1:
+            continue
+        name = next(n for n in a.names if n not in values)
+        if a.kind == "bool":
+            value = a.values[0]
+        else:
+            coeffs, constant = a.form
+            value = -(constant + sum(c * values[v] for v, c in coeffs.items()
+                                     if v != name)) / coeffs[name]
+        values[name] = value
+        for other in by_var[name]:
+            other.unknown -= 1
+            if other.unknown == 1:
+                ready.append(other)
+    return values
+
+
+def _int_candidates(lo: int | None, hi: int | None, where: Fraction):
+    """Integers to try, the first one chosen by ``where`` when both bounds are known."""
+    if lo is not None and hi is not None:
+        yield Fraction(min(lo + math.floor((hi - lo + 1) * where), hi))
+        for x in range(lo, min(hi, lo + 8) + 1):
+            yield Fraction(x)
+    elif lo is not None:
+        for x in range(lo, lo + 8):
+            yield Fraction(x)
+    elif hi is not None:
+        for x in range(hi, hi - 8, -1):
+            yield Fraction(x)
+    else:
+        for x in (0, 1, -1, 2, -2):
+            yield Fraction(x)
