@@ -55,23 +55,12 @@ EXIT_LINE = "exit status: {}"
 # Codes that the checker does not report yet, with the reason (remove a code once it does).
 NOT_IMPLEMENTED: dict[str, str] = {
     "N110": "reserved names are not checked yet (PENDING in test_code_docs.py)",
-    "L513": "never reported in a user's file: see KNOWN_BUGS placement/L513_unknown_map.osc",
 }
 
 # Cases that fail today because of a checker bug or a missing check; they must pass once it
 # is fixed (strict xfail), and --update-goldens leaves their expectations alone.
 KNOWN_BUGS: dict[str, str] = {
     "names/N110_std_namespace.osc": NOT_IMPLEMENTED["N110"],
-    "types/T204_fractional_lane.osc": "the solver takes `lane(1.5)` literally and adds "
-    "C401 (lane == 1.5 contradicts `lane` is a uint), an error caused by what T204 reports "
-    "as a warning; and C401 quotes the marker comment of the line",
-    "placement/L503_lane_without_at_beyond_road.osc": "modifiers without `at:` (at: all) "
-    "are not applied at the start: no L503, and L506 says `hero` has no start lane "
-    "(reference/checks.md 3.3: at: all also holds at the start)",
-    "placement/L513_unknown_map.osc": "the unknown map is reported at the span of `map_file` "
-    "in stdlib/domain.osc, which analysis._relevant drops, so nothing is reported",
-    "constraints/C401_comment_on_a_constraint.osc": "C, L messages quote whole source lines "
-    "(verify.check.source_text), so a comment after a constraint is quoted with it",
 }
 
 
@@ -396,11 +385,6 @@ def test_unit_suggested_for_a_duration_is_a_time_unit(case_id: str):
     assert re.search(r"such as `\d+(s|ms|min|h)`", finding.message), finding.message
 
 
-@pytest.mark.xfail(
-    strict=True,
-    raises=AssertionError,
-    reason="the road-extent explanation prints the actor length as a Fraction: `hero` (9/2 m long)",
-)
 def test_l507_prints_lengths_as_decimals():
     output, _ = pair_output(case_named("placement/L507_beyond_road_end.osc"))
     assert "L507" in output
