@@ -45,7 +45,8 @@ def _resolve_path(importer: str, target: str) -> Path:
     if target.startswith("file://"):
         target = target[len("file://"):]
     path = Path(target)
-    return path if path.is_absolute() else base / path
+    # `a/../lib/x.osc` and `lib/x.osc` are one file, reported under one name
+    return Path(os.path.normpath(path if path.is_absolute() else base / path))
 
 
 def _module_path(importer: str, target: str, search_paths: tuple[str, ...],
