@@ -59,18 +59,29 @@ def span_of(item) -> Span | None:
     return None
 
 
+def _edge(item) -> tuple | None:
+    """(uri, line, column, start) and (end_line, end_column, end) of an item, or None."""
+    if isinstance(item, Token):
+        return item.line, item.column, item.start_pos, item.end_line, item.end_column, \
+            item.end_pos
+    span = item.span if isinstance(item, (ast.Node, _Group)) else None
+    if span is None:
+        return None
+    return span.line, span.column, span.start, span.end_line, span.end_column, span.end
+
+
 def _cover(children) -> Span:
+    """The span from the first to the last child that has a position."""
     first = last = None
     for child in children:
-        s = span_of(child)
-        if s is not None:
-            if first is None:
-                first = s
-            last = s
-    if first is None:
+        if child is not None and (first := _edge(child)) is not None:
+            break
+    for child in reversed(children):
+        if child is not None and (last := _edge(child)) is not None:
+            break
+    if first is None or last is None:
         return Span(_URI.get(), 1, 1, 1, 1, 0, 0)
-    return Span(first.uri, first.line, first.column, last.end_line, last.end_column,
-                first.start, last.end)
+    return Span(_URI.get(), first[0], first[1], last[3], last[4], first[2], last[5])
 
 
 def _nodes(children, kind) -> tuple:

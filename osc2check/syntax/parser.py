@@ -95,6 +95,17 @@ def _line_of(text: str, offset: int) -> int:
 
 def parse(text: str, uri: str = "<string>") -> ParseResult:
     """Parse OSC2 source text into an AST and syntax diagnostics."""
+    collecting = gc.isenabled()
+    if collecting:  # the parse makes many objects and frees none: collecting is wasted work
+        gc.disable()
+    try:
+        return _parse(text, uri)
+    finally:
+        if collecting:
+            gc.enable()
+
+
+def _parse(text: str, uri: str) -> ParseResult:
     diagnostics: list[Diagnostic] = []
     lexed = tokenize(text)
     for err in lexed.errors:
@@ -120,14 +131,9 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
     problems: list = []
     uri_token = _URI.set(uri)
     problems_token = _PROBLEMS.set(problems)
-    collecting = gc.isenabled()
-    if collecting:  # the parse makes many objects and frees none: collecting is wasted work
-        gc.disable()
     try:
         tree, syntax = parse_tokens(_builder_parser(), tokens)
     finally:
-        if collecting:
-            gc.enable()
         _URI.reset(uri_token)
         _PROBLEMS.reset(problems_token)
     reported_lines = {d.span.line for d in diagnostics}

@@ -106,6 +106,14 @@ def _resync(ip, following: Token | None) -> object | None:
 _TABLES: dict[int, dict] = {}
 
 
+def _passes_through(rule) -> bool:
+    """A `?rule` alternative of one kept symbol and no alias: its value is its child's."""
+    if len(rule.expansion) != 1 or rule.alias or not rule.options.expand1:
+        return False
+    symbol = rule.expansion[0]
+    return not symbol.is_term or not getattr(symbol, "filter_out", False)
+
+
 def _table(conf) -> dict:
     """The LALR table with rules replaced by (size, callback, goto-symbol) tuples.
 
@@ -120,7 +128,8 @@ def _table(conf) -> dict:
         for state, row in conf.states.items():
             table[state] = {
                 ttype: (arg if action is Shift else
-                        (len(arg.expansion), callbacks[arg], arg.origin.name))
+                        (len(arg.expansion), None if _passes_through(arg) else callbacks[arg],
+                         arg.origin.name))
                 for ttype, (action, arg) in row.items()
             }
         _TABLES[key] = table
@@ -137,25 +146,31 @@ def _fast_prefix(ip, tokens: list[Token]) -> int:
     table = _table(state.parse_conf)
     states, values = state.state_stack, state.value_stack
     consumed = 0
+    row = table[states[-1]]
     for tok in tokens:
         ttype = tok.type
         while True:
-            entry = table[states[-1]].get(ttype)
+            entry = row.get(ttype)
             if entry is None:
                 return consumed
             if entry.__class__ is int:
                 states.append(entry)
                 values.append(tok)
+                row = table[entry]
                 break
             size, callback, origin = entry
-            if size:
+            if callback is None:  # `?rule: other` with one child: the child is the value
+                states.pop()
+            elif size:
                 children = values[-size:]
                 del states[-size:]
                 del values[-size:]
+                values.append(callback(children))
             else:
-                children = []
-            values.append(callback(children))
-            states.append(table[states[-1]][origin])
+                values.append(callback([]))
+            goto = table[states[-1]][origin]
+            states.append(goto)
+            row = table[goto]
         consumed += 1
     return consumed
 
