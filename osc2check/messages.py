@@ -201,6 +201,12 @@ def unresolved_import(span: Span, target: str, reason: str) -> Diagnostic:
     return _diag(codes.UNRESOLVED_IMPORT, f"cannot import `{target}`: {reason}", span)
 
 
+def reserved_name(span: Span, name: str) -> Diagnostic:
+    return _diag(codes.RESERVED_NAME,
+                 f"namespace names that begin with `std` are reserved for the standard library; "
+                 f"rename `{name}`", span)
+
+
 def import_cycle(span: Span, chain: Sequence[str]) -> Diagnostic:
     return _diag(codes.IMPORT_CYCLE, "import cycle: " + " -> ".join(chain), span)
 

@@ -72,6 +72,8 @@ class Declarer:
                 case ast.NamespaceDecl():
                     name = "" if decl.name.text == "null" else decl.name.text
                     uses = tuple(u.text for u in decl.uses)
+                    if name.startswith("std") and not unit.library:
+                        self.report(messages.reserved_name(decl.name.span, name))
                     self.model.namespace(name, create=True) if not self._is_library_ns(name) \
                         else None
                     ctx = Context(name, uses)

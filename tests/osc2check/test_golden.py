@@ -54,13 +54,11 @@ EXIT_LINE = "exit status: {}"
 
 # Codes that the checker does not report yet, with the reason (remove a code once it does).
 NOT_IMPLEMENTED: dict[str, str] = {
-    "N110": "reserved names are not checked yet (PENDING in test_code_docs.py)",
 }
 
 # Cases that fail today because of a checker bug or a missing check; they must pass once it
 # is fixed (strict xfail), and --update-goldens leaves their expectations alone.
 KNOWN_BUGS: dict[str, str] = {
-    "names/N110_std_namespace.osc": NOT_IMPLEMENTED["N110"],
 }
 
 
