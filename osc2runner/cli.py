@@ -46,8 +46,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="control period: one tree tick (default 0.05)")
     p.add_argument("--dt-physics", type=float, default=0.002, metavar="S",
                    help="physics step (default 0.002)")
-    p.add_argument("--values", choices=("constants", "witness"), default="constants",
-                   help="parameter values: folded constants (default) or the checker's witness")
+    p.add_argument("--values", choices=("constants", "witness"), default="witness",
+                   help="parameter values and start poses: the checker's witness for the seed "
+                   "(default) or the folded constants alone")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -85,11 +86,13 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     from osc2runner.runner import RunInterrupted, execute, prepare
+    from osc2runner.values import ConstantValues
     from osc2runner.witness import witness_values
 
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    values = witness_values(seed=args.seed) if args.values == "witness" else None
+    values = witness_values(seed=args.seed) if args.values == "witness" else \
+        (lambda analysis, uri, model, sym: ConstantValues(model, sym))
     prepared = prepare(args.file, scenario=args.scenario, seed=args.seed,
                        dt_control=args.dt_control, dt_physics=args.dt_physics, values=values)
     interactive = out.isatty() and not args.quiet

@@ -216,8 +216,11 @@ def compile_file(
         raise ScenarioError([], diagnostics=errors, texts=analysis.texts)
     sym = _choose_scenario(analysis, uri, scenario)
     model = analysis.programs[uri].model
-    parameter_values = values(analysis, uri, model, sym) if values is not None else \
-        ConstantValues(model, sym)
+    if values is None:  # the witness the checker reports, picked by the seed
+        from osc2runner.witness import witness_values
+
+        values = witness_values(seed=seed)
+    parameter_values = values(analysis, uri, model, sym)
     actors = scenario_actors(model, sym, parameter_values)
     map_name, map_node = _map_file(model, sym, actors)
     try:

@@ -18,7 +18,9 @@ Conventions (shown in the witness):
   ``position(time: τ, ...)`` is a time headway at the follower's speed: the
   actor's with ``behind``, ``b``'s with ``ahead_of``. Without a reference,
   ``distance`` is the centre's distance from the start of the road.
-* Speed: ``speed(v, faster_than: b)`` is ``factor * speed(b) + v``,
+* Speed: an actor starts at rest unless a ``speed()`` gives its start speed or
+  refers to it (``faster_than``, ``slower_than``, ``same_as``).
+  ``speed(v, faster_than: b)`` is ``factor * speed(b) + v``,
   ``slower_than`` is ``factor * speed(b) - v``, ``same_as`` is
   ``factor * speed(b)`` (``factor`` defaults to 1).
 * Time 0: an invocation begins at time 0 when it is the first member of a
@@ -126,6 +128,7 @@ class PlacementLowerer:
         self.unknown_map: tuple[Span, str, tuple[str, ...]] | None = None
         self.unread_map: str | None = None
         self.lateral: set[str] = set()  # actors with a lateral offset at the start
+        self.moving: set[str] = set()  # actors given a speed at the start
         self.applied: set[int] = set()  # ids of the modifiers applied at the start
         self.alternatives: list[ast.Invocation] = []  # time-0 invocations inside a one_of
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
@@ -166,6 +169,10 @@ class PlacementLowerer:
                 self._implicit(ir.op("==", ir.Ref(actor.t), ir.const(0)), actor.span,
                                "lane-centre", f"`{actor.name}` starts on its lane centre "
                                "(no `lateral(..., at: start)`)")
+            if actor.name not in self.moving:
+                self._implicit(ir.op("==", ir.Ref(actor.speed), ir.const(0)), actor.span,
+                               "at-rest", f"`{actor.name}` starts at rest (no `speed(..., at: "
+                               "start)`)")
             if actor.name in self.lateral or \
                     actor.footprint.width > Fraction(placement.road.lane_width):
                 self._on_road(actor, placement.road)  # else its lane keeps it on the road
@@ -480,6 +487,7 @@ class PlacementLowerer:
         self._require(ir.op("==", s, target), item)
 
     def _mod_speed(self, actor, args, item, placement) -> None:
+        self.moving.add(actor.name)
         v = ir.Ref(actor.speed)
         node = args.get("speed")
         for key, sign in (("faster_than", 1), ("slower_than", -1), ("same_as", 0)):
@@ -487,6 +495,7 @@ class PlacementLowerer:
                 other = self._reference(args[key], actor, placement, item.span)
                 if other is None:
                     return
+                self.moving.add(other.name)  # its speed is what this one's depends on
                 delta = self._value(node) if node is not None else ir.const(0)
                 if delta is None:
                     return

@@ -62,7 +62,7 @@ def test_success_exits_0_and_writes_outputs(tmp_path, capsys):
     assert set(meta["versions"]) >= {"mujoco", "numpy", "python", "platform"}
     assert meta["tool"]["name"] == "osc2run" and meta["seed"] == 0
     assert meta["steps"] == 160 and meta["physics_steps"] == 160 * 25
-    assert meta["parameter_values"]["source"] == "constants"
+    assert meta["parameter_values"]["source"] == "witness (seed 0)"
     header = (out / "telemetry.csv").read_text().splitlines()[0]
     assert header == ("actor,tick,time,x,y,yaw,speed,accel,jerk,throttle,brake,steer,lane,"
                       "friction,lateral_error")
