@@ -119,6 +119,7 @@ CYCLIC_PLACEMENT = Code("L505", "cyclic-relative-placement", W, "actors are plac
 UNPLACED_ACTOR = Code("L506", "unplaced-actor", I, "an actor has no start position; the solver picks one")
 OFF_ROAD = Code("L507", "off-road-placement", E, "an actor would start beyond the ends of the road")
 SPEED_ABOVE_MAX = Code("L508", "speed-exceeds-vehicle-max", E, "a start speed is above what the vehicle can reach")
+UNSAFE_GAP = Code("L511", "unsafe-initial-gap", W, "a start gap is shorter than one second at the follower's speed")
 UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
 
 # --- B: behaviour flow -----------------------------------------------------------

@@ -603,6 +603,12 @@ def cyclic_placement(span: Span, cycle: Sequence[str]) -> Diagnostic:
                  + "; runners that place actors one after the other cannot do this", span)
 
 
+def unsafe_gap(span: Span, text: str, follower: str, leader: str, min_gap) -> Diagnostic:
+    return _diag(codes.UNSAFE_GAP,
+                 f"`{text}` leaves `{follower}` less than {float(min_gap):g} s behind `{leader}` "
+                 f"at its start speed, whatever values the other constraints allow", span)
+
+
 def unplaced_actor(span: Span, actor: str) -> Diagnostic:
     return _diag(codes.UNPLACED_ACTOR,
                  f"nothing that begins at time 0 places `{actor}`; the solver picks its start "

@@ -15,6 +15,7 @@ another file, at the scenario's name, so the file being checked shows it.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from fractions import Fraction
 
 from osc2check import codes, messages
 from osc2check.diagnostics import Diagnostic, Related
@@ -34,6 +35,7 @@ from osc2check.verify.z3_backend import (
     Session,
     active_constraints,
     check,
+    never_holds,
     solve,
 )
 
@@ -186,6 +188,9 @@ def verify_program(program: Program, *, seed: int | None = 0, scenario: str | No
             active = active_constraints(problem, Outcome("sat"))
             for c in _vacuous(problem, active, rlimit, session):
                 report(messages.vacuous_constraint(c))
+            for gap in _unsafe_gaps(problem, active, outcome, rlimit):
+                report(messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader,
+                                           MIN_TIME_GAP))
         for default, by in outcome.overridden:
             if _user_written(default, program) and (by is None or _user_written(by, program)):
                 report(messages.default_overridden(default, by))
@@ -197,6 +202,25 @@ def verify_program(program: Program, *, seed: int | None = 0, scenario: str | No
                 report(messages.nonlinear_constraint(c))
         result.scenarios.append(ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms))
     return result
+
+
+MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's speed is unsafe
+
+
+def _unsafe_gaps(problem: ir.Problem, active, outcome: Outcome, rlimit: int):
+    """Start gaps shorter than MIN_TIME_GAP at the follower's speed in every model."""
+    placement = problem.placement
+    if placement is None:
+        return
+    for gap in placement.gaps:
+        safe = ir.op(">=", gap.gap, ir.op("*", ir.const(MIN_TIME_GAP), gap.speed))
+        try:
+            if quick.evaluate(safe, outcome.values) is True:
+                continue  # the model at hand is safe, so not every model is unsafe
+        except (KeyError, TypeError, ZeroDivisionError):
+            pass
+        if never_holds(problem, active, safe, rlimit):
+            yield gap
 
 
 def _user_written(c: ir.Constraint, program: Program) -> bool:

@@ -80,6 +80,18 @@ class PlacedActor:
     acts: bool = False  # the scenario invokes an action of it
 
 
+@dataclass(frozen=True)
+class Gap:
+    """A start gap written with `position(..., behind|ahead_of: ...)` (for L511)."""
+
+    follower: str
+    leader: str
+    gap: ir.Term  # m, bumper to bumper
+    speed: ir.Term  # the follower's start speed
+    span: Span
+    text: str
+
+
 @dataclass
 class Placement:
     road: Road
@@ -88,6 +100,7 @@ class Placement:
     unknown_map: tuple[Span, str, tuple[str, ...]] | None = None
     unread_map: str | None = None  # an OpenDRIVE file named by the scenario (not read yet)
     unplaced_references: list[tuple[Span, str, str]] = field(default_factory=list)
+    gaps: list[Gap] = field(default_factory=list)
 
 
 def _kind(model, sym: Symbol | None) -> str | None:
@@ -485,6 +498,10 @@ class PlacementLowerer:
         target = ir.op("-", ir.Ref(other.s), distance) if reference_key == "behind" else \
             ir.op("+", ir.Ref(other.s), distance)
         self._require(ir.op("==", s, target), item)
+        follower = actor if reference_key == "behind" else other
+        placement.gaps.append(Gap(follower.name, (other if follower is actor else actor).name,
+                                  gap, ir.Ref(follower.speed), item.span,
+                                  self.lw.text_of(item.span)))
 
     def _mod_speed(self, actor, args, item, placement) -> None:
         self.moving.add(actor.name)

@@ -476,3 +476,17 @@ def _dependent(terms: list[ir.Term], fixed: dict) -> set[str]:
                 else free[-1]
             dependent.add(chosen)
     return dependent
+
+
+def never_holds(problem: ir.Problem, active: list[ir.Constraint], term: ir.Term,
+                rlimit: int = DEFAULT_RLIMIT) -> bool:
+    """Whether ``term`` is false in every model of the active constraints."""
+    z3 = _z3()
+    ctx = z3.Context()
+    enc = _Encoder(problem, ctx)
+    solver = z3.Solver(ctx=ctx)
+    solver.set("rlimit", rlimit)
+    for c in active:
+        solver.add(enc.term(c.term))
+    solver.add(enc.term(term))
+    return solver.check() == z3.unsat
