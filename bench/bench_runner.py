@@ -6,7 +6,7 @@ Scenes, each run through ``osc2runner`` end to end (behaviour tree, controllers,
 world, telemetry; the compile and the world's construction are not timed):
 
 * ``cut-in``: the design paper's cut-in scenario
-  (``/work/shared/conformance/seed/cut_in_and_stop.osc`` when present, else
+  (``../shared/conformance/seed/cut_in_and_stop.osc`` when present, else
   ``examples/cut_in_and_stop.osc``);
 * ``20 vehicles``: a generated scenario: 20 vehicles (2 HGVs) in three
   lanes of a 4-lane road for 30 s; those in the third lane move to the
@@ -26,42 +26,18 @@ from __future__ import annotations
 import argparse
 import sys
 import tempfile
-import time
 from pathlib import Path
-
-import mujoco
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from osc2runner.runner import execute, prepare  # noqa: E402
 from osc2runner.sim import versions  # noqa: E402
-from osc2runner.sim import world as world_module  # noqa: E402
 
-SEED_CUT_IN = Path("/work/shared/conformance/seed/cut_in_and_stop.osc")
+sys.path.insert(0, str(ROOT / "bench"))
+from bench_sim import StepTimer  # noqa: E402  (times mj_step as the world sees it)
 
-
-class StepTimer:
-    """Wraps ``mujoco.mj_step`` as the world module sees it and sums its wall time."""
-
-    def __init__(self) -> None:
-        self.total = 0.0
-        self._real = mujoco.mj_step
-
-    def __enter__(self) -> StepTimer:
-        real = self._real
-        clock = time.perf_counter
-
-        def timed(m, d, nstep=1):  # noqa: ANN001, ANN202 - same signature as mj_step
-            t0 = clock()
-            real(m, d, nstep=nstep)
-            self.total += clock() - t0
-
-        world_module.mujoco.mj_step = timed  # type: ignore[attr-defined]
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        world_module.mujoco.mj_step = self._real  # type: ignore[attr-defined]
+SEED_CUT_IN = ROOT.parent / "shared" / "conformance" / "seed" / "cut_in_and_stop.osc"
 
 
 def many_vehicles(count: int = 20) -> str:

@@ -1,6 +1,6 @@
 """Robustness: damaged and random input never makes ``parse``, ``analyze`` or the CLI raise.
 
-Hypothesis mutates the conformance files (``/work/shared/conformance/{seed,open,asam-2.1}``,
+Hypothesis mutates the conformance files (``../shared/conformance/{seed,open,asam-2.1}``,
 found beside the repository; left out when absent), the repository's ``examples/`` and the
 golden cases: it deletes, duplicates and swaps lines, and deletes, inserts, replaces and swaps
 characters, favouring the ones the grammar cares about (brackets, colons, tabs, quotes, ``@``,

@@ -26,7 +26,8 @@ from osc2check.verify.lower import in_range
 from osc2check.verify.z3_backend import Outcome, Sampler, active_constraints, check, solve
 
 CASES = Path(__file__).resolve().parent / "cases"
-SEED_DIR = Path(os.environ.get("OSC2_SEED_DIR", "/work/shared/conformance/seed"))
+SHARED_SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
+SEED_DIR = Path(os.environ.get("OSC2_SEED_DIR", SHARED_SEED))
 THREE_FILES = CASES / "C" / "C401_conflict_across_three_files"
 KPH = Fraction(5, 18)
 

@@ -17,7 +17,7 @@ from osc2runner.runner import compile_file
 HERE = Path(__file__).parent
 ROOT = HERE.parents[1]
 TREES = HERE / "trees"
-SEED = Path("/work/shared/conformance/seed")
+SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
 
 CASES = [(p, TREES / f"{p.stem}.tree") for p in sorted(TREES.glob("*.osc"))]
 CASES += [(p, TREES / f"example_{p.stem}.tree") for p in sorted((ROOT / "examples").glob("*.osc"))

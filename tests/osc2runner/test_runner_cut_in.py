@@ -16,7 +16,7 @@ from osc2runner import run
 from osc2runner.runner import RunResult
 
 ROOT = Path(__file__).resolve().parents[2]
-SEED = Path("/work/shared/conformance/seed")
+SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
 KPH = 3.6
 
 
