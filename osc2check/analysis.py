@@ -46,7 +46,6 @@ class FileCache:
     def __init__(self, sources: dict[str, str]):
         self.sources = sources
         self.parses: dict[str, ParseResult] = {}
-        self.encoding_problems: dict[str, str] = {}
 
     def read(self, uri: str) -> ParseResult | None:
         if uri in self.parses:
@@ -57,9 +56,8 @@ class FileCache:
                 data = Path(uri).read_bytes()
             except OSError:
                 return None
-            text, problem = decode_source(data)
-            if problem:
-                self.encoding_problems[uri] = problem
+            # An imported file's own findings (P004 included) show when it is checked.
+            text, _ = decode_source(data)
         result = parse(text, uri)
         self.parses[uri] = result
         return result

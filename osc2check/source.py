@@ -51,6 +51,20 @@ def point_span(uri: str, text: str, offset: int) -> Span:
     return Span(uri, line, column, line, column, offset, offset)
 
 
+def strip_comment(line: str) -> str:
+    """``line`` without its ``#`` comment (a ``#`` inside a string is kept)."""
+    quote = None
+    for i, ch in enumerate(line):
+        if quote:
+            if ch == quote:
+                quote = None
+        elif ch in "\"'":
+            quote = ch
+        elif ch == "#":
+            return line[:i]
+    return line
+
+
 def decode_source(data: bytes) -> tuple[str, str | None]:
     """Decode file bytes as UTF-8 (BOM allowed). Returns (text, problem or None).
 

@@ -127,10 +127,9 @@ class Declarer:
         ns = self.model.namespace(ctx.namespace, create=True)
         if ns is None:
             return
-        before = [s for s in ns.symbols.get(sym.name, ()) if _same_space(s, sym)]
+        before = list(ns.symbols.get(sym.name, ()))
         if self.model.base is not None and ctx.namespace in self.model.base.namespaces:
-            before += [s for s in self.model.base.namespaces[ctx.namespace].symbols.get(
-                sym.name, ()) if _same_space(s, sym)]
+            before += self.model.base.namespaces[ctx.namespace].symbols.get(sym.name, ())
         ns.add(sym)
         if before and sym.name_span is not None:
             self.report(messages.duplicate_definition(sym.name_span, sym.name, before[0]))
@@ -480,11 +479,6 @@ def _is_conditional(symbol: Symbol) -> bool:
     decl = symbol.decl
     return isinstance(decl, ast.StructuredDecl) and decl.inherits is not None \
         and decl.inherits.condition is not None
-
-
-def _same_space(a: Symbol, b: Symbol) -> bool:
-    """Whether two global symbols compete for one name (types and globals do)."""
-    return True
 
 
 def _constant_number(expr) -> Fraction | None:

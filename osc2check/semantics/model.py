@@ -39,7 +39,6 @@ class Model:
     declarations: dict[ast.Node, Symbol] = field(default_factory=dict)
     references: dict[ast.Name, Symbol] = field(default_factory=dict)
     expr_types: dict[ast.Node, Type] = field(default_factory=dict)
-    scopes: dict[ast.Node, Symbol] = field(default_factory=dict)  # with-block or body owner
     library_namespaces: set[str] = field(default_factory=set)  # library namespaces imported
 
     # ---- namespaces ------------------------------------------------------------

@@ -33,11 +33,19 @@ def solve(analysis, scenario: str | None = None, seed: int = 0,
                    and d.severity.name == "ERROR")
     if errors and uri not in analysis.verified:
         return Unsolvable(scenario or "", "not-checked", errors)
-    result = verify_program(program, seed=seed, scenario=scenario)
-    if not result.scenarios:
+    # The analysis verified the file already (unless told not to): draw the witness
+    # from its result instead of lowering and solving the scenario again.
+    result = analysis.verified.get(uri)
+    if result is None or (scenario is not None and not any(
+            r.scenario.name == scenario for r in result.scenarios)):
+        result = verify_program(program, seed=None, scenario=scenario)
+    chosen = [r for r in result.scenarios if scenario is None or r.scenario.name == scenario]
+    if not chosen:
         return Unsolvable(scenario or "", "not-found", ())
-    first = result.scenarios[0]
-    if first.witness is not None:
-        return first.witness
-    own = tuple(d for d in result.diagnostics if d.severity.name == "ERROR")
+    first = chosen[0]
+    witness = first.witness_for(seed)
+    if witness is not None:
+        return witness
+    own = tuple(d for d in result.diagnostics if d.severity.name == "ERROR"
+                and d.span.uri == uri)
     return Unsolvable(first.scenario.name, first.outcome.status, own)

@@ -21,6 +21,7 @@ from osc2check import codes, messages
 from osc2check.diagnostics import Diagnostic, Related
 from osc2check.semantics.program import Program
 from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.source import strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import flow, ir, quick
@@ -90,8 +91,8 @@ class VerifyResult:
 def source_text(program: Program):
     """A function from a span to its source text, one line, without comments.
 
-    A node's span may stop before its closing brackets (a `keep(...)`'s does), so
-    brackets the text opens are closed from the source that follows.
+    A parenthesised expression's span leaves out its parentheses, so brackets the
+    text opens are closed from the source that follows.
     """
 
     def text_of(span) -> str:
@@ -101,7 +102,7 @@ def source_text(program: Program):
         text = result.text
         if span.end <= span.start:
             chosen = text.splitlines()[span.line - 1:span.end_line]
-            return " ".join(_without_comment(part).strip() for part in chosen)
+            return " ".join(strip_comment(part).strip() for part in chosen)
         end = span.end
         open_count = _open_brackets(text[span.start:end])
         while open_count > 0 and end < len(text):
@@ -112,7 +113,7 @@ def source_text(program: Program):
             else:
                 break
         parts = text[span.start:end].splitlines()
-        return " ".join(p for p in (_without_comment(part).strip() for part in parts) if p)
+        return " ".join(p for p in (strip_comment(part).strip() for part in parts) if p)
 
     return text_of
 
@@ -131,19 +132,6 @@ def _open_brackets(text: str) -> int:
         elif ch in ")]":
             depth -= 1
     return depth
-
-
-def _without_comment(line: str) -> str:
-    quote = None
-    for i, ch in enumerate(line):
-        if quote:
-            if ch == quote:
-                quote = None
-        elif ch in "\"'":
-            quote = ch
-        elif ch == "#":
-            return line[:i]
-    return line
 
 
 def scenarios_of(program: Program) -> list[Symbol]:

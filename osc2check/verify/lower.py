@@ -381,8 +381,7 @@ class Lowerer:
                 if base is None or sym is None or sym.kind not in (SymbolKind.FIELD,
                                                                     SymbolKind.VARIABLE):
                     return None
-                owner_type = _type_symbol_at(self, base)
-                if owner_type is None:
+                if base not in self.instances:
                     target_type = self.model.expr_types.get(expr.target)
                     if target_type is not None and target_type.symbol is not None:
                         self._compound(base, target_type.symbol)
@@ -540,10 +539,6 @@ def _scalar(t: T.Type | None) -> bool:
 def _type_symbol(sym: Symbol) -> Symbol | None:
     return sym.type.symbol if sym.type is not None and sym.type.kind is T.Kind.COMPOUND \
         else None
-
-
-def _type_symbol_at(lowerer: Lowerer, path: str) -> Symbol | None:
-    return lowerer.instances.get(path)
 
 
 class Declarations(dict):

@@ -5,6 +5,7 @@ from __future__ import annotations
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.types import Kind, Type
+from osc2check.source import strip_comment
 from osc2check.syntax import ast
 from osc2lsp.snapshot import Snapshot
 
@@ -36,21 +37,8 @@ def first_line(snapshot: Snapshot, node: ast.Node | None) -> str:
     end = text.find("\n", node.span.start)
     line = text[node.span.start:end if end != -1 else len(text)].rstrip()
     if "#" in line:
-        line = _strip_comment(line)
+        line = strip_comment(line).rstrip()
     return line.rstrip(":").rstrip() if line.endswith(":") else line
-
-
-def _strip_comment(line: str) -> str:
-    quote = None
-    for i, ch in enumerate(line):
-        if quote:
-            if ch == quote:
-                quote = None
-        elif ch in "\"'":
-            quote = ch
-        elif ch == "#":
-            return line[:i].rstrip()
-    return line
 
 
 def type_text(t: Type | None) -> str:
