@@ -46,8 +46,10 @@ def pct(values: list[float], q: float) -> float:
 
 def report(name: str, values: list[float], target: str = "") -> None:
     ms = [v * 1000 for v in values]
-    print(f"  {name:<44} p50 {pct(ms, .5):7.1f} ms   p95 {pct(ms, .95):7.1f} ms"
-          f"   (n={len(ms)}){'   target ' + target if target else ''}")
+    print(
+        f"  {name:<44} p50 {pct(ms, 0.5):7.1f} ms   p95 {pct(ms, 0.95):7.1f} ms"
+        f"   (n={len(ms)}){'   target ' + target if target else ''}"
+    )
 
 
 def position(text: str, offset: int) -> types.Position:
@@ -88,16 +90,24 @@ async def start(text: str | None) -> tuple[Client, float, float | None]:
     client = Client()
     began = time.perf_counter()
     await client.start_io(*SERVER, env=_env())
-    await client.initialize_async(types.InitializeParams(
-        capabilities=types.ClientCapabilities(), root_uri=ROOT.as_uri(),
-        initialization_options=OPTIONS))
+    await client.initialize_async(
+        types.InitializeParams(
+            capabilities=types.ClientCapabilities(),
+            root_uri=ROOT.as_uri(),
+            initialization_options=OPTIONS,
+        )
+    )
     ready = time.perf_counter() - began
     client.initialized(types.InitializedParams())
     first = None
     if text is not None:
-        client.text_document_did_open(types.DidOpenTextDocumentParams(
-            text_document=types.TextDocumentItem(uri=URI, language_id="osc2", version=1,
-                                                 text=text)))
+        client.text_document_did_open(
+            types.DidOpenTextDocumentParams(
+                text_document=types.TextDocumentItem(
+                    uri=URI, language_id="osc2", version=1, text=text
+                )
+            )
+        )
         first = await client.wait_version(1) - began
     return client, ready, first
 
@@ -122,8 +132,9 @@ def completion_points(text: str) -> list[int]:
 
 
 def name_points(text: str) -> list[int]:
-    return [m.start() + 1 for m in re.finditer(r"\b(gap_\d+|top_\d+|hero|change_lane|drive)\b",
-                                               text)][::7][:100]
+    return [
+        m.start() + 1 for m in re.finditer(r"\b(gap_\d+|top_\d+|hero|change_lane|drive)\b", text)
+    ][::7][:100]
 
 
 async def protocol(text: str, debounce_note: str) -> None:
@@ -133,19 +144,22 @@ async def protocol(text: str, debounce_note: str) -> None:
     comp = []
     for offset in completion_points(text):
         t = time.perf_counter()
-        await client.text_document_completion_async(types.CompletionParams(
-            text_document=doc, position=position(text, offset)))
+        await client.text_document_completion_async(
+            types.CompletionParams(text_document=doc, position=position(text, offset))
+        )
         comp.append(time.perf_counter() - t)
     report("completion (analysed document)", comp, "p95 < 50 ms")
     hov, dfn = [], []
     for offset in name_points(text):
         t = time.perf_counter()
-        await client.text_document_hover_async(types.HoverParams(
-            text_document=doc, position=position(text, offset)))
+        await client.text_document_hover_async(
+            types.HoverParams(text_document=doc, position=position(text, offset))
+        )
         hov.append(time.perf_counter() - t)
         t = time.perf_counter()
-        await client.text_document_definition_async(types.DefinitionParams(
-            text_document=doc, position=position(text, offset)))
+        await client.text_document_definition_async(
+            types.DefinitionParams(text_document=doc, position=position(text, offset))
+        )
         dfn.append(time.perf_counter() - t)
     report("hover", hov, "p95 < 30 ms")
     report("definition", dfn, "p95 < 30 ms")
@@ -156,8 +170,10 @@ async def protocol(text: str, debounce_note: str) -> None:
     typing, diag = [], []
     version = 1
     snippet = "hero.drive()"
-    anchors = [text.count("\n", 0, m.start())
-               for m in re.finditer(r"(?m)^        hero\.change_speed", text)][:30]
+    anchors = [
+        text.count("\n", 0, m.start())
+        for m in re.finditer(r"(?m)^        hero\.change_speed", text)
+    ][:30]
     for done, anchor in enumerate(anchors):
         line = anchor + done  # each earlier edit added a line above
         for i, ch in enumerate(snippet):
@@ -165,8 +181,11 @@ async def protocol(text: str, debounce_note: str) -> None:
             _insert(client, version, types.Position(line=line, character=8 + i), ch)
             if ch == ".":
                 t = time.perf_counter()
-                await client.text_document_completion_async(types.CompletionParams(
-                    text_document=doc, position=types.Position(line=line, character=9 + i)))
+                await client.text_document_completion_async(
+                    types.CompletionParams(
+                        text_document=doc, position=types.Position(line=line, character=9 + i)
+                    )
+                )
                 typing.append(time.perf_counter() - t)
         version += 1
         _insert(client, version, types.Position(line=line, character=8 + len(snippet)), "\n")
@@ -178,15 +197,23 @@ async def protocol(text: str, debounce_note: str) -> None:
     report("completion right after a keystroke", typing, "p95 < 50 ms")
     report("diagnostics after the last keystroke", diag, "< 300 ms")
     await stop(client)
-    print(f"  start-up: initialize answered after {ready * 1000:.0f} ms; first diagnostics "
-          f"of the document after {first * 1000:.0f} ms")
+    print(
+        f"  start-up: initialize answered after {ready * 1000:.0f} ms; first diagnostics "
+        f"of the document after {first * 1000:.0f} ms"
+    )
 
 
 def _insert(client: Client, version: int, at: types.Position, text: str) -> None:
-    client.text_document_did_change(types.DidChangeTextDocumentParams(
-        text_document=types.VersionedTextDocumentIdentifier(uri=URI, version=version),
-        content_changes=[types.TextDocumentContentChangePartial(
-            range=types.Range(start=at, end=at), text=text)]))
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=URI, version=version),
+            content_changes=[
+                types.TextDocumentContentChangePartial(
+                    range=types.Range(start=at, end=at), text=text
+                )
+            ],
+        )
+    )
 
 
 async def startup(runs: int = 5) -> None:
@@ -241,8 +268,10 @@ def in_process(text: str) -> None:
 def main() -> None:
     lines = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
     text = generate(lines)
-    print(f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
-          f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}")
+    print(
+        f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
+        f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
+    )
     asyncio.run(startup())
     asyncio.run(protocol(text, "server default debounce 100 ms"))
     in_process(text)

@@ -49,12 +49,16 @@ def peak_memory(fn) -> float:
 def main() -> None:
     start = time.perf_counter()
     standard_library()
-    print(f"standard library: parse + resolve once per process: "
-          f"{(time.perf_counter() - start) * 1000:.0f} ms (includes grammar load)")
+    print(
+        f"standard library: parse + resolve once per process: "
+        f"{(time.perf_counter() - start) * 1000:.0f} ms (includes grammar load)"
+    )
     lib_text = "\n".join(p.read_text() for p in sorted((ROOT / "stdlib").glob("*.osc")))
     med, best = timed(lambda: parse(lib_text, "stdlib"))
-    print(f"standard library text ({lib_text.count(chr(10))} lines): parse median "
-          f"{med * 1000:.0f} ms, best {best * 1000:.0f} ms")
+    print(
+        f"standard library text ({lib_text.count(chr(10))} lines): parse median "
+        f"{med * 1000:.0f} ms, best {best * 1000:.0f} ms"
+    )
 
     text = generate(10_000)
     lines = text.count("\n")
@@ -63,18 +67,26 @@ def main() -> None:
     check = analyze(sources, core)
     errors = [d for d in check.diagnostics if d.severity.name == "ERROR"]
     scenarios = text.count("\nscenario ")
-    print(f"generated file: {lines} lines, {len(text) / 1024:.0f} KiB, {scenarios} scenarios, "
-          f"{len(check.diagnostics)} findings ({len(errors)} errors) before verification")
+    print(
+        f"generated file: {lines} lines, {len(text) / 1024:.0f} KiB, {scenarios} scenarios, "
+        f"{len(check.diagnostics)} findings ({len(errors)} errors) before verification"
+    )
     med, best = timed(lambda: parse(text, "generated.osc"))
     print(f"  parse:    median {med * 1000:.0f} ms, best {best * 1000:.0f} ms   (target < 500 ms)")
     med, best = timed(lambda: analyze(sources, core), repeat=3)
-    print(f"  analysis: median {med * 1000:.0f} ms, best {best * 1000:.0f} ms   "
-          "(parse, names, types, units, arguments; target < 1000 ms)")
-    print(f"  peak memory of one analysis: {peak_memory(lambda: analyze(sources, core)):.0f} MiB "
-          "(traced Python allocations)")
+    print(
+        f"  analysis: median {med * 1000:.0f} ms, best {best * 1000:.0f} ms   "
+        "(parse, names, types, units, arguments; target < 1000 ms)"
+    )
+    print(
+        f"  peak memory of one analysis: {peak_memory(lambda: analyze(sources, core)):.0f} MiB "
+        "(traced Python allocations)"
+    )
     med, best = timed(lambda: analyze(sources), repeat=1)
-    print(f"  with verification of all {scenarios} scenarios (z3): {med * 1000:.0f} ms "
-          f"({med / max(scenarios, 1) * 1000:.1f} ms per scenario; see bench_verify.py)")
+    print(
+        f"  with verification of all {scenarios} scenarios (z3): {med * 1000:.0f} ms "
+        f"({med / max(scenarios, 1) * 1000:.1f} ms per scenario; see bench_verify.py)"
+    )
 
     example = ROOT / "examples" / "cut_in_and_stop.osc"
     cmd = [sys.executable, "-m", "osc2check.cli", "--output-format", "concise", str(example)]
@@ -83,9 +95,11 @@ def main() -> None:
         start = time.perf_counter()
         subprocess.run(cmd, cwd=ROOT, capture_output=True, check=False)
         walls.append(time.perf_counter() - start)
-    print(f"osc2check on one small file, interpreter start included: median "
-          f"{statistics.median(walls) * 1000:.0f} ms, best {min(walls) * 1000:.0f} ms "
-          "(target < 500 ms)")
+    print(
+        f"osc2check on one small file, interpreter start included: median "
+        f"{statistics.median(walls) * 1000:.0f} ms, best {min(walls) * 1000:.0f} ms "
+        "(target < 500 ms)"
+    )
 
 
 if __name__ == "__main__":

@@ -42,8 +42,13 @@ SEED_CUT_IN = ROOT.parent / "shared" / "conformance" / "seed" / "cut_in_and_stop
 
 def many_vehicles(count: int = 20) -> str:
     """``count`` vehicles (two HGVs) in lanes 1-3 of a 4-lane road; lane 3 moves to lane 4."""
-    lines = ["import osc.standard", "", "scenario many:",
-             "    road_map: map with:", '        keep(it.map_file == "highway_4lane")']
+    lines = [
+        "import osc.standard",
+        "",
+        "scenario many:",
+        "    road_map: map with:",
+        '        keep(it.map_file == "highway_4lane")',
+    ]
     for i in range(count):
         category = "truck" if i in (0, 9) else "car"
         lines.append(f"    v{i}: vehicle with:")
@@ -83,10 +88,12 @@ def measure(name: str, path: Path, dt: float, repeat: int) -> None:
     sim = result.metadata["simulated_time"]
     ticks = result.metadata["steps"]
     outside = wall - inside
-    print(f"{name:<12} dt={dt * 1e3:4.1f} ms  {result.outcome.status:<8} sim {sim:6.2f} s  "
-          f"RTF {sim / wall:7.1f}x  {1e3 * wall / max(ticks, 1):6.3f} ms/tick  "
-          f"mj_step {100 * inside / wall:5.1f}%  outside {100 * outside / wall:5.1f}%  "
-          f"(outside {1e6 * outside / max(ticks, 1):5.0f} us/tick)")
+    print(
+        f"{name:<12} dt={dt * 1e3:4.1f} ms  {result.outcome.status:<8} sim {sim:6.2f} s  "
+        f"RTF {sim / wall:7.1f}x  {1e3 * wall / max(ticks, 1):6.3f} ms/tick  "
+        f"mj_step {100 * inside / wall:5.1f}%  outside {100 * outside / wall:5.1f}%  "
+        f"(outside {1e6 * outside / max(ticks, 1):5.0f} us/tick)"
+    )
 
 
 def main() -> None:

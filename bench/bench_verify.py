@@ -42,25 +42,27 @@ def many_actors(actors: int = 20) -> str:
     for i in range(actors):
         lines.append(f"    a{i}: vehicle")
     for i in range(actors):
-        lines += [f"    gap{i}: length with:",
-                  f"        keep(default it == {10 + i % 7}m)",
-                  f"    v{i}: speed",
-                  f"    keep(v{i} in [{40 + i % 5}kph..{110 - i % 9}kph])",
-                  f"    keep(v{i} != {60 + i}kph)",
-                  f"    keep(gap{i} in [5m..40m])",
-                  f"    keep(gap{i} >= {5 + i % 3}m)"]
+        lines += [
+            f"    gap{i}: length with:",
+            f"        keep(default it == {10 + i % 7}m)",
+            f"    v{i}: speed",
+            f"    keep(v{i} in [{40 + i % 5}kph..{110 - i % 9}kph])",
+            f"    keep(v{i} != {60 + i}kph)",
+            f"    keep(gap{i} in [5m..40m])",
+            f"    keep(gap{i} >= {5 + i % 3}m)",
+        ]
         if i:
-            lines += [f"    keep(v{i} <= v{i - 1} + 5kph)",
-                      f"    keep(gap{i} + gap{i - 1} <= 70m)"]
+            lines += [f"    keep(v{i} <= v{i - 1} + 5kph)", f"    keep(gap{i} + gap{i - 1} <= 70m)"]
     lines.append("    do parallel:")
     for i in range(actors):
-        lines += [f"        a{i}.drive(duration: 30s) with:",
-                  f"            speed(v{i}, at: start)"]
+        lines += [f"        a{i}.drive(duration: 30s) with:", f"            speed(v{i}, at: start)"]
         if i < 3:
             lines.append(f"            lane({i + 1}, at: start)")
         else:
-            lines += [f"            lane(same_as: a{i - 3}, at: start)",
-                      f"            position(distance: gap{i}, behind: a{i - 3}, at: start)"]
+            lines += [
+                f"            lane(same_as: a{i - 3}, at: start)",
+                f"            position(distance: gap{i}, behind: a{i - 3}, at: start)",
+            ]
     return "\n".join(lines) + "\n"
 
 
@@ -107,43 +109,58 @@ def lowered(text: str, name: str):
     (scenario,) = scenarios_of(program)
     text_of = source_text(program)
     decls = member_declarations(program.model)
-    return sources, program, scenario, lambda: lower_scenario(program.model, scenario,
-                                                              text_of, "default", decls)
+    return (
+        sources,
+        program,
+        scenario,
+        lambda: lower_scenario(program.model, scenario, text_of, "default", decls),
+    )
 
 
 def main() -> None:
     start = time.perf_counter()
     _z3()
-    print(f"import z3: {(time.perf_counter() - start) * 1000:.0f} ms (once per process, "
-          "only when a scenario needs the solver)")
+    print(
+        f"import z3: {(time.perf_counter() - start) * 1000:.0f} ms (once per process, "
+        "only when a scenario needs the solver)"
+    )
 
     # --- 20 actors, about 300 constraints -------------------------------------------------
     text = many_actors()
     sources, program, scenario, lower = lowered(text, "convoy")
     problem = lower()
     user = [c for c in problem.constraints if c.kind not in ("domain", "placement")]
-    print(f"\n20-actor scenario: {text.count(chr(10))} lines, {len(problem.variables)} variables, "
-          f"{len(problem.constraints)} constraints ({len(user)} written, the rest the road, "
-          "the vehicles and the types' domains)")
+    print(
+        f"\n20-actor scenario: {text.count(chr(10))} lines, {len(problem.variables)} variables, "
+        f"{len(problem.constraints)} constraints ({len(user)} written, the rest the road, "
+        "the vehicles and the types' domains)"
+    )
     med, best, analysis = timed(lambda: analyze(sources), repeat=5)
     status = analysis.verified["convoy.osc"].scenarios[0].outcome
-    print(f"  full analysis (parse, resolve, lower, decide): median {med:.1f} ms, "
-          f"best {best:.1f} ms  [{status.status} by {status.method}]")
+    print(
+        f"  full analysis (parse, resolve, lower, decide): median {med:.1f} ms, "
+        f"best {best:.1f} ms  [{status.status} by {status.method}]"
+    )
     med, best, _ = timed(lower)
     print(f"  lowering to the IR:                     median {med:.1f} ms, best {best:.1f} ms")
     med, best, outcome = timed(lambda: check(problem))
-    print(f"  decide (check: propagation, else z3):    median {med:.1f} ms, best {best:.1f} ms"
-          f"  [{outcome.status} by {outcome.method}]   (target < 100 ms)")
+    print(
+        f"  decide (check: propagation, else z3):    median {med:.1f} ms, best {best:.1f} ms"
+        f"  [{outcome.status} by {outcome.method}]   (target < 100 ms)"
+    )
     med, best, outcome = timed(lambda: solve(problem))
-    print(f"  solve with z3 alone (fresh context):    median {med:.1f} ms, best {best:.1f} ms"
-          f"  [{outcome.status}]   (target < 100 ms)")
+    print(
+        f"  solve with z3 alone (fresh context):    median {med:.1f} ms, best {best:.1f} ms"
+        f"  [{outcome.status}]   (target < 100 ms)"
+    )
 
     # --- witnesses -------------------------------------------------------------------------
     result = analysis.verified["convoy.osc"].scenarios[0]
     seeds = iter(range(1000))
     med, best, _ = timed(lambda: result.witness_for(next(seeds)), repeat=7)
-    print(f"  a witness from the analysis (sample + tables): median {med:.1f} ms, "
-          f"best {best:.1f} ms")
+    print(
+        f"  a witness from the analysis (sample + tables): median {med:.1f} ms, best {best:.1f} ms"
+    )
     med, best, _ = timed(lambda: solve(problem, seed=1), repeat=5)
     print(f"  a witness from z3 (solve + one sample):   median {med:.1f} ms, best {best:.1f} ms")
     active = active_constraints(problem, Outcome("sat"))
@@ -153,36 +170,45 @@ def main() -> None:
     seeds = iter(range(1000))
     med, best, _ = timed(lambda: sampler.sample(next(seeds)), repeat=20)
     spread = {sampler.sample(s)["a0@start.s"] for s in range(10)}
-    print(f"  each additional sample (drawn by propagation): median {med:.1f} ms, "
-          f"best {best:.1f} ms   (target < 10 ms; {len(spread)} distinct starts of a0 "
-          "in 10 seeds)")
+    print(
+        f"  each additional sample (drawn by propagation): median {med:.1f} ms, "
+        f"best {best:.1f} ms   (target < 10 ms; {len(spread)} distinct starts of a0 "
+        "in 10 seeds)"
+    )
     ctx = _z3().Context()
     enc = _Encoder(problem, ctx)
-    fallback = Sampler(problem, active, base, enc=enc,
-                       exprs=[enc.term(c.term) for c in active])
+    fallback = Sampler(problem, active, base, enc=enc, exprs=[enc.term(c.term) for c in active])
     fallback.TRIES = 0  # straight to z3.Optimize
     fallback.sample(0)
     seeds = iter(range(1000))
     med, best, _ = timed(lambda: fallback.sample(next(seeds)), repeat=10)
-    print(f"  each additional sample when propagation fails (one Optimize, push/pop): "
-          f"median {med:.1f} ms, best {best:.1f} ms")
+    print(
+        f"  each additional sample when propagation fails (one Optimize, push/pop): "
+        f"median {med:.1f} ms, best {best:.1f} ms"
+    )
 
     # --- one conflict among 1,000 constraints ------------------------------------------------
     text = one_conflict()
     sources, program, scenario, lower = lowered(text, "crowded")
     problem = lower()
-    print(f"\none conflict among {len(problem.constraints)} constraints "
-          f"({len(problem.variables)} variables):")
+    print(
+        f"\none conflict among {len(problem.constraints)} constraints "
+        f"({len(problem.variables)} variables):"
+    )
     med, best, outcome = timed(lambda: check(problem), repeat=5)
     (conflict,) = outcome.conflicts
     members = [conflict.primary, *conflict.others]
-    print(f"  minimal core (check, z3 with tracked constraints): median {med:.0f} ms, "
-          f"best {best:.0f} ms   (target < 500 ms) -> {len(members)} constraints: "
-          + "; ".join(f"line {c.span.line} `{c.text}`" for c in members))
+    print(
+        f"  minimal core (check, z3 with tracked constraints): median {med:.0f} ms, "
+        f"best {best:.0f} ms   (target < 500 ms) -> {len(members)} constraints: "
+        + "; ".join(f"line {c.span.line} `{c.text}`" for c in members)
+    )
     med, best, analysis = timed(lambda: analyze(sources), repeat=3)
-    print(f"  full analysis of the file ({text.count(chr(10))} lines):     median {med:.0f} ms, "
-          f"best {best:.0f} ms  "
-          f"[{', '.join(d.code.code for d in analysis.diagnostics)}]")
+    print(
+        f"  full analysis of the file ({text.count(chr(10))} lines):     median {med:.0f} ms, "
+        f"best {best:.0f} ms  "
+        f"[{', '.join(d.code.code for d in analysis.diagnostics)}]"
+    )
 
 
 if __name__ == "__main__":

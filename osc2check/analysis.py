@@ -63,8 +63,14 @@ class FileCache:
         return result
 
 
-def analyze(sources: list[SourceInput], config=None, *, seed: int | None = None,
-            scenario: str | None = None, verify: bool | None = None) -> Analysis:
+def analyze(
+    sources: list[SourceInput],
+    config=None,
+    *,
+    seed: int | None = None,
+    scenario: str | None = None,
+    verify: bool | None = None,
+) -> Analysis:
     """Check every source; returns the diagnostics (config applied) and the texts.
 
     ``seed`` picks the witness among the many that satisfy a scenario (the same seed
@@ -84,8 +90,9 @@ def analyze(sources: list[SourceInput], config=None, *, seed: int | None = None,
             gc.enable()
 
 
-def _analyze(sources: list[SourceInput], config, seed: int | None,
-             scenario: str | None, verify: bool) -> Analysis:
+def _analyze(
+    sources: list[SourceInput], config, seed: int | None, scenario: str | None, verify: bool
+) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
     implicit = tuple(getattr(config, "implicit_imports", ()) or ())
@@ -112,8 +119,9 @@ def _analyze(sources: list[SourceInput], config, seed: int | None,
             found.append(_encoding_problem(source))
         if verify and not any(d.severity is Severity.ERROR for d in [*result.diagnostics, *own]):
             try:
-                checked = verify_program(program, seed=seed, scenario=scenario, solver=solver,
-                                         default_map=road_map)
+                checked = verify_program(
+                    program, seed=seed, scenario=scenario, solver=solver, default_map=road_map
+                )
             except RecursionError:
                 found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
                 continue
@@ -140,13 +148,17 @@ _NAME_CODES = frozenset({"N101", "N103", "N104", "N106", "N108", "N113", "A301",
 def _relevant(program: Program, result: ParseResult, uri: str) -> list[Diagnostic]:
     own = [d for d in program.diagnostics if d.span.uri == uri]
     missing_import = any(d.code.code == "N105" for d in own)
-    return [d for d in own
-            if d.span.line not in result.error_lines
-            and not (missing_import and d.code.code in _NAME_CODES)]
+    return [
+        d
+        for d in own
+        if d.span.line not in result.error_lines
+        and not (missing_import and d.code.code in _NAME_CODES)
+    ]
 
 
-def _finish(found: list[Diagnostic], cache: FileCache, texts: dict[str, str],
-            config) -> list[Diagnostic]:
+def _finish(
+    found: list[Diagnostic], cache: FileCache, texts: dict[str, str], config
+) -> list[Diagnostic]:
     unique: dict[tuple, Diagnostic] = {}
     for d in found:
         unique.setdefault((d.span.uri, d.span.start, d.span.end, d.code.code, d.message), d)

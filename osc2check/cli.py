@@ -326,8 +326,11 @@ def _witness_tables(results: list[Any]) -> str:
         if r.witness is not None:
             parts.append(r.witness.table())
         else:
-            why = "its constraints cannot all hold" if r.outcome.status == "unsat" else \
-                "the solver could not decide"
+            why = (
+                "its constraints cannot all hold"
+                if r.outcome.status == "unsat"
+                else "the solver could not decide"
+            )
             parts.append(f"no witness for scenario `{r.scenario.name}`: {why}")
     return ("\n" + "\n\n".join(parts) + "\n") if parts else ""
 

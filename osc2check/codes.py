@@ -61,89 +61,263 @@ E, W, I = Severity.ERROR, Severity.WARNING, Severity.INFO
 
 # --- P: syntax -------------------------------------------------------------
 SYNTAX_ERROR = Code("P001", "syntax-error", E, "the text does not follow the OSC2 grammar")
-INDENTATION_ERROR = Code("P002", "indentation-error", E, "a line is indented to a level no enclosing block uses")
-INVALID_LITERAL = Code("P003", "invalid-literal", E, "a number, string or physical literal is malformed")
+INDENTATION_ERROR = Code(
+    "P002", "indentation-error", E, "a line is indented to a level no enclosing block uses"
+)
+INVALID_LITERAL = Code(
+    "P003", "invalid-literal", E, "a number, string or physical literal is malformed"
+)
 INVALID_ENCODING = Code("P004", "invalid-encoding", E, "the file is not valid UTF-8 text")
-NESTING_TOO_DEEP = Code("P005", "nesting-too-deep", E, "an expression or block is nested too deeply to analyse")
+NESTING_TOO_DEEP = Code(
+    "P005", "nesting-too-deep", E, "an expression or block is nested too deeply to analyse"
+)
 
 # --- N: names and resolution -----------------------------------------------
-UNDEFINED_NAME = Code("N101", "undefined-name", E, "a name is used that no visible declaration defines")
-DUPLICATE_DEFINITION = Code("N102", "duplicate-definition", E, "a name is declared twice in the same scope")
-UNKNOWN_MEMBER = Code("N103", "unknown-member", E, "a member is accessed that the type does not have")
-UNKNOWN_UNIT = Code("N104", "unknown-unit", E, "a physical literal names a unit that is not declared")
-UNRESOLVED_IMPORT = Code("N105", "unresolved-import", E, "an import names a file or module that cannot be found")
-UNKNOWN_ENUM_MEMBER = Code("N106", "unknown-enum-member", E, "an enum member is named that the enum does not have")
+UNDEFINED_NAME = Code(
+    "N101", "undefined-name", E, "a name is used that no visible declaration defines"
+)
+DUPLICATE_DEFINITION = Code(
+    "N102", "duplicate-definition", E, "a name is declared twice in the same scope"
+)
+UNKNOWN_MEMBER = Code(
+    "N103", "unknown-member", E, "a member is accessed that the type does not have"
+)
+UNKNOWN_UNIT = Code(
+    "N104", "unknown-unit", E, "a physical literal names a unit that is not declared"
+)
+UNRESOLVED_IMPORT = Code(
+    "N105", "unresolved-import", E, "an import names a file or module that cannot be found"
+)
+UNKNOWN_ENUM_MEMBER = Code(
+    "N106", "unknown-enum-member", E, "an enum member is named that the enum does not have"
+)
 IMPORT_CYCLE = Code("N107", "import-cycle", W, "files import each other in a cycle")
-AMBIGUOUS_ENUM_LITERAL = Code("N108", "ambiguous-enum-literal", E, "a bare enum member belongs to several enums and the context does not decide")
-INVALID_INHERITANCE = Code("N109", "invalid-inheritance", E, "a declaration inherits from something it cannot inherit from")
-RESERVED_NAME = Code("N110", "reserved-name", W, "a declaration uses a name reserved by the standard")
-INVALID_IMPLICIT_NAME = Code("N111", "invalid-implicit-name", E, "`it` or `actor` is used where it has no meaning")
-MISPLACED_MEMBER = Code("N112", "misplaced-member", E, "a member that this kind of declaration cannot have, such as `do` in a struct or a second `do`")
-AMBIGUOUS_NAME = Code("N113", "ambiguous-name", E, "a name is exported by several used namespaces and nothing closer decides")
-ENUM_VALUE_CYCLE = Code("N114", "enum-value-cycle", E, "enum members take their values from each other in a cycle")
+AMBIGUOUS_ENUM_LITERAL = Code(
+    "N108",
+    "ambiguous-enum-literal",
+    E,
+    "a bare enum member belongs to several enums and the context does not decide",
+)
+INVALID_INHERITANCE = Code(
+    "N109", "invalid-inheritance", E, "a declaration inherits from something it cannot inherit from"
+)
+RESERVED_NAME = Code(
+    "N110", "reserved-name", W, "a declaration uses a name reserved by the standard"
+)
+INVALID_IMPLICIT_NAME = Code(
+    "N111", "invalid-implicit-name", E, "`it` or `actor` is used where it has no meaning"
+)
+MISPLACED_MEMBER = Code(
+    "N112",
+    "misplaced-member",
+    E,
+    "a member that this kind of declaration cannot have, such as `do` in a struct or a second `do`",
+)
+AMBIGUOUS_NAME = Code(
+    "N113",
+    "ambiguous-name",
+    E,
+    "a name is exported by several used namespaces and nothing closer decides",
+)
+ENUM_VALUE_CYCLE = Code(
+    "N114", "enum-value-cycle", E, "enum members take their values from each other in a cycle"
+)
 
 # --- T: types and units ----------------------------------------------------
-DIMENSION_MISMATCH = Code("T201", "dimension-mismatch", E, "physical quantities of different dimensions are combined")
-MISSING_UNIT = Code("T202", "missing-unit", E, "a plain number is used where a physical quantity is expected")
-TYPE_MISMATCH = Code("T203", "type-mismatch", E, "a value has a type that the context does not accept")
-FLOAT_TO_INT = Code("T204", "float-to-int", W, "a float value is given where an integer is expected")
-NON_BOOLEAN_CONDITION = Code("T205", "non-boolean-condition", E, "a condition is not a boolean expression")
-RANGE_BOUNDS_TYPE = Code("T206", "range-bounds-type", E, "the two bounds of a range have different types")
-INVALID_UNIT_DECLARATION = Code("T207", "invalid-unit-declaration", E, "a unit declares SI exponents that differ from its type's")
+DIMENSION_MISMATCH = Code(
+    "T201", "dimension-mismatch", E, "physical quantities of different dimensions are combined"
+)
+MISSING_UNIT = Code(
+    "T202", "missing-unit", E, "a plain number is used where a physical quantity is expected"
+)
+TYPE_MISMATCH = Code(
+    "T203", "type-mismatch", E, "a value has a type that the context does not accept"
+)
+FLOAT_TO_INT = Code(
+    "T204", "float-to-int", W, "a float value is given where an integer is expected"
+)
+NON_BOOLEAN_CONDITION = Code(
+    "T205", "non-boolean-condition", E, "a condition is not a boolean expression"
+)
+RANGE_BOUNDS_TYPE = Code(
+    "T206", "range-bounds-type", E, "the two bounds of a range have different types"
+)
+INVALID_UNIT_DECLARATION = Code(
+    "T207",
+    "invalid-unit-declaration",
+    E,
+    "a unit declares SI exponents that differ from its type's",
+)
 NOT_CALLABLE = Code("T208", "not-callable", E, "something that is not a method is called")
 
 # --- A: arguments and invocations ------------------------------------------
-UNKNOWN_BEHAVIOR = Code("A301", "unknown-action-or-modifier", E, "an invoked action, scenario or modifier is not declared for the actor")
+UNKNOWN_BEHAVIOR = Code(
+    "A301",
+    "unknown-action-or-modifier",
+    E,
+    "an invoked action, scenario or modifier is not declared for the actor",
+)
 UNKNOWN_ARGUMENT = Code("A302", "unknown-argument", E, "a named argument matches no parameter")
-TOO_MANY_POSITIONAL = Code("A304", "too-many-positional", E, "more positional arguments than parameters, or a positional after a named one")
+TOO_MANY_POSITIONAL = Code(
+    "A304",
+    "too-many-positional",
+    E,
+    "more positional arguments than parameters, or a positional after a named one",
+)
 DUPLICATE_ARGUMENT = Code("A305", "duplicate-argument", E, "a parameter is given twice")
-EXCLUSIVE_ARGUMENTS = Code("A306", "mutually-exclusive-arguments", E, "arguments that exclude each other are given together")
-INCOMPLETE_ARGUMENTS = Code("A307", "incomplete-argument-group", E, "an argument is given without the argument it needs")
-MISSING_ARGUMENT = Code("A303", "missing-argument", E, "a method call omits a parameter that has no default")
+EXCLUSIVE_ARGUMENTS = Code(
+    "A306",
+    "mutually-exclusive-arguments",
+    E,
+    "arguments that exclude each other are given together",
+)
+INCOMPLETE_ARGUMENTS = Code(
+    "A307", "incomplete-argument-group", E, "an argument is given without the argument it needs"
+)
+MISSING_ARGUMENT = Code(
+    "A303", "missing-argument", E, "a method call omits a parameter that has no default"
+)
 
 # --- C: constraints (keep, defaults, arguments) --------------------------------
-UNSATISFIABLE_CONSTRAINTS = Code("C401", "unsatisfiable-constraints", E, "constraints of a scenario cannot all hold")
-REVERSED_RANGE = Code("C402", "reversed-range", W, "a range is written from its upper to its lower bound")
-DEFAULT_OVERRIDDEN = Code("C403", "default-overridden", I, "a default constraint is replaced by a hard constraint or `remove_default`")
-CONFLICTING_DEFAULTS = Code("C404", "conflicting-defaults", W, "two defaults of one parameter give different values")
-VACUOUS_CONSTRAINT = Code("C405", "vacuous-constraint", W, "a constraint holds for every value its parameters can take")
-SOLVER_INCONCLUSIVE = Code("C408", "solver-inconclusive", I, "the solver could not decide within its budget")
-NONLINEAR_CONSTRAINT = Code("C410", "nonlinear-constraint", I, "a constraint multiplies two unknowns; it is solved with a budget")
+UNSATISFIABLE_CONSTRAINTS = Code(
+    "C401", "unsatisfiable-constraints", E, "constraints of a scenario cannot all hold"
+)
+REVERSED_RANGE = Code(
+    "C402", "reversed-range", W, "a range is written from its upper to its lower bound"
+)
+DEFAULT_OVERRIDDEN = Code(
+    "C403",
+    "default-overridden",
+    I,
+    "a default constraint is replaced by a hard constraint or `remove_default`",
+)
+CONFLICTING_DEFAULTS = Code(
+    "C404", "conflicting-defaults", W, "two defaults of one parameter give different values"
+)
+VACUOUS_CONSTRAINT = Code(
+    "C405", "vacuous-constraint", W, "a constraint holds for every value its parameters can take"
+)
+SOLVER_INCONCLUSIVE = Code(
+    "C408", "solver-inconclusive", I, "the solver could not decide within its budget"
+)
+NONLINEAR_CONSTRAINT = Code(
+    "C410",
+    "nonlinear-constraint",
+    I,
+    "a constraint multiplies two unknowns; it is solved with a budget",
+)
 
 # --- L: initial placement ------------------------------------------------------
-INFEASIBLE_PLACEMENT = Code("L501", "infeasible-initial-placement", E, "the start positions that the scenario asks for cannot all hold")
-FOOTPRINT_OVERLAP = Code("L502", "footprint-overlap-at-start", E, "actors would overlap at the start")
-LANE_OUT_OF_RANGE = Code("L503", "lane-out-of-range", E, "an actor is placed in a lane the road does not have")
-REFERENCE_NOT_PLACED = Code("L504", "reference-actor-not-placed", W, "an actor is placed relative to one that is not on the road at the start")
-CYCLIC_PLACEMENT = Code("L505", "cyclic-relative-placement", W, "actors are placed relative to each other in a cycle")
-UNPLACED_ACTOR = Code("L506", "unplaced-actor", I, "an actor has no start position; the solver picks one")
+INFEASIBLE_PLACEMENT = Code(
+    "L501",
+    "infeasible-initial-placement",
+    E,
+    "the start positions that the scenario asks for cannot all hold",
+)
+FOOTPRINT_OVERLAP = Code(
+    "L502", "footprint-overlap-at-start", E, "actors would overlap at the start"
+)
+LANE_OUT_OF_RANGE = Code(
+    "L503", "lane-out-of-range", E, "an actor is placed in a lane the road does not have"
+)
+REFERENCE_NOT_PLACED = Code(
+    "L504",
+    "reference-actor-not-placed",
+    W,
+    "an actor is placed relative to one that is not on the road at the start",
+)
+CYCLIC_PLACEMENT = Code(
+    "L505", "cyclic-relative-placement", W, "actors are placed relative to each other in a cycle"
+)
+UNPLACED_ACTOR = Code(
+    "L506", "unplaced-actor", I, "an actor has no start position; the solver picks one"
+)
 OFF_ROAD = Code("L507", "off-road-placement", E, "an actor would start beyond the ends of the road")
-SPEED_ABOVE_MAX = Code("L508", "speed-exceeds-vehicle-max", E, "a start speed is above what the vehicle can reach")
-UNSAFE_GAP = Code("L511", "unsafe-initial-gap", W, "a start gap is shorter than one second at the follower's speed")
+SPEED_ABOVE_MAX = Code(
+    "L508", "speed-exceeds-vehicle-max", E, "a start speed is above what the vehicle can reach"
+)
+UNSAFE_GAP = Code(
+    "L511",
+    "unsafe-initial-gap",
+    W,
+    "a start gap is shorter than one second at the follower's speed",
+)
 UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
 
 # --- B: behaviour flow -----------------------------------------------------------
-WAIT_WITHOUT_EMITTER = Code("B601", "wait-without-emitter", E, "a `wait` for an event that nothing emits")
-WAIT_BLOCKS_EMITTER = Code("B602", "wait-blocks-own-emitter", E, "a `wait` comes before the only `emit` of its event in the same serial chain")
+WAIT_WITHOUT_EMITTER = Code(
+    "B601", "wait-without-emitter", E, "a `wait` for an event that nothing emits"
+)
+WAIT_BLOCKS_EMITTER = Code(
+    "B602",
+    "wait-blocks-own-emitter",
+    E,
+    "a `wait` comes before the only `emit` of its event in the same serial chain",
+)
 NEGATIVE_DURATION = Code("B604", "negative-duration", E, "a duration is negative")
 EMPTY_ONE_OF = Code("B605", "empty-one-of", E, "a `one_of` has no members")
 EMPTY_COMPOSITION = Code("B606", "empty-composition", W, "a `serial` or `parallel` has no members")
-CONSTANT_CONDITION = Code("B609", "constant-condition", W, "a condition is always true or always false")
-PARALLEL_MOVEMENTS = Code("B610", "conflicting-parallel-movements", W, "one actor is given two movement actions at the same time")
-RECURSIVE_SCENARIO = Code("B611", "recursive-scenario", E, "a scenario invokes itself, directly or through others")
+CONSTANT_CONDITION = Code(
+    "B609", "constant-condition", W, "a condition is always true or always false"
+)
+PARALLEL_MOVEMENTS = Code(
+    "B610",
+    "conflicting-parallel-movements",
+    W,
+    "one actor is given two movement actions at the same time",
+)
+RECURSIVE_SCENARIO = Code(
+    "B611", "recursive-scenario", E, "a scenario invokes itself, directly or through others"
+)
 
 # --- D: dialect forms (the design paper's and the standard's own examples) --
-USE_STATEMENT = Code("D801", "use-statement", W, "`use` written as a statement instead of a `namespace ... use` clause")
-UNDECLARED_EVENT = Code("D802", "undeclared-event", W, "an event is emitted or awaited that no `event` declaration defines")
-TOOLKIT_EXTENSION = Code("D803", "toolkit-extension", W, "a member of the toolkit's own library is used; other tools may not have it")
-STANDARD_FILE_IMPORT = Code("D804", "standard-file-import", W, "the standard library is imported by file name instead of `import osc.standard`")
-UNITLESS_PHYSICAL_LITERAL = Code("D805", "unitless-physical-literal", W, "a plain number literal is given where a physical quantity is expected")
-ONE_OF_RACE = Code("D806", "one-of-race", W, "a `one_of` member is a `wait`: the toolkit runs `one_of` as a race")
-SPEC_EXAMPLE_PARAMETER = Code("D807", "nonstandard-parameter", W, "a parameter used in the standard's examples but not declared by its library")
+USE_STATEMENT = Code(
+    "D801",
+    "use-statement",
+    W,
+    "`use` written as a statement instead of a `namespace ... use` clause",
+)
+UNDECLARED_EVENT = Code(
+    "D802",
+    "undeclared-event",
+    W,
+    "an event is emitted or awaited that no `event` declaration defines",
+)
+TOOLKIT_EXTENSION = Code(
+    "D803",
+    "toolkit-extension",
+    W,
+    "a member of the toolkit's own library is used; other tools may not have it",
+)
+STANDARD_FILE_IMPORT = Code(
+    "D804",
+    "standard-file-import",
+    W,
+    "the standard library is imported by file name instead of `import osc.standard`",
+)
+UNITLESS_PHYSICAL_LITERAL = Code(
+    "D805",
+    "unitless-physical-literal",
+    W,
+    "a plain number literal is given where a physical quantity is expected",
+)
+ONE_OF_RACE = Code(
+    "D806", "one-of-race", W, "a `one_of` member is a `wait`: the toolkit runs `one_of` as a race"
+)
+SPEC_EXAMPLE_PARAMETER = Code(
+    "D807",
+    "nonstandard-parameter",
+    W,
+    "a parameter used in the standard's examples but not declared by its library",
+)
 
 # --- S: suppressions and tooling -------------------------------------------
-UNUSED_SUPPRESSION = Code("S001", "unused-suppression", W, "a suppression comment matches no diagnostic")
-UNKNOWN_SUPPRESSION_CODE = Code("S002", "unknown-suppression-code", W, "a suppression comment names a code that does not exist")
+UNUSED_SUPPRESSION = Code(
+    "S001", "unused-suppression", W, "a suppression comment matches no diagnostic"
+)
+UNKNOWN_SUPPRESSION_CODE = Code(
+    "S002", "unknown-suppression-code", W, "a suppression comment names a code that does not exist"
+)
 
 ALL: tuple[Code, ...] = tuple(v for v in list(globals().values()) if isinstance(v, Code))
 BY_CODE: dict[str, Code] = {c.code: c for c in ALL}

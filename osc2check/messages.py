@@ -15,8 +15,14 @@ from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
 from osc2check.source import Span
 
 
-def _diag(code: Code, message: str, span: Span, related: Sequence[Related] = (),
-          fix: Fix | None = None, **data) -> Diagnostic:
+def _diag(
+    code: Code,
+    message: str,
+    span: Span,
+    related: Sequence[Related] = (),
+    fix: Fix | None = None,
+    **data,
+) -> Diagnostic:
     return Diagnostic(code, message, span, code.severity, tuple(related), fix, data)
 
 
@@ -46,8 +52,12 @@ def _replace_fix(span: Span, suggestion: str | None) -> Fix | None:
 def syntax_error(span: Span, found: str, expected: Sequence[str]) -> Diagnostic:
     what = f"unexpected {found}"
     if expected:
-        what += "; expected " + ", ".join(expected[:-1]) + (" or " if len(expected) > 1 else "") \
+        what += (
+            "; expected "
+            + ", ".join(expected[:-1])
+            + (" or " if len(expected) > 1 else "")
             + expected[-1]
+        )
     return _diag(codes.SYNTAX_ERROR, what, span)
 
 
@@ -61,8 +71,11 @@ def unclosed_bracket(span: Span, bracket: str) -> Diagnostic:
 
 
 def not_an_invocation(span: Span) -> Diagnostic:
-    return _diag(codes.SYNTAX_ERROR,
-                 "expected a declaration, a constraint or an invocation such as `name(...)`", span)
+    return _diag(
+        codes.SYNTAX_ERROR,
+        "expected a declaration, a constraint or an invocation such as `name(...)`",
+        span,
+    )
 
 
 def unexpected_indent(span: Span) -> Diagnostic:
@@ -70,9 +83,12 @@ def unexpected_indent(span: Span) -> Diagnostic:
 
 
 def inconsistent_dedent(span: Span, column: int, enclosing: int) -> Diagnostic:
-    return _diag(codes.INDENTATION_ERROR,
-                 f"this line is indented to column {column + 1}, which no enclosing block uses "
-                 f"(the enclosing block is at column {enclosing + 1})", span)
+    return _diag(
+        codes.INDENTATION_ERROR,
+        f"this line is indented to column {column + 1}, which no enclosing block uses "
+        f"(the enclosing block is at column {enclosing + 1})",
+        span,
+    )
 
 
 def unexpected_character(span: Span, char: str) -> Diagnostic:
@@ -85,9 +101,12 @@ def unterminated_string(span: Span) -> Diagnostic:
 
 
 def nesting_too_deep(span: Span) -> Diagnostic:
-    return _diag(codes.NESTING_TOO_DEEP,
-                 "this file nests expressions or blocks too deeply to analyse; split the "
-                 "expression or the block into named parts", span)
+    return _diag(
+        codes.NESTING_TOO_DEEP,
+        "this file nests expressions or blocks too deeply to analyse; split the "
+        "expression or the block into named parts",
+        span,
+    )
 
 
 def invalid_encoding(span: Span, problem: str) -> Diagnostic:
@@ -108,93 +127,148 @@ def _first_declared(previous) -> list[Related]:
 
 
 def duplicate_definition(span: Span, name: str, previous) -> Diagnostic:
-    return _diag(codes.DUPLICATE_DEFINITION,
-                 f"`{name}` is already declared in this scope; use `extend` to add to it",
-                 span, _first_declared(previous))
+    return _diag(
+        codes.DUPLICATE_DEFINITION,
+        f"`{name}` is already declared in this scope; use `extend` to add to it",
+        span,
+        _first_declared(previous),
+    )
 
 
 def duplicate_member(span: Span, name: str, owner: str | None, previous) -> Diagnostic:
     where = f" of `{owner}`" if owner else ""
-    return _diag(codes.DUPLICATE_DEFINITION, f"`{name}`{where} is declared twice", span,
-                 _first_declared(previous))
+    return _diag(
+        codes.DUPLICATE_DEFINITION,
+        f"`{name}`{where} is declared twice",
+        span,
+        _first_declared(previous),
+    )
 
 
 def shadows_inherited(span: Span, name: str, owner: str, previous) -> Diagnostic:
-    return _diag(codes.DUPLICATE_DEFINITION,
-                 f"`{name}` already exists in a supertype of `{owner}` and cannot be declared "
-                 "again", span, _first_declared(previous))
+    return _diag(
+        codes.DUPLICATE_DEFINITION,
+        f"`{name}` already exists in a supertype of `{owner}` and cannot be declared again",
+        span,
+        _first_declared(previous),
+    )
 
 
 def override_without_only(span: Span, name: str, previous) -> Diagnostic:
     owner = previous.owner.name if previous is not None and previous.owner is not None else "?"
-    return _diag(codes.DUPLICATE_DEFINITION,
-                 f"`{name}` is already a method of `{owner}`; an override is written "
-                 "`is only ...`", span, _first_declared(previous))
+    return _diag(
+        codes.DUPLICATE_DEFINITION,
+        f"`{name}` is already a method of `{owner}`; an override is written `is only ...`",
+        span,
+        _first_declared(previous),
+    )
 
 
 def ambiguous_name(span: Span, name: str, candidates) -> Diagnostic:
     names = _quote_list((c.qualified_name for c in candidates), conj="and")
     first = candidates[0].qualified_name
-    return _diag(codes.AMBIGUOUS_NAME,
-                 f"`{name}` is exported by more than one used namespace ({names}); write the "
-                 f"namespace, for example `{first}`", span,
-                 [Related(c.name_span, f"`{c.qualified_name}` is declared here")
-                  for c in candidates if c.name_span is not None])
+    return _diag(
+        codes.AMBIGUOUS_NAME,
+        f"`{name}` is exported by more than one used namespace ({names}); write the "
+        f"namespace, for example `{first}`",
+        span,
+        [
+            Related(c.name_span, f"`{c.qualified_name}` is declared here")
+            for c in candidates
+            if c.name_span is not None
+        ],
+    )
 
 
 def enum_value_cycle(span: Span, name: str, chain: Sequence[str]) -> Diagnostic:
-    return _diag(codes.ENUM_VALUE_CYCLE,
-                 f"the value of `{name}` is defined through itself: " + " -> ".join(
-                     f"`{n}`" for n in chain), span)
+    return _diag(
+        codes.ENUM_VALUE_CYCLE,
+        f"the value of `{name}` is defined through itself: " + " -> ".join(f"`{n}`" for n in chain),
+        span,
+    )
 
 
 def undefined_name(span: Span, name: str, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNDEFINED_NAME, f"undefined name `{name}`{_did_you_mean(suggestion)}",
-                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNDEFINED_NAME,
+        f"undefined name `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def undefined_type(span: Span, name: str, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNDEFINED_NAME, f"unknown type `{name}`{_did_you_mean(suggestion)}",
-                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNDEFINED_NAME,
+        f"unknown type `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def undefined_event(span: Span, name: str, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNDEFINED_NAME,
-                 f"no event `{name}` is declared or emitted here{_did_you_mean(suggestion)}",
-                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNDEFINED_NAME,
+        f"no event `{name}` is declared or emitted here{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def unknown_member(span: Span, name: str, owner_type, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNKNOWN_MEMBER,
-                 f"`{owner_type}` has no member `{name}`{_did_you_mean(suggestion)}", span,
-                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_MEMBER,
+        f"`{owner_type}` has no member `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def unknown_method(span: Span, name: str, owner_type, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNKNOWN_MEMBER,
-                 f"`{owner_type}` has no method `{name}`{_did_you_mean(suggestion)}", span,
-                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_MEMBER,
+        f"`{owner_type}` has no method `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def unknown_unit(span: Span, name: str, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNKNOWN_UNIT, f"unknown unit `{name}`{_did_you_mean(suggestion)}", span,
-                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_UNIT,
+        f"unknown unit `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def unknown_enum_member(span: Span, name: str, enum, suggestion: str | None) -> Diagnostic:
     enum_name = enum.name if enum is not None else "?"
-    return _diag(codes.UNKNOWN_ENUM_MEMBER,
-                 f"`{name}` is not a member of enum `{enum_name}`{_did_you_mean(suggestion)}",
-                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_ENUM_MEMBER,
+        f"`{name}` is not a member of enum `{enum_name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def ambiguous_enum_literal(span: Span, name: str, enums) -> Diagnostic:
     owners = _quote_list((e.qualified_name for e in enums), conj="and")
     first = enums[0].name
-    return _diag(codes.AMBIGUOUS_ENUM_LITERAL,
-                 f"`{name}` is a member of more than one enum ({owners}); write the enum name, "
-                 f"for example `{first}!{name}`", span,
-                 fix=Fix(f"write `{first}!{name}`", (TextEdit(span, f"{first}!{name}"),), False))
+    return _diag(
+        codes.AMBIGUOUS_ENUM_LITERAL,
+        f"`{name}` is a member of more than one enum ({owners}); write the enum name, "
+        f"for example `{first}!{name}`",
+        span,
+        fix=Fix(f"write `{first}!{name}`", (TextEdit(span, f"{first}!{name}"),), False),
+    )
 
 
 def unresolved_import(span: Span, target: str, reason: str) -> Diagnostic:
@@ -202,9 +276,12 @@ def unresolved_import(span: Span, target: str, reason: str) -> Diagnostic:
 
 
 def reserved_name(span: Span, name: str) -> Diagnostic:
-    return _diag(codes.RESERVED_NAME,
-                 f"namespace names that begin with `std` are reserved for the standard library; "
-                 f"rename `{name}`", span)
+    return _diag(
+        codes.RESERVED_NAME,
+        f"namespace names that begin with `std` are reserved for the standard library; "
+        f"rename `{name}`",
+        span,
+    )
 
 
 def import_cycle(span: Span, chain: Sequence[str]) -> Diagnostic:
@@ -213,63 +290,86 @@ def import_cycle(span: Span, chain: Sequence[str]) -> Diagnostic:
 
 def invalid_inheritance(span: Span, symbol, parent, reason: str) -> Diagnostic:
     if reason == "different kinds" and parent is not None:
-        text = (f"{symbol.kind.value} `{symbol.name}` cannot inherit from "
-                f"{_where(parent)}; a declaration inherits from one of the same kind")
+        text = (
+            f"{symbol.kind.value} `{symbol.name}` cannot inherit from "
+            f"{_where(parent)}; a declaration inherits from one of the same kind"
+        )
     elif reason == "cycle":
         text = f"`{symbol.name}` inherits from itself through `{parent.name}`"
     elif reason == "actor" and parent is not None:
-        text = (f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
-                "behaviour of an actor inherits from one of the same or a more general actor")
+        text = (
+            f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
+            "behaviour of an actor inherits from one of the same or a more general actor"
+        )
     elif reason == "no actor" and parent is not None:
-        text = (f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
-                "behaviour without an actor inherits only from one without an actor")
+        text = (
+            f"`{symbol.qualified_name}` cannot inherit from `{parent.qualified_name}`: a "
+            "behaviour without an actor inherits only from one without an actor"
+        )
     elif reason == "conditional" and parent is not None:
-        text = (f"`{parent.name}` is a conditional subtype and cannot be inherited "
-                f"unconditionally; give `{symbol.name}` a condition too, or inherit from "
-                "its supertype")
+        text = (
+            f"`{parent.name}` is a conditional subtype and cannot be inherited "
+            f"unconditionally; give `{symbol.name}` a condition too, or inherit from "
+            "its supertype"
+        )
     else:
         text = f"`{symbol.name}` cannot inherit: {reason}"
     return _diag(codes.INVALID_INHERITANCE, text, span)
 
 
 def inheritance_guard(span: Span, field_type) -> Diagnostic:
-    return _diag(codes.INVALID_INHERITANCE,
-                 f"a conditional inheritance needs a bool or enum field; this one is "
-                 f"`{field_type}`", span)
+    return _diag(
+        codes.INVALID_INHERITANCE,
+        f"a conditional inheritance needs a bool or enum field; this one is `{field_type}`",
+        span,
+    )
 
 
 def cannot_extend(span: Span, target, what: str) -> Diagnostic:
-    return _diag(codes.INVALID_INHERITANCE, f"{_where(target)} cannot be extended with {what}",
-                 span)
+    return _diag(
+        codes.INVALID_INHERITANCE, f"{_where(target)} cannot be extended with {what}", span
+    )
 
 
 def not_an_actor(span: Span, symbol) -> Diagnostic:
-    return _diag(codes.TYPE_MISMATCH,
-                 f"{_where(symbol)} is not an actor; behaviours and modifiers belong to actors",
-                 span)
+    return _diag(
+        codes.TYPE_MISMATCH,
+        f"{_where(symbol)} is not an actor; behaviours and modifiers belong to actors",
+        span,
+    )
 
 
 def not_an_actor_value(span: Span, value_type) -> Diagnostic:
-    return _diag(codes.TYPE_MISMATCH,
-                 f"this is a `{value_type}`, not an actor; only actors have behaviours", span)
+    return _diag(
+        codes.TYPE_MISMATCH,
+        f"this is a `{value_type}`, not an actor; only actors have behaviours",
+        span,
+    )
 
 
 def modifier_of_not_behavior(span: Span, symbol) -> Diagnostic:
-    return _diag(codes.TYPE_MISMATCH,
-                 f"a modifier's `of` names a scenario or an action; {_where(symbol)} is neither",
-                 span)
+    return _diag(
+        codes.TYPE_MISMATCH,
+        f"a modifier's `of` names a scenario or an action; {_where(symbol)} is neither",
+        span,
+    )
 
 
 def not_a_physical_type(span: Span, name: str, symbol) -> Diagnostic:
-    return _diag(codes.TYPE_MISMATCH,
-                 f"`{name}` is a {symbol.kind.value}, not a physical type", span)
+    return _diag(
+        codes.TYPE_MISMATCH, f"`{name}` is a {symbol.kind.value}, not a physical type", span
+    )
 
 
 def invalid_implicit(span: Span, name: str) -> Diagnostic:
-    meaning = ("the subject of a `with:` block or of a list operation" if name == "it"
-               else "the actor of a scenario, action or modifier")
-    return _diag(codes.INVALID_IMPLICIT_NAME,
-                 f"`{name}` has no meaning here; it stands for {meaning}", span)
+    meaning = (
+        "the subject of a `with:` block or of a list operation"
+        if name == "it"
+        else "the actor of a scenario, action or modifier"
+    )
+    return _diag(
+        codes.INVALID_IMPLICIT_NAME, f"`{name}` has no meaning here; it stands for {meaning}", span
+    )
 
 
 def _a(noun: str) -> str:
@@ -277,31 +377,46 @@ def _a(noun: str) -> str:
 
 
 def misplaced_member(span: Span, owner, what: str) -> Diagnostic:
-    return _diag(codes.MISPLACED_MEMBER,
-                 f"{_a(owner.kind.value)} has no behaviour; `{what}` belongs to a scenario, an "
-                 "action or a modifier", span)
+    return _diag(
+        codes.MISPLACED_MEMBER,
+        f"{_a(owner.kind.value)} has no behaviour; `{what}` belongs to a scenario, an "
+        "action or a modifier",
+        span,
+    )
 
 
 def misplaced_modifier(span: Span, owner) -> Diagnostic:
-    return _diag(codes.MISPLACED_MEMBER,
-                 f"{_a(owner.kind.value)} cannot apply modifiers; apply them in a scenario, an "
-                 "action or a modifier", span)
+    return _diag(
+        codes.MISPLACED_MEMBER,
+        f"{_a(owner.kind.value)} cannot apply modifiers; apply them in a scenario, an "
+        "action or a modifier",
+        span,
+    )
 
 
 def event_spec_with_parameters(span: Span, name: str) -> Diagnostic:
-    return _diag(codes.MISPLACED_MEMBER,
-                 f"event `{name}` has parameters, so it cannot have an event specification "
-                 "(`is ...`); only an event without parameters can", span)
+    return _diag(
+        codes.MISPLACED_MEMBER,
+        f"event `{name}` has parameters, so it cannot have an event specification "
+        "(`is ...`); only an event without parameters can",
+        span,
+    )
 
 
 def second_do(span: Span, owner) -> Diagnostic:
-    return _diag(codes.MISPLACED_MEMBER,
-                 f"`{owner.name}` already has a `do`; a declaration has at most one", span)
+    return _diag(
+        codes.MISPLACED_MEMBER,
+        f"`{owner.name}` already has a `do`; a declaration has at most one",
+        span,
+    )
 
 
 def remove_default_target(span: Span, name: str) -> Diagnostic:
-    return _diag(codes.UNKNOWN_MEMBER,
-                 f"`remove_default` names a parameter of this type; `{name}` is not one", span)
+    return _diag(
+        codes.UNKNOWN_MEMBER,
+        f"`remove_default` names a parameter of this type; `{name}` is not one",
+        span,
+    )
 
 
 # ---- T: types and units -----------------------------------------------------------
@@ -314,81 +429,114 @@ def _what(what: str) -> str:
 def type_mismatch(span: Span, actual, expected, what: str = "") -> Diagnostic:
     if expected is None:
         return _diag(codes.TYPE_MISMATCH, f"`{actual}` is not valid as {what}", span)
-    return _diag(codes.TYPE_MISMATCH, f"expected `{expected}`{_what(what)}, found `{actual}`",
-                 span)
+    return _diag(codes.TYPE_MISMATCH, f"expected `{expected}`{_what(what)}, found `{actual}`", span)
 
 
 def dimension_mismatch(span: Span, actual, expected, what: str = "") -> Diagnostic:
     from osc2check.semantics.types import dimension_text
 
-    return _diag(codes.DIMENSION_MISMATCH,
-                 f"expected `{expected}` ({dimension_text(expected.dimension)}){_what(what)}, "
-                 f"found `{actual}` ({dimension_text(actual.dimension)})", span)
+    return _diag(
+        codes.DIMENSION_MISMATCH,
+        f"expected `{expected}` ({dimension_text(expected.dimension)}){_what(what)}, "
+        f"found `{actual}` ({dimension_text(actual.dimension)})",
+        span,
+    )
 
 
 def missing_unit(span: Span, expected, what: str = "") -> Diagnostic:
-    return _diag(codes.MISSING_UNIT,
-                 f"a plain number where `{expected}` is expected{_what(what)}; add a unit "
-                 f"such as `{_example_unit(expected)}`", span)
+    return _diag(
+        codes.MISSING_UNIT,
+        f"a plain number where `{expected}` is expected{_what(what)}; add a unit "
+        f"such as `{_example_unit(expected)}`",
+        span,
+    )
 
 
 def unitless_literal(span: Span, expected) -> Diagnostic:
-    return _diag(codes.UNITLESS_PHYSICAL_LITERAL,
-                 f"a plain number where `{expected}` is expected; the toolkit reads it in SI "
-                 f"units, the standard needs a unit such as `{_example_unit(expected)}`", span)
+    return _diag(
+        codes.UNITLESS_PHYSICAL_LITERAL,
+        f"a plain number where `{expected}` is expected; the toolkit reads it in SI "
+        f"units, the standard needs a unit such as `{_example_unit(expected)}`",
+        span,
+    )
 
 
 def _example_unit(expected) -> str:
     while getattr(expected, "element", None) is not None:  # range of time -> time
         expected = expected.element
-    examples = {"speed": "50kph", "length": "10m", "time": "2s", "acceleration": "2mpsps",
-                "angle": "90deg", "mass": "1000kg", "temperature": "20celsius"}
+    examples = {
+        "speed": "50kph",
+        "length": "10m",
+        "time": "2s",
+        "acceleration": "2mpsps",
+        "angle": "90deg",
+        "mass": "1000kg",
+        "temperature": "20celsius",
+    }
     name = getattr(getattr(expected, "symbol", None), "name", "")
     return examples.get(name, "1" + ("m" if name == "" else "<unit>"))
 
 
 def float_to_int(span: Span, expected) -> Diagnostic:
-    return _diag(codes.FLOAT_TO_INT, f"a float where `{expected}` is expected; the fraction is "
-                 "lost", span)
+    return _diag(
+        codes.FLOAT_TO_INT, f"a float where `{expected}` is expected; the fraction is lost", span
+    )
 
 
 def non_boolean(span: Span, actual, what: str) -> Diagnostic:
-    return _diag(codes.NON_BOOLEAN_CONDITION,
-                 f"the {what} must be a boolean expression, found `{actual}`", span)
+    return _diag(
+        codes.NON_BOOLEAN_CONDITION,
+        f"the {what} must be a boolean expression, found `{actual}`",
+        span,
+    )
 
 
 def override_return_type(span: Span, name: str, previous, actual) -> Diagnostic:
     owner = previous.owner.name if previous.owner is not None else "?"
-    return _diag(codes.TYPE_MISMATCH,
-                 f"the override of `{name}` must return `{previous.type}` like `{owner}.{name}`, "
-                 f"not `{actual}`", span, _first_declared(previous))
+    return _diag(
+        codes.TYPE_MISMATCH,
+        f"the override of `{name}` must return `{previous.type}` like `{owner}.{name}`, "
+        f"not `{actual}`",
+        span,
+        _first_declared(previous),
+    )
 
 
 def override_parameters(span: Span, name: str, previous) -> Diagnostic:
     owner = previous.owner.name if previous.owner is not None else "?"
-    return _diag(codes.TYPE_MISMATCH,
-                 f"the override of `{name}` must take the same argument types as "
-                 f"`{owner}.{name}`", span, _first_declared(previous))
+    return _diag(
+        codes.TYPE_MISMATCH,
+        f"the override of `{name}` must take the same argument types as `{owner}.{name}`",
+        span,
+        _first_declared(previous),
+    )
 
 
 def range_bounds(span: Span, low, high) -> Diagnostic:
-    return _diag(codes.RANGE_BOUNDS_TYPE,
-                 f"the bounds of a range must have the same type; found `{low}` and `{high}`",
-                 span)
+    return _diag(
+        codes.RANGE_BOUNDS_TYPE,
+        f"the bounds of a range must have the same type; found `{low}` and `{high}`",
+        span,
+    )
 
 
 def range_of_non_numeric(span: Span, element) -> Diagnostic:
-    return _diag(codes.TYPE_MISMATCH,
-                 f"`range of` needs a numeric type (int, uint, float or a physical type), "
-                 f"not `{element}`", span)
+    return _diag(
+        codes.TYPE_MISMATCH,
+        f"`range of` needs a numeric type (int, uint, float or a physical type), not `{element}`",
+        span,
+    )
 
 
 def unit_dimension(span: Span, unit: str, dim, type_name: str, type_dim) -> Diagnostic:
     from osc2check.semantics.types import dimension_text
 
-    return _diag(codes.INVALID_UNIT_DECLARATION,
-                 f"unit `{unit}` has dimension {dimension_text(dim)} but `{type_name}` is "
-                 f"{dimension_text(type_dim)}", span)
+    return _diag(
+        codes.INVALID_UNIT_DECLARATION,
+        f"unit `{unit}` has dimension {dimension_text(dim)} but `{type_name}` is "
+        f"{dimension_text(type_dim)}",
+        span,
+    )
 
 
 def si_argument(span: Span, key: str | None) -> Diagnostic:
@@ -397,8 +545,10 @@ def si_argument(span: Span, key: str | None) -> Diagnostic:
     elif key in ("factor", "offset"):
         text = f"`{key}` must be a number"
     else:
-        text = (f"`{key}` is not an SI base unit (m, kg, s, A, K, mol, cd, rad), or its "
-                "exponent is not a whole number")
+        text = (
+            f"`{key}` is not an SI base unit (m, kg, s, A, K, mol, cd, rad), or its "
+            "exponent is not a whole number"
+        )
     return _diag(codes.INVALID_UNIT_DECLARATION, text, span)
 
 
@@ -416,41 +566,62 @@ def _callee(symbol) -> str:
 
 def unknown_behavior(span: Span, name: str, actor, suggestion: str | None) -> Diagnostic:
     owner = f"actor `{actor.name}`" if actor is not None else "this scope"
-    return _diag(codes.UNKNOWN_BEHAVIOR,
-                 f"{owner} has no action or scenario `{name}`{_did_you_mean(suggestion)}", span,
-                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_BEHAVIOR,
+        f"{owner} has no action or scenario `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def unknown_modifier(span: Span, name: str, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNKNOWN_BEHAVIOR, f"unknown modifier `{name}`{_did_you_mean(suggestion)}",
-                 span, fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_BEHAVIOR,
+        f"unknown modifier `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def modifier_not_applicable(span: Span, modifier) -> Diagnostic:
     owner = modifier.of or modifier.actor
     where = f"`{owner.qualified_name}`" if owner is not None else "another declaration"
     related = [Related(modifier.name_span, "declared here")] if modifier.name_span else []
-    return _diag(codes.UNKNOWN_BEHAVIOR,
-                 f"modifier `{modifier.name}` belongs to {where} and cannot be applied here",
-                 span, related)
+    return _diag(
+        codes.UNKNOWN_BEHAVIOR,
+        f"modifier `{modifier.name}` belongs to {where} and cannot be applied here",
+        span,
+        related,
+    )
 
 
 def unknown_argument(span: Span, name: str, callee, suggestion: str | None) -> Diagnostic:
-    return _diag(codes.UNKNOWN_ARGUMENT,
-                 f"{_callee(callee)} has no parameter `{name}`{_did_you_mean(suggestion)}", span,
-                 fix=_replace_fix(span, suggestion), suggestion=suggestion)
+    return _diag(
+        codes.UNKNOWN_ARGUMENT,
+        f"{_callee(callee)} has no parameter `{name}`{_did_you_mean(suggestion)}",
+        span,
+        fix=_replace_fix(span, suggestion),
+        suggestion=suggestion,
+    )
 
 
 def positional_after_named(span: Span) -> Diagnostic:
-    return _diag(codes.TOO_MANY_POSITIONAL,
-                 "a positional argument follows a named one; put positional arguments first",
-                 span)
+    return _diag(
+        codes.TOO_MANY_POSITIONAL,
+        "a positional argument follows a named one; put positional arguments first",
+        span,
+    )
 
 
 def too_many_positional(span: Span, callee, count: int) -> Diagnostic:
-    return _diag(codes.TOO_MANY_POSITIONAL,
-                 f"{_callee(callee)} takes {count} positional argument"
-                 f"{'s' if count != 1 else ''}; name this one", span)
+    return _diag(
+        codes.TOO_MANY_POSITIONAL,
+        f"{_callee(callee)} takes {count} positional argument"
+        f"{'s' if count != 1 else ''}; name this one",
+        span,
+    )
 
 
 def duplicate_argument(span: Span, name: str) -> Diagnostic:
@@ -462,14 +633,17 @@ def missing_argument(span: Span, callee, name: str) -> Diagnostic:
 
 
 def exclusive_arguments(span: Span, callee, given: Sequence[str]) -> Diagnostic:
-    return _diag(codes.EXCLUSIVE_ARGUMENTS,
-                 f"{_quote_list(given, conj='and')} exclude each other in {_callee(callee)}; "
-                 "give only one", span)
+    return _diag(
+        codes.EXCLUSIVE_ARGUMENTS,
+        f"{_quote_list(given, conj='and')} exclude each other in {_callee(callee)}; give only one",
+        span,
+    )
 
 
 def incomplete_arguments(span: Span, callee, arg: str, needed: str) -> Diagnostic:
-    return _diag(codes.INCOMPLETE_ARGUMENTS,
-                 f"`{arg}` in {_callee(callee)} needs `{needed}` as well", span)
+    return _diag(
+        codes.INCOMPLETE_ARGUMENTS, f"`{arg}` in {_callee(callee)} needs `{needed}` as well", span
+    )
 
 
 def invalid_overlap(span: Span, kinds: Sequence[str]) -> Diagnostic:
@@ -480,41 +654,56 @@ def invalid_overlap(span: Span, kinds: Sequence[str]) -> Diagnostic:
 
 
 def use_statement(span: Span, text: str) -> Diagnostic:
-    return _diag(codes.USE_STATEMENT,
-                 f"`use {text}` as a statement is not standard; write `namespace <name> use "
-                 "...` or import `osc.standard`", span)
+    return _diag(
+        codes.USE_STATEMENT,
+        f"`use {text}` as a statement is not standard; write `namespace <name> use "
+        "...` or import `osc.standard`",
+        span,
+    )
 
 
 def undeclared_event(span: Span, name: str) -> Diagnostic:
-    return _diag(codes.UNDECLARED_EVENT,
-                 f"event `{name}` is emitted without a declaration; add `event {name}` to the "
-                 "scenario", span)
+    return _diag(
+        codes.UNDECLARED_EVENT,
+        f"event `{name}` is emitted without a declaration; add `event {name}` to the scenario",
+        span,
+    )
 
 
 def toolkit_extension(span: Span, symbol) -> Diagnostic:
-    return _diag(codes.TOOLKIT_EXTENSION,
-                 f"`{symbol.name}` comes from the toolkit's own library, not the ASAM standard; "
-                 "other tools may not have it", span)
+    return _diag(
+        codes.TOOLKIT_EXTENSION,
+        f"`{symbol.name}` comes from the toolkit's own library, not the ASAM standard; "
+        "other tools may not have it",
+        span,
+    )
 
 
 def standard_file_import(span: Span, target: str) -> Diagnostic:
-    return _diag(codes.STANDARD_FILE_IMPORT,
-                 f"`import \"{target}\"` names no file here and is read as the standard "
-                 "library; write `import osc.standard`", span,
-                 fix=Fix("write `import osc.standard`", (TextEdit(span, "import osc.standard"),),
-                         False))
+    return _diag(
+        codes.STANDARD_FILE_IMPORT,
+        f'`import "{target}"` names no file here and is read as the standard '
+        "library; write `import osc.standard`",
+        span,
+        fix=Fix("write `import osc.standard`", (TextEdit(span, "import osc.standard"),), False),
+    )
 
 
 def one_of_race(span: Span) -> Diagnostic:
-    return _diag(codes.ONE_OF_RACE,
-                 "this `one_of` has a `wait` member: the toolkit runs the members side by side "
-                 "and keeps the first to finish; the standard picks exactly one member", span)
+    return _diag(
+        codes.ONE_OF_RACE,
+        "this `one_of` has a `wait` member: the toolkit runs the members side by side "
+        "and keeps the first to finish; the standard picks exactly one member",
+        span,
+    )
 
 
 def spec_example_parameter(span: Span, callee, name: str) -> Diagnostic:
-    return _diag(codes.SPEC_EXAMPLE_PARAMETER,
-                 f"`{name}` is used in the standard's examples but {_callee(callee)} does not "
-                 "declare it", span)
+    return _diag(
+        codes.SPEC_EXAMPLE_PARAMETER,
+        f"`{name}` is used in the standard's examples but {_callee(callee)} does not declare it",
+        span,
+    )
 
 
 # ---- C and L: constraints and initial placement ------------------------------------
@@ -540,101 +729,145 @@ def unsatisfiable(code: Code, primary, others, scenario: str) -> Diagnostic:
         "L507": "this puts an actor of scenario `{s}` off the road",
         "L508": "this speed in scenario `{s}` is above what the vehicle can reach",
     }[code.code].format(s=scenario)
-    texts = [f"`{primary.text}`"] + [f"`{c.text}`" if c.kind not in ("domain", "placement")
-                                      else (c.explanation or c.text) for c in others]
+    texts = [f"`{primary.text}`"] + [
+        f"`{c.text}`" if c.kind not in ("domain", "placement") else (c.explanation or c.text)
+        for c in others
+    ]
     message = f"{lead}: " + "; ".join(texts)
     if any(c.strength == "default" for c in [primary, *others]):
-        message += "; a default yields only to `==` or `in` on the parameter alone, or to " \
-                   "`remove_default`"
+        message += (
+            "; a default yields only to `==` or `in` on the parameter alone, or to `remove_default`"
+        )
     return _diag(code, message, primary.span, _member_notes(others))
 
 
 def reversed_range(span: Span, low: str, high: str) -> Diagnostic:
-    return _diag(codes.REVERSED_RANGE,
-                 f"the range is written from `{low}` down to `{high}`; OSC2 reads it as "
-                 f"`[{high}..{low}]`, write it that way", span,
-                 fix=Fix(f"write `[{high}..{low}]`", (TextEdit(span, f"[{high}..{low}]"),)))
+    return _diag(
+        codes.REVERSED_RANGE,
+        f"the range is written from `{low}` down to `{high}`; OSC2 reads it as "
+        f"`[{high}..{low}]`, write it that way",
+        span,
+        fix=Fix(f"write `[{high}..{low}]`", (TextEdit(span, f"[{high}..{low}]"),)),
+    )
 
 
 def default_overridden(default, by) -> Diagnostic:
     if by is None:
-        return _diag(codes.DEFAULT_OVERRIDDEN,
-                     f"default `{default.text}` is removed by `remove_default`", default.span)
-    return _diag(codes.DEFAULT_OVERRIDDEN,
-                 f"default `{default.text}` is replaced by `{by.text}`", default.span,
-                 [Related(by.span, "the constraint that replaces it")])
+        return _diag(
+            codes.DEFAULT_OVERRIDDEN,
+            f"default `{default.text}` is removed by `remove_default`",
+            default.span,
+        )
+    return _diag(
+        codes.DEFAULT_OVERRIDDEN,
+        f"default `{default.text}` is replaced by `{by.text}`",
+        default.span,
+        [Related(by.span, "the constraint that replaces it")],
+    )
 
 
 def conflicting_defaults(later, earlier) -> Diagnostic:
-    return _diag(codes.CONFLICTING_DEFAULTS,
-                 f"`{later.text}` gives the parameter another default than `{earlier.text}`; "
-                 "the later one wins", later.span, [Related(earlier.span, "the earlier default")])
+    return _diag(
+        codes.CONFLICTING_DEFAULTS,
+        f"`{later.text}` gives the parameter another default than `{earlier.text}`; "
+        "the later one wins",
+        later.span,
+        [Related(earlier.span, "the earlier default")],
+    )
 
 
 def vacuous_constraint(constraint) -> Diagnostic:
-    return _diag(codes.VACUOUS_CONSTRAINT,
-                 f"`{constraint.text}` holds for every value its parameters can take; it "
-                 "constrains nothing", constraint.span)
+    return _diag(
+        codes.VACUOUS_CONSTRAINT,
+        f"`{constraint.text}` holds for every value its parameters can take; it constrains nothing",
+        constraint.span,
+    )
 
 
 def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
-    return _diag(codes.SOLVER_INCONCLUSIVE,
-                 f"the solver could not decide whether the constraints of scenario `{scenario}` "
-                 f"can all hold ({reason}); raise `[tool.osc2check.solver] rlimit` to try "
-                 "harder", span)
+    return _diag(
+        codes.SOLVER_INCONCLUSIVE,
+        f"the solver could not decide whether the constraints of scenario `{scenario}` "
+        f"can all hold ({reason}); raise `[tool.osc2check.solver] rlimit` to try "
+        "harder",
+        span,
+    )
 
 
 def nonlinear_constraint(constraint) -> Diagnostic:
-    return _diag(codes.NONLINEAR_CONSTRAINT,
-                 f"`{constraint.text}` multiplies two unknowns; it is solved within the "
-                 "solver's budget and may be inconclusive", constraint.span)
+    return _diag(
+        codes.NONLINEAR_CONSTRAINT,
+        f"`{constraint.text}` multiplies two unknowns; it is solved within the "
+        "solver's budget and may be inconclusive",
+        constraint.span,
+    )
 
 
 def reference_not_placed(span: Span, actor: str, reference: str) -> Diagnostic:
-    return _diag(codes.REFERENCE_NOT_PLACED,
-                 f"`{actor}` is placed relative to `{reference}`, which is not an actor of "
-                 "this scenario at the start", span)
+    return _diag(
+        codes.REFERENCE_NOT_PLACED,
+        f"`{actor}` is placed relative to `{reference}`, which is not an actor of "
+        "this scenario at the start",
+        span,
+    )
 
 
 def cyclic_placement(span: Span, cycle: Sequence[str]) -> Diagnostic:
-    return _diag(codes.CYCLIC_PLACEMENT,
-                 "actors are placed relative to each other in a cycle: "
-                 + " -> ".join(f"`{a}`" for a in cycle)
-                 + "; runners that place actors one after the other cannot do this", span)
+    return _diag(
+        codes.CYCLIC_PLACEMENT,
+        "actors are placed relative to each other in a cycle: "
+        + " -> ".join(f"`{a}`" for a in cycle)
+        + "; runners that place actors one after the other cannot do this",
+        span,
+    )
 
 
 def unsafe_gap(span: Span, text: str, follower: str, leader: str, min_gap) -> Diagnostic:
-    return _diag(codes.UNSAFE_GAP,
-                 f"`{text}` leaves `{follower}` less than {float(min_gap):g} s behind `{leader}` "
-                 f"at its start speed, whatever values the other constraints allow", span)
+    return _diag(
+        codes.UNSAFE_GAP,
+        f"`{text}` leaves `{follower}` less than {float(min_gap):g} s behind `{leader}` "
+        f"at its start speed, whatever values the other constraints allow",
+        span,
+    )
 
 
 def unplaced_actor(span: Span, actor: str) -> Diagnostic:
-    return _diag(codes.UNPLACED_ACTOR,
-                 f"nothing that begins at time 0 places `{actor}`; the solver picks its start "
-                 "(see `--witness`)", span)
+    return _diag(
+        codes.UNPLACED_ACTOR,
+        f"nothing that begins at time 0 places `{actor}`; the solver picks its start "
+        "(see `--witness`)",
+        span,
+    )
 
 
 def unknown_map(span: Span, name: str, known: Sequence[str]) -> Diagnostic:
-    return _diag(codes.UNKNOWN_MAP,
-                 f"unknown map `{name}`; the built-in maps are {_quote_list(known, 10, 'and')}",
-                 span)
+    return _diag(
+        codes.UNKNOWN_MAP,
+        f"unknown map `{name}`; the built-in maps are {_quote_list(known, 10, 'and')}",
+        span,
+    )
 
 
 # ---- B: behaviour flow ----------------------------------------------------------------
 
 
 def wait_without_emitter(span: Span, event: str) -> Diagnostic:
-    return _diag(codes.WAIT_WITHOUT_EMITTER,
-                 f"nothing emits `{event}`, so this `wait` never ends; add `emit {event}` or "
-                 f"declare `event {event} is <condition>`", span)
+    return _diag(
+        codes.WAIT_WITHOUT_EMITTER,
+        f"nothing emits `{event}`, so this `wait` never ends; add `emit {event}` or "
+        f"declare `event {event} is <condition>`",
+        span,
+    )
 
 
 def wait_blocks_emitter(span: Span, event: str, emit_span: Span) -> Diagnostic:
-    return _diag(codes.WAIT_BLOCKS_EMITTER,
-                 f"this `wait` for `{event}` comes before its only `emit` in the same serial "
-                 "chain, so neither ever happens", span,
-                 [Related(emit_span, f"`{event}` is emitted only here, after the wait")])
+    return _diag(
+        codes.WAIT_BLOCKS_EMITTER,
+        f"this `wait` for `{event}` comes before its only `emit` in the same serial "
+        "chain, so neither ever happens",
+        span,
+        [Related(emit_span, f"`{event}` is emitted only here, after the wait")],
+    )
 
 
 def negative_duration(span: Span, text: str) -> Diagnostic:
@@ -655,11 +888,17 @@ def constant_condition(span: Span, value: bool, what: str) -> Diagnostic:
 
 
 def parallel_movements(span: Span, actor: str, other: Span) -> Diagnostic:
-    return _diag(codes.PARALLEL_MOVEMENTS,
-                 f"`{actor}` gets two movement actions at the same time in this `parallel`",
-                 span, [Related(other, "the other movement action")])
+    return _diag(
+        codes.PARALLEL_MOVEMENTS,
+        f"`{actor}` gets two movement actions at the same time in this `parallel`",
+        span,
+        [Related(other, "the other movement action")],
+    )
 
 
 def recursive_scenario(span: Span, chain: Sequence[str]) -> Diagnostic:
-    return _diag(codes.RECURSIVE_SCENARIO,
-                 "scenario invokes itself: " + " -> ".join(f"`{n}`" for n in chain), span)
+    return _diag(
+        codes.RECURSIVE_SCENARIO,
+        "scenario invokes itself: " + " -> ".join(f"`{n}`" for n in chain),
+        span,
+    )

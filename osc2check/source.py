@@ -34,8 +34,13 @@ class Span:
         ends = (self.end_line, self.end_column) >= (other.end_line, other.end_column)
         last = self if ends else other
         return Span(
-            self.uri, first.line, first.column, last.end_line, last.end_column,
-            min(self.start, other.start), max(self.end, other.end),
+            self.uri,
+            first.line,
+            first.column,
+            last.end_line,
+            last.end_column,
+            min(self.start, other.start),
+            max(self.end, other.end),
         )
 
     def __str__(self) -> str:
@@ -45,8 +50,12 @@ class Span:
 def point_span(uri: str, text: str, offset: int) -> Span:
     """A zero-width span at ``offset`` of ``text``."""
     offset = max(0, min(offset, len(text)))
-    line = text.count("\n", 0, offset) + text.count("\r", 0, offset) - \
-        text.count("\r\n", 0, offset) + 1
+    line = (
+        text.count("\n", 0, offset)
+        + text.count("\r", 0, offset)
+        - text.count("\r\n", 0, offset)
+        + 1
+    )
     column = offset - (max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1) + 1
     return Span(uri, line, column, line, column, offset, offset)
 

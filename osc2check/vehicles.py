@@ -34,8 +34,15 @@ FOOTPRINTS: dict[str, Footprint] = {
     "stationary_object": Footprint("stationary_object", Fraction(1), Fraction(1), Fraction(0)),
 }
 
-_MODEL_HINTS = (("hgv", "truck"), ("truck", "truck"), ("lorry", "truck"), ("bus", "bus"),
-                ("bike", "vru_vehicle"), ("bicycle", "vru_vehicle"), ("scooter", "vru_vehicle"))
+_MODEL_HINTS = (
+    ("hgv", "truck"),
+    ("truck", "truck"),
+    ("lorry", "truck"),
+    ("bus", "bus"),
+    ("bike", "vru_vehicle"),
+    ("bicycle", "vru_vehicle"),
+    ("scooter", "vru_vehicle"),
+)
 
 
 def category_of_model(model: str) -> str | None:

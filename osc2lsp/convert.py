@@ -48,25 +48,41 @@ _SEVERITY = {
 }
 _UNNECESSARY = frozenset({"S001"})
 _COMPLETION_KINDS = {
-    "keyword": types.CompletionItemKind.Keyword, "field": types.CompletionItemKind.Field,
-    "variable": types.CompletionItemKind.Variable, "method": types.CompletionItemKind.Method,
-    "action": types.CompletionItemKind.Function, "scenario": types.CompletionItemKind.Function,
-    "modifier": types.CompletionItemKind.Function, "event": types.CompletionItemKind.Event,
-    "unit": types.CompletionItemKind.Unit, "enum_member": types.CompletionItemKind.EnumMember,
-    "type": types.CompletionItemKind.Class, "argument": types.CompletionItemKind.Property,
-    "label": types.CompletionItemKind.Reference, "module": types.CompletionItemKind.Module,
+    "keyword": types.CompletionItemKind.Keyword,
+    "field": types.CompletionItemKind.Field,
+    "variable": types.CompletionItemKind.Variable,
+    "method": types.CompletionItemKind.Method,
+    "action": types.CompletionItemKind.Function,
+    "scenario": types.CompletionItemKind.Function,
+    "modifier": types.CompletionItemKind.Function,
+    "event": types.CompletionItemKind.Event,
+    "unit": types.CompletionItemKind.Unit,
+    "enum_member": types.CompletionItemKind.EnumMember,
+    "type": types.CompletionItemKind.Class,
+    "argument": types.CompletionItemKind.Property,
+    "label": types.CompletionItemKind.Reference,
+    "module": types.CompletionItemKind.Module,
     "function": types.CompletionItemKind.Function,
 }
 _SYMBOL_KINDS = {
-    "scenario": types.SymbolKind.Class, "actor": types.SymbolKind.Class,
-    "struct": types.SymbolKind.Struct, "action": types.SymbolKind.Function,
-    "modifier": types.SymbolKind.Function, "enum": types.SymbolKind.Enum,
-    "enum_member": types.SymbolKind.EnumMember, "type": types.SymbolKind.TypeParameter,
-    "unit": types.SymbolKind.Constant, "field": types.SymbolKind.Field,
-    "variable": types.SymbolKind.Variable, "event": types.SymbolKind.Event,
-    "method": types.SymbolKind.Method, "label": types.SymbolKind.Key,
-    "do": types.SymbolKind.Namespace, "namespace": types.SymbolKind.Namespace,
-    "extend": types.SymbolKind.Class, "global": types.SymbolKind.Constant,
+    "scenario": types.SymbolKind.Class,
+    "actor": types.SymbolKind.Class,
+    "struct": types.SymbolKind.Struct,
+    "action": types.SymbolKind.Function,
+    "modifier": types.SymbolKind.Function,
+    "enum": types.SymbolKind.Enum,
+    "enum_member": types.SymbolKind.EnumMember,
+    "type": types.SymbolKind.TypeParameter,
+    "unit": types.SymbolKind.Constant,
+    "field": types.SymbolKind.Field,
+    "variable": types.SymbolKind.Variable,
+    "event": types.SymbolKind.Event,
+    "method": types.SymbolKind.Method,
+    "label": types.SymbolKind.Key,
+    "do": types.SymbolKind.Namespace,
+    "namespace": types.SymbolKind.Namespace,
+    "extend": types.SymbolKind.Class,
+    "global": types.SymbolKind.Constant,
 }
 
 
@@ -80,7 +96,8 @@ def from_lsp_position(lines: LineIndex, position: types.Position, codec: Positio
         return len(lines.text)
     content = lines.line_content(line)
     server = codec.position_from_client_units(
-        [content], types.Position(line=0, character=position.character))
+        [content], types.Position(line=0, character=position.character)
+    )
     return lines.offset(line, server.character)
 
 
@@ -96,34 +113,39 @@ def to_lsp_range(span: Span, lines: LineIndex | None, codec: PositionCodec) -> t
     if lines is None:
         return types.Range(
             start=types.Position(line=max(span.line - 1, 0), character=max(span.column - 1, 0)),
-            end=types.Position(line=max(span.end_line - 1, 0),
-                               character=max(span.end_column - 1, 0)))
-    return types.Range(start=_line_column(lines, span.line, span.column, codec),
-                       end=_line_column(lines, span.end_line, span.end_column, codec))
+            end=types.Position(
+                line=max(span.end_line - 1, 0), character=max(span.end_column - 1, 0)
+            ),
+        )
+    return types.Range(
+        start=_line_column(lines, span.line, span.column, codec),
+        end=_line_column(lines, span.end_line, span.end_column, codec),
+    )
 
 
-def _line_column(lines: LineIndex, line: int, column: int, codec: PositionCodec
-                 ) -> types.Position:
+def _line_column(lines: LineIndex, line: int, column: int, codec: PositionCodec) -> types.Position:
     line0 = max(line - 1, 0)
     if line0 >= len(lines):
         return types.Position(line=len(lines), character=0)
     content = lines.line_content(line0)
-    client = codec.position_to_client_units([content],
-                                            ServerTextPosition(0, min(max(column - 1, 0),
-                                                                      len(content))))
+    client = codec.position_to_client_units(
+        [content], ServerTextPosition(0, min(max(column - 1, 0), len(content)))
+    )
     return types.Position(line=line0, character=client.character)
 
 
-def offsets_to_lsp_range(lines: LineIndex, start: int, end: int, codec: PositionCodec
-                         ) -> types.Range:
-    return types.Range(start=to_lsp_position(lines, start, codec),
-                       end=to_lsp_position(lines, end, codec))
+def offsets_to_lsp_range(
+    lines: LineIndex, start: int, end: int, codec: PositionCodec
+) -> types.Range:
+    return types.Range(
+        start=to_lsp_position(lines, start, codec), end=to_lsp_position(lines, end, codec)
+    )
 
 
-def to_lsp_location(span: Span, lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec
-                    ) -> types.Location:
-    return types.Location(uri=uri_of(span.uri), range=to_lsp_range(span, lines_of(span.uri),
-                                                                    codec))
+def to_lsp_location(
+    span: Span, lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec
+) -> types.Location:
+    return types.Location(uri=uri_of(span.uri), range=to_lsp_range(span, lines_of(span.uri), codec))
 
 
 # ---- diagnostics ----------------------------------------------------------------
@@ -144,11 +166,15 @@ def docs_href(code, docs_url: str = "") -> str:
     return (package / "code_docs" / f"{code.code}.md").as_uri()
 
 
-def to_lsp_diagnostic(d: Diagnostic, lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec,
-                      docs_url: str = "") -> types.Diagnostic:
-    related = [types.DiagnosticRelatedInformation(
-        location=to_lsp_location(r.span, lines_of, uri_of, codec), message=r.message)
-        for r in d.related]
+def to_lsp_diagnostic(
+    d: Diagnostic, lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec, docs_url: str = ""
+) -> types.Diagnostic:
+    related = [
+        types.DiagnosticRelatedInformation(
+            location=to_lsp_location(r.span, lines_of, uri_of, codec), message=r.message
+        )
+        for r in d.related
+    ]
     data: dict = {"code": d.code.code}
     if d.data.get("suggestion"):
         data["suggestion"] = d.data["suggestion"]
@@ -167,26 +193,34 @@ def to_lsp_diagnostic(d: Diagnostic, lines_of: LinesOf, uri_of: UriOf, codec: Po
     )
 
 
-def to_lsp_diagnostics(snapshot: Snapshot, diagnostics: list[Diagnostic], uri_of: UriOf,
-                       codec: PositionCodec, docs_url: str = "") -> list[types.Diagnostic]:
-    return [to_lsp_diagnostic(d, snapshot.lines_of, uri_of, codec, docs_url)
-            for d in diagnostics]
+def to_lsp_diagnostics(
+    snapshot: Snapshot,
+    diagnostics: list[Diagnostic],
+    uri_of: UriOf,
+    codec: PositionCodec,
+    docs_url: str = "",
+) -> list[types.Diagnostic]:
+    return [to_lsp_diagnostic(d, snapshot.lines_of, uri_of, codec, docs_url) for d in diagnostics]
 
 
 # ---- feature results ------------------------------------------------------------
 
 
-def to_lsp_hover(result: HoverResult | None, lines: LineIndex, codec: PositionCodec
-                 ) -> types.Hover | None:
+def to_lsp_hover(
+    result: HoverResult | None, lines: LineIndex, codec: PositionCodec
+) -> types.Hover | None:
     if result is None:
         return None
     rng = to_lsp_range(result.span, lines, codec) if result.span is not None else None
-    return types.Hover(contents=types.MarkupContent(kind=types.MarkupKind.Markdown,
-                                                    value=result.markdown), range=rng)
+    return types.Hover(
+        contents=types.MarkupContent(kind=types.MarkupKind.Markdown, value=result.markdown),
+        range=rng,
+    )
 
 
-def to_lsp_completion(result: CompletionResult, lines: LineIndex, codec: PositionCodec,
-                      snippets: bool = False) -> types.CompletionList:
+def to_lsp_completion(
+    result: CompletionResult, lines: LineIndex, codec: PositionCodec, snippets: bool = False
+) -> types.CompletionList:
     rng = offsets_to_lsp_range(lines, result.start, result.end, codec)
     items = [_completion_item(c, rng, i) for i, c in enumerate(result.items)]
     return types.CompletionList(is_incomplete=result.incomplete, items=items)
@@ -198,48 +232,67 @@ def _completion_item(c: Candidate, rng: types.Range, index: int) -> types.Comple
         label=c.label,
         kind=_COMPLETION_KINDS.get(c.kind, types.CompletionItemKind.Text),
         detail=c.detail or None,
-        documentation=types.MarkupContent(kind=types.MarkupKind.Markdown,
-                                          value=c.documentation) if c.documentation else None,
+        documentation=types.MarkupContent(kind=types.MarkupKind.Markdown, value=c.documentation)
+        if c.documentation
+        else None,
         sort_text=f"{c.group}{index:04d}",
         filter_text=c.label,
         text_edit=types.TextEdit(range=rng, new_text=text),
     )
 
 
-def to_lsp_locations(spans: list[Span], lines_of: LinesOf, uri_of: UriOf,
-                     codec: PositionCodec) -> list[types.Location]:
+def to_lsp_locations(
+    spans: list[Span], lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec
+) -> list[types.Location]:
     return [to_lsp_location(s, lines_of, uri_of, codec) for s in spans]
 
 
-def to_lsp_highlights(spans: list[Span], lines: LineIndex, codec: PositionCodec
-                      ) -> list[types.DocumentHighlight]:
-    return [types.DocumentHighlight(range=to_lsp_range(s, lines, codec),
-                                    kind=types.DocumentHighlightKind.Text) for s in spans]
+def to_lsp_highlights(
+    spans: list[Span], lines: LineIndex, codec: PositionCodec
+) -> list[types.DocumentHighlight]:
+    return [
+        types.DocumentHighlight(
+            range=to_lsp_range(s, lines, codec), kind=types.DocumentHighlightKind.Text
+        )
+        for s in spans
+    ]
 
 
-def to_lsp_workspace_edit(edits: dict[str, list[TextEdit]], lines_of: LinesOf, uri_of: UriOf,
-                          codec: PositionCodec) -> types.WorkspaceEdit:
+def to_lsp_workspace_edit(
+    edits: dict[str, list[TextEdit]], lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec
+) -> types.WorkspaceEdit:
     changes = {}
     for key, file_edits in edits.items():
         lines = lines_of(key)
-        changes[uri_of(key)] = [types.TextEdit(range=to_lsp_range(e.span, lines, codec),
-                                               new_text=e.new_text) for e in file_edits]
+        changes[uri_of(key)] = [
+            types.TextEdit(range=to_lsp_range(e.span, lines, codec), new_text=e.new_text)
+            for e in file_edits
+        ]
     return types.WorkspaceEdit(changes=changes)
 
 
-def to_lsp_document_symbols(symbols: list[DocSymbol], lines: LineIndex, codec: PositionCodec
-                            ) -> list[types.DocumentSymbol]:
+def to_lsp_document_symbols(
+    symbols: list[DocSymbol], lines: LineIndex, codec: PositionCodec
+) -> list[types.DocumentSymbol]:
     result = []
     for sym in symbols:
         rng = to_lsp_range(sym.span, lines, codec)
         selection = to_lsp_range(sym.selection, lines, codec)
         if not _inside(selection, rng):
-            rng = types.Range(start=min(rng.start, selection.start, key=_key),
-                              end=max(rng.end, selection.end, key=_key))
-        result.append(types.DocumentSymbol(
-            name=sym.name or "?", kind=_SYMBOL_KINDS.get(sym.kind, types.SymbolKind.Variable),
-            range=rng, selection_range=selection, detail=sym.detail or None,
-            children=to_lsp_document_symbols(sym.children, lines, codec) or None))
+            rng = types.Range(
+                start=min(rng.start, selection.start, key=_key),
+                end=max(rng.end, selection.end, key=_key),
+            )
+        result.append(
+            types.DocumentSymbol(
+                name=sym.name or "?",
+                kind=_SYMBOL_KINDS.get(sym.kind, types.SymbolKind.Variable),
+                range=rng,
+                selection_range=selection,
+                detail=sym.detail or None,
+                children=to_lsp_document_symbols(sym.children, lines, codec) or None,
+            )
+        )
     return result
 
 
@@ -251,22 +304,29 @@ def _inside(inner: types.Range, outer: types.Range) -> bool:
     return _key(outer.start) <= _key(inner.start) and _key(inner.end) <= _key(outer.end)
 
 
-def to_lsp_workspace_symbols(symbols: list[WorkspaceSymbol], lines_of: LinesOf, uri_of: UriOf,
-                             codec: PositionCodec) -> list[types.WorkspaceSymbol]:
-    return [types.WorkspaceSymbol(
-        name=s.name, kind=_SYMBOL_KINDS.get(s.kind, types.SymbolKind.Variable),
-        container_name=s.container or None,
-        location=to_lsp_location(s.span, lines_of, uri_of, codec)) for s in symbols]
+def to_lsp_workspace_symbols(
+    symbols: list[WorkspaceSymbol], lines_of: LinesOf, uri_of: UriOf, codec: PositionCodec
+) -> list[types.WorkspaceSymbol]:
+    return [
+        types.WorkspaceSymbol(
+            name=s.name,
+            kind=_SYMBOL_KINDS.get(s.kind, types.SymbolKind.Variable),
+            container_name=s.container or None,
+            location=to_lsp_location(s.span, lines_of, uri_of, codec),
+        )
+        for s in symbols
+    ]
 
 
-def to_lsp_semantic_tokens(tokens: list[SemanticToken], lines: LineIndex,
-                           codec: PositionCodec) -> types.SemanticTokens:
+def to_lsp_semantic_tokens(
+    tokens: list[SemanticToken], lines: LineIndex, codec: PositionCodec
+) -> types.SemanticTokens:
     data: list[int] = []
     prev_line = prev_char = 0
     for tok in tokens:
         content = lines.line_content(tok.line)
-        start = codec.client_num_units(content[:tok.column])
-        length = codec.client_num_units(content[tok.column:tok.column + tok.length])
+        start = codec.client_num_units(content[: tok.column])
+        length = codec.client_num_units(content[tok.column : tok.column + tok.length])
         delta_line = tok.line - prev_line
         delta_char = start - prev_char if delta_line == 0 else start
         data.extend((delta_line, delta_char, length, tok.type, tok.modifiers))
@@ -275,26 +335,40 @@ def to_lsp_semantic_tokens(tokens: list[SemanticToken], lines: LineIndex,
 
 
 def to_lsp_folding_ranges(folds: list[Fold]) -> list[types.FoldingRange]:
-    kinds = {"comment": types.FoldingRangeKind.Comment,
-             "imports": types.FoldingRangeKind.Imports, "region": types.FoldingRangeKind.Region}
-    return [types.FoldingRange(start_line=f.start_line, end_line=f.end_line,
-                               kind=kinds.get(f.kind)) for f in folds]
+    kinds = {
+        "comment": types.FoldingRangeKind.Comment,
+        "imports": types.FoldingRangeKind.Imports,
+        "region": types.FoldingRangeKind.Region,
+    }
+    return [
+        types.FoldingRange(start_line=f.start_line, end_line=f.end_line, kind=kinds.get(f.kind))
+        for f in folds
+    ]
 
 
 def to_lsp_signature_help(result: SignatureResult | None) -> types.SignatureHelp | None:
     if result is None:
         return None
-    params = [types.ParameterInformation(
-        label=(_utf16(result.label[:start]), _utf16(result.label[:end])),
-        documentation=doc or None) for start, end, doc in result.parameters]
+    params = [
+        types.ParameterInformation(
+            label=(_utf16(result.label[:start]), _utf16(result.label[:end])),
+            documentation=doc or None,
+        )
+        for start, end, doc in result.parameters
+    ]
     signature = types.SignatureInformation(
-        label=result.label, parameters=params,
-        documentation=types.MarkupContent(kind=types.MarkupKind.Markdown,
-                                          value=result.documentation)
-        if result.documentation else None,
-        active_parameter=result.active)
-    return types.SignatureHelp(signatures=[signature], active_signature=0,
-                               active_parameter=result.active)
+        label=result.label,
+        parameters=params,
+        documentation=types.MarkupContent(
+            kind=types.MarkupKind.Markdown, value=result.documentation
+        )
+        if result.documentation
+        else None,
+        active_parameter=result.active,
+    )
+    return types.SignatureHelp(
+        signatures=[signature], active_signature=0, active_parameter=result.active
+    )
 
 
 def _utf16(text: str) -> int:
@@ -302,28 +376,43 @@ def _utf16(text: str) -> int:
     return len(text.encode("utf-16-le")) // 2
 
 
-def to_lsp_inlay_hints(hints: list[Hint], lines: LineIndex, codec: PositionCodec
-                       ) -> list[types.InlayHint]:
+def to_lsp_inlay_hints(
+    hints: list[Hint], lines: LineIndex, codec: PositionCodec
+) -> list[types.InlayHint]:
     result = []
     for h in hints:
         parameter = h.kind == "parameter"
-        result.append(types.InlayHint(
-            position=to_lsp_position(lines, h.offset, codec), label=h.label,
-            kind=types.InlayHintKind.Parameter if parameter else types.InlayHintKind.Type,
-            padding_left=not parameter, padding_right=parameter,
-            tooltip=h.tooltip or None))
+        result.append(
+            types.InlayHint(
+                position=to_lsp_position(lines, h.offset, codec),
+                label=h.label,
+                kind=types.InlayHintKind.Parameter if parameter else types.InlayHintKind.Type,
+                padding_left=not parameter,
+                padding_right=parameter,
+                tooltip=h.tooltip or None,
+            )
+        )
     return result
 
 
-def to_lsp_code_actions(actions: list[Action], snapshot: Snapshot, uri_of: UriOf,
-                        codec: PositionCodec, docs_url: str = "") -> list[types.CodeAction]:
+def to_lsp_code_actions(
+    actions: list[Action],
+    snapshot: Snapshot,
+    uri_of: UriOf,
+    codec: PositionCodec,
+    docs_url: str = "",
+) -> list[types.CodeAction]:
     result = []
     for a in actions:
-        result.append(types.CodeAction(
-            title=a.title, kind=types.CodeActionKind.QuickFix,
-            diagnostics=to_lsp_diagnostics(snapshot, a.diagnostics, uri_of, codec, docs_url),
-            is_preferred=a.preferred or None,
-            edit=to_lsp_workspace_edit(a.edits, snapshot.lines_of, uri_of, codec)))
+        result.append(
+            types.CodeAction(
+                title=a.title,
+                kind=types.CodeActionKind.QuickFix,
+                diagnostics=to_lsp_diagnostics(snapshot, a.diagnostics, uri_of, codec, docs_url),
+                is_preferred=a.preferred or None,
+                edit=to_lsp_workspace_edit(a.edits, snapshot.lines_of, uri_of, codec),
+            )
+        )
     return result
 
 

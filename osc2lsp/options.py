@@ -84,18 +84,28 @@ def from_settings(settings: Any, base: Options | None = None) -> tuple[Options, 
     problems: list[str] = []
     values: dict[str, Any] = {}
 
-    def take(key: str, kind, check=None, target: dict = values, source: dict = data,
-             name: str | None = None) -> None:
+    def take(
+        key: str,
+        kind,
+        check=None,
+        target: dict = values,
+        source: dict = data,
+        name: str | None = None,
+    ) -> None:
         if key not in source:
             return
         value = source[key]
         if value is None:
             return
-        if kind is bool and not isinstance(value, bool) or kind is int and (
-            not isinstance(value, int) or isinstance(value, bool)
+        if (
+            kind is bool
+            and not isinstance(value, bool)
+            or kind is int
+            and (not isinstance(value, int) or isinstance(value, bool))
         ):
-            problems.append(f"setting `{SECTION}.{name or key}`: expected {kind.__name__}, "
-                            f"got {value!r}")
+            problems.append(
+                f"setting `{SECTION}.{name or key}`: expected {kind.__name__}, got {value!r}"
+            )
             return
         if kind is tuple:
             if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
@@ -125,10 +135,20 @@ def from_settings(settings: Any, base: Options | None = None) -> tuple[Options, 
         values["docs_url"] = data["docs_url"]
     diagnostics = data.get("diagnostics")
     if isinstance(diagnostics, dict):
-        take("debounce", int, lambda v: None if 0 <= v <= 5000 else "out of range",
-             source=diagnostics, name="diagnostics.debounce")
-        take("verify_delay", int, lambda v: None if 0 <= v <= 60000 else "out of range",
-             source=diagnostics, name="diagnostics.verifyDelay")
+        take(
+            "debounce",
+            int,
+            lambda v: None if 0 <= v <= 5000 else "out of range",
+            source=diagnostics,
+            name="diagnostics.debounce",
+        )
+        take(
+            "verify_delay",
+            int,
+            lambda v: None if 0 <= v <= 60000 else "out of range",
+            source=diagnostics,
+            name="diagnostics.verifyDelay",
+        )
     hints = data.get("inlay_hints")
     if isinstance(hints, dict):
         hint_values: dict[str, Any] = {}

@@ -115,10 +115,14 @@ class Osc2LanguageServer(LanguageServer):
                 self.workspace_diagnostic_refresh(None)
             return
         for snap in snapshots:
-            items = convert.to_lsp_diagnostics(snap, diagnostics.diagnostics(snap), self.uri_of,
-                                               self.codec, self.options.docs_url)
-            self.text_document_publish_diagnostics(types.PublishDiagnosticsParams(
-                uri=snap.uri, diagnostics=items, version=snap.version))
+            items = convert.to_lsp_diagnostics(
+                snap, diagnostics.diagnostics(snap), self.uri_of, self.codec, self.options.docs_url
+            )
+            self.text_document_publish_diagnostics(
+                types.PublishDiagnosticsParams(
+                    uri=snap.uri, diagnostics=items, version=snap.version
+                )
+            )
 
     def configure(self, settings, refresh: bool = True) -> None:
         """Apply the client's `osc2` settings; re-check every document (and ask the
@@ -127,12 +131,20 @@ class Osc2LanguageServer(LanguageServer):
         previous = self.options
         options, problems = from_settings(settings, previous)
         for problem in problems:
-            self.window_show_message(types.ShowMessageParams(type=types.MessageType.Warning,
-                                                             message=f"osc2lsp: {problem}"))
+            self.window_show_message(
+                types.ShowMessageParams(
+                    type=types.MessageType.Warning, message=f"osc2lsp: {problem}"
+                )
+            )
         self.state.reconfigure(options)
         workspace = self.client_capabilities.workspace
-        if refresh and options.inlay_hints != previous.inlay_hints and workspace and \
-                workspace.inlay_hint and workspace.inlay_hint.refresh_support:
+        if (
+            refresh
+            and options.inlay_hints != previous.inlay_hints
+            and workspace
+            and workspace.inlay_hint
+            and workspace.inlay_hint.refresh_support
+        ):
             self.workspace_inlay_hint_refresh(None)
 
     def report_server_error(self, error: Exception, source) -> None:
@@ -152,13 +164,17 @@ def guarded(default=None):
         def report(ls):
             log.exception("%s failed", fn.__name__)
             try:
-                ls.window_log_message(types.LogMessageParams(
-                    type=types.MessageType.Error,
-                    message=f"osc2lsp: internal error in {fn.__name__} (see the server log)"))
+                ls.window_log_message(
+                    types.LogMessageParams(
+                        type=types.MessageType.Error,
+                        message=f"osc2lsp: internal error in {fn.__name__} (see the server log)",
+                    )
+                )
             except Exception:  # the transport itself may be gone
                 pass
 
         if asyncio.iscoroutinefunction(fn):
+
             @functools.wraps(fn)
             async def run_async(ls, params):
                 try:
@@ -168,6 +184,7 @@ def guarded(default=None):
                 except Exception:
                     report(ls)
                     return empty()
+
             return run_async
 
         @functools.wraps(fn)
@@ -179,6 +196,7 @@ def guarded(default=None):
             except Exception:
                 report(ls)
                 return empty()
+
         return run
 
     return wrap
@@ -194,11 +212,11 @@ def initialize(ls: Osc2LanguageServer, params: types.InitializeParams):
     caps = params.capabilities
     ls.pull = bool(caps.text_document and caps.text_document.diagnostic is not None)
     workspace = caps.workspace
-    ls.refresh = bool(workspace and workspace.diagnostics and
-                      workspace.diagnostics.refresh_support)
+    ls.refresh = bool(workspace and workspace.diagnostics and workspace.diagnostics.refresh_support)
     ls.configuration = bool(workspace and workspace.configuration)
-    root = params.root_uri or (params.workspace_folders[0].uri
-                               if params.workspace_folders else None)
+    root = params.root_uri or (
+        params.workspace_folders[0].uri if params.workspace_folders else None
+    )
     ls.state.root = uri_to_key(root) if root else None
     if params.initialization_options:
         ls.configure(params.initialization_options, refresh=False)
@@ -211,8 +229,9 @@ async def initialized(ls: Osc2LanguageServer, params: types.InitializedParams):
     loop = asyncio.get_running_loop()
     loop.run_in_executor(None, _warm_up)
     if ls.configuration:
-        result = await ls.workspace_configuration_async(types.ConfigurationParams(
-            items=[types.ConfigurationItem(section=SECTION)]))
+        result = await ls.workspace_configuration_async(
+            types.ConfigurationParams(items=[types.ConfigurationItem(section=SECTION)])
+        )
         if result and isinstance(result[0], dict):
             ls.configure(result[0])
 
@@ -258,30 +277,36 @@ def did_close(ls: Osc2LanguageServer, params: types.DidCloseTextDocumentParams):
     uri = params.text_document.uri
     ls.state.close(uri)
     if not ls.pull:
-        ls.text_document_publish_diagnostics(types.PublishDiagnosticsParams(uri=uri,
-                                                                            diagnostics=[]))
+        ls.text_document_publish_diagnostics(
+            types.PublishDiagnosticsParams(uri=uri, diagnostics=[])
+        )
 
 
 @SERVER.feature(types.WORKSPACE_DID_CHANGE_CONFIGURATION)
 @guarded()
-async def did_change_configuration(ls: Osc2LanguageServer,
-                                   params: types.DidChangeConfigurationParams):
+async def did_change_configuration(
+    ls: Osc2LanguageServer, params: types.DidChangeConfigurationParams
+):
     """Apply new `osc2` settings (sent along, or asked for) and re-check everything."""
     settings = params.settings
     if isinstance(settings, dict) and SECTION in settings:
         ls.configure(settings)
     elif ls.configuration:
-        result = await ls.workspace_configuration_async(types.ConfigurationParams(
-            items=[types.ConfigurationItem(section=SECTION)]))
+        result = await ls.workspace_configuration_async(
+            types.ConfigurationParams(items=[types.ConfigurationItem(section=SECTION)])
+        )
         ls.configure(result[0] if result and isinstance(result[0], dict) else {})
 
 
 # ---- diagnostics ---------------------------------------------------------------------
 
 
-@SERVER.feature(types.TEXT_DOCUMENT_DIAGNOSTIC,
-                types.DiagnosticOptions(identifier="osc2", inter_file_dependencies=True,
-                                        workspace_diagnostics=False))
+@SERVER.feature(
+    types.TEXT_DOCUMENT_DIAGNOSTIC,
+    types.DiagnosticOptions(
+        identifier="osc2", inter_file_dependencies=True, workspace_diagnostics=False
+    ),
+)
 @guarded()
 async def document_diagnostic(ls: Osc2LanguageServer, params: types.DocumentDiagnosticParams):
     """Pulled diagnostics of the current version."""
@@ -291,29 +316,34 @@ async def document_diagnostic(ls: Osc2LanguageServer, params: types.DocumentDiag
     result_id = diagnostics.result_id(snap)
     if params.previous_result_id == result_id:
         return types.RelatedUnchangedDocumentDiagnosticReport(result_id=result_id)
-    items = convert.to_lsp_diagnostics(snap, diagnostics.diagnostics(snap), ls.uri_of, ls.codec,
-                                       ls.options.docs_url)
+    items = convert.to_lsp_diagnostics(
+        snap, diagnostics.diagnostics(snap), ls.uri_of, ls.codec, ls.options.docs_url
+    )
     return types.RelatedFullDocumentDiagnosticReport(items=items, result_id=result_id)
 
 
 # ---- typing: completion and signature help (current text, latest snapshot) ------------
 
 
-@SERVER.feature(types.TEXT_DOCUMENT_COMPLETION,
-                types.CompletionOptions(trigger_characters=COMPLETION_TRIGGERS))
+@SERVER.feature(
+    types.TEXT_DOCUMENT_COMPLETION, types.CompletionOptions(trigger_characters=COMPLETION_TRIGGERS)
+)
 @guarded()
 async def complete(ls: Osc2LanguageServer, params: types.CompletionParams):
     """Completion from the grammar state and the names around the cursor."""
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    result = completion.complete(snap, text, ls.offset(lines, params.position),
-                                 ls.options.completion_limit)
+    result = completion.complete(
+        snap, text, ls.offset(lines, params.position), ls.options.completion_limit
+    )
     return convert.to_lsp_completion(result, lines, ls.codec)
 
 
-@SERVER.feature(types.TEXT_DOCUMENT_SIGNATURE_HELP,
-                types.SignatureHelpOptions(trigger_characters=SIGNATURE_TRIGGERS))
+@SERVER.feature(
+    types.TEXT_DOCUMENT_SIGNATURE_HELP,
+    types.SignatureHelpOptions(trigger_characters=SIGNATURE_TRIGGERS),
+)
 @guarded()
 async def signature(ls: Osc2LanguageServer, params: types.SignatureHelpParams):
     """Parameters of the invocation being written."""
@@ -396,8 +426,9 @@ async def prepare_rename(ls: Osc2LanguageServer, params: types.PrepareRenamePara
         span, text = rename.prepare_rename(snap, ls.offset(snap.lines, params.position))
     except rename.RenameError as exc:
         raise JsonRpcException(str(exc), code=REQUEST_FAILED) from None
-    return types.PrepareRenamePlaceholder(range=convert.to_lsp_range(span, snap.lines, ls.codec),
-                                          placeholder=text)
+    return types.PrepareRenamePlaceholder(
+        range=convert.to_lsp_range(span, snap.lines, ls.codec), placeholder=text
+    )
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_RENAME)
@@ -436,22 +467,29 @@ def workspace_symbol(ls: Osc2LanguageServer, params: types.WorkspaceSymbolParams
     return convert.to_lsp_workspace_symbols(found, _lines_of(None, snaps), ls.uri_of, ls.codec)
 
 
-@SERVER.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
-                types.SemanticTokensLegend(token_types=legend.TOKEN_TYPES,
-                                           token_modifiers=legend.TOKEN_MODIFIERS))
+@SERVER.feature(
+    types.TEXT_DOCUMENT_SEMANTIC_TOKENS_FULL,
+    types.SemanticTokensLegend(
+        token_types=legend.TOKEN_TYPES, token_modifiers=legend.TOKEN_MODIFIERS
+    ),
+)
 @guarded()
 async def tokens_full(ls: Osc2LanguageServer, params: types.SemanticTokensParams):
     """What each name is: actor, action, modifier, parameter, unit, event..."""
     snap = await ls.state.fresh(params.text_document.uri)
     if snap is None:
         return types.SemanticTokens(data=[])
-    return convert.to_lsp_semantic_tokens(semantic_tokens.semantic_tokens(snap), snap.lines,
-                                          ls.codec)
+    return convert.to_lsp_semantic_tokens(
+        semantic_tokens.semantic_tokens(snap), snap.lines, ls.codec
+    )
 
 
-@SERVER.feature(types.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE,
-                types.SemanticTokensLegend(token_types=legend.TOKEN_TYPES,
-                                           token_modifiers=legend.TOKEN_MODIFIERS))
+@SERVER.feature(
+    types.TEXT_DOCUMENT_SEMANTIC_TOKENS_RANGE,
+    types.SemanticTokensLegend(
+        token_types=legend.TOKEN_TYPES, token_modifiers=legend.TOKEN_MODIFIERS
+    ),
+)
 @guarded()
 async def tokens_range(ls: Osc2LanguageServer, params: types.SemanticTokensRangeParams):
     """Semantic tokens of a range."""
@@ -460,8 +498,9 @@ async def tokens_range(ls: Osc2LanguageServer, params: types.SemanticTokensRange
         return types.SemanticTokens(data=[])
     start = ls.offset(snap.lines, params.range.start)
     end = ls.offset(snap.lines, params.range.end)
-    return convert.to_lsp_semantic_tokens(semantic_tokens.semantic_tokens(snap, start, end),
-                                          snap.lines, ls.codec)
+    return convert.to_lsp_semantic_tokens(
+        semantic_tokens.semantic_tokens(snap, start, end), snap.lines, ls.codec
+    )
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_FOLDING_RANGE)
@@ -482,13 +521,16 @@ async def inlay_hint(ls: Osc2LanguageServer, params: types.InlayHintParams):
         return []
     start = ls.offset(snap.lines, params.range.start)
     end = ls.offset(snap.lines, params.range.end)
-    found = inlay_hints.inlay_hints(snap, start, end, hints_options.values,
-                                    hints_options.parameter_names)
+    found = inlay_hints.inlay_hints(
+        snap, start, end, hints_options.values, hints_options.parameter_names
+    )
     return convert.to_lsp_inlay_hints(found, snap.lines, ls.codec)
 
 
-@SERVER.feature(types.TEXT_DOCUMENT_CODE_ACTION,
-                types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]))
+@SERVER.feature(
+    types.TEXT_DOCUMENT_CODE_ACTION,
+    types.CodeActionOptions(code_action_kinds=[types.CodeActionKind.QuickFix]),
+)
 @guarded(list)
 async def code_action(ls: Osc2LanguageServer, params: types.CodeActionParams):
     """Quick fixes: the checker's suggestions, a missing import, a suppression."""
@@ -506,16 +548,16 @@ async def code_action(ls: Osc2LanguageServer, params: types.CodeActionParams):
 def format_document(ls: Osc2LanguageServer, params: types.DocumentFormattingParams):
     """Indentation and spacing; nothing when the file has syntax errors."""
     text, lines = ls.current(params.text_document.uri)
-    opts = formatting.FormatOptions(indent_width=params.options.tab_size,
-                                    use_tabs=not params.options.insert_spaces)
+    opts = formatting.FormatOptions(
+        indent_width=params.options.tab_size, use_tabs=not params.options.insert_spaces
+    )
     formatted = formatting.format_text(text, opts)
     if formatted is None or formatted == text:
         return []
     return convert.to_lsp_format_edits(text, formatted, lines)
 
 
-async def _other_snapshots(ls: Osc2LanguageServer, snap: Snapshot, offset: int
-                           ) -> list[Snapshot]:
+async def _other_snapshots(ls: Osc2LanguageServer, snap: Snapshot, offset: int) -> list[Snapshot]:
     """The other open documents, and the workspace's closed files that mention the
     name at ``offset``: where references to it may be."""
     others = [s for s in await ls.state.fresh_all() if s.uri != snap.uri]
@@ -544,20 +586,28 @@ def _lines_of(snap: Snapshot | None, others: list[Snapshot]):
 
 def main(argv: list[str] | None = None) -> int:
     """``osc2lsp [--tcp [--host H] [--port P]] [--log-level L] [--log-file F]``."""
-    parser = argparse.ArgumentParser(prog="osc2lsp",
-                                     description="Language server for ASAM OpenSCENARIO DSL 2.x")
+    parser = argparse.ArgumentParser(
+        prog="osc2lsp", description="Language server for ASAM OpenSCENARIO DSL 2.x"
+    )
     parser.add_argument("--tcp", action="store_true", help="serve on TCP instead of stdio")
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=2087)
-    parser.add_argument("--log-level", default=os.environ.get("OSC2LSP_LOG_LEVEL", "WARNING"),
-                        choices=["DEBUG", "INFO", "WARNING", "ERROR"])
+    parser.add_argument(
+        "--log-level",
+        default=os.environ.get("OSC2LSP_LOG_LEVEL", "WARNING"),
+        choices=["DEBUG", "INFO", "WARNING", "ERROR"],
+    )
     parser.add_argument("--log-file", help="log here instead of to stderr")
     parser.add_argument("--version", action="version", version=f"osc2lsp {__version__}")
     args = parser.parse_args(argv)
-    handler = logging.FileHandler(args.log_file) if args.log_file else \
-        logging.StreamHandler(sys.stderr)
-    logging.basicConfig(level=args.log_level, handlers=[handler],
-                        format="%(asctime)s %(levelname)s %(name)s: %(message)s")
+    handler = (
+        logging.FileHandler(args.log_file) if args.log_file else logging.StreamHandler(sys.stderr)
+    )
+    logging.basicConfig(
+        level=args.log_level,
+        handlers=[handler],
+        format="%(asctime)s %(levelname)s %(name)s: %(message)s",
+    )
     # Analyses make many long-lived objects; collect young ones less often so that a
     # collection does not land in the middle of a keystroke's request.
     gc.set_threshold(20_000, 20, 50)

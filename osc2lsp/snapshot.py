@@ -43,8 +43,12 @@ class NameEntry:
 def symbol_key(symbol: Symbol) -> tuple:
     """Identity of a declaration across analyses (each program builds its own symbols)."""
     span = symbol.name_span
-    return (symbol.uri or (span.uri if span else ""), span.start if span else -1,
-            symbol.name, symbol.kind)
+    return (
+        symbol.uri or (span.uri if span else ""),
+        span.start if span else -1,
+        symbol.name,
+        symbol.kind,
+    )
 
 
 @dataclass(frozen=True, eq=False)

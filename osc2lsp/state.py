@@ -81,13 +81,17 @@ def _portable(config):
         return None
     from dataclasses import fields, replace
 
-    changes = {f.name: dict(getattr(config, f.name)) for f in fields(config)
-               if isinstance(getattr(config, f.name), MappingProxyType)}
+    changes = {
+        f.name: dict(getattr(config, f.name))
+        for f in fields(config)
+        if isinstance(getattr(config, f.name), MappingProxyType)
+    }
     return replace(config, **changes) if changes else config
 
 
-def analyse(documents: list[tuple[str, str, int | None]], config=None,
-            verify: bool = True) -> dict[str, Snapshot]:
+def analyse(
+    documents: list[tuple[str, str, int | None]], config=None, verify: bool = True
+) -> dict[str, Snapshot]:
     """Analyse documents given as ``(uri, text, version)``; a snapshot for each.
 
     Without ``verify`` the solver's checks (C, L and B codes) are left out.
@@ -100,12 +104,15 @@ def analyse(documents: list[tuple[str, str, int | None]], config=None,
     inputs = [SourceInput(keys[uri], text) for uri, text, _ in documents]
     config = config if config is not None else Config()
     analysis = analyze(inputs, config if verify else _WithoutSolver(config))
-    return {uri: Snapshot(uri, keys[uri], version, text, analysis, config, verify)
-            for uri, text, version in documents}
+    return {
+        uri: Snapshot(uri, keys[uri], version, text, analysis, config, verify)
+        for uri, text, version in documents
+    }
 
 
-def snapshot_of(text: str, uri: str = "file:///tmp/osc2lsp/document.osc",
-                version: int | None = 1, config=None) -> Snapshot:
+def snapshot_of(
+    text: str, uri: str = "file:///tmp/osc2lsp/document.osc", version: int | None = 1, config=None
+) -> Snapshot:
     """A snapshot of one text (for tests and scripts)."""
     return analyse([(uri, text, version)], config)[uri]
 
@@ -135,8 +142,9 @@ class Document:
 
     @property
     def current(self) -> bool:
-        return self.snapshot is not None and self.snapshot.version == self.version \
-            and not self.stale
+        return (
+            self.snapshot is not None and self.snapshot.version == self.version and not self.stale
+        )
 
 
 Publisher = Callable[[str, list["Snapshot"]], None]
@@ -145,8 +153,12 @@ Publisher = Callable[[str, list["Snapshot"]], None]
 class State:
     """The open documents and their analysis schedule."""
 
-    def __init__(self, options: Options | None = None, publish: Publisher | None = None,
-                 root: str | None = None):
+    def __init__(
+        self,
+        options: Options | None = None,
+        publish: Publisher | None = None,
+        root: str | None = None,
+    ):
         self.options = options or Options()
         self.publish = publish or (lambda trigger, snapshots: None)
         self.root = root
@@ -174,8 +186,12 @@ class State:
             doc.verify_timer.cancel()
         for other in self.documents.values():
             snap = other.snapshot
-            if other is not doc and snap is not None and snap.program is not None \
-                    and doc.key in snap.program.files:
+            if (
+                other is not doc
+                and snap is not None
+                and snap.program is not None
+                and doc.key in snap.program.files
+            ):
                 other.stale = True
         self.schedule(uri)
 
@@ -227,8 +243,7 @@ class State:
         doc = self.documents.get(uri)
         if doc is None:
             return
-        if doc.timer is not None and not doc.timer.done() and getattr(doc.timer, "sleeping",
-                                                                      False):
+        if doc.timer is not None and not doc.timer.done() and getattr(doc.timer, "sleeping", False):
             doc.timer.cancel()
         delay = self.options.debounce if delay_ms is None else delay_ms
         try:
@@ -261,8 +276,9 @@ class State:
             loop = asyncio.get_running_loop()
             verify = self.options.verify
             try:
-                snapshots = await loop.run_in_executor(self._executor, analyse, inputs, config,
-                                                       False)
+                snapshots = await loop.run_in_executor(
+                    self._executor, analyse, inputs, config, False
+                )
             except Exception:  # an internal error of the checker: keep serving
                 log.exception("analysis of %s failed", uri)
                 snapshots = {}
@@ -298,7 +314,8 @@ class State:
         if doc.verify_timer is not None:
             doc.verify_timer.cancel()
         task = asyncio.get_running_loop().create_task(
-            self._solve(uri, self.options.verify_delay / 1000))
+            self._solve(uri, self.options.verify_delay / 1000)
+        )
         doc.verify_timer = task
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
@@ -308,7 +325,8 @@ class State:
         threads)."""
         if self._solver is None:
             self._solver = ProcessPoolExecutor(
-                max_workers=1, mp_context=multiprocessing.get_context("spawn"))
+                max_workers=1, mp_context=multiprocessing.get_context("spawn")
+            )
         return self._solver
 
     async def _solve(self, uri: str, delay: float) -> None:
@@ -361,8 +379,12 @@ class State:
         by_key = {d.key: d for d in self.documents.values()}
         for other in self.documents.values():
             snap = other.snapshot
-            if other is not doc and snap is not None and snap.program is not None \
-                    and doc.key in snap.program.files:
+            if (
+                other is not doc
+                and snap is not None
+                and snap.program is not None
+                and doc.key in snap.program.files
+            ):
                 batch[other.uri] = other
         for member in list(batch.values()):
             snap = member.snapshot
@@ -398,8 +420,11 @@ class State:
             if snap is None:
                 config = self.configs.for_file(key, self.options, self.root)
                 uri = path.as_uri()
-                snap = (await loop.run_in_executor(self._executor, analyse,
-                                                   [(uri, text, None)], config, False))[uri]
+                snap = (
+                    await loop.run_in_executor(
+                        self._executor, analyse, [(uri, text, None)], config, False
+                    )
+                )[uri]
                 self._closed[key] = (mtime, text, snap)
             found.append(snap)
         return found

@@ -58,7 +58,7 @@ class LineIndex:
         if line < 0 or line >= len(self.starts):
             return ""
         end = self.starts[line + 1] if line + 1 < len(self.starts) else len(self.text)
-        return self.text[self.starts[line]:end]
+        return self.text[self.starts[line] : end]
 
     def line_content(self, line: int) -> str:
         """Line ``line`` (0-based) without its line ending."""

@@ -33,22 +33,33 @@ def build_parser() -> argparse.ArgumentParser:
         prog="osc2run",
         description="Run an ASAM OpenSCENARIO DSL 2.x scenario in the MuJoCo world.",
         epilog="exit status: 0 success, 1 scenario failed, 2 input or internal error, "
-               "130 interrupted",
+        "130 interrupted",
     )
     p.add_argument("file", metavar="FILE", help="the .osc file")
     p.add_argument("--scenario", metavar="NAME", help="the scenario to run (when several)")
     p.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the run (default 0)")
-    p.add_argument("--duration", type=float, metavar="T",
-                   help="time limit in simulated seconds (default 600)")
+    p.add_argument(
+        "--duration", type=float, metavar="T", help="time limit in simulated seconds (default 600)"
+    )
     p.add_argument("--out", metavar="DIR", help="write telemetry.csv, events.csv, run.json here")
     p.add_argument("--plot", action="store_true", help="also write PNG plots (needs --out)")
-    p.add_argument("--dt-control", type=float, default=0.05, metavar="S",
-                   help="control period: one tree tick (default 0.05)")
-    p.add_argument("--dt-physics", type=float, default=0.002, metavar="S",
-                   help="physics step (default 0.002)")
-    p.add_argument("--values", choices=("constants", "witness"), default="witness",
-                   help="parameter values and start poses: the checker's witness for the seed "
-                   "(default) or the folded constants alone")
+    p.add_argument(
+        "--dt-control",
+        type=float,
+        default=0.05,
+        metavar="S",
+        help="control period: one tree tick (default 0.05)",
+    )
+    p.add_argument(
+        "--dt-physics", type=float, default=0.002, metavar="S", help="physics step (default 0.002)"
+    )
+    p.add_argument(
+        "--values",
+        choices=("constants", "witness"),
+        default="witness",
+        help="parameter values and start poses: the checker's witness for the seed "
+        "(default) or the folded constants alone",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -61,8 +72,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         args = build_parser().parse_args(args_list)
     except SystemExit as exc:
         return exc.code if isinstance(exc.code, int) else EXIT_ERROR
-    logging.basicConfig(level=logging.DEBUG if args.debug else logging.WARNING,
-                        format="osc2run: %(levelname)s: %(name)s: %(message)s", stream=sys.stderr)
+    logging.basicConfig(
+        level=logging.DEBUG if args.debug else logging.WARNING,
+        format="osc2run: %(levelname)s: %(name)s: %(message)s",
+        stream=sys.stderr,
+    )
     if args.plot and not args.out:
         sys.stderr.write("osc2run: error: --plot needs --out DIR\n")
         return EXIT_ERROR
@@ -91,10 +105,19 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
 
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    values = witness_values(seed=args.seed) if args.values == "witness" else \
-        (lambda analysis, uri, model, sym: ConstantValues(model, sym))
-    prepared = prepare(args.file, scenario=args.scenario, seed=args.seed,
-                       dt_control=args.dt_control, dt_physics=args.dt_physics, values=values)
+    values = (
+        witness_values(seed=args.seed)
+        if args.values == "witness"
+        else (lambda analysis, uri, model, sym: ConstantValues(model, sym))
+    )
+    prepared = prepare(
+        args.file,
+        scenario=args.scenario,
+        seed=args.seed,
+        dt_control=args.dt_control,
+        dt_physics=args.dt_physics,
+        values=values,
+    )
     interactive = out.isatty() and not args.quiet
     try:
         if interactive:
@@ -114,9 +137,13 @@ def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     limit = args.duration if args.duration is not None else 600.0
-    columns = (TextColumn("[bold]{task.description}"), BarColumn(),
-               TextColumn("{task.fields[sim]:>8} / {task.total:g} s simulated"),
-               TextColumn("{task.fields[rtf]}"), TimeElapsedColumn())
+    columns = (
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        TextColumn("{task.fields[sim]:>8} / {task.total:g} s simulated"),
+        TextColumn("{task.fields[rtf]}"),
+        TimeElapsedColumn(),
+    )
     with Progress(*columns, transient=True) as progress:
         task = progress.add_task(prepared.scenario.name, total=limit, sim="0.0", rtf="")
 
@@ -124,19 +151,23 @@ def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any
             rtf = f"{sim / wall:.0f}x real time" if wall > 0 else ""
             progress.update(task, completed=sim, sim=f"{sim:.1f}", rtf=rtf)
 
-        return execute(prepared, out=args.out, duration=args.duration, plot=args.plot,
-                       progress=report)
+        return execute(
+            prepared, out=args.out, duration=args.duration, plot=args.plot, progress=report
+        )
 
 
 def _summary(result: Any, out: TextIO) -> None:
     meta = result.metadata
     o = result.outcome
     rtf = meta.get("real_time_factor")
-    out.write(f"scenario {meta['scenario']} ({meta['source']}): {o.status} at "
-              f"{o.time:.2f} s (tick {o.tick}): {o.reason}\n")
-    out.write(f"  simulated {meta['simulated_time']:.2f} s in {meta['steps']} ticks, "
-              f"{meta['wall_seconds']:.2f} s wall"
-              + (f", {rtf:.0f}x real time" if rtf else "") + "\n")
+    out.write(
+        f"scenario {meta['scenario']} ({meta['source']}): {o.status} at "
+        f"{o.time:.2f} s (tick {o.tick}): {o.reason}\n"
+    )
+    out.write(
+        f"  simulated {meta['simulated_time']:.2f} s in {meta['steps']} ticks, "
+        f"{meta['wall_seconds']:.2f} s wall" + (f", {rtf:.0f}x real time" if rtf else "") + "\n"
+    )
     emitted = [e for e in result.events if e.kind == "emit"]
     if emitted:
         names = ", ".join(f"{e.name}@{e.time:.2f}s" for e in emitted[:8])
@@ -181,8 +212,10 @@ def _source_line(problem: Any, texts: dict[str, str]) -> str | None:
     text = lines[span.line - 1]
     width = len(str(span.line))
     caret_len = max(1, (span.end_column - span.column) if span.end_line == span.line else 1)
-    return (f"{' ' * width} |\n{span.line} | {text}\n"
-            f"{' ' * width} | {' ' * (span.column - 1)}{'^' * caret_len}\n")
+    return (
+        f"{' ' * width} |\n{span.line} | {text}\n"
+        f"{' ' * width} | {' ' * (span.column - 1)}{'^' * caret_len}\n"
+    )
 
 
 if __name__ == "__main__":  # pragma: no cover

@@ -218,8 +218,9 @@ class ExecutionContext:
 
     # ---- actors
 
-    def actor_member(self, actor: Actor, member: str, sym: Symbol | None,
-                     node: ast.Node) -> Closure:
+    def actor_member(
+        self, actor: Actor, member: str, sym: Symbol | None, node: ast.Node
+    ) -> Closure:
         """A closure for ``actor.member`` (live state or a constant attribute)."""
         states = self.states
         n = actor.name
@@ -237,8 +238,14 @@ class ExecutionContext:
             if member == "bounding_box" and actor.params is not None:
                 p = actor.params
                 height = getattr(p, "height", 1.5)
-                return constant(namespace(length=p.length, width=p.width, height=height,
-                                          center=namespace(x=0.0, y=0.0, z=0.0)))
+                return constant(
+                    namespace(
+                        length=p.length,
+                        width=p.width,
+                        height=height,
+                        center=namespace(x=0.0, y=0.0, z=0.0),
+                    )
+                )
         if member in actor.attributes:
             return constant(to_runtime(actor.attributes[member]))
         if member == "name":
@@ -318,17 +325,21 @@ def _velocity(s: ActorState) -> Any:
     c, sn = math.cos(s.yaw), math.sin(s.yaw)
     vx = s.speed * c - s.lateral_speed * sn
     vy = s.speed * sn + s.lateral_speed * c
-    return namespace(translational=namespace(x=vx, y=vy, z=0.0),
-                     angular=namespace(roll=0.0, pitch=0.0, yaw=s.yaw_rate))
+    return namespace(
+        translational=namespace(x=vx, y=vy, z=0.0),
+        angular=namespace(roll=0.0, pitch=0.0, yaw=s.yaw_rate),
+    )
 
 
 def _acceleration(s: ActorState) -> Any:
     ax, ay = s.accel * math.cos(s.yaw), s.accel * math.sin(s.yaw)
-    return namespace(translational=namespace(x=ax, y=ay, z=0.0),
-                     angular=namespace(roll=0.0, pitch=0.0, yaw=0.0))
+    return namespace(
+        translational=namespace(x=ax, y=ay, z=0.0), angular=namespace(roll=0.0, pitch=0.0, yaw=0.0)
+    )
 
 
 def _pose(s: ActorState) -> Any:
-    return namespace(position=namespace(x=s.x, y=s.y, z=0.0),
-                     orientation=namespace(roll=0.0, pitch=0.0, yaw=s.yaw))
-
+    return namespace(
+        position=namespace(x=s.x, y=s.y, z=0.0),
+        orientation=namespace(roll=0.0, pitch=0.0, yaw=s.yaw),
+    )

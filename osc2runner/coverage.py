@@ -57,11 +57,16 @@ def _escape(text: str) -> str:
 
 
 def _actions(model: Model, reg: MethodRegistry) -> list[str]:
-    rows = ["## Actions", "",
-            "| action | namespace | runs for | runner behaviour | note |",
-            "|---|---|---|---|---|"]
-    for action in sorted(_library_symbols(model, SymbolKind.ACTION), key=lambda s: (
-            s.actor.name if s.actor else "", s.name)):
+    rows = [
+        "## Actions",
+        "",
+        "| action | namespace | runs for | runner behaviour | note |",
+        "|---|---|---|---|---|",
+    ]
+    for action in sorted(
+        _library_symbols(model, SymbolKind.ACTION),
+        key=lambda s: (s.actor.name if s.actor else "", s.name),
+    ):
         label = f"`{action.qualified_name}`"
         if _is_base(action):
             rows.append(f"| {label} | {action.namespace} | base action, not invoked | | |")
@@ -79,8 +84,10 @@ def _actions(model: Model, reg: MethodRegistry) -> list[str]:
         shown = _compact(model, action.actor, runs_for)
         entry = next(iter(entries.values()))
         note = "; ".join(e.note for e in entries.values() if e.note)
-        rows.append(f"| {label} | {action.namespace} | {shown} | `{entry.target.__name__}` "
-                    f"| {_escape(note)} |")
+        rows.append(
+            f"| {label} | {action.namespace} | {shown} | `{entry.target.__name__}` "
+            f"| {_escape(note)} |"
+        )
     return rows
 
 
@@ -93,27 +100,44 @@ def _compact(model: Model, declared: Symbol | None, names: list[str]) -> str:
 
 
 def _modifiers(model: Model, reg: MethodRegistry) -> list[str]:
-    rows = ["## Modifiers", "",
-            "| modifier | applies to | supported | runner class | note |",
-            "|---|---|---|---|---|"]
-    for mod in sorted(_library_symbols(model, SymbolKind.MODIFIER), key=lambda s: (
-            s.actor.name if s.actor else "", s.name)):
-        where = mod.actor.name if mod.actor is not None else (
-            f"actions of {mod.of.actor.name}" if mod.of is not None and mod.of.actor else "any")
+    rows = [
+        "## Modifiers",
+        "",
+        "| modifier | applies to | supported | runner class | note |",
+        "|---|---|---|---|---|",
+    ]
+    for mod in sorted(
+        _library_symbols(model, SymbolKind.MODIFIER),
+        key=lambda s: (s.actor.name if s.actor else "", s.name),
+    ):
+        where = (
+            mod.actor.name
+            if mod.actor is not None
+            else (
+                f"actions of {mod.of.actor.name}" if mod.of is not None and mod.of.actor else "any"
+            )
+        )
         entry = reg.find_modifier(model, mod)
         if entry is None:
             rows.append(f"| `{mod.qualified_name}` | {where} | **no** | | |")
         else:
-            rows.append(f"| `{mod.qualified_name}` | {where} | yes | `{entry.target.__name__}` "
-                        f"| {_escape(entry.note)} |")
+            rows.append(
+                f"| `{mod.qualified_name}` | {where} | yes | `{entry.target.__name__}` "
+                f"| {_escape(entry.note)} |"
+            )
     return rows
 
 
 def _methods(model: Model, reg: MethodRegistry) -> list[str]:
-    rows = ["## Methods implemented by the runner", "",
-            "Methods the library declares `is undefined`; methods `is expression` are "
-            "evaluated from their body.", "",
-            "| method | supported |", "|---|---|"]
+    rows = [
+        "## Methods implemented by the runner",
+        "",
+        "Methods the library declares `is undefined`; methods `is expression` are "
+        "evaluated from their body.",
+        "",
+        "| method | supported |",
+        "|---|---|",
+    ]
     found = []
     for sym in model.symbols:
         if sym.kind is not SymbolKind.METHOD or not (sym.library or sym.toolkit):
@@ -137,13 +161,21 @@ def coverage_markdown(reg: MethodRegistry | None = None) -> str:
     actions = [s for s in _library_symbols(model, SymbolKind.ACTION) if not _is_base(s)]
     modifiers = _library_symbols(model, SymbolKind.MODIFIER)
     supported_actions = sum(
-        1 for a in actions
-        if any(reg.find_action(model, t, a) for t in _subtypes(model, a.actor)))
+        1 for a in actions if any(reg.find_action(model, t, a) for t in _subtypes(model, a.actor))
+    )
     supported_modifiers = sum(1 for m in modifiers if reg.find_modifier(model, m))
-    summary = (f"Supported: {supported_actions} of {len(actions)} actions, "
-               f"{supported_modifiers} of {len(modifiers)} modifiers.\n\n")
-    parts = [_HEADER + summary, *_actions(model, reg), "", *_modifiers(model, reg), "",
-             *_methods(model, reg)]
+    summary = (
+        f"Supported: {supported_actions} of {len(actions)} actions, "
+        f"{supported_modifiers} of {len(modifiers)} modifiers.\n\n"
+    )
+    parts = [
+        _HEADER + summary,
+        *_actions(model, reg),
+        "",
+        *_modifiers(model, reg),
+        "",
+        *_methods(model, reg),
+    ]
     return "\n".join(parts) + "\n"
 
 

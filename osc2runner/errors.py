@@ -36,8 +36,12 @@ class ScenarioError(Exception):
     rejected the input, ``texts`` the sources to render them with.
     """
 
-    def __init__(self, problems: Sequence[Problem], diagnostics: Sequence = (),
-                 texts: dict[str, str] | None = None) -> None:
+    def __init__(
+        self,
+        problems: Sequence[Problem],
+        diagnostics: Sequence = (),
+        texts: dict[str, str] | None = None,
+    ) -> None:
         self.problems = list(problems)
         self.diagnostics = list(diagnostics)
         self.texts = dict(texts or {})

@@ -85,9 +85,17 @@ class PositionOf:
 
 
 _BINARY: dict[str, Callable[[Any, Any], Any]] = {
-    "+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
-    "%": operator.mod, "==": operator.eq, "!=": operator.ne, "<": operator.lt,
-    "<=": operator.le, ">": operator.gt, ">=": operator.ge,
+    "+": operator.add,
+    "-": operator.sub,
+    "*": operator.mul,
+    "/": operator.truediv,
+    "%": operator.mod,
+    "==": operator.eq,
+    "!=": operator.ne,
+    "<": operator.lt,
+    "<=": operator.le,
+    ">": operator.gt,
+    ">=": operator.ge,
 }
 
 
@@ -202,8 +210,11 @@ class ExpressionCompiler:
                 store = ctx.variables
                 key = sym.name
                 if key in store:
-                    return constant(store[key]) if sym.kind is SymbolKind.FIELD else \
-                        (lambda: store[key])
+                    return (
+                        constant(store[key])
+                        if sym.kind is SymbolKind.FIELD
+                        else (lambda: store[key])
+                    )
                 return lambda: store[key]
             try:
                 return constant(to_runtime(ctx.values.value(sym)))
@@ -297,16 +308,18 @@ class ExpressionCompiler:
 
     def _Call(self, e: ast.Call, scope: Scope) -> Closure:
         callee = e.callee
-        if isinstance(callee, ast.NameRef) and callee.name.name.text in EVENT_FUNCTIONS \
-                and self.ref(callee.name.name) is None:
+        if (
+            isinstance(callee, ast.NameRef)
+            and callee.name.name.text in EVENT_FUNCTIONS
+            and self.ref(callee.name.name) is None
+        ):
             raise CompileProblem(
-                f"`{callee.name.name.text}(...)` is an event; use it in `wait`, `until` or `on`",
-                e)
+                f"`{callee.name.name.text}(...)` is an event; use it in `wait`, `until` or `on`", e
+            )
         if isinstance(callee, ast.MemberAccess):
             method = self.ref(callee.member)
             if method is None or method.kind is not SymbolKind.METHOD:
-                raise CompileProblem(f"`{callee.member.text}` is not a method the runner knows",
-                                     e)
+                raise CompileProblem(f"`{callee.member.text}` is not a method the runner knows", e)
             target = self._c(callee.target, scope)
             return self._method_call(method, target, e, scope)
         if isinstance(callee, ast.NameRef):
@@ -340,8 +353,9 @@ class ExpressionCompiler:
                 raise CompileProblem(f"`{method.name}` needs its argument `{p.name}`", call)
         return result
 
-    def _method_call(self, method: Symbol, target: Closure, call: ast.Call,
-                     scope: Scope) -> Closure:
+    def _method_call(
+        self, method: Symbol, target: Closure, call: ast.Call, scope: Scope
+    ) -> Closure:
         args = self._arguments(method, call, scope)
         decl = method.decl
         if isinstance(decl, ast.MethodDecl) and decl.kind == "expression" and decl.body is not None:
@@ -352,7 +366,8 @@ class ExpressionCompiler:
         if entry is None:
             owner = method.owner.name if method.owner is not None else ""
             raise CompileProblem(
-                f"method `{owner}.{method.name}` has no runner implementation", call)
+                f"method `{owner}.{method.name}` has no runner implementation", call
+            )
         fn = entry.target
         ctx = self.ctx
         if len(args) == 1:
@@ -373,8 +388,11 @@ def _chain(model: Any) -> list[Any]:
 
 
 def _contains(container: object, value: object) -> bool:
-    if isinstance(container, tuple) and len(container) == 2 and all(
-            isinstance(v, (int, float)) for v in container):
+    if (
+        isinstance(container, tuple)
+        and len(container) == 2
+        and all(isinstance(v, (int, float)) for v in container)
+    ):
         lo, hi = container
         return min(lo, hi) <= value <= max(lo, hi)  # type: ignore[operator]
     return value in container  # type: ignore[operator]

@@ -88,8 +88,9 @@ class StartPlan:
 
     # ---- constraints (called by modifiers' place hooks)
 
-    def _set(self, actor: str, key: str, value: Any, node: ast.Node | None,
-             weak: bool = False) -> None:
+    def _set(
+        self, actor: str, key: str, value: Any, node: ast.Node | None, weak: bool = False
+    ) -> None:
         pose = self.poses[actor]
         if getattr(pose, key) is not None:
             if weak:
@@ -103,16 +104,18 @@ class StartPlan:
         """Start in road lane ``lane`` (1 = rightmost)."""
         self._set(actor, "lane", int(lane), node, weak)
 
-    def lane_beside(self, actor: str, ref: str, lanes_left: int, node: ast.Node | None,
-                    weak: bool = False) -> None:
+    def lane_beside(
+        self, actor: str, ref: str, lanes_left: int, node: ast.Node | None, weak: bool = False
+    ) -> None:
         """Start ``lanes_left`` lanes to the left of ``ref``'s start lane (negative: right)."""
         self._set(actor, "lane", _Rel(ref, lanes_left, node), node, weak)
 
     def s(self, actor: str, s: float, node: ast.Node | None, weak: bool = False) -> None:
         self._set(actor, "s", float(s), node, weak)
 
-    def s_from(self, actor: str, ref: str, ahead: float, node: ast.Node | None,
-               weak: bool = False) -> None:
+    def s_from(
+        self, actor: str, ref: str, ahead: float, node: ast.Node | None, weak: bool = False
+    ) -> None:
         """Start ``ahead`` metres ahead of ``ref`` along the road (reference points)."""
         self._set(actor, "s", _Rel(ref, float(ahead), node), node, weak)
 
@@ -139,8 +142,12 @@ class StartPlan:
             if lane is None or name not in s:
                 continue
             result[name] = Placement(
-                s=s[name], lane=lane, offset=pose.offset or 0.0,
-                yaw=self.road.heading + (pose.yaw or 0.0), speed=pose.speed or 0.0)
+                s=s[name],
+                lane=lane,
+                offset=pose.offset or 0.0,
+                yaw=self.road.heading + (pose.yaw or 0.0),
+                speed=pose.speed or 0.0,
+            )
         return result
 
     def _chain(self, name: str, key: str) -> list[str]:
@@ -150,12 +157,16 @@ class StartPlan:
         while isinstance(value, _Rel):
             if value.ref in chain:
                 cycle = " -> ".join([*chain, value.ref])
-                self.problems.append(problem(
-                    f"start positions depend on each other in a cycle ({cycle})", value.node))
+                self.problems.append(
+                    problem(
+                        f"start positions depend on each other in a cycle ({cycle})", value.node
+                    )
+                )
                 return []
             if value.ref not in self.poses:
-                self.problems.append(problem(f"`{value.ref}` is not an actor of this scenario",
-                                             value.node))
+                self.problems.append(
+                    problem(f"`{value.ref}` is not an actor of this scenario", value.node)
+                )
                 return []
             chain.append(value.ref)
             value = getattr(self.poses[value.ref], key)
@@ -182,15 +193,23 @@ class StartPlan:
                 assert isinstance(rel, _Rel)
                 lane = lane + int(rel.delta)
                 if not self.road.has_lane(lane):
-                    self.problems.append(problem(
-                        f"`{link}` would start in a lane the road does not have: "
-                        f"{self._lane_text(lane)}", rel.node))
+                    self.problems.append(
+                        problem(
+                            f"`{link}` would start in a lane the road does not have: "
+                            f"{self._lane_text(lane)}",
+                            rel.node,
+                        )
+                    )
                     break
             else:
                 if not self.road.has_lane(lane):
-                    self.problems.append(problem(
-                        f"`{name}` would start in a lane the road does not have: "
-                        f"{self._lane_text(lane)}", self.poses[name].nodes.get("lane")))
+                    self.problems.append(
+                        problem(
+                            f"`{name}` would start in a lane the road does not have: "
+                            f"{self._lane_text(lane)}",
+                            self.poses[name].nodes.get("lane"),
+                        )
+                    )
                     continue
                 lanes[name] = lane
         return lanes
@@ -198,8 +217,10 @@ class StartPlan:
     def _lane_text(self, lane: int) -> str:
         road = self.road
         side = self.lanes.default_side
-        return (f"map `{road.name}` has lanes 1..{road.lane_count}, counted from the {side}; "
-                f"this is lane {self.lanes.to_scenario(lane)}")
+        return (
+            f"map `{road.name}` has lanes 1..{road.lane_count}, counted from the {side}; "
+            f"this is lane {self.lanes.to_scenario(lane)}"
+        )
 
     def _length(self, name: str) -> float:
         params = self.actors[name].params
@@ -230,8 +251,11 @@ class StartPlan:
             group = groups.get(root)
             if not group:
                 continue
-            if set(group) == {root} and self.actors[root].kind == "obstacle" and \
-                    self.poses[root].lane is None:
+            if (
+                set(group) == {root}
+                and self.actors[root].kind == "obstacle"
+                and self.poses[root].lane is None
+            ):
                 free_obstacles.append(root)
                 continue
             base = max(START_MARGIN + 0.5 * self._length(n) - off for n, off in group.items())
@@ -244,13 +268,18 @@ class StartPlan:
         for name, s in placed.items():
             half = 0.5 * self._length(name)
             if s - half < 0.0 or s + half > self.road.length:
-                self.problems.append(problem(
-                    f"`{name}` would start off the road (s = {s:.1f} m on a road of "
-                    f"{self.road.length:.0f} m)", self.poses[name].nodes.get("s")))
+                self.problems.append(
+                    problem(
+                        f"`{name}` would start off the road (s = {s:.1f} m on a road of "
+                        f"{self.road.length:.0f} m)",
+                        self.poses[name].nodes.get("s"),
+                    )
+                )
         return placed
 
-    def _clear(self, base: float, group: dict[str, float], lanes: dict[str, int],
-               placed: dict[str, float]) -> float:
+    def _clear(
+        self, base: float, group: dict[str, float], lanes: dict[str, int], placed: dict[str, float]
+    ) -> float:
         """The smallest ``base`` >= the given one at which the group overlaps nobody placed."""
         for _ in range(100):
             shift = 0.0
@@ -277,6 +306,15 @@ class StartPlan:
             if not actor.has_body or name not in placements:
                 continue
             p = placements[name]
-            specs.append(ActorSpec(name, actor.params, s=p.s, lane=p.lane, offset=p.offset,
-                                   yaw=p.yaw, speed=p.speed))
+            specs.append(
+                ActorSpec(
+                    name,
+                    actor.params,
+                    s=p.s,
+                    lane=p.lane,
+                    offset=p.offset,
+                    yaw=p.yaw,
+                    speed=p.speed,
+                )
+            )
         return specs

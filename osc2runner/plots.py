@@ -37,13 +37,24 @@ def _mark_events(ax: Any, result: Any) -> None:
     for e in result.events:
         if e.kind == "emit":
             ax.axvline(e.time, color="0.6", lw=0.8, ls="--")
-            ax.annotate(e.name, (e.time, 1.0), xycoords=("data", "axes fraction"),
-                        rotation=90, va="top", ha="right", fontsize=7, color="0.4")
+            ax.annotate(
+                e.name,
+                (e.time, 1.0),
+                xycoords=("data", "axes fraction"),
+                rotation=90,
+                va="top",
+                ha="right",
+                fontsize=7,
+                color="0.4",
+            )
 
 
 def _moving(result: Any) -> dict[str, dict[str, np.ndarray]]:
-    return {n: ch for n, ch in result.telemetry.items()
-            if not np.all(np.isnan(ch["throttle"])) or np.any(ch["speed"] != 0.0)}
+    return {
+        n: ch
+        for n, ch in result.telemetry.items()
+        if not np.all(np.isnan(ch["throttle"])) or np.any(ch["speed"] != 0.0)
+    }
 
 
 def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[int, int]]:
@@ -59,8 +70,11 @@ def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[in
             last_free = time[i]
             i += 1
             continue
-        if time[i] - last_free > 0.2 or speed[i] < 1.0 or (
-                segments and time[i] - time[segments[-1][1]] < quiet):
+        if (
+            time[i] - last_free > 0.2
+            or speed[i] < 1.0
+            or (segments and time[i] - time[segments[-1][1]] < quiet)
+        ):
             i += 1
             continue
         start = max(i - 1, 0)
@@ -86,9 +100,14 @@ def plot_run(result: Any, out: Path) -> list[Path]:
     for name, ch in actors.items():
         ax1.plot(ch["time"], ch["speed"] * KPH, label=name)
         if not np.all(np.isnan(ch["throttle"])):
-            line, = ax2.plot(ch["time"], ch["throttle"], label=f"{name} throttle")
-            ax2.plot(ch["time"], -ch["brake"], ls=":", color=line.get_color(),
-                     label=f"{name} brake (down)")
+            (line,) = ax2.plot(ch["time"], ch["throttle"], label=f"{name} throttle")
+            ax2.plot(
+                ch["time"],
+                -ch["brake"],
+                ls=":",
+                color=line.get_color(),
+                label=f"{name} brake (down)",
+            )
     ax1.set(ylabel="speed (kph)", title=title)
     ax2.set(ylabel="throttle / -brake", xlabel="time (s)")
     for ax in (ax1, ax2):
@@ -114,13 +133,17 @@ def plot_run(result: Any, out: Path) -> list[Path]:
         fig, (ax,) = _figure(1)
         for name, (a, b) in stops:
             ch = actors[name]
-            x, y = ch["x"][a:b + 1], ch["y"][a:b + 1]
+            x, y = ch["x"][a : b + 1], ch["y"][a : b + 1]
             distance = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))))
             mu = ch["friction"][a]
-            ax.plot(distance, ch["speed"][a:b + 1] * KPH,
-                    label=f"{name} at {ch['time'][a]:.1f} s, µ {mu:.2g}: {distance[-1]:.1f} m")
-        ax.set(xlabel="distance from brake onset (m)", ylabel="speed (kph)",
-               title=f"{title}: stopping")
+            ax.plot(
+                distance,
+                ch["speed"][a : b + 1] * KPH,
+                label=f"{name} at {ch['time'][a]:.1f} s, µ {mu:.2g}: {distance[-1]:.1f} m",
+            )
+        ax.set(
+            xlabel="distance from brake onset (m)", ylabel="speed (kph)", title=f"{title}: stopping"
+        )
         ax.grid(alpha=0.3)
         ax.legend(fontsize=8)
         written.append(_save(fig, out / "braking.png"))
@@ -133,8 +156,9 @@ def plot_run(result: Any, out: Path) -> list[Path]:
             if name == names[0]:
                 continue
             n = min(len(ch["x"]), len(ref["x"]))
-            gap = (ch["x"][:n] - ref["x"][:n]) * np.cos(ref["yaw"][:n]) + \
-                (ch["y"][:n] - ref["y"][:n]) * np.sin(ref["yaw"][:n])
+            gap = (ch["x"][:n] - ref["x"][:n]) * np.cos(ref["yaw"][:n]) + (
+                ch["y"][:n] - ref["y"][:n]
+            ) * np.sin(ref["yaw"][:n])
             ax1.plot(ref["time"][:n], gap, label=f"{name} ahead of {names[0]}")
         for name, ch in actors.items():
             if not np.all(np.isnan(ch["steer"])):

@@ -50,10 +50,19 @@ from osc2runner.initializer import Placement, StartPlan
 from osc2runner.roads import LaneNumbers, road_for
 from osc2runner.sim import World, versions
 from osc2runner.telemetry import Recorder, write
-from osc2runner.values import ConstantValues, NoValue, ParameterValues, fold, to_runtime
+from osc2runner.values import NoValue, ParameterValues, fold, to_runtime
 
-__all__ = ["Compiled", "Outcome", "Prepared", "RunInterrupted", "RunResult", "compile_file",
-           "execute", "prepare", "run"]
+__all__ = [
+    "Compiled",
+    "Outcome",
+    "Prepared",
+    "RunInterrupted",
+    "RunResult",
+    "compile_file",
+    "execute",
+    "prepare",
+    "run",
+]
 
 log = logging.getLogger(__name__)
 
@@ -143,8 +152,9 @@ def _choose_scenario(analysis: Analysis, uri: str, name: str | None) -> Symbol:
     program = analysis.programs[uri]
     model = program.model
     result = program.files.get(uri)
-    decls = [d for d in (result.ast.declarations if result else ()) if
-             isinstance(d, ast.ScenarioDecl)]
+    decls = [
+        d for d in (result.ast.declarations if result else ()) if isinstance(d, ast.ScenarioDecl)
+    ]
     symbols = [model.declarations[d] for d in decls if d in model.declarations]
     if name is not None:
         for sym in symbols:
@@ -156,8 +166,9 @@ def _choose_scenario(analysis: Analysis, uri: str, name: str | None) -> Symbol:
         raise ScenarioError([Problem(f"{uri}: declares no scenario to run")])
     if len(symbols) > 1:
         names = ", ".join(s.name for s in symbols)
-        raise ScenarioError([Problem(f"{uri}: declares several scenarios ({names}); choose one "
-                                     "with --scenario")])
+        raise ScenarioError(
+            [Problem(f"{uri}: declares several scenarios ({names}); choose one with --scenario")]
+        )
     return symbols[0]
 
 
@@ -228,8 +239,9 @@ def compile_file(
     except UnknownMapError as exc:
         raise ScenarioError([problem(str(exc), map_node)]) from None
     fresh_blackboard()
-    ctx = ExecutionContext(model, parameter_values, registry, road, actors, dt=dt_control,
-                           seed=seed)
+    ctx = ExecutionContext(
+        model, parameter_values, registry, road, actors, dt=dt_control, seed=seed
+    )
     compiled = compile_scenario(ctx, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
@@ -247,10 +259,17 @@ def prepare(
     source: str | None = None,
 ) -> Prepared:
     """Check, compile and place a scenario; raises ScenarioError for input errors."""
-    c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, values=values,
-                     source=source)
-    uri, analysis, sym, ctx, compiled, actors = (c.uri, c.analysis, c.scenario, c.ctx,
-                                                 c.compiled, c.actors)
+    c = compile_file(
+        path, scenario=scenario, seed=seed, dt_control=dt_control, values=values, source=source
+    )
+    uri, analysis, sym, ctx, compiled, actors = (
+        c.uri,
+        c.analysis,
+        c.scenario,
+        c.ctx,
+        c.compiled,
+        c.actors,
+    )
     parameter_values, road = ctx.values, ctx.road
     plan = StartPlan(actors, ctx.lanes)
     problems: list[Problem] = []
@@ -266,9 +285,13 @@ def prepare(
             try:
                 args = {k: fn() for k, fn in modifier.use.arguments.items()}
             except KeyError:
-                problems.append(problem(
-                    f"`{modifier.use.name}(...)` at the start needs values known before the "
-                    "first tick", modifier.node))
+                problems.append(
+                    problem(
+                        f"`{modifier.use.name}(...)` at the start needs values known before the "
+                        "first tick",
+                        modifier.node,
+                    )
+                )
                 continue
             if args.get("at", "all") in ("start", "all"):
                 modifier.place(plan, use.actor, args)
@@ -281,9 +304,13 @@ def prepare(
         for name in list(placements):
             given = start(name)
             if given is not None:
-                placements[name] = Placement(s=given.s, lane=ctx.lanes.to_road(given.lane),
-                                             offset=given.t, yaw=given.heading,
-                                             speed=given.speed)
+                placements[name] = Placement(
+                    s=given.s,
+                    lane=ctx.lanes.to_road(given.lane),
+                    offset=given.t,
+                    yaw=given.heading,
+                    speed=given.speed,
+                )
     world = World(road, plan.specs(placements), dt_control=dt_control, dt_physics=dt_physics)
     ctx.attach(world, controllers_for(world, road))
     for name, fn in ctx.variable_inits:
@@ -328,8 +355,15 @@ def run(
         ScenarioError: the input has errors (nothing ran).
         RunInterrupted: Ctrl-C; its ``result`` has what was recorded (and written).
     """
-    prepared = prepare(path, scenario=scenario, seed=seed, dt_control=dt_control,
-                       dt_physics=dt_physics, values=values, source=source)
+    prepared = prepare(
+        path,
+        scenario=scenario,
+        seed=seed,
+        dt_control=dt_control,
+        dt_physics=dt_physics,
+        values=values,
+        source=source,
+    )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 
 
@@ -373,11 +407,16 @@ def execute(
                 break
             if world.tick >= max_ticks:
                 if running_open(root.do if hasattr(root, "do") else root):
-                    outcome = Outcome("success", f"time limit {limit:g} s reached with only "
-                                      "open-ended actions running", ctx.tick, ctx.time)
+                    outcome = Outcome(
+                        "success",
+                        f"time limit {limit:g} s reached with only open-ended actions running",
+                        ctx.tick,
+                        ctx.time,
+                    )
                 else:
-                    outcome = Outcome("timeout", f"time limit {limit:g} s reached",
-                                      ctx.tick, ctx.time)
+                    outcome = Outcome(
+                        "timeout", f"time limit {limit:g} s reached", ctx.tick, ctx.time
+                    )
                 break
             inputs = {name: c.step(states[name]) for name, c in controllers.items()}
             events = world.step_control(inputs)
@@ -393,8 +432,9 @@ def execute(
         outcome = Outcome("interrupted", "interrupted", ctx.tick, ctx.time)
         error = exc
     except BaseException as exc:
-        outcome = Outcome("error", f"internal error: {type(exc).__name__}: {exc}", ctx.tick,
-                          ctx.time)
+        outcome = Outcome(
+            "error", f"internal error: {type(exc).__name__}: {exc}", ctx.tick, ctx.time
+        )
         error = exc
     finally:
         wall = wallclock.perf_counter() - start_wall
@@ -424,13 +464,20 @@ def _world_events(ctx: ExecutionContext, events: list[Any]) -> Outcome | None:
         ctx.record(event.kind, "-".join(event.actors), event.detail, tuple(event.actors))
         if event.kind == "collision" and outcome is None:
             if not any(ctx.collisions_allowed.get(a, 0) > 0 for a in event.actors):
-                outcome = Outcome("failure", f"collision: {' and '.join(event.actors)}",
-                                  event.tick, event.time)
+                outcome = Outcome(
+                    "failure", f"collision: {' and '.join(event.actors)}", event.tick, event.time
+                )
     return outcome
 
 
-def _finish(prepared: Prepared, recorder: Recorder, outcome: Outcome, wall: float,
-            out: str | Path | None, plot: bool) -> RunResult:
+def _finish(
+    prepared: Prepared,
+    recorder: Recorder,
+    outcome: Outcome,
+    wall: float,
+    out: str | Path | None,
+    plot: bool,
+) -> RunResult:
     ctx = prepared.ctx
     metadata = _metadata(prepared, outcome, wall)
     result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata)
@@ -448,7 +495,6 @@ def _metadata(prepared: Prepared, outcome: Outcome, wall: float) -> dict[str, An
     ctx, world = prepared.ctx, prepared.world
     from osc2check.output import tool
 
-
     actors = {}
     for name, actor in ctx.actors.items():
         entry: dict[str, Any] = {"type": actor.type.name, "kind": actor.kind}
@@ -456,8 +502,13 @@ def _metadata(prepared: Prepared, outcome: Outcome, wall: float) -> dict[str, An
             entry["model"] = actor.blueprint
         if name in world.names:
             spec = world.specs[world.names.index(name)]
-            entry["start"] = {"s": spec.s, "lane": spec.lane, "offset": spec.offset,
-                              "yaw": spec.yaw, "speed": spec.speed}
+            entry["start"] = {
+                "s": spec.s,
+                "lane": spec.lane,
+                "offset": spec.offset,
+                "yaw": spec.yaw,
+                "speed": spec.speed,
+            }
         actors[name] = entry
     return {
         "tool": {"name": "osc2run", "version": tool.version()},
@@ -472,14 +523,22 @@ def _metadata(prepared: Prepared, outcome: Outcome, wall: float) -> dict[str, An
         "simulated_time": world.time,
         "wall_seconds": wall,
         "real_time_factor": world.time / wall if wall > 0 else None,
-        "map": {"name": world.road.name, "lanes": world.road.lane_count,
-                "lane_width": world.road.lane_width, "length": world.road.length,
-                "scenario_lanes_counted_from": LaneNumbers(world.road).default_side,
-                "telemetry_lanes": "1 = rightmost lane in the driving direction"},
+        "map": {
+            "name": world.road.name,
+            "lanes": world.road.lane_count,
+            "lane_width": world.road.lane_width,
+            "length": world.road.length,
+            "scenario_lanes_counted_from": LaneNumbers(world.road).default_side,
+            "telemetry_lanes": "1 = rightmost lane in the driving direction",
+        },
         "parameter_values": {"source": ctx.values.source, "values": ctx.values.table()},
         "actors": actors,
         "lights": dict(ctx.lights),
         "notes": [*prepared.compiled.notes, *prepared.plan_notes],
-        "outcome": {"status": outcome.status, "reason": outcome.reason, "tick": outcome.tick,
-                    "time": outcome.time},
+        "outcome": {
+            "status": outcome.status,
+            "reason": outcome.reason,
+            "tick": outcome.tick,
+            "time": outcome.time,
+        },
     }

@@ -36,8 +36,22 @@ from osc2runner.sim import ActorState
 
 __all__ = ["CHANNELS", "Recorder", "write"]
 
-CHANNELS = ("tick", "time", "x", "y", "yaw", "speed", "accel", "jerk", "throttle", "brake",
-            "steer", "lane", "friction", "lateral_error")
+CHANNELS = (
+    "tick",
+    "time",
+    "x",
+    "y",
+    "yaw",
+    "speed",
+    "accel",
+    "jerk",
+    "throttle",
+    "brake",
+    "steer",
+    "lane",
+    "friction",
+    "lateral_error",
+)
 JERK_WINDOW = 1.0  # s
 
 
@@ -56,8 +70,13 @@ class Recorder:
         self.rows: dict[str, list[tuple[float, ...]]] = {n: [] for n in self.names}
         self._accel: dict[str, list[float]] = {n: [] for n in self.names}
 
-    def record(self, states: Mapping[str, ActorState], tick: int, time: float,
-               controllers: Mapping[str, Any] | None = None) -> None:
+    def record(
+        self,
+        states: Mapping[str, ActorState],
+        tick: int,
+        time: float,
+        controllers: Mapping[str, Any] | None = None,
+    ) -> None:
         """Add this tick's row of every actor (``controllers`` give the path errors)."""
         window = self.window
         controllers = controllers or {}
@@ -75,10 +94,25 @@ class Recorder:
                 del history[0]
             lane = float(s.lane) if s.lane is not None else math.nan
             lateral = getattr(controllers.get(name), "lateral", None)
-            error = lateral.error if lateral is not None and lateral.path is not None \
-                else math.nan
-            self.rows[name].append((tick, time, s.x, s.y, s.yaw, s.speed, s.accel, jerk,
-                                    s.throttle, s.brake, s.steer, lane, s.friction, error))
+            error = lateral.error if lateral is not None and lateral.path is not None else math.nan
+            self.rows[name].append(
+                (
+                    tick,
+                    time,
+                    s.x,
+                    s.y,
+                    s.yaw,
+                    s.speed,
+                    s.accel,
+                    jerk,
+                    s.throttle,
+                    s.brake,
+                    s.steer,
+                    lane,
+                    s.friction,
+                    error,
+                )
+            )
 
     @property
     def ticks(self) -> int:
@@ -109,8 +143,14 @@ def write_telemetry(path: Path, recorder: Recorder) -> None:
         f.write("actor," + ",".join(CHANNELS) + "\n")
         for name, rows in recorder.rows.items():
             for row in rows:
-                f.write(name + "," + str(int(row[0])) + "," +
-                        ",".join(_number(v) for v in row[1:]) + "\n")
+                f.write(
+                    name
+                    + ","
+                    + str(int(row[0]))
+                    + ","
+                    + ",".join(_number(v) for v in row[1:])
+                    + "\n"
+                )
 
 
 def write_events(path: Path, records: Iterable[LogRecord]) -> None:
@@ -122,12 +162,22 @@ def write_events(path: Path, records: Iterable[LogRecord]) -> None:
 
 
 def event_dicts(records: Iterable[LogRecord]) -> list[dict[str, Any]]:
-    return [{"tick": r.tick, "time": r.time, "kind": r.kind, "name": r.name,
-             "actors": list(r.actors), "detail": r.detail} for r in records]
+    return [
+        {
+            "tick": r.tick,
+            "time": r.time,
+            "kind": r.kind,
+            "name": r.name,
+            "actors": list(r.actors),
+            "detail": r.detail,
+        }
+        for r in records
+    ]
 
 
-def write(out: Path, recorder: Recorder, records: list[LogRecord],
-          metadata: dict[str, Any]) -> list[Path]:
+def write(
+    out: Path, recorder: Recorder, records: list[LogRecord], metadata: dict[str, Any]
+) -> list[Path]:
     """Write ``telemetry.csv``, ``events.csv`` and ``run.json`` into ``out``; returns the paths."""
     out.mkdir(parents=True, exist_ok=True)
     telemetry = out / "telemetry.csv"
@@ -137,8 +187,7 @@ def write(out: Path, recorder: Recorder, records: list[LogRecord],
     write_events(events, records)
     document = dict(metadata)
     document["events"] = event_dicts(records)
-    meta.write_text(json.dumps(document, indent=2, default=_json_default) + "\n",
-                    encoding="utf-8")
+    meta.write_text(json.dumps(document, indent=2, default=_json_default) + "\n", encoding="utf-8")
     return [telemetry, events, meta]
 
 

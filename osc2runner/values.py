@@ -111,8 +111,11 @@ def to_runtime(value: object) -> object:
 def to_json(value: object) -> object:
     """A JSON-friendly form of an exact value (physical values with their SI unit)."""
     if isinstance(value, Quantity):
-        return {"si": float(value.value), "unit": T.dimension_text(value.dimension),
-                "exact": str(value.value)}
+        return {
+            "si": float(value.value),
+            "unit": T.dimension_text(value.dimension),
+            "exact": str(value.value),
+        }
     if isinstance(value, Fraction):
         return float(value)
     if isinstance(value, EnumValue):
@@ -158,17 +161,25 @@ class ParameterValues(ABC):
 
 def scenario_fields(model: Model, scenario: Symbol) -> list[Symbol]:
     """The fields (parameters, variables, events excluded) of a scenario, inherited first."""
-    return [m for m in model.all_members(scenario)
-            if m.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE)]
+    return [
+        m for m in model.all_members(scenario) if m.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE)
+    ]
 
 
 _ARITH: dict[str, Callable[[object, object], object]] = {
-    "+": operator.add, "-": operator.sub, "*": operator.mul, "/": operator.truediv,
+    "+": operator.add,
+    "-": operator.sub,
+    "*": operator.mul,
+    "/": operator.truediv,
     "%": operator.mod,
 }
 _COMPARE: dict[str, Callable[[object, object], bool]] = {
-    "==": operator.eq, "!=": operator.ne, "<": operator.lt, "<=": operator.le,
-    ">": operator.gt, ">=": operator.ge,
+    "==": operator.eq,
+    "!=": operator.ne,
+    "<": operator.lt,
+    "<=": operator.le,
+    ">": operator.gt,
+    ">=": operator.ge,
 }
 
 
@@ -196,8 +207,7 @@ def _arith(op: str, left: object, right: object, node: ast.Node) -> object:
             return _quantity(left.value * right.value, T.add_dims(left.dimension, right.dimension))
         if right.value == 0:
             _fail("division by zero", node)
-        return _quantity(left.value / right.value,
-                         T.add_dims(left.dimension, right.dimension, -1))
+        return _quantity(left.value / right.value, T.add_dims(left.dimension, right.dimension, -1))
     if isinstance(left, Quantity) and rn is not None and op in "*/":
         if op == "/" and rn == 0:
             _fail("division by zero", node)
@@ -205,8 +215,9 @@ def _arith(op: str, left: object, right: object, node: ast.Node) -> object:
     if ln is not None and isinstance(right, Quantity) and op in "*/":
         if op == "*":
             return Quantity(Fraction(ln) * right.value, right.dimension)
-        return _quantity(Fraction(ln) / right.value, T.add_dims(T.DIMENSIONLESS, right.dimension,
-                                                                 -1))
+        return _quantity(
+            Fraction(ln) / right.value, T.add_dims(T.DIMENSIONLESS, right.dimension, -1)
+        )
     if op == "+" and isinstance(left, str) and isinstance(right, str):
         return left + right
     _fail(f"cannot fold `{op}` on these operands", node)
@@ -227,8 +238,12 @@ def _fail(message: str, node: ast.Node | None) -> None:
     raise NoValue(message, node)
 
 
-def fold(expr: ast.Node, model: Model, lookup: Callable[[Symbol, ast.Node], object],
-         it: Callable[[ast.Node], object] | None = None) -> object:
+def fold(
+    expr: ast.Node,
+    model: Model,
+    lookup: Callable[[Symbol, ast.Node], object],
+    it: Callable[[ast.Node], object] | None = None,
+) -> object:
     """The exact value of a constant expression.
 
     ``lookup(symbol, node)`` gives the value of a referenced field; ``it``
@@ -257,8 +272,11 @@ def fold(expr: ast.Node, model: Model, lookup: Callable[[Symbol, ast.Node], obje
                 return e.value
             case ast.EnumRef():
                 sym = model.references.get(e.member)
-                enum = sym.owner.name if sym is not None and sym.owner is not None else \
-                    e.enum.name.text
+                enum = (
+                    sym.owner.name
+                    if sym is not None and sym.owner is not None
+                    else e.enum.name.text
+                )
                 return EnumValue(enum, e.member.text)
             case ast.NameRef():
                 name = e.name.name
@@ -406,8 +424,7 @@ class ConstantValues(ParameterValues):
             self._keep(ast.KeepConstraint(keep.span, keep.strength, expr.left), it_field)
             self._keep(ast.KeepConstraint(keep.span, keep.strength, expr.right), it_field)
 
-    def _bind(self, target: ast.Node, value: ast.Node, hard: bool,
-              it_field: Symbol | None) -> bool:
+    def _bind(self, target: ast.Node, value: ast.Node, hard: bool, it_field: Symbol | None) -> bool:
         if isinstance(target, ast.NameRef):
             name = target.name.name
             sym = self.model.references.get(name)
@@ -425,7 +442,8 @@ class ConstantValues(ParameterValues):
             if owner is not None and owner in self._sources and _is_compound(owner):
                 table = self._attributes.setdefault(owner, {})
                 table.setdefault(target.member.text, []).append(
-                    _Source(value, hard, self._next(), it_field))
+                    _Source(value, hard, self._next(), it_field)
+                )
                 return True
         return False
 
@@ -453,11 +471,12 @@ class ConstantValues(ParameterValues):
         if source is None:
             raise NoValue(
                 f"`{field.name}` has no constant value; only constants are folded until the "
-                "solver's witness is available", field.decl)
+                "solver's witness is available",
+                field.decl,
+            )
         self._active.append(field)
         try:
-            result = fold(source.expr, self.model, self._lookup,
-                          it=self._it(source.it_field))
+            result = fold(source.expr, self.model, self._lookup, it=self._it(source.it_field))
         finally:
             self._active.pop()
         self._cache[field] = result

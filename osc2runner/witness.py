@@ -78,7 +78,7 @@ class WitnessValues(ParameterValues):
         result = dict(self.fallback.attributes(actor))
         prefix = f"{actor.name}."
         for name, p in self._by_name.items():
-            rest = name[len(prefix):] if name.startswith(prefix) else ""
+            rest = name[len(prefix) :] if name.startswith(prefix) else ""
             if rest and p.constrained and "@" not in rest and "." not in rest:
                 value = self.attribute(actor, rest)
                 if value is not None:
@@ -90,8 +90,7 @@ class WitnessValues(ParameterValues):
         a = self.witness.actor(name)
         if a is None:
             return None
-        return WitnessStart(int(a.lane), float(a.s), float(a.t), float(a.heading),
-                            float(a.speed))
+        return WitnessStart(int(a.lane), float(a.s), float(a.t), float(a.heading), float(a.speed))
 
     def table(self) -> dict[str, object]:
         result = self.fallback.table()
@@ -119,8 +118,11 @@ def witness_values(seed: int = 0) -> Callable[..., ParameterValues]:
         result = solve(analysis, scenario=scenario.name, seed=seed, uri=uri)
         if isinstance(result, Unsolvable):
             if result.status == "unsat":
-                raise ScenarioError([Problem(f"scenario `{scenario.name}` has no solution")],
-                                    diagnostics=result.diagnostics, texts=analysis.texts)
+                raise ScenarioError(
+                    [Problem(f"scenario `{scenario.name}` has no solution")],
+                    diagnostics=result.diagnostics,
+                    texts=analysis.texts,
+                )
             values = ConstantValues(model, scenario)
             return values
         return WitnessValues(model, scenario, result)

@@ -69,8 +69,9 @@ class BodyChecker:
         it = sym.type  # in a declaration's own body, `it` is the instance being declared
         if sym.kind is SymbolKind.MODIFIER:
             it = sym.of.type if sym.of is not None else None
-        return Scope(ctx, owner=sym, it=it, actor=sym.actor if sym.kind in _BEHAVIOR_KINDS
-                     else None)
+        return Scope(
+            ctx, owner=sym, it=it, actor=sym.actor if sym.kind in _BEHAVIOR_KINDS else None
+        )
 
     def _enum_values(self, decl: ast.EnumDecl, ctx: Context) -> None:
         for member in decl.members:
@@ -132,9 +133,11 @@ class BodyChecker:
     def _behavior_allowed(self, owner: Symbol, member: ast.Node) -> bool:
         if owner.kind in _BEHAVIOR_KINDS:
             return True
-        self.report(messages.misplaced_member(member.span, owner,
-                                              "do" if isinstance(member, ast.DoDirective)
-                                              else "on"))
+        self.report(
+            messages.misplaced_member(
+                member.span, owner, "do" if isinstance(member, ast.DoDirective) else "on"
+            )
+        )
         return False
 
     def _implicit_events(self, owner: Symbol, members) -> set[str]:
@@ -146,12 +149,20 @@ class BodyChecker:
             for node in walk(member):
                 if isinstance(node, ast.Emit) and not node.event.missing:
                     name = node.event.text
-                    declared = [s for s in self.model.member(owner, name)
-                                if s.kind is SymbolKind.EVENT]
+                    declared = [
+                        s for s in self.model.member(owner, name) if s.kind is SymbolKind.EVENT
+                    ]
                     if not declared and name not in STANDARD_EVENTS:
-                        sym = Symbol(SymbolKind.EVENT, name, owner.namespace, node.span.uri,
-                                     node, node.event.span, owner=owner,
-                                     extra={"implicit": True})
+                        sym = Symbol(
+                            SymbolKind.EVENT,
+                            name,
+                            owner.namespace,
+                            node.span.uri,
+                            node,
+                            node.event.span,
+                            owner=owner,
+                            extra={"implicit": True},
+                        )
                         self.model.members.setdefault(owner, {}).setdefault(name, []).append(sym)
                         self.model.symbols.append(sym)
                     emitted.add(name)
@@ -160,8 +171,13 @@ class BodyChecker:
     def _field(self, field: ast.FieldDecl, scope: Scope, owner: Symbol | None) -> None:
         sym = self.model.references.get(field.names[0]) if field.names else None
         ftype = sym.type if sym is not None and sym.type is not None else T.UNKNOWN
-        if field.type is not None and ftype.kind is T.Kind.RANGE and ftype.element is not None \
-                and not ftype.element.is_unknown and not ftype.element.is_numeric:
+        if (
+            field.type is not None
+            and ftype.kind is T.Kind.RANGE
+            and ftype.element is not None
+            and not ftype.element.is_unknown
+            and not ftype.element.is_numeric
+        ):
             self.report(messages.range_of_non_numeric(field.type.span, ftype.element))
         if field.default is not None:
             what = f"default of `{field.names[0].text}`" if field.names else "default"
@@ -210,15 +226,13 @@ class BodyChecker:
         if member.spec is None:
             return
         if params:  # §7.3.10.2: only an event without parameters has a specification
-            self.report(messages.event_spec_with_parameters(member.spec.span,
-                                                            member.name.text))
+            self.report(messages.event_spec_with_parameters(member.spec.span, member.name.text))
         self._event_spec(member.spec, inner)
 
     def _coverage(self, member: ast.CoverageDecl, scope: Scope) -> None:
         """`cover`/`record` (§7.5): the item's name is also its expression unless an
         `expression:` is given; `items:` and `override:` name other items."""
-        named = {a.name.text: a.value for a in member.arguments
-                 if isinstance(a, ast.NamedArgument)}
+        named = {a.name.text: a.value for a in member.arguments if isinstance(a, ast.NamedArgument)}
         positional = [a.value for a in member.arguments if isinstance(a, ast.PositionalArgument)]
         item = named.get("name", positional[0] if positional else None)
         item_type = T.UNKNOWN
@@ -229,8 +243,12 @@ class BodyChecker:
         inner = scope.child()  # `ignore:` and `illegal:` speak of the item by its name
         if isinstance(item, ast.NameRef) and item.name.namespace is None:
             inner.locals[item.name.name.text] = Symbol(
-                SymbolKind.IMPLICIT, item.name.name.text, decl=member,
-                name_span=item.name.name.span, type=item_type)
+                SymbolKind.IMPLICIT,
+                item.name.name.text,
+                decl=member,
+                name_span=item.name.name.span,
+                type=item_type,
+            )
         for value in positional[1:]:
             self.expr.check(value, scope)
         for key, value in named.items():
@@ -240,8 +258,13 @@ class BodyChecker:
                 unit_name = value.name.name
                 unit = self.model.unit(unit_name.text)
                 if unit is None:
-                    self.report(messages.unknown_unit(unit_name.span, unit_name.text, closest(
-                        unit_name.text, self.model.all_units())))
+                    self.report(
+                        messages.unknown_unit(
+                            unit_name.span,
+                            unit_name.text,
+                            closest(unit_name.text, self.model.all_units()),
+                        )
+                    )
                 else:
                     self.model.references[unit_name] = unit
             elif key == "event" and isinstance(value, ast.NameRef):
@@ -262,9 +285,14 @@ class BodyChecker:
             inner = scope
             if spec.alias is not None:
                 inner = scope.child()
-                binding = Symbol(SymbolKind.IMPLICIT, spec.alias.text, decl=spec,
-                                 name_span=spec.alias.span, type=T.UNKNOWN, extra={
-                                     "event": event})
+                binding = Symbol(
+                    SymbolKind.IMPLICIT,
+                    spec.alias.text,
+                    decl=spec,
+                    name_span=spec.alias.span,
+                    type=T.UNKNOWN,
+                    extra={"event": event},
+                )
                 inner.locals[spec.alias.text] = binding
                 self.model.references[spec.alias] = binding
             if spec.condition is not None:
@@ -280,8 +308,10 @@ class BodyChecker:
         *prefix, last = path
         owner = scope.owner
         if prefix:
-            target = self.expr.check(ast.NameRef(prefix[0].span, ast.QualifiedName(
-                prefix[0].span, None, prefix[0])), scope)
+            target = self.expr.check(
+                ast.NameRef(prefix[0].span, ast.QualifiedName(prefix[0].span, None, prefix[0])),
+                scope,
+            )
             sym = self.model.references.get(prefix[0])
             for name in prefix[1:]:
                 if target.kind is not T.Kind.COMPOUND or target.symbol is None:
@@ -314,18 +344,31 @@ class BodyChecker:
             if events:
                 self.model.references[last] = events[0]
                 return events[0]
-        names = [s.name for c in candidates if c is not None for s in self.model.all_members(c)
-                 if s.kind is SymbolKind.EVENT]
-        self.report(messages.undefined_event(last.span, last.text,
-                                             closest(last.text, [*names, *STANDARD_EVENTS])))
+        names = [
+            s.name
+            for c in candidates
+            if c is not None
+            for s in self.model.all_members(c)
+            if s.kind is SymbolKind.EVENT
+        ]
+        self.report(
+            messages.undefined_event(
+                last.span, last.text, closest(last.text, [*names, *STANDARD_EVENTS])
+            )
+        )
         return None
 
     # ---- behaviour -------------------------------------------------------------------
 
     def _do_member(self, member: ast.DoMember, scope: Scope, emitted: set[str]) -> None:
         if member.label is not None and not member.label.missing:
-            label = Symbol(SymbolKind.LABEL, member.label.text, decl=member,
-                           name_span=member.label.span, type=T.UNKNOWN)
+            label = Symbol(
+                SymbolKind.LABEL,
+                member.label.text,
+                decl=member,
+                name_span=member.label.span,
+                type=T.UNKNOWN,
+            )
             scope.locals[member.label.text] = label
             self.model.references[member.label] = label
         self._do_body(member.body, scope, emitted)
@@ -336,9 +379,16 @@ class BodyChecker:
                 self._composition(body, scope, emitted)
             case ast.Invocation():
                 behavior = self._behavior_invocation(body, scope)
-                label = next((s for s in scope.locals.values() if s.kind is SymbolKind.LABEL
-                              and s.decl is not None and getattr(s.decl, "body", None) is body),
-                             None)
+                label = next(
+                    (
+                        s
+                        for s in scope.locals.values()
+                        if s.kind is SymbolKind.LABEL
+                        and s.decl is not None
+                        and getattr(s.decl, "body", None) is body
+                    ),
+                    None,
+                )
                 if label is not None and behavior is not None:
                     label.type = behavior.type
             case ast.Wait():
@@ -356,23 +406,37 @@ class BodyChecker:
             self.report(messages.undeclared_event(emit.event.span, emit.event.text))
         params = list(event.parameters) if event is not None else []
         if emit.arguments:
-            self.calls.check(event or Symbol(SymbolKind.EVENT, emit.event.text), params,
-                             emit.arguments, scope, emit.span)
+            self.calls.check(
+                event or Symbol(SymbolKind.EVENT, emit.event.text),
+                params,
+                emit.arguments,
+                scope,
+                emit.span,
+            )
 
     def _composition(self, comp: ast.Composition, scope: Scope, emitted: set[str]) -> None:
         op_symbol = Symbol(SymbolKind.ACTION, comp.op)
         for arg in comp.arguments:
-            if isinstance(arg, ast.NamedArgument) and arg.name.text == "overlap" \
-                    and comp.op == "parallel":
+            if (
+                isinstance(arg, ast.NamedArgument)
+                and arg.name.text == "overlap"
+                and comp.op == "parallel"
+            ):
                 value = arg.value
                 if not (isinstance(value, ast.NameRef) and value.name.name.text in OVERLAP_KINDS):
                     self.report(messages.invalid_overlap(value.span, OVERLAP_KINDS))
         extras = list(self._duration_extra())
         if comp.op == "parallel":
-            extras += [Extra("overlap", T.UNKNOWN), Extra("start_to_start", self.time_type),
-                       Extra("end_to_end", self.time_type)]
-        args = [a for a in comp.arguments if not (isinstance(a, ast.NamedArgument)
-                                                   and a.name.text == "overlap")]
+            extras += [
+                Extra("overlap", T.UNKNOWN),
+                Extra("start_to_start", self.time_type),
+                Extra("end_to_end", self.time_type),
+            ]
+        args = [
+            a
+            for a in comp.arguments
+            if not (isinstance(a, ast.NamedArgument) and a.name.text == "overlap")
+        ]
         self.calls.check(op_symbol, [], args, scope, comp.span, tuple(extras))
         if comp.op == "one_of":
             for member in comp.members:
@@ -410,25 +474,30 @@ class BodyChecker:
             if scope.actor is not None:
                 found = self.model.behavior(scope.actor, name)
             if not found:
-                found = self.model.lookup(name, scope.context, None,
-                                          lambda s: s.kind.is_behavior)
+                found = self.model.lookup(name, scope.context, None, lambda s: s.kind.is_behavior)
                 if self.model.ambiguous(found):
                     self.report(messages.ambiguous_name(inv.name.span, name, found))
                     self._loose(inv, scope)
                     return None
         if not found:
             pool = [s.name for s in self.model.behaviors_of(actor or scope.actor)]
-            self.report(messages.unknown_behavior(inv.name.span, name, actor,
-                                                  closest(name, pool)))
+            self.report(messages.unknown_behavior(inv.name.span, name, actor, closest(name, pool)))
             self._loose(inv, scope)
             return None
         behavior = found[0]
         self.model.references[inv.name] = behavior
         if behavior.toolkit:
             self.report(messages.toolkit_extension(inv.name.span, behavior))
-        self.calls.check(behavior, self.model.parameters(behavior), inv.arguments, scope,
-                         inv.span, self._duration_extra(), library_rules=behavior.library,
-                         allow_range=True)
+        self.calls.check(
+            behavior,
+            self.model.parameters(behavior),
+            inv.arguments,
+            scope,
+            inv.span,
+            self._duration_extra(),
+            library_rules=behavior.library,
+            allow_range=True,
+        )
         inner = scope.child(it=behavior.type, behavior=behavior)
         for item in inv.with_members:
             self._with_member(item, inner, behavior, actor or scope.actor)
@@ -442,8 +511,9 @@ class BodyChecker:
             if isinstance(item, ast.KeepConstraint):
                 self.expr.check(item.expr, scope.child(it=T.UNKNOWN))
 
-    def _with_member(self, item: ast.Node, scope: Scope, behavior: Symbol | None,
-                     actor: Symbol | None) -> None:
+    def _with_member(
+        self, item: ast.Node, scope: Scope, behavior: Symbol | None, actor: Symbol | None
+    ) -> None:
         match item:
             case ast.KeepConstraint():
                 self.expr.condition(item.expr, scope, "constraint")
@@ -454,13 +524,15 @@ class BodyChecker:
             case ast.Invocation():
                 self._modifier_application(item, scope, behavior, actor)
 
-    def _modifier_application(self, inv: ast.Invocation, scope: Scope,
-                              behavior: Symbol | None, actor: Symbol | None) -> None:
+    def _modifier_application(
+        self, inv: ast.Invocation, scope: Scope, behavior: Symbol | None, actor: Symbol | None
+    ) -> None:
         if inv.name.missing:
             return
         name = inv.name.text
-        receiver, known = self._actor_of(inv.actor, scope) if inv.actor is not None else (
-            None, True)
+        receiver, known = (
+            self._actor_of(inv.actor, scope) if inv.actor is not None else (None, True)
+        )
         if not known:
             self._loose(inv, scope)
             return
@@ -483,8 +555,9 @@ class BodyChecker:
             if found:
                 break
         if not found and receiver is None:
-            found = [s for s in self.model.lookup(name, scope.context)
-                     if s.kind is SymbolKind.MODIFIER]
+            found = [
+                s for s in self.model.lookup(name, scope.context) if s.kind is SymbolKind.MODIFIER
+            ]
         if not found:
             self._unknown_modifier(inv, name, keys, scope)
             self._loose(inv, scope)
@@ -493,17 +566,26 @@ class BodyChecker:
         self.model.references[inv.name] = modifier
         if modifier.toolkit:
             self.report(messages.toolkit_extension(inv.name.span, modifier))
-        self.calls.check(modifier, self.model.parameters(modifier), inv.arguments, scope,
-                         inv.span, library_rules=modifier.library, allow_range=True)
+        self.calls.check(
+            modifier,
+            self.model.parameters(modifier),
+            inv.arguments,
+            scope,
+            inv.span,
+            library_rules=modifier.library,
+            allow_range=True,
+        )
         if inv.with_members:
             inner = scope.child(it=None)
             for item in inv.with_members:
                 self._with_member(item, inner, None, None)
 
     def _unknown_modifier(self, inv: ast.Invocation, name: str, keys, scope: Scope) -> None:
-        elsewhere = [s for s in self.model.symbols + (self.model.base.symbols if
-                                                       self.model.base else [])
-                     if s.kind is SymbolKind.MODIFIER and s.name == name]
+        elsewhere = [
+            s
+            for s in self.model.symbols + (self.model.base.symbols if self.model.base else [])
+            if s.kind is SymbolKind.MODIFIER and s.name == name
+        ]
         if elsewhere:
             self.report(messages.modifier_not_applicable(inv.name.span, elsewhere[0]))
             return

@@ -55,9 +55,17 @@ class CallChecker:
         self.expressions = expressions
         self.report = report
 
-    def check(self, callee: Symbol, params: list[Symbol], arguments, scope: Scope,
-              span: Span, extras: tuple[Extra, ...] = (), library_rules: bool = False,
-              allow_range: bool = False) -> dict[str, ast.Node]:
+    def check(
+        self,
+        callee: Symbol,
+        params: list[Symbol],
+        arguments,
+        scope: Scope,
+        span: Span,
+        extras: tuple[Extra, ...] = (),
+        library_rules: bool = False,
+        allow_range: bool = False,
+    ) -> dict[str, ast.Node]:
         """Check ``arguments`` against ``params``; returns the bound values by name."""
         model = self.expressions.model
         bound: dict[str, ast.Node] = {}
@@ -105,9 +113,14 @@ class CallChecker:
                 self.expressions.check(arg.value, arg_scope)
                 bound[name] = arg.value
                 continue
-            self.report(messages.unknown_argument(
-                arg.name.span, name, callee,
-                closest(name, [*by_name, *extra_by_name], cutoff=0.6)))
+            self.report(
+                messages.unknown_argument(
+                    arg.name.span,
+                    name,
+                    callee,
+                    closest(name, [*by_name, *extra_by_name], cutoff=0.6),
+                )
+            )
             self.expressions.check(arg.value, arg_scope)
         if library_rules:
             self._groups(callee, bound, span)
@@ -117,12 +130,14 @@ class CallChecker:
                     self.report(messages.missing_argument(span, callee, param.name))
         return bound
 
-    def _value(self, name: str, expected: T.Type | None, value: ast.Node, scope: Scope,
-               allow_range: bool) -> None:
+    def _value(
+        self, name: str, expected: T.Type | None, value: ast.Node, scope: Scope, allow_range: bool
+    ) -> None:
         actual = self.expressions.infer(value, scope, expected)
         if expected is not None:
-            self.expressions.expect(value, actual, expected, scope, f"argument `{name}`",
-                                    allow_range=allow_range)
+            self.expressions.expect(
+                value, actual, expected, scope, f"argument `{name}`", allow_range=allow_range
+            )
 
     def _groups(self, callee: Symbol, bound: dict[str, ast.Node], span: Span) -> None:
         for group in EXCLUSIVE.get(callee.name, ()):

@@ -74,8 +74,9 @@ class Declarer:
                     uses = tuple(u.text for u in decl.uses)
                     if name.startswith("std") and not unit.library:
                         self.report(messages.reserved_name(decl.name.span, name))
-                    self.model.namespace(name, create=True) if not self._is_library_ns(name) \
-                        else None
+                    self.model.namespace(name, create=True) if not self._is_library_ns(
+                        name
+                    ) else None
                     ctx = Context(name, uses)
                 case ast.UseStatement():
                     added = []
@@ -83,8 +84,12 @@ class Declarer:
                         added.extend(n.text for n in dotted)
                     ctx = Context(ctx.namespace, tuple(dict.fromkeys((*ctx.uses, *added))))
                     if not unit.library:
-                        self.report(messages.use_statement(decl.span, ".".join(
-                            n.text for n in decl.names[0]) if decl.names else ""))
+                        self.report(
+                            messages.use_statement(
+                                decl.span,
+                                ".".join(n.text for n in decl.names[0]) if decl.names else "",
+                            )
+                        )
                 case ast.ExportDecl():
                     self._export(decl, ctx)
                 case ast.ImportDecl():
@@ -113,11 +118,22 @@ class Declarer:
                 else:
                     ns.exports.add(item.name.name.text)
 
-    def _new(self, kind: SymbolKind, name: ast.Name, decl: ast.Node, ctx: Context,
-             unit: Unit, **kw) -> Symbol:
-        sym = Symbol(kind, name.text, ctx.namespace, unit.uri, decl, name.span,
-                     library=unit.library, toolkit=ctx.namespace == TOOLKIT_NAMESPACE,
-                     doc=_doc_comment(unit, decl), context=ctx, **kw)
+    def _new(
+        self, kind: SymbolKind, name: ast.Name, decl: ast.Node, ctx: Context, unit: Unit, **kw
+    ) -> Symbol:
+        sym = Symbol(
+            kind,
+            name.text,
+            ctx.namespace,
+            unit.uri,
+            decl,
+            name.span,
+            library=unit.library,
+            toolkit=ctx.namespace == TOOLKIT_NAMESPACE,
+            doc=_doc_comment(unit, decl),
+            context=ctx,
+            **kw,
+        )
         self.model.declarations[decl] = sym
         self.model.references[name] = sym
         self.model.symbols.append(sym)
@@ -148,8 +164,7 @@ class Declarer:
                 sym.dimension, sym.factor, sym.offset = dim, factor, offset
                 previous = self.model.unit(sym.name)
                 if previous is not None and previous.decl is not None:
-                    self.report(messages.duplicate_definition(decl.name.span, sym.name,
-                                                              previous))
+                    self.report(messages.duplicate_definition(decl.name.span, sym.name, previous))
                 self.model.units[sym.name] = sym
                 return sym
             case ast.EnumDecl():
@@ -161,9 +176,15 @@ class Declarer:
             case ast.GlobalDecl():
                 syms = []
                 for name in decl.field.names:
-                    sym = self._new(SymbolKind.GLOBAL, name, decl.field, ctx, unit,
-                                    default=decl.field.default,
-                                    has_default=decl.field.default is not None)
+                    sym = self._new(
+                        SymbolKind.GLOBAL,
+                        name,
+                        decl.field,
+                        ctx,
+                        unit,
+                        default=decl.field.default,
+                        has_default=decl.field.default is not None,
+                    )
                     self._add_global(sym, ctx)
                     syms.append(sym)
                 return syms[0] if syms else None
@@ -189,16 +210,27 @@ class Declarer:
             alias = isinstance(member.value, (ast.NameRef, ast.EnumRef))
             if isinstance(member.value, ast.IntLiteral):
                 value = member.value.value
-            sym = self._new(SymbolKind.ENUM_MEMBER, member.name, member, ctx, unit,
-                            owner=enum, value=value, type=enum.type)
+            sym = self._new(
+                SymbolKind.ENUM_MEMBER,
+                member.name,
+                member,
+                ctx,
+                unit,
+                owner=enum,
+                value=value,
+                type=enum.type,
+            )
             if alias:
                 sym.extra["alias"] = member.value
                 self.aliases.append(sym)
             else:
                 next_value = value + 1
             if member.name.text in by_name and not member.name.missing:
-                self.report(messages.duplicate_member(member.name.span, member.name.text,
-                                                      enum.name, by_name[member.name.text]))
+                self.report(
+                    messages.duplicate_member(
+                        member.name.span, member.name.text, enum.name, by_name[member.name.text]
+                    )
+                )
             by_name[member.name.text] = sym
             self.model.enum_members.setdefault(enum, []).append(sym)
 
@@ -237,8 +269,11 @@ class Declarer:
         for p in self.pending:
             if isinstance(p.decl, ast.UnitDecl) and p.symbol is not None:
                 self._unit_type(p)
-        structured = [p for p in self.pending
-                      if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None]
+        structured = [
+            p
+            for p in self.pending
+            if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None
+        ]
         for p in structured:  # modifiers `of` a behaviour need the behaviours first
             if not (isinstance(p.decl, ast.ModifierDecl) and p.decl.of is not None):
                 self._associate(p, resolve_behavior_name)
@@ -286,13 +321,20 @@ class Declarer:
         sym.type = target.type
         sym.owner = target
         if target.dimension is not None and sym.dimension != target.dimension:
-            self.report(messages.unit_dimension(decl.name.span, sym.name, sym.dimension,
-                                                target.name, target.dimension))
+            self.report(
+                messages.unit_dimension(
+                    decl.name.span, sym.name, sym.dimension, target.name, target.dimension
+                )
+            )
             sym.dimension = target.dimension
 
     def _lookup_type(self, qname: ast.QualifiedName, ctx: Context) -> Symbol | None:
-        found = self.model.lookup(qname.name.text, ctx, qname.namespace,
-                                  lambda s: s.kind.is_type or s.kind is SymbolKind.MODIFIER)
+        found = self.model.lookup(
+            qname.name.text,
+            ctx,
+            qname.namespace,
+            lambda s: s.kind.is_type or s.kind is SymbolKind.MODIFIER,
+        )
         if self.model.ambiguous(found):
             self.report(messages.ambiguous_name(qname.span, qname.name.text, found))
             return None
@@ -303,8 +345,11 @@ class Declarer:
             return None
         if not qname.name.missing:
             candidates = [n for ns in self._visible_names(ctx) for n in ns]
-            self.report(messages.undefined_type(qname.span, str(qname),
-                                                closest(qname.name.text, candidates)))
+            self.report(
+                messages.undefined_type(
+                    qname.span, str(qname), closest(qname.name.text, candidates)
+                )
+            )
         return None
 
     def _visible_names(self, ctx: Context):
@@ -323,8 +368,13 @@ class Declarer:
             sym.actor = actor
             if actor is None:
                 return
-        table = self.model.modifiers if sym.kind is SymbolKind.MODIFIER else \
-            self.model.behaviors if sym.kind.is_behavior else None
+        table = (
+            self.model.modifiers
+            if sym.kind is SymbolKind.MODIFIER
+            else self.model.behaviors
+            if sym.kind.is_behavior
+            else None
+        )
         if isinstance(decl, ast.ModifierDecl) and decl.of is not None:
             target = resolve_behavior_name(decl.of, p.context)
             if target is not None and not target.kind.is_behavior:
@@ -343,8 +393,9 @@ class Declarer:
         previous = [s for s in self._existing_keyed(table, key, sym.name) if s is not sym]
         group.append(sym)
         if previous and sym.name_span is not None:
-            self.report(messages.duplicate_definition(sym.name_span, sym.qualified_name,
-                                                      previous[0]))
+            self.report(
+                messages.duplicate_definition(sym.name_span, sym.qualified_name, previous[0])
+            )
 
     def _existing_keyed(self, table, key, name) -> list[Symbol]:
         attr = "modifiers" if table is self.model.modifiers else "behaviors"
@@ -356,28 +407,40 @@ class Declarer:
         if decl.inherits is None:
             return
         if sym.kind is SymbolKind.MODIFIER:
-            self.report(messages.invalid_inheritance(decl.inherits.span, sym, None,
-                                                     "a modifier cannot inherit"))
+            self.report(
+                messages.invalid_inheritance(
+                    decl.inherits.span, sym, None, "a modifier cannot inherit"
+                )
+            )
             return
         parent = resolve_behavior_name(decl.inherits.target, p.context)
         if parent is None:
             return
         if parent.kind is not sym.kind:
-            self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
-                                                     "different kinds"))
+            self.report(
+                messages.invalid_inheritance(
+                    decl.inherits.target.span, sym, parent, "different kinds"
+                )
+            )
             return
         if parent is sym or any(a is sym for a in self.model.ancestors(parent)):
-            self.report(messages.invalid_inheritance(decl.inherits.target.span, sym, parent,
-                                                     "cycle"))
+            self.report(
+                messages.invalid_inheritance(decl.inherits.target.span, sym, parent, "cycle")
+            )
             return
         span = decl.inherits.target.span
         if sym.kind.is_behavior and _has_actor(sym) != _has_actor(parent):
             # §7.3.8.1: a behaviour of an actor inherits from a behaviour of an actor,
             # one without an actor from one without.
-            self.report(messages.invalid_inheritance(
-                span, sym, parent, "actor" if _has_actor(sym) else "no actor"))
-        elif sym.actor is not None and parent.actor is not None and not T.is_subtype(
-            sym.actor, parent.actor
+            self.report(
+                messages.invalid_inheritance(
+                    span, sym, parent, "actor" if _has_actor(sym) else "no actor"
+                )
+            )
+        elif (
+            sym.actor is not None
+            and parent.actor is not None
+            and not T.is_subtype(sym.actor, parent.actor)
         ):
             self.report(messages.invalid_inheritance(span, sym, parent, "actor"))
         if decl.inherits.condition is None and _is_conditional(parent):
@@ -411,24 +474,51 @@ class Declarer:
                     t = self._resolve_type(member.type, ctx) if member.type else T.UNKNOWN
                     kind = SymbolKind.VARIABLE if member.is_var else SymbolKind.FIELD
                     for name in member.names:
-                        sym = self._new(kind, name, member, ctx, unit, type=t, owner=owner,
-                                        default=member.default,
-                                        has_default=member.default is not None or any(
-                                            isinstance(w, ast.KeepConstraint)
-                                            and w.strength == "default"
-                                            for w in member.with_members))
+                        sym = self._new(
+                            kind,
+                            name,
+                            member,
+                            ctx,
+                            unit,
+                            type=t,
+                            owner=owner,
+                            default=member.default,
+                            has_default=member.default is not None
+                            or any(
+                                isinstance(w, ast.KeepConstraint) and w.strength == "default"
+                                for w in member.with_members
+                            ),
+                        )
                         self._add_member(owner, sym)
                 case ast.EventDecl():
                     params = self._parameters(member.parameters, ctx, unit)
-                    sym = self._new(SymbolKind.EVENT, member.name, member, ctx, unit,
-                                    owner=owner, parameters=params)
+                    sym = self._new(
+                        SymbolKind.EVENT,
+                        member.name,
+                        member,
+                        ctx,
+                        unit,
+                        owner=owner,
+                        parameters=params,
+                    )
                     self._add_member(owner, sym)
                 case ast.MethodDecl():
                     params = self._parameters(member.parameters, ctx, unit)
-                    ret = self._resolve_type(member.return_type, ctx) if member.return_type \
+                    ret = (
+                        self._resolve_type(member.return_type, ctx)
+                        if member.return_type
                         else T.NONE
-                    sym = self._new(SymbolKind.METHOD, member.name, member, ctx, unit,
-                                    owner=owner, parameters=params, type=ret)
+                    )
+                    sym = self._new(
+                        SymbolKind.METHOD,
+                        member.name,
+                        member,
+                        ctx,
+                        unit,
+                        owner=owner,
+                        parameters=params,
+                        type=ret,
+                    )
                     self._add_member(owner, sym)
 
     def _parameters(self, params, ctx: Context, unit: Unit) -> tuple[Symbol, ...]:
@@ -436,19 +526,33 @@ class Declarer:
         seen: dict[str, Symbol] = {}
         for param in params:
             t = self._resolve_type(param.type, ctx)
-            sym = self._new(SymbolKind.ARGUMENT, param.name, param, ctx, unit, type=t,
-                            default=param.default, has_default=param.default is not None)
+            sym = self._new(
+                SymbolKind.ARGUMENT,
+                param.name,
+                param,
+                ctx,
+                unit,
+                type=t,
+                default=param.default,
+                has_default=param.default is not None,
+            )
             if param.name.text in seen:
-                self.report(messages.duplicate_member(param.name.span, param.name.text, None,
-                                                      seen[param.name.text]))
+                self.report(
+                    messages.duplicate_member(
+                        param.name.span, param.name.text, None, seen[param.name.text]
+                    )
+                )
             seen[param.name.text] = sym
             result.append(sym)
         return tuple(result)
 
     def _add_member(self, owner: Symbol, sym: Symbol) -> None:
         own = self.model.members.setdefault(owner, {}).setdefault(sym.name, [])
-        same_ns = [s for s in self.model.own_members(owner, sym.name) if s.namespace ==
-                   sym.namespace and s is not sym]
+        same_ns = [
+            s
+            for s in self.model.own_members(owner, sym.name)
+            if s.namespace == sym.namespace and s is not sym
+        ]
         own.append(sym)
         if sym.kind is SymbolKind.METHOD:
             # methods may be redeclared to override; `overrides.check_overrides` decides
@@ -457,16 +561,20 @@ class Declarer:
         if sym.name_span is None or sym.name == "":
             return
         if same_ns:
-            self.report(messages.duplicate_member(sym.name_span, sym.name, owner.name,
-                                                  same_ns[0]))
+            self.report(messages.duplicate_member(sym.name_span, sym.name, owner.name, same_ns[0]))
             return
         if sym.kind in (SymbolKind.METHOD, SymbolKind.EVENT):
             return  # an inheriting type may override a method or an event (§7.3.7.2, §7.3.10.2)
-        inherited = [s for a in list(self.model.ancestors(owner))[1:]
-                     for s in self.model.own_members(a, sym.name) if s.namespace == sym.namespace]
+        inherited = [
+            s
+            for a in list(self.model.ancestors(owner))[1:]
+            for s in self.model.own_members(a, sym.name)
+            if s.namespace == sym.namespace
+        ]
         if inherited:
-            self.report(messages.shadows_inherited(sym.name_span, sym.name, owner.name,
-                                                   inherited[0]))
+            self.report(
+                messages.shadows_inherited(sym.name_span, sym.name, owner.name, inherited[0])
+            )
 
 
 def _has_actor(behavior: Symbol) -> bool:
@@ -477,8 +585,11 @@ def _has_actor(behavior: Symbol) -> bool:
 
 def _is_conditional(symbol: Symbol) -> bool:
     decl = symbol.decl
-    return isinstance(decl, ast.StructuredDecl) and decl.inherits is not None \
+    return (
+        isinstance(decl, ast.StructuredDecl)
+        and decl.inherits is not None
         and decl.inherits.condition is not None
+    )
 
 
 def _constant_number(expr) -> Fraction | None:

@@ -19,8 +19,9 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 
 
-def resolve_aliases(model: Model, aliases: list[Symbol],
-                    report: Callable[[Diagnostic], None]) -> None:
+def resolve_aliases(
+    model: Model, aliases: list[Symbol], report: Callable[[Diagnostic], None]
+) -> None:
     """Give each alias the value of the member it names; report cycles."""
     targets: dict[int, Symbol | None] = {}
 
@@ -50,8 +51,9 @@ def _target(model: Model, sym: Symbol, report) -> Symbol | None:
     ref = sym.extra["alias"]
     enum = sym.owner
     if isinstance(ref, ast.EnumRef):
-        enums = model.lookup(ref.enum.name.text, sym.context, ref.enum.namespace,
-                             lambda s: s.kind is SymbolKind.ENUM)
+        enums = model.lookup(
+            ref.enum.name.text, sym.context, ref.enum.namespace, lambda s: s.kind is SymbolKind.ENUM
+        )
         if not enums:
             report(messages.undefined_type(ref.enum.span, str(ref.enum), None))
             return None
@@ -61,15 +63,24 @@ def _target(model: Model, sym: Symbol, report) -> Symbol | None:
         name, written = ref.name.name, ref.name.name
     found = [m for m in model.enum_values(enum) if m.name == name.text]
     if not found and isinstance(ref, ast.NameRef) and ref.name.namespace is None:
-        found = [m for e in model.visible_enums(sym.context)
-                 for m in model.enum_values(e) if m.name == name.text]
+        found = [
+            m
+            for e in model.visible_enums(sym.context)
+            for m in model.enum_values(e)
+            if m.name == name.text
+        ]
     if not found:
-        report(messages.unknown_enum_member(written.span, name.text, enum, closest(
-            name.text, [m.name for m in model.enum_values(enum)])))
+        report(
+            messages.unknown_enum_member(
+                written.span,
+                name.text,
+                enum,
+                closest(name.text, [m.name for m in model.enum_values(enum)]),
+            )
+        )
         return None
     if len({id(m.owner) for m in found}) > 1:
-        report(messages.ambiguous_enum_literal(written.span, name.text,
-                                               [m.owner for m in found]))
+        report(messages.ambiguous_enum_literal(written.span, name.text, [m.owner for m in found]))
         return None
     model.references[written] = found[0]
     return found[0]

@@ -26,8 +26,15 @@ _EQUALITY = {"==", "!="}
 _LOGIC = {"and", "or", "=>"}
 _LIST_METHODS = {"size", "count", "has", "filter", "map", "first_index"}
 _EVENT_BUILTINS = {"rise", "fall", "elapsed", "every"}
-_VALUE_KINDS = {SymbolKind.FIELD, SymbolKind.VARIABLE, SymbolKind.GLOBAL, SymbolKind.ARGUMENT,
-                SymbolKind.IMPLICIT, SymbolKind.LABEL, SymbolKind.ENUM_MEMBER}
+_VALUE_KINDS = {
+    SymbolKind.FIELD,
+    SymbolKind.VARIABLE,
+    SymbolKind.GLOBAL,
+    SymbolKind.ARGUMENT,
+    SymbolKind.IMPLICIT,
+    SymbolKind.LABEL,
+    SymbolKind.ENUM_MEMBER,
+}
 
 
 def _is_plain_literal(expr: ast.Node) -> bool:
@@ -37,8 +44,9 @@ def _is_plain_literal(expr: ast.Node) -> bool:
 
 
 class ExpressionChecker:
-    def __init__(self, model: Model, report: Callable[[Diagnostic], None],
-                 check_call: Callable | None = None):
+    def __init__(
+        self, model: Model, report: Callable[[Diagnostic], None], check_call: Callable | None = None
+    ):
         self.model = model
         self.report = report
         self.check_call = check_call  # (symbol, arguments, scope, span) -> None
@@ -46,8 +54,9 @@ class ExpressionChecker:
 
     # ---- entry points ------------------------------------------------------------
 
-    def check(self, expr: ast.Node, scope: Scope, expected: T.Type | None = None,
-              what: str = "value") -> T.Type:
+    def check(
+        self, expr: ast.Node, scope: Scope, expected: T.Type | None = None, what: str = "value"
+    ) -> T.Type:
         actual = self._type(expr, scope, expected)
         self.model.expr_types[expr] = actual
         if expected is not None:
@@ -60,8 +69,15 @@ class ExpressionChecker:
         self.model.expr_types[expr] = actual
         return actual
 
-    def expect(self, expr: ast.Node, actual: T.Type, expected: T.Type, scope: Scope,
-               what: str = "value", allow_range: bool = False) -> bool:
+    def expect(
+        self,
+        expr: ast.Node,
+        actual: T.Type,
+        expected: T.Type,
+        scope: Scope,
+        what: str = "value",
+        allow_range: bool = False,
+    ) -> bool:
         compat = T.compatible(expected, actual, allow_range=allow_range)
         if compat is T.Compat.OK:
             return True
@@ -112,8 +128,9 @@ class ExpressionChecker:
                 if target.kind is T.Kind.LIST and target.element is not None:
                     return target.element
                 if not target.is_unknown:
-                    self.report(messages.type_mismatch(expr.target.span, target, None,
-                                                       "indexed value"))
+                    self.report(
+                        messages.type_mismatch(expr.target.span, target, None, "indexed value")
+                    )
                 return T.UNKNOWN
             case ast.Unary():
                 return self._unary(expr, scope, expected)
@@ -127,8 +144,11 @@ class ExpressionChecker:
                     self.report(messages.type_mismatch(expr.otherwise.span, b, a, "branch"))
                 return a if not a.is_unknown else b
             case ast.ListLiteral():
-                element_expected = expected.element if expected is not None and \
-                    expected.kind is T.Kind.LIST else None
+                element_expected = (
+                    expected.element
+                    if expected is not None and expected.kind is T.Kind.LIST
+                    else None
+                )
                 element = T.UNKNOWN
                 for item in expr.items:
                     t = self.check(item, scope, element_expected)
@@ -138,13 +158,20 @@ class ExpressionChecker:
                         element = t
                 return T.list_of(element)
             case ast.RangeLiteral():
-                bound = expected.element if expected is not None and \
-                    expected.kind is T.Kind.RANGE else expected
+                bound = (
+                    expected.element
+                    if expected is not None and expected.kind is T.Kind.RANGE
+                    else expected
+                )
                 low = self.check(expr.low, scope, None)
                 high = self.check(expr.high, scope, None)
-                if not low.is_unknown and not high.is_unknown and (
-                    T.compatible(low, high) is not T.Compat.OK
-                    and T.compatible(high, low) is not T.Compat.OK
+                if (
+                    not low.is_unknown
+                    and not high.is_unknown
+                    and (
+                        T.compatible(low, high) is not T.Compat.OK
+                        and T.compatible(high, low) is not T.Compat.OK
+                    )
                 ):
                     self.report(messages.range_bounds(expr.span, low, high))
                 element = low if not low.is_unknown else high
@@ -161,8 +188,11 @@ class ExpressionChecker:
     def _physical(self, expr: ast.PhysicalLiteral) -> T.Type:
         unit = self.model.unit(expr.unit.text)
         if unit is None:
-            self.report(messages.unknown_unit(expr.unit.span, expr.unit.text,
-                                              closest(expr.unit.text, self.model.all_units())))
+            self.report(
+                messages.unknown_unit(
+                    expr.unit.span, expr.unit.text, closest(expr.unit.text, self.model.all_units())
+                )
+            )
             return T.UNKNOWN
         self.model.references[expr.unit] = unit
         if unit.type is not None:
@@ -188,8 +218,12 @@ class ExpressionChecker:
 
     def _globals(self, qname: ast.QualifiedName, scope: Scope) -> list[Symbol]:
         """Global parameters and types that ``qname`` may name."""
-        return self.model.lookup(qname.name.text, scope.context, qname.namespace,
-                                 lambda s: s.kind is SymbolKind.GLOBAL or s.kind.is_type)
+        return self.model.lookup(
+            qname.name.text,
+            scope.context,
+            qname.namespace,
+            lambda s: s.kind is SymbolKind.GLOBAL or s.kind.is_type,
+        )
 
     def _members(self, owner: Symbol, name: str, namespace: str | None) -> list[Symbol]:
         found = self.model.member(owner, name)
@@ -235,26 +269,34 @@ class ExpressionChecker:
                 return T.UNKNOWN
             return sym.type or T.UNKNOWN
         # a bare enum member: unique among the visible enums?
-        owners = [e for e in self.model.visible_enums(scope.context)
-                  if self._enum_member(e, name) is not None]
+        owners = [
+            e
+            for e in self.model.visible_enums(scope.context)
+            if self._enum_member(e, name) is not None
+        ]
         if len(owners) == 1:
             member = self._enum_member(owners[0], name)
             self.model.references[qname.name] = member
             return owners[0].type or T.UNKNOWN
         if len(owners) > 1:
             if expected is not None and expected.kind is T.Kind.ENUM:
-                self.report(messages.unknown_enum_member(qname.span, name, expected.symbol,
-                                                         None))
+                self.report(messages.unknown_enum_member(qname.span, name, expected.symbol, None))
             else:
                 self.report(messages.ambiguous_enum_literal(qname.span, name, owners))
             return T.UNKNOWN
         if expected is not None and expected.kind is T.Kind.ENUM:
             members = [m.name for m in self.model.enum_values(expected.symbol)]
-            self.report(messages.unknown_enum_member(qname.span, name, expected.symbol,
-                                                     closest(name, members)))
+            self.report(
+                messages.unknown_enum_member(
+                    qname.span, name, expected.symbol, closest(name, members)
+                )
+            )
             return T.UNKNOWN
-        self.report(messages.undefined_name(qname.span, str(qname),
-                                            closest(name, self._visible_values(scope))))
+        self.report(
+            messages.undefined_name(
+                qname.span, str(qname), closest(name, self._visible_values(scope))
+            )
+        )
         return T.UNKNOWN
 
     def _overloaded_literal(self, expr: ast.Node, scope: Scope) -> bool:
@@ -264,8 +306,11 @@ class ExpressionChecker:
         name = expr.name.name.text
         if name in ("it", "actor") or self.value_symbol(expr.name, scope) is not None:
             return False
-        owners = [e for e in self.model.visible_enums(scope.context)
-                  if self._enum_member(e, name) is not None]
+        owners = [
+            e
+            for e in self.model.visible_enums(scope.context)
+            if self._enum_member(e, name) is not None
+        ]
         return len(owners) > 1
 
     def _visible_values(self, scope: Scope) -> list[str]:
@@ -287,8 +332,12 @@ class ExpressionChecker:
         return None
 
     def _enum_ref(self, expr: ast.EnumRef, scope: Scope) -> T.Type:
-        enums = self.model.lookup(expr.enum.name.text, scope.context, expr.enum.namespace,
-                                  lambda s: s.kind is SymbolKind.ENUM)
+        enums = self.model.lookup(
+            expr.enum.name.text,
+            scope.context,
+            expr.enum.namespace,
+            lambda s: s.kind is SymbolKind.ENUM,
+        )
         if self.model.ambiguous(enums):
             self.report(messages.ambiguous_name(expr.enum.span, expr.enum.name.text, enums))
             return T.UNKNOWN
@@ -300,8 +349,11 @@ class ExpressionChecker:
         member = self._enum_member(enum, expr.member.text)
         if member is None:
             names = [m.name for m in self.model.enum_values(enum)]
-            self.report(messages.unknown_enum_member(expr.member.span, expr.member.text, enum,
-                                                     closest(expr.member.text, names)))
+            self.report(
+                messages.unknown_enum_member(
+                    expr.member.span, expr.member.text, enum, closest(expr.member.text, names)
+                )
+            )
             return T.UNKNOWN
         self.model.references[expr.member] = member
         return enum.type or T.UNKNOWN
@@ -324,8 +376,9 @@ class ExpressionChecker:
                     return T.UNKNOWN
                 return sym.type or T.UNKNOWN
             candidates = [m.name for m in self.model.all_members(target.symbol)]
-            self.report(messages.unknown_member(expr.member.span, name, target,
-                                                closest(name, candidates)))
+            self.report(
+                messages.unknown_member(expr.member.span, name, target, closest(name, candidates))
+            )
             return T.UNKNOWN
         self.report(messages.unknown_member(expr.member.span, name, target, None))
         return T.UNKNOWN
@@ -347,15 +400,23 @@ class ExpressionChecker:
                 self._check_arguments_loosely(expr, scope)
                 return T.UNKNOWN
             if target.kind is T.Kind.COMPOUND and target.symbol is not None:
-                found = [s for s in self.model.member(target.symbol, callee.member.text)
-                         if s.kind is SymbolKind.METHOD]
+                found = [
+                    s
+                    for s in self.model.member(target.symbol, callee.member.text)
+                    if s.kind is SymbolKind.METHOD
+                ]
                 if found:
                     return self._invoke_method(found[0], callee.member, expr, scope)
             self._check_arguments_loosely(expr, scope)
             members = self.model.all_members(target.symbol) if target.symbol else []
-            self.report(messages.unknown_method(callee.member.span, callee.member.text, target,
-                                                closest(callee.member.text,
-                                                        [m.name for m in members])))
+            self.report(
+                messages.unknown_method(
+                    callee.member.span,
+                    callee.member.text,
+                    target,
+                    closest(callee.member.text, [m.name for m in members]),
+                )
+            )
             return T.UNKNOWN
         if isinstance(callee, ast.NameRef):
             sym = self.value_symbol(callee.name, scope)
@@ -367,16 +428,22 @@ class ExpressionChecker:
                 self._check_arguments_loosely(expr, scope)
                 return T.UNKNOWN
             self._check_arguments_loosely(expr, scope)
-            self.report(messages.undefined_name(callee.span, str(callee.name), closest(
-                callee.name.name.text, self._visible_values(scope))))
+            self.report(
+                messages.undefined_name(
+                    callee.span,
+                    str(callee.name),
+                    closest(callee.name.name.text, self._visible_values(scope)),
+                )
+            )
             return T.UNKNOWN
         self.check(callee, scope)
         self._check_arguments_loosely(expr, scope)
         self.report(messages.not_callable(callee.span, None))
         return T.UNKNOWN
 
-    def _invoke_method(self, method: Symbol, name: ast.Name, expr: ast.Call,
-                       scope: Scope) -> T.Type:
+    def _invoke_method(
+        self, method: Symbol, name: ast.Name, expr: ast.Call, scope: Scope
+    ) -> T.Type:
         self.model.references[name] = method
         if method.toolkit and scope.context.namespace != "osc2toolkit":
             self.report(messages.toolkit_extension(name.span, method))
@@ -389,18 +456,25 @@ class ExpressionChecker:
             if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
                 self.check(arg.value, scope)
 
-    def _method_on_value(self, callee: ast.MemberAccess, target: T.Type, expr: ast.Call,
-                         scope: Scope) -> T.Type | None:
+    def _method_on_value(
+        self, callee: ast.MemberAccess, target: T.Type, expr: ast.Call, scope: Scope
+    ) -> T.Type | None:
         name = callee.member.text
-        args = [a.value for a in expr.arguments if isinstance(a, (ast.PositionalArgument,
-                                                                  ast.NamedArgument))]
+        args = [
+            a.value
+            for a in expr.arguments
+            if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
+        ]
         if name in ("as", "is") and len(args) == 1 and isinstance(args[0], ast.NameRef):
             qname = args[0].name
             if qname.namespace is None and qname.name.text in T.PRIMITIVES:
                 t = T.PRIMITIVES[qname.name.text]
             else:
-                found = [s for s in self.model.lookup(qname.name.text, scope.context,
-                                                      qname.namespace) if s.kind.is_type]
+                found = [
+                    s
+                    for s in self.model.lookup(qname.name.text, scope.context, qname.namespace)
+                    if s.kind.is_type
+                ]
                 if not found:
                     self.report(messages.undefined_type(qname.span, str(qname), None))
                     return T.UNKNOWN
@@ -412,20 +486,30 @@ class ExpressionChecker:
             inner = scope.child(it=element)
             for a in args:
                 self.check(a, inner)
-            return {"size": T.INT, "count": T.INT, "has": T.BOOL, "first_index": T.INT,
-                    "filter": target, "map": T.list_of(T.UNKNOWN)}[name]
+            return {
+                "size": T.INT,
+                "count": T.INT,
+                "has": T.BOOL,
+                "first_index": T.INT,
+                "filter": target,
+                "map": T.list_of(T.UNKNOWN),
+            }[name]
         if target.kind is T.Kind.RANGE and name in ("lower", "upper"):
             return target.element or T.UNKNOWN
         return None
 
-    def _builtin(self, name: str, expr: ast.Call, scope: Scope,
-                 expected: T.Type | None) -> T.Type | None:
-        if self.value_symbol(ast.QualifiedName(expr.span, None, ast.Name(expr.span, name)),
-                             scope) is not None:
+    def _builtin(
+        self, name: str, expr: ast.Call, scope: Scope, expected: T.Type | None
+    ) -> T.Type | None:
+        if (
+            self.value_symbol(ast.QualifiedName(expr.span, None, ast.Name(expr.span, name)), scope)
+            is not None
+        ):
             return None
         args = expr.arguments
-        values = [a.value for a in args if isinstance(a, (ast.PositionalArgument,
-                                                          ast.NamedArgument))]
+        values = [
+            a.value for a in args if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
+        ]
         if name in ("rise", "fall"):
             if values:
                 self.condition(values[0], scope, f"argument of `{name}`")
@@ -447,12 +531,16 @@ class ExpressionChecker:
         return None
 
     def _physical_named(self, name: str, scope: Scope) -> T.Type | None:
-        found = [s for s in self.model.lookup(name, scope.context)
-                 if s.kind is SymbolKind.PHYSICAL_TYPE]
+        found = [
+            s for s in self.model.lookup(name, scope.context) if s.kind is SymbolKind.PHYSICAL_TYPE
+        ]
         if not found:
             for ns in ("stdtypes",):
-                found = [s for s in self.model.lookup(name, scope.context, ns)
-                         if s.kind is SymbolKind.PHYSICAL_TYPE]
+                found = [
+                    s
+                    for s in self.model.lookup(name, scope.context, ns)
+                    if s.kind is SymbolKind.PHYSICAL_TYPE
+                ]
         if found:
             return found[0].type
         time_dim = (0, 0, 1, 0, 0, 0, 0, 0) if name == "time" else None
@@ -466,8 +554,9 @@ class ExpressionChecker:
             return T.BOOL
         t = self.check(expr.operand, scope, None)
         if not t.is_unknown and not t.is_numeric:
-            self.report(messages.type_mismatch(expr.operand.span, t, None,
-                                               f"operand of `{expr.op}`"))
+            self.report(
+                messages.type_mismatch(expr.operand.span, t, None, f"operand of `{expr.op}`")
+            )
             return T.UNKNOWN
         if expr.op == "-" and t.kind is T.Kind.UINT:
             return T.INT
@@ -481,15 +570,26 @@ class ExpressionChecker:
             return T.BOOL
         if op == "in":
             left = self.check(expr.left, scope)
-            hint = T.range_of(left) if isinstance(expr.right, ast.RangeLiteral) else \
-                T.list_of(left) if isinstance(expr.right, ast.ListLiteral) else None
-            right = self.check(expr.right, scope, None) if hint is None else \
-                self.infer(expr.right, scope, hint)
+            hint = (
+                T.range_of(left)
+                if isinstance(expr.right, ast.RangeLiteral)
+                else T.list_of(left)
+                if isinstance(expr.right, ast.ListLiteral)
+                else None
+            )
+            right = (
+                self.check(expr.right, scope, None)
+                if hint is None
+                else self.infer(expr.right, scope, hint)
+            )
             if right.kind in (T.Kind.RANGE, T.Kind.LIST) and right.element is not None:
                 self._comparable(expr, left, right.element)
             elif not right.is_unknown:
-                self.report(messages.type_mismatch(expr.right.span, right, None,
-                                                   "right operand of `in` (a range or a list)"))
+                self.report(
+                    messages.type_mismatch(
+                        expr.right.span, right, None, "right operand of `in` (a range or a list)"
+                    )
+                )
             return T.BOOL
         if op in _EQUALITY and self._overloaded_literal(expr.left, scope):
             # `ahead == where`: the other operand decides the literal (§7.3.3)
@@ -498,8 +598,11 @@ class ExpressionChecker:
             return T.BOOL
         left = self.check(expr.left, scope)
         right_expected = left if (left.kind is T.Kind.ENUM and op in _EQUALITY) else None
-        right = self.check(expr.right, scope, None) if right_expected is None else \
-            self.infer(expr.right, scope, right_expected)
+        right = (
+            self.check(expr.right, scope, None)
+            if right_expected is None
+            else self.infer(expr.right, scope, right_expected)
+        )
         if left.kind is T.Kind.UNKNOWN and right.kind is T.Kind.ENUM and op in _EQUALITY:
             pass
         if op in _EQUALITY:
@@ -524,8 +627,9 @@ class ExpressionChecker:
     def _numeric(self, expr: ast.Binary, left: T.Type, right: T.Type) -> bool:
         for side, t in ((expr.left, left), (expr.right, right)):
             if not t.is_unknown and not t.is_numeric:
-                self.report(messages.type_mismatch(side.span, t, None,
-                                                   f"operand of `{expr.op}` (a number)"))
+                self.report(
+                    messages.type_mismatch(side.span, t, None, f"operand of `{expr.op}` (a number)")
+                )
                 return False
         return not (left.is_unknown or right.is_unknown)
 
@@ -535,8 +639,11 @@ class ExpressionChecker:
         if left.kind is T.Kind.PHYSICAL or right.kind is T.Kind.PHYSICAL:
             if left.kind is T.Kind.PHYSICAL and right.kind is T.Kind.PHYSICAL:
                 if left.dimension != right.dimension:
-                    self.report(messages.dimension_mismatch(expr.span, right, left,
-                                                            f"comparison `{expr.op}`"))
+                    self.report(
+                        messages.dimension_mismatch(
+                            expr.span, right, left, f"comparison `{expr.op}`"
+                        )
+                    )
             else:
                 plain = expr.right if right.kind is not T.Kind.PHYSICAL else expr.left
                 physical = left if left.kind is T.Kind.PHYSICAL else right
@@ -546,8 +653,7 @@ class ExpressionChecker:
             return
         if T.compatible(left, right) is T.Compat.OK or T.compatible(right, left) is T.Compat.OK:
             return
-        self.report(messages.type_mismatch(expr.right.span, right, left,
-                                           f"operand of `{expr.op}`"))
+        self.report(messages.type_mismatch(expr.right.span, right, left, f"operand of `{expr.op}`"))
 
     def _sum_type(self, expr: ast.Binary, left: T.Type, right: T.Type) -> T.Type:
         if left.kind is T.Kind.PHYSICAL and right.kind is T.Kind.PHYSICAL:

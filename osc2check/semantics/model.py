@@ -59,8 +59,10 @@ class Model:
 
     def _namespace_parts(self, name: str) -> list[Namespace]:
         parts = []
-        if self.base is not None and name in self.base.namespaces and (
-            name == "" or name in self.library_namespaces
+        if (
+            self.base is not None
+            and name in self.base.namespaces
+            and (name == "" or name in self.library_namespaces)
         ):
             parts.append(self.base.namespaces[name])
         if name in self.namespaces:
@@ -91,8 +93,13 @@ class Model:
                     found.extend(self._exported(other, name, seen))
         return found
 
-    def lookup(self, name: str, ctx: Context, qualifier: str | None = None,
-               accept: Callable[[Symbol], bool] | None = None) -> list[Symbol]:
+    def lookup(
+        self,
+        name: str,
+        ctx: Context,
+        qualifier: str | None = None,
+        accept: Callable[[Symbol], bool] | None = None,
+    ) -> list[Symbol]:
         """Global symbols named ``name`` visible from ``ctx`` (nearest first).
 
         ``ns::name`` finds what namespace ``ns`` declares or re-exports; export
@@ -102,6 +109,7 @@ class Model:
         ``ambiguous``), then in the null namespace. ``accept`` keeps only the
         symbols of the wanted kind at each step.
         """
+
         def kept(symbols: list[Symbol]) -> list[Symbol]:
             unique = list({id(s): s for s in symbols}.values())
             return [s for s in unique if accept(s)] if accept is not None else unique

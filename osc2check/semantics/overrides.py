@@ -19,8 +19,9 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 
 
-def check_overrides(model: Model, methods: list[tuple[Symbol, Symbol]],
-                    report: Callable[[Diagnostic], None]) -> None:
+def check_overrides(
+    model: Model, methods: list[tuple[Symbol, Symbol]], report: Callable[[Diagnostic], None]
+) -> None:
     """Check each (owner, method) pair, given in declaration order."""
     for owner, sym in methods:
         only = isinstance(sym.decl, ast.MethodDecl) and sym.decl.only
@@ -44,11 +45,12 @@ def check_overrides(model: Model, methods: list[tuple[Symbol, Symbol]],
 def _overridden(model: Model, owner: Symbol, sym: Symbol, only: bool) -> Symbol | None:
     """The method ``sym`` redeclares: an earlier one of ``owner`` itself, else the
     nearest supertype's."""
+
     def matches(s: Symbol) -> bool:
         return s.kind is SymbolKind.METHOD and (only or s.namespace == sym.namespace)
 
     members = model.own_members(owner, sym.name)
-    earlier = [s for s in members[:members.index(sym)] if matches(s)]
+    earlier = [s for s in members[: members.index(sym)] if matches(s)]
     if earlier:
         return earlier[-1]
     for ancestor in list(model.ancestors(owner))[1:]:

@@ -43,14 +43,15 @@ class Program:
 def _resolve_path(importer: str, target: str) -> Path:
     base = Path(importer).parent if importer and not importer.startswith("<") else Path.cwd()
     if target.startswith("file://"):
-        target = target[len("file://"):]
+        target = target[len("file://") :]
     path = Path(target)
     # `a/../lib/x.osc` and `lib/x.osc` are one file, reported under one name
     return Path(os.path.normpath(path if path.is_absolute() else base / path))
 
 
-def _module_path(importer: str, target: str, search_paths: tuple[str, ...],
-                 read: Reader) -> tuple[Path, ParseResult | None]:
+def _module_path(
+    importer: str, target: str, search_paths: tuple[str, ...], read: Reader
+) -> tuple[Path, ParseResult | None]:
     """The file of ``import a.b``: ``a/b.osc`` beside the importing file, else in the
     first search path that has it; the file beside the importer when none does."""
     relative = target.replace(".", "/") + ".osc"
@@ -62,9 +63,13 @@ def _module_path(importer: str, target: str, search_paths: tuple[str, ...],
     return first, None
 
 
-def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (),
-                  modules: dict[str, str] | None = None,
-                  search_paths: tuple[str, ...] = ()) -> Program:
+def build_program(
+    root: str,
+    read: Reader,
+    implicit_imports: tuple[str, ...] = (),
+    modules: dict[str, str] | None = None,
+    search_paths: tuple[str, ...] = (),
+) -> Program:
     """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None.
 
     ``modules`` maps structured import names to files (``osc.types`` -> a path),
@@ -106,9 +111,14 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
                         uses.extend(AUTO_USE)
                     continue
                 if target == "osc" or target.startswith("osc."):
-                    program.diagnostics.append(messages.unresolved_import(
-                        decl.target_span, target, "no such module of the standard library "
-                        "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)"))
+                    program.diagnostics.append(
+                        messages.unresolved_import(
+                            decl.target_span,
+                            target,
+                            "no such module of the standard library "
+                            "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)",
+                        )
+                    )
                     continue
                 path, found = _module_path(uri, target, search_paths, read)
             else:
@@ -121,15 +131,16 @@ def build_program(root: str, read: Reader, implicit_imports: tuple[str, ...] = (
                     model.library_namespaces.update(STANDARD_MODULES["osc.standard"][0])
                     uses.extend(AUTO_USE)
                     continue
-                program.diagnostics.append(messages.unresolved_import(
-                    decl.target_span, target, f"no file `{key}`"))
+                program.diagnostics.append(
+                    messages.unresolved_import(decl.target_span, target, f"no file `{key}`")
+                )
                 continue
             imported.append(key)
             norm = os.path.normpath(key)
             if norm in visiting:
                 # Said at the root's own import that leads into the cycle: the root's
                 # findings are the ones reported for it.
-                chain = visiting[visiting.index(norm):] + [norm]
+                chain = visiting[visiting.index(norm) :] + [norm]
                 span = leads[0] if leads else decl.target_span
                 program.diagnostics.append(messages.import_cycle(span, chain))
                 continue

@@ -35,8 +35,7 @@ class _Names:
 
     def _types(self, qname: ast.QualifiedName, ctx: Context) -> list[Symbol] | None:
         """The types ``qname`` names; None for an ambiguous name (reported here)."""
-        found = self.model.lookup(qname.name.text, ctx, qname.namespace,
-                                  lambda s: s.kind.is_type)
+        found = self.model.lookup(qname.name.text, ctx, qname.namespace, lambda s: s.kind.is_type)
         if self.model.ambiguous(found):
             self.report(messages.ambiguous_name(qname.span, qname.name.text, found))
             return None
@@ -47,8 +46,11 @@ class _Names:
             case ast.ListType():
                 element = self.type_of(ref.element, ctx)
                 if element.kind is T.Kind.LIST:
-                    self.report(messages.type_mismatch(ref.span, element, None,
-                                                       "list element (lists of lists)"))
+                    self.report(
+                        messages.type_mismatch(
+                            ref.span, element, None, "list element (lists of lists)"
+                        )
+                    )
                 return T.list_of(element)
             case ast.RangeType():
                 return T.range_of(self.type_of(ref.element, ctx))
@@ -64,16 +66,20 @@ class _Names:
                     return found[0].type or T.UNKNOWN
                 if qname.namespace is None and qname.name.text in T.PRIMITIVES:
                     return T.PRIMITIVES[qname.name.text]
-                self.report(messages.undefined_type(qname.span, str(qname), closest(
-                    qname.name.text, self._type_names(ctx))))
+                self.report(
+                    messages.undefined_type(
+                        qname.span, str(qname), closest(qname.name.text, self._type_names(ctx))
+                    )
+                )
         return T.UNKNOWN
 
     def _type_names(self, ctx: Context) -> list[str]:
         names = list(T.PRIMITIVES)
         for ns in (ctx.namespace, *ctx.uses, ""):
             for part in self.model._namespace_parts(ns):
-                names.extend(n for n, syms in part.symbols.items()
-                             if any(s.kind.is_type for s in syms))
+                names.extend(
+                    n for n, syms in part.symbols.items() if any(s.kind.is_type for s in syms)
+                )
         return names
 
     def behavior(self, name: ast.BehaviorName, ctx: Context) -> Symbol | None:
@@ -82,17 +88,25 @@ class _Names:
             return None
         if name.actor is None:
             qname = ast.QualifiedName(name.span, name.namespace, name.name)
-            found = self.model.lookup(name.name.text, ctx, name.namespace,
-                                      lambda s: s.kind.is_type or s.kind is SymbolKind.MODIFIER)
+            found = self.model.lookup(
+                name.name.text,
+                ctx,
+                name.namespace,
+                lambda s: s.kind.is_type or s.kind is SymbolKind.MODIFIER,
+            )
             if self.model.ambiguous(found):
                 self.report(messages.ambiguous_name(name.span, name.name.text, found))
                 return None
             if not found and name.namespace is None and name.name.text in T.PRIMITIVES:
-                return Symbol(SymbolKind.PRIMITIVE, name.name.text,
-                              type=T.PRIMITIVES[name.name.text])
+                return Symbol(
+                    SymbolKind.PRIMITIVE, name.name.text, type=T.PRIMITIVES[name.name.text]
+                )
             if not found:
-                self.report(messages.undefined_type(name.span, str(qname), closest(
-                    name.name.text, self._type_names(ctx))))
+                self.report(
+                    messages.undefined_type(
+                        name.span, str(qname), closest(name.name.text, self._type_names(ctx))
+                    )
+                )
                 return None
             self.model.references[name.name] = found[0]
             return found[0]
@@ -100,17 +114,26 @@ class _Names:
         if actors is None:
             return None
         if not actors:
-            self.report(messages.undefined_type(name.actor.span, str(name.actor), closest(
-                name.actor.name.text, self._type_names(ctx))))
+            self.report(
+                messages.undefined_type(
+                    name.actor.span,
+                    str(name.actor),
+                    closest(name.actor.name.text, self._type_names(ctx)),
+                )
+            )
             return None
         actor = actors[0]
         self.model.references[name.actor.name] = actor
         found = self.model.behavior(actor, name.name.text) or self.model.modifier(
-            actor, name.name.text)
+            actor, name.name.text
+        )
         if not found:
             pool = [s.name for s in self.model.behaviors_of(actor)]
-            self.report(messages.unknown_behavior(name.name.span, name.name.text, actor,
-                                                  closest(name.name.text, pool)))
+            self.report(
+                messages.unknown_behavior(
+                    name.name.span, name.name.text, actor, closest(name.name.text, pool)
+                )
+            )
             return None
         self.model.references[name.name] = found[0]
         return found[0]

@@ -21,8 +21,14 @@ class Scope:
     in_argument: bool = False  # inside an invocation's arguments (dialect D805)
 
     def child(self, **changes) -> Scope:
-        values = dict(context=self.context, owner=self.owner, it=self.it, actor=self.actor,
-                      behavior=self.behavior, parent=self)
+        values = dict(
+            context=self.context,
+            owner=self.owner,
+            it=self.it,
+            actor=self.actor,
+            behavior=self.behavior,
+            parent=self,
+        )
         values.update(changes)
         return Scope(**values)
 

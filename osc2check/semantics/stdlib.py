@@ -48,7 +48,7 @@ def comment_lines(result: ParseResult) -> dict[int, str]:
     text = result.text
     for c in result.comments:
         line_start = max(text.rfind("\n", 0, c.offset), text.rfind("\r", 0, c.offset)) + 1
-        if not text[line_start:c.offset].strip():
+        if not text[line_start : c.offset].strip():
             lines[c.line] = c.text
     return lines
 
@@ -67,8 +67,9 @@ def standard_library() -> StandardLibrary:
                 uri = str(path)
                 result = parse(path.read_text(encoding="utf-8"), uri)
                 parses[uri] = result
-                units.append(Unit(uri, result.ast, Context(), library=True,
-                                  comments=comment_lines(result)))
+                units.append(
+                    Unit(uri, result.ast, Context(), library=True, comments=comment_lines(result))
+                )
             diagnostics = [d for r in parses.values() for d in r.diagnostics]
             diagnostics += resolve(model, units)
             _cached = StandardLibrary(model, parses, tuple(diagnostics))

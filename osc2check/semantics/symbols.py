@@ -46,14 +46,26 @@ class SymbolKind(Enum):
         return self in (SymbolKind.SCENARIO, SymbolKind.ACTION)
 
 
-TYPE_KINDS = frozenset({
-    SymbolKind.PRIMITIVE, SymbolKind.PHYSICAL_TYPE, SymbolKind.ENUM, SymbolKind.STRUCT,
-    SymbolKind.ACTOR, SymbolKind.SCENARIO, SymbolKind.ACTION,
-})
-COMPOUND_KINDS = frozenset({
-    SymbolKind.STRUCT, SymbolKind.ACTOR, SymbolKind.SCENARIO, SymbolKind.ACTION,
-    SymbolKind.MODIFIER,
-})
+TYPE_KINDS = frozenset(
+    {
+        SymbolKind.PRIMITIVE,
+        SymbolKind.PHYSICAL_TYPE,
+        SymbolKind.ENUM,
+        SymbolKind.STRUCT,
+        SymbolKind.ACTOR,
+        SymbolKind.SCENARIO,
+        SymbolKind.ACTION,
+    }
+)
+COMPOUND_KINDS = frozenset(
+    {
+        SymbolKind.STRUCT,
+        SymbolKind.ACTOR,
+        SymbolKind.SCENARIO,
+        SymbolKind.ACTION,
+        SymbolKind.MODIFIER,
+    }
+)
 
 
 @dataclass(eq=False)
@@ -87,7 +99,9 @@ class Symbol:
     def qualified_name(self) -> str:
         prefix = f"{self.namespace}::" if self.namespace else ""
         if self.actor is not None and self.kind in (
-            SymbolKind.SCENARIO, SymbolKind.ACTION, SymbolKind.MODIFIER
+            SymbolKind.SCENARIO,
+            SymbolKind.ACTION,
+            SymbolKind.MODIFIER,
         ):
             return f"{self.actor.name}.{self.name}"
         return prefix + self.name

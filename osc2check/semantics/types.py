@@ -173,6 +173,9 @@ def compatible(expected: Type, actual: Type, *, allow_range: bool = False) -> Co
             return Compat.OK
         return Compat.MISMATCH
     if expected.kind is Kind.ENUM:
-        return Compat.OK if actual.kind is Kind.ENUM and actual.symbol is expected.symbol \
+        return (
+            Compat.OK
+            if actual.kind is Kind.ENUM and actual.symbol is expected.symbol
             else Compat.MISMATCH
+        )
     return Compat.OK if expected.kind is actual.kind else Compat.MISMATCH

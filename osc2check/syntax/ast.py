@@ -177,8 +177,22 @@ class Missing(Node):
 
 
 Expr = (
-    IntLiteral | FloatLiteral | PhysicalLiteral | StringLiteral | BoolLiteral | NameRef | EnumRef
-    | MemberAccess | Call | Index | Unary | Binary | Ternary | ListLiteral | RangeLiteral | Missing
+    IntLiteral
+    | FloatLiteral
+    | PhysicalLiteral
+    | StringLiteral
+    | BoolLiteral
+    | NameRef
+    | EnumRef
+    | MemberAccess
+    | Call
+    | Index
+    | Unary
+    | Binary
+    | Ternary
+    | ListLiteral
+    | RangeLiteral
+    | Missing
 )
 
 
@@ -342,8 +356,15 @@ class OnDirective(Node):
 
 
 Member = (
-    FieldDecl | EventDecl | KeepConstraint | RemoveDefault | MethodDecl | CoverageDecl
-    | Invocation | OnDirective | DoDirective
+    FieldDecl
+    | EventDecl
+    | KeepConstraint
+    | RemoveDefault
+    | MethodDecl
+    | CoverageDecl
+    | Invocation
+    | OnDirective
+    | DoDirective
 )
 
 
@@ -466,9 +487,21 @@ class GlobalDecl(Node):
 
 
 Declaration = (
-    ImportDecl | UseStatement | NamespaceDecl | ExportDecl | PhysicalTypeDecl | UnitDecl
-    | EnumDecl | EnumExtension | StructDecl | ActorDecl | ScenarioDecl | ActionDecl
-    | ModifierDecl | ExtendDecl | GlobalDecl
+    ImportDecl
+    | UseStatement
+    | NamespaceDecl
+    | ExportDecl
+    | PhysicalTypeDecl
+    | UnitDecl
+    | EnumDecl
+    | EnumExtension
+    | StructDecl
+    | ActorDecl
+    | ScenarioDecl
+    | ActionDecl
+    | ModifierDecl
+    | ExtendDecl
+    | GlobalDecl
 )
 
 

@@ -45,8 +45,9 @@ class _Group:
 
 
 def _tok_span(tok: Token) -> Span:
-    return Span(_URI.get(), tok.line, tok.column, tok.end_line, tok.end_column,
-                tok.start_pos, tok.end_pos)
+    return Span(
+        _URI.get(), tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos
+    )
 
 
 def span_of(item) -> Span | None:
@@ -62,8 +63,7 @@ def span_of(item) -> Span | None:
 def _edge(item) -> tuple | None:
     """(uri, line, column, start) and (end_line, end_column, end) of an item, or None."""
     if isinstance(item, Token):
-        return item.line, item.column, item.start_pos, item.end_line, item.end_column, \
-            item.end_pos
+        return item.line, item.column, item.start_pos, item.end_line, item.end_column, item.end_pos
     span = item.span if isinstance(item, (ast.Node, _Group)) else None
     if span is None:
         return None
@@ -129,8 +129,23 @@ def _unescape(body: str) -> str:
 
 # Binding strength of binary operators; relations do not chain (`a < b < c`
 # groups to the left and is then a type error, as in the standard's grammar).
-_PRECEDENCE = {"=>": 1, "or": 2, "and": 3, "==": 5, "!=": 5, "<": 5, "<=": 5, ">": 5,
-               ">=": 5, "in": 5, "+": 6, "-": 6, "*": 7, "/": 7, "%": 7}
+_PRECEDENCE = {
+    "=>": 1,
+    "or": 2,
+    "and": 3,
+    "==": 5,
+    "!=": 5,
+    "<": 5,
+    "<=": 5,
+    ">": 5,
+    ">=": 5,
+    "in": 5,
+    "+": 6,
+    "-": 6,
+    "*": 7,
+    "/": 7,
+    "%": 7,
+}
 
 
 def _group_chain(c):
@@ -210,10 +225,18 @@ class Builder(Transformer):
         m = _PHYSICAL.fullmatch(str(tok))
         number_text, unit_text = (m.group(1), m.group(2)) if m else ("0", str(tok))
         unit_start = tok.start_pos + len(number_text)
-        unit_span = Span(span.uri, tok.line, tok.column + len(number_text), tok.end_line,
-                         tok.end_column, unit_start, tok.end_pos)
-        return ast.PhysicalLiteral(span, Fraction(number_text), number_text,
-                                   ast.Name(unit_span, unit_text))
+        unit_span = Span(
+            span.uri,
+            tok.line,
+            tok.column + len(number_text),
+            tok.end_line,
+            tok.end_column,
+            unit_start,
+            tok.end_pos,
+        )
+        return ast.PhysicalLiteral(
+            span, Fraction(number_text), number_text, ast.Name(unit_span, unit_text)
+        )
 
     def string_literal(self, c):
         tok = c[0]
@@ -361,9 +384,17 @@ class Builder(Transformer):
         body = next(x for x in c if isinstance(x, tuple))
         return_type = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
         kind, expr, external, ext_args = body
-        return ast.MethodDecl(_cover([c[0], *[x for x in c if not isinstance(x, tuple)], expr]),
-                              name, _group(c, "params"), return_type, _has(c, "ONLY"), kind,
-                              expr, external, ext_args)
+        return ast.MethodDecl(
+            _cover([c[0], *[x for x in c if not isinstance(x, tuple)], expr]),
+            name,
+            _group(c, "params"),
+            return_type,
+            _has(c, "ONLY"),
+            kind,
+            expr,
+            external,
+            ext_args,
+        )
 
     def coverage_stmt(self, c):
         return ast.CoverageDecl(_cover(c), str(c[0]) or "cover", _group(c, "args"))
@@ -374,11 +405,13 @@ class Builder(Transformer):
         if isinstance(expr, ast.Call):
             callee = expr.callee
             if isinstance(callee, ast.MemberAccess):
-                return ast.Invocation(span, callee.target, callee.member, expr.arguments,
-                                      with_group.items)
+                return ast.Invocation(
+                    span, callee.target, callee.member, expr.arguments, with_group.items
+                )
             if isinstance(callee, ast.NameRef):
-                return ast.Invocation(span, None, callee.name.name, expr.arguments,
-                                      with_group.items)
+                return ast.Invocation(
+                    span, None, callee.name.name, expr.arguments, with_group.items
+                )
         _report(expr.span, "not-invocation")
         if isinstance(expr, ast.MemberAccess):  # `hero.dr` while typing: keep the actor
             return ast.Invocation(span, expr.target, expr.member, (), with_group.items)
@@ -407,8 +440,9 @@ class Builder(Transformer):
     def composition(self, c):
         op = c[0]
         members = _nodes(c, ast.DoMember)
-        return ast.Composition(_cover(c), str(op) or "serial", _group(c, "args"), members,
-                               _group(c, "with"))
+        return ast.Composition(
+            _cover(c), str(op) or "serial", _group(c, "args"), members, _group(c, "with")
+        )
 
     def wait_stmt(self, c):
         return ast.Wait(_cover(c), c[-1])

@@ -93,17 +93,36 @@ def indent(tokens: list[Token], text: str) -> tuple[list[Token], list[IndentErro
         errors.append(IndentError(brackets[0][0], "unclosed", 0, last_line + 1))
     if out:
         end = out[-1]
-        eof = Token("_NL", "", end.end_pos, end.end_line, end.end_column, end.end_line,
-                    end.end_column, end.end_pos)
+        eof = Token(
+            "_NL",
+            "",
+            end.end_pos,
+            end.end_line,
+            end.end_column,
+            end.end_line,
+            end.end_column,
+            end.end_pos,
+        )
         out.append(eof)
         for _ in stack[1:]:
-            out.append(Token("_DEDENT", "", eof.start_pos, eof.line, eof.column, eof.line,
-                             eof.column, eof.start_pos))
+            out.append(
+                Token(
+                    "_DEDENT",
+                    "",
+                    eof.start_pos,
+                    eof.line,
+                    eof.column,
+                    eof.line,
+                    eof.column,
+                    eof.start_pos,
+                )
+            )
     return out, errors
 
 
-def _layout(out: list[Token], errors: list[IndentError], stack: list[int], level: int,
-            tok: Token) -> None:
+def _layout(
+    out: list[Token], errors: list[IndentError], stack: list[int], level: int, tok: Token
+) -> None:
     if level > stack[-1]:
         stack.append(level)
         out.append(_marker("_INDENT", tok))

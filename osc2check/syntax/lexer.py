@@ -34,11 +34,28 @@ class Token:
     tens of thousands of tokens per file.
     """
 
-    __slots__ = ("type", "value", "start_pos", "line", "column", "end_line", "end_column",
-                 "end_pos")
+    __slots__ = (
+        "type",
+        "value",
+        "start_pos",
+        "line",
+        "column",
+        "end_line",
+        "end_column",
+        "end_pos",
+    )
 
-    def __init__(self, type: str, value: str, start_pos: int, line: int, column: int,
-                 end_line: int, end_column: int, end_pos: int):
+    def __init__(
+        self,
+        type: str,
+        value: str,
+        start_pos: int,
+        line: int,
+        column: int,
+        end_line: int,
+        end_column: int,
+        end_pos: int,
+    ):
         self.type = type
         self.value = value
         self.start_pos = start_pos
@@ -56,8 +73,9 @@ class Token:
 
     def synthetic(self, kind: str) -> Token:
         """A zero-width token of ``kind`` at this token's start (error recovery, layout)."""
-        return Token(kind, "", self.start_pos, self.line, self.column, self.line, self.column,
-                     self.start_pos)
+        return Token(
+            kind, "", self.start_pos, self.line, self.column, self.line, self.column, self.start_pos
+        )
 
 
 @dataclass(frozen=True, slots=True)

@@ -18,10 +18,18 @@ from osc2check.syntax.recover import parse_tokens
 
 # How terminals read in messages.
 _DESCRIPTIONS = {
-    "NAME": "a name", "INT": "a number", "HEX": "a number", "FLOAT": "a number",
-    "PHYSICAL": "a physical value such as `10kph`", "STRING": "a string",
-    "_NL": "end of line", "_INDENT": "an indented block", "_DEDENT": "end of block",
-    "$END": "end of file", "REL_OP": "a comparison", "ADD_OP": "`+` or `-`",
+    "NAME": "a name",
+    "INT": "a number",
+    "HEX": "a number",
+    "FLOAT": "a number",
+    "PHYSICAL": "a physical value such as `10kph`",
+    "STRING": "a string",
+    "_NL": "end of line",
+    "_INDENT": "an indented block",
+    "_DEDENT": "end of block",
+    "$END": "end of file",
+    "REL_OP": "a comparison",
+    "ADD_OP": "`+` or `-`",
     "MUL_OP": "`*`, `/` or `%`",
 }
 
@@ -37,8 +45,21 @@ class ParseResult:
 
     def comment_spans(self) -> list[tuple[Span, str]]:
         """Comments as (span, text) pairs, the form suppressions read."""
-        return [(Span(self.uri, c.line, c.column, c.line, c.column + len(c.text), c.offset,
-                      c.offset + len(c.text)), c.text) for c in self.comments]
+        return [
+            (
+                Span(
+                    self.uri,
+                    c.line,
+                    c.column,
+                    c.line,
+                    c.column + len(c.text),
+                    c.offset,
+                    c.offset + len(c.text),
+                ),
+                c.text,
+            )
+            for c in self.comments
+        ]
 
 
 @cache
@@ -89,8 +110,12 @@ def _offset_span(uri: str, text: str, start: int, length: int) -> Span:
 
 def _line_of(text: str, offset: int) -> int:
     """1-based line of ``offset``; CRLF, LF and lone CR each end a line."""
-    return text.count("\n", 0, offset) + text.count("\r", 0, offset) - \
-        text.count("\r\n", 0, offset) + 1
+    return (
+        text.count("\n", 0, offset)
+        + text.count("\r", 0, offset)
+        - text.count("\r\n", 0, offset)
+        + 1
+    )
 
 
 def parse(text: str, uri: str = "<string>") -> ParseResult:
@@ -126,8 +151,9 @@ def _parse(text: str, uri: str) -> ParseResult:
         elif err.kind == "indent":
             diagnostics.append(messages.unexpected_indent(span))
         else:
-            diagnostics.append(messages.inconsistent_dedent(span, err.token.column - 1,
-                                                            err.expected))
+            diagnostics.append(
+                messages.inconsistent_dedent(span, err.token.column - 1, err.expected)
+            )
     problems: list = []
     uri_token = _URI.set(uri)
     problems_token = _PROBLEMS.set(problems)
@@ -149,8 +175,9 @@ def _parse(text: str, uri: str) -> ParseResult:
         elif tok.type == "_INDENT":
             diagnostics.append(messages.unexpected_indent(span))
         else:
-            diagnostics.append(messages.syntax_error(span, _found(tok),
-                                                     _expected(problem.expected)))
+            diagnostics.append(
+                messages.syntax_error(span, _found(tok), _expected(problem.expected))
+            )
     error_lines.update(d.span.line for d in diagnostics)
     for problem in problems:
         if problem.span.line not in error_lines:
@@ -159,8 +186,9 @@ def _parse(text: str, uri: str) -> ParseResult:
     if not isinstance(tree, ast.File):
         tree = ast.File(Span(uri, 1, 1, 1, 1, 0, 0), ())
     diagnostics.sort(key=lambda d: d.sort_key)
-    return ParseResult(uri, text, tree, tuple(diagnostics), tuple(lexed.comments),
-                       frozenset(error_lines))
+    return ParseResult(
+        uri, text, tree, tuple(diagnostics), tuple(lexed.comments), frozenset(error_lines)
+    )
 
 
 def grammar_version() -> str:

@@ -127,9 +127,15 @@ def _table(conf) -> dict:
         table = {}
         for state, row in conf.states.items():
             table[state] = {
-                ttype: (arg if action is Shift else
-                        (len(arg.expansion), None if _passes_through(arg) else callbacks[arg],
-                         arg.origin.name))
+                ttype: (
+                    arg
+                    if action is Shift
+                    else (
+                        len(arg.expansion),
+                        None if _passes_through(arg) else callbacks[arg],
+                        arg.origin.name,
+                    )
+                )
                 for ttype, (action, arg) in row.items()
             }
         _TABLES[key] = table
@@ -195,8 +201,16 @@ def parse_tokens(lark, tokens: list[Token], start: str = "start"):
     at_statement_start = True
     i, n = _fast_prefix(ip, tokens), len(tokens)
     end = tokens[-1] if tokens else Token("$END", "", 0, 1, 1, 1, 1, 0)
-    eof = Token("$END", "", end.end_pos, end.end_line, end.end_column, end.end_line,
-                end.end_column, end.end_pos)
+    eof = Token(
+        "$END",
+        "",
+        end.end_pos,
+        end.end_line,
+        end.end_column,
+        end.end_line,
+        end.end_column,
+        end.end_pos,
+    )
     skip: set[int] = set()  # dedents that close an indentation read as not there
     while i <= n:
         if i in skip:

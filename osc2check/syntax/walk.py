@@ -61,8 +61,9 @@ def _dump(node: ast.Node, depth: int, lines: list[str], label: str) -> None:
         elif isinstance(value, ast.Name):
             scalars.append(f"{f.name}={value.text!r}")
         elif value is not None and value != () and f.name not in ("target_span",):
-            scalars.append(f"{f.name}={value!r}" if not isinstance(value, str)
-                           else f"{f.name}={value!r}")
+            scalars.append(
+                f"{f.name}={value!r}" if not isinstance(value, str) else f"{f.name}={value!r}"
+            )
     text = node.text if isinstance(node, ast.Name) else None
     head = f"{'  ' * depth}{label}{type(node).__name__}"
     head += f" {text!r}" if text is not None else ""

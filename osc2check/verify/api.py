@@ -18,8 +18,9 @@ class Unsolvable:
     diagnostics: tuple[Diagnostic, ...]
 
 
-def solve(analysis, scenario: str | None = None, seed: int = 0,
-          uri: str | None = None) -> Witness | Unsolvable:
+def solve(
+    analysis, scenario: str | None = None, seed: int = 0, uri: str | None = None
+) -> Witness | Unsolvable:
     """The witness of ``scenario`` (default: the first scenario of the first file).
 
     ``analysis`` comes from ``osc2check.analyze``; the same seed always gives the
@@ -29,15 +30,17 @@ def solve(analysis, scenario: str | None = None, seed: int = 0,
     program = analysis.programs.get(uri) if uri is not None else None
     if program is None:
         return Unsolvable(scenario or "", "not-found", ())
-    errors = tuple(d for d in analysis.diagnostics if d.span.uri == uri
-                   and d.severity.name == "ERROR")
+    errors = tuple(
+        d for d in analysis.diagnostics if d.span.uri == uri and d.severity.name == "ERROR"
+    )
     if errors and uri not in analysis.verified:
         return Unsolvable(scenario or "", "not-checked", errors)
     # The analysis verified the file already (unless told not to): draw the witness
     # from its result instead of lowering and solving the scenario again.
     result = analysis.verified.get(uri)
-    if result is None or (scenario is not None and not any(
-            r.scenario.name == scenario for r in result.scenarios)):
+    if result is None or (
+        scenario is not None and not any(r.scenario.name == scenario for r in result.scenarios)
+    ):
         result = verify_program(program, seed=None, scenario=scenario)
     chosen = [r for r in result.scenarios if scenario is None or r.scenario.name == scenario]
     if not chosen:
@@ -46,6 +49,5 @@ def solve(analysis, scenario: str | None = None, seed: int = 0,
     witness = first.witness_for(seed)
     if witness is not None:
         return witness
-    own = tuple(d for d in result.diagnostics if d.severity.name == "ERROR"
-                and d.span.uri == uri)
+    own = tuple(d for d in result.diagnostics if d.severity.name == "ERROR" and d.span.uri == uri)
     return Unsolvable(first.scenario.name, first.outcome.status, own)

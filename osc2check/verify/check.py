@@ -40,8 +40,12 @@ from osc2check.verify.z3_backend import (
     solve,
 )
 
-_PLACEMENT_CODES = {"lane-range": codes.LANE_OUT_OF_RANGE, "road-extent": codes.OFF_ROAD,
-                    "max-speed": codes.SPEED_ABOVE_MAX, "overlap": codes.FOOTPRINT_OVERLAP}
+_PLACEMENT_CODES = {
+    "lane-range": codes.LANE_OUT_OF_RANGE,
+    "road-extent": codes.OFF_ROAD,
+    "max-speed": codes.SPEED_ABOVE_MAX,
+    "overlap": codes.FOOTPRINT_OVERLAP,
+}
 _UNSET = object()
 
 
@@ -72,11 +76,13 @@ class ScenarioResult:
         active = active_constraints(self.problem, Outcome("sat"))
         values = self.outcome.values
         if seed is not None:
-            sample = Sampler(self.problem, active, values, timeout_ms=self.timeout_ms,
-                             rlimit=self.rlimit).sample(seed)
+            sample = Sampler(
+                self.problem, active, values, timeout_ms=self.timeout_ms, rlimit=self.rlimit
+            ).sample(seed)
             if sample is None:
-                drawn = solve(self.problem, seed=seed, rlimit=self.rlimit,
-                              timeout_ms=self.timeout_ms)
+                drawn = solve(
+                    self.problem, seed=seed, rlimit=self.rlimit, timeout_ms=self.timeout_ms
+                )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
         return build_witness(self.problem, values, active, seed)
@@ -101,10 +107,10 @@ def source_text(program: Program):
             return ""
         text = result.text
         if span.end <= span.start:
-            chosen = text.splitlines()[span.line - 1:span.end_line]
+            chosen = text.splitlines()[span.line - 1 : span.end_line]
             return " ".join(strip_comment(part).strip() for part in chosen)
         end = span.end
-        open_count = _open_brackets(text[span.start:end])
+        open_count = _open_brackets(text[span.start : end])
         while open_count > 0 and end < len(text):
             rest = len(text[end:]) - len(text[end:].lstrip(" \t"))
             if end + rest < len(text) and text[end + rest] in ")]":
@@ -112,7 +118,7 @@ def source_text(program: Program):
                 open_count -= 1
             else:
                 break
-        parts = text[span.start:end].splitlines()
+        parts = text[span.start : end].splitlines()
         return " ".join(p for p in (strip_comment(part).strip() for part in parts) if p)
 
     return text_of
@@ -137,12 +143,21 @@ def _open_brackets(text: str) -> int:
 def scenarios_of(program: Program) -> list[Symbol]:
     """Scenarios declared in the root file, in source order."""
     model = program.model
-    return [s for s in model.symbols if s.kind is SymbolKind.SCENARIO and s.uri == program.root
-            and s.decl is not None]
+    return [
+        s
+        for s in model.symbols
+        if s.kind is SymbolKind.SCENARIO and s.uri == program.root and s.decl is not None
+    ]
 
 
-def verify_program(program: Program, *, seed: int | None = 0, scenario: str | None = None,
-                   solver: dict | None = None, default_map: str = "default") -> VerifyResult:
+def verify_program(
+    program: Program,
+    *,
+    seed: int | None = 0,
+    scenario: str | None = None,
+    solver: dict | None = None,
+    default_map: str = "default",
+) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
     Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``).
@@ -170,15 +185,19 @@ def verify_program(program: Program, *, seed: int | None = 0, scenario: str | No
             for conflict in outcome.conflicts:
                 report(_conflict(conflict, sym))
         elif outcome.status == "unknown":
-            report(messages.solver_inconclusive(sym.name_span or problem.span, sym.name,
-                                                outcome.reason or "unknown"))
+            report(
+                messages.solver_inconclusive(
+                    sym.name_span or problem.span, sym.name, outcome.reason or "unknown"
+                )
+            )
         else:
             active = active_constraints(problem, Outcome("sat"))
             for c in _vacuous(problem, active, rlimit, session):
                 report(messages.vacuous_constraint(c))
             for gap in _unsafe_gaps(problem, active, outcome, rlimit):
-                report(messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader,
-                                           MIN_TIME_GAP))
+                report(
+                    messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader, MIN_TIME_GAP)
+                )
         for default, by in outcome.overridden:
             if _user_written(default, program) and (by is None or _user_written(by, program)):
                 report(messages.default_overridden(default, by))
@@ -277,18 +296,28 @@ def _reversed_ranges(sym: Symbol, program: Program, text_of, report) -> None:
     if decl is None:
         return
     source = program.files.get(decl.span.uri)
-    if source is not None and decl.span.end > decl.span.start and \
-            ".." not in source.text[decl.span.start:decl.span.end]:
+    if (
+        source is not None
+        and decl.span.end > decl.span.start
+        and ".." not in source.text[decl.span.start : decl.span.end]
+    ):
         return  # no range is written in it
     for node in walk(decl):
         if isinstance(node, ast.RangeLiteral):
             low, high = _literal_value(node.low), _literal_value(node.high)
-            if isinstance(low, tuple) != isinstance(high, tuple) or low is None or \
-                    high is None or (isinstance(low, tuple) and low[1] != high[1]):
+            if (
+                isinstance(low, tuple) != isinstance(high, tuple)
+                or low is None
+                or high is None
+                or (isinstance(low, tuple) and low[1] != high[1])
+            ):
                 continue  # only bounds written in one unit are compared
             if low > high:
-                report(messages.reversed_range(node.span, _text(node.low, text_of),
-                                               _text(node.high, text_of)))
+                report(
+                    messages.reversed_range(
+                        node.span, _text(node.low, text_of), _text(node.high, text_of)
+                    )
+                )
 
 
 def _text(node: ast.Node, text_of) -> str:
@@ -319,8 +348,9 @@ def _literal_value(node: ast.Node):
     return None
 
 
-def _vacuous(problem: ir.Problem, active: list[ir.Constraint], rlimit: int,
-             session: Session | None = None):
+def _vacuous(
+    problem: ir.Problem, active: list[ir.Constraint], rlimit: int, session: Session | None = None
+):
     """User keeps that hold for every value of their parameters' own domains.
 
     A value that breaks the keep is looked for first by trying a few (cheap, and
@@ -348,7 +378,7 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
     """Whether one of a few assignments inside the domains makes ``term`` false."""
     from fractions import Fraction
 
-    numbers = {Fraction(0), Fraction(1), Fraction(-1), Fraction(10**6), Fraction(-10**6)}
+    numbers = {Fraction(0), Fraction(1), Fraction(-1), Fraction(10**6), Fraction(-(10**6))}
     stack = [term]
     while stack:
         t = stack.pop()
@@ -369,16 +399,22 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
                 else:
                     values[v.name] = value
             try:
-                if all(quick.evaluate(d, values) for d in limits) and \
-                        not quick.evaluate(term, values):
+                if all(quick.evaluate(d, values) for d in limits) and not quick.evaluate(
+                    term, values
+                ):
                     return True
             except (KeyError, TypeError, ZeroDivisionError):
                 return False
     return False
 
 
-def _holds_always(problem: ir.Problem, c: ir.Constraint, limits: list[ir.Term], rlimit: int,
-                  session: Session | None) -> bool:
+def _holds_always(
+    problem: ir.Problem,
+    c: ir.Constraint,
+    limits: list[ir.Term],
+    rlimit: int,
+    session: Session | None,
+) -> bool:
     from osc2check.verify.z3_backend import _Encoder, _z3
 
     z3 = _z3()

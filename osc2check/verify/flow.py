@@ -43,12 +43,13 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
                     _composition(model, node, found)
                     if node.op == "serial":
                         serials.append(node)
-                case ast.Wait(event=ast.EventCondition() as cond) | \
-                        ast.Until(event=ast.EventCondition() as cond):
+                case (
+                    ast.Wait(event=ast.EventCondition() as cond)
+                    | ast.Until(event=ast.EventCondition() as cond)
+                ):
                     value = _fold_bool(cond.expr)
                     if value is not None:
-                        found.append(messages.constant_condition(cond.span, value,
-                                                                 "condition"))
+                        found.append(messages.constant_condition(cond.span, value, "condition"))
                 case ast.NamedArgument() if node.name.text == "duration":
                     _duration(node.value, found)
     if waits:
@@ -65,9 +66,13 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
 
 
 def _conditional_events(model: Model, scenario: Symbol) -> set[str]:
-    return {m.name for m in model.all_members(scenario)
-            if m.kind is SymbolKind.EVENT and isinstance(m.decl, ast.EventDecl)
-            and m.decl.spec is not None}
+    return {
+        m.name
+        for m in model.all_members(scenario)
+        if m.kind is SymbolKind.EVENT
+        and isinstance(m.decl, ast.EventDecl)
+        and m.decl.spec is not None
+    }
 
 
 def _wait(ref: ast.EventReference, wait: ast.Wait, emits, conditional, found) -> None:
@@ -83,14 +88,17 @@ def _serial_order(serial: ast.Composition, emits, found) -> None:
     """A wait whose every emitter comes later in the same serial chain."""
     for i, member in enumerate(serial.members):
         body = member.body
-        if not (isinstance(body, ast.Wait) and isinstance(body.event, ast.EventReference)
-                and len(body.event.path) == 1):
+        if not (
+            isinstance(body, ast.Wait)
+            and isinstance(body.event, ast.EventReference)
+            and len(body.event.path) == 1
+        ):
             continue
         name = body.event.path[0].text
         emitters = emits.get(name, [])
         if not emitters:
             continue
-        later = {id(n) for m in serial.members[i + 1:] for n in walk(m)}
+        later = {id(n) for m in serial.members[i + 1 :] for n in walk(m)}
         if all(id(e) in later for e in emitters):
             found.append(messages.wait_blocks_emitter(body.span, name, emitters[0].span))
 
@@ -110,8 +118,7 @@ def _composition(model: Model, comp: ast.Composition, found) -> None:
         if not isinstance(inv, ast.Invocation) or not isinstance(inv.actor, ast.NameRef):
             continue
         behavior = model.references.get(inv.name)
-        if behavior is None or not any(a.name == _MOVEMENT_BASE
-                                       for a in model.ancestors(behavior)):
+        if behavior is None or not any(a.name == _MOVEMENT_BASE for a in model.ancestors(behavior)):
             continue
         actor = inv.actor.name.name.text
         if actor in seen:
@@ -121,7 +128,7 @@ def _composition(model: Model, comp: ast.Composition, found) -> None:
 
 
 def _duration(value: ast.Node, found) -> None:
-    for node in ([value.low, value.high] if isinstance(value, ast.RangeLiteral) else [value]):
+    for node in [value.low, value.high] if isinstance(value, ast.RangeLiteral) else [value]:
         number = _number(node)
         if number is not None and number < 0:
             found.append(messages.negative_duration(node.span, _written(node)))
@@ -163,8 +170,9 @@ def _fold_bool(expr: ast.Node) -> bool | None:
             if a is None or b is None or a[1] != b[1]:
                 return None
             x, y = a[0], b[0]
-            return {"<": x < y, "<=": x <= y, ">": x > y, ">=": x >= y, "==": x == y,
-                    "!=": x != y}[op]
+            return {"<": x < y, "<=": x <= y, ">": x > y, ">=": x >= y, "==": x == y, "!=": x != y}[
+                op
+            ]
         case ast.Binary(op="and"):
             a, b = _fold_bool(expr.left), _fold_bool(expr.right)
             if a is False or b is False:

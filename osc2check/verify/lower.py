@@ -74,8 +74,7 @@ class Lowerer:
         # (path, field, declaration, scope, where its default goes in the constraint list,
         # the body it is written in)
         self.pending_defaults: list[tuple[str, Symbol, ast.FieldDecl, Scope, int, str]] = []
-        self.member_decls = member_decls if member_decls is not None else \
-            member_declarations(model)
+        self.member_decls = member_decls if member_decls is not None else member_declarations(model)
         self.kinds = self.member_decls.kinds  # shared by the scenarios of a model
         self.depth = 0
         self.active: list[Symbol] = []
@@ -91,8 +90,12 @@ class Lowerer:
             if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE):
                 continue
             t = param.type
-            if t is not None and t.kind is T.Kind.COMPOUND and t.symbol is not None and \
-                    t.symbol.kind is SymbolKind.ACTOR:
+            if (
+                t is not None
+                and t.kind is T.Kind.COMPOUND
+                and t.symbol is not None
+                and t.symbol.kind is SymbolKind.ACTOR
+            ):
                 self._compound(param.name, t.symbol)
                 for sub in self.model.parameters(t.symbol):
                     self._scalar_var(_join(param.name, sub.name), sub)
@@ -144,18 +147,28 @@ class Lowerer:
                 continue
             path = _join(scope.prefix, name.text)
             type_symbol = _type_symbol(sym)
-            if decl.with_members and type_symbol is not None and \
-                    type_symbol.kind is SymbolKind.ACTOR:
+            if (
+                decl.with_members
+                and type_symbol is not None
+                and type_symbol.kind is SymbolKind.ACTOR
+            ):
                 # the type's own constraints come first: the instance's `with:` block is
                 # more specific, so its defaults override the type's (see attach_defaults)
                 self._compound(path, type_symbol)
             if decl.default is not None:
-                self.pending_defaults.append((path, sym, decl, scope,
-                                              len(self.problem.constraints),
-                                              self._origin(scope)))
+                self.pending_defaults.append(
+                    (path, sym, decl, scope, len(self.problem.constraints), self._origin(scope))
+                )
             if decl.with_members:
-                inner = Scope(scope.prefix, scope.owner, path, _type_symbol(sym),
-                              scope.actor, dict(scope.locals), it_field=sym)
+                inner = Scope(
+                    scope.prefix,
+                    scope.owner,
+                    path,
+                    _type_symbol(sym),
+                    scope.actor,
+                    dict(scope.locals),
+                    it_field=sym,
+                )
                 for item in decl.with_members:
                     if isinstance(item, ast.KeepConstraint):
                         self._keep(item, inner, "keep")
@@ -184,10 +197,20 @@ class Lowerer:
                 continue
             strength = "hard" if decl.is_var else "default"
             span = _up_to(decl.span, decl.default.span)
-            placed.append((at, ir.Constraint(
-                ir.op("==", ir.Ref(var), value), span, "declaration",
-                self.text_of(span), strength, var if strength == "default" else None,
-                origin=origin)))
+            placed.append(
+                (
+                    at,
+                    ir.Constraint(
+                        ir.op("==", ir.Ref(var), value),
+                        span,
+                        "declaration",
+                        self.text_of(span),
+                        strength,
+                        var if strength == "default" else None,
+                        origin=origin,
+                    ),
+                )
+            )
         for at, constraint in sorted(placed, key=lambda p: p[0], reverse=True):
             self.problem.constraints.insert(at, constraint)
 
@@ -207,8 +230,17 @@ class Lowerer:
         subject = self._subject(keep.expr, scope)
         strength = "default" if keep.strength == "default" else "hard"
         kind = "default" if strength == "default" else kind
-        self.problem.add(ir.Constraint(term, keep.span, kind, self.text_of(keep.span),
-                                       strength, subject, origin=self._origin(scope)))
+        self.problem.add(
+            ir.Constraint(
+                term,
+                keep.span,
+                kind,
+                self.text_of(keep.span),
+                strength,
+                subject,
+                origin=self._origin(scope),
+            )
+        )
 
     def _subject(self, expr: ast.Node, scope: Scope) -> ir.Var | None:
         """The parameter alone on the left of `==` or `in` (the override rule's form)."""
@@ -238,11 +270,11 @@ class Lowerer:
             return
         actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
         name = label.text if label is not None else f"{behavior.name}@{inv.span.line}"
-        path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix,
-                                                                                 name)
+        path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix, name)
         body = Scope(path, behavior, path, behavior, actor_path)  # the behaviour's own members
-        inner = Scope(scope.prefix, scope.owner, path, behavior, scope.actor,
-                      dict(scope.locals))  # its `with:` block: `it` is the behaviour
+        inner = Scope(
+            scope.prefix, scope.owner, path, behavior, scope.actor, dict(scope.locals)
+        )  # its `with:` block: `it` is the behaviour
         self._arguments(behavior, inv.arguments, path, scope, "argument")
         if self.depth <= MAX_DEPTH and not behavior.library:
             self.instances[path] = behavior
@@ -286,8 +318,9 @@ class Lowerer:
             written = self.text_of(arg.span)
             if isinstance(arg, ast.PositionalArgument):
                 written = f"{param.name}: {written}"
-            self.problem.add(ir.Constraint(term, arg.span, kind, f"{callee.name}({written})",
-                                           "hard", var))
+            self.problem.add(
+                ir.Constraint(term, arg.span, kind, f"{callee.name}({written})", "hard", var)
+            )
 
     def _membership(self, var: ir.Var, value: ast.Node, scope: Scope) -> ir.Term:
         """``var == value`` (an argument is a constraint), or ``var in value`` for a range."""
@@ -312,12 +345,23 @@ class Lowerer:
             lo, hi, values = domain
             ref = ir.Ref(var)
             if values is None:
-                term = ir.op(">=", ref, lo) if hi is None else \
-                    ir.op("and", ir.op(">=", ref, lo), ir.op("<=", ref, hi))
+                term = (
+                    ir.op(">=", ref, lo)
+                    if hi is None
+                    else ir.op("and", ir.op(">=", ref, lo), ir.op("<=", ref, hi))
+                )
             else:
                 term = ir.op("or", *(ir.op("==", ref, v) for v in values))
-            self.problem.add(ir.Constraint(term, sym.name_span or self.problem.span, "domain",
-                                           text, "hard", explanation=text))
+            self.problem.add(
+                ir.Constraint(
+                    term,
+                    sym.name_span or self.problem.span,
+                    "domain",
+                    text,
+                    "hard",
+                    explanation=text,
+                )
+            )
         return var
 
     def _kind(self, sym: Symbol):
@@ -378,8 +422,11 @@ class Lowerer:
             case ast.MemberAccess():
                 base = self._path(expr.target, scope)
                 sym = self.model.references.get(expr.member)
-                if base is None or sym is None or sym.kind not in (SymbolKind.FIELD,
-                                                                    SymbolKind.VARIABLE):
+                if (
+                    base is None
+                    or sym is None
+                    or sym.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE)
+                ):
                     return None
                 if base not in self.instances:
                     target_type = self.model.expr_types.get(expr.target)
@@ -390,8 +437,10 @@ class Lowerer:
 
     def _member_path(self, scope: Scope, sym: Symbol) -> str:
         """Path of field ``sym`` seen from ``scope``: a member of `it`'s type or of the owner."""
-        if scope.it is not None and scope.it_symbol is not None and any(
-            a is sym.owner for a in self.model.ancestors(scope.it_symbol)
+        if (
+            scope.it is not None
+            and scope.it_symbol is not None
+            and any(a is sym.owner for a in self.model.ancestors(scope.it_symbol))
         ):
             return _join(scope.it, sym.name)
         return _join(scope.prefix, sym.name)
@@ -445,7 +494,8 @@ class Lowerer:
                 return ir.const(member.value)
             case ast.NameRef() | ast.MemberAccess():
                 target = self.model.references.get(
-                    expr.name.name if isinstance(expr, ast.NameRef) else expr.member)
+                    expr.name.name if isinstance(expr, ast.NameRef) else expr.member
+                )
                 if target is not None and target.kind is SymbolKind.ENUM_MEMBER:
                     return ir.const(target.value)
                 path = self._path(expr, scope)
@@ -460,8 +510,12 @@ class Lowerer:
             case ast.Binary():
                 return self._binary(expr, scope)
             case ast.Ternary():
-                return ir.op("ite", self._term(expr.condition, scope),
-                             self._term(expr.then, scope), self._term(expr.otherwise, scope))
+                return ir.op(
+                    "ite",
+                    self._term(expr.condition, scope),
+                    self._term(expr.then, scope),
+                    self._term(expr.otherwise, scope),
+                )
         raise NotEncodable(f"`{self.text_of(expr.span)}` cannot be solved for")
 
     def _binary(self, expr: ast.Binary, scope: Scope) -> ir.Term:
@@ -470,8 +524,9 @@ class Lowerer:
             if isinstance(expr.right, ast.RangeLiteral):
                 return self._in_range(left, expr.right, scope)
             if isinstance(expr.right, ast.ListLiteral):
-                return ir.op("or", *(ir.op("==", left, self._term(i, scope))
-                                     for i in expr.right.items))
+                return ir.op(
+                    "or", *(ir.op("==", left, self._term(i, scope)) for i in expr.right.items)
+                )
             raise NotEncodable("`in` needs a range or a list written in place")
         left = self._term(expr.left, scope)
         right = self._term(expr.right, scope)
@@ -499,15 +554,22 @@ def in_range(target: ir.Term, low: ir.Term, high: ir.Term) -> ir.Term:
         if low.value > high.value:
             low, high = high, low
         return ir.op("and", ir.op(">=", target, low), ir.op("<=", target, high))
-    return ir.op("or", ir.op("and", ir.op(">=", target, low), ir.op("<=", target, high)),
-                 ir.op("and", ir.op(">=", target, high), ir.op("<=", target, low)))
+    return ir.op(
+        "or",
+        ir.op("and", ir.op(">=", target, low), ir.op("<=", target, high)),
+        ir.op("and", ir.op(">=", target, high), ir.op("<=", target, low)),
+    )
 
 
 def coerce(var: ir.Var, value: ir.Term) -> ir.Term:
     """A value given to an integer parameter loses its fraction (T204 says so), as in
     the runner: ``lane(1.5)`` is lane 1. Only constants are converted."""
-    if var.sort == "int" and isinstance(value, ir.Const) and \
-            not isinstance(value.value, bool) and value.value.denominator != 1:
+    if (
+        var.sort == "int"
+        and isinstance(value, ir.Const)
+        and not isinstance(value.value, bool)
+        and value.value.denominator != 1
+    ):
         return ir.const(math.trunc(value.value))
     return value
 
@@ -518,8 +580,9 @@ def call_span(inv: ast.Invocation) -> Span:
     last = inv.arguments[-1].span if inv.arguments else inv.name.span
     if last.uri != span.uri or last.end < span.start:
         return span
-    return Span(span.uri, span.line, span.column, last.end_line, last.end_column, span.start,
-                last.end)
+    return Span(
+        span.uri, span.line, span.column, last.end_line, last.end_column, span.start, last.end
+    )
 
 
 def _up_to(decl: Span, default: Span) -> Span:
@@ -527,18 +590,31 @@ def _up_to(decl: Span, default: Span) -> Span:
     `with:` block)."""
     if decl.uri != default.uri:
         return decl
-    return Span(decl.uri, decl.line, decl.column, default.end_line, default.end_column,
-                decl.start, default.end)
+    return Span(
+        decl.uri,
+        decl.line,
+        decl.column,
+        default.end_line,
+        default.end_column,
+        decl.start,
+        default.end,
+    )
 
 
 def _scalar(t: T.Type | None) -> bool:
-    return t is not None and t.kind in (T.Kind.PHYSICAL, T.Kind.FLOAT, T.Kind.INT, T.Kind.UINT,
-                                        T.Kind.BOOL, T.Kind.ENUM, T.Kind.STRING)
+    return t is not None and t.kind in (
+        T.Kind.PHYSICAL,
+        T.Kind.FLOAT,
+        T.Kind.INT,
+        T.Kind.UINT,
+        T.Kind.BOOL,
+        T.Kind.ENUM,
+        T.Kind.STRING,
+    )
 
 
 def _type_symbol(sym: Symbol) -> Symbol | None:
-    return sym.type.symbol if sym.type is not None and sym.type.kind is T.Kind.COMPOUND \
-        else None
+    return sym.type.symbol if sym.type is not None and sym.type.kind is T.Kind.COMPOUND else None
 
 
 class Declarations(dict):
@@ -567,8 +643,9 @@ def member_declarations(model: Model) -> Declarations:
     return result
 
 
-def lower_scenario(model: Model, scenario: Symbol, text_of,
-                   default_map: str = "default", member_decls=None) -> ir.Problem:
+def lower_scenario(
+    model: Model, scenario: Symbol, text_of, default_map: str = "default", member_decls=None
+) -> ir.Problem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 
     ``member_decls`` (from ``member_declarations(model)``) can be shared by the

@@ -56,12 +56,29 @@ from osc2check.syntax import ast
 from osc2check.vehicles import Footprint, category_of_model, footprint
 from osc2check.verify import ir
 
-INSTANT_ACTIONS = frozenset({  # actions that set a state and take no time
-    "assign_position", "assign_speed", "assign_orientation", "assign_acceleration",
-    "set_lights", "set_road_friction",
-    "air", "rain", "snow", "wind", "fog", "clouds", "assign_celestial_position",
-    "set_bulb_state", "set_state", "set_semantic_state", "set_group_bulb_state",
-    "set_group_state", "set_group_semantic_state"})
+INSTANT_ACTIONS = frozenset(
+    {  # actions that set a state and take no time
+        "assign_position",
+        "assign_speed",
+        "assign_orientation",
+        "assign_acceleration",
+        "set_lights",
+        "set_road_friction",
+        "air",
+        "rain",
+        "snow",
+        "wind",
+        "fog",
+        "clouds",
+        "assign_celestial_position",
+        "set_bulb_state",
+        "set_state",
+        "set_semantic_state",
+        "set_group_bulb_state",
+        "set_group_state",
+        "set_group_semantic_state",
+    }
+)
 _KINDS = ("vehicle", "person", "animal", "stationary_object")
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 
@@ -115,8 +132,13 @@ def _constants(problem: ir.Problem) -> dict[str, tuple[Fraction | bool, ir.Const
     found: dict[str, tuple[Fraction | bool, ir.Constraint]] = {}
     for c in problem.constraints:
         t = c.term
-        if c.strength == "hard" and isinstance(t, ir.Op) and t.op == "==" and \
-                isinstance(t.args[0], ir.Ref) and isinstance(t.args[1], ir.Const):
+        if (
+            c.strength == "hard"
+            and isinstance(t, ir.Op)
+            and t.op == "=="
+            and isinstance(t.args[0], ir.Ref)
+            and isinstance(t.args[1], ir.Const)
+        ):
             found.setdefault(t.args[0].var.name, (t.args[1].value, c))
     return found
 
@@ -147,9 +169,11 @@ class PlacementLowerer:
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
 
     def lower(self) -> Placement | None:
-        actors = [(p, _kind(self.model, p.type.symbol if p.type else None))
-                  for p in self.model.parameters(self.scenario)
-                  if p.type is not None and p.type.kind is T.Kind.COMPOUND]
+        actors = [
+            (p, _kind(self.model, p.type.symbol if p.type else None))
+            for p in self.model.parameters(self.scenario)
+            if p.type is not None and p.type.kind is T.Kind.COMPOUND
+        ]
         actors = [(p, k) for p, k in actors if k is not None]
         if not actors:
             return None
@@ -164,30 +188,43 @@ class PlacementLowerer:
         for inv in starts:  # which modifier kinds each actor gets `at: start`
             actor = inv.actor.name.name.text if isinstance(inv.actor, ast.NameRef) else None
             for item in inv.with_members:
-                if isinstance(item, ast.Invocation) and \
-                        _word(self._args(item).get("at")) == "start":
+                if (
+                    isinstance(item, ast.Invocation)
+                    and _word(self._args(item).get("at")) == "start"
+                ):
                     self.explicit.add((actor, item.name.text))
         for inv in starts:
             self._modifiers(inv, placement, first)
         for inv in self.alternatives:
-            actor = placement.actors.get(inv.actor.name.name.text) \
-                if isinstance(inv.actor, ast.NameRef) else None
-            if actor is not None and any(isinstance(m, ast.Invocation) and
-                                         m.name.text in _POSITIONING
-                                         for m in inv.with_members):
+            actor = (
+                placement.actors.get(inv.actor.name.name.text)
+                if isinstance(inv.actor, ast.NameRef)
+                else None
+            )
+            if actor is not None and any(
+                isinstance(m, ast.Invocation) and m.name.text in _POSITIONING
+                for m in inv.with_members
+            ):
                 actor.placed = True
         self._phase_limits(placement)
         for actor in placement.actors.values():
             if actor.name not in self.lateral:
-                self._implicit(ir.op("==", ir.Ref(actor.t), ir.const(0)), actor.span,
-                               "lane-centre", f"`{actor.name}` starts on its lane centre "
-                               "(no `lateral(..., at: start)`)")
+                self._implicit(
+                    ir.op("==", ir.Ref(actor.t), ir.const(0)),
+                    actor.span,
+                    "lane-centre",
+                    f"`{actor.name}` starts on its lane centre (no `lateral(..., at: start)`)",
+                )
             if actor.name not in self.moving:
-                self._implicit(ir.op("==", ir.Ref(actor.speed), ir.const(0)), actor.span,
-                               "at-rest", f"`{actor.name}` starts at rest (no `speed(..., at: "
-                               "start)`)")
-            if actor.name in self.lateral or \
-                    actor.footprint.width > Fraction(placement.road.lane_width):
+                self._implicit(
+                    ir.op("==", ir.Ref(actor.speed), ir.const(0)),
+                    actor.span,
+                    "at-rest",
+                    f"`{actor.name}` starts at rest (no `speed(..., at: start)`)",
+                )
+            if actor.name in self.lateral or actor.footprint.width > Fraction(
+                placement.road.lane_width
+            ):
                 self._on_road(actor, placement.road)  # else its lane keeps it on the road
         self._no_overlap(placement)
         return placement
@@ -229,21 +266,35 @@ class PlacementLowerer:
         span = param.name_span or self.problem.span
         p = self.problem
         actor = PlacedActor(
-            param.name, kind, fp, span,
+            param.name,
+            kind,
+            fp,
+            span,
             p.var(f"{param.name}@start.lane", "int", span=span),
             p.var(f"{param.name}@start.s", "real", unit="m", span=span),
             p.var(f"{param.name}@start.t", "real", unit="m", span=span),
-            p.var(f"{param.name}@start.speed", "real", unit="kph",
-                  unit_factor=Fraction(5, 18), span=span),
+            p.var(
+                f"{param.name}@start.speed",
+                "real",
+                unit="kph",
+                unit_factor=Fraction(5, 18),
+                span=span,
+            ),
         )
         s = ir.Ref(actor.s)
         half = fp.length / 2
         self._lane_range(actor, road)
-        self._implicit(ir.op("and", ir.op(">=", s, ir.const(half)),
-                             ir.op("<=", s, ir.const(Fraction(road.length) - half))), span,
-                       "road-extent",
-                       f"`{param.name}` ({float(fp.length):g} m long) stands on the "
-                       f"{road.length:g} m road `{road.name}`")
+        self._implicit(
+            ir.op(
+                "and",
+                ir.op(">=", s, ir.const(half)),
+                ir.op("<=", s, ir.const(Fraction(road.length) - half)),
+            ),
+            span,
+            "road-extent",
+            f"`{param.name}` ({float(fp.length):g} m long) stands on the "
+            f"{road.length:g} m road `{road.name}`",
+        )
         self._speed_range(actor)
         return actor
 
@@ -251,32 +302,49 @@ class PlacementLowerer:
         """The actor's sides stay on the road (with its lateral offset)."""
         width = Fraction(road.lane_width)
         fp = actor.footprint
-        across = ir.op("+", ir.op("*", ir.const(width),
-                                  ir.op("-", ir.Ref(actor.lane), ir.const(Fraction(1, 2)))),
-                       ir.Ref(actor.t))  # the centre's distance from the right edge
-        self._implicit(ir.op("and", ir.op(">=", across, ir.const(fp.width / 2)),
-                             ir.op("<=", across, ir.const(width * road.lane_count -
-                                                          fp.width / 2))), actor.span,
-                       "road-extent", f"`{actor.name}` ({float(fp.width):g} m wide) stays on "
-                       f"the road's {road.lane_count} lanes of {road.lane_width:g} m")
+        across = ir.op(
+            "+",
+            ir.op("*", ir.const(width), ir.op("-", ir.Ref(actor.lane), ir.const(Fraction(1, 2)))),
+            ir.Ref(actor.t),
+        )  # the centre's distance from the right edge
+        self._implicit(
+            ir.op(
+                "and",
+                ir.op(">=", across, ir.const(fp.width / 2)),
+                ir.op("<=", across, ir.const(width * road.lane_count - fp.width / 2)),
+            ),
+            actor.span,
+            "road-extent",
+            f"`{actor.name}` ({float(fp.width):g} m wide) stays on "
+            f"the road's {road.lane_count} lanes of {road.lane_width:g} m",
+        )
 
     def _lane_range(self, actor: PlacedActor, road: Road) -> None:
         lane = ir.Ref(actor.lane)
-        self._implicit(ir.op("and", ir.op(">=", lane, ir.const(1)),
-                             ir.op("<=", lane, ir.const(road.lane_count))), actor.span,
-                       "lane-range", f"road `{road.name}` has lanes 1 to {road.lane_count}")
+        self._implicit(
+            ir.op(
+                "and", ir.op(">=", lane, ir.const(1)), ir.op("<=", lane, ir.const(road.lane_count))
+            ),
+            actor.span,
+            "lane-range",
+            f"road `{road.name}` has lanes 1 to {road.lane_count}",
+        )
 
     def _speed_range(self, actor: PlacedActor) -> None:
         fp = actor.footprint
         v = ir.Ref(actor.speed)
         top = float(fp.max_speed) * 3.6
-        self._implicit(ir.op("and", ir.op(">=", v, ir.const(0)),
-                             ir.op("<=", v, ir.const(fp.max_speed))), actor.span, "max-speed",
-                       f"a {fp.category} goes at most {top:g} kph")
+        self._implicit(
+            ir.op("and", ir.op(">=", v, ir.const(0)), ir.op("<=", v, ir.const(fp.max_speed))),
+            actor.span,
+            "max-speed",
+            f"a {fp.category} goes at most {top:g} kph",
+        )
 
     def _implicit(self, term: ir.Term, span: Span, rule: str, text: str) -> None:
-        self.problem.add(ir.Constraint(term, span, "placement", text, "hard", rule=rule,
-                                       explanation=text))
+        self.problem.add(
+            ir.Constraint(term, span, "placement", text, "hard", rule=rule, explanation=text)
+        )
 
     # ---- the invocations that begin at time 0 ------------------------------------------
 
@@ -333,8 +401,14 @@ class PlacementLowerer:
                 continue
             args = self._args(item)
             at = _word(args.get("at"))
-            if not (at == "start" or (is_first and at in (None, "all") and
-                                      (actor.name, item.name.text) not in self.explicit)):
+            if not (
+                at == "start"
+                or (
+                    is_first
+                    and at in (None, "all")
+                    and (actor.name, item.name.text) not in self.explicit
+                )
+            ):
                 continue
             handler = getattr(self, f"_mod_{item.name.text}", None)
             if handler is not None:
@@ -357,28 +431,40 @@ class PlacementLowerer:
                         continue
                     actor.acts = True
                     for item in inv.with_members:
-                        if isinstance(item, ast.Invocation) and id(item) not in self.applied \
-                                and item.name.text in ("lane", "speed"):
+                        if (
+                            isinstance(item, ast.Invocation)
+                            and id(item) not in self.applied
+                            and item.name.text in ("lane", "speed")
+                        ):
                             self._phase_limit(actor, item, placement)
 
-    def _phase_limit(self, actor: PlacedActor, item: ast.Invocation,
-                     placement: Placement) -> None:
+    def _phase_limit(self, actor: PlacedActor, item: ast.Invocation, placement: Placement) -> None:
         args = self._args(item)
         name = item.name.text
-        if name == "lane" and "lane" in args and not any(
-                k in args for k in ("same_as", "side_of", "left_of", "right_of")):
-            lane = self.problem.var(f"{actor.name}@{item.span.line}.lane", "int",
-                                    span=actor.span)
+        if (
+            name == "lane"
+            and "lane" in args
+            and not any(k in args for k in ("same_as", "side_of", "left_of", "right_of"))
+        ):
+            lane = self.problem.var(f"{actor.name}@{item.span.line}.lane", "int", span=actor.span)
             saved, actor.lane = actor.lane, lane
             try:
                 self._lane_range(actor, placement.road)
                 self._mod_lane(actor, args, item, placement)
             finally:
                 actor.lane = saved
-        elif name == "speed" and "speed" in args and not any(
-                k in args for k in ("faster_than", "slower_than", "same_as")):
-            speed = self.problem.var(f"{actor.name}@{item.span.line}.speed", "real",
-                                     unit="kph", unit_factor=Fraction(5, 18), span=actor.span)
+        elif (
+            name == "speed"
+            and "speed" in args
+            and not any(k in args for k in ("faster_than", "slower_than", "same_as"))
+        ):
+            speed = self.problem.var(
+                f"{actor.name}@{item.span.line}.speed",
+                "real",
+                unit="kph",
+                unit_factor=Fraction(5, 18),
+                span=actor.span,
+            )
             saved, actor.speed = actor.speed, speed
             try:
                 self._speed_range(actor)
@@ -413,8 +499,9 @@ class PlacementLowerer:
             self.problem.skipped.append((node.span, str(reason)))
             return None
 
-    def _reference(self, node: ast.Node | None, actor: PlacedActor, placement: Placement,
-                   span: Span) -> PlacedActor | None:
+    def _reference(
+        self, node: ast.Node | None, actor: PlacedActor, placement: Placement, span: Span
+    ) -> PlacedActor | None:
         if not isinstance(node, ast.NameRef):
             return None
         name = node.name.name.text
@@ -435,8 +522,11 @@ class PlacementLowerer:
         lane = ir.Ref(actor.lane)
         from osc2check.verify.lower import coerce
 
-        count = coerce(actor.lane, self._value(args["lane"])) if "lane" in args and \
-            not isinstance(args["lane"], ast.RangeLiteral) else None
+        count = (
+            coerce(actor.lane, self._value(args["lane"]))
+            if "lane" in args and not isinstance(args["lane"], ast.RangeLiteral)
+            else None
+        )
         for key, sign in (("side_of", None), ("left_of", 1), ("right_of", -1)):
             if key not in args:
                 continue
@@ -466,8 +556,9 @@ class PlacementLowerer:
             low, high = self._value(node.low), self._value(node.high)
             if low is None or high is None:
                 return
-            low, high = (_internal_lane(coerce(actor.lane, b), road, numbering)
-                         for b in (low, high))
+            low, high = (
+                _internal_lane(coerce(actor.lane, b), road, numbering) for b in (low, high)
+            )
             from osc2check.verify.lower import in_range
 
             self._require(in_range(lane, low, high), item)
@@ -477,10 +568,12 @@ class PlacementLowerer:
     def _mod_position(self, actor, args, item, placement) -> None:
         s = ir.Ref(actor.s)
         gap = None
-        reference_key = "behind" if "behind" in args else "ahead_of" if "ahead_of" in args \
+        reference_key = "behind" if "behind" in args else "ahead_of" if "ahead_of" in args else None
+        other = (
+            self._reference(args.get(reference_key), actor, placement, item.span)
+            if reference_key
             else None
-        other = self._reference(args.get(reference_key), actor, placement, item.span) \
-            if reference_key else None
+        )
         if "distance" in args:
             gap = self._value(args["distance"])
         elif "time" in args and other is not None:
@@ -495,13 +588,23 @@ class PlacementLowerer:
             return
         half = ir.const((actor.footprint.length + other.footprint.length) / 2)
         distance = ir.op("+", half, gap)
-        target = ir.op("-", ir.Ref(other.s), distance) if reference_key == "behind" else \
-            ir.op("+", ir.Ref(other.s), distance)
+        target = (
+            ir.op("-", ir.Ref(other.s), distance)
+            if reference_key == "behind"
+            else ir.op("+", ir.Ref(other.s), distance)
+        )
         self._require(ir.op("==", s, target), item)
         follower = actor if reference_key == "behind" else other
-        placement.gaps.append(Gap(follower.name, (other if follower is actor else actor).name,
-                                  gap, ir.Ref(follower.speed), item.span,
-                                  self.lw.text_of(item.span)))
+        placement.gaps.append(
+            Gap(
+                follower.name,
+                (other if follower is actor else actor).name,
+                gap,
+                ir.Ref(follower.speed),
+                item.span,
+                self.lw.text_of(item.span),
+            )
+        )
 
     def _mod_speed(self, actor, args, item, placement) -> None:
         self.moving.add(actor.name)
@@ -522,8 +625,11 @@ class PlacementLowerer:
                     if factor is None:
                         return
                     base = ir.op("*", factor, base)
-                target = base if sign == 0 and node is None else ir.op(
-                    "+" if sign >= 0 else "-", base, delta)
+                target = (
+                    base
+                    if sign == 0 and node is None
+                    else ir.op("+" if sign >= 0 else "-", base, delta)
+                )
                 self._require(ir.op("==", v, target), item)
                 return
         if node is None:
@@ -554,17 +660,24 @@ class PlacementLowerer:
         fixed = self._fixed_lanes(placement)
         names = list(placement.actors)
         for i, a_name in enumerate(names):
-            for b_name in names[i + 1:]:
+            for b_name in names[i + 1 :]:
                 if a_name in fixed and b_name in fixed and fixed[a_name] != fixed[b_name]:
                     continue  # never in the same lane
                 a, b = placement.actors[a_name], placement.actors[b_name]
                 need = ir.const((a.footprint.length + b.footprint.length) / 2)
                 sa, sb = ir.Ref(a.s), ir.Ref(b.s)
-                term = ir.op("or", ir.op("!=", ir.Ref(a.lane), ir.Ref(b.lane)),
-                             ir.op(">=", ir.op("-", sa, sb), need),
-                             ir.op(">=", ir.op("-", sb, sa), need))
-                self._implicit(term, a.span, "overlap",
-                               f"`{a_name}` and `{b_name}` do not overlap at the start")
+                term = ir.op(
+                    "or",
+                    ir.op("!=", ir.Ref(a.lane), ir.Ref(b.lane)),
+                    ir.op(">=", ir.op("-", sa, sb), need),
+                    ir.op(">=", ir.op("-", sb, sa), need),
+                )
+                self._implicit(
+                    term,
+                    a.span,
+                    "overlap",
+                    f"`{a_name}` and `{b_name}` do not overlap at the start",
+                )
 
     def _fixed_lanes(self, placement: Placement) -> dict[str, Fraction]:
         """The start lanes that the lane modifiers fix: `lane(2)`, and `lane(same_as: b)` or
@@ -584,8 +697,7 @@ class PlacementLowerer:
                         form = dict(left[0])
                         for v, k in right[0].items():
                             form[v] = form.get(v, Fraction(0)) - k
-                        equations.append(({v: k for v, k in form.items() if k},
-                                          left[1] - right[1]))
+                        equations.append(({v: k for v, k in form.items() if k}, left[1] - right[1]))
         known: dict[str, Fraction] = {}
         changed = True
         while changed:

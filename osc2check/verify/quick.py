@@ -88,8 +88,7 @@ def evaluate(term: ir.Term, values: dict[str, Fraction | bool]):
     if op == "=>":
         return (not evaluate(args[0], values)) or bool(evaluate(args[1], values))
     if op == "ite":
-        return evaluate(args[1], values) if evaluate(args[0], values) else \
-            evaluate(args[2], values)
+        return evaluate(args[1], values) if evaluate(args[0], values) else evaluate(args[2], values)
     if op == "neg":
         return -evaluate(args[0], values)
     a = evaluate(args[0], values)
@@ -143,22 +142,38 @@ def _conjuncts(term: ir.Term, out: list[ir.Term]) -> None:
 def _atom(term: ir.Term) -> _Atom:
     if isinstance(term, ir.Op) and term.op in _FLIP:  # the common `x op constant`
         left, right = term.args
-        if isinstance(left, ir.Ref) and isinstance(right, ir.Const) and \
-                left.var.sort != "bool" and not isinstance(right.value, bool):
+        if (
+            isinstance(left, ir.Ref)
+            and isinstance(right, ir.Const)
+            and left.var.sort != "bool"
+            and not isinstance(right.value, bool)
+        ):
             name = left.var.name
-            return _Atom("eq" if term.op == "==" else "cmp", (name,),
-                         form=({name: _ONE}, -right.value), op=term.op)
+            return _Atom(
+                "eq" if term.op == "==" else "cmp",
+                (name,),
+                form=({name: _ONE}, -right.value),
+                op=term.op,
+            )
     names = tuple(sorted(ir.names(term)))
     if isinstance(term, ir.Ref) and term.var.sort == "bool":
         return _Atom("bool", names, var=term.var.name, values=(True,))
     if isinstance(term, ir.Op):
-        if term.op == "not" and isinstance(term.args[0], ir.Ref) and \
-                term.args[0].var.sort == "bool":
+        if (
+            term.op == "not"
+            and isinstance(term.args[0], ir.Ref)
+            and term.args[0].var.sort == "bool"
+        ):
             return _Atom("bool", names, var=term.args[0].var.name, values=(False,))
         if term.op in _FLIP:
             left, right = term.args
-            if term.op == "==" and isinstance(left, ir.Ref) and left.var.sort == "bool" and \
-                    isinstance(right, ir.Const) and isinstance(right.value, bool):
+            if (
+                term.op == "=="
+                and isinstance(left, ir.Ref)
+                and left.var.sort == "bool"
+                and isinstance(right, ir.Const)
+                and isinstance(right.value, bool)
+            ):
                 return _Atom("bool", names, var=left.var.name, values=(right.value,))
             a, b = linear(left), linear(right)
             if a is not None and b is not None:
@@ -166,13 +181,21 @@ def _atom(term: ir.Term) -> _Atom:
                 for v, c in b[0].items():
                     form[v] = form.get(v, _ZERO) - c
                 form = {v: c for v, c in form.items() if c}
-                return _Atom("eq" if term.op == "==" else "cmp", tuple(sorted(form)),
-                             form=(form, a[1] - b[1]), op=term.op)
+                return _Atom(
+                    "eq" if term.op == "==" else "cmp",
+                    tuple(sorted(form)),
+                    form=(form, a[1] - b[1]),
+                    op=term.op,
+                )
         if term.op == "or" and names and len(names) == 1:
             values = []
             for alt in term.args:
-                if not (isinstance(alt, ir.Op) and alt.op == "==" and
-                        isinstance(alt.args[0], ir.Ref) and isinstance(alt.args[1], ir.Const)):
+                if not (
+                    isinstance(alt, ir.Op)
+                    and alt.op == "=="
+                    and isinstance(alt.args[0], ir.Ref)
+                    and isinstance(alt.args[1], ir.Const)
+                ):
                     break
                 values.append(alt.args[1].value)
             else:
@@ -215,8 +238,9 @@ class Prepared:
                 self.by_var[name].append(a)
 
 
-def find_model(variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared,
-               rng: random.Random | None = None) -> dict[str, Fraction | bool] | None:
+def find_model(
+    variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared, rng: random.Random | None = None
+) -> dict[str, Fraction | bool] | None:
     """A model of the conjunction of ``terms``, or None when none is found easily.
 
     Without ``rng`` the choices are fixed (points spread over each variable's bounds in
@@ -225,8 +249,12 @@ def find_model(variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared,
     ``terms`` may be a ``Prepared`` set, to draw many models of one set.
     """
     prepared = terms if isinstance(terms, Prepared) else Prepared(terms)
-    conjuncts, atoms, by_var, order = (prepared.conjuncts, prepared.atoms, prepared.by_var,
-                                       prepared.order)
+    conjuncts, atoms, by_var, order = (
+        prepared.conjuncts,
+        prepared.atoms,
+        prepared.by_var,
+        prepared.order,
+    )
     for a in atoms:
         a.unknown = len(a.names)
     values: dict[str, Fraction | bool] = {}
@@ -237,8 +265,11 @@ def find_model(variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared,
 
     def assign(name: str, value) -> bool:
         var = variables.get(name)
-        if var is not None and var.sort == "int" and \
-                (isinstance(value, bool) or Fraction(value).denominator != 1):
+        if (
+            var is not None
+            and var.sort == "int"
+            and (isinstance(value, bool) or Fraction(value).denominator != 1)
+        ):
             return False
         values[name] = value
         for a in by_var[name]:
@@ -270,8 +301,7 @@ def find_model(variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared,
         if next_pick >= len(order):
             break
         name = order[next_pick]
-        where = _spread(picks) if rng is None else \
-            Fraction(rng.randint(1, 999_999), 1_000_000)
+        where = _spread(picks) if rng is None else Fraction(rng.randint(1, 999_999), 1_000_000)
         value = _choose(variables.get(name), name, by_var[name], values, where, rng)
         picks += 1
         if value is None or not assign(name, value):
@@ -284,8 +314,14 @@ def find_model(variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared,
     return None
 
 
-def _choose(var: ir.Var | None, name: str, atoms: list[_Atom], values, where: Fraction,
-            rng: random.Random | None = None):
+def _choose(
+    var: ir.Var | None,
+    name: str,
+    atoms: list[_Atom],
+    values,
+    where: Fraction,
+    rng: random.Random | None = None,
+):
     """A value for ``name`` inside the bounds its one-variable constraints give."""
     sort = var.sort if var is not None else "real"
     if sort == "bool":
@@ -379,8 +415,10 @@ def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
             value = a.values[0]
         else:
             coeffs, constant = a.form
-            value = -(constant + sum(c * values[v] for v, c in coeffs.items()
-                                     if v != name)) / coeffs[name]
+            value = (
+                -(constant + sum(c * values[v] for v, c in coeffs.items() if v != name))
+                / coeffs[name]
+            )
         values[name] = value
         for other in by_var[name]:
             other.unknown -= 1

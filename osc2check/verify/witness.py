@@ -51,12 +51,21 @@ class ActorStart:
 
     def to_json(self) -> dict:
         return {
-            "name": self.name, "kind": self.kind, "category": self.category,
-            "lane": self.lane, "s_m": float(self.s), "t_m": float(self.t),
-            "x_m": self.x, "y_m": self.y, "heading_rad": self.heading,
-            "speed_mps": float(self.speed), "speed_kph": float(self.speed * Fraction(18, 5)),
-            "s_exact": str(self.s), "speed_exact": str(self.speed),
-            "length_m": float(self.length), "width_m": float(self.width),
+            "name": self.name,
+            "kind": self.kind,
+            "category": self.category,
+            "lane": self.lane,
+            "s_m": float(self.s),
+            "t_m": float(self.t),
+            "x_m": self.x,
+            "y_m": self.y,
+            "heading_rad": self.heading,
+            "speed_mps": float(self.speed),
+            "speed_kph": float(self.speed * Fraction(18, 5)),
+            "s_exact": str(self.s),
+            "speed_exact": str(self.speed),
+            "length_m": float(self.length),
+            "width_m": float(self.width),
             "placed_by_scenario": self.placed,
         }
 
@@ -79,7 +88,9 @@ class Witness:
 
     def to_json(self) -> dict:
         return {
-            "scenario": self.scenario, "seed": self.seed, "map": self.map,
+            "scenario": self.scenario,
+            "seed": self.seed,
+            "map": self.map,
             "lane_numbering": self.lane_numbering,
             "gap_convention": "bumper to bumper",
             "actors": [a.to_json() for a in self.actors],
@@ -89,17 +100,23 @@ class Witness:
 
     def table(self) -> str:
         """A readable table of the start state and the constrained parameters."""
-        lines = [f"witness for scenario `{self.scenario}` (seed {self.seed}, map {self.map}, "
-                 f"lanes numbered {self.lane_numbering.replace('_', ' ')})"]
+        lines = [
+            f"witness for scenario `{self.scenario}` (seed {self.seed}, map {self.map}, "
+            f"lanes numbered {self.lane_numbering.replace('_', ' ')})"
+        ]
         if self.actors:
-            lines.append(f"  {'actor':<14}{'kind':<20}{'lane':>5}{'s (m)':>10}{'t (m)':>8}"
-                         f"{'speed (kph)':>13}")
+            lines.append(
+                f"  {'actor':<14}{'kind':<20}{'lane':>5}{'s (m)':>10}{'t (m)':>8}"
+                f"{'speed (kph)':>13}"
+            )
             for a in self.actors:
                 kind = a.kind if a.kind == a.category else f"{a.kind}/{a.category}"
-                lines.append(f"  {a.name:<14}{kind:<20}{a.lane:>5}"
-                             f"{float(a.s):>10.2f}{float(a.t):>8.2f}"
-                             f"{float(a.speed * Fraction(18, 5)):>13.2f}"
-                             + ("" if a.placed else "   (not placed by the scenario)"))
+                lines.append(
+                    f"  {a.name:<14}{kind:<20}{a.lane:>5}"
+                    f"{float(a.s):>10.2f}{float(a.t):>8.2f}"
+                    f"{float(a.speed * Fraction(18, 5)):>13.2f}"
+                    + ("" if a.placed else "   (not placed by the scenario)")
+                )
         shown = [p for p in self.parameters if p.constrained and "@" not in p.name]
         if shown:
             lines.append("  parameters:")
@@ -133,8 +150,9 @@ def _number(value: Fraction) -> str:
     return f"{float(value):.6g}"
 
 
-def build_witness(problem: ir.Problem, values: dict[str, Fraction | bool], active,
-                  seed: int | None) -> Witness:
+def build_witness(
+    problem: ir.Problem, values: dict[str, Fraction | bool], active, seed: int | None
+) -> Witness:
     """Assemble the witness of ``problem`` from a solver model's ``values``."""
     mentioned: set[str] = set()
     for c in active:
@@ -158,18 +176,33 @@ def build_witness(problem: ir.Problem, values: dict[str, Fraction | bool], activ
             s = Fraction(values.get(a.s.name, Fraction(0)))
             t = Fraction(values.get(a.t.name, Fraction(0)))
             x, y = road.to_xy(float(s), road.lane_center_t(lane) + float(t))
-            actors.append(ActorStart(
-                a.name, a.kind, a.footprint.category, road.to_scenario_lane(lane), s, t, x, y,
-                road.heading,
-                Fraction(values.get(a.speed.name, Fraction(0))), a.footprint.length,
-                a.footprint.width, a.placed))
+            actors.append(
+                ActorStart(
+                    a.name,
+                    a.kind,
+                    a.footprint.category,
+                    road.to_scenario_lane(lane),
+                    s,
+                    t,
+                    x,
+                    y,
+                    road.heading,
+                    Fraction(values.get(a.speed.name, Fraction(0))),
+                    a.footprint.length,
+                    a.footprint.width,
+                    a.placed,
+                )
+            )
         if placement.unknown_map is not None:
             notes.append(f"unknown map `{placement.unknown_map[1]}`: placed on `{road.name}`")
         if placement.unread_map is not None:
-            notes.append(f"OpenDRIVE maps are not read yet: placed on `{road.name}` instead "
-                         f"of `{placement.unread_map}`")
+            notes.append(
+                f"OpenDRIVE maps are not read yet: placed on `{road.name}` instead "
+                f"of `{placement.unread_map}`"
+            )
         map_name, numbering = road.name, road.numbering
     else:
         map_name, numbering = "", "from_right"
-    return Witness(problem.scenario, seed, map_name, numbering, tuple(params), tuple(actors),
-                   tuple(notes))
+    return Witness(
+        problem.scenario, seed, map_name, numbering, tuple(params), tuple(actors), tuple(notes)
+    )

@@ -193,8 +193,13 @@ def _value(expr) -> Fraction | bool:
     return Fraction(0)
 
 
-def check(problem: ir.Problem, *, rlimit: int = DEFAULT_RLIMIT,
-          timeout_ms: int = DEFAULT_TIMEOUT_MS, session: Session | None = None) -> Outcome:
+def check(
+    problem: ir.Problem,
+    *,
+    rlimit: int = DEFAULT_RLIMIT,
+    timeout_ms: int = DEFAULT_TIMEOUT_MS,
+    session: Session | None = None,
+) -> Outcome:
     """Decide the problem: a model by propagation if an easy one exists, else z3.
 
     The values of a satisfiable outcome are a model, but not the seeded sample
@@ -212,19 +217,39 @@ def check(problem: ir.Problem, *, rlimit: int = DEFAULT_RLIMIT,
     return _solve(problem, outcome, active, None, rlimit, timeout_ms, ctx)
 
 
-def solve(problem: ir.Problem, *, seed: int | None = None, rlimit: int = DEFAULT_RLIMIT,
-          timeout_ms: int = DEFAULT_TIMEOUT_MS, ctx=None) -> Outcome:
+def solve(
+    problem: ir.Problem,
+    *,
+    seed: int | None = None,
+    rlimit: int = DEFAULT_RLIMIT,
+    timeout_ms: int = DEFAULT_TIMEOUT_MS,
+    ctx=None,
+) -> Outcome:
     """Check the problem with z3; report conflicts, or a model (a sample picked by
     ``seed``; without a seed, z3's first model)."""
     outcome = Outcome("sat")
     active = active_constraints(problem, outcome)
     outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
-    return _solve(problem, outcome, active, seed, rlimit, timeout_ms,
-                  ctx if ctx is not None else _z3().Context())
+    return _solve(
+        problem,
+        outcome,
+        active,
+        seed,
+        rlimit,
+        timeout_ms,
+        ctx if ctx is not None else _z3().Context(),
+    )
 
 
-def _solve(problem: ir.Problem, outcome: Outcome, active: list[ir.Constraint],
-           seed: int | None, rlimit: int, timeout_ms: int, ctx) -> Outcome:
+def _solve(
+    problem: ir.Problem,
+    outcome: Outcome,
+    active: list[ir.Constraint],
+    seed: int | None,
+    rlimit: int,
+    timeout_ms: int,
+    ctx,
+) -> Outcome:
     z3 = _z3()
     enc = _Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
@@ -258,11 +283,13 @@ def _solve(problem: ir.Problem, outcome: Outcome, active: list[ir.Constraint],
         outcome.reason = solver.reason_unknown()
         return outcome
     model = solver.model()
-    values = {name: _value(model.eval(var, model_completion=True))
-              for name, var in enc.vars.items()}
+    values = {
+        name: _value(model.eval(var, model_completion=True)) for name, var in enc.vars.items()
+    }
     if seed is not None:  # satisfiable without dropping anything: every constraint holds
-        sample = Sampler(problem, active, values, timeout_ms=timeout_ms, rlimit=rlimit,
-                         enc=enc, exprs=exprs).sample(seed)
+        sample = Sampler(
+            problem, active, values, timeout_ms=timeout_ms, rlimit=rlimit, enc=enc, exprs=exprs
+        ).sample(seed)
         if sample is not None:
             values = sample
     outcome.values = values
@@ -275,7 +302,7 @@ def _minimal_core(solver, core: list) -> list:
     needed = list(core)
     i = 0
     while i < len(needed) and len(needed) > 1:
-        trial = needed[:i] + needed[i + 1:]
+        trial = needed[:i] + needed[i + 1 :]
         if solver.check(*trial) == z3.unsat:
             needed = trial
         else:
@@ -295,8 +322,7 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
             continue
         name = atom.names[0]
         low, high = found.setdefault(name, [None, None])
-        if atom.kind == "set" and atom.values and \
-                not any(isinstance(v, bool) for v in atom.values):
+        if atom.kind == "set" and atom.values and not any(isinstance(v, bool) for v in atom.values):
             values = [Fraction(v) for v in atom.values]
             candidates = [(min(values), ">="), (max(values), "<=")]
         elif atom.kind in ("cmp", "eq"):
@@ -304,9 +330,15 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
             c = coeffs[name]
             bound = -constant / c
             op = atom.op if c > 0 else quick._FLIP[atom.op]
-            candidates = [(bound, ">="), (bound, "<=")] if op == "==" else \
-                [(bound, ">=")] if op in (">", ">=") else \
-                [(bound, "<=")] if op in ("<", "<=") else []
+            candidates = (
+                [(bound, ">="), (bound, "<=")]
+                if op == "=="
+                else [(bound, ">=")]
+                if op in (">", ">=")
+                else [(bound, "<=")]
+                if op in ("<", "<=")
+                else []
+            )
         else:
             continue
         for bound, op in candidates:
@@ -338,10 +370,17 @@ class Sampler:
 
     TRIES = 3  # draws by propagation before asking z3
 
-    def __init__(self, problem: ir.Problem, active: list[ir.Constraint],
-                 base: dict[str, Fraction | bool], *, timeout_ms: int = DEFAULT_TIMEOUT_MS,
-                 rlimit: int = DEFAULT_RLIMIT, enc: _Encoder | None = None,
-                 exprs: list | None = None):
+    def __init__(
+        self,
+        problem: ir.Problem,
+        active: list[ir.Constraint],
+        base: dict[str, Fraction | bool],
+        *,
+        timeout_ms: int = DEFAULT_TIMEOUT_MS,
+        rlimit: int = DEFAULT_RLIMIT,
+        enc: _Encoder | None = None,
+        exprs: list | None = None,
+    ):
         self.problem = problem
         self.active = active
         self.base = base
@@ -416,8 +455,7 @@ class Sampler:
     def sample(self, seed: int) -> dict[str, Fraction | bool] | None:
         """A model drawn with ``seed``, or None if none is found."""
         rng = random.Random(seed)
-        targets = {name: self._target(self.problem.variables[name], rng)
-                   for name in self.order}
+        targets = {name: self._target(self.problem.variables[name], rng) for name in self.order}
         values = dict(self.base)
         for name in self.order:
             if name in self.linked_set or name in self.fixed:
@@ -432,8 +470,9 @@ class Sampler:
         if not self.linked:
             return values
         for attempt in range(self.TRIES):
-            drawn = quick.find_model(self.problem.variables, self.terms,
-                                     random.Random(f"{seed}/{attempt}"))
+            drawn = quick.find_model(
+                self.problem.variables, self.terms, random.Random(f"{seed}/{attempt}")
+            )
             if drawn is not None:
                 values.update((name, drawn[name]) for name in self.linked)
                 return values
@@ -472,14 +511,16 @@ def _dependent(terms: list[ir.Term], fixed: dict) -> set[str]:
         free = [n for n in atom.names if n not in fixed and n not in dependent]
         if len(free) >= 2:
             left = term.args[0]
-            chosen = left.var.name if isinstance(left, ir.Ref) and left.var.name in free \
-                else free[-1]
+            chosen = (
+                left.var.name if isinstance(left, ir.Ref) and left.var.name in free else free[-1]
+            )
             dependent.add(chosen)
     return dependent
 
 
-def never_holds(problem: ir.Problem, active: list[ir.Constraint], term: ir.Term,
-                rlimit: int = DEFAULT_RLIMIT) -> bool:
+def never_holds(
+    problem: ir.Problem, active: list[ir.Constraint], term: ir.Term, rlimit: int = DEFAULT_RLIMIT
+) -> bool:
     """Whether ``term`` is false in every model of the active constraints."""
     z3 = _z3()
     ctx = z3.Context()

@@ -38,8 +38,11 @@ def code_actions(snapshot: Snapshot, start: int, end: int) -> list[Action]:
     """Actions for the diagnostics of the document that touch lines ``start``..``end``."""
     first_line, _ = snapshot.lines.position(start)
     last_line, _ = snapshot.lines.position(end)
-    found = [d for d in snapshot.diagnostics
-             if d.span.line - 1 <= last_line and d.span.end_line - 1 >= first_line]
+    found = [
+        d
+        for d in snapshot.diagnostics
+        if d.span.line - 1 <= last_line and d.span.end_line - 1 >= first_line
+    ]
     actions: list[Action] = []
     import_added = False
     for d in found:
@@ -50,23 +53,35 @@ def code_actions(snapshot: Snapshot, start: int, end: int) -> list[Action]:
                 edits.setdefault(edit.span.uri, []).append(edit)
             actions.append(Action(title, "quickfix", edits, [d], preferred=d.fix.safe))
         if not import_added and d.code.code in _NAME_CODES and _needs_standard_import(snapshot, d):
-            actions.append(Action(f"Add `{IMPORT_STANDARD}`", "quickfix",
-                                  {snapshot.key: [_import_edit(snapshot)]}, [d],
-                                  preferred=d.fix is None))
+            actions.append(
+                Action(
+                    f"Add `{IMPORT_STANDARD}`",
+                    "quickfix",
+                    {snapshot.key: [_import_edit(snapshot)]},
+                    [d],
+                    preferred=d.fix is None,
+                )
+            )
             import_added = True
     for d in found:
         if d.code.code in _UNSUPPRESSIBLE:
             continue
         edit = suppression_edit(snapshot, d)
-        actions.append(Action(f"Suppress {d.code.code} ({d.code.slug}) on this line",
-                              "quickfix", {snapshot.key: [edit]}, [d]))
+        actions.append(
+            Action(
+                f"Suppress {d.code.code} ({d.code.slug}) on this line",
+                "quickfix",
+                {snapshot.key: [edit]},
+                [d],
+            )
+        )
     return actions
 
 
 def _needs_standard_import(snapshot: Snapshot, d: Diagnostic) -> bool:
     if _imports_standard(snapshot):
         return False
-    name = snapshot.text[d.span.start:d.span.end].split("::")[-1].strip()
+    name = snapshot.text[d.span.start : d.span.end].split("::")[-1].strip()
     if not name:
         return False
     library = standard_library().model
@@ -79,8 +94,11 @@ def _needs_standard_import(snapshot: Snapshot, d: Diagnostic) -> bool:
 
 def _imports_standard(snapshot: Snapshot) -> bool:
     for decl in snapshot.ast.declarations:
-        if isinstance(decl, ast.ImportDecl) and decl.kind == "module" and \
-                decl.target in ("osc.standard", "osc.standard.all", "osc.standard.domain"):
+        if (
+            isinstance(decl, ast.ImportDecl)
+            and decl.kind == "module"
+            and decl.target in ("osc.standard", "osc.standard.all", "osc.standard.domain")
+        ):
             return True
     return False
 
@@ -96,7 +114,7 @@ def _import_edit(snapshot: Snapshot) -> TextEdit:
         while line < len(lines) and lines.line_content(line).lstrip().startswith("#"):
             line += 1
     offset = lines.offset(line, 0) if line < len(lines) else len(snapshot.text)
-    prefix = "" if offset == 0 or snapshot.text[offset - 1:offset] == "\n" else "\n"
+    prefix = "" if offset == 0 or snapshot.text[offset - 1 : offset] == "\n" else "\n"
     span = Span(snapshot.key, line + 1, 1, line + 1, 1, offset, offset)
     return TextEdit(span, f"{prefix}{IMPORT_STANDARD}\n")
 
@@ -106,8 +124,10 @@ def suppression_edit(snapshot: Snapshot, d: Diagnostic) -> TextEdit:
     line = d.span.line - 1
     content = snapshot.lines.line_content(line)
     line_start = snapshot.lines.offset(line, 0)
-    comment = next((c for c in snapshot.parse.comments
-                    if line_start <= c.offset <= line_start + len(content)), None)
+    comment = next(
+        (c for c in snapshot.parse.comments if line_start <= c.offset <= line_start + len(content)),
+        None,
+    )
     code = d.code.code
     if comment is not None:
         match = _SUPPRESSION.search(comment.text)
@@ -122,5 +142,7 @@ def suppression_edit(snapshot: Snapshot, d: Diagnostic) -> TextEdit:
     trimmed = line_start + len(content)
     line0, col0 = snapshot.lines.position(end)
     line1, col1 = snapshot.lines.position(trimmed)
-    return TextEdit(Span(snapshot.key, line0 + 1, col0 + 1, line1 + 1, col1 + 1, end, trimmed),
-                    f"  # osc2check: ignore[{code}]")
+    return TextEdit(
+        Span(snapshot.key, line0 + 1, col0 + 1, line1 + 1, col1 + 1, end, trimmed),
+        f"  # osc2check: ignore[{code}]",
+    )

@@ -30,14 +30,35 @@ EVENT_FUNCTIONS = {
     "every": "every(period): true once per period",
 }
 LIST_METHODS = ("size", "count", "has", "filter", "map", "first_index")
-STANDARD_MODULES = ("osc.standard", "osc.standard.all", "osc.standard.types",
-                    "osc.standard.domain")
+STANDARD_MODULES = ("osc.standard", "osc.standard.all", "osc.standard.types", "osc.standard.domain")
 PRIMITIVES = ("bool", "int", "uint", "float", "string")
 _TYPE_AFTER = frozenset({"COLON", "OF", "__ANON_1", "INHERITS", "EXTEND"})
-_DECLARING = frozenset({"SCENARIO", "ACTOR", "STRUCT", "ACTION", "MODIFIER", "ENUM", "TYPE",
-                        "UNIT", "EVENT", "DEF", "VAR", "NAMESPACE", "AS", "GLOBAL"})
-_VALUE_KINDS = (SymbolKind.FIELD, SymbolKind.VARIABLE, SymbolKind.GLOBAL, SymbolKind.ARGUMENT,
-                SymbolKind.IMPLICIT, SymbolKind.LABEL)
+_DECLARING = frozenset(
+    {
+        "SCENARIO",
+        "ACTOR",
+        "STRUCT",
+        "ACTION",
+        "MODIFIER",
+        "ENUM",
+        "TYPE",
+        "UNIT",
+        "EVENT",
+        "DEF",
+        "VAR",
+        "NAMESPACE",
+        "AS",
+        "GLOBAL",
+    }
+)
+_VALUE_KINDS = (
+    SymbolKind.FIELD,
+    SymbolKind.VARIABLE,
+    SymbolKind.GLOBAL,
+    SymbolKind.ARGUMENT,
+    SymbolKind.IMPLICIT,
+    SymbolKind.LABEL,
+)
 
 # Sort groups: lower comes first.
 CONTEXT, EXPECTED, LOCAL, MEMBER, GLOBAL, KEYWORD = 0, 1, 2, 3, 4, 6
@@ -73,26 +94,52 @@ class _Collector:
         if old is None or item.group < old.group:
             self.items[item.label] = item
 
-    def symbol(self, sym: Symbol, group: int, label: str | None = None,
-               insert: str | None = None) -> None:
+    def symbol(
+        self, sym: Symbol, group: int, label: str | None = None, insert: str | None = None
+    ) -> None:
         snap = self.snapshot
         detail = describe.signature(snap, sym) if snap is not None else sym.kind.value
-        self.add(Candidate(label or sym.name, _KIND_NAMES.get(sym.kind, "variable"), detail,
-                           describe.markdown_doc(sym), insert, group))
+        self.add(
+            Candidate(
+                label or sym.name,
+                _KIND_NAMES.get(sym.kind, "variable"),
+                detail,
+                describe.markdown_doc(sym),
+                insert,
+                group,
+            )
+        )
 
 
 _KIND_NAMES = {
-    SymbolKind.FIELD: "field", SymbolKind.VARIABLE: "variable", SymbolKind.GLOBAL: "variable",
-    SymbolKind.ARGUMENT: "variable", SymbolKind.IMPLICIT: "variable", SymbolKind.LABEL: "label",
-    SymbolKind.EVENT: "event", SymbolKind.METHOD: "method", SymbolKind.SCENARIO: "scenario",
-    SymbolKind.ACTION: "action", SymbolKind.MODIFIER: "modifier", SymbolKind.ENUM: "type",
-    SymbolKind.ENUM_MEMBER: "enum_member", SymbolKind.STRUCT: "type", SymbolKind.ACTOR: "type",
-    SymbolKind.PHYSICAL_TYPE: "type", SymbolKind.PRIMITIVE: "type", SymbolKind.UNIT: "unit",
+    SymbolKind.FIELD: "field",
+    SymbolKind.VARIABLE: "variable",
+    SymbolKind.GLOBAL: "variable",
+    SymbolKind.ARGUMENT: "variable",
+    SymbolKind.IMPLICIT: "variable",
+    SymbolKind.LABEL: "label",
+    SymbolKind.EVENT: "event",
+    SymbolKind.METHOD: "method",
+    SymbolKind.SCENARIO: "scenario",
+    SymbolKind.ACTION: "action",
+    SymbolKind.MODIFIER: "modifier",
+    SymbolKind.ENUM: "type",
+    SymbolKind.ENUM_MEMBER: "enum_member",
+    SymbolKind.STRUCT: "type",
+    SymbolKind.ACTOR: "type",
+    SymbolKind.PHYSICAL_TYPE: "type",
+    SymbolKind.PRIMITIVE: "type",
+    SymbolKind.UNIT: "unit",
 }
 
 
-def complete(snapshot: Snapshot | None, text: str, offset: int, limit: int = 200,
-             cursor: Cursor | None = None) -> CompletionResult:
+def complete(
+    snapshot: Snapshot | None,
+    text: str,
+    offset: int,
+    limit: int = 200,
+    cursor: Cursor | None = None,
+) -> CompletionResult:
     """Completion candidates at ``offset`` of ``text`` (the document as it is now).
 
     ``snapshot`` is the latest analysis of the document, possibly of an older
@@ -121,8 +168,7 @@ def complete(snapshot: Snapshot | None, text: str, offset: int, limit: int = 200
         _members(out, f, cursor)
         return _finish(out, cursor, start, end, limit)
     accepts = cursor.accepts
-    if "NAME" in accepts and "INT" not in accepts and prev is not None and \
-            prev.type in _TYPE_AFTER:
+    if "NAME" in accepts and "INT" not in accepts and prev is not None and prev.type in _TYPE_AFTER:
         _types(out, f, prev.type)
         _grammar_keywords(out, cursor)
         return _finish(out, cursor, start, end, limit)
@@ -186,8 +232,15 @@ def _units(out: _Collector, f: Focus, expected: Type | None) -> None:
         if dim is not None and unit.dimension != dim:
             continue
         kind_name = unit.type.symbol.name if unit.type is not None and unit.type.symbol else ""
-        out.add(Candidate(name, "unit", f"unit of {kind_name}".strip(),
-                          describe.markdown_doc(unit), group=CONTEXT if dim else GLOBAL))
+        out.add(
+            Candidate(
+                name,
+                "unit",
+                f"unit of {kind_name}".strip(),
+                describe.markdown_doc(unit),
+                group=CONTEXT if dim else GLOBAL,
+            )
+        )
 
 
 def _members(out: _Collector, f: Focus, cursor: Cursor) -> None:
@@ -291,8 +344,11 @@ def _event_path(out: _Collector, f: Focus, cursor: Cursor) -> bool:
             if sym.kind is SymbolKind.LABEL:
                 out.symbol(sym, LOCAL)
         for sym in _owner_members(model, scope):
-            if sym.kind is SymbolKind.FIELD and sym.type is not None and \
-                    sym.type.kind is Kind.COMPOUND:
+            if (
+                sym.kind is SymbolKind.FIELD
+                and sym.type is not None
+                and sym.type.kind is Kind.COMPOUND
+            ):
                 out.symbol(sym, MEMBER)
         return True
     target = _name_type(model, scope, path[0])
@@ -351,14 +407,31 @@ def _arguments(out: _Collector, f: Focus, cursor: Cursor) -> None:
     for param in params:
         if param.name in given:
             continue
-        detail = describe.parameter_text(out.snapshot, param) if out.snapshot is not None \
-            else param.name
-        out.add(Candidate(f"{param.name}:", "argument", detail, describe.markdown_doc(param),
-                          f"{param.name}: ", CONTEXT))
+        detail = (
+            describe.parameter_text(out.snapshot, param) if out.snapshot is not None else param.name
+        )
+        out.add(
+            Candidate(
+                f"{param.name}:",
+                "argument",
+                detail,
+                describe.markdown_doc(param),
+                f"{param.name}: ",
+                CONTEXT,
+            )
+        )
     if callee.kind is SymbolKind.SCENARIO or callee.kind is SymbolKind.ACTION:
         if "duration" not in given:
-            out.add(Candidate("duration:", "argument", "duration: range of time",
-                              "How long the behaviour lasts.", "duration: ", CONTEXT))
+            out.add(
+                Candidate(
+                    "duration:",
+                    "argument",
+                    "duration: range of time",
+                    "How long the behaviour lasts.",
+                    "duration: ",
+                    CONTEXT,
+                )
+            )
 
 
 def _arguments_of(node: ast.Node) -> tuple:
@@ -372,25 +445,37 @@ def _enclosing_call(f: Focus) -> tuple[ast.Node, Symbol] | None:
     for i in range(len(path) - 1, 0, -1):
         node = path[i]
         child = path[i + 1] if i + 1 < len(path) else None
-        if child is None and isinstance(node, (ast.Invocation, ast.Call)) and \
-                f.cursor.argument_index() is not None:
+        if (
+            child is None
+            and isinstance(node, (ast.Invocation, ast.Call))
+            and f.cursor.argument_index() is not None
+        ):
             name = node.name if isinstance(node, ast.Invocation) else node.callee
             if name.span.end < f.cursor.offset:
                 child = next(iter(node.arguments), None) or node
                 if child is node:
                     sym = _callee_of(model, node)
                     return (node, sym) if sym is not None else None
-        if isinstance(node, ast.Invocation) and child is not None and any(
-            child is a for a in node.arguments
+        if (
+            isinstance(node, ast.Invocation)
+            and child is not None
+            and any(child is a for a in node.arguments)
         ):
             sym = model.references.get(node.name)
             return (node, sym) if sym is not None else None
-        if isinstance(node, ast.Call) and child is not None and any(
-            child is a for a in node.arguments
+        if (
+            isinstance(node, ast.Call)
+            and child is not None
+            and any(child is a for a in node.arguments)
         ):
             callee = node.callee
-            name = callee.member if isinstance(callee, ast.MemberAccess) else \
-                callee.name.name if isinstance(callee, ast.NameRef) else None
+            name = (
+                callee.member
+                if isinstance(callee, ast.MemberAccess)
+                else callee.name.name
+                if isinstance(callee, ast.NameRef)
+                else None
+            )
             sym = model.references.get(name) if name is not None else None
             return (node, sym) if sym is not None else None
     return None
@@ -407,8 +492,9 @@ def _expected_type(f: Focus) -> Type | None:
             if sym is None:
                 call = _callee_of(model, parent)
                 if call is not None:
-                    found = [p for p in describe.parameters_of(model, call)
-                             if p.name == node.name.text]
+                    found = [
+                        p for p in describe.parameters_of(model, call) if p.name == node.name.text
+                    ]
                     sym = found[0] if found else None
             if sym is not None:
                 return sym.type
@@ -426,8 +512,12 @@ def _expected_type(f: Focus) -> Type | None:
             left = model.expr_types.get(node.left)
             if left is not None and not left.is_unknown:
                 return left
-        if isinstance(node, ast.FieldDecl) and child is not None and \
-                child is node.default and node.names:
+        if (
+            isinstance(node, ast.FieldDecl)
+            and child is not None
+            and child is node.default
+            and node.names
+        ):
             sym = model.references.get(node.names[0])
             return sym.type if sym is not None else None
         if isinstance(node, ast.Parameter) and child is not None and child is node.default:
@@ -441,8 +531,13 @@ def _callee_of(model: Model, node: ast.Node) -> Symbol | None:
         return model.references.get(node.name)
     if isinstance(node, ast.Call):
         callee = node.callee
-        name = callee.member if isinstance(callee, ast.MemberAccess) else \
-            callee.name.name if isinstance(callee, ast.NameRef) else None
+        name = (
+            callee.member
+            if isinstance(callee, ast.MemberAccess)
+            else callee.name.name
+            if isinstance(callee, ast.NameRef)
+            else None
+        )
         return model.references.get(name) if name is not None else None
     if isinstance(node, ast.Emit):
         return model.references.get(node.event)
@@ -453,11 +548,17 @@ def _builtin_expected(model: Model, node: ast.Node, f: Focus) -> Type | None:
     if isinstance(node, ast.Call) and isinstance(node.callee, ast.NameRef):
         name = node.callee.name.name.text
         if name in ("elapsed", "every"):
-            found = [s for s in model.lookup("time", f.scope.context)
-                     if s.kind is SymbolKind.PHYSICAL_TYPE]
+            found = [
+                s
+                for s in model.lookup("time", f.scope.context)
+                if s.kind is SymbolKind.PHYSICAL_TYPE
+            ]
             if not found:
-                found = [s for s in model.lookup("time", f.scope.context, "stdtypes")
-                         if s.kind is SymbolKind.PHYSICAL_TYPE]
+                found = [
+                    s
+                    for s in model.lookup("time", f.scope.context, "stdtypes")
+                    if s.kind is SymbolKind.PHYSICAL_TYPE
+                ]
             if found:
                 return found[0].type
             return Type(Kind.PHYSICAL, None, (0, 0, 1, 0, 0, 0, 0, 0))
@@ -496,8 +597,11 @@ def _statements(out: _Collector, f: Focus, where: str) -> None:
         for sym in model.behaviors_of(None):
             out.symbol(sym, GLOBAL)
         for sym in _owner_members(model, scope):
-            if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE) and sym.type is not None \
-                    and sym.type.kind is Kind.COMPOUND:
+            if (
+                sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE)
+                and sym.type is not None
+                and sym.type.kind is Kind.COMPOUND
+            ):
                 out.symbol(sym, CONTEXT)
     elif scope.owner is not None and scope.owner.kind in BEHAVIOR_KINDS:
         for sym in _modifiers(model, scope):
@@ -558,12 +662,9 @@ def _matches(prefix: str, label: str) -> bool:
     return i == len(wanted)
 
 
-def _finish(out: _Collector, cursor: Cursor, start: int, end: int,
-            limit: int) -> CompletionResult:
+def _finish(out: _Collector, cursor: Cursor, start: int, end: int, limit: int) -> CompletionResult:
     prefix = cursor.text[start:end]
-    items = [c for c in out.items.values()
-             if _matches(prefix, c.label) and c.label != PLACEHOLDER]
-    items.sort(key=lambda c: (c.group, not c.label.lower().startswith(prefix.lower()),
-                              c.label))
+    items = [c for c in out.items.values() if _matches(prefix, c.label) and c.label != PLACEHOLDER]
+    items.sort(key=lambda c: (c.group, not c.label.lower().startswith(prefix.lower()), c.label))
     incomplete = len(items) > limit
     return CompletionResult(items[:limit], start, end, incomplete)

@@ -48,7 +48,7 @@ _LAYOUT = frozenset({"_NL", "_INDENT", "_DEDENT", "NEWLINE"})
 
 
 def _starts_declaration(text: str, line_start: int) -> bool:
-    ch = text[line_start:line_start + 1]
+    ch = text[line_start : line_start + 1]
     return bool(ch) and ch not in " \t\f\r\n#"
 
 
@@ -77,7 +77,7 @@ def chunk_bounds(text: str, offset: int) -> tuple[int, int]:
 
 def _continued(text: str, line_start: int) -> bool:
     """Whether the line before ``line_start`` ends with a `\\` continuation."""
-    before = text[max(0, line_start - 3):line_start].rstrip("\r\n")
+    before = text[max(0, line_start - 3) : line_start].rstrip("\r\n")
     return before.endswith("\\")
 
 
@@ -102,7 +102,7 @@ class Cursor:
 
     @property
     def prefix(self) -> str:
-        return self.text[self.word[0]:self.offset]
+        return self.text[self.word[0] : self.offset]
 
     @cached_property
     def accepts(self) -> frozenset[str]:
@@ -175,8 +175,11 @@ def _skeleton_members(members) -> tuple:
     kept = []
     for m in members:
         if isinstance(m, ast.FieldDecl):
-            kept.append(dataclasses.replace(
-                m, with_members=(), default=None if m.type is not None else m.default))
+            kept.append(
+                dataclasses.replace(
+                    m, with_members=(), default=None if m.type is not None else m.default
+                )
+            )
         elif isinstance(m, _KEEP_MEMBERS):
             kept.append(m)
     return tuple(kept)
@@ -191,8 +194,9 @@ def skeleton(decl: ast.Node) -> ast.Node:
 
 def _skeleton_parse(result: ParseResult) -> ParseResult:
     decls = tuple(skeleton(d) for d in result.ast.declarations)
-    return ParseResult(result.uri, result.text, ast.File(result.ast.span, decls), (),
-                       result.comments)
+    return ParseResult(
+        result.uri, result.text, ast.File(result.ast.span, decls), (), result.comments
+    )
 
 
 def _diff_bounds(old: str, new: str) -> tuple[int, int]:
@@ -209,7 +213,7 @@ def _diff_bounds(old: str, new: str) -> tuple[int, int]:
     lo, hi = 0, limit - prefix
     while lo < hi:
         mid = (lo + hi + 1) // 2
-        if old[len(old) - mid:] == new[len(new) - mid:]:
+        if old[len(old) - mid :] == new[len(new) - mid :]:
             lo = mid
         else:
             hi = mid - 1
@@ -259,7 +263,7 @@ def _placeholder_text(cursor: Cursor) -> str:
     if prev is None:
         return ""
     line_end = cursor.text.find("\n", cursor.offset)
-    rest = cursor.text[cursor.offset:line_end if line_end != -1 else len(cursor.text)].strip()
+    rest = cursor.text[cursor.offset : line_end if line_end != -1 else len(cursor.text)].strip()
     if cursor.statement_start:
         return PLACEHOLDER if not rest or rest[0] == "#" else ""
     if prev.type == "DOT":
@@ -267,9 +271,30 @@ def _placeholder_text(cursor: Cursor) -> str:
         return PLACEHOLDER + ("()" if call else "")
     if rest and (rest[0].isalnum() or rest[0] in "_(\"'[@"):
         return ""
-    if prev.type in ("AT", "LPAR", "COMMA", "COLON", "REL_OP", "ADD_OP", "MUL_OP", "EQUAL",
-                     "LSQB", "IMPLIES", "AND", "OR", "NOT", "IN", "BANG", "DOTDOT", "QMARK",
-                     "WAIT", "UNTIL", "IF", "KEEP", "__ANON_0"):
+    if prev.type in (
+        "AT",
+        "LPAR",
+        "COMMA",
+        "COLON",
+        "REL_OP",
+        "ADD_OP",
+        "MUL_OP",
+        "EQUAL",
+        "LSQB",
+        "IMPLIES",
+        "AND",
+        "OR",
+        "NOT",
+        "IN",
+        "BANG",
+        "DOTDOT",
+        "QMARK",
+        "WAIT",
+        "UNTIL",
+        "IF",
+        "KEEP",
+        "__ANON_0",
+    ):
         return PLACEHOLDER
     return ""
 
@@ -277,8 +302,7 @@ def _placeholder_text(cursor: Cursor) -> str:
 _LAST: list = []  # the latest focus: completion and signature help often ask for the same
 
 
-def focus(snapshot: Snapshot | None, text: str, offset: int,
-          cursor: Cursor | None = None) -> Focus:
+def focus(snapshot: Snapshot | None, text: str, offset: int, cursor: Cursor | None = None) -> Focus:
     """Parse and resolve the chunk around ``offset`` of ``text`` (the current text)."""
     if _LAST:
         last_snapshot, last_text, last_offset, last_focus = _LAST[0]
@@ -301,17 +325,19 @@ def _focus(snapshot: Snapshot | None, text: str, offset: int, cursor: Cursor) ->
     decls = list(chunk_decls)
     if snapshot is not None:
         decls = _splice(snapshot, text, start, end, chunk_decls)
-    spliced = ParseResult(key, padded, ast.File(result.ast.span, tuple(decls)), (),
-                          result.comments)
+    spliced = ParseResult(key, padded, ast.File(result.ast.span, tuple(decls)), (), result.comments)
     collecting = gc.isenabled()
     if collecting:
         gc.disable()
     try:
         config = snapshot.config if snapshot is not None else None
-        program = build_program(key, _reader(snapshot, key, spliced),
-                                tuple(getattr(config, "implicit_imports", ()) or ()),
-                                dict(getattr(config, "modules", {}) or {}),
-                                tuple(str(p) for p in getattr(config, "search_paths", ()) or ()))
+        program = build_program(
+            key,
+            _reader(snapshot, key, spliced),
+            tuple(getattr(config, "implicit_imports", ()) or ()),
+            dict(getattr(config, "modules", {}) or {}),
+            tuple(str(p) for p in getattr(config, "search_paths", ()) or ()),
+        )
     finally:
         if collecting:
             gc.enable()
@@ -346,8 +372,17 @@ def _splice(snapshot: Snapshot, text: str, start: int, end: int, chunk_decls) ->
 
 
 _IDENTIFIERS = re.compile(r"[^\W\d]\w*")
-_ALWAYS = (ast.ImportDecl, ast.UseStatement, ast.NamespaceDecl, ast.ExportDecl,
-           ast.PhysicalTypeDecl, ast.UnitDecl, ast.EnumDecl, ast.EnumExtension, ast.GlobalDecl)
+_ALWAYS = (
+    ast.ImportDecl,
+    ast.UseStatement,
+    ast.NamespaceDecl,
+    ast.ExportDecl,
+    ast.PhysicalTypeDecl,
+    ast.UnitDecl,
+    ast.EnumDecl,
+    ast.EnumExtension,
+    ast.GlobalDecl,
+)
 
 
 def _type_names(ref) -> list[str]:
@@ -398,10 +433,15 @@ def _relevant(skeletons, chunk_text: str, old_start: int, old_end: int) -> set[i
             if isinstance(decl, _ALWAYS):
                 hit = True
             elif isinstance(decl, ast.StructuredDecl):
-                hit = decl.name.name.text in wanted or (
-                    decl.name.actor is not None and decl.name.actor.name.text in wanted
-                ) or (isinstance(decl, ast.ModifierDecl) and decl.of is not None
-                      and decl.of.name.text in wanted)
+                hit = (
+                    decl.name.name.text in wanted
+                    or (decl.name.actor is not None and decl.name.actor.name.text in wanted)
+                    or (
+                        isinstance(decl, ast.ModifierDecl)
+                        and decl.of is not None
+                        and decl.of.name.text in wanted
+                    )
+                )
             elif isinstance(decl, ast.ExtendDecl):
                 hit = decl.target.name.text in wanted
             else:
@@ -436,4 +476,5 @@ def _reader(snapshot: Snapshot | None, key: str, root: ParseResult):
             found = parse(decode_source(data)[0], uri)
         cache[uri] = _skeleton_parse(found)
         return cache[uri]
+
     return read

@@ -24,7 +24,7 @@ def source_text(snapshot: Snapshot, node: ast.Node | None) -> str:
     text = snapshot.text_of(node.span.uri)
     if text is None:
         return ""
-    return text[node.span.start:node.span.end]
+    return text[node.span.start : node.span.end]
 
 
 def first_line(snapshot: Snapshot, node: ast.Node | None) -> str:
@@ -35,7 +35,7 @@ def first_line(snapshot: Snapshot, node: ast.Node | None) -> str:
     if text is None:
         return ""
     end = text.find("\n", node.span.start)
-    line = text[node.span.start:end if end != -1 else len(text)].rstrip()
+    line = text[node.span.start : end if end != -1 else len(text)].rstrip()
     if "#" in line:
         line = strip_comment(line).rstrip()
     return line.rstrip(":").rstrip() if line.endswith(":") else line
@@ -60,8 +60,13 @@ def signature(snapshot: Snapshot, sym: Symbol) -> str:
     kind = sym.kind
     decl = sym.decl
     if kind in (SymbolKind.FIELD, SymbolKind.VARIABLE, SymbolKind.GLOBAL):
-        prefix = "var " if kind is SymbolKind.VARIABLE else "global " \
-            if kind is SymbolKind.GLOBAL else ""
+        prefix = (
+            "var "
+            if kind is SymbolKind.VARIABLE
+            else "global "
+            if kind is SymbolKind.GLOBAL
+            else ""
+        )
         text = f"{prefix}{sym.name}: {type_text(sym.type)}"
         if sym.default is not None:
             text += f" = {source_text(snapshot, sym.default)}"
@@ -79,8 +84,11 @@ def signature(snapshot: Snapshot, sym: Symbol) -> str:
         return text
     if kind is SymbolKind.METHOD:
         params = ", ".join(parameter_text(snapshot, p) for p in sym.parameters)
-        ret = f" -> {type_text(sym.type)}" if sym.type is not None and \
-            sym.type.kind is not Kind.NONE else ""
+        ret = (
+            f" -> {type_text(sym.type)}"
+            if sym.type is not None and sym.type.kind is not Kind.NONE
+            else ""
+        )
         return f"def {sym.name}({params}){ret}"
     if kind is SymbolKind.LABEL:
         return f"label {sym.name}"

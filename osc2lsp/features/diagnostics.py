@@ -23,6 +23,7 @@ def result_id(snapshot: Snapshot) -> str:
     """A name for a diagnostics result: equal ids mean identical findings."""
     digest = hashlib.sha1()
     for d in snapshot.diagnostics:
-        digest.update(f"{d.span.start}:{d.span.end}:{d.code.code}:{d.severity}:{d.message}\n"
-                      .encode())
+        digest.update(
+            f"{d.span.start}:{d.span.end}:{d.code.code}:{d.severity}:{d.message}\n".encode()
+        )
     return digest.hexdigest()[:16]

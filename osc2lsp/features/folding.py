@@ -33,8 +33,11 @@ def _indent(line: str) -> int:
 def folding_ranges(text: str) -> list[Fold]:
     lines = re.split(r"\r\n|\r|\n", text)
     folds: list[Fold] = []
-    code = [(i, _indent(line), line.strip()) for i, line in enumerate(lines)
-            if line.strip() and not line.strip().startswith("#")]
+    code = [
+        (i, _indent(line), line.strip())
+        for i, line in enumerate(lines)
+        if line.strip() and not line.strip().startswith("#")
+    ]
     # indented blocks: a line followed by deeper lines
     open_blocks: list[tuple[int, int]] = []  # (indent, start line)
     previous: tuple[int, int] | None = None
@@ -68,4 +71,3 @@ def folding_ranges(text: str) -> list[Fold]:
         folds.append(Fold(imports[0], imports[-1], "imports"))
     folds.sort(key=lambda f: (f.start_line, -f.end_line))
     return folds
-

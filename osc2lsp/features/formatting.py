@@ -26,22 +26,88 @@ from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
 
 _NEWLINE = re.compile(r"\r\n|\r|\n")
-_NO_SPACE_BEFORE = frozenset({"COMMA", "RPAR", "RSQB", "COLON", "DOT", "DOTDOT", "BANG",
-                              "__ANON_0"})
+_NO_SPACE_BEFORE = frozenset(
+    {"COMMA", "RPAR", "RSQB", "COLON", "DOT", "DOTDOT", "BANG", "__ANON_0"}
+)
 _NO_SPACE_AFTER = frozenset({"LPAR", "LSQB", "DOT", "DOTDOT", "BANG", "__ANON_0", "AT"})
 # Tokens after which `(` opens an argument list (no space before it).
-_CALLABLE = frozenset({"NAME", "RPAR", "RSQB", "KEEP", "REMOVE_DEFAULT", "COVER", "RECORD",
-                       "SERIAL", "PARALLEL", "ONE_OF", "SI", "SAMPLE"})
+_CALLABLE = frozenset(
+    {
+        "NAME",
+        "RPAR",
+        "RSQB",
+        "KEEP",
+        "REMOVE_DEFAULT",
+        "COVER",
+        "RECORD",
+        "SERIAL",
+        "PARALLEL",
+        "ONE_OF",
+        "SI",
+        "SAMPLE",
+    }
+)
 _INDEXABLE = frozenset({"NAME", "RPAR", "RSQB", "STRING"})
 # After these a `+`/`-` is a sign, not a binary operator.
-_OPERAND_EXPECTED = frozenset({"LPAR", "LSQB", "COMMA", "COLON", "EQUAL", "REL_OP", "ADD_OP",
-                               "MUL_OP", "IMPLIES", "AND", "OR", "NOT", "IN", "QMARK",
-                               "DOTDOT", "__ANON_1", "KEEP", "RETURN", "WAIT", "UNTIL", "IF",
-                               "IS", "EXPRESSION", "DEFAULT", "HARD"})
-_SOFT_NAMES = frozenset({"TYPE", "UNIT", "OF", "IS", "ACTOR", "ACTION", "SCENARIO", "MODIFIER",
-                         "STRUCT", "ENUM", "EVENT", "EXPRESSION", "UNDEFINED", "EXTERNAL",
-                         "ONLY", "LIST", "RANGE", "AS", "GLOBAL", "INHERITS", "NAMESPACE",
-                         "USE", "EXPORT", "IMPORT", "EXTEND", "SAMPLE"})
+_OPERAND_EXPECTED = frozenset(
+    {
+        "LPAR",
+        "LSQB",
+        "COMMA",
+        "COLON",
+        "EQUAL",
+        "REL_OP",
+        "ADD_OP",
+        "MUL_OP",
+        "IMPLIES",
+        "AND",
+        "OR",
+        "NOT",
+        "IN",
+        "QMARK",
+        "DOTDOT",
+        "__ANON_1",
+        "KEEP",
+        "RETURN",
+        "WAIT",
+        "UNTIL",
+        "IF",
+        "IS",
+        "EXPRESSION",
+        "DEFAULT",
+        "HARD",
+    }
+)
+_SOFT_NAMES = frozenset(
+    {
+        "TYPE",
+        "UNIT",
+        "OF",
+        "IS",
+        "ACTOR",
+        "ACTION",
+        "SCENARIO",
+        "MODIFIER",
+        "STRUCT",
+        "ENUM",
+        "EVENT",
+        "EXPRESSION",
+        "UNDEFINED",
+        "EXTERNAL",
+        "ONLY",
+        "LIST",
+        "RANGE",
+        "AS",
+        "GLOBAL",
+        "INHERITS",
+        "NAMESPACE",
+        "USE",
+        "EXPORT",
+        "IMPORT",
+        "EXTEND",
+        "SAMPLE",
+    }
+)
 
 
 @dataclass(frozen=True, slots=True)

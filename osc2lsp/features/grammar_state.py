@@ -18,8 +18,16 @@ from lark.parsers.lalr_analysis import Shift
 from osc2check.syntax.grammar import lark_parser
 
 _BOUNDARIES = frozenset({"_NL", "_DEDENT"})
-_REPAIRS = (("RPAR",), ("RSQB",), ("COLON",), ("NAME",), ("RPAR", "RPAR"), ("RPAR", "COLON"),
-            ("NAME", "RPAR"), ("RSQB", "RPAR"))
+_REPAIRS = (
+    ("RPAR",),
+    ("RSQB",),
+    ("COLON",),
+    ("NAME",),
+    ("RPAR", "RPAR"),
+    ("RPAR", "COLON"),
+    ("NAME", "RPAR"),
+    ("RSQB", "RPAR"),
+)
 _IDENTIFIER = re.compile(r"[^\W\d]\w*")
 
 
@@ -30,8 +38,9 @@ def _table():
     states = {}
     for state, row in table.states.items():
         states[state] = {
-            ttype: (True, arg) if action is Shift else (False, (len(arg.expansion),
-                                                                arg.origin.name))
+            ttype: (True, arg)
+            if action is Shift
+            else (False, (len(arg.expansion), arg.origin.name))
             for ttype, (action, arg) in row.items()
         }
     return states, table.start_states["start"]
@@ -50,9 +59,11 @@ def keywords() -> dict[str, str]:
 @cache
 def soft_keywords() -> frozenset[str]:
     """Keywords that may also be names (the alternatives of the grammar rule ``name``)."""
-    return frozenset(r.expansion[0].name for r in lark_parser().rules
-                     if r.origin.name == "name" and len(r.expansion) == 1
-                     and r.expansion[0].name != "NAME")
+    return frozenset(
+        r.expansion[0].name
+        for r in lark_parser().rules
+        if r.origin.name == "name" and len(r.expansion) == 1 and r.expansion[0].name != "NAME"
+    )
 
 
 class GrammarState:
@@ -98,8 +109,7 @@ class GrammarState:
     def accepts(self) -> frozenset[str]:
         """Terminals that can come next."""
         states = _table()[0]
-        return frozenset(t for t in states[self.stack[-1]]
-                         if t.isupper() and self.copy().feed(t))
+        return frozenset(t for t in states[self.stack[-1]] if t.isupper() and self.copy().feed(t))
 
     def keyword_use(self, ttype: str) -> bool:
         """Whether keyword ``ttype`` is accepted as itself, not only as a name."""

@@ -16,10 +16,23 @@ from osc2lsp.features.values import describe as describe_value
 from osc2lsp.snapshot import Snapshot
 
 _CODE_WORD = re.compile(r"[A-Za-z][\w-]*")
-_EXPRESSIONS = (ast.IntLiteral, ast.FloatLiteral, ast.PhysicalLiteral, ast.StringLiteral,
-                ast.BoolLiteral, ast.NameRef, ast.EnumRef, ast.MemberAccess, ast.Call,
-                ast.Index, ast.Unary, ast.Binary, ast.Ternary, ast.ListLiteral,
-                ast.RangeLiteral)
+_EXPRESSIONS = (
+    ast.IntLiteral,
+    ast.FloatLiteral,
+    ast.PhysicalLiteral,
+    ast.StringLiteral,
+    ast.BoolLiteral,
+    ast.NameRef,
+    ast.EnumRef,
+    ast.MemberAccess,
+    ast.Call,
+    ast.Index,
+    ast.Unary,
+    ast.Binary,
+    ast.Ternary,
+    ast.ListLiteral,
+    ast.RangeLiteral,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -53,9 +66,13 @@ def symbol_markdown(snapshot: Snapshot, sym: Symbol) -> str:
     owner = describe.owner_text(sym)
     if owner:
         facts[0] += f" of {owner}"
-    if sym.type is not None and sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE,
-                                             SymbolKind.GLOBAL, SymbolKind.ARGUMENT,
-                                             SymbolKind.IMPLICIT):
+    if sym.type is not None and sym.kind in (
+        SymbolKind.FIELD,
+        SymbolKind.VARIABLE,
+        SymbolKind.GLOBAL,
+        SymbolKind.ARGUMENT,
+        SymbolKind.IMPLICIT,
+    ):
         facts.append(f"type `{describe.type_text(sym.type)}`")
     if sym.namespace:
         facts.append(f"namespace `{sym.namespace}`")
@@ -68,12 +85,19 @@ def symbol_markdown(snapshot: Snapshot, sym: Symbol) -> str:
     if sym.kind is SymbolKind.UNIT and sym.dimension is not None:
         one = Quantity(sym.factor + sym.offset, sym.dimension)
         parts.append(f"1 {sym.name} = {describe_value(one)}")
-    if sym.kind in (SymbolKind.SCENARIO, SymbolKind.ACTION, SymbolKind.MODIFIER,
-                    SymbolKind.METHOD, SymbolKind.EVENT):
+    if sym.kind in (
+        SymbolKind.SCENARIO,
+        SymbolKind.ACTION,
+        SymbolKind.MODIFIER,
+        SymbolKind.METHOD,
+        SymbolKind.EVENT,
+    ):
         params = describe.parameters_of(snapshot.model, sym)
         if params:
-            parts.append("parameters: " + ", ".join(
-                f"`{describe.parameter_text(snapshot, p)}`" for p in params))
+            parts.append(
+                "parameters: "
+                + ", ".join(f"`{describe.parameter_text(snapshot, p)}`" for p in params)
+            )
     doc = describe.markdown_doc(sym)
     if doc:
         parts.append(doc)

@@ -18,8 +18,14 @@ from osc2lsp.features.lookup import extent
 from osc2lsp.features.values import evaluate, short
 from osc2lsp.snapshot import Snapshot
 
-_LITERALS = (ast.PhysicalLiteral, ast.IntLiteral, ast.FloatLiteral, ast.StringLiteral,
-             ast.BoolLiteral, ast.Missing)
+_LITERALS = (
+    ast.PhysicalLiteral,
+    ast.IntLiteral,
+    ast.FloatLiteral,
+    ast.StringLiteral,
+    ast.BoolLiteral,
+    ast.Missing,
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -30,8 +36,9 @@ class Hint:
     tooltip: str = ""
 
 
-def inlay_hints(snapshot: Snapshot, start: int, end: int, values: bool = True,
-                parameter_names: bool = True) -> list[Hint]:
+def inlay_hints(
+    snapshot: Snapshot, start: int, end: int, values: bool = True, parameter_names: bool = True
+) -> list[Hint]:
     model = snapshot.model
     hints: list[Hint] = []
     for decl in snapshot.ast.declarations:
@@ -49,12 +56,17 @@ def inlay_hints(snapshot: Snapshot, start: int, end: int, values: bool = True,
                 position = 0
                 for arg in node.arguments:
                     if isinstance(arg, ast.PositionalArgument):
-                        if parameter_names and position < len(params) and not (
-                            isinstance(arg.value, ast.NameRef)
-                            and arg.value.name.name.text == params[position].name
+                        if (
+                            parameter_names
+                            and position < len(params)
+                            and not (
+                                isinstance(arg.value, ast.NameRef)
+                                and arg.value.name.name.text == params[position].name
+                            )
                         ):
-                            hints.append(Hint(arg.span.start, f"{params[position].name}:",
-                                              "parameter"))
+                            hints.append(
+                                Hint(arg.span.start, f"{params[position].name}:", "parameter")
+                            )
                         position += 1
                     if values and isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
                         _value_hint(snapshot, arg.value, hints)
@@ -72,8 +84,9 @@ def _callee_name(call: ast.Call) -> ast.Name | None:
 
 
 def _value_hint(snapshot: Snapshot, expr: ast.Node, hints: list[Hint]) -> None:
-    if isinstance(expr, _LITERALS) or (isinstance(expr, ast.Unary)
-                                       and isinstance(expr.operand, _LITERALS)):
+    if isinstance(expr, _LITERALS) or (
+        isinstance(expr, ast.Unary) and isinstance(expr.operand, _LITERALS)
+    ):
         return
     q = evaluate(snapshot.model, expr)
     if q is None or not q.physical:

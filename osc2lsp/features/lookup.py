@@ -189,8 +189,10 @@ def namespace_parts(model: Model, name: str) -> list:
     """The library's and the program's parts of namespace ``name`` that are in reach."""
     parts = []
     base = model.base
-    if base is not None and name in base.namespaces and (
-        name == "" or name in model.library_namespaces
+    if (
+        base is not None
+        and name in base.namespaces
+        and (name == "" or name in model.library_namespaces)
     ):
         parts.append(base.namespaces[name])
     if name in model.namespaces:

@@ -19,8 +19,19 @@ from osc2check.syntax import ast
 from osc2lsp.features.lookup import node_path
 from osc2lsp.snapshot import Snapshot, symbol_key
 
-_EXPRESSIONS = (ast.NameRef, ast.MemberAccess, ast.Call, ast.Index, ast.Binary, ast.Unary,
-                ast.PhysicalLiteral, ast.EnumRef, ast.Ternary, ast.ListLiteral, ast.RangeLiteral)
+_EXPRESSIONS = (
+    ast.NameRef,
+    ast.MemberAccess,
+    ast.Call,
+    ast.Index,
+    ast.Binary,
+    ast.Unary,
+    ast.PhysicalLiteral,
+    ast.EnumRef,
+    ast.Ternary,
+    ast.ListLiteral,
+    ast.RangeLiteral,
+)
 
 
 def symbol_at(snapshot: Snapshot, offset: int) -> Symbol | None:
@@ -70,8 +81,12 @@ def type_definition(snapshot: Snapshot, offset: int) -> list[Span]:
     return [span] if span is not None else []
 
 
-def references(snapshot: Snapshot, offset: int, include_declaration: bool = True,
-               others: Iterable[Snapshot] = ()) -> list[Span]:
+def references(
+    snapshot: Snapshot,
+    offset: int,
+    include_declaration: bool = True,
+    others: Iterable[Snapshot] = (),
+) -> list[Span]:
     """Every use of the symbol at ``offset`` in the document's program and in the
     programs of ``others`` (the other open documents)."""
     sym = symbol_at(snapshot, offset)
@@ -80,16 +95,18 @@ def references(snapshot: Snapshot, offset: int, include_declaration: bool = True
     return references_of(sym, [snapshot, *others], include_declaration)
 
 
-def references_of(sym: Symbol, snapshots: Iterable[Snapshot],
-                  include_declaration: bool = True) -> list[Span]:
+def references_of(
+    sym: Symbol, snapshots: Iterable[Snapshot], include_declaration: bool = True
+) -> list[Span]:
     key = symbol_key(sym)
     decl = declaration_span(sym)
     found: dict[tuple[str, int], Span] = {}
     for snap in snapshots:
         for file_key in snap.files():
             for entry in snap.names_in(file_key):
-                if entry.symbol is sym or (entry.symbol.name == sym.name
-                                           and symbol_key(entry.symbol) == key):
+                if entry.symbol is sym or (
+                    entry.symbol.name == sym.name and symbol_key(entry.symbol) == key
+                ):
                     span = entry.name.span
                     found.setdefault((span.uri, span.start), span)
     if decl is not None:
@@ -106,8 +123,7 @@ def highlights(snapshot: Snapshot, offset: int) -> list[Span]:
     if sym is None:
         return []
     key = symbol_key(sym)
-    return [e.name.span for e in snapshot.names
-            if e.symbol is sym or symbol_key(e.symbol) == key]
+    return [e.name.span for e in snapshot.names if e.symbol is sym or symbol_key(e.symbol) == key]
 
 
 def _import_target(snapshot: Snapshot, offset: int) -> Span | None:
@@ -132,9 +148,12 @@ def import_path(importer: str, decl: ast.ImportDecl) -> Path | None:
             return stdlib_dir() / LIBRARY_FILES[1]
         relative = target.replace(".", "/") + ".osc"
     else:
-        relative = target[len("file://"):] if target.startswith("file://") else target
-    base = Path(importer).parent if importer and not importer.startswith(("<", "untitled:")) \
+        relative = target[len("file://") :] if target.startswith("file://") else target
+    base = (
+        Path(importer).parent
+        if importer and not importer.startswith(("<", "untitled:"))
         else Path.cwd()
+    )
     path = Path(relative)
     path = path if path.is_absolute() else base / path
     if decl.kind == "file" and not path.is_file() and Path(target).name in STANDARD_FILE_NAMES:

@@ -34,8 +34,9 @@ def prepare_rename(snapshot: Snapshot, offset: int) -> tuple[Span, str]:
     return entry.name.span, entry.name.text
 
 
-def rename(snapshot: Snapshot, offset: int, new_name: str,
-           others: Iterable[Snapshot] = ()) -> dict[str, list[TextEdit]]:
+def rename(
+    snapshot: Snapshot, offset: int, new_name: str, others: Iterable[Snapshot] = ()
+) -> dict[str, list[TextEdit]]:
     """Edits by file key that rename the symbol at ``offset``; raises ``RenameError``."""
     sym = symbol_at(snapshot, offset)
     if sym is None:
@@ -53,8 +54,7 @@ def rename(snapshot: Snapshot, offset: int, new_name: str,
 
 def _check_symbol(sym: Symbol) -> None:
     if sym.library:
-        raise RenameError(f"`{sym.name}` is declared by the standard library and cannot be "
-                          "renamed")
+        raise RenameError(f"`{sym.name}` is declared by the standard library and cannot be renamed")
     if sym.kind in (SymbolKind.IMPLICIT, SymbolKind.PRIMITIVE) or declaration_span(sym) is None:
         raise RenameError(f"`{sym.name}` is not declared in a file that can be edited")
 
@@ -69,10 +69,17 @@ def _check_name(name: str) -> None:
 
 def _check_collision(snapshot: Snapshot, sym: Symbol, new_name: str) -> None:
     model = snapshot.model
-    if sym.owner is not None and sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE,
-                                              SymbolKind.EVENT, SymbolKind.METHOD):
-        clash = [s for s in model.member(sym.owner, new_name) if s.kind is not SymbolKind.METHOD
-                 or sym.kind is not SymbolKind.METHOD]
+    if sym.owner is not None and sym.kind in (
+        SymbolKind.FIELD,
+        SymbolKind.VARIABLE,
+        SymbolKind.EVENT,
+        SymbolKind.METHOD,
+    ):
+        clash = [
+            s
+            for s in model.member(sym.owner, new_name)
+            if s.kind is not SymbolKind.METHOD or sym.kind is not SymbolKind.METHOD
+        ]
         if clash:
             raise RenameError(f"`{sym.owner.name}` already has a member `{new_name}`")
     elif sym.kind is SymbolKind.ENUM_MEMBER and sym.owner is not None:

@@ -18,12 +18,23 @@ from osc2lsp.snapshot import Snapshot
 __all__ = ["TOKEN_MODIFIERS", "TOKEN_TYPES", "SemanticToken", "semantic_tokens"]
 
 _KINDS = {
-    SymbolKind.PRIMITIVE: "type", SymbolKind.PHYSICAL_TYPE: "type", SymbolKind.UNIT: "unit",
-    SymbolKind.ENUM: "enum", SymbolKind.ENUM_MEMBER: "enumMember", SymbolKind.STRUCT: "struct",
-    SymbolKind.ACTOR: "class", SymbolKind.SCENARIO: "function", SymbolKind.ACTION: "function",
-    SymbolKind.MODIFIER: "decorator", SymbolKind.FIELD: "property",
-    SymbolKind.VARIABLE: "variable", SymbolKind.EVENT: "event", SymbolKind.METHOD: "method",
-    SymbolKind.ARGUMENT: "parameter", SymbolKind.GLOBAL: "variable", SymbolKind.LABEL: "label",
+    SymbolKind.PRIMITIVE: "type",
+    SymbolKind.PHYSICAL_TYPE: "type",
+    SymbolKind.UNIT: "unit",
+    SymbolKind.ENUM: "enum",
+    SymbolKind.ENUM_MEMBER: "enumMember",
+    SymbolKind.STRUCT: "struct",
+    SymbolKind.ACTOR: "class",
+    SymbolKind.SCENARIO: "function",
+    SymbolKind.ACTION: "function",
+    SymbolKind.MODIFIER: "decorator",
+    SymbolKind.FIELD: "property",
+    SymbolKind.VARIABLE: "variable",
+    SymbolKind.EVENT: "event",
+    SymbolKind.METHOD: "method",
+    SymbolKind.ARGUMENT: "parameter",
+    SymbolKind.GLOBAL: "variable",
+    SymbolKind.LABEL: "label",
     SymbolKind.IMPLICIT: "variable",
 }
 _TYPE_INDEX = {name: i for i, name in enumerate(TOKEN_TYPES)}
@@ -49,8 +60,9 @@ def _modifiers(sym: Symbol, declaration: bool) -> int:
     return bits
 
 
-def semantic_tokens(snapshot: Snapshot, start: int = 0, end: int | None = None
-                    ) -> list[SemanticToken]:
+def semantic_tokens(
+    snapshot: Snapshot, start: int = 0, end: int | None = None
+) -> list[SemanticToken]:
     """Tokens of the document (or of the offsets ``start``..``end``), in order."""
     text = snapshot.text
     end = len(text) if end is None else end
@@ -72,11 +84,21 @@ def semantic_tokens(snapshot: Snapshot, start: int = 0, end: int | None = None
         kind = _KINDS.get(sym.kind)
         if kind is None:
             continue
-        declaration = sym.name_span is not None and sym.name_span.start == tok.start_pos \
+        declaration = (
+            sym.name_span is not None
+            and sym.name_span.start == tok.start_pos
             and sym.name_span.uri == snapshot.key
+        )
         line, column = lines.position(tok.start_pos)
-        out.append(SemanticToken(line, column, tok.end_pos - tok.start_pos, _TYPE_INDEX[kind],
-                                 _modifiers(sym, declaration)))
+        out.append(
+            SemanticToken(
+                line,
+                column,
+                tok.end_pos - tok.start_pos,
+                _TYPE_INDEX[kind],
+                _modifiers(sym, declaration),
+            )
+        )
     return out
 
 
@@ -87,8 +109,9 @@ def _physical(tok, by_start, lines) -> list[SemanticToken]:
         if not (ch.isdigit() or ch in ".eE+-"):
             number = i
             break
-        if ch in "eE" and not (i + 1 < len(value) and (value[i + 1].isdigit()
-                                                      or value[i + 1] in "+-")):
+        if ch in "eE" and not (
+            i + 1 < len(value) and (value[i + 1].isdigit() or value[i + 1] in "+-")
+        ):
             number = i
             break
     line, column = lines.position(tok.start_pos)
@@ -96,6 +119,7 @@ def _physical(tok, by_start, lines) -> list[SemanticToken]:
     unit_start = tok.start_pos + number
     entry = by_start.get(unit_start)
     modifiers = _modifiers(entry.symbol, False) if entry is not None else 0
-    out.append(SemanticToken(line, column + number, len(value) - number, _TYPE_INDEX["unit"],
-                             modifiers))
+    out.append(
+        SemanticToken(line, column + number, len(value) - number, _TYPE_INDEX["unit"], modifiers)
+    )
     return out

@@ -12,13 +12,18 @@ from osc2lsp.features.context import cursor_at, focus
 from osc2lsp.snapshot import Snapshot
 
 BUILTINS = {
-    "elapsed": ("elapsed(duration: time)", ["duration: time"],
-                "True once the duration has passed since the enclosing phase started."),
+    "elapsed": (
+        "elapsed(duration: time)",
+        ["duration: time"],
+        "True once the duration has passed since the enclosing phase started.",
+    ),
     "every": ("every(period: time)", ["period: time"], "True once per period."),
-    "rise": ("rise(condition: bool)", ["condition: bool"],
-             "True when the condition becomes true."),
-    "fall": ("fall(condition: bool)", ["condition: bool"],
-             "True when the condition becomes false."),
+    "rise": ("rise(condition: bool)", ["condition: bool"], "True when the condition becomes true."),
+    "fall": (
+        "fall(condition: bool)",
+        ["condition: bool"],
+        "True when the condition becomes false.",
+    ),
 }
 
 

@@ -18,13 +18,22 @@ from osc2check.syntax import ast
 from osc2lsp.snapshot import Snapshot
 
 _DECL_KINDS = {
-    ast.ScenarioDecl: "scenario", ast.ActorDecl: "actor", ast.StructDecl: "struct",
-    ast.ActionDecl: "action", ast.ModifierDecl: "modifier",
+    ast.ScenarioDecl: "scenario",
+    ast.ActorDecl: "actor",
+    ast.StructDecl: "struct",
+    ast.ActionDecl: "action",
+    ast.ModifierDecl: "modifier",
 }
 _SYMBOL_KINDS = {
-    SymbolKind.SCENARIO: "scenario", SymbolKind.ACTOR: "actor", SymbolKind.STRUCT: "struct",
-    SymbolKind.ACTION: "action", SymbolKind.MODIFIER: "modifier", SymbolKind.ENUM: "enum",
-    SymbolKind.PHYSICAL_TYPE: "type", SymbolKind.UNIT: "unit", SymbolKind.GLOBAL: "global",
+    SymbolKind.SCENARIO: "scenario",
+    SymbolKind.ACTOR: "actor",
+    SymbolKind.STRUCT: "struct",
+    SymbolKind.ACTION: "action",
+    SymbolKind.MODIFIER: "modifier",
+    SymbolKind.ENUM: "enum",
+    SymbolKind.PHYSICAL_TYPE: "type",
+    SymbolKind.UNIT: "unit",
+    SymbolKind.GLOBAL: "global",
 }
 
 
@@ -77,8 +86,11 @@ def _declaration(decl: ast.Node) -> DocSymbol | None:
             name = decl.name if isinstance(decl, ast.EnumDecl) else decl.target.name
             label = name.text if isinstance(decl, ast.EnumDecl) else f"extend {decl.target}"
             sym = DocSymbol(label, "enum", decl.span, name.span)
-            sym.children = [DocSymbol(m.name.text, "enum_member", m.span, m.name.span)
-                            for m in decl.members if m.name.text]
+            sym.children = [
+                DocSymbol(m.name.text, "enum_member", m.span, m.name.span)
+                for m in decl.members
+                if m.name.text
+            ]
             return sym
         case ast.PhysicalTypeDecl():
             return DocSymbol(decl.name.text, "type", decl.span, decl.name.span)
@@ -88,8 +100,7 @@ def _declaration(decl: ast.Node) -> DocSymbol | None:
             names = [n for n in decl.field.names if n.text]
             if not names:
                 return None
-            return DocSymbol(", ".join(n.text for n in names), "global", decl.span,
-                             names[0].span)
+            return DocSymbol(", ".join(n.text for n in names), "global", decl.span, names[0].span)
         case ast.NamespaceDecl():
             if not decl.name.text:
                 return None
@@ -109,12 +120,14 @@ def _members(members) -> list[DocSymbol]:
                         result.append(DocSymbol(name.text, kind, member.span, name.span, detail))
             case ast.EventDecl():
                 if member.name.text:
-                    result.append(DocSymbol(member.name.text, "event", member.span,
-                                            member.name.span))
+                    result.append(
+                        DocSymbol(member.name.text, "event", member.span, member.name.span)
+                    )
             case ast.MethodDecl():
                 if member.name.text:
-                    result.append(DocSymbol(member.name.text, "method", member.span,
-                                            member.name.span))
+                    result.append(
+                        DocSymbol(member.name.text, "method", member.span, member.name.span)
+                    )
             case ast.DoDirective():
                 do = _do_member(member.member, prefix="do ")
                 if do is not None:
@@ -164,8 +177,9 @@ def matches(query: str, name: str) -> bool:
     return i == len(q)
 
 
-def workspace_symbols(snapshots: Iterable[Snapshot], query: str, limit: int = 500,
-                      library: bool = True) -> list[WorkspaceSymbol]:
+def workspace_symbols(
+    snapshots: Iterable[Snapshot], query: str, limit: int = 500, library: bool = True
+) -> list[WorkspaceSymbol]:
     """Declarations of the open documents (and, for a non-empty query, of the library)."""
     found: dict[tuple[str, int], WorkspaceSymbol] = {}
     for snap in snapshots:
@@ -178,8 +192,12 @@ def workspace_symbols(snapshots: Iterable[Snapshot], query: str, limit: int = 50
             if kind is None or sym.name_span is None or not matches(query, sym.name):
                 continue
             container = sym.actor.name if sym.actor is not None else sym.namespace
-            found.setdefault((sym.name_span.uri, sym.name_span.start),
-                             WorkspaceSymbol(sym.name, kind, container, sym.name_span))
-    ranked = sorted(found.values(), key=lambda s: (not s.name.lower().startswith(query.lower()),
-                                                   len(s.name), s.name))
+            found.setdefault(
+                (sym.name_span.uri, sym.name_span.start),
+                WorkspaceSymbol(sym.name, kind, container, sym.name_span),
+            )
+    ranked = sorted(
+        found.values(),
+        key=lambda s: (not s.name.lower().startswith(query.lower()), len(s.name), s.name),
+    )
     return ranked[:limit]

@@ -110,8 +110,11 @@ def format_number(x: Fraction) -> str:
     digits, at least one decimal, marked with ``≈`` (``≈ 55.0``)."""
     scaled = x * 10**6
     if scaled.denominator == 1:
-        text = f"{x.numerator // x.denominator}" if x.denominator == 1 else \
-            f"{float(x):.6f}".rstrip("0").rstrip(".")
+        text = (
+            f"{x.numerator // x.denominator}"
+            if x.denominator == 1
+            else f"{float(x):.6f}".rstrip("0").rstrip(".")
+        )
         return text
     value = float(x)
     magnitude = len(str(int(abs(value)))) if abs(value) >= 1 else 0

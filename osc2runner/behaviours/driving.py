@@ -24,17 +24,25 @@ __all__ = [
 #: peak lateral acceleration of a lane change by rate profile (m/s²); the duration
 #: follows from the lateral distance: the minimum-jerk blend peaks at 5.77·d/T²
 LANE_CHANGE_ACCEL = {"none": 4.0, "asap": 5.0, "constant": 1.3, "smooth": 1.3}
-_QUINTIC_PEAK = 10.0 / 3.0 ** 0.5
+_QUINTIC_PEAK = 10.0 / 3.0**0.5
 #: the profile a speed modifier approaches its target with
 SPEED_PROFILE = "smooth"
 
 
-def profile_for(kind: str | None, peak: float | None = None, change: float | None = None,
-                duration: float | None = None) -> RateProfile:
+def profile_for(
+    kind: str | None,
+    peak: float | None = None,
+    change: float | None = None,
+    duration: float | None = None,
+) -> RateProfile:
     """A rate profile from an OSC2 ``dynamic_profile``, a peak rate, or a phase duration."""
     kind = kind or "none"
-    if duration is not None and duration > 0.0 and change is not None and kind in ("none",
-                                                                                   "constant"):
+    if (
+        duration is not None
+        and duration > 0.0
+        and change is not None
+        and kind in ("none", "constant")
+    ):
         return RateProfile("constant", peak=max(abs(change) / duration, 0.05))
     if peak is not None and peak > 0.0:
         if kind in ("constant", "smooth"):
@@ -77,8 +85,14 @@ def side_of(side: str) -> str:
     raise ActionError(f"side `{side}` is not left or right")
 
 
-def lane_change_duration(lanes: int, lane_width: float, *, phase: float | None,
-                         rate_peak: float | None, profile: str | None) -> float:
+def lane_change_duration(
+    lanes: int,
+    lane_width: float,
+    *,
+    phase: float | None,
+    rate_peak: float | None,
+    profile: str | None,
+) -> float:
     """How long a lane change takes: the phase, a peak lateral speed, or the profile.
 
     Without a phase duration or a ``rate_peak`` the profile bounds the peak

@@ -31,8 +31,11 @@ class Rain(InstantAction):
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.world
         world.set_weather(rain=level)
-        self.ctx.record("environment", "rain", f"{mmph:.6g} mm/h -> level {level:.3g}, "
-                        f"road friction {world.road_friction:.3g}")
+        self.ctx.record(
+            "environment",
+            "rain",
+            f"{mmph:.6g} mm/h -> level {level:.3g}, road friction {world.road_friction:.3g}",
+        )
 
 
 @registry.action("environment", "fog", note="recorded; no effect on dynamics")
@@ -64,12 +67,17 @@ class Recorded(InstantAction):
     """An environment action with no physical effect here: its arguments go to the event log."""
 
     def start(self) -> None:
-        detail = ", ".join(f"{k}: {v:.6g}" if isinstance(v, float) else f"{k}: {v}"
-                           for k, v in self.args.items())
+        detail = ", ".join(
+            f"{k}: {v:.6g}" if isinstance(v, float) else f"{k}: {v}" for k, v in self.args.items()
+        )
         self.ctx.record("environment", self.use.symbol.name, detail)
 
 
 for _name in ("air", "snow", "wind", "clouds", "assign_celestial_position"):
     registry.action("environment", _name, note="recorded; no effect on dynamics")(
-        type("Recorded" + "".join(p.title() for p in _name.split("_")), (Recorded,),
-             {"__doc__": f"``{_name}``: recorded in the event log only."}))
+        type(
+            "Recorded" + "".join(p.title() for p in _name.split("_")),
+            (Recorded,),
+            {"__doc__": f"``{_name}``: recorded in the event log only."},
+        )
+    )

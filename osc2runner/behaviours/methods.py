@@ -38,8 +38,13 @@ def _shrink(distance: float, extent: float) -> float:
 
 
 @registry.method("physical_object", "object_distance")
-def object_distance(ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str,
-                    mode: str = "reference_points") -> float:
+def object_distance(
+    ctx: ExecutionContext,
+    subject: Actor,
+    reference: Actor,
+    direction: str,
+    mode: str = "reference_points",
+) -> float:
     """Distance to ``reference`` in the subject's frame (positive: reference in front / left)."""
     me, other = ctx.states[subject.name], ctx.states[reference.name]
     dx, dy = other.x - me.x, other.y - me.y
@@ -53,14 +58,22 @@ def object_distance(ctx: ExecutionContext, subject: Actor, reference: Actor, dir
     if direction == "vertical":
         return 0.0
     if boxes:
-        return math.hypot(_shrink(lon, 0.5 * (me.length + other.length)),
-                          _shrink(lat, 0.5 * (me.width + other.width)))
+        return math.hypot(
+            _shrink(lon, 0.5 * (me.length + other.length)),
+            _shrink(lat, 0.5 * (me.width + other.width)),
+        )
     return math.hypot(lon, lat)
 
 
 @registry.method("physical_object", "road_distance")
-def road_distance(ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str,
-                  mode: str = "reference_points", route_type: str = "on_road") -> float:
+def road_distance(
+    ctx: ExecutionContext,
+    subject: Actor,
+    reference: Actor,
+    direction: str,
+    mode: str = "reference_points",
+    route_type: str = "on_road",
+) -> float:
     """Distance to ``reference`` along the road's s (longitudinal) or t (lateral) axis."""
     me, other = ctx.states[subject.name], ctx.states[reference.name]
     boxes = mode == "bounding_boxes"
@@ -98,15 +111,17 @@ def norm(ctx: ExecutionContext, subject: object) -> float:
 
 
 @registry.method("traffic_participant", "space_gap")
-def space_gap(ctx: ExecutionContext, subject: Actor, reference: Actor,
-              direction: str = "longitudinal") -> float:
+def space_gap(
+    ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str = "longitudinal"
+) -> float:
     """Bumper-to-bumper gap along the road (positive: the reference ahead / left)."""
     return road_distance(ctx, subject, reference, direction, "bounding_boxes")
 
 
 @registry.method("traffic_participant", "time_gap")
-def time_gap(ctx: ExecutionContext, subject: Actor, reference: Actor,
-             direction: str = "longitudinal") -> float:
+def time_gap(
+    ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str = "longitudinal"
+) -> float:
     """The space gap divided by the subject's speed (infinite at standstill)."""
     speed = ctx.states[subject.name].speed
     gap = space_gap(ctx, subject, reference, direction)

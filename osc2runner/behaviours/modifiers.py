@@ -89,15 +89,19 @@ class Speed(Modifier):
     def begin(self, action: ActionBehaviour) -> None:
         self.evaluate()
         self.tracking = self.at == "all" and any(
-            k in self.args for k in ("faster_than", "slower_than", "same_as"))
+            k in self.args for k in ("faster_than", "slower_than", "same_as")
+        )
         if _skip_start(self, action):
             return
         ctrl = action.controller
         v = self.target(action)
         if self.at == "end":
             remaining = action.remaining()
-            profile = profile_for("constant", change=v - action.state.speed, duration=remaining) \
-                if remaining else RateProfile(SPEED_PROFILE)
+            profile = (
+                profile_for("constant", change=v - action.state.speed, duration=remaining)
+                if remaining
+                else RateProfile(SPEED_PROFILE)
+            )
             set_speed(ctrl, v, profile)
         else:
             set_speed(ctrl, v, SPEED_PROFILE)
@@ -108,7 +112,8 @@ class Speed(Modifier):
 
     def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
         if args.get("at") == "start" and not any(
-                k in args for k in ("faster_than", "slower_than", "same_as")):
+            k in args for k in ("faster_than", "slower_than", "same_as")
+        ):
             plan.speed(actor.name, float(args.get("speed", 0.0)), self.node)
 
 
@@ -123,8 +128,11 @@ class ChangeSpeedModifier(Modifier):
         v0 = action.state.speed
         dv = float(self.args.get("speed", 0.0))
         remaining = action.remaining()
-        profile = profile_for("constant", change=dv, duration=remaining) if remaining \
+        profile = (
+            profile_for("constant", change=dv, duration=remaining)
+            if remaining
             else RateProfile(SPEED_PROFILE)
+        )
         set_speed(action.controller, v0 + dv, profile)
 
 
@@ -220,8 +228,10 @@ class Position(Modifier):
         if _skip_start(self, action):
             return
         if ref is None:
-            raise ActionError("position() without `ahead_of` or `behind` can only place an "
-                              "actor at the start of the scenario")
+            raise ActionError(
+                "position() without `ahead_of` or `behind` can only place an "
+                "actor at the start of the scenario"
+            )
         self.step(action)
 
     def step(self, action: ActionBehaviour) -> None:
@@ -243,15 +253,19 @@ class Position(Modifier):
         weak = args.get("at", "all") != "start"
         if "distance" not in args:
             if "time" in args:
-                plan.notes.append(f"`{actor.name}`: position(time: ...) cannot place before the "
-                                  "start speed is known; ignored for the start")
+                plan.notes.append(
+                    f"`{actor.name}`: position(time: ...) cannot place before the "
+                    "start speed is known; ignored for the start"
+                )
             return
         d = float(args["distance"])
         if ref is None:
             plan.s(actor.name, d, self.node, weak)
         else:
-            half = 0.5 * (float(getattr(actor.params, "length", 0.0)) +
-                          float(getattr(ref.params, "length", 0.0)))
+            half = 0.5 * (
+                float(getattr(actor.params, "length", 0.0))
+                + float(getattr(ref.params, "length", 0.0))
+            )
             plan.s_from(actor.name, ref.name, sign * (d + half), self.node, weak)
 
 
@@ -299,8 +313,9 @@ class Lane(Modifier):
         ctx = action.ctx
         target = self._target(ctx, lambda a: lane_of(ctx, a))
         if not ctx.road.has_lane(target):
-            raise ActionError(f"lane {ctx.lanes.to_scenario(target)} does not exist on map "
-                              f"`{ctx.road.name}`")
+            raise ActionError(
+                f"lane {ctx.lanes.to_scenario(target)} does not exist on map `{ctx.road.name}`"
+            )
         lateral = _lateral(action)
         if not first and target == self.changing_to:
             return
@@ -309,8 +324,13 @@ class Lane(Modifier):
             lateral.keep_lane(target)
         else:
             duration = action.remaining() if self.at == "end" else None
-            lateral.change_lane(state, target, duration=lane_change_duration(
-                1, ctx.road.lane_width, phase=duration, rate_peak=None, profile=None))
+            lateral.change_lane(
+                state,
+                target,
+                duration=lane_change_duration(
+                    1, ctx.road.lane_width, phase=duration, rate_peak=None, profile=None
+                ),
+            )
         self.changing_to = target
 
     def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
@@ -322,12 +342,18 @@ class Lane(Modifier):
         elif isinstance(args.get("side_of"), Actor):
             side = side_of(str(args.get("side", "left")))
             count = n or 1
-            plan.lane_beside(actor.name, args["side_of"].name,
-                             count if side == "left" else -count, self.node, weak)
+            plan.lane_beside(
+                actor.name,
+                args["side_of"].name,
+                count if side == "left" else -count,
+                self.node,
+                weak,
+            )
         elif n is not None:
             side = args.get("from")
-            plan.lane(actor.name, plan.lanes.to_road(n, str(side) if side else None), self.node,
-                      weak)
+            plan.lane(
+                actor.name, plan.lanes.to_road(n, str(side) if side else None), self.node, weak
+            )
 
 
 @registry.modifier("change_lane")
@@ -346,17 +372,20 @@ class ChangeLaneModifier(Modifier):
         start = lane_of(ctx, action.actor)
         side = self.args.get("side")
         if side is None:
-            sides = [s for s in ("left", "right") if ctx.road.has_lane(ctx.lanes.beside(start, s,
-                                                                                       n))]
+            sides = [
+                s for s in ("left", "right") if ctx.road.has_lane(ctx.lanes.beside(start, s, n))
+            ]
             if not sides:
                 raise ActionError(f"no lane {n} lanes away on either side")
             side = sides[int(ctx.rng.integers(len(sides)))]
         target = ctx.lanes.beside(start, side_of(str(side)), n)
         if not ctx.road.has_lane(target):
-            raise ActionError(f"there is no lane {n} lane(s) to the {side} of lane "
-                              f"{ctx.lanes.to_scenario(start)}")
-        duration = lane_change_duration(n, ctx.road.lane_width, phase=action.remaining(),
-                                        rate_peak=None, profile=None)
+            raise ActionError(
+                f"there is no lane {n} lane(s) to the {side} of lane {ctx.lanes.to_scenario(start)}"
+            )
+        duration = lane_change_duration(
+            n, ctx.road.lane_width, phase=action.remaining(), rate_peak=None, profile=None
+        )
         _lateral(action).change_lane(action.state, target, duration=duration)
 
 
@@ -401,20 +430,25 @@ class Lateral(Modifier):
         lateral = _lateral(action)
         t = self._target_t(action)
         if t is None:
-            lateral.keep_lane(lane_of(action.ctx, action.actor),
-                              offset=float(self.args.get("distance", 0.0)))
+            lateral.keep_lane(
+                lane_of(action.ctx, action.actor), offset=float(self.args.get("distance", 0.0))
+            )
         else:
             lateral.keep_offset(t)
 
     def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        if any(isinstance(args.get(k), Actor) for k in ("left_of", "right_of", "same_as",
-                                                         "side_of")):
-            plan.notes.append(f"`{actor.name}`: lateral() relative to another actor is not used "
-                              "for the start position")
+        if any(
+            isinstance(args.get(k), Actor) for k in ("left_of", "right_of", "same_as", "side_of")
+        ):
+            plan.notes.append(
+                f"`{actor.name}`: lateral() relative to another actor is not used "
+                "for the start position"
+            )
             return
         if "distance" in args:
-            plan.offset(actor.name, float(args["distance"]), self.node,
-                        args.get("at", "all") != "start")
+            plan.offset(
+                actor.name, float(args["distance"]), self.node, args.get("at", "all") != "start"
+            )
 
 
 # ---------------------------------------------------------------------- orientation
@@ -425,8 +459,10 @@ class _StartOnly(Modifier):
         self.evaluate()
         if _skip_start(self, action):
             return
-        raise ActionError(f"{self.use.name}() is only supported with `at: start` on a phase "
-                          "that starts the scenario")
+        raise ActionError(
+            f"{self.use.name}() is only supported with `at: start` on a phase "
+            "that starts the scenario"
+        )
 
 
 @registry.modifier("yaw", note="at: start only")
@@ -475,7 +511,8 @@ class PhysicalMovement(Modifier):
     """``physical_movement(...)``: every movement in this runner is physical; nothing to do."""
 
 
-@registry.modifier("set_map_file", actor="map",
-                   note="scenario member: chooses the built-in road before the run")
+@registry.modifier(
+    "set_map_file", actor="map", note="scenario member: chooses the built-in road before the run"
+)
 class SetMapFile(Modifier):
     """``the_map.set_map_file(file)``: the road is chosen from it before compiling (runner)."""

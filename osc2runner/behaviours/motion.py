@@ -107,8 +107,12 @@ class ChangeSpeed(ActionBehaviour):
         target = float(self.args["target"])
         kind = str(self.args.get("rate_profile", "none"))
         peak = self.args.get("rate_peak")
-        profile = profile_for(kind, float(peak) if peak is not None else None,
-                              change=target - self.state.speed, duration=self.phase)
+        profile = profile_for(
+            kind,
+            float(peak) if peak is not None else None,
+            change=target - self.state.speed,
+            duration=self.phase,
+        )
         set_speed(self.controller, target, profile)
         self.target = target
 
@@ -133,8 +137,9 @@ class ChangeLane(ActionBehaviour):
         ctx = self.ctx
         args = self.args
         if "target" in args:
-            raise ActionError("change_lane(target: lane) needs a road network; use "
-                              "num_of_lanes and side")
+            raise ActionError(
+                "change_lane(target: lane) needs a road network; use num_of_lanes and side"
+            )
         _hold(self)
         reference = args.get("reference")
         ref = reference if isinstance(reference, Actor) else self.actor
@@ -145,16 +150,21 @@ class ChangeLane(ActionBehaviour):
         if not ctx.road.has_lane(target):
             raise ActionError(
                 f"there is no lane {n} lane(s) to the {side} of lane "
-                f"{ctx.lanes.to_scenario(start_lane)} on map `{ctx.road.name}`")
+                f"{ctx.lanes.to_scenario(start_lane)} on map `{ctx.road.name}`"
+            )
         peak = args.get("rate_peak")
         lanes = abs(target - lane_of(ctx, self.actor)) or 1
         duration = lane_change_duration(
-            lanes, ctx.road.lane_width, phase=self.phase,
+            lanes,
+            ctx.road.lane_width,
+            phase=self.phase,
             rate_peak=float(peak) if peak is not None else None,
-            profile=str(args.get("rate_profile", "none")))
+            profile=str(args.get("rate_profile", "none")),
+        )
         lateral = self.controller.lateral
-        lateral.change_lane(self.state, target, offset=float(args.get("offset", 0.0)),
-                            duration=duration)
+        lateral.change_lane(
+            self.state, target, offset=float(args.get("offset", 0.0)), duration=duration
+        )
         self.target_lane = target
 
     def step(self) -> Status:
@@ -171,11 +181,14 @@ class FollowLane(ActionBehaviour):
 
     def start(self) -> None:
         if "target" in self.args:
-            raise ActionError("follow_lane(target: lane) needs a road network; drive in a lane "
-                              "with the lane() modifier instead")
+            raise ActionError(
+                "follow_lane(target: lane) needs a road network; drive in a lane "
+                "with the lane() modifier instead"
+            )
         _hold(self)
-        self.controller.lateral.keep_lane(lane_of(self.ctx, self.actor),
-                                          offset=float(self.args.get("offset", 0.0)))
+        self.controller.lateral.keep_lane(
+            lane_of(self.ctx, self.actor), offset=float(self.args.get("offset", 0.0))
+        )
 
 
 # ---------------------------------------------------------------------- gaps
@@ -228,16 +241,27 @@ class GapAction(ActionBehaviour):
         wanted = self.goal * max(me.speed, 0.1) if self.timed else self.goal
         error = distance - wanted  # >0: too far apart
         retarget(self.controller, other.speed + self.sign * GAP_GAIN * error)
-        if not self.keep and abs(error) < (0.5 if not self.timed else 0.1 * max(me.speed, 1.0)) \
-                and abs(me.speed - other.speed) < 0.3:
+        if (
+            not self.keep
+            and abs(error) < (0.5 if not self.timed else 0.1 * max(me.speed, 1.0))
+            and abs(me.speed - other.speed) < 0.3
+        ):
             return Status.SUCCESS
         return Status.RUNNING
 
 
 def _gap(name: str, *, bumpers: bool, timed: bool, keep: bool) -> type[GapAction]:
-    cls = type(f"{''.join(p.title() for p in name.split('_'))}", (GapAction,), {
-        "bumpers": bumpers, "timed": timed, "keep": keep, "finite": not keep,
-        "__doc__": f"``{name}``: see :class:`GapAction`."})
+    cls = type(
+        f"{''.join(p.title() for p in name.split('_'))}",
+        (GapAction,),
+        {
+            "bumpers": bumpers,
+            "timed": timed,
+            "keep": keep,
+            "finite": not keep,
+            "__doc__": f"``{name}``: see :class:`GapAction`.",
+        },
+    )
     return registry.action("vehicle", name)(cls)
 
 

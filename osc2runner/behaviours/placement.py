@@ -19,8 +19,9 @@ from osc2runner.initializer import StartPlan, _Rel
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
 
 
-def _teleport(action: InstantAction, *, speed: float | None = None,
-              yaw: float | None = None) -> None:
+def _teleport(
+    action: InstantAction, *, speed: float | None = None, yaw: float | None = None
+) -> None:
     ctx = action.ctx
     world = ctx.world
     assert world is not None
@@ -28,8 +29,13 @@ def _teleport(action: InstantAction, *, speed: float | None = None,
     if world.kind(action.actor.name) == "obstacle":
         raise ActionError("a stationary object cannot be moved after the start")
     x, y = state.x, state.y
-    world.place(action.actor.name, x, y, state.yaw if yaw is None else yaw,
-                state.speed if speed is None else speed)
+    world.place(
+        action.actor.name,
+        x,
+        y,
+        state.yaw if yaw is None else yaw,
+        state.speed if speed is None else speed,
+    )
     ctx.refresh()
 
 
@@ -44,8 +50,10 @@ class AssignPosition(InstantAction):
             return
         for key in ("position", "route_point", "odr_point"):
             if key in self.args:
-                raise ActionError(f"assign_position({key}: ...) needs a road network; place the "
-                                  "actor with the lane() and position() modifiers")
+                raise ActionError(
+                    f"assign_position({key}: ...) needs a road network; place the "
+                    "actor with the lane() and position() modifiers"
+                )
         ctx = self.ctx
         plan = StartPlan(list(ctx.actors.values()), ctx.lanes)
         name = self.actor.name

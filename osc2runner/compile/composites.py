@@ -37,7 +37,13 @@ import py_trees
 from py_trees.common import ParallelPolicy, Status
 
 __all__ = [
-    "DurationBound", "Labelled", "OneOf", "Parallel", "ScenarioRoot", "Serial", "running_open",
+    "DurationBound",
+    "Labelled",
+    "OneOf",
+    "Parallel",
+    "ScenarioRoot",
+    "Serial",
+    "running_open",
     "tick_child",
 ]
 
@@ -108,8 +114,9 @@ class Parallel(_Fast, py_trees.composites.Parallel):
     """
 
     def __init__(self, name: str, children: Sequence[Behaviour] = ()) -> None:
-        super().__init__(name, policy=ParallelPolicy.SuccessOnAll(synchronise=True),
-                         children=list(children))
+        super().__init__(
+            name, policy=ParallelPolicy.SuccessOnAll(synchronise=True), children=list(children)
+        )
         self._open = [may_be_open(c) for c in self.children]
 
     def tick_status(self) -> Status:
@@ -136,8 +143,10 @@ class Parallel(_Fast, py_trees.composites.Parallel):
         if done == len(children):
             self.stop(SUCCESS)
             return SUCCESS
-        if done and all(c.status == SUCCESS or (o and running_open(c))
-                        for c, o in zip(children, self._open, strict=True)):
+        if done and all(
+            c.status == SUCCESS or (o and running_open(c))
+            for c, o in zip(children, self._open, strict=True)
+        ):
             self.feedback_message = "open-ended members ended with the others"
             self.stop(SUCCESS)
             return SUCCESS
@@ -223,8 +232,9 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
     until ``low``. A failing child fails the phase.
     """
 
-    def __init__(self, name: str, child: Behaviour,
-                 bounds: Callable[[], tuple[float | None, float | None]]) -> None:
+    def __init__(
+        self, name: str, child: Behaviour, bounds: Callable[[], tuple[float | None, float | None]]
+    ) -> None:
         super().__init__(name=name, child=child)
         self.bounds = bounds
         self.ctx: Any = None
@@ -308,8 +318,9 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
     """
 
     def __init__(self, name: str, do: Behaviour, handlers: Sequence[Behaviour] = ()) -> None:
-        super().__init__(name, policy=ParallelPolicy.SuccessOnSelected(children=[do]),
-                         children=[do, *handlers])
+        super().__init__(
+            name, policy=ParallelPolicy.SuccessOnSelected(children=[do]), children=[do, *handlers]
+        )
         self.do = do
         self.ctx: Any = None
 

@@ -49,6 +49,7 @@ __all__ = [
     "Watch",
 ]
 
+
 class Watch:
     """A compiled event spec: ``start()`` when the waiting begins, ``occurred()`` each tick."""
 
@@ -67,8 +68,13 @@ class NamedEventWatch(Watch):
 
     consumes = True
 
-    def __init__(self, ctx: ExecutionContext, name: str, condition: Closure | None = None,
-                 cell: list[Any] | None = None) -> None:
+    def __init__(
+        self,
+        ctx: ExecutionContext,
+        name: str,
+        condition: Closure | None = None,
+        cell: list[Any] | None = None,
+    ) -> None:
         self.ctx = ctx
         self.name = name
         self.key = ctx.declare_event(name)
@@ -86,7 +92,8 @@ class NamedEventWatch(Watch):
 
     def occurred(self) -> bool:
         occurrences: tuple[Occurrence, ...] = py_trees.blackboard.Blackboard.storage.get(
-            self.key, ())
+            self.key, ()
+        )
         while self.cursor < len(occurrences):
             occurrence = occurrences[self.cursor]
             self.cursor += 1
@@ -177,8 +184,9 @@ class Wait(_ContextBehaviour):
 class Emit(_ContextBehaviour):
     """``emit e(args)``: one occurrence of ``e`` on the blackboard, then success."""
 
-    def __init__(self, name: str, event: str, key: str,
-                 arguments: dict[str, Closure] | None = None) -> None:
+    def __init__(
+        self, name: str, event: str, key: str, arguments: dict[str, Closure] | None = None
+    ) -> None:
         super().__init__(name)
         self.event = event
         self.key = key
@@ -191,8 +199,9 @@ class Emit(_ContextBehaviour):
         return Status.SUCCESS
 
 
-def emit_now(ctx: ExecutionContext, client: Any, event: str, key: str,
-             arguments: dict[str, Closure]) -> None:
+def emit_now(
+    ctx: ExecutionContext, client: Any, event: str, key: str, arguments: dict[str, Closure]
+) -> None:
     """Append an occurrence of ``event`` through ``client`` and log it."""
     args = {k: fn() for k, fn in arguments.items()}
     occurrence = Occurrence(ctx.tick, ctx.time, args)
@@ -259,8 +268,9 @@ class Until(py_trees.decorators.Decorator):
 class OnHandler(_ContextBehaviour):
     """``on <event>: ...``: runs for the whole scenario; each occurrence runs the members."""
 
-    def __init__(self, name: str, watch: Watch, members: list[Callable[[Any], None]],
-                 keys: list[str] = ()) -> None:  # type: ignore[assignment]
+    def __init__(
+        self, name: str, watch: Watch, members: list[Callable[[Any], None]], keys: list[str] = ()
+    ) -> None:  # type: ignore[assignment]
         super().__init__(name)
         self.watch = watch
         self.members = members

@@ -70,8 +70,9 @@ class MethodRegistry:
 
         return register
 
-    def modifier(self, name: str, *, actor: str | None = None,
-                 note: str = "") -> Callable[[_T], _T]:
+    def modifier(
+        self, name: str, *, actor: str | None = None, note: str = ""
+    ) -> Callable[[_T], _T]:
         """Register the decorated modifier class for ``name(...)``.
 
         Movement modifiers (``speed``, ``lane``, ...) have no actor; an

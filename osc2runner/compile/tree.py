@@ -96,8 +96,11 @@ def unparse(node: ast.Node | None) -> str:
         case ast.Index():
             return f"{unparse(node.target)}[{unparse(node.index)}]"
         case ast.Unary():
-            return f"not {unparse(node.operand)}" if node.op == "not" else \
-                f"{node.op}{unparse(node.operand)}"
+            return (
+                f"not {unparse(node.operand)}"
+                if node.op == "not"
+                else f"{node.op}{unparse(node.operand)}"
+            )
         case ast.Binary():
             return f"{unparse(node.left)} {node.op} {unparse(node.right)}"
         case ast.Ternary():
@@ -127,8 +130,9 @@ def unparse(node: ast.Node | None) -> str:
     return type(node).__name__
 
 
-def compile_scenario(ctx: ExecutionContext, scenario: Symbol,
-                     texts: dict[str, str] | None = None) -> CompiledScenario:
+def compile_scenario(
+    ctx: ExecutionContext, scenario: Symbol, texts: dict[str, str] | None = None
+) -> CompiledScenario:
     """Compile ``scenario`` against ``ctx``; problems are collected, not raised."""
     import osc2runner.behaviours  # noqa: F401 - fills the registry
 
@@ -153,14 +157,15 @@ class TreeCompiler:
 
     def _text(self, node: ast.Node, limit: int = 60) -> str:
         """The node's OSC2 text, shortened (display names, messages)."""
-        if isinstance(node, (ast.Expr, ast.Argument, ast.EventReference, ast.EventCondition,
-                             ast.Emit)):
+        if isinstance(
+            node, (ast.Expr, ast.Argument, ast.EventReference, ast.EventCondition, ast.Emit)
+        ):
             piece = unparse(node)
         else:
             text = self.texts.get(node.span.uri)
             if text is None:
                 return type(node).__name__
-            piece = " ".join(text[node.span.start:node.span.end].split())
+            piece = " ".join(text[node.span.start : node.span.end].split())
         return piece if len(piece) <= limit else piece[: limit - 3] + "..."
 
     def _failed(self, name: str) -> py_trees.behaviour.Behaviour:
@@ -193,15 +198,19 @@ class TreeCompiler:
                     case ast.Invocation():
                         self._scenario_modifier(member)
                     case ast.CoverageDecl():
-                        self.notes.append(f"line {member.span.line}: coverage "
-                                          f"({member.kind}) is not collected by the runner")
+                        self.notes.append(
+                            f"line {member.span.line}: coverage "
+                            f"({member.kind}) is not collected by the runner"
+                        )
         if do is None:
             main: py_trees.behaviour.Behaviour = Serial("do (empty)")
         else:
-            main = self._guard(lambda: self.do_member(do.member, Scope()), do) or \
-                self._failed("do")
-        root = ScenarioRoot(node_name(f"scenario {scenario.name}", scenario.decl or do or
-                                      ast.Missing(_no_span())), main, handlers)
+            main = self._guard(lambda: self.do_member(do.member, Scope()), do) or self._failed("do")
+        root = ScenarioRoot(
+            node_name(f"scenario {scenario.name}", scenario.decl or do or ast.Missing(_no_span())),
+            main,
+            handlers,
+        )
         return CompiledScenario(root, self._start_uses(do), self.problems, self.notes)
 
     def _guard(self, build: Callable[[], Any], node: ast.Node) -> Any:
@@ -236,13 +245,21 @@ class TreeCompiler:
 
     def _scenario_modifier(self, member: ast.Invocation) -> None:
         sym = self.model.references.get(member.name)
-        if sym is not None and sym.kind is SymbolKind.MODIFIER and \
-                self.ctx.registry.find_modifier(self.model, sym) is not None and \
-                sym.actor is not None and sym.actor.name == "map":
+        if (
+            sym is not None
+            and sym.kind is SymbolKind.MODIFIER
+            and self.ctx.registry.find_modifier(self.model, sym) is not None
+            and sym.actor is not None
+            and sym.actor.name == "map"
+        ):
             return  # the road is chosen from it before compiling
-        self._problem(CompileProblem(
-            f"`{self._text(member)}`: modifiers applied to the whole scenario are not supported "
-            "by the runner", member))
+        self._problem(
+            CompileProblem(
+                f"`{self._text(member)}`: modifiers applied to the whole scenario are not "
+                "supported by the runner",
+                member,
+            )
+        )
 
     # ---- behaviour
 
@@ -260,8 +277,10 @@ class TreeCompiler:
                 case ast.Emit():
                     node = self.emit(body, scope)
                 case ast.CallDirective():
-                    node = CallDirective(node_name(f"call {self._text(body.call)}", body),
-                                         self.ctx.compile(body.call, scope))
+                    node = CallDirective(
+                        node_name(f"call {self._text(body.call)}", body),
+                        self.ctx.compile(body.call, scope),
+                    )
                 case _:
                     raise CompileProblem("the runner cannot run this member", body)
         except CompileProblem as exc:
@@ -275,8 +294,9 @@ class TreeCompiler:
         return node
 
     def composition(self, comp: ast.Composition, scope: Scope) -> py_trees.behaviour.Behaviour:
-        args = self._named(comp.arguments, ("duration", "overlap", "start_to_start",
-                                            "end_to_end"), comp)
+        args = self._named(
+            comp.arguments, ("duration", "overlap", "start_to_start", "end_to_end"), comp
+        )
         children = [self.do_member(m, scope) for m in comp.members]
         name = node_name(comp.op, comp)
         node: py_trees.behaviour.Behaviour
@@ -289,7 +309,9 @@ class TreeCompiler:
                 if value not in _OVERLAPS:
                     raise CompileProblem(
                         f"parallel(overlap: {value}) is not supported; the runner starts all "
-                        "members together (overlap: start)", overlap)
+                        "members together (overlap: start)",
+                        overlap,
+                    )
             for key in ("start_to_start", "end_to_end"):
                 if key in args:
                     raise CompileProblem(f"parallel({key}: ...) is not supported", args[key])
@@ -303,36 +325,51 @@ class TreeCompiler:
             if isinstance(wm, ast.Until):
                 untils.append(wm)
             elif isinstance(wm, ast.Invocation):
-                raise CompileProblem(f"`{self._text(wm)}`: modifiers on a composition are not "
-                                     "supported by the runner", wm)
+                raise CompileProblem(
+                    f"`{self._text(wm)}`: modifiers on a composition are not "
+                    "supported by the runner",
+                    wm,
+                )
             else:
-                self.notes.append(f"line {wm.span.line}: constraint on a composition is left "
-                                  "to the solver")
+                self.notes.append(
+                    f"line {wm.span.line}: constraint on a composition is left to the solver"
+                )
         return self._wrap(node, comp, args.get("duration"), untils, scope)
 
-    def _named(self, arguments: tuple[ast.Argument, ...], allowed: tuple[str, ...],
-               owner: ast.Node) -> dict[str, ast.Node]:
+    def _named(
+        self, arguments: tuple[ast.Argument, ...], allowed: tuple[str, ...], owner: ast.Node
+    ) -> dict[str, ast.Node]:
         result: dict[str, ast.Node] = {}
         for arg in arguments:
             if isinstance(arg, ast.NamedArgument) and arg.name.text in allowed:
                 result[arg.name.text] = arg.value
-            elif isinstance(arg, ast.PositionalArgument) and "duration" in allowed and \
-                    "duration" not in result and not result:
+            elif (
+                isinstance(arg, ast.PositionalArgument)
+                and "duration" in allowed
+                and "duration" not in result
+                and not result
+            ):
                 result["duration"] = arg.value
             else:
                 raise CompileProblem("unsupported argument of a composition", arg)
         return result
 
-    def _wrap(self, node: py_trees.behaviour.Behaviour, owner: ast.Node,
-              duration: ast.Node | None, untils: list[ast.Until],
-              scope: Scope) -> py_trees.behaviour.Behaviour:
+    def _wrap(
+        self,
+        node: py_trees.behaviour.Behaviour,
+        owner: ast.Node,
+        duration: ast.Node | None,
+        untils: list[ast.Until],
+        scope: Scope,
+    ) -> py_trees.behaviour.Behaviour:
         for until in untils:
             watch = self.watch(until.event, scope)
             node = Until(node_name(f"until {self._text(until.event)}", until), node, watch)
         if duration is not None:
             bounds = self._bounds(self.ctx.compile(duration, scope))
-            node = DurationBound(node_name(f"duration: {self._text(duration)}", duration), node,
-                                 bounds)
+            node = DurationBound(
+                node_name(f"duration: {self._text(duration)}", duration), node, bounds
+            )
         return node
 
     @staticmethod
@@ -353,22 +390,30 @@ class TreeCompiler:
         if sym is None:
             raise CompileProblem(f"`{inv.name.text}` is not a behaviour the runner knows", inv)
         if sym.kind is SymbolKind.SCENARIO:
-            raise CompileProblem(f"invoking the scenario `{sym.name}` from another scenario is "
-                                 "not supported by the runner yet", inv)
+            raise CompileProblem(
+                f"invoking the scenario `{sym.name}` from another scenario is "
+                "not supported by the runner yet",
+                inv,
+            )
         if sym.kind is not SymbolKind.ACTION:
             raise CompileProblem(f"`{inv.name.text}` is a {sym.kind.value}, not an action", inv)
         if inv.actor is None:
-            raise CompileProblem(f"`{inv.name.text}()` needs an actor (`hero.{inv.name.text}()`)",
-                                 inv)
+            raise CompileProblem(
+                f"`{inv.name.text}()` needs an actor (`hero.{inv.name.text}()`)", inv
+            )
         actor = self.ctx.compiler.constant_value(inv.actor, scope)
         if not isinstance(actor, Actor):
-            raise CompileProblem("the actor of an action must be an actor field of the "
-                                 "scenario", inv.actor)
+            raise CompileProblem(
+                "the actor of an action must be an actor field of the scenario", inv.actor
+            )
         entry = self.ctx.registry.find_action(self.model, actor.type, sym)
         label = f"{actor.type.name}.{sym.name}"
         if entry is None:
-            raise CompileProblem(f"action `{label}` has no runner behaviour (see "
-                                 "docs/coverage.md for what the runner supports)", inv.name)
+            raise CompileProblem(
+                f"action `{label}` has no runner behaviour (see "
+                "docs/coverage.md for what the runner supports)",
+                inv.name,
+            )
         inner = scope.child(actor=constant(actor))
         arguments, duration = self._arguments(sym, inv.arguments, inner, inv, allow_duration=True)
         modifiers: list[Modifier] = []
@@ -379,10 +424,18 @@ class TreeCompiler:
             elif isinstance(wm, ast.Until):
                 untils.append(wm)
             else:
-                self.notes.append(f"line {wm.span.line}: `{self._text(wm)}` is left to the "
-                                  "solver (not enforced at run time)")
-        use = ActionUse(inv, sym, actor, arguments, modifiers,
-                        self._bounds(self.ctx.compile(duration, inner)) if duration else None)
+                self.notes.append(
+                    f"line {wm.span.line}: `{self._text(wm)}` is left to the "
+                    "solver (not enforced at run time)"
+                )
+        use = ActionUse(
+            inv,
+            sym,
+            actor,
+            arguments,
+            modifiers,
+            self._bounds(self.ctx.compile(duration, inner)) if duration else None,
+        )
         cls = entry.target
         use.behaviour = cls
         behaviour = cls(node_name(f"{actor.name}.{sym.name}()", inv), use)
@@ -390,9 +443,14 @@ class TreeCompiler:
         self.uses[inv] = (use, cls)
         return self._wrap(behaviour, inv, duration, untils, inner)
 
-    def _arguments(self, sym: Symbol, arguments: tuple[ast.Argument, ...], scope: Scope,
-                   owner: ast.Node, allow_duration: bool = False
-                   ) -> tuple[dict[str, Closure], ast.Node | None]:
+    def _arguments(
+        self,
+        sym: Symbol,
+        arguments: tuple[ast.Argument, ...],
+        scope: Scope,
+        owner: ast.Node,
+        allow_duration: bool = False,
+    ) -> tuple[dict[str, Closure], ast.Node | None]:
         params = [p.name for p in self.model.parameters(sym)]
         result: dict[str, Closure] = {}
         duration: ast.Node | None = None
@@ -419,8 +477,11 @@ class TreeCompiler:
             raise CompileProblem(f"`{wm.name.text}` is not a modifier the runner knows", wm)
         entry = self.ctx.registry.find_modifier(self.model, sym)
         if entry is None:
-            raise CompileProblem(f"modifier `{sym.qualified_name}` has no runner behaviour (see "
-                                 "docs/coverage.md for what the runner supports)", wm.name)
+            raise CompileProblem(
+                f"modifier `{sym.qualified_name}` has no runner behaviour (see "
+                "docs/coverage.md for what the runner supports)",
+                wm.name,
+            )
         arguments, _ = self._arguments(sym, wm.arguments, scope, wm)
         arguments.setdefault("at", constant("all"))
         if wm.with_members:
@@ -430,8 +491,9 @@ class TreeCompiler:
     # ---- events
 
     def wait(self, wait: ast.Wait, scope: Scope) -> py_trees.behaviour.Behaviour:
-        return Wait(node_name(f"wait {self._text(wait.event)}", wait),
-                    self.watch(wait.event, scope))
+        return Wait(
+            node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
+        )
 
     def emit(self, emit: ast.Emit, scope: Scope) -> py_trees.behaviour.Behaviour:
         name, key, args = self._emission(emit, scope)
@@ -464,8 +526,9 @@ class TreeCompiler:
             if isinstance(member, ast.Emit):
                 name, key, args = self._emission(member, scope)
                 keys.append(key)
-                members.append(lambda h, n=name, k=key, a=args: emit_now(ctx, h.blackboard, n,
-                                                                         k, a))
+                members.append(
+                    lambda h, n=name, k=key, a=args: emit_now(ctx, h.blackboard, n, k, a)
+                )
             elif isinstance(member, ast.CallDirective):
                 call = ctx.compile(member.call, scope)
                 members.append(lambda h, c=call: c())
@@ -487,8 +550,11 @@ class TreeCompiler:
             return NamedEventWatch(ctx, name, condition, cell)
         if isinstance(spec, ast.EventCondition):
             expr = spec.expr
-            if isinstance(expr, ast.Call) and isinstance(expr.callee, ast.NameRef) and \
-                    self.model.references.get(expr.callee.name.name) is None:
+            if (
+                isinstance(expr, ast.Call)
+                and isinstance(expr.callee, ast.NameRef)
+                and self.model.references.get(expr.callee.name.name) is None
+            ):
                 fname = expr.callee.name.name.text
                 if fname in ("rise", "fall", "elapsed", "every"):
                     return self._event_function(fname, expr, scope)
@@ -537,8 +603,10 @@ class TreeCompiler:
                 found.append(use)
                 return issubclass(cls, InstantAction) and use.duration is None
             case ast.Composition():
-                if any(isinstance(a, ast.NamedArgument) and a.name.text == "duration"
-                       for a in body.arguments):
+                if any(
+                    isinstance(a, ast.NamedArgument) and a.name.text == "duration"
+                    for a in body.arguments
+                ):
                     for m in body.members[:1] if body.op == "serial" else body.members:
                         self._starts(m.body, found)
                     return False

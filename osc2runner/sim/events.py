@@ -68,11 +68,16 @@ class EventDetector:
         self._reach2 = reach * reach
         # few actors: plain Python loops beat numpy's per-call overhead
         self._small = len(self._pi) <= SMALL_PAIRS
-        self._pairs = list(zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(),
-                               strict=True))
+        self._pairs = list(
+            zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(), strict=True)
+        )
         self._moving_list = np.flatnonzero(self.moving).tolist()
-        self._bounds = (float(self._mid[0]), float(self._mid[1]), float(self._half_road[0]),
-                        float(self._half_road[1]))
+        self._bounds = (
+            float(self._mid[0]),
+            float(self._mid[1]),
+            float(self._half_road[0]),
+            float(self._half_road[1]),
+        )
         self.reset()
 
     def reset(self) -> None:
@@ -109,8 +114,13 @@ class EventDetector:
         for k in near.tolist():
             a, b = int(self._pi[k]), int(self._pj[k])
             if boxes_overlap(
-                centre[a].tolist(), float(yaw[a]), half[a], centre[b].tolist(), float(yaw[b]),
-                half[b], self.margin
+                centre[a].tolist(),
+                float(yaw[a]),
+                half[a],
+                centre[b].tolist(),
+                float(yaw[b]),
+                half[b],
+                self.margin,
             ):
                 now.add((a, b))
                 if (a, b) not in self._overlaps:
@@ -118,13 +128,15 @@ class EventDetector:
         self._overlaps = now
         return events
 
-
     def _detect_small(self, tick: int, time: float, centre: list, yaw: list) -> list[Event]:
         """:meth:`detect` for a few actors, in plain Python (the same results)."""
         events: list[Event] = []
         mx, my, hx, hy = self._bounds
-        now_out = {i for i in self._moving_list
-                   if abs(centre[i][0] - mx) > hx or abs(centre[i][1] - my) > hy}
+        now_out = {
+            i
+            for i in self._moving_list
+            if abs(centre[i][0] - mx) > hx or abs(centre[i][1] - my) > hy
+        }
         if now_out or self._off_road:
             for i in sorted(now_out - self._off_road):
                 events.append(Event(tick, time, "off_road", (self.names[i],)))

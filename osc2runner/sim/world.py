@@ -633,9 +633,27 @@ class World:
                 s, t = to_st(x, y)
                 params = spec.params
                 out[spec.name] = ActorState(
-                    spec.name, "vehicle", tick, time, x, y, yaw[row], speed[row], lat[row],
-                    yaw_rate[row], accel[row], lane_of(y), s, t, mu[row], throttle[row],
-                    brake[row], steer[row], params.length, params.width)
+                    spec.name,
+                    "vehicle",
+                    tick,
+                    time,
+                    x,
+                    y,
+                    yaw[row],
+                    speed[row],
+                    lat[row],
+                    yaw_rate[row],
+                    accel[row],
+                    lane_of(y),
+                    s,
+                    t,
+                    mu[row],
+                    throttle[row],
+                    brake[row],
+                    steer[row],
+                    params.length,
+                    params.width,
+                )
         for spec in self._pedestrians:
             out[spec.name] = self.state(spec.name)
         if static or any(spec.name not in out for spec in self.specs if spec.kind == "obstacle"):

@@ -48,8 +48,11 @@ def _outline(node: ast.Node) -> tuple:
     elif isinstance(name, ast.Name):
         names.append(name.text)
     members = getattr(node, "members", None) or getattr(node, "declarations", None) or ()
-    return (type(node).__name__, tuple(names),
-            tuple(_outline(m) for m in members if not isinstance(m, ast.KeepConstraint)))
+    return (
+        type(node).__name__,
+        tuple(names),
+        tuple(_outline(m) for m in members if not isinstance(m, ast.KeepConstraint)),
+    )
 
 
 @pytest.fixture(scope="module")
@@ -81,7 +84,10 @@ def test_every_declaration_after_the_error_is_recovered():
     assert len(after) == 27
     change_lane = next(d for d in original.ast.declarations if d.span.line == 852)
     assert [n.text for m in change_lane.members for n in getattr(m, "names", ())] == [
-        "side", "rate_peak", "target"]
+        "side",
+        "rate_peak",
+        "target",
+    ]
 
 
 def test_the_library_has_exactly_the_known_defects(analysis):
@@ -94,12 +100,15 @@ def test_a_shared_enum_member_is_decided_by_the_value_it_is_compared_with(analys
     """`keep(default it == none)` at line 675: `none` belongs to five enums, and `it` is a
     `hitch_type`, so only `hitch_type!none` fits (§7.3.3) — not one of the defects."""
     model = analysis.programs[str(STANDARD)].model
-    (literal,) = [node for node in walk(analysis.parses[str(STANDARD)].ast)
-                  if isinstance(node, ast.NameRef) and node.span.line == 675
-                  and node.name.name.text == "none"]
+    (literal,) = [
+        node
+        for node in walk(analysis.parses[str(STANDARD)].ast)
+        if isinstance(node, ast.NameRef) and node.span.line == 675 and node.name.name.text == "none"
+    ]
     member = model.references[literal.name.name]
     assert member.kind is SymbolKind.ENUM_MEMBER
     assert (member.owner.name, member.name) == ("hitch_type", "none")
-    owners = {s.owner.name for s in model.symbols
-              if s.kind is SymbolKind.ENUM_MEMBER and s.name == "none"}
+    owners = {
+        s.owner.name for s in model.symbols if s.kind is SymbolKind.ENUM_MEMBER and s.name == "none"
+    }
     assert len(owners) == 5

@@ -52,8 +52,11 @@ def test_demo_error_reports_the_misspelling_and_recovers_the_rest():
     assert [(d.span.line, d.code.code) for d in result.diagnostics] == [(4, "P001")]
     assert "scexnario" in result.diagnostics[0].message
     assert _declared(result)[-4:] == [
-        ("ScenarioDecl", "baz"), ("EnumDecl", "storm_type"), ("StructDecl", "storm_data"),
-        ("ScenarioDecl", "snowstorm")]
+        ("ScenarioDecl", "baz"),
+        ("EnumDecl", "storm_type"),
+        ("StructDecl", "storm_data"),
+        ("ScenarioDecl", "snowstorm"),
+    ]
     assert _findings(_analyze("demo-error.osc")) == [(1, "N105"), (4, "P001")]
 
 

@@ -86,10 +86,14 @@ def _outcome(case_id: str) -> tuple[str, tuple[str, ...]]:
     path = SUITE / case["file"]
     # seed=None: no witness is sampled; the verdict does not depend on one, and
     # sampling would cost most of the time
-    analysis = analyze([SourceInput(str(path), path.read_text(encoding="utf-8"))],
-                       _config(case), seed=None)
-    errors = tuple(f"{d.span.line}: {d.code.code} {d.message}" for d in analysis.diagnostics
-                   if d.severity is Severity.ERROR)
+    analysis = analyze(
+        [SourceInput(str(path), path.read_text(encoding="utf-8"))], _config(case), seed=None
+    )
+    errors = tuple(
+        f"{d.span.line}: {d.code.code} {d.message}"
+        for d in analysis.diagnostics
+        if d.severity is Severity.ERROR
+    )
     return ("error" if errors else "ok"), errors
 
 
@@ -116,13 +120,18 @@ def test_osc2check_agrees_with_scena(case, search_paths_followed):
     verdict, errors = _outcome(case["id"])
     if case["id"] in DELIBERATE:
         assert verdict != case["expect"], (
-            f"{case['id']} now agrees with Scena; remove it from DELIBERATE")
+            f"{case['id']} now agrees with Scena; remove it from DELIBERATE"
+        )
         return
-    scena = [f"{d['line']}: {d['message']}" for d in case.get("diagnostics") or []
-             if d["severity"] == "error"]
+    scena = [
+        f"{d['line']}: {d['message']}"
+        for d in case.get("diagnostics") or []
+        if d["severity"] == "error"
+    ]
     assert verdict == case["expect"], (
         f"{case['file']}: Scena says {case['expect']} {scena}, osc2check says {verdict} "
-        f"{list(errors)}")
+        f"{list(errors)}"
+    )
 
 
 def test_agreement_rate():

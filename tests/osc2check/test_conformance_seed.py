@@ -24,21 +24,30 @@ EXPECTED = {
     "cut_in_and_stop.osc": [
         (1, D804),  # import "domain.osc" for the standard library
         (2, D801),  # use std.stdtypes as a statement
-        (10, D803), (11, D803), (13, D803), (14, D803),  # the toolkit's `model` and `name`
+        (10, D803),
+        (11, D803),
+        (13, D803),
+        (14, D803),  # the toolkit's `model` and `name`
         (34, D802),  # emit go_signal, never declared
-        (42, D803), (42, D803),  # the toolkit's `position` and its `ahead_of()`
+        (42, D803),
+        (42, D803),  # the toolkit's `position` and its `ahead_of()`
         (42, D806),  # one_of with a `wait` member: a race
         (47, D802),  # emit CRASH_AVOIDED
-        (49, D803), (51, D803),  # set_lights
-        (63, D803), (63, D803), (63, D806),
+        (49, D803),
+        (51, D803),  # set_lights
+        (63, D803),
+        (63, D803),
+        (63, D806),
         (69, D806),
         (72, D802),  # emit OBSTACLE_DETECTED
     ],
     "braking_friction.osc": [
         (10, D804),
         (11, D801),
-        (18, D803), (19, D803),
-        (32, D802), (39, D802),
+        (18, D803),
+        (19, D803),
+        (32, D802),
+        (39, D802),
         (45, D805),  # rain intensity 100.0 without a unit
         (46, D803),  # set_road_friction
         (51, D802),

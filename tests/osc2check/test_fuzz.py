@@ -349,8 +349,9 @@ DEEP_EXPRESSIONS: dict[str, bytes] = {
     "deep_minus": (HEADER + "    keep(x == " + "-" * 500 + "1)\n").encode(),
     "long_member_chain": (HEADER + "    keep(hero" + ".speed" * 500 + " > 1kph)\n").encode(),
 }
-ALL_EDGES = [pytest.param(data, id=name) for name, data in {**EDGE_CASES,
-                                                             **DEEP_EXPRESSIONS}.items()]
+ALL_EDGES = [
+    pytest.param(data, id=name) for name, data in {**EDGE_CASES, **DEEP_EXPRESSIONS}.items()
+]
 
 
 @pytest.mark.parametrize("data", ALL_EDGES)

@@ -53,13 +53,11 @@ MARKER_COLUMN = 44  # where an update puts a marker on a line that had none (0-b
 EXIT_LINE = "exit status: {}"
 
 # Codes that the checker does not report yet, with the reason (remove a code once it does).
-NOT_IMPLEMENTED: dict[str, str] = {
-}
+NOT_IMPLEMENTED: dict[str, str] = {}
 
 # Cases that fail today because of a checker bug or a missing check; they must pass once it
 # is fixed (strict xfail), and --update-goldens leaves their expectations alone.
-KNOWN_BUGS: dict[str, str] = {
-}
+KNOWN_BUGS: dict[str, str] = {}
 
 
 # --- cases --------------------------------------------------------------------------------

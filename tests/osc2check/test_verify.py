@@ -77,11 +77,13 @@ def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ir.Problem:
 def test_solve_reports_a_minimal_core_with_the_last_user_constraint_as_primary():
     x, y = ir.Var("x", "real"), ir.Var("y", "real")
     X, Y = ir.Ref(x), ir.Ref(y)
-    p = problem_of((ir.op(">=", X, ir.const(10)), "keep"),
-                   (ir.op("<=", Y, ir.const(3)), "keep"),  # unrelated
-                   (ir.op("==", Y, X), "keep"),
-                   (ir.op(">=", Y, ir.const(0)), "keep"),  # unrelated
-                   variables=(x, y))
+    p = problem_of(
+        (ir.op(">=", X, ir.const(10)), "keep"),
+        (ir.op("<=", Y, ir.const(3)), "keep"),  # unrelated
+        (ir.op("==", Y, X), "keep"),
+        (ir.op(">=", Y, ir.const(0)), "keep"),  # unrelated
+        variables=(x, y),
+    )
     outcome = solve(p)
     assert outcome.status == "unsat"
     (conflict,) = outcome.conflicts
@@ -92,19 +94,25 @@ def test_solve_reports_a_minimal_core_with_the_last_user_constraint_as_primary()
 def test_check_finds_easy_models_without_z3_and_sends_the_rest_to_it():
     x, n = ir.Var("x", "real"), ir.Var("n", "int")
     X, N = ir.Ref(x), ir.Ref(n)
-    easy = problem_of((in_range(X, ir.const(5), ir.const(1)), "keep"),
-                      (ir.op("==", N, ir.op("+", ir.const(2), ir.const(3))), "keep"),
-                      variables=(x, n))
+    easy = problem_of(
+        (in_range(X, ir.const(5), ir.const(1)), "keep"),
+        (ir.op("==", N, ir.op("+", ir.const(2), ir.const(3))), "keep"),
+        variables=(x, n),
+    )
     outcome = check(easy)
     assert (outcome.status, outcome.method) == ("sat", "propagation")
     assert 1 <= outcome.values["x"] <= 5 and outcome.values["n"] == 5
-    hard = problem_of((ir.op("or", ir.op(">=", X, ir.const(7)), ir.op("<=", X, ir.const(-7))),
-                       "keep"), (ir.op("!=", X, ir.const(0)), "keep"),
-                      (ir.op("<=", X, ir.const(-8)), "keep"), variables=(x,))
+    hard = problem_of(
+        (ir.op("or", ir.op(">=", X, ir.const(7)), ir.op("<=", X, ir.const(-7))), "keep"),
+        (ir.op("!=", X, ir.const(0)), "keep"),
+        (ir.op("<=", X, ir.const(-8)), "keep"),
+        variables=(x,),
+    )
     outcome = check(hard)
     assert outcome.status == "sat" and outcome.values["x"] <= -8
-    unsat = problem_of((ir.op(">=", X, ir.const(1)), "keep"), (ir.op("<", X, ir.const(1)), "keep"),
-                       variables=(x,))
+    unsat = problem_of(
+        (ir.op(">=", X, ir.const(1)), "keep"), (ir.op("<", X, ir.const(1)), "keep"), variables=(x,)
+    )
     assert check(unsat).status == "unsat"
 
 
@@ -119,9 +127,13 @@ def test_an_integer_equation_with_a_fractional_solution_is_not_a_quick_model():
 def test_ranges_hold_in_either_order_even_with_parameter_bounds():
     x, a, b = ir.Var("x", "real"), ir.Var("a", "real"), ir.Var("b", "real")
     X, A, B = ir.Ref(x), ir.Ref(a), ir.Ref(b)
-    p = problem_of((ir.op("==", A, ir.const(9)), "keep"), (ir.op("==", B, ir.const(2)), "keep"),
-                   (in_range(X, A, B), "keep"), (ir.op("==", X, ir.const(4)), "keep"),
-                   variables=(x, a, b))
+    p = problem_of(
+        (ir.op("==", A, ir.const(9)), "keep"),
+        (ir.op("==", B, ir.const(2)), "keep"),
+        (in_range(X, A, B), "keep"),
+        (ir.op("==", X, ir.const(4)), "keep"),
+        variables=(x, a, b),
+    )
     assert solve(p).status == "sat"
 
 
@@ -135,8 +147,9 @@ def test_override_rule_on_the_ir():
     hx = ir.Constraint(ir.op("==", ir.Ref(x), ir.const(2)), span(3), "keep", "hx", "hard", x)
     dy = ir.Constraint(ir.op("==", ir.Ref(y), ir.const(1)), span(4), "default", "dy", "default", y)
     hy = ir.Constraint(ir.op("<=", ir.Ref(y), ir.const(0)), span(5), "keep", "hy", "hard", None)
-    dz = ir.Constraint(ir.op("==", ir.Ref(z_), ir.const(1)), span(6), "default", "dz", "default",
-                       z_)
+    dz = ir.Constraint(
+        ir.op("==", ir.Ref(z_), ir.const(1)), span(6), "default", "dz", "default", z_
+    )
     p.constraints = [dx, hx, dy, hy, dz]
     p.removed_defaults.add("z")
     outcome = Outcome("sat")
@@ -150,7 +163,9 @@ def test_override_rule_on_the_ir():
 
 
 def test_a_more_specific_default_wins_and_the_field_value_is_the_first_default():
-    text = HEADER + """actor robot inherits vehicle:
+    text = (
+        HEADER
+        + """actor robot inherits vehicle:
     reach: length = 5m
     keep(default reach == 6m)
 
@@ -161,19 +176,26 @@ scenario s:
     do hero.drive(duration: 10s) with:
         lane(1, at: start)
 """
+    )
     values = values_of(text)
     assert values["hero.reach"] == 7
     assert values["plain.reach"] == 6
     analysis = checked(text)
     c404 = [d for d in analysis.diagnostics if d.code.code == "C404"]
     assert [(d.span.line, d.message) for d in c404] == [
-        (5, "`keep(default reach == 6m)` gives the parameter another default than "
-            "`reach: length = 5m`; the later one wins")]
+        (
+            5,
+            "`keep(default reach == 6m)` gives the parameter another default than "
+            "`reach: length = 5m`; the later one wins",
+        )
+    ]
     assert "C403" not in codes_of(analysis)
 
 
 def test_an_argument_overrides_the_default_of_its_parameter():
-    text = HEADER + """scenario cruise:
+    text = (
+        HEADER
+        + """scenario cruise:
     car: vehicle
     target: speed = 50kph
     do car.drive(duration: 10s) with:
@@ -186,6 +208,7 @@ scenario top:
             lane(1, at: start)
         cruise(car: hero, target: 70kph)
 """
+    )
     r = result_of(text, "top")
     assert r.outcome.status == "sat"
     (value,) = [v for k, v in r.outcome.values.items() if k.endswith(".target")]
@@ -193,11 +216,14 @@ scenario top:
 
 
 def test_a_fraction_given_to_an_integer_parameter_is_truncated_not_a_conflict():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     do hero.drive(duration: 10s) with:
         lane(2.7, at: start)
 """
+    )
     analysis = checked(text)
     assert codes_of(analysis) == ["T204"]
     witness = analysis.verified["t.osc"].scenarios[0].witness
@@ -205,7 +231,9 @@ def test_a_fraction_given_to_an_integer_parameter_is_truncated_not_a_conflict():
 
 
 def test_a_reversed_range_with_parameter_bounds_is_the_range_between_them():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     low: speed
     high: speed
@@ -217,11 +245,14 @@ def test_a_reversed_range_with_parameter_bounds_is_the_range_between_them():
     do hero.drive(duration: 10s) with:
         lane(1, at: start)
 """
+    )
     assert "C401" not in codes_of(checked(text))
 
 
 def test_messages_quote_the_constraint_without_its_comment():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     v: speed
     keep(v > 60kph)   # faster than the band
@@ -229,12 +260,16 @@ def test_messages_quote_the_constraint_without_its_comment():
     do hero.drive(duration: 10s) with:
         lane(1, at: start)
 """
+    )
     (d,) = checked(text).diagnostics
     assert d.code.code == "C401"
-    assert d.message == ("constraints of scenario `s` cannot all hold: "
-                         "`keep(v in [30kph..50kph])`; `keep(v > 60kph)`")
+    assert d.message == (
+        "constraints of scenario `s` cannot all hold: "
+        "`keep(v in [30kph..50kph])`; `keep(v > 60kph)`"
+    )
     assert [(r.span.line, r.message) for r in d.related] == [
-        (6, "conflicts with `keep(v > 60kph)`")]
+        (6, "conflicts with `keep(v > 60kph)`")
+    ]
 
 
 # --- placement conventions -----------------------------------------------------------------
@@ -242,13 +277,14 @@ def test_messages_quote_the_constraint_without_its_comment():
 
 def start_of(text: str, seed: int = 0):
     analysis = checked(text, seed=seed)
-    assert not [d for d in analysis.diagnostics if d.severity.name == "ERROR"], \
-        analysis.diagnostics
+    assert not [d for d in analysis.diagnostics if d.severity.name == "ERROR"], analysis.diagnostics
     return analysis.verified["t.osc"].scenarios[0].witness
 
 
 def test_gap_is_bumper_to_bumper_and_time_headway_uses_the_followers_speed():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     npc: vehicle
     do parallel:
@@ -260,6 +296,7 @@ def test_gap_is_bumper_to_bumper_and_time_headway_uses_the_followers_speed():
             speed(72kph, at: start)
             position(time: 2s, behind: hero, at: start)
 """
+    )
     w = start_of(text)
     hero, npc = w.actor("hero"), w.actor("npc")
     gap = (hero.s - hero.length / 2) - (npc.s + npc.length / 2)
@@ -267,7 +304,9 @@ def test_gap_is_bumper_to_bumper_and_time_headway_uses_the_followers_speed():
 
 
 def test_relative_speed_uses_the_factor_and_lanes_can_count_from_the_left():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     npc: vehicle
     do parallel:
@@ -278,13 +317,16 @@ def test_relative_speed_uses_the_factor_and_lanes_can_count_from_the_left():
             lane(1, from: left, at: start)
             speed(10kph, faster_than: hero, factor: 1.5, at: start)
 """
+    )
     w = start_of(text)
     assert w.actor("npc").speed == 70 * KPH
     assert (w.actor("hero").lane, w.actor("npc").lane) == (1, 3)
 
 
 def test_on_town06_lanes_count_from_the_left_and_right_of_lane_1_is_lane_2():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     town: map with:
         keep(it.map_file == "Town06")
     hero: vehicle
@@ -295,6 +337,7 @@ def test_on_town06_lanes_count_from_the_left_and_right_of_lane_1_is_lane_2():
         npc.drive(duration: 10s) with:
             lane(side_of: hero, side: right, at: start)
 """
+    )
     w = start_of(text)
     assert (w.map, w.lane_numbering) == ("Town06", "from_left")
     assert (w.actor("hero").lane, w.actor("npc").lane) == (1, 2)
@@ -302,7 +345,9 @@ def test_on_town06_lanes_count_from_the_left_and_right_of_lane_1_is_lane_2():
 
 
 def test_at_all_modifiers_of_the_first_invocation_hold_at_the_start_unless_given_explicitly():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     do serial:
         hero.drive(duration: 10s) with:
@@ -312,12 +357,15 @@ def test_at_all_modifiers_of_the_first_invocation_hold_at_the_start_unless_given
         hero.drive(duration: 10s) with:
             lane(3)
 """
+    )
     w = start_of(text)
     assert (w.actor("hero").lane, w.actor("hero").speed) == (2, 0)
 
 
 def test_one_of_alternatives_do_not_fix_the_start():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     do one_of:
         hero.drive(duration: 10s) with:
@@ -325,17 +373,21 @@ def test_one_of_alternatives_do_not_fix_the_start():
         hero.drive(duration: 10s) with:
             lane(2, at: start)
 """
+    )
     analysis = checked(text)
     assert codes_of(analysis) == []
 
 
 def test_a_lateral_offset_may_leave_the_lane_but_not_the_road():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     do hero.drive(duration: 10s) with:
         lane(2, at: start)
         lateral(distance: 1m, at: start)
 """
+    )
     assert start_of(text).actor("hero").t == 1
 
 
@@ -357,18 +409,21 @@ def test_a_conflict_over_three_files_is_reported_with_every_line_in_json():
     assert finding["code"] == "C401"
     assert finding["location"]["path"] == "main.osc"
     assert finding["location"]["start"] == {"line": 6, "column": 14}
-    related = sorted((os.path.normpath(r["path"]), r["start"]["line"], r["message"])
-                     for r in finding["related"])
+    related = sorted(
+        (os.path.normpath(r["path"]), r["start"]["line"], r["message"]) for r in finding["related"]
+    )
     assert related == [
         (os.path.join("lib", "shuttle.osc"), 6, "conflicts with `keep(cruise <= 60kph)`"),
-        (os.path.join("scenarios", "route.osc"), 8,
-         "conflicts with `keep(target == bus.cruise)`"),
+        (os.path.join("scenarios", "route.osc"), 8, "conflicts with `keep(target == bus.cruise)`"),
     ]
     # the default that the hard keep replaces is not part of the conflict
     assert "50kph" not in finding["message"]
     (scenario,) = document["scenarios"]
-    assert (scenario["name"], scenario["status"], scenario["conflicts"]) == \
-        ("rush_hour", "unsat", 1)
+    assert (scenario["name"], scenario["status"], scenario["conflicts"]) == (
+        "rush_hour",
+        "unsat",
+        1,
+    )
 
 
 def test_a_conflict_over_three_files_carries_related_locations_in_sarif():
@@ -377,30 +432,40 @@ def test_a_conflict_over_three_files_carries_related_locations_in_sarif():
     (result,) = json.loads(out)["runs"][0]["results"]
     assert result["ruleId"] == "C401"
     lines = sorted(
-        (os.path.normpath(r["physicalLocation"]["artifactLocation"]["uri"]),
-         r["physicalLocation"]["region"]["startLine"])
-        for r in result["relatedLocations"])
-    assert lines == [(os.path.join("lib", "shuttle.osc"), 6),
-                     (os.path.join("scenarios", "route.osc"), 8)]
+        (
+            os.path.normpath(r["physicalLocation"]["artifactLocation"]["uri"]),
+            r["physicalLocation"]["region"]["startLine"],
+        )
+        for r in result["relatedLocations"]
+    )
+    assert lines == [
+        (os.path.join("lib", "shuttle.osc"), 6),
+        (os.path.join("scenarios", "route.osc"), 8),
+    ]
 
 
 def test_a_conflict_inside_imported_files_is_reported_at_the_scenario(tmp_path: Path):
-    (tmp_path / "lib.osc").write_text(HEADER + """scenario capped:
+    (tmp_path / "lib.osc").write_text(
+        HEADER
+        + """scenario capped:
     car: vehicle
     v: speed
     keep(v <= 50kph)
     keep(v >= 60kph)
     do car.drive(duration: 10s)
-""")
-    (tmp_path / "main.osc").write_text(HEADER + """import "lib.osc"
+"""
+    )
+    (tmp_path / "main.osc").write_text(
+        HEADER
+        + """import "lib.osc"
 
 scenario top:
     do capped()
-""")
+"""
+    )
     status, out = run(["main.osc", "--isolated", "--output-format", "json"], tmp_path)
     (finding,) = [f for f in json.loads(out)["findings"] if f["code"] == "C401"]
-    assert (finding["location"]["path"], finding["location"]["start"]["line"]) == \
-        ("main.osc", 5)
+    assert (finding["location"]["path"], finding["location"]["start"]["line"]) == ("main.osc", 5)
     assert sorted(r["start"]["line"] for r in finding["related"]) == [6, 7]
 
 
@@ -418,8 +483,10 @@ def test_the_papers_scenarios_check_without_errors(path: Path):
     assert [r.outcome.status for r in analysis.verified[str(path)].scenarios] == ["sat"]
 
 
-@pytest.mark.skipif(not (SEED_DIR / "cut_in_and_stop.osc").exists(),
-                    reason="the design paper's cut-in scenario is not here")
+@pytest.mark.skipif(
+    not (SEED_DIR / "cut_in_and_stop.osc").exists(),
+    reason="the design paper's cut-in scenario is not here",
+)
 @pytest.mark.parametrize("seed", [0, 1, 2, 3, 7, 42])
 def test_the_cut_in_witness_puts_the_npc_5m_behind_and_one_lane_right(seed: int):
     path = SEED_DIR / "cut_in_and_stop.osc"
@@ -434,8 +501,10 @@ def test_the_cut_in_witness_puts_the_npc_5m_behind_and_one_lane_right(seed: int)
     assert witness.parameter("safety_gap").value == 12
 
 
-@pytest.mark.skipif(not (SEED_DIR / "braking_friction.osc").exists(),
-                    reason="the design paper's braking scenario is not here")
+@pytest.mark.skipif(
+    not (SEED_DIR / "braking_friction.osc").exists(),
+    reason="the design paper's braking scenario is not here",
+)
 def test_the_braking_witness_starts_the_hero_standing_in_lane_1():
     path = SEED_DIR / "braking_friction.osc"
     analysis = osc2check.analyze([SourceInput(str(path), path.read_text())])
@@ -446,7 +515,9 @@ def test_the_braking_witness_starts_the_hero_standing_in_lane_1():
 
 # --- seeds ---------------------------------------------------------------------------------------
 
-FREE_RANGE = HEADER + """scenario s:
+FREE_RANGE = (
+    HEADER
+    + """scenario s:
     hero: vehicle
     cruise: speed
     keep(cruise in [30kph..120kph])
@@ -454,6 +525,7 @@ FREE_RANGE = HEADER + """scenario s:
         lane(1, at: start)
         speed(cruise)
 """
+)
 
 
 def test_seeds_spread_witnesses_and_the_same_seed_gives_the_same_witness():
@@ -466,12 +538,16 @@ def test_seeds_spread_witnesses_and_the_same_seed_gives_the_same_witness():
     again = [osc2check.solve(analysis, seed=s).parameter("cruise").value for s in range(10)]
     assert again == cruise
     other = osc2check.analyze([SourceInput("t.osc", FREE_RANGE)], seed=3)
-    assert other.verified["t.osc"].scenarios[0].witness.to_json() == \
-        osc2check.solve(analysis, seed=3).to_json()
+    assert (
+        other.verified["t.osc"].scenarios[0].witness.to_json()
+        == osc2check.solve(analysis, seed=3).to_json()
+    )
 
 
 def test_a_witness_does_not_depend_on_the_other_scenarios_of_the_file():
-    other = HEADER + """scenario before:
+    other = (
+        HEADER
+        + """scenario before:
     car: vehicle
     a: speed
     b: speed
@@ -479,24 +555,29 @@ def test_a_witness_does_not_depend_on_the_other_scenarios_of_the_file():
     do car.drive(duration: 1s) with:
         lane(2, at: start)
 """
+    )
     alone = osc2check.analyze([SourceInput("t.osc", FREE_RANGE)])
-    both = osc2check.analyze([SourceInput("t.osc", other + FREE_RANGE[len(HEADER):])])
+    both = osc2check.analyze([SourceInput("t.osc", other + FREE_RANGE[len(HEADER) :])])
 
     def shown(witness):  # invocations are named by their line, which moved
         data = witness.to_json()
         return data["actors"], [p["text"] for p in data["parameters"]]
 
     for seed in (0, 4):
-        assert shown(osc2check.solve(alone, "s", seed=seed)) == \
-            shown(osc2check.solve(both, "s", seed=seed))
+        assert shown(osc2check.solve(alone, "s", seed=seed)) == shown(
+            osc2check.solve(both, "s", seed=seed)
+        )
 
 
 def test_start_positions_spread_over_the_road():
-    text = HEADER + """scenario s:
+    text = (
+        HEADER
+        + """scenario s:
     hero: vehicle
     do hero.drive(duration: 10s) with:
         lane(1, at: start)
 """
+    )
     analysis = osc2check.analyze([SourceInput("t.osc", text)])
     starts = [osc2check.solve(analysis, seed=s).actor("hero").s for s in range(10)]
     assert len(set(starts)) == 10
@@ -505,10 +586,12 @@ def test_start_positions_spread_over_the_road():
 
 def test_samples_reuse_one_optimizer_and_keep_free_variables_in_their_bounds():
     x, y, free = ir.Var("x", "real"), ir.Var("y", "int"), ir.Var("free", "real")
-    p = problem_of((in_range(ir.Ref(x), ir.const(0), ir.const(100)), "keep"),
-                   (ir.op(">=", ir.Ref(y), ir.op("+", ir.Ref(x), ir.const(3))), "keep"),
-                   (ir.op("<=", ir.Ref(y), ir.const(200)), "keep"),
-                   variables=(x, y, free))
+    p = problem_of(
+        (in_range(ir.Ref(x), ir.const(0), ir.const(100)), "keep"),
+        (ir.op(">=", ir.Ref(y), ir.op("+", ir.Ref(x), ir.const(3))), "keep"),
+        (ir.op("<=", ir.Ref(y), ir.const(200)), "keep"),
+        variables=(x, y, free),
+    )
     first = solve(p, seed=1).values
     from osc2check.verify.z3_backend import _Encoder
 

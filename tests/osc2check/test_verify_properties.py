@@ -22,17 +22,18 @@ from osc2check.verify import ir, quick
 from osc2check.verify.lower import in_range
 from osc2check.verify.z3_backend import _Encoder, check, solve
 
-IR_SETTINGS = settings(derandomize=True, max_examples=60, deadline=None,
-                       suppress_health_check=[HealthCheck.too_slow])
-TEXT_SETTINGS = settings(derandomize=True, max_examples=8, deadline=None,
-                         suppress_health_check=[HealthCheck.too_slow])
+IR_SETTINGS = settings(
+    derandomize=True, max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
+TEXT_SETTINGS = settings(
+    derandomize=True, max_examples=8, deadline=None, suppress_health_check=[HealthCheck.too_slow]
+)
 KPH = Fraction(5, 18)
 OPS = ("<=", "<", ">=", ">", "==", "!=")
 
 
 def holds(op: str, a: Fraction, b: Fraction) -> bool:
-    return {"<=": a <= b, "<": a < b, ">=": a >= b, ">": a > b, "==": a == b,
-            "!=": a != b}[op]
+    return {"<=": a <= b, "<": a < b, ">=": a >= b, ">": a > b, "==": a == b, "!=": a != b}[op]
 
 
 # --- IR level ----------------------------------------------------------------------------
@@ -56,14 +57,23 @@ def modelled(draw):
     for _ in range(draw(st.integers(1, 12))):
         kind = draw(st.sampled_from(("linear", "linear", "range", "in")))
         if kind == "linear":
-            chosen = draw(st.lists(st.sampled_from(variables), min_size=1, max_size=3,
-                                   unique_by=lambda v: v.name))
+            chosen = draw(
+                st.lists(
+                    st.sampled_from(variables), min_size=1, max_size=3, unique_by=lambda v: v.name
+                )
+            )
             coeffs = [draw(st.integers(-3, 3).filter(bool)) for _ in chosen]
             value = sum(c * model[v.name] for c, v in zip(coeffs, chosen, strict=True))
             op = draw(st.sampled_from(OPS))
             slack = Fraction(draw(st.integers(0, 20)), draw(st.sampled_from((1, 2, 18))))
-            bound = {"<=": value + slack, "<": value + slack + 1, ">=": value - slack,
-                     ">": value - slack - 1, "==": value, "!=": value + slack + 1}[op]
+            bound = {
+                "<=": value + slack,
+                "<": value + slack + 1,
+                ">=": value - slack,
+                ">": value - slack - 1,
+                "==": value,
+                "!=": value + slack + 1,
+            }[op]
             lhs: ir.Term = ir.op("*", ir.const(coeffs[0]), ir.Ref(chosen[0]))
             for c, v in zip(coeffs[1:], chosen[1:], strict=True):
                 lhs = ir.op("+", lhs, ir.op("*", ir.const(c), ir.Ref(v)))
@@ -108,7 +118,7 @@ def satisfiable(problem: ir.Problem, members: list[ir.Constraint]) -> bool:
 def assert_minimal(problem: ir.Problem, members: list[ir.Constraint]) -> None:
     assert not satisfiable(problem, members)
     for i in range(len(members)):
-        assert satisfiable(problem, members[:i] + members[i + 1:]), members[i].text
+        assert satisfiable(problem, members[:i] + members[i + 1 :]), members[i].text
 
 
 @IR_SETTINGS
@@ -149,8 +159,11 @@ def test_an_injected_bound_is_in_a_minimal_conflict(case, data):
     value = model[v.name]
     add(problem, in_range(ir.Ref(v), ir.const(value + 1), ir.const(value - 1)), "range")
     above = data.draw(st.booleans())
-    injected = add(problem, ir.op(">=" if above else "<=", ir.Ref(v),
-                                  ir.const(value + (2 if above else -2))), "injected")
+    injected = add(
+        problem,
+        ir.op(">=" if above else "<=", ir.Ref(v), ir.const(value + (2 if above else -2))),
+        "injected",
+    )
     outcome = check(problem)
     assert outcome.status == "unsat"
     for conflict in outcome.conflicts:
@@ -166,8 +179,12 @@ def test_two_independent_conflicts_are_both_reported(case):
     pairs = []
     for name in ("z1", "z2"):
         z = problem.var(name, "int")
-        pairs.append({id(add(problem, ir.op(">", ir.Ref(z), ir.const(3)), name)),
-                      id(add(problem, ir.op("<", ir.Ref(z), ir.const(4)), name))})
+        pairs.append(
+            {
+                id(add(problem, ir.op(">", ir.Ref(z), ir.const(3)), name)),
+                id(add(problem, ir.op("<", ir.Ref(z), ir.const(4)), name)),
+            }
+        )
     outcome = check(problem)
     assert outcome.status == "unsat"
     found = [{id(c.primary), *map(id, c.others)} for c in outcome.conflicts]
@@ -198,8 +215,9 @@ def scenario_text(draw):
             op = draw(st.sampled_from(("<=", ">=", "==")))
             slack = draw(st.integers(0, 15))
             bound = value + slack if op == "<=" else value - slack if op == ">=" else value
-            lhs = " + ".join(f"{c} * {p}" if c != 1 else p
-                             for c, p in zip(coeffs, chosen, strict=True))
+            lhs = " + ".join(
+                f"{c} * {p}" if c != 1 else p for c, p in zip(coeffs, chosen, strict=True)
+            )
             keeps.append(f"    keep({lhs} {op} {bound}{unit})")
         elif kind == "range":
             p = draw(st.sampled_from(group))

@@ -18,7 +18,9 @@ def run_text(tmp_path, body: str, **kwargs):
 
 
 def test_space_gap_is_reached_and_held(tmp_path):
-    result = run_text(tmp_path, """\
+    result = run_text(
+        tmp_path,
+        """\
     lead: vehicle
     car: vehicle
     do parallel:
@@ -35,7 +37,8 @@ def test_space_gap_is_reached_and_held(tmp_path):
                 position(distance: 40m, behind: lead, at: start)
                 speed(50kph, at: start)
             car.change_space_gap(target: 20m, direction: behind, reference: lead)
-""")
+""",
+    )
     assert result.outcome.status == "success", result.outcome.reason
     car, lead = result.telemetry["car"], result.telemetry["lead"]
     end = result.event_ticks("end", "car.change_space_gap")[0]
@@ -44,7 +47,9 @@ def test_space_gap_is_reached_and_held(tmp_path):
 
 
 def test_lateral_offset_acceleration_and_distance(tmp_path):
-    result = run_text(tmp_path, """\
+    result = run_text(
+        tmp_path,
+        """\
     car: vehicle
     do serial:
         car.assign_position() with:
@@ -57,7 +62,8 @@ def test_lateral_offset_acceleration_and_distance(tmp_path):
             acceleration(1.5mpss)
         car.drive() with:
             distance(50m)
-""")
+""",
+    )
     assert result.outcome.status == "success", result.outcome.reason
     car = result.telemetry["car"]
     t = car["time"]
@@ -70,7 +76,9 @@ def test_lateral_offset_acceleration_and_distance(tmp_path):
 
 
 def test_environment_friction_rain_and_teleports(tmp_path):
-    result = run_text(tmp_path, """\
+    result = run_text(
+        tmp_path,
+        """\
     car: vehicle
     env: environment
     do serial:
@@ -85,7 +93,8 @@ def test_environment_friction_rain_and_teleports(tmp_path):
             lane(3, at: start)
             position(distance: 200m, at: start)
         car.drive(duration: 1s)
-""")
+""",
+    )
     assert result.outcome.status == "success", result.outcome.reason
     car = result.telemetry["car"]
     assert car["friction"][5] == pytest.approx(0.7 - 0.3 * 0.2, abs=1e-3)  # 10 mm/h: level 0.2
@@ -104,20 +113,22 @@ def test_change_lane_modifier_side_is_drawn_with_the_seed(tmp_path):
         car.drive(duration: 5s) with:
             change_lane(1)
 """
-    sides = {run_text(tmp_path, body, seed=seed).telemetry["car"]["lane"][-1]
-             for seed in range(6)}
+    sides = {run_text(tmp_path, body, seed=seed).telemetry["car"]["lane"][-1] for seed in range(6)}
     assert sides == {1.0, 3.0}
 
 
 def test_a_person_walks(tmp_path):
-    result = run_text(tmp_path, """\
+    result = run_text(
+        tmp_path,
+        """\
     walker: person
     do serial:
         walker.assign_position() with:
             lane(1, at: start)
         walker.walk(duration: 4s) with:
             speed(5kph)
-""")
+""",
+    )
     assert result.outcome.status == "success", result.outcome.reason
     walker = result.telemetry["walker"]
     assert walker["speed"][-1] == pytest.approx(5 / 3.6, abs=0.01)
@@ -125,19 +136,24 @@ def test_a_person_walks(tmp_path):
 
 
 def test_an_impossible_lane_change_fails_the_run(tmp_path):
-    result = run_text(tmp_path, """\
+    result = run_text(
+        tmp_path,
+        """\
     car: vehicle
     do serial:
         car.assign_position() with:
             lane(1, at: start)
         car.change_lane(num_of_lanes: 1, side: right)
-""")
+""",
+    )
     assert result.outcome.status == "failure"
     assert "no lane 1 lane(s) to the right" in result.outcome.reason
 
 
 def test_relative_speed_and_a_speed_reached_at_the_end(tmp_path):
-    result = run_text(tmp_path, """\
+    result = run_text(
+        tmp_path,
+        """\
     lead: vehicle
     car: vehicle
     do parallel:
@@ -157,7 +173,8 @@ def test_relative_speed_and_a_speed_reached_at_the_end(tmp_path):
                 speed(10kph, faster_than: lead)
             car.drive(duration: 4s) with:
                 speed(30kph, at: end)
-""")
+""",
+    )
     assert result.outcome.status == "success", result.outcome.reason
     car = result.telemetry["car"]
     t = car["time"]

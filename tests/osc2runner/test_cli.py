@@ -64,8 +64,9 @@ def test_success_exits_0_and_writes_outputs(tmp_path, capsys):
     assert meta["steps"] == 160 and meta["physics_steps"] == 160 * 25
     assert meta["parameter_values"]["source"] == "witness (seed 0)"
     header = (out / "telemetry.csv").read_text().splitlines()[0]
-    assert header == ("actor,tick,time,x,y,yaw,speed,accel,jerk,throttle,brake,steer,lane,"
-                      "friction,lateral_error")
+    assert header == (
+        "actor,tick,time,x,y,yaw,speed,accel,jerk,throttle,brake,steer,lane,friction,lateral_error"
+    )
 
 
 def test_plots_are_written(tmp_path, capsys):
@@ -126,9 +127,16 @@ def test_interrupted_run_writes_what_it_recorded(tmp_path):
 
 
 def test_python_dash_m_runs_the_command(tmp_path):
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH",
-                                                                                  "")]))
-    proc = subprocess.run([sys.executable, "-m", "osc2runner", str(EVENTS), "--quiet"],
-                          capture_output=True, text=True, env=env, cwd=ROOT, check=False)
+    env = dict(
+        os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
+    )
+    proc = subprocess.run(
+        [sys.executable, "-m", "osc2runner", str(EVENTS), "--quiet"],
+        capture_output=True,
+        text=True,
+        env=env,
+        cwd=ROOT,
+        check=False,
+    )
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout.startswith("scenario events")

@@ -20,10 +20,15 @@ TREES = HERE / "trees"
 SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
 
 CASES = [(p, TREES / f"{p.stem}.tree") for p in sorted(TREES.glob("*.osc"))]
-CASES += [(p, TREES / f"example_{p.stem}.tree") for p in sorted((ROOT / "examples").glob("*.osc"))
-          if p.stem != "unsafe_typos"]
-CASES += [(SEED / name, TREES / f"seed_{Path(name).stem}.tree")
-          for name in ("cut_in_and_stop.osc", "braking_friction.osc")]
+CASES += [
+    (p, TREES / f"example_{p.stem}.tree")
+    for p in sorted((ROOT / "examples").glob("*.osc"))
+    if p.stem != "unsafe_typos"
+]
+CASES += [
+    (SEED / name, TREES / f"seed_{Path(name).stem}.tree")
+    for name in ("cut_in_and_stop.osc", "braking_friction.osc")
+]
 
 
 @pytest.mark.parametrize("source, golden", CASES, ids=[g.stem for _, g in CASES])

@@ -42,8 +42,9 @@ class FakeContext:
         self.emitted.append((self.tick, name))
 
 
-def table(root: py_trees.behaviour.Behaviour, nodes: list, ticks: int,
-          ctx: FakeContext | None = None) -> list[str]:
+def table(
+    root: py_trees.behaviour.Behaviour, nodes: list, ticks: int, ctx: FakeContext | None = None
+) -> list[str]:
     if ctx is not None:
         py_trees.trees.setup(root, context=ctx)
     rows = []
@@ -226,8 +227,10 @@ def test_empty_composites_succeed(composite):
 
 
 def test_composites_render_with_py_trees_glyphs():
-    tree = Serial("serial [1]", [Parallel("parallel [2]", [script("a", S)]),
-                                 OneOf("one_of [3]", [script("b", S)])])
+    tree = Serial(
+        "serial [1]",
+        [Parallel("parallel [2]", [script("a", S)]), OneOf("one_of [3]", [script("b", S)])],
+    )
     text = py_trees.display.unicode_tree(tree)
     assert text.splitlines() == [
         "{-} serial [1]",

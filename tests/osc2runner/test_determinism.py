@@ -17,5 +17,4 @@ def test_two_runs_with_the_same_seed_give_identical_telemetry(tmp_path):
         assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes()
     for actor, channels in first.telemetry.items():
         for channel, values in channels.items():
-            assert values.tobytes() == second.telemetry[actor][channel].tobytes(), (actor,
-                                                                                    channel)
+            assert values.tobytes() == second.telemetry[actor][channel].tobytes(), (actor, channel)

@@ -40,8 +40,11 @@ def test_label_events_and_duration(events):
 
 
 def test_a_wait_sees_only_what_happens_after_it_starts(tmp_path):
-    late = (HERE / "trees" / "events.osc").read_text().replace(
-        "            emit marker(count: 5)\n", "            emit marker(count: 1)\n")
+    late = (
+        (HERE / "trees" / "events.osc")
+        .read_text()
+        .replace("            emit marker(count: 5)\n", "            emit marker(count: 1)\n")
+    )
     source = tmp_path / "late.osc"
     source.write_text(late)
     result = run(source, duration=6.0)

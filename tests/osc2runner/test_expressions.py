@@ -91,8 +91,9 @@ def test_closures_read_live_state_every_evaluation(prepared):
     speed = prepared.ctx.compile(node(prepared, "hero.speed"))
     before = speed()
     state = prepared.ctx.states["hero"]
-    prepared.ctx.states["hero"] = type(state)(**{**{f: getattr(state, f) for f in
-                                                    state.__slots__}, "speed": 0.0})
+    prepared.ctx.states["hero"] = type(state)(
+        **{**{f: getattr(state, f) for f in state.__slots__}, "speed": 0.0}
+    )
     try:
         assert speed() == 0.0 and fn() is True
     finally:

@@ -30,8 +30,11 @@ scenario s:
 def _symbol(kind: str, name: str, actor: str | None = None):
     model = standard_library().model
     for sym in model.symbols:
-        if sym.kind.name == kind and sym.name == name and (
-                actor is None or (sym.actor is not None and sym.actor.name == actor)):
+        if (
+            sym.kind.name == kind
+            and sym.name == name
+            and (actor is None or (sym.actor is not None and sym.actor.name == actor))
+        ):
             return model, sym
     raise LookupError(name)
 
@@ -64,19 +67,38 @@ def test_registering_twice_is_an_error():
 def test_required_actions_and_modifiers_are_registered():
     import osc2runner.behaviours  # noqa: F401
 
-    for actor, name in [("vehicle", "drive"), ("movable_object", "move"), ("person", "walk"),
-                        ("movable_object", "change_speed"), ("movable_object", "keep_speed"),
-                        ("vehicle", "change_lane"), ("vehicle", "follow_lane"),
-                        ("movable_object", "assign_position"), ("movable_object", "assign_speed"),
-                        ("movable_object", "assign_orientation"),
-                        ("movable_object", "remain_stationary"),
-                        ("vehicle", "change_space_gap"), ("vehicle", "keep_space_gap"),
-                        ("vehicle", "change_time_gap"), ("vehicle", "keep_time_gap"),
-                        ("environment", "rain"), ("environment", "fog"),
-                        ("vehicle", "set_lights"), ("environment", "set_road_friction")]:
+    for actor, name in [
+        ("vehicle", "drive"),
+        ("movable_object", "move"),
+        ("person", "walk"),
+        ("movable_object", "change_speed"),
+        ("movable_object", "keep_speed"),
+        ("vehicle", "change_lane"),
+        ("vehicle", "follow_lane"),
+        ("movable_object", "assign_position"),
+        ("movable_object", "assign_speed"),
+        ("movable_object", "assign_orientation"),
+        ("movable_object", "remain_stationary"),
+        ("vehicle", "change_space_gap"),
+        ("vehicle", "keep_space_gap"),
+        ("vehicle", "change_time_gap"),
+        ("vehicle", "keep_time_gap"),
+        ("environment", "rain"),
+        ("environment", "fog"),
+        ("vehicle", "set_lights"),
+        ("environment", "set_road_friction"),
+    ]:
         assert registry.action_entry(actor, name) is not None, f"{actor}.{name}"
-    for name in ("speed", "acceleration", "lane", "position", "lateral", "keep_lane",
-                 "change_speed", "change_lane"):
+    for name in (
+        "speed",
+        "acceleration",
+        "lane",
+        "position",
+        "lateral",
+        "keep_lane",
+        "change_speed",
+        "change_lane",
+    ):
         assert registry.modifier_entry(name) is not None, name
 
 
@@ -93,7 +115,8 @@ def test_unsupported_action_and_modifier_stop_the_run_with_their_locations():
 def test_coverage_page_is_up_to_date():
     page = ROOT / "docs" / "coverage.md"
     assert page.read_text(encoding="utf-8") == coverage_markdown(), (
-        "docs/coverage.md is stale: python -m osc2runner.coverage > docs/coverage.md")
+        "docs/coverage.md is stale: python -m osc2runner.coverage > docs/coverage.md"
+    )
 
 
 def test_coverage_page_lists_every_library_action_and_modifier():

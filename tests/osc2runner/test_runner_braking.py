@@ -55,9 +55,9 @@ def test_dry_asap_stopping_distance(braking):
 
 def test_dry_smooth_plateau_and_distance(braking):
     onset, end = _stops(braking)[1]
-    accel = braking.telemetry["hero"]["accel"][onset:end + 1]
+    accel = braking.telemetry["hero"]["accel"][onset : end + 1]
     n = len(accel)
-    plateau = -accel[n // 4: 3 * n // 4]
+    plateau = -accel[n // 4 : 3 * n // 4]
     assert np.all(np.abs(plateau - 2.5) <= 0.15)
     assert _distance(braking, (onset, end)) == pytest.approx(V80**2 / (2 * 2.5), rel=0.05)
 
@@ -66,7 +66,7 @@ def test_wet_asap_peak_deceleration_and_distance(braking):
     onset, end = _stops(braking)[2]
     hero = braking.telemetry["hero"]
     assert hero["friction"][onset] == pytest.approx(0.4)
-    peak = -hero["accel"][onset:end + 1].min()
+    peak = -hero["accel"][onset : end + 1].min()
     assert 3.5 <= peak <= 4.3
     assert _distance(braking, (onset, end)) == pytest.approx(V80**2 / (2 * 0.4 * G), rel=0.15)
 
@@ -86,5 +86,5 @@ def test_acceleration_to_80_kph_is_slower_on_the_wet_road(braking):
 
 def test_filtered_jerk_is_bounded_while_braking_smoothly(braking):
     onset, end = _stops(braking)[1]
-    jerk = braking.telemetry["hero"]["jerk"][onset + 20:end - 20]
+    jerk = braking.telemetry["hero"]["jerk"][onset + 20 : end - 20]
     assert np.all(np.abs(jerk) <= 3.0)  # a 1 s average of a 10 m/s³-limited profile

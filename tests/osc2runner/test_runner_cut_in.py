@@ -76,7 +76,7 @@ def test_fall_trigger_fires_on_the_first_tick_below_the_safety_gap(paper):
     gap = _ahead(paper, "npc", "hero")
     above = np.flatnonzero(gap > 12.0)
     assert above.size, "the npc never got more than 12 m ahead"
-    first_below = above[0] + np.flatnonzero(gap[above[0]:] <= 12.0)[0]
+    first_below = above[0] + np.flatnonzero(gap[above[0] :] <= 12.0)[0]
     assert _record(paper, "stop", "hero.drive") == first_below
     assert _record(paper, "start", "hero.change_lane") == first_below
     assert gap[first_below] == pytest.approx(12.0, abs=0.25)
@@ -99,7 +99,7 @@ def test_obstacle_detected_reaches_the_hero_within_one_tick(paper):
 def test_hero_lane_change_tracks_its_path(paper):
     start = _record(paper, "start", "hero.change_lane")
     end = _record(paper, "end", "hero.change_lane")
-    error = paper.telemetry["hero"]["lateral_error"][start:end + 1]
+    error = paper.telemetry["hero"]["lateral_error"][start : end + 1]
     assert end - start > 20
     assert np.nanmax(np.abs(error)) < 0.1
     hero = paper.telemetry["hero"]
@@ -133,6 +133,9 @@ def test_paper_braking_runs_unchanged_to_success():
     result = _run(SEED / "braking_friction.osc")
     assert result.outcome.status == "success", result.outcome.reason
     emitted = [r.name for r in result.events if r.kind == "emit"]
-    assert emitted == ["DRY_BRAKE_ASAP_TRIGGERED", "DRY_BRAKE_SMOOTH_TRIGGERED",
-                       "WET_BRAKE_ASAP_TRIGGERED"]
+    assert emitted == [
+        "DRY_BRAKE_ASAP_TRIGGERED",
+        "DRY_BRAKE_SMOOTH_TRIGGERED",
+        "WET_BRAKE_ASAP_TRIGGERED",
+    ]
     assert result.telemetry["hero"]["friction"][-1] == pytest.approx(0.4)

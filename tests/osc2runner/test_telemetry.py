@@ -11,8 +11,18 @@ from osc2runner.telemetry import CHANNELS, Recorder
 
 
 def _state(accel: float) -> SimpleNamespace:
-    return SimpleNamespace(x=0.0, y=0.0, yaw=0.0, speed=0.0, accel=accel, throttle=0.0,
-                           brake=0.0, steer=0.0, lane=1, friction=1.0)
+    return SimpleNamespace(
+        x=0.0,
+        y=0.0,
+        yaw=0.0,
+        speed=0.0,
+        accel=accel,
+        throttle=0.0,
+        brake=0.0,
+        steer=0.0,
+        lane=1,
+        friction=1.0,
+    )
 
 
 def test_jerk_is_the_acceleration_change_over_the_last_second():

@@ -14,8 +14,9 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture(scope="module")
 def witnessed():
-    return run(ROOT / "examples" / "braking_friction.osc", values=witness_values(seed=0),
-               duration=20.0)
+    return run(
+        ROOT / "examples" / "braking_friction.osc", values=witness_values(seed=0), duration=20.0
+    )
 
 
 def test_witness_values_are_used(witnessed):

@@ -20,7 +20,7 @@ def _actions(text: str, line: int | None = None):
 
 def _apply(text: str, edits) -> str:
     for edit in sorted(edits, key=lambda e: e.span.start, reverse=True):
-        text = text[:edit.span.start] + edit.new_text + text[edit.span.end:]
+        text = text[: edit.span.start] + edit.new_text + text[edit.span.end :]
     return text
 
 

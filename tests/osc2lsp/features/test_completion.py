@@ -63,8 +63,10 @@ def test_completion_in_a_do_block_offers_compositions_and_actors():
 
 
 def test_completion_in_a_with_block_offers_modifiers():
-    found = labels(HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
-                   "        hero.drive() with:\n            $0\n")
+    found = labels(
+        HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
+        "        hero.drive() with:\n            $0\n"
+    )
     assert {"speed", "lane", "position", "keep", "until"} <= set(found)
     assert "serial" not in found
 
@@ -75,20 +77,26 @@ def test_completion_of_a_field_type_offers_types():
 
 
 def test_completion_of_an_enum_argument_offers_its_members_first():
-    found = labels(HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
-                   "        hero.drive() with:\n            lane(side: $0)\n")
+    found = labels(
+        HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
+        "        hero.drive() with:\n            lane(side: $0)\n"
+    )
     assert found[:2] == ["left", "right"]
 
 
 def test_completion_after_at_offers_events():
-    found = labels(HEADER + "scenario s:\n    hero: vehicle\n    event near\n"
-                   "    do serial:\n        wait @$0\n")
+    found = labels(
+        HEADER + "scenario s:\n    hero: vehicle\n    event near\n"
+        "    do serial:\n        wait @$0\n"
+    )
     assert "near" in found
 
 
 def test_completion_after_an_events_owner_offers_its_events():
-    found = labels("actor bot:\n    event bumped\n\nscenario s:\n    b: bot\n"
-                   "    do serial:\n        wait @b.$0\n")
+    found = labels(
+        "actor bot:\n    event bumped\n\nscenario s:\n    b: bot\n"
+        "    do serial:\n        wait @b.$0\n"
+    )
     assert found == ["bumped"]
 
 
@@ -96,12 +104,14 @@ def test_completion_of_a_unit_being_typed_keeps_the_dimension():
     text, offset = cursor(HEADER + "scenario s:\n    v: speed = 10k$0\n")
     result = complete(snapshot(text), text, offset)
     assert {"kph", "kmph"} <= {c.label for c in result.items}
-    assert text[result.start:result.end] == "k"
+    assert text[result.start : result.end] == "k"
 
 
 def test_completion_named_arguments_skip_the_given_ones():
-    found = labels(HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
-                   "        hero.drive() with:\n            lane(side: left, $0)\n")
+    found = labels(
+        HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
+        "        hero.drive() with:\n            lane(side: left, $0)\n"
+    )
     assert "side_of:" in found and "side:" not in found
 
 
@@ -111,8 +121,9 @@ def test_completion_of_members_in_an_expression():
 
 
 def test_completion_filters_by_the_prefix():
-    found = labels(HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n"
-                   "        hero.chang$0\n")
+    found = labels(
+        HEADER + "scenario s:\n    hero: vehicle\n    do serial:\n        hero.chang$0\n"
+    )
     assert found and all(label.startswith("chang") for label in found)
 
 
@@ -127,8 +138,10 @@ def test_completion_without_a_snapshot_still_offers_keywords():
 
 
 def test_completion_in_a_document_that_does_not_parse():
-    found = labels(HEADER + "scenario s:\n    hero: vehicle\n    x: int = (1 +\n"
-                   "    do serial:\n        hero.$0\n")
+    found = labels(
+        HEADER + "scenario s:\n    hero: vehicle\n    x: int = (1 +\n"
+        "    do serial:\n        hero.$0\n"
+    )
     assert "drive" in found
 
 

@@ -28,8 +28,21 @@ def test_cursor_facts():
 
 
 def test_the_grammar_state_repairs_what_does_not_fit():
-    state = run(["SCENARIO", "NAME", "COLON", "_NL", "_INDENT", "KEEP", "LPAR", "NAME", "_NL",
-                 "NAME", "COLON"])
+    state = run(
+        [
+            "SCENARIO",
+            "NAME",
+            "COLON",
+            "_NL",
+            "_INDENT",
+            "KEEP",
+            "LPAR",
+            "NAME",
+            "_NL",
+            "NAME",
+            "COLON",
+        ]
+    )
     assert "NAME" in state.accepts()
     assert keywords()["ONE_OF"] == "one_of"
 

@@ -14,8 +14,9 @@ TYPOS = (REPO / "examples" / "unsafe_typos.osc").read_text(encoding="utf-8")
 def test_diagnostics_are_exactly_the_checkers():
     expected = analyze([SourceInput("/tmp/osc2lsp-tests/document.osc", TYPOS)]).diagnostics
     found = diagnostics(snapshot(TYPOS, URI))
-    assert [(d.code.code, d.message, d.span.line, d.span.column) for d in found] == \
-        [(d.code.code, d.message, d.span.line, d.span.column) for d in expected]
+    assert [(d.code.code, d.message, d.span.line, d.span.column) for d in found] == [
+        (d.code.code, d.message, d.span.line, d.span.column) for d in expected
+    ]
 
 
 def test_diagnostics_follow_select_ignore_and_strict():

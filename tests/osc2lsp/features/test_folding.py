@@ -7,10 +7,16 @@ from tests.osc2lsp.lsp_helpers import seed_text
 
 
 def test_folding_ranges_of_blocks_comments_and_imports():
-    text = ("import a\nimport b\n\n# one\n# two\nscenario s:\n    x: int\n"
-            "    do serial:\n        wait @e\n\n        emit e\n")
+    text = (
+        "import a\nimport b\n\n# one\n# two\nscenario s:\n    x: int\n"
+        "    do serial:\n        wait @e\n\n        emit e\n"
+    )
     assert folding_ranges(text) == [
-        Fold(0, 1, "imports"), Fold(3, 4, "comment"), Fold(5, 10), Fold(7, 10)]
+        Fold(0, 1, "imports"),
+        Fold(3, 4, "comment"),
+        Fold(5, 10),
+        Fold(7, 10),
+    ]
 
 
 def test_folding_ranges_of_the_seed_and_of_broken_text():

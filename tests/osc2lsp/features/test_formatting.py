@@ -14,34 +14,47 @@ from tests.osc2lsp.lsp_helpers import REPO, seed_path
 sys.path.insert(0, str(REPO / "bench"))
 from generate import generate  # noqa: E402
 
-CORPUS = sorted(glob.glob(str(REPO / "examples" / "*.osc")) + glob.glob(str(REPO / "stdlib" /
-                                                                            "*.osc")))
+CORPUS = sorted(
+    glob.glob(str(REPO / "examples" / "*.osc")) + glob.glob(str(REPO / "stdlib" / "*.osc"))
+)
 
 
-@pytest.mark.parametrize("ugly, pretty", [
-    ("scenario  s :\n  x : int=1+2 # one\n", "scenario s:\n    x: int = 1 + 2  # one\n"),
-    ("scenario s:\n keep( x>=-3m and y in [ 1m .. 2m ] )\n",
-     "scenario s:\n    keep(x >= -3m and y in [1m..2m])\n"),
-    ("scenario s:\n    do serial:\n          wait @ e\n          hero . drive ( )\n",
-     "scenario s:\n    do serial:\n        wait @e\n        hero.drive()\n"),
-    ("enum c:[ red,green ]\n", "enum c: [red, green]\n"),
-    ("type t is SI (m : 1 , s : - 1)\n", "type t is SI(m: 1, s: -1)\n"),
-    ("struct p:\n  def f(x:int)->int is expression x*2\n",
-     "struct p:\n    def f(x: int) -> int is expression x * 2\n"),
-    ("export ns :: * , *\n", "export ns::*, *\n"),
-    ("scenario s:\n    x: c = c ! red\n", "scenario s:\n    x: c = c!red\n"),
-    ("\n\n\nscenario s:\n\n\n\n\n    x: int\n\n\n", "scenario s:\n\n\n    x: int\n"),
-    ("scenario s:\n    x: int = a[ 0 ] - (b) * - 2\n",
-     "scenario s:\n    x: int = a[0] - (b) * -2\n"),
-])
+@pytest.mark.parametrize(
+    "ugly, pretty",
+    [
+        ("scenario  s :\n  x : int=1+2 # one\n", "scenario s:\n    x: int = 1 + 2  # one\n"),
+        (
+            "scenario s:\n keep( x>=-3m and y in [ 1m .. 2m ] )\n",
+            "scenario s:\n    keep(x >= -3m and y in [1m..2m])\n",
+        ),
+        (
+            "scenario s:\n    do serial:\n          wait @ e\n          hero . drive ( )\n",
+            "scenario s:\n    do serial:\n        wait @e\n        hero.drive()\n",
+        ),
+        ("enum c:[ red,green ]\n", "enum c: [red, green]\n"),
+        ("type t is SI (m : 1 , s : - 1)\n", "type t is SI(m: 1, s: -1)\n"),
+        (
+            "struct p:\n  def f(x:int)->int is expression x*2\n",
+            "struct p:\n    def f(x: int) -> int is expression x * 2\n",
+        ),
+        ("export ns :: * , *\n", "export ns::*, *\n"),
+        ("scenario s:\n    x: c = c ! red\n", "scenario s:\n    x: c = c!red\n"),
+        ("\n\n\nscenario s:\n\n\n\n\n    x: int\n\n\n", "scenario s:\n\n\n    x: int\n"),
+        (
+            "scenario s:\n    x: int = a[ 0 ] - (b) * - 2\n",
+            "scenario s:\n    x: int = a[0] - (b) * -2\n",
+        ),
+    ],
+)
 def test_formatting_rules(ugly, pretty):
     assert format_text(ugly) == pretty
 
 
 def test_formatting_indents_comments_like_the_next_statement():
     text = "scenario s:\n  # about x\n  x: int\n        # trailing block comment\n  y: int\n"
-    assert format_text(text) == ("scenario s:\n    # about x\n    x: int\n"
-                                 "    # trailing block comment\n    y: int\n")
+    assert format_text(text) == (
+        "scenario s:\n    # about x\n    x: int\n    # trailing block comment\n    y: int\n"
+    )
 
 
 def test_formatting_moves_continuation_lines_with_their_statement():
@@ -65,10 +78,12 @@ def test_formatting_is_idempotent_and_keeps_tokens_and_comments(path):
     once = format_text(text)
     assert once is not None
     assert format_text(once) == once
-    assert [(t.type, t.value) for t in tokenize(once).tokens if t.type != "NEWLINE"] == \
-        [(t.type, t.value) for t in tokenize(text).tokens if t.type != "NEWLINE"]
-    assert [c.text.rstrip() for c in tokenize(once).comments] == \
-        [c.text.rstrip() for c in tokenize(text).comments]
+    assert [(t.type, t.value) for t in tokenize(once).tokens if t.type != "NEWLINE"] == [
+        (t.type, t.value) for t in tokenize(text).tokens if t.type != "NEWLINE"
+    ]
+    assert [c.text.rstrip() for c in tokenize(once).comments] == [
+        c.text.rstrip() for c in tokenize(text).comments
+    ]
 
 
 def test_formatting_generated_files_is_idempotent():

@@ -53,6 +53,8 @@ def test_hover_on_whitespace_is_none():
 
 
 def test_hover_in_a_document_that_does_not_parse():
-    text = hover_text("import osc.standard\nscenario s:\n    hero: vehicle\n"
-                      "    x: int = (1 +\n    do serial:\n        he$0ro.drive()\n")
+    text = hover_text(
+        "import osc.standard\nscenario s:\n    hero: vehicle\n"
+        "    x: int = (1 +\n    do serial:\n        he$0ro.drive()\n"
+    )
     assert text is not None and "vehicle" in text

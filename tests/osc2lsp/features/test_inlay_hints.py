@@ -8,8 +8,10 @@ from tests.osc2lsp.lsp_helpers import seed_text, snapshot
 
 def _hints(text: str, **options):
     snap = snapshot(text)
-    return [(snap.lines.position(h.offset)[0] + 1, h.label, h.kind)
-            for h in inlay_hints(snap, 0, len(text), **options)]
+    return [
+        (snap.lines.position(h.offset)[0] + 1, h.label, h.kind)
+        for h in inlay_hints(snap, 0, len(text), **options)
+    ]
 
 
 def test_inlay_hints_fold_initialisers_with_units():

@@ -13,7 +13,7 @@ def test_definition_of_change_lane_lands_in_the_bundled_library():
     [span] = definition(snapshot(text), offset)
     assert span.uri == str(stdlib_dir() / "domain.osc")
     library = (stdlib_dir() / "domain.osc").read_text(encoding="utf-8")
-    assert library[span.start:span.end] == "change_lane"
+    assert library[span.start : span.end] == "change_lane"
     assert "action vehicle.change_lane" in library.split("\n")[span.line - 1]
 
 
@@ -29,7 +29,7 @@ def test_type_definition_of_a_field_is_its_actor():
     text, offset = cursor(seed_text().replace("hero.drive()", "he$0ro.drive()"))
     [span] = type_definition(snapshot(text), offset)
     library = (stdlib_dir() / "domain.osc").read_text(encoding="utf-8")
-    assert library[span.start:span.end] == "vehicle"
+    assert library[span.start : span.end] == "vehicle"
 
 
 def test_references_of_lag_are_its_four_places():
@@ -46,14 +46,23 @@ def test_references_reach_other_open_documents(tmp_path):
     lib.write_text(lib_text, encoding="utf-8")
     a_text = 'import "lib.osc"\nscenario a:\n    r: robot\n'
     b_text = 'import "lib.osc"\nscenario b:\n    r: robot\n    q: robot\n'
-    snaps = analyse([(lib.as_uri(), lib_text, 1),
-                     ((tmp_path / "a.osc").as_uri(), a_text, 1),
-                     ((tmp_path / "b.osc").as_uri(), b_text, 1)])
+    snaps = analyse(
+        [
+            (lib.as_uri(), lib_text, 1),
+            ((tmp_path / "a.osc").as_uri(), a_text, 1),
+            ((tmp_path / "b.osc").as_uri(), b_text, 1),
+        ]
+    )
     lib_snap = snaps[lib.as_uri()]
-    found = references(lib_snap, lib_text.index("robot"), True,
-                       [s for u, s in snaps.items() if u != lib.as_uri()])
+    found = references(
+        lib_snap, lib_text.index("robot"), True, [s for u, s in snaps.items() if u != lib.as_uri()]
+    )
     assert sorted((s.uri.rsplit("/", 1)[-1], s.line) for s in found) == [
-        ("a.osc", 3), ("b.osc", 3), ("b.osc", 4), ("lib.osc", 1)]
+        ("a.osc", 3),
+        ("b.osc", 3),
+        ("b.osc", 4),
+        ("lib.osc", 1),
+    ]
 
 
 def test_highlights_of_v_hero():

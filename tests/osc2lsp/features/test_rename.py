@@ -24,16 +24,23 @@ def test_rename_lag_changes_all_four_places():
 def test_prepare_rename_gives_the_name_and_range():
     text, offset = cursor(seed_text().replace("var lag", "var la$0g"))
     span, placeholder = prepare_rename(snapshot(text), offset)
-    assert placeholder == "lag" and text[span.start:span.end] == "lag"
+    assert placeholder == "lag" and text[span.start : span.end] == "lag"
 
 
-@pytest.mark.parametrize("marked, new, reason", [
-    (seed_text().replace("hero.change_lane(", "hero.change$0_lane("), "swerve", "standard library"),
-    (seed_text().replace("var lag", "var l$0ag"), "do", "keyword"),
-    (seed_text().replace("var lag", "var l$0ag"), "2lag", "not a valid name"),
-    (seed_text().replace("var lag", "var l$0ag"), "safety_gap", "already has a member"),
-    ("$0\nscenario s:\n", "x", "no symbol"),
-])
+@pytest.mark.parametrize(
+    "marked, new, reason",
+    [
+        (
+            seed_text().replace("hero.change_lane(", "hero.change$0_lane("),
+            "swerve",
+            "standard library",
+        ),
+        (seed_text().replace("var lag", "var l$0ag"), "do", "keyword"),
+        (seed_text().replace("var lag", "var l$0ag"), "2lag", "not a valid name"),
+        (seed_text().replace("var lag", "var l$0ag"), "safety_gap", "already has a member"),
+        ("$0\nscenario s:\n", "x", "no symbol"),
+    ],
+)
 def test_rename_refusals(marked, new, reason):
     with pytest.raises(RenameError, match=reason):
         _rename(marked, new)
@@ -46,13 +53,12 @@ def test_rename_a_soft_keyword_name_is_allowed():
 
 def test_rename_across_files_is_namespace_aware(tmp_path):
     lib = tmp_path / "lib.osc"
-    lib_text = ("namespace robots\nexport *\nactor robot\n\nnamespace other\nactor robot\n")
+    lib_text = "namespace robots\nexport *\nactor robot\n\nnamespace other\nactor robot\n"
     lib.write_text(lib_text, encoding="utf-8")
     main = tmp_path / "main.osc"
     main_text = 'import "lib.osc"\n\nscenario s:\n    r: robots::robot\n    o: other::robot\n'
     snaps = analyse([(main.as_uri(), main_text, 1)])
     snap = snaps[main.as_uri()]
     edits = rename(snap, main_text.index("robots::robot") + 9, "droid")
-    lines = sorted((key.rsplit("/", 1)[-1], e.span.line) for key, es in edits.items()
-                   for e in es)
+    lines = sorted((key.rsplit("/", 1)[-1], e.span.line) for key, es in edits.items() for e in es)
     assert lines == [("lib.osc", 3), ("main.osc", 4)]

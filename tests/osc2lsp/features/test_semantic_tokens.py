@@ -10,9 +10,14 @@ from tests.osc2lsp.lsp_helpers import seed_text, snapshot
 def _tokens(text: str):
     snap = snapshot(text)
     lines = text.split("\n")
-    return [(lines[t.line][t.column:t.column + t.length], TOKEN_TYPES[t.type],
-             {m for i, m in enumerate(TOKEN_MODIFIERS) if t.modifiers >> i & 1})
-            for t in semantic_tokens(snap)]
+    return [
+        (
+            lines[t.line][t.column : t.column + t.length],
+            TOKEN_TYPES[t.type],
+            {m for i, m in enumerate(TOKEN_MODIFIERS) if t.modifiers >> i & 1},
+        )
+        for t in semantic_tokens(snap)
+    ]
 
 
 def test_semantic_tokens_of_the_seed():

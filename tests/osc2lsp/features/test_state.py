@@ -34,9 +34,10 @@ def test_a_change_re_checks_the_open_importers(tmp_path):
 
     async def scenario():
         published: list[tuple[str, list[int]]] = []
-        state = State(Options(debounce=0),
-                      lambda trigger, snaps: published.append(
-                          (trigger, sorted(s.uri for s in snaps))))
+        state = State(
+            Options(debounce=0),
+            lambda trigger, snaps: published.append((trigger, sorted(s.uri for s in snaps))),
+        )
         state.open(lib.as_uri(), "actor robot\n", 1)
         state.open(main.as_uri(), 'import "lib.osc"\nscenario s:\n    r: robot\n', 1)
         first = await state.fresh(main.as_uri())
@@ -65,8 +66,9 @@ def test_closing_releases_waiters_and_state():
 
 def test_closed_workspace_files_that_mention_a_name_are_analysed(tmp_path):
     (tmp_path / "lib.osc").write_text("actor robot\n", encoding="utf-8")
-    (tmp_path / "user.osc").write_text('import "lib.osc"\nscenario u:\n    r: robot\n',
-                                       encoding="utf-8")
+    (tmp_path / "user.osc").write_text(
+        'import "lib.osc"\nscenario u:\n    r: robot\n', encoding="utf-8"
+    )
     (tmp_path / "other.osc").write_text("actor robotic\n", encoding="utf-8")
     (tmp_path / ".hidden").mkdir()
     (tmp_path / ".hidden" / "x.osc").write_text("actor robot\n", encoding="utf-8")
@@ -103,8 +105,9 @@ def test_the_solver_phase_adds_its_findings_after_the_first():
         done = asyncio.Event()
 
         def publish(trigger, snaps):
-            batches.append([(s.verified, sorted({d.code.code for d in s.diagnostics}))
-                            for s in snaps])
+            batches.append(
+                [(s.verified, sorted({d.code.code for d in s.diagnostics})) for s in snaps]
+            )
             if any(s.verified for s in snaps):
                 done.set()
 

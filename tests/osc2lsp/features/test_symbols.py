@@ -34,11 +34,19 @@ def _tree(symbols, depth=0):
 
 def test_document_symbols_outline_declarations_members_and_phases():
     assert list(_tree(document_symbols(snapshot(TEXT)))) == [
-        (0, "enum", "mood"), (1, "enum_member", "calm"), (1, "enum_member", "angry"),
-        (0, "actor", "bot"), (1, "event", "bumped"), (1, "field", "temper"),
+        (0, "enum", "mood"),
+        (1, "enum_member", "calm"),
+        (1, "enum_member", "angry"),
+        (0, "actor", "bot"),
+        (1, "event", "bumped"),
+        (1, "field", "temper"),
         (1, "method", "size"),
-        (0, "scenario", "chase"), (1, "field", "b"), (1, "variable", "gap"),
-        (1, "do", "do serial"), (2, "label", "start"), (2, "do", "parallel"),
+        (0, "scenario", "chase"),
+        (1, "field", "b"),
+        (1, "variable", "gap"),
+        (1, "do", "do serial"),
+        (2, "label", "start"),
+        (2, "do", "parallel"),
         (3, "label", "middle"),
     ]
 
@@ -59,11 +67,25 @@ def test_workspace_symbols_search_documents_and_library():
     found = workspace_symbols([snap], "ch")
     assert found[0].name == "chase"
     library = workspace_symbols([snap], "change_lane")
-    assert {(s.name, s.kind) for s in library} >= {("change_lane", "action"),
-                                                   ("change_lane", "modifier")}
+    assert {(s.name, s.kind) for s in library} >= {
+        ("change_lane", "action"),
+        ("change_lane", "modifier"),
+    }
     everything = {s.name for s in workspace_symbols([snap], "", library=False)}
-    assert everything == {"mood", "calm", "angry", "bot", "bumped", "temper", "size", "chase",
-                          "b", "gap", "start", "middle"}
+    assert everything == {
+        "mood",
+        "calm",
+        "angry",
+        "bot",
+        "bumped",
+        "temper",
+        "size",
+        "chase",
+        "b",
+        "gap",
+        "start",
+        "middle",
+    }
 
 
 def test_symbol_query_matching():

@@ -26,16 +26,24 @@ def test_v_npc_fast_folds_exactly_with_the_library_factors():
 
 
 def test_folding_follows_names_products_and_signs():
-    text = ("import osc.standard\nscenario s:\n    a: length = 5m\n"
-            "    b: length = (a * 3) - 3m\n    c: length = -b / 2\n    d: length = d + 1m\n")
+    text = (
+        "import osc.standard\nscenario s:\n    a: length = 5m\n"
+        "    b: length = (a * 3) - 3m\n    c: length = -b / 2\n    d: length = d + 1m\n"
+    )
     assert _value(text, "b").si == 12 and _value(text, "c").si == -6
     assert _value(text, "d") is None  # a cycle does not fold
 
 
-@pytest.mark.parametrize("value, text", [
-    (Fraction(35), "35"), (Fraction("12.42"), "12.42"), (Fraction(1, 3), "≈ 0.333"),
-    (Fraction(549878, 10000) + Fraction(1, 10**8), "≈ 55.0"), (Fraction(-5, 2), "-2.5"),
-])
+@pytest.mark.parametrize(
+    "value, text",
+    [
+        (Fraction(35), "35"),
+        (Fraction("12.42"), "12.42"),
+        (Fraction(1, 3), "≈ 0.333"),
+        (Fraction(549878, 10000) + Fraction(1, 10**8), "≈ 55.0"),
+        (Fraction(-5, 2), "-2.5"),
+    ],
+)
 def test_number_formatting(value, text):
     assert format_number(value) == text
 

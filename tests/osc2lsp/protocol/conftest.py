@@ -26,8 +26,7 @@ def _env() -> dict[str, str]:
 @pytest_lsp.fixture(
     scope="session",
     params=CLIENTS,
-    config=ClientServerConfig(server_command=[sys.executable, "-m", "osc2lsp"],
-                              server_env=_env()),
+    config=ClientServerConfig(server_command=[sys.executable, "-m", "osc2lsp"], server_env=_env()),
 )
 async def client(lsp_client: LanguageClient, request):
     @lsp_client.feature(types.WORKSPACE_INLAY_HINT_REFRESH)
@@ -37,8 +36,9 @@ async def client(lsp_client: LanguageClient, request):
     params = types.InitializeParams(
         capabilities=client_capabilities(request.param),
         root_uri=REPO.as_uri(),
-        initialization_options={"osc2": {"diagnostics": {"debounce": 10},
-                                         "inlayHints": {"enabled": True}}},
+        initialization_options={
+            "osc2": {"diagnostics": {"debounce": 10}, "inlayHints": {"enabled": True}}
+        },
     )
     lsp_client.initialize_result = await lsp_client.initialize_session(params)
     yield

@@ -18,22 +18,30 @@ def pulls(client: LanguageClient) -> bool:
 
 def open_document(client: LanguageClient, uri: str, text: str, version: int = 1) -> None:
     client.diagnostics.pop(uri, None)
-    client.text_document_did_open(types.DidOpenTextDocumentParams(
-        text_document=types.TextDocumentItem(uri=uri, language_id="osc2", version=version,
-                                             text=text)))
+    client.text_document_did_open(
+        types.DidOpenTextDocumentParams(
+            text_document=types.TextDocumentItem(
+                uri=uri, language_id="osc2", version=version, text=text
+            )
+        )
+    )
 
 
 def close_document(client: LanguageClient, uri: str) -> None:
-    client.text_document_did_close(types.DidCloseTextDocumentParams(
-        text_document=types.TextDocumentIdentifier(uri=uri)))
+    client.text_document_did_close(
+        types.DidCloseTextDocumentParams(text_document=types.TextDocumentIdentifier(uri=uri))
+    )
 
 
 def replace_text(client: LanguageClient, uri: str, text: str, version: int) -> None:
     """Replace the whole text with an incremental change (every client supports that)."""
     client.diagnostics.pop(uri, None)
-    client.text_document_did_change(types.DidChangeTextDocumentParams(
-        text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
-        content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)]))
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
+            content_changes=[types.TextDocumentContentChangeWholeDocument(text=text)],
+        )
+    )
 
 
 async def diagnostics(client: LanguageClient, uri: str, until=None) -> list[types.Diagnostic]:
@@ -42,9 +50,14 @@ async def diagnostics(client: LanguageClient, uri: str, until=None) -> list[type
         # A pull answers for the current version at once; a setting sent just before may
         # not have been applied yet, so ask again (a bounded number of times) until it is.
         for _ in range(200):
-            report = await asyncio.wait_for(client.text_document_diagnostic_async(
-                types.DocumentDiagnosticParams(
-                    text_document=types.TextDocumentIdentifier(uri=uri))), TIMEOUT)
+            report = await asyncio.wait_for(
+                client.text_document_diagnostic_async(
+                    types.DocumentDiagnosticParams(
+                        text_document=types.TextDocumentIdentifier(uri=uri)
+                    )
+                ),
+                TIMEOUT,
+            )
             items = list(report.items)
             if until is None or until(items):
                 break

@@ -18,13 +18,19 @@ pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 
 async def _actions(client, uri, line: int) -> list[types.CodeAction]:
-    rng = types.Range(start=types.Position(line=line, character=0),
-                      end=types.Position(line=line, character=80))
+    rng = types.Range(
+        start=types.Position(line=line, character=0), end=types.Position(line=line, character=80)
+    )
     found = await diagnostics(client, uri)
-    return await client.text_document_code_action_async(types.CodeActionParams(
-        text_document=text_document(uri), range=rng,
-        context=types.CodeActionContext(diagnostics=[d for d in found
-                                                     if d.range.start.line == line])))
+    return await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=text_document(uri),
+            range=rng,
+            context=types.CodeActionContext(
+                diagnostics=[d for d in found if d.range.start.line == line]
+            ),
+        )
+    )
 
 
 async def test_code_action_fixes_a_unit_typo(client: LanguageClient, doc_uri):

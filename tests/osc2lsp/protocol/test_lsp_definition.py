@@ -19,20 +19,25 @@ pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 
 async def _definition(client, uri, text, offset) -> list[types.Location]:
-    result = await client.text_document_definition_async(types.DefinitionParams(
-        text_document=text_document(uri), position=position(text, offset, client)))
+    result = await client.text_document_definition_async(
+        types.DefinitionParams(
+            text_document=text_document(uri), position=position(text, offset, client)
+        )
+    )
     return list(result or [])
 
 
-async def test_definition_of_change_lane_is_in_the_bundled_library(client: LanguageClient,
-                                                                    doc_uri):
+async def test_definition_of_change_lane_is_in_the_bundled_library(client: LanguageClient, doc_uri):
     text = seed_text()
     open_document(client, doc_uri, text)
     found = await _definition(client, doc_uri, text, text.index("change_lane(") + 3)
     assert len(found) == 1
     assert found[0].uri == (stdlib_dir() / "domain.osc").resolve().as_uri()
-    line = (stdlib_dir() / "domain.osc").read_text(encoding="utf-8").split("\n")[
-        found[0].range.start.line]
+    line = (
+        (stdlib_dir() / "domain.osc")
+        .read_text(encoding="utf-8")
+        .split("\n")[found[0].range.start.line]
+    )
     assert "change_lane" in line
     close_document(client, doc_uri)
 

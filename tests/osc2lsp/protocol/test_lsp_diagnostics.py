@@ -46,12 +46,17 @@ async def test_diagnostics_carry_related_locations(client: LanguageClient, doc_u
 async def test_diagnostics_follow_edits(client: LanguageClient, doc_uri):
     open_document(client, doc_uri, TYPOS)
     assert await diagnostics(client, doc_uri)
-    fixed = (TYPOS.replace("drvie", "drive").replace("rigth", "right")
-             .replace("kmph2", "kmph").replace("20kph", "20m"))
+    fixed = (
+        TYPOS.replace("drvie", "drive")
+        .replace("rigth", "right")
+        .replace("kmph2", "kmph")
+        .replace("20kph", "20m")
+    )
     replace_text(client, doc_uri, fixed, 2)
     typos = {"T201", "A301", "N106", "N104"}
-    found = await diagnostics(client, doc_uri,
-                              until=lambda ds: not any(d.code in typos for d in ds))
+    found = await diagnostics(
+        client, doc_uri, until=lambda ds: not any(d.code in typos for d in ds)
+    )
     assert not any(d.code in typos for d in found)
     close_document(client, doc_uri)
 
@@ -64,27 +69,37 @@ async def test_diagnostics_of_the_seed_are_dialect_warnings(client: LanguageClie
     close_document(client, doc_uri)
 
 
-async def test_diagnostics_strict_setting_makes_dialect_forms_errors(client: LanguageClient,
-                                                                      doc_uri):
+async def test_diagnostics_strict_setting_makes_dialect_forms_errors(
+    client: LanguageClient, doc_uri
+):
     open_document(client, doc_uri, seed_text())
     await diagnostics(client, doc_uri)
     try:
-        client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
-            settings={"osc2": {"strict": True}}))
-        found = await diagnostics(client, doc_uri, until=lambda ds: ds and all(
-            d.severity == types.DiagnosticSeverity.Error for d in ds))
+        client.workspace_did_change_configuration(
+            types.DidChangeConfigurationParams(settings={"osc2": {"strict": True}})
+        )
+        found = await diagnostics(
+            client,
+            doc_uri,
+            until=lambda ds: ds and all(d.severity == types.DiagnosticSeverity.Error for d in ds),
+        )
         assert all(d.severity == types.DiagnosticSeverity.Error for d in found)
     finally:
-        client.workspace_did_change_configuration(types.DidChangeConfigurationParams(
-            settings={"osc2": {"strict": False}}))
-    found = await diagnostics(client, doc_uri, until=lambda ds: ds and all(
-        d.severity == types.DiagnosticSeverity.Warning for d in ds))
+        client.workspace_did_change_configuration(
+            types.DidChangeConfigurationParams(settings={"osc2": {"strict": False}})
+        )
+    found = await diagnostics(
+        client,
+        doc_uri,
+        until=lambda ds: ds and all(d.severity == types.DiagnosticSeverity.Warning for d in ds),
+    )
     assert all(d.severity == types.DiagnosticSeverity.Warning for d in found)
     close_document(client, doc_uri)
 
 
 async def test_diagnostics_recheck_an_importer_when_its_import_changes(
-        client: LanguageClient, tmp_path):
+    client: LanguageClient, tmp_path
+):
     lib = tmp_path / "lib.osc"
     main = tmp_path / "main.osc"
     lib_text = "actor robot\n"
@@ -95,8 +110,9 @@ async def test_diagnostics_recheck_an_importer_when_its_import_changes(
     open_document(client, main.as_uri(), main_text)
     assert await diagnostics(client, main.as_uri()) == []
     replace_text(client, lib.as_uri(), "actor droid\n", 2)
-    found = await diagnostics(client, main.as_uri(),
-                              until=lambda ds: any(d.code == "N101" for d in ds))
+    found = await diagnostics(
+        client, main.as_uri(), until=lambda ds: any(d.code == "N101" for d in ds)
+    )
     assert [d.code for d in found] == ["N101"]
     close_document(client, main.as_uri())
     close_document(client, lib.as_uri())
@@ -136,8 +152,7 @@ async def test_diagnostics_of_the_solver_follow_the_first_ones(client: LanguageC
     if pulls(client):
         pytest.skip("this client cannot be asked to pull again (no refresh support)")
     open_document(client, doc_uri, CONFLICT)
-    found = await diagnostics(client, doc_uri, until=lambda ds: any(d.code == "C401"
-                                                                   for d in ds))
+    found = await diagnostics(client, doc_uri, until=lambda ds: any(d.code == "C401" for d in ds))
     conflict = next(d for d in found if d.code == "C401")
     assert conflict.range.start.line == 6
     close_document(client, doc_uri)

@@ -21,7 +21,10 @@ async def test_document_highlight_of_a_variable(client: LanguageClient, doc_uri)
     text = seed_text()
     open_document(client, doc_uri, text)
     result = await client.text_document_document_highlight_async(
-        types.DocumentHighlightParams(text_document=text_document(doc_uri),
-                                      position=position(text, text.index("v_hero") + 1, client)))
+        types.DocumentHighlightParams(
+            text_document=text_document(doc_uri),
+            position=position(text, text.index("v_hero") + 1, client),
+        )
+    )
     assert sorted(h.range.start.line + 1 for h in result) == [18, 19, 20, 41]
     close_document(client, doc_uri)

@@ -14,8 +14,9 @@ pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 async def test_document_symbols_outline_the_scenario(client: LanguageClient, doc_uri):
     open_document(client, doc_uri, seed_text())
-    result = await client.text_document_document_symbol_async(types.DocumentSymbolParams(
-        text_document=text_document(doc_uri)))
+    result = await client.text_document_document_symbol_async(
+        types.DocumentSymbolParams(text_document=text_document(doc_uri))
+    )
     [scenario] = result
     assert scenario.name == "hello_world"
     names = [child.name for child in scenario.children]

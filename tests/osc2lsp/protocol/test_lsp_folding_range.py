@@ -14,8 +14,9 @@ pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 async def test_folding_ranges_follow_the_blocks(client: LanguageClient, doc_uri):
     open_document(client, doc_uri, seed_text())
-    result = await client.text_document_folding_range_async(types.FoldingRangeParams(
-        text_document=text_document(doc_uri)))
+    result = await client.text_document_folding_range_async(
+        types.FoldingRangeParams(text_document=text_document(doc_uri))
+    )
     spans = {(r.start_line, r.end_line) for r in result}
     assert (3, 71) in spans  # the scenario
     assert (23, 71) in spans  # do parallel

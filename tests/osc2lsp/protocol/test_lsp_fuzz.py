@@ -24,27 +24,36 @@ TAIL_LINES = 8
 
 
 def _change(client, uri, version, start, end, new_text):
-    client.text_document_did_change(types.DidChangeTextDocumentParams(
-        text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
-        content_changes=[types.TextDocumentContentChangePartial(
-            range=types.Range(start=start, end=end), text=new_text)]))
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=uri, version=version),
+            content_changes=[
+                types.TextDocumentContentChangePartial(
+                    range=types.Range(start=start, end=end), text=new_text
+                )
+            ],
+        )
+    )
 
 
 async def _probe(client, uri, text):
     pos = position(text, len(text), client)
-    completion = await client.text_document_completion_async(types.CompletionParams(
-        text_document=text_document(uri), position=pos))
+    completion = await client.text_document_completion_async(
+        types.CompletionParams(text_document=text_document(uri), position=pos)
+    )
     assert completion is not None
-    await client.text_document_hover_async(types.HoverParams(
-        text_document=text_document(uri), position=position(text, max(len(text) - 2, 0),
-                                                            client)))
+    await client.text_document_hover_async(
+        types.HoverParams(
+            text_document=text_document(uri), position=position(text, max(len(text) - 2, 0), client)
+        )
+    )
 
 
 async def test_typing_and_deleting_through_the_protocol(client: LanguageClient, doc_uri):
     seed = seed_text()
     lines = seed.split("\n")
     head = "\n".join(lines[:-TAIL_LINES]) + "\n"
-    tail = seed[len(head):]
+    tail = seed[len(head) :]
     open_document(client, doc_uri, head)
     text, version = head, 1
     for ch in tail:
@@ -53,9 +62,11 @@ async def test_typing_and_deleting_through_the_protocol(client: LanguageClient, 
         _change(client, doc_uri, version, end, end, ch)
         text += ch
         await _probe(client, doc_uri, text)
-    found = await diagnostics(client, doc_uri, until=lambda ds: any(d.code == "D802" and
-                                                                   d.range.start.line == 71
-                                                                   for d in ds))
+    found = await diagnostics(
+        client,
+        doc_uri,
+        until=lambda ds: any(d.code == "D802" and d.range.start.line == 71 for d in ds),
+    )
     assert any(d.code == "D802" and d.range.start.line == 71 for d in found)
     while len(text) > len(head):
         version += 1
@@ -64,8 +75,9 @@ async def test_typing_and_deleting_through_the_protocol(client: LanguageClient, 
         _change(client, doc_uri, version, start, end, "")
         text = text[:-1]
         await _probe(client, doc_uri, text)
-    found = await diagnostics(client, doc_uri, until=lambda ds: not any(
-        d.range.start.line >= 64 for d in ds))
+    found = await diagnostics(
+        client, doc_uri, until=lambda ds: not any(d.range.start.line >= 64 for d in ds)
+    )
     assert not any(d.range.start.line >= 64 for d in found)
     assert internal_errors(client) == []
     close_document(client, doc_uri)

@@ -18,13 +18,13 @@ pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 
 async def _hover(client, uri, text, offset) -> str | None:
-    result = await client.text_document_hover_async(types.HoverParams(
-        text_document=text_document(uri), position=position(text, offset, client)))
+    result = await client.text_document_hover_async(
+        types.HoverParams(text_document=text_document(uri), position=position(text, offset, client))
+    )
     return result.contents.value if result is not None else None
 
 
-async def test_hover_on_a_variable_shows_its_type_and_folded_value(client: LanguageClient,
-                                                                  doc_uri):
+async def test_hover_on_a_variable_shows_its_type_and_folded_value(client: LanguageClient, doc_uri):
     text = seed_text()
     open_document(client, doc_uri, text)
     value = await _hover(client, doc_uri, text, text.index("v_npc_fast") + 2)

@@ -26,8 +26,9 @@ async def test_initialize_advertises_the_features(client: LanguageClient):
 
 async def test_initialize_negotiates_the_position_encoding(client: LanguageClient):
     caps = client.initialize_result.capabilities
-    offered = client.capabilities.general.position_encodings if client.capabilities.general \
-        else None
+    offered = (
+        client.capabilities.general.position_encodings if client.capabilities.general else None
+    )
     expected = offered[0] if offered else "utf-16"
     assert caps.position_encoding == expected
 

@@ -23,7 +23,8 @@ async def test_references_of_lag(client: LanguageClient, doc_uri):
     params = types.ReferenceParams(
         text_document=text_document(doc_uri),
         position=position(text, text.index("lag") + 1, client),
-        context=types.ReferenceContext(include_declaration=True))
+        context=types.ReferenceContext(include_declaration=True),
+    )
     result = await client.text_document_references_async(params)
     assert sorted(loc.range.start.line + 1 for loc in result) == [21, 22, 32, 63]
     params.context.include_declaration = False

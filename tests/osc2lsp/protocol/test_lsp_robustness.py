@@ -26,26 +26,36 @@ async def _ask_everything(client: LanguageClient, uri: str, at: types.Position) 
     doc = text_document(uri)
     rng = types.Range(start=ORIGIN, end=FAR)
     await client.text_document_hover_async(types.HoverParams(text_document=doc, position=at))
-    await client.text_document_completion_async(types.CompletionParams(text_document=doc,
-                                                                       position=at))
-    await client.text_document_definition_async(types.DefinitionParams(text_document=doc,
-                                                                       position=at))
-    await client.text_document_references_async(types.ReferenceParams(
-        text_document=doc, position=at, context=types.ReferenceContext(
-            include_declaration=True)))
-    await client.text_document_signature_help_async(types.SignatureHelpParams(
-        text_document=doc, position=at))
-    await client.text_document_document_symbol_async(types.DocumentSymbolParams(
-        text_document=doc))
-    await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(
-        text_document=doc))
+    await client.text_document_completion_async(
+        types.CompletionParams(text_document=doc, position=at)
+    )
+    await client.text_document_definition_async(
+        types.DefinitionParams(text_document=doc, position=at)
+    )
+    await client.text_document_references_async(
+        types.ReferenceParams(
+            text_document=doc, position=at, context=types.ReferenceContext(include_declaration=True)
+        )
+    )
+    await client.text_document_signature_help_async(
+        types.SignatureHelpParams(text_document=doc, position=at)
+    )
+    await client.text_document_document_symbol_async(types.DocumentSymbolParams(text_document=doc))
+    await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(text_document=doc)
+    )
     await client.text_document_folding_range_async(types.FoldingRangeParams(text_document=doc))
-    await client.text_document_inlay_hint_async(types.InlayHintParams(text_document=doc,
-                                                                      range=rng))
-    await client.text_document_code_action_async(types.CodeActionParams(
-        text_document=doc, range=rng, context=types.CodeActionContext(diagnostics=[])))
-    await client.text_document_formatting_async(types.DocumentFormattingParams(
-        text_document=doc, options=types.FormattingOptions(tab_size=4, insert_spaces=True)))
+    await client.text_document_inlay_hint_async(types.InlayHintParams(text_document=doc, range=rng))
+    await client.text_document_code_action_async(
+        types.CodeActionParams(
+            text_document=doc, range=rng, context=types.CodeActionContext(diagnostics=[])
+        )
+    )
+    await client.text_document_formatting_async(
+        types.DocumentFormattingParams(
+            text_document=doc, options=types.FormattingOptions(tab_size=4, insert_spaces=True)
+        )
+    )
     assert internal_errors(client) == []
 
 
@@ -53,8 +63,16 @@ async def test_requests_on_an_unknown_document(client: LanguageClient):
     await _ask_everything(client, "file:///tmp/osc2lsp-tests/never-opened.osc", ORIGIN)
 
 
-@pytest.mark.parametrize("text", ["", "\n\n", "scenario", "scenario s:\n    do serial:\n        (",
-                                  "import osc.standard\nscenario s:\n\thero: vehicle\n  x"])
+@pytest.mark.parametrize(
+    "text",
+    [
+        "",
+        "\n\n",
+        "scenario",
+        "scenario s:\n    do serial:\n        (",
+        "import osc.standard\nscenario s:\n\thero: vehicle\n  x",
+    ],
+)
 async def test_requests_on_empty_and_broken_documents(client: LanguageClient, doc_uri, text):
     open_document(client, doc_uri, text)
     await diagnostics(client, doc_uri)

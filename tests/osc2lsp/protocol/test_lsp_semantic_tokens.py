@@ -18,18 +18,19 @@ def _decode(data: list[int], text: str) -> list[tuple[str, str]]:
     line = char = 0
     out = []
     for i in range(0, len(data), 5):
-        d_line, d_char, length, kind, _ = data[i:i + 5]
+        d_line, d_char, length, kind, _ = data[i : i + 5]
         line += d_line
         char = char + d_char if d_line == 0 else d_char
-        out.append((lines[line][char:char + length], TOKEN_TYPES[kind]))
+        out.append((lines[line][char : char + length], TOKEN_TYPES[kind]))
     return out
 
 
 async def test_semantic_tokens_classify_names_and_units(client: LanguageClient, doc_uri):
     text = seed_text()  # ASCII only: UTF-8 and UTF-16 columns agree
     open_document(client, doc_uri, text)
-    result = await client.text_document_semantic_tokens_full_async(types.SemanticTokensParams(
-        text_document=text_document(doc_uri)))
+    result = await client.text_document_semantic_tokens_full_async(
+        types.SemanticTokensParams(text_document=text_document(doc_uri))
+    )
     tokens = _decode(result.data, text)
     assert ("kph", "unit") in tokens and ("mph", "unit") in tokens
     assert ("vehicle", "class") in tokens

@@ -20,11 +20,15 @@ pytestmark = pytest.mark.asyncio(loop_scope="session")
 
 async def test_signature_help_in_change_lane(client: LanguageClient, doc_uri):
     open_document(client, doc_uri, seed_text())
-    text, offset = cursor(seed_text().replace("(num_of_lanes: 1, side: right)",
-                                              "(num_of_lanes: 1, side: $0right)"))
+    text, offset = cursor(
+        seed_text().replace("(num_of_lanes: 1, side: right)", "(num_of_lanes: 1, side: $0right)")
+    )
     replace_text(client, doc_uri, text, 2)
-    result = await client.text_document_signature_help_async(types.SignatureHelpParams(
-        text_document=text_document(doc_uri), position=position(text, offset, client)))
+    result = await client.text_document_signature_help_async(
+        types.SignatureHelpParams(
+            text_document=text_document(doc_uri), position=position(text, offset, client)
+        )
+    )
     [signature] = result.signatures
     assert signature.label.startswith("vehicle.change_lane(")
     start, end = signature.parameters[result.active_parameter].label

@@ -21,7 +21,10 @@ async def test_type_definition_of_an_actor_field(client: LanguageClient, doc_uri
     text = seed_text()
     open_document(client, doc_uri, text)
     offset = text.index("hero.assign_position") + 1
-    result = await client.text_document_type_definition_async(types.TypeDefinitionParams(
-        text_document=text_document(doc_uri), position=position(text, offset, client)))
+    result = await client.text_document_type_definition_async(
+        types.TypeDefinitionParams(
+            text_document=text_document(doc_uri), position=position(text, offset, client)
+        )
+    )
     assert len(result) == 1 and result[0].uri.endswith("/domain.osc")
     close_document(client, doc_uri)

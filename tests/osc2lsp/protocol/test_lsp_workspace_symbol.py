@@ -17,8 +17,6 @@ async def test_workspace_symbols_find_declarations(client: LanguageClient, doc_u
     await diagnostics(client, doc_uri)
     result = await client.workspace_symbol_async(types.WorkspaceSymbolParams(query="hello"))
     assert any(s.name == "hello_world" and s.location.uri == doc_uri for s in result)
-    result = await client.workspace_symbol_async(types.WorkspaceSymbolParams(
-        query="change_lane"))
-    assert any(s.name == "change_lane" and s.location.uri.endswith("domain.osc")
-               for s in result)
+    result = await client.workspace_symbol_async(types.WorkspaceSymbolParams(query="change_lane"))
+    assert any(s.name == "change_lane" and s.location.uri.endswith("domain.osc") for s in result)
     close_document(client, doc_uri)
