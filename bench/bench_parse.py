@@ -15,7 +15,6 @@ import sys
 import time
 import tracemalloc
 from pathlib import Path
-from types import SimpleNamespace
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
@@ -23,7 +22,7 @@ sys.path.insert(0, str(ROOT / "bench"))
 
 from generate import generate  # noqa: E402
 
-from osc2check.analysis import SourceInput, analyze  # noqa: E402
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze  # noqa: E402
 from osc2check.semantics.stdlib import standard_library  # noqa: E402
 from osc2check.syntax import parse  # noqa: E402
 
@@ -63,7 +62,7 @@ def main() -> None:
     text = generate(10_000)
     lines = text.count("\n")
     sources = [SourceInput("generated.osc", text)]
-    core = SimpleNamespace(verify=False)  # names, types, units, arguments: no solver
+    core = AnalysisOptions(verify=False)  # names, types, units, arguments: no solver
     check = analyze(sources, core)
     errors = [d for d in check.diagnostics if d.severity.name == "ERROR"]
     scenarios = text.count("\nscenario ")

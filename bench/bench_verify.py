@@ -21,7 +21,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from osc2check.analysis import SourceInput, analyze  # noqa: E402
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze  # noqa: E402
 from osc2check.verify.check import scenarios_of, source_text  # noqa: E402
 from osc2check.verify.lower import lower_scenario, member_declarations  # noqa: E402
 from osc2check.verify.z3_backend import (  # noqa: E402
@@ -101,10 +101,7 @@ def timed(fn, repeat: int = 7) -> tuple[float, float, object]:
 def lowered(text: str, name: str):
     sources = [SourceInput(f"{name}.osc", text)]
 
-    class NoVerify:
-        verify = False
-
-    analysis = analyze(sources, NoVerify())
+    analysis = analyze(sources, AnalysisOptions(verify=False))
     program = analysis.programs[f"{name}.osc"]
     (scenario,) = scenarios_of(program)
     text_of = source_text(program)

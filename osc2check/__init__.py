@@ -3,14 +3,14 @@
 Public entry points (imported on first use, so that ``import osc2check`` stays cheap):
 
 - ``parse(text, uri) -> ParseResult``: tolerant parsing, never raises;
-- ``analyze(sources, config) -> Analysis``: names, types, units, constraints, placement;
+- ``analyze(sources, options) -> Analysis``: names, types, units, constraints, placement;
 - ``solve(analysis, scenario=None, seed=0) -> Witness | Unsolvable``: the concrete instance
   the runner executes.
 """
 
 from __future__ import annotations
 
-__all__ = ["analyze", "parse", "solve", "SourceInput"]
+__all__ = ["AnalysisOptions", "SourceInput", "analyze", "parse", "solve"]
 
 
 def __getattr__(name: str):
@@ -18,7 +18,7 @@ def __getattr__(name: str):
         from osc2check.syntax import parse
 
         return parse
-    if name in ("analyze", "SourceInput"):
+    if name in ("analyze", "AnalysisOptions", "SourceInput"):
         from osc2check import analysis
 
         return getattr(analysis, name)

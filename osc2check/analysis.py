@@ -1,4 +1,4 @@
-"""``analyze(sources, config)``: parse, resolve and check a set of files.
+"""``analyze(sources, options)``: parse, resolve and check a set of files.
 
 Each input file is checked as the root of its own program (the file, what it
 imports, and the standard library), so a file's findings never depend on
@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import gc
 import logging
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
@@ -16,6 +17,7 @@ from osc2check import messages
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span
+from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
 from osc2check.verify.check import VerifyResult, verify_program
 
@@ -63,50 +65,60 @@ class FileCache:
         return result
 
 
-def analyze(
-    sources: list[SourceInput],
-    config=None,
-    *,
-    seed: int | None = None,
-    scenario: str | None = None,
-    verify: bool | None = None,
-) -> Analysis:
-    """Check every source; returns the diagnostics (config applied) and the texts.
+@dataclass(frozen=True)
+class AnalysisOptions:
+    """What ``analyze`` does, and with what settings; every field has its default.
 
     ``seed`` picks the witness among the many that satisfy a scenario (the same seed
-    always gives the same one; None takes the solver's first model, which is the
-    cheapest); ``scenario`` limits verification to one scenario; ``verify=False``
-    leaves out the solver (constraints, placement, flow), as editors do between keystrokes.
+    always gives the same one; None takes the solver's first model, the cheapest);
+    ``scenario`` limits verification to one scenario; ``verify=False`` leaves out the
+    solver (constraints, placement, flow), as editors do between keystrokes.
+    ``implicit_imports`` are standard modules every file imports without saying so;
+    ``modules`` maps structured import names to files; ``search_paths`` are the
+    folders ``import a.b`` looks in after the importing file's own. ``policy``
+    filters and re-grades one file's diagnostics (``Config.policy``).
     """
+
+    verify: bool = True
+    seed: int | None = None
+    scenario: str | None = None
+    implicit_imports: tuple[str, ...] = ()
+    modules: Mapping[str, str] = field(default_factory=dict)
+    search_paths: tuple[str, ...] = ()
+    default_map: str = "default"
+    solver_rlimit: int | None = None
+    solver_timeout_ms: int | None = None
+    policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
+
+
+def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) -> Analysis:
+    """Check every source; returns the diagnostics (options' policy applied) and the texts."""
+    options = options if options is not None else AnalysisOptions()
     collecting = gc.isenabled()
     if collecting:  # analysis builds long-lived tables; cyclic GC passes only cost time
         gc.disable()
     try:
-        if verify is None:
-            verify = getattr(config, "verify", True)
-        return _analyze(sources, config, seed, scenario, verify)
+        return _analyze(sources, options)
     finally:
         if collecting:
             gc.enable()
 
 
-def _analyze(
-    sources: list[SourceInput], config, seed: int | None, scenario: str | None, verify: bool
-) -> Analysis:
+def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     cache = FileCache(texts)
-    implicit = tuple(getattr(config, "implicit_imports", ()) or ())
-    modules = dict(getattr(config, "modules", {}) or {})
-    search_paths = tuple(str(p) for p in getattr(config, "search_paths", ()) or ())
-    solver = dict(getattr(config, "solver", {}) or {})
-    road_map = str((getattr(config, "road", {}) or {}).get("map", "default"))
+    modules = dict(options.modules)
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
     for source in sources:
         result = cache.read(source.uri)
+        if result is None:  # pragma: no cover - sources are always in memory
+            continue
         try:
-            program = build_program(source.uri, cache.read, implicit, modules, search_paths)
+            program = build_program(
+                source.uri, cache.read, options.implicit_imports, modules, options.search_paths
+            )
         except RecursionError:  # pathological nesting: say so instead of crashing
             found.extend(result.diagnostics)
             found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
@@ -117,17 +129,24 @@ def _analyze(
         found.extend(own)
         if source.problem:
             found.append(_encoding_problem(source))
-        if verify and not any(d.severity is Severity.ERROR for d in [*result.diagnostics, *own]):
+        if options.verify and not any(
+            d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
+        ):
             try:
                 checked = verify_program(
-                    program, seed=seed, scenario=scenario, solver=solver, default_map=road_map
+                    program,
+                    seed=options.seed,
+                    scenario=options.scenario,
+                    rlimit=options.solver_rlimit,
+                    timeout_ms=options.solver_timeout_ms,
+                    default_map=options.default_map,
                 )
             except RecursionError:
                 found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
                 continue
             verified[source.uri] = checked
             found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
-    diagnostics = _finish(found, cache, texts, config)
+    diagnostics = _finish(found, cache, texts, options)
     return Analysis(diagnostics, texts, programs, cache.parses, verified)
 
 
@@ -157,27 +176,22 @@ def _relevant(program: Program, result: ParseResult, uri: str) -> list[Diagnosti
 
 
 def _finish(
-    found: list[Diagnostic], cache: FileCache, texts: dict[str, str], config
+    found: list[Diagnostic], cache: FileCache, texts: dict[str, str], options: AnalysisOptions
 ) -> list[Diagnostic]:
-    unique: dict[tuple, Diagnostic] = {}
+    unique: dict[tuple[str, int, int, str, str], Diagnostic] = {}
     for d in found:
         unique.setdefault((d.span.uri, d.span.start, d.span.end, d.code.code, d.message), d)
     diagnostics = list(unique.values())
-    try:
-        from osc2check.suppress import apply_suppressions, find_suppressions
-    except ImportError:  # pragma: no cover - suppressions arrive with the CLI work
-        apply_suppressions = find_suppressions = None
-    if find_suppressions is not None:
-        suppressions = []
-        for uri in texts:
-            result = cache.parses.get(uri)
-            if result is not None:
-                suppressions.extend(find_suppressions(uri, result.comment_spans(), result.text))
-        diagnostics = apply_suppressions(diagnostics, suppressions)
-    if config is not None and hasattr(config, "policy"):
+    suppressions: list[Suppression] = []
+    for uri in texts:
+        result = cache.parses.get(uri)
+        if result is not None:
+            suppressions.extend(find_suppressions(uri, result.comment_spans(), result.text))
+    diagnostics = apply_suppressions(diagnostics, suppressions)
+    if options.policy is not None:
         by_uri: dict[str, list[Diagnostic]] = {}
         for d in diagnostics:
             by_uri.setdefault(d.span.uri, []).append(d)
-        diagnostics = [d for uri, ds in by_uri.items() for d in config.policy(ds, uri)]
+        diagnostics = [d for uri, ds in by_uri.items() for d in options.policy(ds, uri)]
     diagnostics.sort(key=lambda d: d.sort_key)
     return diagnostics

@@ -316,7 +316,7 @@ def _read(inputs: list[_Input]) -> list[Any]:
 def _analyze(sources: list[Any], config: Config, seed: int | None, scenario: str | None) -> Any:
     from osc2check.analysis import analyze
 
-    return analyze(sources, config, seed=seed, scenario=scenario)
+    return analyze(sources, config.analysis_options(seed=seed, scenario=scenario))
 
 
 def _witness_tables(results: list[Any]) -> str:

@@ -19,12 +19,15 @@ from dataclasses import dataclass, field, replace
 from fnmatch import fnmatchcase
 from pathlib import Path, PurePosixPath
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
 from urllib.parse import unquote, urlparse
 
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+
+if TYPE_CHECKING:
+    from osc2check.analysis import AnalysisOptions
 
 __all__ = [
     "CONFIG_FILE",
@@ -86,6 +89,20 @@ class Config:
     search_paths: tuple[str, ...] = ()  # folders for `import a.b` (a/b.osc), after the file's own
     root: Path | None = None
 
+    def analysis_options(self, **changes: Any) -> AnalysisOptions:
+        """The options ``analyze`` runs with under this configuration (``changes`` on top)."""
+        from osc2check.analysis import AnalysisOptions
+
+        road_map = self.road.get("map", "default")
+        options = AnalysisOptions(
+            search_paths=self.search_paths,
+            default_map=str(road_map),
+            solver_rlimit=_int_or_none(self.solver.get("rlimit")),
+            solver_timeout_ms=_int_or_none(self.solver.get("timeout-ms")),
+            policy=self.policy,
+        )
+        return replace(options, **changes)
+
     def enabled(self, code: Code) -> bool:
         """True when ``code`` is selected and not ignored."""
         return code in self.select and code not in self.ignore
@@ -146,6 +163,10 @@ class Config:
             return Path(path).resolve().relative_to(base.resolve()).as_posix()
         except (ValueError, OSError):
             return PurePosixPath(Path(path).as_posix()).as_posix()
+
+
+def _int_or_none(value: object) -> int | None:
+    return value if isinstance(value, int) else None
 
 
 def _uri_path(uri: str) -> str:
@@ -278,6 +299,17 @@ def _raw_table(name: str):
     return read
 
 
+def _read_solver(v: object, path, key) -> dict[str, Any]:
+    table = dict(_expect(v, dict, "a table", path, key))
+    for name in ("rlimit", "timeout-ms"):
+        value = table.get(name)
+        if value is not None and (not isinstance(value, int) or isinstance(value, bool)
+                                  or value <= 0):
+            raise ConfigError(f"expected a positive integer, got {value!r}", path,
+                              f"{key}.{name}")
+    return {"solver": MappingProxyType(table)}
+
+
 def _read_search_paths(v: object, path, key) -> dict[str, Any]:
     base = Path(path).resolve().parent if path else Path.cwd()
     return {"search_paths": tuple(str(base / p) for p in _string_list(v, path, key))}
@@ -294,7 +326,7 @@ _READERS = {
     "exclude": _read_exclude,
     "force-exclude": _read_force_exclude,
     "road": _raw_table("road"),
-    "solver": _raw_table("solver"),
+    "solver": _read_solver,
     "search-paths": _read_search_paths,
 }
 

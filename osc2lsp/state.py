@@ -47,19 +47,6 @@ if TYPE_CHECKING:
 log = logging.getLogger(__name__)
 
 
-class _WithoutSolver:
-    """A checker configuration that skips the solver's checks (``analyze`` reads
-    ``config.verify``; ``Config`` has no such field yet)."""
-
-    verify = False
-
-    def __init__(self, config):
-        self._config = config
-
-    def __getattr__(self, name):
-        return getattr(self._config, name)
-
-
 def solver_findings(documents: list[tuple[str, str]], config=None) -> dict[str, list]:
     """The full findings, solver included, of documents given as ``(key, text)``.
 
@@ -67,7 +54,10 @@ def solver_findings(documents: list[tuple[str, str]], config=None) -> dict[str, 
     """
     from osc2check.analysis import SourceInput, analyze
 
-    analysis = analyze([SourceInput(key, text) for key, text in documents], config)
+    from osc2check.config import Config
+
+    options = (config if config is not None else Config()).analysis_options()
+    analysis = analyze([SourceInput(key, text) for key, text in documents], options)
     found: dict[str, list] = {key: [] for key, _ in documents}
     for d in analysis.diagnostics:
         if d.span.uri in found:
@@ -103,7 +93,7 @@ def analyse(
     keys = {uri: uri_to_key(uri) for uri, _, _ in documents}
     inputs = [SourceInput(keys[uri], text) for uri, text, _ in documents]
     config = config if config is not None else Config()
-    analysis = analyze(inputs, config if verify else _WithoutSolver(config))
+    analysis = analyze(inputs, config.analysis_options(verify=verify))
     return {
         uri: Snapshot(uri, keys[uri], version, text, analysis, config, verify)
         for uri, text, version in documents

@@ -155,16 +155,17 @@ def verify_program(
     *,
     seed: int | None = 0,
     scenario: str | None = None,
-    solver: dict | None = None,
+    rlimit: int | None = None,
+    timeout_ms: int | None = None,
     default_map: str = "default",
 ) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
-    Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``).
+    Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``);
+    ``rlimit`` and ``timeout_ms`` bound each solver call (defaults: z3_backend's).
     """
-    solver = solver or {}
-    rlimit = int(solver.get("rlimit", DEFAULT_RLIMIT))
-    timeout_ms = int(solver.get("timeout-ms", DEFAULT_TIMEOUT_MS))
+    rlimit = DEFAULT_RLIMIT if rlimit is None else rlimit
+    timeout_ms = DEFAULT_TIMEOUT_MS if timeout_ms is None else timeout_ms
     result = VerifyResult()
     text_of = source_text(program)
     report = result.diagnostics.append

@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 from osc2check import cli, codes, messages, rules
+from osc2check.analysis import AnalysisOptions
 from osc2check.diagnostics import Diagnostic
 from osc2check.source import Span
 
@@ -40,7 +41,7 @@ class FakeAnalysis:
     verified: dict = field(default_factory=dict)
 
 
-def fake_analyze(sources, config):
+def fake_analyze(sources, options):
     found = []
     for s in sources:
         if s.problem:  # as the real analysis does: P004 at the first replaced character
@@ -56,7 +57,7 @@ def fake_analyze(sources, config):
                 if column:
                     span = Span(s.uri, line_no, column, line_no, column + len(needle))
                     found.append(Diagnostic(code, message, span, code.severity))
-    return FakeAnalysis(config.policy(found), {s.uri: s.text for s in sources})
+    return FakeAnalysis(options.policy(found, None), {s.uri: s.text for s in sources})
 
 
 @pytest.fixture
@@ -64,11 +65,12 @@ def analysis(monkeypatch):
     """Install the fake ``osc2check.analysis``; its ``calls`` record each analysis."""
     module = types.ModuleType("osc2check.analysis")
     module.SourceInput = FakeSource
+    module.AnalysisOptions = AnalysisOptions
     module.calls = []
 
-    def analyze(sources, config, seed=0, scenario=None):
-        module.calls.append((list(sources), config))
-        return fake_analyze(sources, config)
+    def analyze(sources, options):
+        module.calls.append((list(sources), options))
+        return fake_analyze(sources, options)
 
     module.analyze = analyze
     monkeypatch.setitem(sys.modules, "osc2check.analysis", module)

@@ -9,11 +9,10 @@ defects in ``EXPECTED`` and nothing more.
 from __future__ import annotations
 
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
-from osc2check.analysis import SourceInput, analyze
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.semantics.symbols import SymbolKind
 from osc2check.syntax import ast, parse
 from osc2check.syntax.walk import walk
@@ -57,13 +56,13 @@ def _outline(node: ast.Node) -> tuple:
 
 @pytest.fixture(scope="module")
 def analysis():
-    config = SimpleNamespace(implicit_imports=(), modules={"osc.types": str(TYPES)})
+    config = AnalysisOptions(implicit_imports=(), modules={"osc.types": str(TYPES)})
     return analyze([SourceInput(str(STANDARD), _text(STANDARD))], config)
 
 
 def test_types_osc_parses_and_resolves_cleanly():
     assert parse(_text(TYPES), str(TYPES)).diagnostics == ()
-    config = SimpleNamespace(implicit_imports=(), modules={})
+    config = AnalysisOptions(implicit_imports=(), modules={})
     assert analyze([SourceInput(str(TYPES), _text(TYPES))], config).diagnostics == []
 
 

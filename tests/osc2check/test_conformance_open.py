@@ -3,11 +3,10 @@
 from __future__ import annotations
 
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
-from osc2check.analysis import SourceInput, analyze
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.syntax import ast, parse
 from osc2check.syntax.walk import walk
 
@@ -15,7 +14,7 @@ FOLDER = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" /
 if not (FOLDER / "demo.osc").is_file():
     pytest.skip(f"no conformance data at {FOLDER}", allow_module_level=True)
 
-NO_LIBRARY = SimpleNamespace(implicit_imports=(), modules={})
+NO_LIBRARY = AnalysisOptions(implicit_imports=(), modules={})
 
 
 def _analyze(name: str):

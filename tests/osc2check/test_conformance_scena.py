@@ -13,11 +13,10 @@ from __future__ import annotations
 import json
 from functools import cache
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
-from osc2check.analysis import SourceInput, analyze
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.diagnostics import Severity
 
 SUITE = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" / "scena-2.2"
@@ -72,11 +71,11 @@ def _cases() -> list[dict]:
 CASES = _cases()
 
 
-def _config(case: dict) -> SimpleNamespace:
+def _config(case: dict) -> AnalysisOptions:
     root = SUITE / case["file"]
     implicit = ("osc.standard.types",) if case["stdlib_mode"] == "types" else ()
     search = tuple(str(root.parent / p) for p in case.get("search_paths") or ())
-    return SimpleNamespace(implicit_imports=implicit, modules={}, search_paths=search)
+    return AnalysisOptions(implicit_imports=implicit, modules={}, search_paths=search)
 
 
 @cache
@@ -84,11 +83,8 @@ def _outcome(case_id: str) -> tuple[str, tuple[str, ...]]:
     """osc2check's verdict on a case ("ok" or "error") and its error findings."""
     case = next(c for c in CASES if c["id"] == case_id)
     path = SUITE / case["file"]
-    # seed=None: no witness is sampled; the verdict does not depend on one, and
-    # sampling would cost most of the time
-    analysis = analyze(
-        [SourceInput(str(path), path.read_text(encoding="utf-8"))], _config(case), seed=None
-    )
+    # the default seed=None samples no witness; the verdict does not depend on one
+    analysis = analyze([SourceInput(str(path), path.read_text(encoding="utf-8"))], _config(case))
     errors = tuple(
         f"{d.span.line}: {d.code.code} {d.message}"
         for d in analysis.diagnostics
@@ -97,15 +93,12 @@ def _outcome(case_id: str) -> tuple[str, tuple[str, ...]]:
     return ("error" if errors else "ok"), errors
 
 
-@pytest.fixture(scope="module")
-def search_paths_followed(tmp_path_factory) -> bool:
-    """Whether ``analyze`` hands ``config.search_paths`` on to the import resolution."""
-    folder = tmp_path_factory.mktemp("search_path")
-    (folder / "probe").mkdir()
-    (folder / "probe" / "module.osc").write_text("struct probed\n", encoding="utf-8")
-    root = SourceInput(str(folder / "elsewhere" / "main.osc"), "import probe.module\n")
-    config = SimpleNamespace(implicit_imports=(), modules={}, search_paths=(str(folder),))
-    return not analyze([root], config).diagnostics
+def test_search_paths_are_followed(tmp_path):
+    (tmp_path / "probe").mkdir()
+    (tmp_path / "probe" / "module.osc").write_text("struct probed\n", encoding="utf-8")
+    root = SourceInput(str(tmp_path / "elsewhere" / "main.osc"), "import probe.module\n")
+    options = AnalysisOptions(search_paths=(str(tmp_path),))
+    assert analyze([root], options).diagnostics == []
 
 
 def test_the_suite_has_the_portable_cases_its_readme_counts():
@@ -114,9 +107,7 @@ def test_the_suite_has_the_portable_cases_its_readme_counts():
 
 
 @pytest.mark.parametrize("case", CASES, ids=[c["id"] for c in CASES])
-def test_osc2check_agrees_with_scena(case, search_paths_followed):
-    if case.get("search_paths") and not search_paths_followed:
-        pytest.skip("analyze() does not pass config.search_paths to build_program yet")
+def test_osc2check_agrees_with_scena(case):
     verdict, errors = _outcome(case["id"])
     if case["id"] in DELIBERATE:
         assert verdict != case["expect"], (

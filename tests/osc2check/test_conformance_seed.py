@@ -7,11 +7,10 @@ its own D8xx warning, and these lists are exactly what osc2check reports.
 from __future__ import annotations
 
 from pathlib import Path
-from types import SimpleNamespace
 
 import pytest
 
-from osc2check.analysis import SourceInput, analyze
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.diagnostics import Severity
 
 FOLDER = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" / "seed"
@@ -58,7 +57,7 @@ EXPECTED = {
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_the_paper_scenario_has_exactly_its_dialect_warnings(name):
     path = FOLDER / name
-    config = SimpleNamespace(implicit_imports=(), modules={})
+    config = AnalysisOptions(implicit_imports=(), modules={})
     analysis = analyze([SourceInput(str(path), path.read_text(encoding="utf-8"))], config)
     assert [d for d in analysis.diagnostics if d.severity is Severity.ERROR] == []
     found = sorted((d.span.line, d.code.code) for d in analysis.diagnostics)

@@ -14,7 +14,6 @@ Settings are modest and derandomized, so CI runs the same examples every time.
 from __future__ import annotations
 
 import contextlib
-import dataclasses
 import io
 import json
 import re
@@ -25,8 +24,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from osc2check import cli, codes, rules
-from osc2check.analysis import SourceInput, analyze
-from osc2check.config import Config
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.source import decode_source
 from osc2check.syntax import parse
 
@@ -104,7 +102,7 @@ SETTINGS = settings(
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
 # The solver gets a small budget: the fuzz tests look for crashes, not for answers.
-CONFIG = dataclasses.replace(Config(), solver={"rlimit": 300_000, "timeout-ms": 1000})
+OPTIONS = AnalysisOptions(solver_rlimit=300_000, solver_timeout_ms=1000)
 
 
 # --- strategies -----------------------------------------------------------------------------
@@ -214,7 +212,7 @@ def check_parse(text: str) -> None:
 
 def check_analyze(text: str, problem: str | None = None) -> None:
     uri = "fuzz.osc"
-    analysis = analyze([SourceInput(uri=uri, text=text, problem=problem)], CONFIG)
+    analysis = analyze([SourceInput(uri=uri, text=text, problem=problem)], OPTIONS)
     assert_sane(analysis.diagnostics, text, uri)
 
 
@@ -381,7 +379,7 @@ def test_valid_edge_case_reports_nothing_but_the_unplaced_hero(name: str):
     """Blank files, line endings and a BOM are not findings in themselves."""
     text, problem = decode_source(EDGE_CASES[name])
     assert problem is None
-    found = analyze([SourceInput(uri="edge.osc", text=text)], CONFIG).diagnostics
+    found = analyze([SourceInput(uri="edge.osc", text=text)], OPTIONS).diagnostics
     assert {d.code.code for d in found} <= {"L506"}, found
 
 
@@ -389,7 +387,7 @@ def test_invalid_utf8_and_nul_are_reported_as_p004():
     for name in ("invalid_utf8", "truncated_utf8", "nul_bytes", "only_nul"):
         text, problem = decode_source(EDGE_CASES[name])
         assert problem is not None, name
-        found = analyze([SourceInput(uri="edge.osc", text=text, problem=problem)], CONFIG)
+        found = analyze([SourceInput(uri="edge.osc", text=text, problem=problem)], OPTIONS)
         assert "P004" in {d.code.code for d in found.diagnostics}, name
 
 
@@ -419,5 +417,5 @@ def test_corpus_is_found():
 @pytest.mark.parametrize("name", sorted(DEEP_EXPRESSIONS))
 def test_too_deep_expression_is_reported_as_p005(name: str):
     text, _ = decode_source(DEEP_EXPRESSIONS[name])
-    found = analyze([SourceInput(uri="deep.osc", text=text)], CONFIG).diagnostics
+    found = analyze([SourceInput(uri="deep.osc", text=text)], OPTIONS).diagnostics
     assert "P005" in {d.code.code for d in found}, found

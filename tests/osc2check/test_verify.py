@@ -20,7 +20,7 @@ import z3
 
 import osc2check
 from osc2check import cli
-from osc2check.analysis import SourceInput, analyze
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.verify import ir, quick
 from osc2check.verify.lower import in_range
 from osc2check.verify.z3_backend import Outcome, Sampler, active_constraints, check, solve
@@ -40,7 +40,7 @@ def span(line: int, uri: str = "t.osc"):
 
 def checked(text: str, uri: str = "t.osc", **kw):
     """The analysis of one in-memory file."""
-    return analyze([SourceInput(uri, text)], **kw)
+    return analyze([SourceInput(uri, text)], AnalysisOptions(**kw))
 
 
 def codes_of(analysis) -> list[str]:
@@ -537,7 +537,7 @@ def test_seeds_spread_witnesses_and_the_same_seed_gives_the_same_witness():
     assert high - low >= 30 * KPH  # spread over the range, not clustered at a vertex
     again = [osc2check.solve(analysis, seed=s).parameter("cruise").value for s in range(10)]
     assert again == cruise
-    other = osc2check.analyze([SourceInput("t.osc", FREE_RANGE)], seed=3)
+    other = osc2check.analyze([SourceInput("t.osc", FREE_RANGE)], AnalysisOptions(seed=3))
     assert (
         other.verified["t.osc"].scenarios[0].witness.to_json()
         == osc2check.solve(analysis, seed=3).to_json()
