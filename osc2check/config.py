@@ -303,10 +303,10 @@ def _read_solver(v: object, path, key) -> dict[str, Any]:
     table = dict(_expect(v, dict, "a table", path, key))
     for name in ("rlimit", "timeout-ms"):
         value = table.get(name)
-        if value is not None and (not isinstance(value, int) or isinstance(value, bool)
-                                  or value <= 0):
-            raise ConfigError(f"expected a positive integer, got {value!r}", path,
-                              f"{key}.{name}")
+        if value is not None and (
+            not isinstance(value, int) or isinstance(value, bool) or value <= 0
+        ):
+            raise ConfigError(f"expected a positive integer, got {value!r}", path, f"{key}.{name}")
     return {"solver": MappingProxyType(table)}
 
 

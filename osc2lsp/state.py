@@ -53,7 +53,6 @@ def solver_findings(documents: list[tuple[str, str]], config=None) -> dict[str, 
     Runs in the solver process: only the findings (plain, picklable data) come back.
     """
     from osc2check.analysis import SourceInput, analyze
-
     from osc2check.config import Config
 
     options = (config if config is not None else Config()).analysis_options()

@@ -1,9 +1,10 @@
 """The verification layer: the constraint IR, lowering, the solver, placement and witnesses.
 
 Findings per code are golden cases (``cases/constraints``, ``cases/placement``,
-``cases/flow``); this file tests what a golden case cannot show: the override rule and the lowering's semantics, conflicts
-spread over several files (JSON and SARIF related locations), the paper's scenarios and
-their witnesses, seeds, and the solver's cores on the IR.
+``cases/flow``); this file tests what a golden case cannot show: the override rule and
+the lowering's semantics, conflicts spread over several files (JSON and SARIF related
+locations), the paper's scenarios and their witnesses, seeds, and the solver's cores on
+the IR.
 """
 
 from __future__ import annotations
