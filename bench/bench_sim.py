@@ -27,9 +27,9 @@ from collections.abc import Callable
 import mujoco
 
 from osc2check.road import Road, get_map
+from osc2runner.execution.loop import TickLoop
 from osc2runner.sim import (
     ActorSpec,
-    ControlLoop,
     VehicleController,
     World,
     hgv,
@@ -62,15 +62,15 @@ class StepTimer:
         world_module.mujoco.mj_step = self._real  # type: ignore[attr-defined]
 
 
-def scene_single(road: Road, dt: float) -> tuple[ControlLoop, Callable[[ControlLoop], None]]:
+def scene_single(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
     w = World(road, [ActorSpec("ego", sedan(), s=100, lane=2, speed=80 / 3.6)], dt_physics=dt)
     c = VehicleController(sedan(), road, w.dt_control)
     c.speed.set_target(80 / 3.6, "smooth")
     c.lateral.keep_lane(2)
-    return ControlLoop(w, {"ego": c}), lambda loop: None
+    return TickLoop.without_scenario(w, {"ego": c}), lambda loop: None
 
 
-def scene_cut_in(road: Road, dt: float) -> tuple[ControlLoop, Callable[[ControlLoop], None]]:
+def scene_cut_in(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
     actors = [
         ActorSpec("ego", sedan(), s=100, lane=1, speed=80 / 3.6),
         ActorSpec("npc", sedan(), s=130, lane=2, speed=90 / 3.6),
@@ -82,9 +82,9 @@ def scene_cut_in(road: Road, dt: float) -> tuple[ControlLoop, Callable[[ControlL
     npc = VehicleController(sedan(), road, w.dt_control)
     npc.speed.set_target(90 / 3.6, "smooth")
     npc.lateral.keep_lane(2)
-    loop = ControlLoop(w, {"ego": ego, "npc": npc})
+    loop = TickLoop.without_scenario(w, {"ego": ego, "npc": npc})
 
-    def script(loop: ControlLoop) -> None:
+    def script(loop: TickLoop) -> None:
         t = loop.world.tick
         if t == 60:  # 3 s: cut in over 3 s
             npc.lateral.change_lane(loop.world.state("npc"), 1, duration=3.0)
@@ -94,7 +94,7 @@ def scene_cut_in(road: Road, dt: float) -> tuple[ControlLoop, Callable[[ControlL
     return loop, script
 
 
-def scene_many(road: Road, dt: float) -> tuple[ControlLoop, Callable[[ControlLoop], None]]:
+def scene_many(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
     actors = []
     for i in range(20):
         lane = 1 + i % road.lane_count
@@ -109,9 +109,9 @@ def scene_many(road: Road, dt: float) -> tuple[ControlLoop, Callable[[ControlLoo
         c.speed.set_target(25.0, "smooth")
         c.lateral.keep_lane(spec.lane or 1)
         controllers[spec.name] = c
-    loop = ControlLoop(w, controllers)
+    loop = TickLoop.without_scenario(w, controllers)
 
-    def script(loop: ControlLoop) -> None:
+    def script(loop: TickLoop) -> None:
         if loop.world.tick == 40:
             for k, spec in enumerate(actors):
                 if k % 3 == 0:
@@ -137,7 +137,7 @@ def measure(name: str, dt: float, seconds: float) -> None:
         t0 = time.perf_counter()
         for _ in range(ticks):
             script(loop)
-            loop.tick()
+            loop.step()
         wall = time.perf_counter() - t0
     inside = timer.total / wall
     print(

@@ -53,13 +53,6 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--dt-physics", type=float, default=0.002, metavar="S", help="physics step (default 0.002)"
     )
-    p.add_argument(
-        "--values",
-        choices=("constants", "witness"),
-        default="witness",
-        help="parameter values and start poses: the checker's witness for the seed "
-        "(default) or the folded constants alone",
-    )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -100,23 +93,15 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     from osc2runner.runner import RunInterrupted, execute, prepare
-    from osc2runner.values import ConstantValues
-    from osc2runner.witness import witness_values
 
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    values = (
-        witness_values(seed=args.seed)
-        if args.values == "witness"
-        else (lambda analysis, uri, model, sym: ConstantValues(model, sym))
-    )
     prepared = prepare(
         args.file,
         scenario=args.scenario,
         seed=args.seed,
         dt_control=args.dt_control,
         dt_physics=args.dt_physics,
-        values=values,
     )
     interactive = out.isatty() and not args.quiet
     try:
@@ -179,9 +164,9 @@ def _summary(result: Any, out: TextIO) -> None:
 
 
 def _problem(message: str) -> Any:
-    from osc2runner.errors import Problem
+    from osc2runner.errors import RunProblem
 
-    return Problem(message)
+    return RunProblem(message)
 
 
 def _print_input_errors(exc: ScenarioError, err: TextIO) -> None:

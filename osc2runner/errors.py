@@ -8,11 +8,11 @@ from dataclasses import dataclass
 from osc2check.source import Span
 from osc2check.syntax import ast
 
-__all__ = ["Problem", "ScenarioError", "problem"]
+__all__ = ["CompileProblem", "RunProblem", "ScenarioError", "problem"]
 
 
 @dataclass(frozen=True, slots=True)
-class Problem:
+class RunProblem:
     """One reason a scenario cannot run: a message and, when known, where."""
 
     message: str
@@ -25,8 +25,8 @@ class Problem:
         return f"{s.uri}:{s.line}:{s.column}: error: {self.message}"
 
 
-def problem(message: str, node: ast.Node | None = None) -> Problem:
-    return Problem(message, node.span if node is not None else None)
+def problem(message: str, node: ast.Node | None = None) -> RunProblem:
+    return RunProblem(message, node.span if node is not None else None)
 
 
 class ScenarioError(Exception):
@@ -38,7 +38,7 @@ class ScenarioError(Exception):
 
     def __init__(
         self,
-        problems: Sequence[Problem],
+        problems: Sequence[RunProblem],
         diagnostics: Sequence = (),
         texts: dict[str, str] | None = None,
     ) -> None:

@@ -1,16 +1,15 @@
-"""``run(path)``: check, compile, place, tick — and write what happened.
+"""``run(path)``: check, instantiate, compile, tick — and write what happened.
 
-The stages, in order (each one function or class elsewhere):
+The stages, in order (each one package):
 
 1. ``osc2check.analysis.analyze``: error diagnostics stop here
    (:class:`~osc2runner.errors.ScenarioError`, exit status 2);
-2. the scenario instance: :class:`~osc2runner.values.ParameterValues`
-   (constants until the solver's witness lands), actors, road;
-3. :func:`~osc2runner.compile.tree.compile_scenario`: the behaviour tree;
-4. :class:`~osc2runner.initializer.StartPlan`: every actor's start pose;
-5. the fixed-step loop: edge detectors, one tree tick, controllers, one
-   world step, telemetry — nothing reads the wall clock;
-6. :func:`~osc2runner.telemetry.write` (and plots), also when the run fails
+2. ``instance``: the checker's witness for the seed (parameter values, every
+   actor's catalogue row, size and start), the actors and the road;
+3. ``compile``: the behaviour tree, against a compile environment;
+4. ``execution``: the world built at the witness's starts, then the one tick
+   loop — nothing reads the wall clock;
+5. ``output``: telemetry, events, metadata (and plots), also when the run fails
    or is interrupted.
 
 Outcomes: ``success`` (the scenario's behaviour succeeded, or only open-ended
@@ -23,7 +22,6 @@ actions were still running at the time limit), ``failure`` (a failed phase, the
 from __future__ import annotations
 
 import logging
-import time as wallclock
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -31,32 +29,31 @@ from typing import Any
 
 import numpy as np
 import py_trees
-from py_trees.common import Status
 
 from osc2check.analysis import Analysis, SourceInput, analyze
 from osc2check.diagnostics import Severity
-from osc2check.road import UnknownMapError
+from osc2check.semantics.phases import time_zero
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.syntax import ast
-from osc2runner.actors import Actor, scenario_actors
-from osc2runner.compile.composites import running_open
-from osc2runner.compile.registry import registry
+from osc2runner.compile.environment import CompileEnvironment
+from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
-from osc2runner.context import ExecutionContext, LogRecord, fresh_blackboard
-from osc2runner.drivers import controllers_for
-from osc2runner.errors import CompileProblem, Problem, ScenarioError, problem
-from osc2runner.initializer import Placement, StartPlan
-from osc2runner.roads import LaneNumbers, road_for
+from osc2runner.errors import RunProblem, ScenarioError
+from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
+from osc2runner.execution.drivers import controllers_for
+from osc2runner.execution.initializer import start_specs
+from osc2runner.execution.loop import RunOutcome, TickLoop
+from osc2runner.instance import ScenarioInstance, instantiate
+from osc2runner.instance.roads import LaneNumbers
+from osc2runner.output.telemetry import Recorder, write
 from osc2runner.sim import World, versions
-from osc2runner.telemetry import Recorder, write
-from osc2runner.values import NoValue, ParameterValues, fold, to_runtime
 
 __all__ = [
     "Compiled",
-    "Outcome",
     "Prepared",
     "RunInterrupted",
+    "RunOutcome",
     "RunResult",
     "compile_file",
     "execute",
@@ -67,21 +64,6 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 DEFAULT_TIME_LIMIT = 600.0  # s of simulated time
-ValuesFactory = Callable[[Analysis, str, Any, Symbol], ParameterValues]
-
-
-@dataclass(frozen=True, slots=True)
-class Outcome:
-    """How a run ended."""
-
-    status: str  # success | failure | timeout | interrupted | error
-    reason: str
-    tick: int
-    time: float
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "success"
 
 
 @dataclass
@@ -89,11 +71,11 @@ class RunResult:
     """A finished (or stopped) run.
 
     ``telemetry[actor][channel]`` is a numpy array over the ticks (channels:
-    :data:`osc2runner.telemetry.CHANNELS`); ``events`` the event log;
+    :data:`osc2runner.output.telemetry.CHANNELS`); ``events`` the event log;
     ``outputs`` the files written.
     """
 
-    outcome: Outcome
+    outcome: RunOutcome
     telemetry: dict[str, dict[str, np.ndarray]]
     events: list[LogRecord]
     metadata: dict[str, Any]
@@ -117,20 +99,33 @@ class RunInterrupted(KeyboardInterrupt):
 
 
 @dataclass
-class Prepared:
-    """A scenario compiled and placed, ready to tick (``prepare``)."""
+class Compiled:
+    """A scenario instantiated and compiled, before its world is built (``compile_file``)."""
 
     uri: str
     analysis: Analysis
-    scenario: Symbol
-    ctx: ExecutionContext
+    instance: ScenarioInstance
+    env: CompileEnvironment
     compiled: CompiledScenario
-    world: World
-    plan_notes: list[str]
+
+    @property
+    def scenario(self) -> Symbol:
+        return self.instance.scenario
+
+    @property
+    def ctx(self) -> RunContext:
+        return self.env.run
 
     @property
     def root(self) -> py_trees.behaviour.Behaviour:
         return self.compiled.root
+
+
+@dataclass
+class Prepared(Compiled):
+    """A compiled scenario with its world built at the witness's starts (``prepare``)."""
+
+    world: World | None = None
 
 
 # ---------------------------------------------------------------------- preparation
@@ -143,7 +138,7 @@ def _read(path: str | Path, source: str | None) -> tuple[str, str]:
     try:
         data = Path(path).read_bytes()
     except OSError as exc:
-        raise ScenarioError([Problem(f"{uri}: cannot read: {exc.strerror or exc}")]) from None
+        raise ScenarioError([RunProblem(f"{uri}: cannot read: {exc.strerror or exc}")]) from None
     text, _ = decode_source(data)
     return uri, text
 
@@ -161,50 +156,15 @@ def _choose_scenario(analysis: Analysis, uri: str, name: str | None) -> Symbol:
             if sym.name == name or sym.qualified_name == name:
                 return sym
         known = ", ".join(s.name for s in symbols) or "none"
-        raise ScenarioError([Problem(f"{uri}: no scenario `{name}` (scenarios: {known})")])
+        raise ScenarioError([RunProblem(f"{uri}: no scenario `{name}` (scenarios: {known})")])
     if not symbols:
-        raise ScenarioError([Problem(f"{uri}: declares no scenario to run")])
+        raise ScenarioError([RunProblem(f"{uri}: declares no scenario to run")])
     if len(symbols) > 1:
         names = ", ".join(s.name for s in symbols)
         raise ScenarioError(
-            [Problem(f"{uri}: declares several scenarios ({names}); choose one with --scenario")]
+            [RunProblem(f"{uri}: declares several scenarios ({names}); choose one with --scenario")]
         )
     return symbols[0]
-
-
-def _map_file(model: Any, scenario: Symbol, actors: list[Actor]) -> tuple[str | None, Any]:
-    """The map name from the map actor's ``map_file`` or a ``set_map_file`` modifier."""
-    for actor in actors:
-        if actor.kind == "map" and "map_file" in actor.attributes:
-            return str(to_runtime(actor.attributes["map_file"])), actor.symbol.decl
-    for sym in model.ancestors(scenario):
-        decl = sym.decl
-        for member in getattr(decl, "members", ()):
-            if isinstance(member, ast.Invocation) and member.name.text == "set_map_file":
-                for arg in member.arguments:
-                    value = getattr(arg, "value", None)
-                    if value is not None:
-                        try:
-                            return str(fold(value, model, lambda s, n: None)), member
-                        except NoValue:
-                            pass
-    return None, None
-
-
-@dataclass
-class Compiled:
-    """A scenario compiled against its execution context, before placement (``compile_file``)."""
-
-    uri: str
-    analysis: Analysis
-    scenario: Symbol
-    ctx: ExecutionContext
-    compiled: CompiledScenario
-    actors: list[Actor]
-
-    @property
-    def root(self) -> py_trees.behaviour.Behaviour:
-        return self.compiled.root
 
 
 def compile_file(
@@ -213,12 +173,10 @@ def compile_file(
     scenario: str | None = None,
     seed: int = 0,
     dt_control: float = 0.05,
-    values: ValuesFactory | None = None,
     source: str | None = None,
 ) -> Compiled:
-    """Check a file and compile one of its scenarios; raises ScenarioError for input errors.
-
-    The blackboard is cleared first: a compiled tree belongs to one run.
+    """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
+    for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
     """
     uri, text = _read(path, source)
     analysis = analyze([SourceInput(uri, text)])
@@ -226,26 +184,15 @@ def compile_file(
     if errors:
         raise ScenarioError([], diagnostics=errors, texts=analysis.texts)
     sym = _choose_scenario(analysis, uri, scenario)
+    instance = instantiate(analysis, uri, sym, seed)
     model = analysis.programs[uri].model
-    if values is None:  # the witness the checker reports, picked by the seed
-        from osc2runner.witness import witness_values
-
-        values = witness_values(seed=seed)
-    parameter_values = values(analysis, uri, model, sym)
-    actors = scenario_actors(model, sym, parameter_values)
-    map_name, map_node = _map_file(model, sym, actors)
-    try:
-        road = road_for(map_name)
-    except UnknownMapError as exc:
-        raise ScenarioError([problem(str(exc), map_node)]) from None
     fresh_blackboard()
-    ctx = ExecutionContext(
-        model, parameter_values, registry, road, actors, dt=dt_control, seed=seed
-    )
-    compiled = compile_scenario(ctx, sym, analysis.texts)
+    run_ctx = RunContext(instance.road, instance.actors, dt=dt_control, seed=seed)
+    env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
+    compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
-    return Compiled(uri, analysis, sym, ctx, compiled, actors)
+    return Compiled(uri, analysis, instance, env, compiled)
 
 
 def prepare(
@@ -255,67 +202,32 @@ def prepare(
     seed: int = 0,
     dt_control: float = 0.05,
     dt_physics: float = 0.002,
-    values: ValuesFactory | None = None,
     source: str | None = None,
 ) -> Prepared:
-    """Check, compile and place a scenario; raises ScenarioError for input errors."""
-    c = compile_file(
-        path, scenario=scenario, seed=seed, dt_control=dt_control, values=values, source=source
-    )
-    uri, analysis, sym, ctx, compiled, actors = (
-        c.uri,
-        c.analysis,
-        c.scenario,
-        c.ctx,
-        c.compiled,
-        c.actors,
-    )
-    parameter_values, road = ctx.values, ctx.road
-    plan = StartPlan(actors, ctx.lanes)
-    problems: list[Problem] = []
-    for use in compiled.start_uses:
-        ctx.placed.add(use.node)
-        hook = getattr(use.behaviour, "place_arguments", None)
-        if hook is not None:
-            try:
-                hook(plan, use.actor, {k: fn() for k, fn in use.arguments.items()})
-            except (KeyError, CompileProblem, NoValue):
-                pass
-        for modifier in use.modifiers:
-            try:
-                args = {k: fn() for k, fn in modifier.use.arguments.items()}
-            except KeyError:
-                problems.append(
-                    problem(
-                        f"`{modifier.use.name}(...)` at the start needs values known before the "
-                        "first tick",
-                        modifier.node,
-                    )
-                )
-                continue
-            if args.get("at", "all") in ("start", "all"):
-                modifier.place(plan, use.actor, args)
-    placements = plan.resolve()
-    problems.extend(plan.problems)
+    """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
+    c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
+    ctx = c.ctx
+    specs, problems = start_specs(c.instance.actors, ctx.lanes)
     if problems:
-        raise ScenarioError(problems, texts=analysis.texts)
-    start = getattr(parameter_values, "start", None)
-    if callable(start):  # the witness places every actor itself
-        for name in list(placements):
-            given = start(name)
-            if given is not None:
-                placements[name] = Placement(
-                    s=given.s,
-                    lane=ctx.lanes.to_road(given.lane),
-                    offset=given.t,
-                    yaw=given.heading,
-                    speed=given.speed,
-                )
-    world = World(road, plan.specs(placements), dt_control=dt_control, dt_physics=dt_physics)
-    ctx.attach(world, controllers_for(world, road))
-    for name, fn in ctx.variable_inits:
+        raise ScenarioError(problems, texts=c.analysis.texts)
+    do = next((m for m in _members(c) if isinstance(m, ast.DoDirective)), None)
+    if do is not None:  # the witness realised what begins at time 0
+        ctx.placed.update(time_zero(do.member.body).starts)
+    world = World(ctx.road, specs, dt_control=dt_control, dt_physics=dt_physics)
+    ctx.attach(world, controllers_for(world, ctx.road))
+    for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
-    return Prepared(uri, analysis, sym, ctx, compiled, world, plan.notes)
+    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world)
+
+
+def _members(c: Compiled) -> list[ast.Node]:
+    """The members of the scenario's declarations, supertypes first (its `do` is the last)."""
+    model = c.env.model
+    found: list[ast.Node] = []
+    for sym in reversed(list(model.ancestors(c.scenario))):
+        if isinstance(sym.decl, ast.StructuredDecl):
+            found.extend(sym.decl.members)
+    return list(reversed(found))
 
 
 # ---------------------------------------------------------------------- running
@@ -332,7 +244,6 @@ def run(
     dt_physics: float = 0.002,
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
-    values: ValuesFactory | None = None,
     source: str | None = None,
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
@@ -340,15 +251,14 @@ def run(
     Parameters:
         path: the ``.osc`` file.
         scenario: which scenario (needed when the file declares several).
-        seed: seed of the run (random choices left open; recorded).
+        seed: seed of the run: picks the checker's witness (parameter values, starts)
+            and the random choices left open; recorded.
         out: folder for telemetry, events, metadata (and plots); None writes nothing.
         duration: time limit in simulated seconds (default 600).
         dt_control: control period (tree tick) in seconds.
         dt_physics: physics step in seconds; ``dt_control`` must be a whole multiple.
         plot: also write PNG plots into ``out``.
         progress: called as ``progress(sim_time, limit, wall_seconds)`` every simulated second.
-        values: a factory ``(analysis, uri, model, scenario) -> ParameterValues``
-            (default: folded constants; :func:`osc2runner.witness.witness_values` solves).
         source: the file's text, instead of reading ``path``.
 
     Raises:
@@ -361,7 +271,6 @@ def run(
         seed=seed,
         dt_control=dt_control,
         dt_physics=dt_physics,
-        values=values,
         source=source,
     )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
@@ -375,105 +284,23 @@ def execute(
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
 ) -> RunResult:
-    """Tick a prepared scenario to its end (see :func:`run`)."""
-    ctx, world = prepared.ctx, prepared.world
+    """Tick a prepared scenario to its end and write its files (see :func:`run`)."""
+    world = prepared.world
+    assert world is not None
     limit = DEFAULT_TIME_LIMIT if duration is None else float(duration)
-    max_ticks = max(0, round(limit / world.dt_control))
-    root = prepared.root
-    tree = py_trees.trees.BehaviourTree(root)
-    tree.setup(context=ctx)
-    recorder = Recorder(world.names, world.dt_control)
-    controllers = ctx.controllers
-    states = ctx.states
-    progress_every = max(1, round(1.0 / world.dt_control))
-    start_wall = wallclock.perf_counter()
-    outcome: Outcome | None = None
-    error: BaseException | None = None
-    try:
-        recorder.record(states, world.tick, world.time, controllers)
-        while True:
-            ctx.begin_tick()
-            for _ in root.tick():
-                pass
-            if ctx.failed is not None:
-                outcome = Outcome("failure", ctx.failed, ctx.tick, ctx.time)
-                break
-            status = root.status
-            if status == Status.SUCCESS:
-                outcome = Outcome("success", "the scenario's behaviour ended", ctx.tick, ctx.time)
-                break
-            if status == Status.FAILURE:
-                outcome = Outcome("failure", _failure_reason(root), ctx.tick, ctx.time)
-                break
-            if world.tick >= max_ticks:
-                if running_open(root.do if hasattr(root, "do") else root):
-                    outcome = Outcome(
-                        "success",
-                        f"time limit {limit:g} s reached with only open-ended actions running",
-                        ctx.tick,
-                        ctx.time,
-                    )
-                else:
-                    outcome = Outcome(
-                        "timeout", f"time limit {limit:g} s reached", ctx.tick, ctx.time
-                    )
-                break
-            inputs = {name: c.step(states[name]) for name, c in controllers.items()}
-            events = world.step_control(inputs)
-            ctx.refresh()
-            recorder.record(states, world.tick, world.time, controllers)
-            if events:
-                outcome = _world_events(ctx, events)
-                if outcome is not None:
-                    break
-            if progress is not None and world.tick % progress_every == 0:
-                progress(world.time, limit, wallclock.perf_counter() - start_wall)
-    except KeyboardInterrupt as exc:
-        outcome = Outcome("interrupted", "interrupted", ctx.tick, ctx.time)
-        error = exc
-    except BaseException as exc:
-        outcome = Outcome(
-            "error", f"internal error: {type(exc).__name__}: {exc}", ctx.tick, ctx.time
-        )
-        error = exc
-    finally:
-        wall = wallclock.perf_counter() - start_wall
-        if outcome is None:  # pragma: no cover - every path sets one
-            outcome = Outcome("error", "no outcome", ctx.tick, ctx.time)
-        ctx.record("outcome", outcome.status, outcome.reason)
-        result = _finish(prepared, recorder, outcome, wall, out, plot)
-    if isinstance(error, KeyboardInterrupt):
-        raise RunInterrupted(result) from error
-    if error is not None:
-        raise error
+    ticked = TickLoop(prepared.root, prepared.ctx, world, limit=limit).run(progress)
+    result = _finish(prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, out, plot)
+    if isinstance(ticked.error, KeyboardInterrupt):
+        raise RunInterrupted(result) from ticked.error
+    if ticked.error is not None:
+        raise ticked.error
     return result
-
-
-def _failure_reason(root: py_trees.behaviour.Behaviour) -> str:
-    failed = [n for n in root.iterate() if n.status == Status.FAILURE and not n.children]
-    if failed:
-        node = failed[0]
-        why = f": {node.feedback_message}" if node.feedback_message else ""
-        return f"`{node.name}` failed{why}"
-    return "the scenario's behaviour failed"
-
-
-def _world_events(ctx: ExecutionContext, events: list[Any]) -> Outcome | None:
-    outcome = None
-    for event in events:
-        ctx.record(event.kind, "-".join(event.actors), event.detail, tuple(event.actors))
-        if event.kind == "collision" and outcome is None:
-            if not any(ctx.collisions_allowed.get(a, 0) > 0 for a in event.actors):
-                outcome = Outcome(
-                    "failure", f"collision: {' and '.join(event.actors)}", event.tick, event.time
-                )
-    return outcome
 
 
 def _finish(
     prepared: Prepared,
     recorder: Recorder,
-    outcome: Outcome,
+    outcome: RunOutcome,
     wall: float,
     out: str | Path | None,
     plot: bool,
@@ -485,21 +312,28 @@ def _finish(
         folder = Path(out)
         result.outputs = write(folder, recorder, result.events, metadata)
         if plot:
-            from osc2runner.plots import plot_run
+            from osc2runner.output.plots import plot_run
 
             result.outputs.extend(plot_run(result, folder))
     return result
 
 
-def _metadata(prepared: Prepared, outcome: Outcome, wall: float) -> dict[str, Any]:
-    ctx, world = prepared.ctx, prepared.world
+def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str, Any]:
     from osc2check.output import tool
 
+    ctx, world = prepared.ctx, prepared.world
+    assert world is not None
     actors = {}
     for name, actor in ctx.actors.items():
         entry: dict[str, Any] = {"type": actor.type.name, "kind": actor.kind}
-        if actor.blueprint:
-            entry["model"] = actor.blueprint
+        if actor.row is not None and actor.params is not None:
+            entry["model"] = actor.row.key
+            entry["category"] = actor.row.category
+            entry["size"] = {
+                "length": actor.params.length,
+                "width": actor.params.width,
+                "height": actor.params.height,
+            }
         if name in world.names:
             spec = world.specs[world.names.index(name)]
             entry["start"] = {
@@ -531,10 +365,14 @@ def _metadata(prepared: Prepared, outcome: Outcome, wall: float) -> dict[str, An
             "scenario_lanes_counted_from": LaneNumbers(world.road).default_side,
             "telemetry_lanes": "1 = rightmost lane in the driving direction",
         },
-        "parameter_values": {"source": ctx.values.source, "values": ctx.values.table()},
+        "parameter_values": {
+            "source": prepared.instance.values.source,
+            "values": prepared.instance.values.table(),
+        },
+        "witness": prepared.instance.witness.to_json(),
         "actors": actors,
         "lights": dict(ctx.lights),
-        "notes": [*prepared.compiled.notes, *prepared.plan_notes],
+        "notes": [*prepared.compiled.notes, *prepared.instance.witness.notes],
         "outcome": {
             "status": outcome.status,
             "reason": outcome.reason,

@@ -9,6 +9,7 @@ from collections.abc import Callable
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
+from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.calls import CallChecker, Extra
 from osc2check.semantics.declare import Pending
 from osc2check.semantics.expressions import ExpressionChecker
@@ -19,8 +20,6 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 
-STANDARD_EVENTS = ("start", "end", "fail")
-OVERLAP_KINDS = ("equal", "start", "end", "initial", "final", "inside", "full", "any")
 _BEHAVIOR_KINDS = (SymbolKind.SCENARIO, SymbolKind.ACTION, SymbolKind.MODIFIER)
 
 
@@ -152,7 +151,7 @@ class BodyChecker:
                     declared = [
                         s for s in self.model.member(owner, name) if s.kind is SymbolKind.EVENT
                     ]
-                    if not declared and name not in STANDARD_EVENTS:
+                    if not declared and name not in PREDEFINED_EVENTS:
                         sym = Symbol(
                             SymbolKind.EVENT,
                             name,
@@ -324,12 +323,12 @@ class BodyChecker:
                 self.model.references[name] = sym
                 target = sym.type or T.UNKNOWN
             if sym is not None and sym.kind is SymbolKind.LABEL:
-                if last.text in STANDARD_EVENTS:
+                if last.text in PREDEFINED_EVENTS:
                     return None
             owner = target.symbol if target.kind is T.Kind.COMPOUND else None
             if target.is_unknown:
                 return None
-        if last.text in STANDARD_EVENTS:
+        if last.text in PREDEFINED_EVENTS:
             return None
         current: Scope | None = scope if not prefix else None
         candidates = [owner] if prefix else []
@@ -353,7 +352,7 @@ class BodyChecker:
         ]
         self.report(
             messages.undefined_event(
-                last.span, last.text, closest(last.text, [*names, *STANDARD_EVENTS])
+                last.span, last.text, closest(last.text, [*names, *PREDEFINED_EVENTS])
             )
         )
         return None

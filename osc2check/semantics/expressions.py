@@ -13,6 +13,7 @@ from collections.abc import Callable
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
+from osc2check.semantics.builtins import EVENT_FUNCTIONS, LIST_METHODS, TYPE_TESTS
 from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
@@ -24,8 +25,6 @@ _SCALE = {"*", "/", "%"}
 _ORDER = {"<", "<=", ">", ">="}
 _EQUALITY = {"==", "!="}
 _LOGIC = {"and", "or", "=>"}
-_LIST_METHODS = {"size", "count", "has", "filter", "map", "first_index"}
-_EVENT_BUILTINS = {"rise", "fall", "elapsed", "every"}
 _VALUE_KINDS = {
     SymbolKind.FIELD,
     SymbolKind.VARIABLE,
@@ -465,7 +464,7 @@ class ExpressionChecker:
             for a in expr.arguments
             if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
         ]
-        if name in ("as", "is") and len(args) == 1 and isinstance(args[0], ast.NameRef):
+        if name in TYPE_TESTS and len(args) == 1 and isinstance(args[0], ast.NameRef):
             qname = args[0].name
             if qname.namespace is None and qname.name.text in T.PRIMITIVES:
                 t = T.PRIMITIVES[qname.name.text]
@@ -481,7 +480,7 @@ class ExpressionChecker:
                 self.model.references[qname.name] = found[0]
                 t = found[0].type or T.UNKNOWN
             return t if name == "as" else T.BOOL
-        if target.kind is T.Kind.LIST and name in _LIST_METHODS:
+        if target.kind is T.Kind.LIST and name in LIST_METHODS:
             element = target.element or T.UNKNOWN
             inner = scope.child(it=element)
             for a in args:
@@ -510,14 +509,13 @@ class ExpressionChecker:
         values = [
             a.value for a in args if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
         ]
-        if name in ("rise", "fall"):
-            if values:
-                self.condition(values[0], scope, f"argument of `{name}`")
-            return T.BOOL
-        if name in ("elapsed", "every"):
-            time = self._physical_named("time", scope)
-            for v in values:
-                self.check(v, scope, time, "duration")
+        builtin = EVENT_FUNCTIONS.get(name)
+        if builtin is not None:
+            for param, value in zip(builtin.parameters, values, strict=False):
+                if param.type == "bool":
+                    self.condition(value, scope, f"argument of `{name}`")
+                else:
+                    self.check(value, scope, self._physical_named(param.type, scope), "duration")
             return T.BOOL
         if name == "range" and len(values) == 2:
             low = self.check(values[0], scope)

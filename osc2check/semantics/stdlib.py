@@ -11,6 +11,7 @@ from dataclasses import dataclass
 
 from osc2check.diagnostics import Diagnostic
 from osc2check.resources import stdlib_dir
+from osc2check.semantics.builtins import STANDARD_MODULE_NAMES
 from osc2check.semantics.declare import TOOLKIT_NAMESPACE, Unit
 from osc2check.semantics.model import Context, Model
 from osc2check.semantics.resolve import resolve
@@ -20,12 +21,18 @@ LIBRARY_FILES = ("types.osc", "domain.osc", "osc2toolkit.osc")
 STD, STDTYPES = "std", "stdtypes"
 
 # Structured imports of the standard: module -> (namespaces made available, auto-use).
-STANDARD_MODULES: dict[str, tuple[tuple[str, ...], bool]] = {
-    "osc.standard": ((STD, STDTYPES, TOOLKIT_NAMESPACE), True),
-    "osc.standard.all": ((STD, STDTYPES, TOOLKIT_NAMESPACE), False),
-    "osc.standard.types": ((STDTYPES,), False),
-    "osc.standard.domain": ((STD, STDTYPES, TOOLKIT_NAMESPACE), False),
-}
+STANDARD_MODULES: dict[str, tuple[tuple[str, ...], bool]] = dict(
+    zip(
+        STANDARD_MODULE_NAMES,
+        (
+            ((STD, STDTYPES, TOOLKIT_NAMESPACE), True),
+            ((STD, STDTYPES, TOOLKIT_NAMESPACE), False),
+            ((STDTYPES,), False),
+            ((STD, STDTYPES, TOOLKIT_NAMESPACE), False),
+        ),
+        strict=True,
+    )
+)
 # The design paper imports the library by file name.
 STANDARD_FILE_NAMES = ("domain.osc", "types.osc", "standard.osc")
 AUTO_USE = (STD, STDTYPES, TOOLKIT_NAMESPACE)

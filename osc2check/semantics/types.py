@@ -12,6 +12,8 @@ from enum import Enum
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
+from osc2check.semantics.builtins import PRIMITIVE_TYPES
+
 if TYPE_CHECKING:
     from osc2check.semantics.symbols import Symbol
 
@@ -107,7 +109,7 @@ FLOAT = Type(Kind.FLOAT)
 STRING = Type(Kind.STRING)
 UNKNOWN = Type(Kind.UNKNOWN)
 NONE = Type(Kind.NONE)
-PRIMITIVES = {"bool": BOOL, "int": INT, "uint": UINT, "float": FLOAT, "string": STRING}
+PRIMITIVES = dict(zip(PRIMITIVE_TYPES, (BOOL, INT, UINT, FLOAT, STRING), strict=True))
 
 
 def list_of(element: Type) -> Type:

@@ -10,12 +10,13 @@ from fractions import Fraction
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
+from osc2check.semantics.builtins import PREDEFINED_EVENTS
+from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 
-STANDARD_EVENTS = ("start", "end", "fail")
 _MOVEMENT_BASE = "action_for_movable_object"
 
 
@@ -47,11 +48,11 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
                     ast.Wait(event=ast.EventCondition() as cond)
                     | ast.Until(event=ast.EventCondition() as cond)
                 ):
-                    value = _fold_bool(cond.expr)
+                    value = _fold_bool(cond.expr, model)
                     if value is not None:
                         found.append(messages.constant_condition(cond.span, value, "condition"))
                 case ast.NamedArgument() if node.name.text == "duration":
-                    _duration(node.value, found)
+                    _duration(node.value, model, found)
     if waits:
         conditional = _conditional_events(model, scenario)
         for ref, wait in waits:
@@ -79,7 +80,7 @@ def _wait(ref: ast.EventReference, wait: ast.Wait, emits, conditional, found) ->
     if len(ref.path) != 1 or ref.path[0].missing:
         return
     name = ref.path[0].text
-    if name in STANDARD_EVENTS or name in conditional or name in emits:
+    if name in PREDEFINED_EVENTS or name in conditional or name in emits:
         return
     found.append(messages.wait_without_emitter(wait.span, name))
 
@@ -127,23 +128,15 @@ def _composition(model: Model, comp: ast.Composition, found) -> None:
             seen[actor] = inv
 
 
-def _duration(value: ast.Node, found) -> None:
+def _duration(value: ast.Node, model: Model, found: list[Diagnostic]) -> None:
     for node in [value.low, value.high] if isinstance(value, ast.RangeLiteral) else [value]:
-        number = _number(node)
-        if number is not None and number < 0:
+        try:
+            number = evaluate(node, model)
+        except NotConstant:
+            continue
+        si = number.si if isinstance(number, Quantity) else number
+        if isinstance(si, (int, Fraction)) and not isinstance(si, bool) and si < 0:
             found.append(messages.negative_duration(node.span, _written(node)))
-
-
-def _number(node: ast.Node) -> Fraction | None:
-    match node:
-        case ast.PhysicalLiteral():
-            return Fraction(node.number)
-        case ast.IntLiteral():
-            return Fraction(node.value)
-        case ast.Unary(op="-"):
-            inner = _number(node.operand)
-            return -inner if inner is not None else None
-    return None
 
 
 def _written(node: ast.Node) -> str:
@@ -152,50 +145,18 @@ def _written(node: ast.Node) -> str:
             return f"{node.number_text}{node.unit.text}"
         case ast.Unary(op="-"):
             return "-" + _written(node.operand)
-        case ast.IntLiteral():
+        case ast.IntLiteral() | ast.FloatLiteral():
             return node.text
     return "?"
 
 
-def _fold_bool(expr: ast.Node) -> bool | None:
-    """The value of a condition that does not depend on anything, else None."""
-    match expr:
-        case ast.BoolLiteral():
-            return expr.value
-        case ast.Unary(op="not"):
-            inner = _fold_bool(expr.operand)
-            return None if inner is None else not inner
-        case ast.Binary(op=op) if op in ("<", "<=", ">", ">=", "==", "!="):
-            a, b = _comparable(expr.left), _comparable(expr.right)
-            if a is None or b is None or a[1] != b[1]:
-                return None
-            x, y = a[0], b[0]
-            return {"<": x < y, "<=": x <= y, ">": x > y, ">=": x >= y, "==": x == y, "!=": x != y}[
-                op
-            ]
-        case ast.Binary(op="and"):
-            a, b = _fold_bool(expr.left), _fold_bool(expr.right)
-            if a is False or b is False:
-                return False
-            return True if a and b else None
-        case ast.Binary(op="or"):
-            a, b = _fold_bool(expr.left), _fold_bool(expr.right)
-            if a or b:
-                return True
-            return False if a is False and b is False else None
-    return None
-
-
-def _comparable(node: ast.Node) -> tuple[Fraction, str] | None:
-    match node:
-        case ast.PhysicalLiteral():
-            return Fraction(node.number), node.unit.text
-        case ast.IntLiteral():
-            return Fraction(node.value), ""
-        case ast.Unary(op="-"):
-            inner = _comparable(node.operand)
-            return (-inner[0], inner[1]) if inner is not None else None
-    return None
+def _fold_bool(expr: ast.Node, model: Model) -> bool | None:
+    """The value of a condition that depends on nothing (literals only), else None."""
+    try:
+        value = evaluate(expr, model)
+    except NotConstant:
+        return None
+    return value if isinstance(value, bool) else None
 
 
 def _recursion(model: Model, sym: Symbol, chain: list[Symbol], done: set[int]):

@@ -126,6 +126,9 @@ class Constraint:
     explanation: str = ""  # for implicit constraints: where the rule comes from
     rule: str = ""  # implicit constraints: "lane-range", "road-extent", "max-speed", "overlap"
     origin: str = ""
+    # implicit constraints: the written constraints that made them apply (the keep that
+    # makes an actor a truck, for the truck's top speed); conflicts name them too
+    because: tuple[Constraint, ...] = ()
 
 
 @dataclass

@@ -28,6 +28,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics import types as T
+from osc2check.semantics.constants import NotConstant, literal_number, physical_literal
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -471,18 +472,16 @@ class Lowerer:
 
     def _term(self, expr: ast.Node, scope: Scope) -> ir.Term:
         match expr:
-            case ast.IntLiteral():
-                return ir.const(expr.value)
-            case ast.FloatLiteral():
+            case ast.IntLiteral() | ast.FloatLiteral() | ast.PhysicalLiteral():
                 try:
-                    return ir.const(Fraction(expr.text))
-                except (ValueError, ZeroDivisionError):
-                    raise NotEncodable("`inf` and `nan` have no exact value") from None
-            case ast.PhysicalLiteral():
-                unit = self.model.references.get(expr.unit)
-                if unit is None or isinstance(expr.number, float):
-                    raise NotEncodable("unknown unit")
-                return ir.const(Fraction(expr.number) * unit.factor + unit.offset)
+                    value = (
+                        physical_literal(expr, self.model).si
+                        if isinstance(expr, ast.PhysicalLiteral)
+                        else literal_number(expr)
+                    )
+                except NotConstant as reason:
+                    raise NotEncodable(str(reason)) from None
+                return ir.const(value)
             case ast.BoolLiteral():
                 return ir.const(expr.value)
             case ast.StringLiteral():

@@ -38,7 +38,7 @@ Conventions (shown in the witness):
   does not contradict the start.
 * Every phase: ``lane(k)`` with a number and ``speed(v)`` with a value need a
   lane the road has and a speed the vehicle reaches, whenever they hold.
-* The road: an actor's footprint (``vehicles.py``) lies within the road's
+* The road: an actor's footprint (``world.catalogue``) lies within the road's
   length, its lane within the road's lanes and, with a lateral offset, its
   sides within the road's edges; two actors in one lane do not overlap.
 """
@@ -50,44 +50,64 @@ from fractions import Fraction
 
 from osc2check.road import Road, UnknownMapError, get_map
 from osc2check.semantics import types as T
+from osc2check.semantics.phases import modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2check.vehicles import Footprint, category_of_model, footprint
 from osc2check.verify import ir
+from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
 
-INSTANT_ACTIONS = frozenset(
-    {  # actions that set a state and take no time
-        "assign_position",
-        "assign_speed",
-        "assign_orientation",
-        "assign_acceleration",
-        "set_lights",
-        "set_road_friction",
-        "air",
-        "rain",
-        "snow",
-        "wind",
-        "fog",
-        "clouds",
-        "assign_celestial_position",
-        "set_bulb_state",
-        "set_state",
-        "set_semantic_state",
-        "set_group_bulb_state",
-        "set_group_state",
-        "set_group_semantic_state",
-    }
-)
-_KINDS = ("vehicle", "person", "animal", "stationary_object")
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+
+
+@dataclass
+class ActorBody:
+    """What an actor is for placement: its catalogue row and its size and top speed as terms.
+
+    ``row`` is the catalogue row the actor is placed with; when the scenario leaves a
+    vehicle's category open among several (``keep(it.vehicle_category in [car,
+    truck])``), ``row`` is None and the terms depend on the category variable, so the
+    solver chooses a category and a footprint that agree. A declared
+    ``bounding_box.length`` or ``.width`` replaces the row's. ``because`` holds the
+    constraints that chose the row (the keep that makes an actor a truck), which a
+    conflict involving the row's size or speed names too.
+    """
+
+    kind: str
+    row: ActorRow | None
+    length: ir.Term
+    width: ir.Term
+    max_speed: ir.Term
+    category: ir.Var | None = None  # the vehicle_category variable, for vehicles
+    because: tuple[ir.Constraint, ...] = ()
+    notes: tuple[str, ...] = ()
+
+    def widest(self) -> Fraction:
+        """The largest width the actor may have (its width when known)."""
+        return _largest(self.width)
+
+    def size_text(self, term: ir.Term, what: str) -> str:
+        """``4.5 m long``, or how the size is decided when it is not a constant."""
+        if isinstance(term, ir.Const) and not isinstance(term.value, bool):
+            return f"{float(term.value):g} m {what}"
+        if isinstance(term, ir.Ref):
+            return f"`{term.var.name}` {what}"
+        return f"{what} as its vehicle_category"
+
+
+def _largest(term: ir.Term) -> Fraction:
+    if isinstance(term, ir.Const) and not isinstance(term.value, bool):
+        return term.value
+    if isinstance(term, ir.Op) and term.op == "ite":
+        return max(_largest(term.args[1]), _largest(term.args[2]))
+    return Fraction(10**6)
 
 
 @dataclass
 class PlacedActor:
     name: str
     kind: str
-    footprint: Footprint
+    body: ActorBody
     span: Span
     lane: ir.Var
     s: ir.Var
@@ -120,11 +140,16 @@ class Placement:
     gaps: list[Gap] = field(default_factory=list)
 
 
-def _kind(model, sym: Symbol | None) -> str | None:
+def actor_kind(model, sym: Symbol | None) -> str | None:
+    """The catalogue kind of an actor type (vehicle, person, animal, stationary_object)."""
     for ancestor in model.ancestors(sym):
-        if ancestor.name in _KINDS and ancestor.library:
+        if ancestor.name in ACTOR_KINDS and ancestor.library:
             return ancestor.name
     return None
+
+
+def _is_trailer(model, sym: Symbol | None) -> bool:
+    return any(a.name == "trailer" and a.library for a in model.ancestors(sym))
 
 
 def _constants(problem: ir.Problem) -> dict[str, tuple[Fraction | bool, ir.Constraint]]:
@@ -170,7 +195,7 @@ class PlacementLowerer:
 
     def lower(self) -> Placement | None:
         actors = [
-            (p, _kind(self.model, p.type.symbol if p.type else None))
+            (p, actor_kind(self.model, p.type.symbol if p.type else None))
             for p in self.model.parameters(self.scenario)
             if p.type is not None and p.type.kind is T.Kind.COMPOUND
         ]
@@ -190,7 +215,7 @@ class PlacementLowerer:
             for item in inv.with_members:
                 if (
                     isinstance(item, ast.Invocation)
-                    and _word(self._args(item).get("at")) == "start"
+                    and modifier_timing(self._args(item)) == "start"
                 ):
                     self.explicit.add((actor, item.name.text))
         for inv in starts:
@@ -222,7 +247,7 @@ class PlacementLowerer:
                     "at-rest",
                     f"`{actor.name}` starts at rest (no `speed(..., at: start)`)",
                 )
-            if actor.name in self.lateral or actor.footprint.width > Fraction(
+            if actor.name in self.lateral or actor.body.widest() > Fraction(
                 placement.road.lane_width
             ):
                 self._on_road(actor, placement.road)  # else its lane keeps it on the road
@@ -252,23 +277,103 @@ class PlacementLowerer:
                 self.unknown_map = (span or self.problem.span, name, err.known)
             return road
 
+    def _body(self, param: Symbol, kind: str) -> ActorBody:
+        """The actor's catalogue row and size terms (see ``ActorBody``)."""
+        name = param.name
+        if kind != "vehicle":
+            row = kind_row(kind)
+            return self._sized(name, ActorBody(kind, row, *self._row_terms(row)))
+        category = self.problem.variables.get(f"{name}.vehicle_category")
+        because: list[ir.Constraint] = []
+        notes: list[str] = []
+        row: ActorRow | None = None
+        model = self.constants.get(f"{name}.model")
+        if model is not None and isinstance(model[0], Fraction):
+            model_name = self.problem.strings.get(int(model[0]), "")
+            found = model_row(model_name)
+            if found is not None and found.kind == "vehicle":
+                row = found
+                because.append(model[1])
+                if category is not None:
+                    self._implicit(
+                        ir.op("==", ir.Ref(category), ir.const(_member(category, row.category))),
+                        model[1].span,
+                        "category",
+                        f"`{model_name}` is a {row.category}",
+                        because=(model[1],),
+                    )
+            else:
+                notes.append(
+                    f"model `{model_name}` of `{name}` is not in the catalogue: its "
+                    "vehicle_category decides its size"
+                )
+        fixed = self.constants.get(f"{name}.vehicle_category")
+        if row is None and fixed is not None and category is not None:
+            member = next((n for n, v in category.enum if v == fixed[0]), None)
+            if member is not None:
+                row = CATEGORIES[member]
+                because.append(fixed[1])
+        type_symbol = param.type.symbol if param.type is not None else None
+        if row is None and _is_trailer(self.model, type_symbol):
+            row = CATEGORIES["trailer"]
+        if row is None and category is not None and not self._mentioned(category):
+            row = CATEGORIES["car"]  # nothing says otherwise: placed, and run, as a car
+        if row is not None:
+            if category is not None and not because:
+                self._implicit(
+                    ir.op("==", ir.Ref(category), ir.const(_member(category, row.category))),
+                    param.name_span or self.problem.span,
+                    "category",
+                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
+                    if row.category == "car"
+                    else f"`{name}` is a {row.category}",
+                )
+            body = ActorBody(kind, row, *self._row_terms(row), category, tuple(because))
+        elif category is not None:  # open: the solver chooses the category and the size
+            length, width, top = (
+                _by_category(category, lambda r, k=k: getattr(r, k))
+                for k in ("length", "width", "max_speed")
+            )
+            body = ActorBody(kind, None, length, width, top, category)
+        else:  # pragma: no cover - every vehicle has the category parameter
+            car = CATEGORIES["car"]
+            body = ActorBody(kind, car, *self._row_terms(car))
+        body.notes = tuple(notes)
+        return self._sized(name, body)
+
+    @staticmethod
+    def _row_terms(row: ActorRow) -> tuple[ir.Term, ir.Term, ir.Term]:
+        return ir.const(row.length), ir.const(row.width), ir.const(row.max_speed)
+
+    def _sized(self, name: str, body: ActorBody) -> ActorBody:
+        """Declared ``bounding_box`` dimensions replace the row's."""
+        for field_name in ("length", "width"):
+            var = self.problem.variables.get(f"{name}.bounding_box.{field_name}")
+            if var is None or not self._mentioned(var):
+                continue
+            setattr(body, field_name, ir.Ref(var))
+            self._implicit(
+                ir.op(">", ir.Ref(var), ir.const(0)),
+                var.span or self.problem.span,
+                "size",
+                f"`{name}`'s bounding box has a positive {field_name}",
+            )
+        return body
+
+    def _mentioned(self, var: ir.Var) -> bool:
+        """Whether a constraint other than its own domain mentions ``var``."""
+        return any(
+            c.kind != "domain" and var.name in ir.names(c.term) for c in self.problem.constraints
+        )
+
     def _actor(self, param: Symbol, kind: str, road: Road) -> PlacedActor:
-        category = None
-        value = self.constants.get(f"{param.name}.vehicle_category", (None,))[0]
-        if isinstance(value, Fraction):
-            var = self.problem.variables[f"{param.name}.vehicle_category"]
-            category = next((n for n, v in var.enum if v == value), None)
-        if category is None:
-            model_name = self.constants.get(f"{param.name}.model", (None,))[0]
-            if isinstance(model_name, Fraction):
-                category = category_of_model(self.problem.strings.get(int(model_name), ""))
-        fp = footprint(kind, category)
+        body = self._body(param, kind)
         span = param.name_span or self.problem.span
         p = self.problem
         actor = PlacedActor(
             param.name,
             kind,
-            fp,
+            body,
             span,
             p.var(f"{param.name}@start.lane", "int", span=span),
             p.var(f"{param.name}@start.s", "real", unit="m", span=span),
@@ -282,18 +387,19 @@ class PlacementLowerer:
             ),
         )
         s = ir.Ref(actor.s)
-        half = fp.length / 2
+        half = ir.op("*", ir.const(Fraction(1, 2)), body.length)
         self._lane_range(actor, road)
         self._implicit(
             ir.op(
                 "and",
-                ir.op(">=", s, ir.const(half)),
-                ir.op("<=", s, ir.const(Fraction(road.length) - half)),
+                ir.op(">=", s, half),
+                ir.op("<=", s, ir.op("-", ir.const(Fraction(road.length)), half)),
             ),
             span,
             "road-extent",
-            f"`{param.name}` ({float(fp.length):g} m long) stands on the "
+            f"`{param.name}` ({body.size_text(body.length, 'long')}) stands on the "
             f"{road.length:g} m road `{road.name}`",
+            because=body.because,
         )
         self._speed_range(actor)
         return actor
@@ -301,7 +407,8 @@ class PlacementLowerer:
     def _on_road(self, actor: PlacedActor, road: Road) -> None:
         """The actor's sides stay on the road (with its lateral offset)."""
         width = Fraction(road.lane_width)
-        fp = actor.footprint
+        body = actor.body
+        half = ir.op("*", ir.const(Fraction(1, 2)), body.width)
         across = ir.op(
             "+",
             ir.op("*", ir.const(width), ir.op("-", ir.Ref(actor.lane), ir.const(Fraction(1, 2)))),
@@ -310,13 +417,14 @@ class PlacementLowerer:
         self._implicit(
             ir.op(
                 "and",
-                ir.op(">=", across, ir.const(fp.width / 2)),
-                ir.op("<=", across, ir.const(width * road.lane_count - fp.width / 2)),
+                ir.op(">=", across, half),
+                ir.op("<=", across, ir.op("-", ir.const(width * road.lane_count), half)),
             ),
             actor.span,
             "road-extent",
-            f"`{actor.name}` ({float(fp.width):g} m wide) stays on "
+            f"`{actor.name}` ({body.size_text(body.width, 'wide')}) stays on "
             f"the road's {road.lane_count} lanes of {road.lane_width:g} m",
+            because=body.because,
         )
 
     def _lane_range(self, actor: PlacedActor, road: Road) -> None:
@@ -331,59 +439,49 @@ class PlacementLowerer:
         )
 
     def _speed_range(self, actor: PlacedActor) -> None:
-        fp = actor.footprint
+        body = actor.body
         v = ir.Ref(actor.speed)
-        top = float(fp.max_speed) * 3.6
+        if body.row is not None:
+            top = float(body.row.max_speed) * 3.6
+            what = body.row.key if body.row.is_model else f"a {body.row.category}"
+            text = f"{what} goes at most {top:g} kph"
+        else:
+            text = f"`{actor.name}` goes at most the top speed of its vehicle_category"
         self._implicit(
-            ir.op("and", ir.op(">=", v, ir.const(0)), ir.op("<=", v, ir.const(fp.max_speed))),
+            ir.op("and", ir.op(">=", v, ir.const(0)), ir.op("<=", v, body.max_speed)),
             actor.span,
             "max-speed",
-            f"a {fp.category} goes at most {top:g} kph",
+            text,
+            because=body.because,
         )
 
-    def _implicit(self, term: ir.Term, span: Span, rule: str, text: str) -> None:
+    def _implicit(
+        self,
+        term: ir.Term,
+        span: Span,
+        rule: str,
+        text: str,
+        because: tuple[ir.Constraint, ...] = (),
+    ) -> None:
         self.problem.add(
-            ir.Constraint(term, span, "placement", text, "hard", rule=rule, explanation=text)
+            ir.Constraint(
+                term, span, "placement", text, "hard", rule=rule, explanation=text, because=because
+            )
         )
 
     # ---- the invocations that begin at time 0 ------------------------------------------
 
     def _start_invocations(self) -> list[ast.Invocation]:
         found: list[ast.Invocation] = []
-        decls = self.lw.member_decls.get(self.scenario, [])
-        for members in decls:
+        for members in self.lw.member_decls.get(self.scenario, []):
             for member in members:
                 if isinstance(member, ast.DoDirective):
-                    self._collect(member.member.body, found)
+                    zero = time_zero(member.member.body)
+                    found.extend(zero.starts)
+                    # alternatives of a one_of: none of them is known to run at time 0, so
+                    # none fixes a start; an actor one of them places counts as placed
+                    self.alternatives.extend(zero.alternatives)
         return found
-
-    def _collect(self, body, found: list) -> bool:
-        """Add the time-0 invocations of ``body``; True if ``body`` takes no time."""
-        match body:
-            case ast.Composition(op="serial"):
-                for member in body.members:
-                    if not self._collect(member.body, found):
-                        return False
-                return True
-            case ast.Composition(op="one_of"):
-                # alternatives: none of them is known to run at time 0, so none fixes a
-                # start; an actor one of them places counts as placed (no L506)
-                for member in body.members:
-                    inner: list[ast.Invocation] = []
-                    self._collect(member.body, inner)
-                    self.alternatives.extend(inner)
-                return False
-            case ast.Composition():
-                instant = True
-                for member in body.members:
-                    instant = self._collect(member.body, found) and instant
-                return instant
-            case ast.Invocation():
-                found.append(body)
-                return body.name.text in INSTANT_ACTIONS
-            case ast.Emit() | ast.CallDirective():
-                return True
-        return False
 
     def _modifiers(self, inv: ast.Invocation, placement: Placement, first: set[str]) -> None:
         """Apply the start modifiers of a time-0 invocation: those with `at: start`, and,
@@ -396,21 +494,27 @@ class PlacementLowerer:
             return
         is_first = actor.name not in first
         first.add(actor.name)
+        if inv.name.text == "assign_speed":  # an instant action: its speed is the start speed
+            given = self._args(inv)
+            if "speed" in given:
+                self._mod_speed(actor, {"speed": given["speed"]}, inv, placement)
+        handlers = {
+            "lane": self._mod_lane,
+            "position": self._mod_position,
+            "speed": self._mod_speed,
+            "lateral": self._mod_lateral,
+        }
         for item in inv.with_members:
             if not isinstance(item, ast.Invocation):
                 continue
             args = self._args(item)
-            at = _word(args.get("at"))
+            at = modifier_timing(args)
             if not (
                 at == "start"
-                or (
-                    is_first
-                    and at in (None, "all")
-                    and (actor.name, item.name.text) not in self.explicit
-                )
+                or (is_first and at == "all" and (actor.name, item.name.text) not in self.explicit)
             ):
                 continue
-            handler = getattr(self, f"_mod_{item.name.text}", None)
+            handler = handlers.get(item.name.text)
             if handler is not None:
                 actor.placed = actor.placed or item.name.text in _POSITIONING
                 self.applied.add(id(item))
@@ -586,7 +690,9 @@ class PlacementLowerer:
         if other is None:
             self._require(ir.op("==", s, gap), item)
             return
-        half = ir.const((actor.footprint.length + other.footprint.length) / 2)
+        half = ir.op(
+            "*", ir.const(Fraction(1, 2)), ir.op("+", actor.body.length, other.body.length)
+        )
         distance = ir.op("+", half, gap)
         target = (
             ir.op("-", ir.Ref(other.s), distance)
@@ -664,7 +770,9 @@ class PlacementLowerer:
                 if a_name in fixed and b_name in fixed and fixed[a_name] != fixed[b_name]:
                     continue  # never in the same lane
                 a, b = placement.actors[a_name], placement.actors[b_name]
-                need = ir.const((a.footprint.length + b.footprint.length) / 2)
+                need = ir.op(
+                    "*", ir.const(Fraction(1, 2)), ir.op("+", a.body.length, b.body.length)
+                )
                 sa, sb = ir.Ref(a.s), ir.Ref(b.s)
                 term = ir.op(
                     "or",
@@ -734,3 +842,22 @@ def _internal_lane(number: ir.Term, road: Road, numbering: str) -> ir.Term:
 def lower_placement(lowerer, scenario: Symbol, default_map: str = "default") -> Placement | None:
     """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
     return PlacementLowerer(lowerer, scenario, default_map).lower()
+
+
+def _member(category: ir.Var, name: str) -> int:
+    """The value of enum member ``name`` of the category variable."""
+    return next(v for n, v in category.enum if n == name)
+
+
+def _by_category(category: ir.Var, value_of) -> ir.Term:
+    """``ite(category == car, value_of(car), ite(...))`` over the category's members."""
+    members = [(n, v) for n, v in category.enum if n in CATEGORIES]
+    term: ir.Term = ir.const(value_of(CATEGORIES[members[-1][0]]))
+    for name, value in reversed(members[:-1]):
+        term = ir.op(
+            "ite",
+            ir.op("==", ir.Ref(category), ir.const(value)),
+            ir.const(value_of(CATEGORIES[name])),
+            term,
+        )
+    return term

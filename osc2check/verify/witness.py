@@ -10,8 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from osc2check.verify import ir
-from osc2check.verify.placement import Placement
+from osc2check.verify import ir, quick
+from osc2check.verify.placement import ActorBody, Placement
+from osc2check.world.catalogue import CATEGORIES, ActorRow
 
 
 @dataclass(frozen=True, slots=True)
@@ -35,9 +36,16 @@ class Value:
 
 @dataclass(frozen=True, slots=True)
 class ActorStart:
+    """One actor at time 0: what it is (catalogue row, category, size) and where it starts.
+
+    The runner builds the actor from ``model`` (the catalogue row's key: a model name,
+    a vehicle category or an actor kind) with exactly ``length`` and ``width``.
+    """
+
     name: str
     kind: str
     category: str
+    model: str
     lane: int  # as the scenario numbers lanes on this map
     s: Fraction  # m, centre along the road
     t: Fraction  # m, lateral offset from the lane centre (left positive)
@@ -47,6 +55,7 @@ class ActorStart:
     speed: Fraction  # m/s
     length: Fraction
     width: Fraction
+    height: Fraction
     placed: bool  # positioned by the scenario (otherwise chosen freely)
 
     def to_json(self) -> dict:
@@ -54,6 +63,7 @@ class ActorStart:
             "name": self.name,
             "kind": self.kind,
             "category": self.category,
+            "model": self.model,
             "lane": self.lane,
             "s_m": float(self.s),
             "t_m": float(self.t),
@@ -66,6 +76,7 @@ class ActorStart:
             "speed_exact": str(self.speed),
             "length_m": float(self.length),
             "width_m": float(self.width),
+            "height_m": float(self.height),
             "placed_by_scenario": self.placed,
         }
 
@@ -79,6 +90,7 @@ class Witness:
     parameters: tuple[Value, ...]
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
+    unused_map: str | None = None  # a map the scenario names that placement could not use
 
     def parameter(self, name: str) -> Value | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -126,6 +138,22 @@ class Witness:
         for note in self.notes:
             lines.append(f"  note: {note}")
         return "\n".join(lines)
+
+
+def _row(body: ActorBody, values: dict[str, Fraction | bool]) -> ActorRow:
+    """The catalogue row an actor was placed with (its category's, when that was open)."""
+    if body.row is not None:
+        return body.row
+    value = values.get(body.category.name) if body.category is not None else None
+    member = (
+        next((n for n, v in body.category.enum if v == value), "car") if body.category else "car"
+    )
+    return CATEGORIES.get(member, CATEGORIES["car"])
+
+
+def _size(term: ir.Term, values: dict[str, Fraction | bool]) -> Fraction:
+    value = quick.evaluate(term, values)
+    return value if isinstance(value, Fraction) else Fraction(0)
 
 
 def _display(var: ir.Var, value: Fraction | bool, strings: dict[int, str]) -> tuple:
@@ -176,11 +204,13 @@ def build_witness(
             s = Fraction(values.get(a.s.name, Fraction(0)))
             t = Fraction(values.get(a.t.name, Fraction(0)))
             x, y = road.to_xy(float(s), road.lane_center_t(lane) + float(t))
+            row = _row(a.body, values)
             actors.append(
                 ActorStart(
                     a.name,
                     a.kind,
-                    a.footprint.category,
+                    row.category,
+                    row.key,
                     road.to_scenario_lane(lane),
                     s,
                     t,
@@ -188,11 +218,13 @@ def build_witness(
                     y,
                     road.heading,
                     Fraction(values.get(a.speed.name, Fraction(0))),
-                    a.footprint.length,
-                    a.footprint.width,
+                    _size(a.body.length, values),
+                    _size(a.body.width, values),
+                    row.height,
                     a.placed,
                 )
             )
+            notes.extend(a.body.notes)
         if placement.unknown_map is not None:
             notes.append(f"unknown map `{placement.unknown_map[1]}`: placed on `{road.name}`")
         if placement.unread_map is not None:
@@ -203,6 +235,18 @@ def build_witness(
         map_name, numbering = road.name, road.numbering
     else:
         map_name, numbering = "", "from_right"
+    unused = None
+    if placement is not None:
+        unused = placement.unread_map or (
+            placement.unknown_map[1] if placement.unknown_map is not None else None
+        )
     return Witness(
-        problem.scenario, seed, map_name, numbering, tuple(params), tuple(actors), tuple(notes)
+        problem.scenario,
+        seed,
+        map_name,
+        numbering,
+        tuple(params),
+        tuple(actors),
+        tuple(notes),
+        unused,
     )

@@ -12,6 +12,13 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from osc2check.semantics.builtins import (
+    EVENT_FUNCTIONS,
+    LIST_METHODS,
+    PREDEFINED_EVENTS,
+    PRIMITIVE_TYPES,
+    STANDARD_MODULE_NAMES,
+)
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.types import Kind, Type
@@ -22,16 +29,6 @@ from osc2lsp.features.grammar_state import keywords
 from osc2lsp.features.lookup import BEHAVIOR_KINDS, Scope, visible_globals
 from osc2lsp.snapshot import Snapshot
 
-STANDARD_EVENTS = ("start", "end", "fail")
-EVENT_FUNCTIONS = {
-    "rise": "rise(condition): true when the condition becomes true",
-    "fall": "fall(condition): true when the condition becomes false",
-    "elapsed": "elapsed(duration): true once the duration has passed",
-    "every": "every(period): true once per period",
-}
-LIST_METHODS = ("size", "count", "has", "filter", "map", "first_index")
-STANDARD_MODULES = ("osc.standard", "osc.standard.all", "osc.standard.types", "osc.standard.domain")
-PRIMITIVES = ("bool", "int", "uint", "float", "string")
 _TYPE_AFTER = frozenset({"COLON", "OF", "__ANON_1", "INHERITS", "EXTEND"})
 _DECLARING = frozenset(
     {
@@ -159,7 +156,7 @@ def complete(
         _units(out, f, _expected_type(f))
         return _finish(out, cursor, cursor.word[0], end, limit)
     if prev is not None and prev.type == "IMPORT":
-        for module in STANDARD_MODULES:
+        for module in STANDARD_MODULE_NAMES:
             out.add(Candidate(module, "module", "standard library module", group=CONTEXT))
         return _finish(out, cursor, start, end, limit)
     if _event_path(out, f, cursor):
@@ -191,7 +188,8 @@ def complete(
         if "INT" in accepts or not accepts:
             _names_in_scope(out, f, cursor.prefix)
             if prev is not None and prev.type in ("WAIT", "UNTIL", "ON", "IF"):
-                for name, doc in EVENT_FUNCTIONS.items():
+                for name, builtin in EVENT_FUNCTIONS.items():
+                    doc = f"{builtin.signature}: {builtin.doc}"
                     out.add(Candidate(name, "function", doc, group=LOCAL))
     _grammar_keywords(out, cursor)
     return _finish(out, cursor, start, end, limit)
@@ -249,8 +247,9 @@ def _members(out: _Collector, f: Focus, cursor: Cursor) -> None:
         return
     model = f.model
     if target_type.kind is Kind.LIST:
-        for name in LIST_METHODS:
-            out.add(Candidate(name, "method", "list method", group=MEMBER))
+        for name, builtin in LIST_METHODS.items():
+            doc = f"list method {builtin.signature}: {builtin.doc}"
+            out.add(Candidate(name, "method", doc, group=MEMBER))
         return
     if target_type.kind is Kind.RANGE:
         for name in ("lower", "upper"):
@@ -366,7 +365,7 @@ def _event_path(out: _Collector, f: Focus, cursor: Cursor) -> bool:
     if (label is not None and label.kind is SymbolKind.LABEL) or (
         target is not None and target.symbol is not None and target.symbol.kind.is_behavior
     ):
-        for name in STANDARD_EVENTS:
+        for name in PREDEFINED_EVENTS:
             out.add(Candidate(name, "event", "standard event of a behaviour", group=CONTEXT))
     return True
 
@@ -389,7 +388,7 @@ def _types(out: _Collector, f: Focus, after: str) -> None:
             continue
         out.symbol(sym, CONTEXT)
     if not physical_only:
-        for name in PRIMITIVES:
+        for name in PRIMITIVE_TYPES:
             out.add(Candidate(name, "type", "primitive type", group=CONTEXT))
 
 

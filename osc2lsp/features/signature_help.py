@@ -4,27 +4,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from osc2check.semantics.builtins import EVENT_FUNCTIONS
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2lsp.features import describe
 from osc2lsp.features.completion import _enclosing_call
 from osc2lsp.features.context import cursor_at, focus
 from osc2lsp.snapshot import Snapshot
-
-BUILTINS = {
-    "elapsed": (
-        "elapsed(duration: time)",
-        ["duration: time"],
-        "True once the duration has passed since the enclosing phase started.",
-    ),
-    "every": ("every(period: time)", ["period: time"], "True once per period."),
-    "rise": ("rise(condition: bool)", ["condition: bool"], "True when the condition becomes true."),
-    "fall": (
-        "fall(condition: bool)",
-        ["condition: bool"],
-        "True when the condition becomes false.",
-    ),
-}
 
 
 @dataclass(frozen=True, slots=True)
@@ -85,8 +71,14 @@ def _builtin(f) -> SignatureResult | None:
     for node in reversed(f.path):
         if isinstance(node, ast.Call) and isinstance(node.callee, ast.NameRef):
             name = node.callee.name.name.text
-            if name in BUILTINS:
-                label, params, doc = BUILTINS[name]
+            builtin = EVENT_FUNCTIONS.get(name)
+            if builtin is not None:
+                label = builtin.signature
+                spans = []
                 start = label.index("(") + 1
-                return SignatureResult(label, [(start, start + len(params[0]), "")], 0, doc)
+                for param in builtin.parameters:
+                    spans.append((start, start + len(param.text), ""))
+                    start += len(param.text) + 2
+                doc = builtin.doc[0].upper() + builtin.doc[1:] + "."
+                return SignatureResult(label, spans, 0, doc)
     return None

@@ -1,101 +1,54 @@
-"""Constant folding of physical values, with the exact unit factors of the library.
+"""Physical values for hover and inlay hints: the checker's exact constants, shown.
 
-``evaluate(model, expr)`` folds literals, unary and binary arithmetic and names
-of fields, variables and global parameters whose initialiser folds, into a
-``Quantity``: an exact value in SI base units, its dimension, and the unit it
-is best shown in (the unit it was written in, carried through sums and
-through products with plain numbers). ``v_hero + 12.42mph`` with
-``v_hero = 35kph`` folds to 15.274... m/s, shown as ≈ 55.0 kph.
+Folding is ``osc2check.semantics.constants`` (one evaluator for the checker, the
+runner and the editor); this module only turns its quantities into text:
+``v_hero + 12.42mph`` with ``v_hero = 35kph`` folds to 15.274... m/s, shown as
+≈ 55.0 kph (the unit it was written in, carried through sums and through
+products with plain numbers).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from fractions import Fraction
 
+from osc2check.semantics.constants import NotConstant, Quantity, initial_value
+from osc2check.semantics.constants import evaluate as fold
 from osc2check.semantics.model import Model
-from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.semantics.types import BASE_UNITS, DIMENSIONLESS, Dimension, add_dims
+from osc2check.semantics.symbols import Symbol
+from osc2check.semantics.types import BASE_UNITS, DIMENSIONLESS, Dimension
 from osc2check.syntax import ast
 
-_VALUE_KINDS = (SymbolKind.FIELD, SymbolKind.VARIABLE, SymbolKind.GLOBAL, SymbolKind.ARGUMENT)
-_MAX_DEPTH = 32
+__all__ = ["Quantity", "describe", "evaluate", "format_number", "in_unit", "short", "value_of"]
 
 
-@dataclass(frozen=True, slots=True)
-class Quantity:
-    si: Fraction  # the value in SI base units
-    dimension: Dimension
-    unit: Symbol | None = None  # the unit to show it in
-
-    @property
-    def physical(self) -> bool:
-        return self.dimension != DIMENSIONLESS or self.unit is not None
-
-
-def evaluate(model: Model, expr: ast.Node | None, _seen: tuple = ()) -> Quantity | None:
-    """The constant value of ``expr``, or None when it is not a constant."""
-    if expr is None or len(_seen) > _MAX_DEPTH:
-        return None
-    match expr:
-        case ast.IntLiteral():
-            return Quantity(Fraction(expr.value), DIMENSIONLESS)
-        case ast.FloatLiteral():
-            try:
-                return Quantity(Fraction(expr.text), DIMENSIONLESS)
-            except (ValueError, ZeroDivisionError):
-                return None
-        case ast.PhysicalLiteral():
-            unit = model.references.get(expr.unit) or model.unit(expr.unit.text)
-            if unit is None or unit.kind is not SymbolKind.UNIT or unit.dimension is None:
-                return None
-            try:
-                number = Fraction(expr.number_text)
-            except (ValueError, ZeroDivisionError):
-                return None
-            return Quantity(number * unit.factor + unit.offset, unit.dimension, unit)
-        case ast.NameRef():
-            sym = model.references.get(expr.name.name)
-            return value_of(model, sym, _seen)
-        case ast.Unary(op="-"):
-            inner = evaluate(model, expr.operand, _seen)
-            return Quantity(-inner.si, inner.dimension, inner.unit) if inner else None
-        case ast.Unary(op="+"):
-            return evaluate(model, expr.operand, _seen)
-        case ast.Binary(op="+" | "-"):
-            left = evaluate(model, expr.left, _seen)
-            right = evaluate(model, expr.right, _seen)
-            if left is None or right is None or left.dimension != right.dimension:
-                return None
-            value = left.si + right.si if expr.op == "+" else left.si - right.si
-            return Quantity(value, left.dimension, left.unit or right.unit)
-        case ast.Binary(op="*" | "/"):
-            left = evaluate(model, expr.left, _seen)
-            right = evaluate(model, expr.right, _seen)
-            if left is None or right is None:
-                return None
-            if expr.op == "*":
-                value, dim = left.si * right.si, add_dims(left.dimension, right.dimension)
-            else:
-                if right.si == 0:
-                    return None
-                value, dim = left.si / right.si, add_dims(left.dimension, right.dimension, -1)
-            unit = None
-            if right.dimension == DIMENSIONLESS and right.unit is None:
-                unit = left.unit
-            elif left.dimension == DIMENSIONLESS and left.unit is None and expr.op == "*":
-                unit = right.unit
-            return Quantity(value, dim, unit)
+def _numeric(value: object) -> Quantity | None:
+    if isinstance(value, Quantity):
+        return value
+    if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
+        return Quantity(Fraction(value), DIMENSIONLESS)
     return None
 
 
-def value_of(model: Model, sym: Symbol | None, _seen: tuple = ()) -> Quantity | None:
-    """The constant value of a field, variable or global parameter (its initialiser)."""
-    if sym is None or sym.kind not in _VALUE_KINDS or sym.default is None:
+def evaluate(model: Model, expr: ast.Node | None) -> Quantity | None:
+    """The constant numeric value of ``expr`` (names through their initialisers), or None."""
+    if expr is None:
         return None
-    if any(s is sym for s in _seen):
+
+    def lookup(sym: Symbol, node: ast.Node) -> object:
+        return initial_value(model, sym)
+
+    try:
+        return _numeric(fold(expr, model, lookup))
+    except (NotConstant, RecursionError):
         return None
-    return evaluate(model, sym.default, (*_seen, sym))
+
+
+def value_of(model: Model, sym: Symbol | None) -> Quantity | None:
+    """The constant numeric value of a field, variable or global parameter's initialiser."""
+    try:
+        return _numeric(initial_value(model, sym))
+    except (NotConstant, RecursionError):
+        return None
 
 
 # ---- text ---------------------------------------------------------------------

@@ -1,6 +1,4 @@
-"""The registered leaves of the runner, one family per module.
-
-Importing this package fills :data:`osc2runner.compile.registry.registry`:
+"""The runner's leaves, one family per module; ``compile.registry.load_registry`` collects them.
 
 * ``motion``: drive, move, walk, speed, lane and gap actions;
 * ``placement``: assign_position, assign_speed, assign_orientation;
@@ -8,8 +6,6 @@ Importing this package fills :data:`osc2runner.compile.registry.registry`:
 * ``lights``: set_lights (toolkit);
 * ``modifiers``: the movement modifiers;
 * ``methods``: object_distance, road_distance, ahead_of, gaps and headways.
+
+Importing a module marks its implementations and registers nothing.
 """
-
-from osc2runner.behaviours import environment, lights, methods, modifiers, motion, placement
-
-__all__ = ["environment", "lights", "methods", "modifiers", "motion", "placement"]

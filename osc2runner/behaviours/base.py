@@ -30,18 +30,18 @@ from py_trees.common import Status
 
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
-from osc2runner.actors import Actor
-from osc2runner.context import ExecutionContext
-from osc2runner.expressions import Closure
+from osc2runner.compile.expressions import Closure
+from osc2runner.execution.context import RunContext
+from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
-    from osc2runner.initializer import StartPlan
     from osc2runner.sim import ActorState
 
 __all__ = [
     "FastLeaf",
     "ActionBehaviour",
     "ActionUse",
+    "AssignedPose",
     "InstantAction",
     "Modifier",
     "ModifierUse",
@@ -69,6 +69,19 @@ class FastLeaf:
     def tick(self) -> Iterator[py_trees.behaviour.Behaviour]:
         self.tick_status()
         yield self  # type: ignore[misc]
+
+
+@dataclass
+class AssignedPose:
+    """Where ``assign_position`` puts an actor: road lane (1 = rightmost), ``s`` of its
+    centre, offset from the lane centre or lateral ``t``, yaw relative to the road, speed."""
+
+    lane: int | None = None
+    s: float | None = None
+    offset: float | None = None
+    t: float | None = None
+    yaw: float | None = None
+    speed: float | None = None
 
 
 @dataclass
@@ -105,7 +118,7 @@ class ActionUse:
 class ScenarioBehaviour(FastLeaf, py_trees.behaviour.Behaviour):
     """A leaf that takes the execution context from ``tree.setup(context=ctx)``."""
 
-    ctx: ExecutionContext
+    ctx: RunContext
 
     def setup(self, **kwargs: Any) -> None:
         ctx = kwargs.get("context")
@@ -151,8 +164,9 @@ class Modifier:
     def end(self, action: ActionBehaviour) -> None:
         """The phase ended (or was stopped)."""
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        """Contribute to the start pose (``at: start`` on a phase starting the scenario)."""
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        """Contribute to the pose an ``assign_position`` puts the actor in during a run
+        (at time 0 the checker's witness has placed every actor already)."""
 
     @property
     def node(self) -> ast.Invocation:

@@ -2,12 +2,11 @@
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
-from osc2runner.actors import Actor
 from osc2runner.behaviours.base import ActionError
-from osc2runner.context import ExecutionContext
+from osc2runner.execution.context import RunContext
+from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState, RateProfile
 
 __all__ = [
@@ -68,7 +67,7 @@ def retarget(ctrl: Any, speed: float) -> None:
         ctrl.speed.target = max(0.0, float(speed))
 
 
-def lane_of(ctx: ExecutionContext, actor: Actor | Any) -> int:
+def lane_of(ctx: RunContext, actor: Actor | Any) -> int:
     """The road lane an actor is in now; an action on an actor off the road fails."""
     state: ActorState = ctx.states[actor.name]
     if state.lane is None:
@@ -119,9 +118,3 @@ def gap_between(me: ActorState, other: ActorState, *, bumpers: bool) -> float:
         half = 0.5 * (me.length + other.length)
         d = d - half if d >= 0.0 else d + half
     return d
-
-
-def finite_or_none(value: object) -> float | None:
-    if isinstance(value, (int, float)) and math.isfinite(value):
-        return float(value)
-    return None

@@ -9,7 +9,7 @@ clouds and the sun's position are recorded in the event log only.
 from __future__ import annotations
 
 from osc2runner.behaviours.base import ActionError, InstantAction
-from osc2runner.compile.registry import registry
+from osc2runner.compile.registry import action
 
 __all__ = ["Fog", "Rain", "Recorded", "SetRoadFriction"]
 
@@ -20,7 +20,7 @@ FOG_RANGE = 1000.0
 _MPS_TO_MMPH = 3.6e6
 
 
-@registry.action("environment", "rain")
+@action("environment", "rain")
 class Rain(InstantAction):
     """``rain(intensity)``: rain level = intensity / 50 mm/h (capped at 1)."""
 
@@ -38,7 +38,7 @@ class Rain(InstantAction):
         )
 
 
-@registry.action("environment", "fog", note="recorded; no effect on dynamics")
+@action("environment", "fog", note="recorded; no effect on dynamics")
 class Fog(InstantAction):
     """``fog(visual_range)``: fog level = 1 - range / 1000 m (recorded)."""
 
@@ -51,7 +51,7 @@ class Fog(InstantAction):
         self.ctx.record("environment", "fog", f"visual range {visual:.6g} m -> level {level:.3g}")
 
 
-@registry.action("environment", "set_road_friction")
+@action("environment", "set_road_friction")
 class SetRoadFriction(InstantAction):
     """``set_road_friction(value)``: the tire-road friction of the whole road from now on."""
 
@@ -73,11 +73,29 @@ class Recorded(InstantAction):
         self.ctx.record("environment", self.use.symbol.name, detail)
 
 
-for _name in ("air", "snow", "wind", "clouds", "assign_celestial_position"):
-    registry.action("environment", _name, note="recorded; no effect on dynamics")(
-        type(
-            "Recorded" + "".join(p.title() for p in _name.split("_")),
-            (Recorded,),
-            {"__doc__": f"``{_name}``: recorded in the event log only."},
-        )
-    )
+_RECORDED = "recorded; no effect on dynamics"
+
+
+@action("environment", "air", note=_RECORDED)
+class RecordedAir(Recorded):
+    """``air``: recorded in the event log only."""
+
+
+@action("environment", "snow", note=_RECORDED)
+class RecordedSnow(Recorded):
+    """``snow``: recorded in the event log only."""
+
+
+@action("environment", "wind", note=_RECORDED)
+class RecordedWind(Recorded):
+    """``wind``: recorded in the event log only."""
+
+
+@action("environment", "clouds", note=_RECORDED)
+class RecordedClouds(Recorded):
+    """``clouds``: recorded in the event log only."""
+
+
+@action("environment", "assign_celestial_position", note=_RECORDED)
+class RecordedCelestialPosition(Recorded):
+    """``assign_celestial_position``: recorded in the event log only."""

@@ -3,14 +3,14 @@
 from __future__ import annotations
 
 from osc2runner.behaviours.base import ActionError, InstantAction
-from osc2runner.compile.registry import registry
+from osc2runner.compile.registry import action
 
 __all__ = ["SetLights", "LIGHT_MODES"]
 
 LIGHT_MODES = ("high_beam", "low_beam", "auto", "off")
 
 
-@registry.action("vehicle", "set_lights")
+@action("vehicle", "set_lights")
 class SetLights(InstantAction):
     """Switch the lights: ``high_beam``, ``low_beam``, ``auto`` or ``off`` (event log)."""
 

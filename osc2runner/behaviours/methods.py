@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import math
 
-from osc2runner.actors import Actor
-from osc2runner.compile.registry import registry
-from osc2runner.context import ExecutionContext
-from osc2runner.expressions import PositionOf
+from osc2runner.compile.expressions import PositionOf
+from osc2runner.compile.registry import method
+from osc2runner.execution.context import RunContext
+from osc2runner.instance.actors import Actor
 
 __all__ = [
     "ahead_of",
@@ -37,9 +37,9 @@ def _shrink(distance: float, extent: float) -> float:
     return min(distance + extent, 0.0)
 
 
-@registry.method("physical_object", "object_distance")
+@method("physical_object", "object_distance")
 def object_distance(
-    ctx: ExecutionContext,
+    ctx: RunContext,
     subject: Actor,
     reference: Actor,
     direction: str,
@@ -65,9 +65,9 @@ def object_distance(
     return math.hypot(lon, lat)
 
 
-@registry.method("physical_object", "road_distance")
+@method("physical_object", "road_distance")
 def road_distance(
-    ctx: ExecutionContext,
+    ctx: RunContext,
     subject: Actor,
     reference: Actor,
     direction: str,
@@ -84,43 +84,43 @@ def road_distance(
     return _shrink(d, 0.5 * (me.length + other.length)) if boxes else d
 
 
-@registry.method("physical_object", "get_s_coord")
-def get_s_coord(ctx: ExecutionContext, subject: Actor, route_type: str = "on_road") -> float:
+@method("physical_object", "get_s_coord")
+def get_s_coord(ctx: RunContext, subject: Actor, route_type: str = "on_road") -> float:
     return ctx.states[subject.name].s
 
 
-@registry.method("physical_object", "get_t_coord")
-def get_t_coord(ctx: ExecutionContext, subject: Actor, route_type: str = "on_road") -> float:
+@method("physical_object", "get_t_coord")
+def get_t_coord(ctx: RunContext, subject: Actor, route_type: str = "on_road") -> float:
     return ctx.states[subject.name].t
 
 
-@registry.method("actor_position", "ahead_of")
-def ahead_of(ctx: ExecutionContext, subject: PositionOf, reference: Actor) -> float:
+@method("actor_position", "ahead_of")
+def ahead_of(ctx: RunContext, subject: PositionOf, reference: Actor) -> float:
     """(Toolkit) the subject's position projected on the reference's heading, from the reference."""
     me = ctx.states[subject.actor.name]  # type: ignore[attr-defined]
     ref = ctx.states[reference.name]
     return (me.x - ref.x) * math.cos(ref.yaw) + (me.y - ref.y) * math.sin(ref.yaw)
 
 
-@registry.method("position_3d", "norm")
-@registry.method("translational_velocity_3d", "norm")
-@registry.method("translational_acceleration_3d", "norm")
-def norm(ctx: ExecutionContext, subject: object) -> float:
+@method("position_3d", "norm")
+@method("translational_velocity_3d", "norm")
+@method("translational_acceleration_3d", "norm")
+def norm(ctx: RunContext, subject: object) -> float:
     """Euclidean length of a 3-D vector struct (``hero.velocity.translational.norm()``)."""
     return math.sqrt(sum(float(getattr(subject, k, 0.0)) ** 2 for k in ("x", "y", "z")))
 
 
-@registry.method("traffic_participant", "space_gap")
+@method("traffic_participant", "space_gap")
 def space_gap(
-    ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str = "longitudinal"
+    ctx: RunContext, subject: Actor, reference: Actor, direction: str = "longitudinal"
 ) -> float:
     """Bumper-to-bumper gap along the road (positive: the reference ahead / left)."""
     return road_distance(ctx, subject, reference, direction, "bounding_boxes")
 
 
-@registry.method("traffic_participant", "time_gap")
+@method("traffic_participant", "time_gap")
 def time_gap(
-    ctx: ExecutionContext, subject: Actor, reference: Actor, direction: str = "longitudinal"
+    ctx: RunContext, subject: Actor, reference: Actor, direction: str = "longitudinal"
 ) -> float:
     """The space gap divided by the subject's speed (infinite at standstill)."""
     speed = ctx.states[subject.name].speed
@@ -128,21 +128,21 @@ def time_gap(
     return gap / speed if speed > 1e-6 else math.copysign(math.inf, gap)
 
 
-@registry.method("traffic_participant", "space_headway")
-def space_headway(ctx: ExecutionContext, subject: Actor, reference: Actor) -> float:
+@method("traffic_participant", "space_headway")
+def space_headway(ctx: RunContext, subject: Actor, reference: Actor) -> float:
     """Distance between reference points along the road (positive: the reference ahead)."""
     return road_distance(ctx, subject, reference, "longitudinal")
 
 
-@registry.method("traffic_participant", "time_headway")
-def time_headway(ctx: ExecutionContext, subject: Actor, reference: Actor) -> float:
+@method("traffic_participant", "time_headway")
+def time_headway(ctx: RunContext, subject: Actor, reference: Actor) -> float:
     speed = ctx.states[subject.name].speed
     d = space_headway(ctx, subject, reference)
     return d / speed if speed > 1e-6 else math.copysign(math.inf, d)
 
 
-@registry.method("traffic_participant", "time_to_collision")
-def time_to_collision(ctx: ExecutionContext, subject: Actor, reference: Actor) -> float:
+@method("traffic_participant", "time_to_collision")
+def time_to_collision(ctx: RunContext, subject: Actor, reference: Actor) -> float:
     """Space gap over closing speed along the road; infinite when not closing."""
     me, other = ctx.states[subject.name], ctx.states[reference.name]
     gap = road_distance(ctx, subject, reference, "longitudinal", "bounding_boxes")

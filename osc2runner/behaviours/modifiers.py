@@ -7,10 +7,9 @@ the reference every tick while ``at: all`` holds.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
-from osc2runner.actors import Actor
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
 from osc2runner.behaviours.driving import (
     SPEED_PROFILE,
     gap_between,
@@ -21,11 +20,9 @@ from osc2runner.behaviours.driving import (
     set_speed,
     side_of,
 )
-from osc2runner.compile.registry import registry
+from osc2runner.compile.registry import modifier
+from osc2runner.instance.actors import Actor
 from osc2runner.sim import RateProfile
-
-if TYPE_CHECKING:
-    from osc2runner.initializer import StartPlan
 
 __all__ = [
     "Acceleration",
@@ -64,7 +61,7 @@ def _skip_start(modifier: Modifier, action: ActionBehaviour) -> bool:
 # ---------------------------------------------------------------------- speed
 
 
-@registry.modifier("speed")
+@modifier("speed")
 class Speed(Modifier):
     """``speed(v)``: reach ``v`` (``smooth`` profile: 2.5 m/s², 10 m/s³) and hold it.
 
@@ -110,14 +107,11 @@ class Speed(Modifier):
         if self.tracking:
             retarget(action.controller, self.target(action))
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        if args.get("at") == "start" and not any(
-            k in args for k in ("faster_than", "slower_than", "same_as")
-        ):
-            plan.speed(actor.name, float(args.get("speed", 0.0)), self.node)
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        pose.speed = self.target(action)
 
 
-@registry.modifier("change_speed")
+@modifier("change_speed")
 class ChangeSpeedModifier(Modifier):
     """``change_speed(dv)``: the speed changes by ``dv`` from its value when the phase starts."""
 
@@ -136,7 +130,7 @@ class ChangeSpeedModifier(Modifier):
         set_speed(action.controller, v0 + dv, profile)
 
 
-@registry.modifier("keep_speed")
+@modifier("keep_speed")
 class KeepSpeedModifier(Modifier):
     """``keep_speed()``: hold the speed the actor has when the phase starts."""
 
@@ -147,7 +141,7 @@ class KeepSpeedModifier(Modifier):
         set_speed(action.controller, action.state.speed, "none")
 
 
-@registry.modifier("acceleration")
+@modifier("acceleration")
 class Acceleration(Modifier):
     """``acceleration(a)``: change speed at a constant ``a`` (to standstill when negative).
 
@@ -170,7 +164,7 @@ class Acceleration(Modifier):
         set_speed(ctrl, top if a > 0.0 else 0.0, RateProfile("constant", peak=abs(a)))
 
 
-@registry.modifier("keep_position")
+@modifier("keep_position")
 class KeepPosition(Modifier):
     """``keep_position()``: stand still."""
 
@@ -181,7 +175,7 @@ class KeepPosition(Modifier):
         set_speed(action.controller, 0.0, SPEED_PROFILE)
 
 
-@registry.modifier("distance")
+@modifier("distance")
 class Distance(Modifier):
     """``distance(d)``: the phase ends when the actor has travelled ``d`` along the road."""
 
@@ -194,7 +188,7 @@ class Distance(Modifier):
         return abs(action.state.s - self.s0) >= self.goal - 1e-9
 
 
-@registry.modifier("position")
+@modifier("position")
 class Position(Modifier):
     """``position(distance: d, behind:|ahead_of: ref)``: a bumper-to-bumper gap ``d``.
 
@@ -247,37 +241,29 @@ class Position(Modifier):
         error = gap - want  # >0: farther from the reference than asked
         retarget(action.controller, other.speed - sign * POSITION_GAIN * error)
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        self.args = args
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         ref, sign = self._reference()
-        weak = args.get("at", "all") != "start"
-        if "distance" not in args:
-            if "time" in args:
-                plan.notes.append(
-                    f"`{actor.name}`: position(time: ...) cannot place before the "
-                    "start speed is known; ignored for the start"
-                )
-            return
-        d = float(args["distance"])
+        speed = pose.speed if pose.speed is not None else action.state.speed
+        d = self._distance(max(speed, 0.0))
         if ref is None:
-            plan.s(actor.name, d, self.node, weak)
-        else:
-            half = 0.5 * (
-                float(getattr(actor.params, "length", 0.0))
-                + float(getattr(ref.params, "length", 0.0))
-            )
-            plan.s_from(actor.name, ref.name, sign * (d + half), self.node, weak)
+            pose.s = d
+            return
+        half = 0.5 * (
+            float(getattr(action.actor.params, "length", 0.0))
+            + float(getattr(ref.params, "length", 0.0))
+        )
+        pose.s = action.ctx.states[ref.name].s + sign * (d + half)
 
 
 # ---------------------------------------------------------------------- lanes
 
 
-@registry.modifier("lane")
+@modifier("lane")
 class Lane(Modifier):
     """``lane(n)``, ``lane(same_as: ref)``, ``lane(side_of: ref, side: s)``.
 
     ``n`` counts from the ``from:`` side (default: the map's, see
-    :mod:`osc2runner.roads`). ``at: start`` places the actor; ``all``
+    :mod:`osc2runner.instance.roads`). ``at: start`` places the actor; ``all``
     changes into the lane if needed and keeps it (following the reference
     when it changes lanes); ``end`` arrives by the end of the phase.
     """
@@ -333,30 +319,12 @@ class Lane(Modifier):
             )
         self.changing_to = target
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        self.args = args
-        weak = args.get("at", "all") != "start"
-        n = int(args.get("lane", 1)) if not isinstance(args.get("lane"), tuple) else None
-        if isinstance(args.get("same_as"), Actor):
-            plan.lane_beside(actor.name, args["same_as"].name, 0, self.node, weak)
-        elif isinstance(args.get("side_of"), Actor):
-            side = side_of(str(args.get("side", "left")))
-            count = n or 1
-            plan.lane_beside(
-                actor.name,
-                args["side_of"].name,
-                count if side == "left" else -count,
-                self.node,
-                weak,
-            )
-        elif n is not None:
-            side = args.get("from")
-            plan.lane(
-                actor.name, plan.lanes.to_road(n, str(side) if side else None), self.node, weak
-            )
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        ctx = action.ctx
+        pose.lane = self._target(ctx, lambda a: lane_of(ctx, a))
 
 
-@registry.modifier("change_lane")
+@modifier("change_lane")
 class ChangeLaneModifier(Modifier):
     """``change_lane(n, side)``: end the phase ``n`` lanes to the side of the start lane.
 
@@ -389,7 +357,7 @@ class ChangeLaneModifier(Modifier):
         _lateral(action).change_lane(action.state, target, duration=duration)
 
 
-@registry.modifier("keep_lane")
+@modifier("keep_lane")
 class KeepLane(Modifier):
     """``keep_lane()``: stay in the lane the phase starts in (at its centre)."""
 
@@ -400,7 +368,7 @@ class KeepLane(Modifier):
         _lateral(action).keep_lane(lane_of(action.ctx, action.actor))
 
 
-@registry.modifier("lateral")
+@modifier("lateral")
 class Lateral(Modifier):
     """``lateral(distance: d)``: ``d`` to the left of the lane centre; with a reference,
     ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned), tracked."""
@@ -436,19 +404,12 @@ class Lateral(Modifier):
         else:
             lateral.keep_offset(t)
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        if any(
-            isinstance(args.get(k), Actor) for k in ("left_of", "right_of", "same_as", "side_of")
-        ):
-            plan.notes.append(
-                f"`{actor.name}`: lateral() relative to another actor is not used "
-                "for the start position"
-            )
-            return
-        if "distance" in args:
-            plan.offset(
-                actor.name, float(args["distance"]), self.node, args.get("at", "all") != "start"
-            )
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        t = self._target_t(action)
+        if t is None:
+            pose.offset = float(self.args.get("distance", 0.0))
+        else:
+            pose.t = t
 
 
 # ---------------------------------------------------------------------- orientation
@@ -465,31 +426,29 @@ class _StartOnly(Modifier):
         )
 
 
-@registry.modifier("yaw", note="at: start only")
+@modifier("yaw", note="at: start only")
 class Yaw(_StartOnly):
     """``yaw(angle, at: start)``: the start heading relative to the road."""
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        if args.get("at") == "start":
-            if args.get("relative_to") is not None:
-                plan.notes.append(f"`{actor.name}`: yaw relative to another actor is not used")
-                return
-            plan.yaw(actor.name, float(args.get("angle", 0.0)), self.node)
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        if self.args.get("relative_to") is not None:
+            raise ActionError("yaw relative to another actor is not supported")
+        pose.yaw = float(self.args.get("angle", 0.0))
 
 
-@registry.modifier("orientation", note="at: start only (yaw)")
+@modifier("orientation", note="at: start only (yaw)")
 class Orientation(_StartOnly):
     """``orientation(yaw: a, at: start)``: the start heading relative to the road."""
 
-    def place(self, plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        if args.get("at") == "start" and "yaw" in args:
-            plan.yaw(actor.name, float(args["yaw"]), self.node)
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        if "yaw" in self.args:
+            pose.yaw = float(self.args["yaw"])
 
 
 # ---------------------------------------------------------------------- behaviour options
 
 
-@registry.modifier("avoid_collisions")
+@modifier("avoid_collisions")
 class AvoidCollisions(Modifier):
     """``avoid_collisions(false)``: this actor's collisions in the phase do not fail the run."""
 
@@ -506,12 +465,12 @@ class AvoidCollisions(Modifier):
             self.allowing = False
 
 
-@registry.modifier("physical_movement", note="always physical; accepted, no effect")
+@modifier("physical_movement", note="always physical; accepted, no effect")
 class PhysicalMovement(Modifier):
     """``physical_movement(...)``: every movement in this runner is physical; nothing to do."""
 
 
-@registry.modifier(
+@modifier(
     "set_map_file", actor="map", note="scenario member: chooses the built-in road before the run"
 )
 class SetMapFile(Modifier):

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 from py_trees.common import Status
 
-from osc2runner.actors import Actor
 from osc2runner.behaviours.base import ActionBehaviour, ActionError
 from osc2runner.behaviours.driving import (
     gap_between,
@@ -23,7 +22,8 @@ from osc2runner.behaviours.driving import (
     set_speed,
     side_of,
 )
-from osc2runner.compile.registry import registry
+from osc2runner.compile.registry import action
+from osc2runner.instance.actors import Actor
 
 __all__ = [
     "ChangeLane",
@@ -53,7 +53,7 @@ def _hold(action: ActionBehaviour) -> None:
         lateral.keep_offset(action.state.t)
 
 
-@registry.action("vehicle", "drive")
+@action("vehicle", "drive")
 class Drive(ActionBehaviour):
     """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane."""
 
@@ -63,17 +63,17 @@ class Drive(ActionBehaviour):
         _hold(self)
 
 
-@registry.action("movable_object", "move")
+@action("movable_object", "move")
 class Move(Drive):
     """``move()``: as ``drive`` for any movable object."""
 
 
-@registry.action("person", "walk")
+@action("person", "walk")
 class Walk(Drive):
     """``walk()``: as ``drive`` for persons (kinematic pedestrian)."""
 
 
-@registry.action("movable_object", "keep_speed")
+@action("movable_object", "keep_speed")
 class KeepSpeed(ActionBehaviour):
     """``keep_speed()``: hold the speed the actor has when the phase starts."""
 
@@ -84,7 +84,7 @@ class KeepSpeed(ActionBehaviour):
         set_speed(self.controller, self.state.speed, "none")
 
 
-@registry.action("movable_object", "remain_stationary")
+@action("movable_object", "remain_stationary")
 class RemainStationary(ActionBehaviour):
     """``remain_stationary()``: come to a stop (comfortably) and stay stopped."""
 
@@ -95,7 +95,7 @@ class RemainStationary(ActionBehaviour):
         set_speed(self.controller, 0.0, "smooth")
 
 
-@registry.action("movable_object", "change_speed")
+@action("movable_object", "change_speed")
 class ChangeSpeed(ActionBehaviour):
     """``change_speed(target, rate_profile, rate_peak)``: ends when the target speed is reached.
 
@@ -122,7 +122,7 @@ class ChangeSpeed(ActionBehaviour):
         return Status.RUNNING
 
 
-@registry.action("vehicle", "change_lane")
+@action("vehicle", "change_lane")
 class ChangeLane(ActionBehaviour):
     """``change_lane(num_of_lanes, side, reference, offset, rate_profile, rate_peak)``.
 
@@ -173,7 +173,7 @@ class ChangeLane(ActionBehaviour):
         return Status.RUNNING
 
 
-@registry.action("vehicle", "follow_lane")
+@action("vehicle", "follow_lane")
 class FollowLane(ActionBehaviour):
     """``follow_lane(offset)``: keep the lane of the start at ``offset`` from its centre."""
 
@@ -260,9 +260,10 @@ def _gap(name: str, *, bumpers: bool, timed: bool, keep: bool) -> type[GapAction
             "keep": keep,
             "finite": not keep,
             "__doc__": f"``{name}``: see :class:`GapAction`.",
+            "__module__": __name__,
         },
     )
-    return registry.action("vehicle", name)(cls)
+    return action("vehicle", name)(cls)
 
 
 ChangeSpaceGap = _gap("change_space_gap", bumpers=True, timed=False, keep=False)

@@ -1,20 +1,16 @@
 """Instant assignments: ``assign_position``, ``assign_speed``, ``assign_orientation``.
 
-At the start of the scenario the initializer has already realised them (the
+At the start of the scenario the checker's witness has realised them (the
 world is built with every actor in place). Later in a run they teleport the
 actor: the pose comes from the action's ``lane``/``position``/``lateral``
-modifiers, resolved against the actors' current positions.
+modifiers (their ``assign`` hooks), resolved against the actors' current positions.
 """
 
 from __future__ import annotations
 
-from typing import Any
-
-from osc2runner.actors import Actor
-from osc2runner.behaviours.base import ActionError, InstantAction
+from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
 from osc2runner.behaviours.driving import set_speed
-from osc2runner.compile.registry import registry
-from osc2runner.initializer import StartPlan, _Rel
+from osc2runner.compile.registry import action
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
 
@@ -39,7 +35,7 @@ def _teleport(
     ctx.refresh()
 
 
-@registry.action("movable_object", "assign_position")
+@action("movable_object", "assign_position")
 class AssignPosition(InstantAction):
     """``assign_position() with: lane(...); position(...); lateral(...)``: put the actor there."""
 
@@ -55,26 +51,20 @@ class AssignPosition(InstantAction):
                     "actor with the lane() and position() modifiers"
                 )
         ctx = self.ctx
-        plan = StartPlan(list(ctx.actors.values()), ctx.lanes)
         name = self.actor.name
-        for modifier in self.use.modifiers:
-            args = modifier.evaluate()
-            modifier.place(plan, self.actor, {**args, "at": "start"})
-        pose = plan.poses[name]
         state = self.state
-        lane = pose.lane
-        if isinstance(lane, _Rel):
-            lane = ctx.states[lane.ref].lane + int(lane.delta)
-        if lane is None:
-            lane = state.lane
-        s = pose.s
-        if isinstance(s, _Rel):
-            s = ctx.states[s.ref].s + s.delta
-        if s is None:
-            s = state.s
+        pose = AssignedPose()
+        for modifier in sorted(self.use.modifiers, key=lambda m: m.use.name != "speed"):
+            modifier.evaluate()  # the speed first: a time gap needs it
+            modifier.assign(pose, self)
+        lane = pose.lane if pose.lane is not None else state.lane
+        s = pose.s if pose.s is not None else state.s
         if lane is None or not ctx.road.has_lane(lane):
             raise ActionError("the assigned lane does not exist")
-        x, y = ctx.road.lane_to_xy(s, lane, pose.offset or 0.0)
+        if pose.t is not None:
+            x, y = ctx.road.to_xy(s, pose.t)
+        else:
+            x, y = ctx.road.lane_to_xy(s, lane, pose.offset or 0.0)
         yaw = ctx.road.heading + (pose.yaw or 0.0)
         speed = pose.speed if pose.speed is not None else state.speed
         ctx.world.place(name, x, y, yaw, speed)  # type: ignore[union-attr]
@@ -85,12 +75,8 @@ class AssignPosition(InstantAction):
             if getattr(ctrl, "lateral", None) is not None:
                 ctrl.lateral.keep_offset(ctx.states[name].t)
 
-    @staticmethod
-    def place_arguments(plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        """Nothing beyond the modifiers: position structs need a road network."""
 
-
-@registry.action("movable_object", "assign_speed")
+@action("movable_object", "assign_speed")
 class AssignSpeed(InstantAction):
     """``assign_speed(speed)``: the actor has that speed at once (along its heading)."""
 
@@ -101,13 +87,8 @@ class AssignSpeed(InstantAction):
         if self.controller is not None:
             set_speed(self.controller, speed, "none")
 
-    @staticmethod
-    def place_arguments(plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        if "speed" in args:
-            plan.speed(actor.name, float(args["speed"]), None)
 
-
-@registry.action("movable_object", "assign_orientation", note="yaw only")
+@action("movable_object", "assign_orientation", note="yaw only")
 class AssignOrientation(InstantAction):
     """``assign_orientation(orientation)``: the heading at once (yaw relative to the road)."""
 
@@ -118,9 +99,3 @@ class AssignOrientation(InstantAction):
             raise ActionError("assign_orientation needs an orientation with a yaw")
         if not self.at_scenario_start:
             _teleport(self, yaw=self.ctx.road.heading + float(yaw))
-
-    @staticmethod
-    def place_arguments(plan: StartPlan, actor: Actor, args: dict[str, Any]) -> None:
-        yaw = getattr(args.get("orientation"), "yaw", None)
-        if yaw is not None:
-            plan.yaw(actor.name, float(yaw), None)

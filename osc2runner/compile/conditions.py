@@ -27,14 +27,14 @@ from py_trees.common import Access, Status
 
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import tick_child
-from osc2runner.context import (
+from osc2runner.compile.expressions import Closure
+from osc2runner.execution.context import (
     EdgeDetector,
-    ExecutionContext,
     Occurrence,
     PeriodicDetector,
+    RunContext,
     event_key,
 )
-from osc2runner.expressions import Closure
 
 __all__ = [
     "CallDirective",
@@ -70,7 +70,7 @@ class NamedEventWatch(Watch):
 
     def __init__(
         self,
-        ctx: ExecutionContext,
+        ctx: RunContext,
         name: str,
         condition: Closure | None = None,
         cell: list[Any] | None = None,
@@ -119,7 +119,7 @@ class EdgeWatch(Watch):
 class ElapsedWatch(Watch):
     """``elapsed(d)``: ``d`` seconds of simulated time since the watch started."""
 
-    def __init__(self, ctx: ExecutionContext, duration: Closure) -> None:
+    def __init__(self, ctx: RunContext, duration: Closure) -> None:
         self.ctx = ctx
         self.duration = duration
         self.start_tick = 0
@@ -149,7 +149,7 @@ class LevelWatch(Watch):
 class _ContextBehaviour(FastLeaf, py_trees.behaviour.Behaviour):
     """A leaf that takes the execution context from ``tree.setup(context=ctx)``."""
 
-    ctx: ExecutionContext
+    ctx: RunContext
 
     def setup(self, **kwargs: Any) -> None:
         ctx = kwargs.get("context")
@@ -200,7 +200,7 @@ class Emit(_ContextBehaviour):
 
 
 def emit_now(
-    ctx: ExecutionContext, client: Any, event: str, key: str, arguments: dict[str, Closure]
+    ctx: RunContext, client: Any, event: str, key: str, arguments: dict[str, Closure]
 ) -> None:
     """Append an occurrence of ``event`` through ``client`` and log it."""
     args = {k: fn() for k, fn in arguments.items()}

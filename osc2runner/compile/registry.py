@@ -1,15 +1,19 @@
 """The MethodRegistry: OSC2 actions, modifiers and methods -> their runner implementations.
 
-Implementations register themselves with decorators::
+Implementations are marked with decorators where they are written::
 
-    @registry.action("vehicle", "change_speed")
+    @action("vehicle", "change_speed")
     class ChangeSpeed(ActionBehaviour): ...
 
-    @registry.modifier("speed")
+    @modifier("speed")
     class Speed(Modifier): ...
 
-    @registry.method("physical_object", "object_distance")
+    @method("physical_object", "object_distance")
     def object_distance(ctx, subject, reference, direction, mode): ...
+
+Marking changes nothing global: :func:`load_registry` builds a registry from the
+modules it is given (by default :data:`BEHAVIOUR_MODULES`), so a test can build
+one of its own and importing a module never registers anything.
 
 An action is registered for an actor type; an invocation on an actor finds
 the registration of the actor's type or of its nearest supertype (a
@@ -19,19 +23,41 @@ are registered by name; methods by their declaring type and name.
 
 Anything the compiler cannot find here is an error before the run starts,
 with the invocation's location: nothing is silently skipped.
-``docs/coverage.md`` is generated from this table (:mod:`osc2runner.coverage`).
+``docs/coverage.md`` is generated from this table (:mod:`osc2runner.output.support`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+import importlib
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
+from types import ModuleType
 from typing import Any, TypeVar
 
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 
-__all__ = ["Entry", "MethodRegistry", "registry"]
+__all__ = [
+    "BEHAVIOUR_MODULES",
+    "Entry",
+    "MethodRegistry",
+    "action",
+    "load_registry",
+    "method",
+    "modifier",
+    "standard_registry",
+]
+
+#: The modules whose marked implementations make the runner's registry.
+BEHAVIOUR_MODULES = (
+    "osc2runner.behaviours.motion",
+    "osc2runner.behaviours.modifiers",
+    "osc2runner.behaviours.placement",
+    "osc2runner.behaviours.environment",
+    "osc2runner.behaviours.lights",
+    "osc2runner.behaviours.methods",
+)
+_MARK = "__osc2_entries__"
 
 _T = TypeVar("_T")
 
@@ -61,38 +87,25 @@ class MethodRegistry:
 
     # ---- registration
 
-    def action(self, actor: str, name: str, *, note: str = "") -> Callable[[_T], _T]:
-        """Register the decorated behaviour class for ``actor.name`` invocations."""
+    def add(self, entry: Entry) -> None:
+        """Register one implementation (an error when its key is registered already)."""
+        table: dict[Any, Entry]
+        if entry.kind == "action":
+            table, key = self._actions, (entry.owner, entry.name)
+        elif entry.kind == "modifier":
+            table, key = self._modifiers, (entry.owner, entry.name)
+        else:
+            table, key = self._methods, (entry.owner, entry.name)
+        self._add(table, key, entry)
 
-        def register(cls: _T) -> _T:
-            self._add(self._actions, (actor, name), Entry("action", actor, name, cls, note))
-            return cls
-
-        return register
-
-    def modifier(
-        self, name: str, *, actor: str | None = None, note: str = ""
-    ) -> Callable[[_T], _T]:
-        """Register the decorated modifier class for ``name(...)``.
-
-        Movement modifiers (``speed``, ``lane``, ...) have no actor; an
-        actor-associated modifier such as ``map.set_map_file`` names its actor.
-        """
-
-        def register(cls: _T) -> _T:
-            self._add(self._modifiers, (actor, name), Entry("modifier", actor, name, cls, note))
-            return cls
-
-        return register
-
-    def method(self, owner: str, name: str, *, note: str = "") -> Callable[[_T], _T]:
-        """Register the decorated function ``fn(ctx, subject, *args)`` for ``owner.name()``."""
-
-        def register(fn: _T) -> _T:
-            self._add(self._methods, (owner, name), Entry("method", owner, name, fn, note))
-            return fn
-
-        return register
+    def collect(self, module: ModuleType) -> None:
+        """Register every implementation marked in ``module`` (in definition order)."""
+        for value in vars(module).values():
+            if getattr(value, "__module__", None) != module.__name__:
+                continue  # imported from elsewhere: registered with its own module
+            for entry in getattr(value, _MARK, ()):
+                if entry.target is value:
+                    self.add(entry)
 
     @staticmethod
     def _add(table: dict, key: object, entry: Entry) -> None:
@@ -152,5 +165,50 @@ class MethodRegistry:
         return iter(self._methods.values())
 
 
-registry = MethodRegistry()
-"""The runner's registry; ``osc2runner.behaviours`` fills it on import."""
+def _mark(entry_of: Callable[[Any], Entry]) -> Callable[[_T], _T]:
+    def mark(target: _T) -> _T:
+        entries = list(getattr(target, _MARK, ()))
+        entries = [e for e in entries if e.target is target]  # not a base class's marks
+        entries.append(entry_of(target))
+        setattr(target, _MARK, tuple(entries))
+        return target
+
+    return mark
+
+
+def action(actor: str, name: str, *, note: str = "") -> Callable[[_T], _T]:
+    """Mark the decorated behaviour class as the implementation of ``actor.name()``."""
+    return _mark(lambda cls: Entry("action", actor, name, cls, note))
+
+
+def modifier(name: str, *, actor: str | None = None, note: str = "") -> Callable[[_T], _T]:
+    """Mark the decorated modifier class as the implementation of ``name(...)``.
+
+    Movement modifiers (``speed``, ``lane``, ...) have no actor; an
+    actor-associated modifier such as ``map.set_map_file`` names its actor.
+    """
+    return _mark(lambda cls: Entry("modifier", actor, name, cls, note))
+
+
+def method(owner: str, name: str, *, note: str = "") -> Callable[[_T], _T]:
+    """Mark the decorated function ``fn(ctx, subject, *args)`` as ``owner.name()``."""
+    return _mark(lambda fn: Entry("method", owner, name, fn, note))
+
+
+def load_registry(modules: Iterable[str] = BEHAVIOUR_MODULES) -> MethodRegistry:
+    """A registry of the implementations marked in ``modules`` (imported by name)."""
+    registry = MethodRegistry()
+    for name in modules:
+        registry.collect(importlib.import_module(name))
+    return registry
+
+
+_standard: MethodRegistry | None = None
+
+
+def standard_registry() -> MethodRegistry:
+    """The runner's registry (:data:`BEHAVIOUR_MODULES`), loaded once."""
+    global _standard
+    if _standard is None:
+        _standard = load_registry()
+    return _standard

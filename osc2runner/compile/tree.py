@@ -2,9 +2,9 @@
 
 One method per OSC2 construct. Every invocation is looked up in the method
 registry; what the registry lacks, or what the runner cannot evaluate, is
-collected as a :class:`~osc2runner.errors.Problem` with its location, and the
+collected as a :class:`~osc2runner.errors.RunProblem` with its location, and the
 run does not start. Expressions become closures over the execution context
-(:mod:`osc2runner.expressions`).
+(:mod:`osc2runner.compile.expressions`).
 
 A node's name is its OSC2 text and line, e.g. ``hero.drive() [34]``, so that
 ``py_trees.display.unicode_tree`` shows the scenario as written.
@@ -19,10 +19,12 @@ from typing import Any
 
 import py_trees
 
+from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS
+from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
+from osc2check.semantics.phases import time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
-from osc2runner.actors import Actor
-from osc2runner.behaviours.base import ActionUse, InstantAction, Modifier, ModifierUse
+from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
     DurationBound,
     Labelled,
@@ -44,16 +46,16 @@ from osc2runner.compile.conditions import (
     Watch,
     emit_now,
 )
-from osc2runner.context import ExecutionContext
-from osc2runner.errors import CompileProblem, Problem
-from osc2runner.expressions import Closure, Scope, constant, is_constant
-from osc2runner.values import NoValue, scenario_fields
+from osc2runner.compile.environment import CompileEnvironment
+from osc2runner.compile.expressions import Closure, Scope, constant, is_constant
+from osc2runner.errors import CompileProblem, RunProblem
+from osc2runner.instance.actors import Actor
+from osc2runner.instance.values import scenario_fields
 
 __all__ = ["CompiledScenario", "compile_scenario", "node_name", "unparse"]
 
 log = logging.getLogger(__name__)
 
-PREDEFINED_EVENTS = ("start", "end", "fail")
 _OVERLAPS = ("start", "any")
 
 
@@ -63,7 +65,7 @@ class CompiledScenario:
 
     root: py_trees.behaviour.Behaviour
     start_uses: list[ActionUse] = field(default_factory=list)
-    problems: list[Problem] = field(default_factory=list)
+    problems: list[RunProblem] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
 
 
@@ -131,22 +133,21 @@ def unparse(node: ast.Node | None) -> str:
 
 
 def compile_scenario(
-    ctx: ExecutionContext, scenario: Symbol, texts: dict[str, str] | None = None
+    env: CompileEnvironment, scenario: Symbol, texts: dict[str, str] | None = None
 ) -> CompiledScenario:
-    """Compile ``scenario`` against ``ctx``; problems are collected, not raised."""
-    import osc2runner.behaviours  # noqa: F401 - fills the registry
-
-    return TreeCompiler(ctx, texts or {}).scenario(scenario)
+    """Compile ``scenario`` against ``env``; problems are collected, not raised."""
+    return TreeCompiler(env, texts or {}).scenario(scenario)
 
 
 class TreeCompiler:
     """Walks one scenario's declarations and behaviour (see the module docstring)."""
 
-    def __init__(self, ctx: ExecutionContext, texts: dict[str, str]) -> None:
-        self.ctx = ctx
-        self.model = ctx.model
+    def __init__(self, env: CompileEnvironment, texts: dict[str, str]) -> None:
+        self.env = env
+        self.run = env.run
+        self.model = env.model
         self.texts = texts
-        self.problems: list[Problem] = []
+        self.problems: list[RunProblem] = []
         self.notes: list[str] = []
         self.uses: dict[ast.Invocation, tuple[ActionUse, type]] = {}
 
@@ -174,12 +175,12 @@ class TreeCompiler:
     # ---- scenario
 
     def scenario(self, scenario: Symbol) -> CompiledScenario:
-        ctx = self.ctx
+        run = self.run
         for name in PREDEFINED_EVENTS:
-            ctx.declare_event(name)
+            run.declare_event(name)
         for member in self.model.all_members(scenario):
             if member.kind is SymbolKind.EVENT:
-                ctx.declare_event(member.name)
+                run.declare_event(member.name)
         self._variables(scenario)
         do: ast.DoDirective | None = None
         handlers: list[py_trees.behaviour.Behaviour] = []
@@ -221,34 +222,36 @@ class TreeCompiler:
             return None
 
     def _variables(self, scenario: Symbol) -> None:
-        """``var`` fields whose initialiser is not a constant are evaluated at tick 0."""
-        ctx = self.ctx
+        """``var`` fields with an initialiser: a constant one (over the parameters' values)
+        is set now; another is evaluated at tick 0, over the live state."""
+        env = self.env
+        values = env.values
         for sym in scenario_fields(self.model, scenario):
-            if sym.kind is not SymbolKind.VARIABLE or sym.name in ctx.actors:
+            if sym.kind is not SymbolKind.VARIABLE or sym.name in env.actors:
                 continue
-            try:
-                ctx.values.value(sym)
-                continue
-            except NoValue:
-                pass
-            decl = sym.decl
-            default = getattr(decl, "default", None)
+            default = sym.default
+            env.variable_symbols.add(sym)
             if default is None:
                 continue
             try:
-                fn = ctx.compile(default)
+                value = evaluate(default, self.model, lambda field, node: values.value(field))
+                env.run.variables[sym.name] = to_runtime(value)
+                continue
+            except NotConstant:
+                pass
+            try:
+                fn = env.compile(default)
             except CompileProblem as exc:
                 self._problem(exc)
                 continue
-            ctx.variable_symbols.add(sym)
-            ctx.variable_inits.append((sym.name, fn))
+            env.variable_inits.append((sym.name, fn))
 
     def _scenario_modifier(self, member: ast.Invocation) -> None:
         sym = self.model.references.get(member.name)
         if (
             sym is not None
             and sym.kind is SymbolKind.MODIFIER
-            and self.ctx.registry.find_modifier(self.model, sym) is not None
+            and self.env.registry.find_modifier(self.model, sym) is not None
             and sym.actor is not None
             and sym.actor.name == "map"
         ):
@@ -279,7 +282,7 @@ class TreeCompiler:
                 case ast.CallDirective():
                     node = CallDirective(
                         node_name(f"call {self._text(body.call)}", body),
-                        self.ctx.compile(body.call, scope),
+                        self.env.compile(body.call, scope),
                     )
                 case _:
                     raise CompileProblem("the runner cannot run this member", body)
@@ -289,7 +292,7 @@ class TreeCompiler:
         if member.label is not None and not member.label.missing:
             label = member.label.text
             for suffix in PREDEFINED_EVENTS:
-                self.ctx.declare_event(f"{label}.{suffix}")
+                self.run.declare_event(f"{label}.{suffix}")
             node = Labelled(node_name(f"{label}:", member), node, label)
         return node
 
@@ -305,7 +308,7 @@ class TreeCompiler:
         elif comp.op == "parallel":
             overlap = args.get("overlap")
             if overlap is not None:
-                value = self.ctx.compiler.constant_value(overlap, scope)
+                value = self.env.compiler.constant_value(overlap, scope)
                 if value not in _OVERLAPS:
                     raise CompileProblem(
                         f"parallel(overlap: {value}) is not supported; the runner starts all "
@@ -366,7 +369,7 @@ class TreeCompiler:
             watch = self.watch(until.event, scope)
             node = Until(node_name(f"until {self._text(until.event)}", until), node, watch)
         if duration is not None:
-            bounds = self._bounds(self.ctx.compile(duration, scope))
+            bounds = self._bounds(self.env.compile(duration, scope))
             node = DurationBound(
                 node_name(f"duration: {self._text(duration)}", duration), node, bounds
             )
@@ -401,12 +404,12 @@ class TreeCompiler:
             raise CompileProblem(
                 f"`{inv.name.text}()` needs an actor (`hero.{inv.name.text}()`)", inv
             )
-        actor = self.ctx.compiler.constant_value(inv.actor, scope)
+        actor = self.env.compiler.constant_value(inv.actor, scope)
         if not isinstance(actor, Actor):
             raise CompileProblem(
                 "the actor of an action must be an actor field of the scenario", inv.actor
             )
-        entry = self.ctx.registry.find_action(self.model, actor.type, sym)
+        entry = self.env.registry.find_action(self.model, actor.type, sym)
         label = f"{actor.type.name}.{sym.name}"
         if entry is None:
             raise CompileProblem(
@@ -434,7 +437,7 @@ class TreeCompiler:
             actor,
             arguments,
             modifiers,
-            self._bounds(self.ctx.compile(duration, inner)) if duration else None,
+            self._bounds(self.env.compile(duration, inner)) if duration else None,
         )
         cls = entry.target
         use.behaviour = cls
@@ -461,11 +464,11 @@ class TreeCompiler:
                 if key == "duration" and allow_duration and key not in params:
                     duration = arg.value
                     continue
-                result[key] = self.ctx.compile(arg.value, scope)
+                result[key] = self.env.compile(arg.value, scope)
             elif isinstance(arg, ast.PositionalArgument):
                 if position >= len(params):
                     raise CompileProblem(f"too many arguments for `{sym.name}`", arg)
-                result[params[position]] = self.ctx.compile(arg.value, scope)
+                result[params[position]] = self.env.compile(arg.value, scope)
                 position += 1
             else:
                 raise CompileProblem("event arguments are not supported here", arg)
@@ -475,7 +478,7 @@ class TreeCompiler:
         sym = self.model.references.get(wm.name)
         if sym is None or sym.kind is not SymbolKind.MODIFIER:
             raise CompileProblem(f"`{wm.name.text}` is not a modifier the runner knows", wm)
-        entry = self.ctx.registry.find_modifier(self.model, sym)
+        entry = self.env.registry.find_modifier(self.model, sym)
         if entry is None:
             raise CompileProblem(
                 f"modifier `{sym.qualified_name}` has no runner behaviour (see "
@@ -501,18 +504,18 @@ class TreeCompiler:
 
     def _emission(self, emit: ast.Emit, scope: Scope) -> tuple[str, str, dict[str, Closure]]:
         name = emit.event.text
-        key = self.ctx.declare_event(name)
+        key = self.run.declare_event(name)
         sym = self.model.references.get(emit.event)
         params = [p.name for p in sym.parameters] if sym is not None else []
         args: dict[str, Closure] = {}
         position = 0
         for arg in emit.arguments:
             if isinstance(arg, ast.NamedArgument):
-                args[arg.name.text] = self.ctx.compile(arg.value, scope)
+                args[arg.name.text] = self.env.compile(arg.value, scope)
             elif isinstance(arg, ast.PositionalArgument):
                 if position >= len(params):
                     raise CompileProblem(f"too many arguments for event `{name}`", arg)
-                args[params[position]] = self.ctx.compile(arg.value, scope)
+                args[params[position]] = self.env.compile(arg.value, scope)
                 position += 1
         return name, key, args
 
@@ -521,22 +524,22 @@ class TreeCompiler:
         watch = self.watch(on.event, scope)
         members: list[Callable[[Any], None]] = []
         keys: list[str] = []
-        ctx = self.ctx
+        env, run = self.env, self.run
         for member in on.members:
             if isinstance(member, ast.Emit):
                 name, key, args = self._emission(member, scope)
                 keys.append(key)
                 members.append(
-                    lambda h, n=name, k=key, a=args: emit_now(ctx, h.blackboard, n, k, a)
+                    lambda h, n=name, k=key, a=args: emit_now(run, h.blackboard, n, k, a)
                 )
             elif isinstance(member, ast.CallDirective):
-                call = ctx.compile(member.call, scope)
+                call = env.compile(member.call, scope)
                 members.append(lambda h, c=call: c())
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
 
     def watch(self, spec: ast.Node, scope: Scope) -> Watch:
         """The watch of an event spec (see :mod:`osc2runner.compile.conditions`)."""
-        ctx = self.ctx
+        env, run = self.env, self.run
         if isinstance(spec, ast.EventReference):
             name = ".".join(p.text for p in spec.path)
             condition = None
@@ -546,8 +549,8 @@ class TreeCompiler:
                 if spec.alias is not None:
                     cell = [None]
                     inner = scope.child(**{spec.alias.text: lambda c=cell: c[0]})
-                condition = ctx.compile(spec.condition, inner)
-            return NamedEventWatch(ctx, name, condition, cell)
+                condition = env.compile(spec.condition, inner)
+            return NamedEventWatch(run, name, condition, cell)
         if isinstance(spec, ast.EventCondition):
             expr = spec.expr
             if (
@@ -556,29 +559,29 @@ class TreeCompiler:
                 and self.model.references.get(expr.callee.name.name) is None
             ):
                 fname = expr.callee.name.name.text
-                if fname in ("rise", "fall", "elapsed", "every"):
+                if fname in EVENT_FUNCTIONS:
                     return self._event_function(fname, expr, scope)
-            return LevelWatch(ctx.compile(expr, scope))
+            return LevelWatch(env.compile(expr, scope))
         raise CompileProblem("unsupported event", spec)
 
     def _event_function(self, fname: str, call: ast.Call, scope: Scope) -> Watch:
-        ctx = self.ctx
+        env, run = self.env, self.run
         positional = [a.value for a in call.arguments if isinstance(a, ast.PositionalArgument)]
         named = {a.name.text: a.value for a in call.arguments if isinstance(a, ast.NamedArgument)}
         first = positional[0] if positional else next(iter(named.values()), None)
         if first is None:
             raise CompileProblem(f"`{fname}` needs an argument", call)
         if fname in ("rise", "fall"):
-            return EdgeWatch(ctx.edge(ctx.compile(first, scope), fname == "rise", call))
+            return EdgeWatch(run.edge(env.compile(first, scope), fname == "rise", call))
         if fname == "elapsed":
-            return ElapsedWatch(ctx, ctx.compile(first, scope))
-        period = ctx.compile(first, scope)
+            return ElapsedWatch(run, env.compile(first, scope))
+        period = env.compile(first, scope)
         offset_node = named.get("offset") or (positional[1] if len(positional) > 1 else None)
-        offset = ctx.compile(offset_node, scope) if offset_node is not None else None
+        offset = env.compile(offset_node, scope) if offset_node is not None else None
         if not is_constant(period) or (offset is not None and not is_constant(offset)):
             raise CompileProblem("every() needs constant durations", call)
         try:
-            detector = ctx.every(float(period()), float(offset()) if offset else None)
+            detector = run.every(float(period()), float(offset()) if offset else None)
         except ValueError as exc:
             raise CompileProblem(str(exc), call) from None
         return EdgeWatch(detector)
@@ -586,39 +589,15 @@ class TreeCompiler:
     # ---- the phases that start the scenario
 
     def _start_uses(self, do: ast.DoDirective | None) -> list[ActionUse]:
+        """The compiled invocations that begin at time 0 (``semantics.phases``)."""
         if do is None:
             return []
-        found: list[ActionUse] = []
-        self._starts(do.member.body, found)
+        found = []
+        for inv in time_zero(do.member.body).starts:
+            entry = self.uses.get(inv)
+            if entry is not None:
+                found.append(entry[0])
         return found
-
-    def _starts(self, body: ast.Node, found: list[ActionUse]) -> bool:
-        """Collect the invocations starting at time 0; True when ``body`` takes no time."""
-        match body:
-            case ast.Invocation():
-                entry = self.uses.get(body)
-                if entry is None:
-                    return False
-                use, cls = entry
-                found.append(use)
-                return issubclass(cls, InstantAction) and use.duration is None
-            case ast.Composition():
-                if any(
-                    isinstance(a, ast.NamedArgument) and a.name.text == "duration"
-                    for a in body.arguments
-                ):
-                    for m in body.members[:1] if body.op == "serial" else body.members:
-                        self._starts(m.body, found)
-                    return False
-                if body.op == "serial":
-                    for m in body.members:
-                        if not self._starts(m.body, found):
-                            return False
-                    return True
-                return all([self._starts(m.body, found) for m in body.members])
-            case ast.Emit() | ast.CallDirective():
-                return True
-        return False
 
 
 def _no_span() -> Any:

@@ -6,8 +6,9 @@ Modules, each one idea:
 * ``actuators``: the ECU layer (rate limits, ABS, TCS, Ackermann);
 * ``world``: the MuJoCo world, stepped in fixed control steps;
 * ``events``: collisions and road departures from the actors' bounding boxes;
-* ``controllers``: speed PID with rate profiles, Stanley lateral control;
-* ``loop``: a fixed-step driver stepping controllers and world together.
+* ``controllers``: speed PID with rate profiles, Stanley lateral control.
+
+The one loop that ticks them with a scenario is ``osc2runner.execution.loop``.
 
 The road model lives in :mod:`osc2check.road`, shared with the checker.
 """
@@ -27,7 +28,6 @@ from osc2runner.sim.controllers import (
     VehicleController,
 )
 from osc2runner.sim.events import Event
-from osc2runner.sim.loop import ControlLoop
 from osc2runner.sim.vehicle import ObstacleParams, PedestrianParams, VehicleParams, hgv, sedan
 from osc2runner.sim.world import (
     ActorSpec,
@@ -41,7 +41,6 @@ from osc2runner.sim.world import (
 __all__ = [
     "ActorSpec",
     "ActorState",
-    "ControlLoop",
     "Event",
     "LateralPath",
     "ObstacleParams",

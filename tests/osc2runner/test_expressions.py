@@ -6,8 +6,8 @@ import pytest
 
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
+from osc2runner.compile.expressions import is_constant
 from osc2runner.compile.tree import unparse
-from osc2runner.expressions import is_constant
 from osc2runner.runner import Prepared, prepare
 
 TEXT = """\
@@ -51,7 +51,7 @@ def node(prepared: Prepared, text: str):
 
 
 def value(prepared: Prepared, text: str):
-    return prepared.ctx.compile(node(prepared, text))()
+    return prepared.env.compile(node(prepared, text))()
 
 
 def test_start_pose_from_modifiers(prepared):
@@ -67,7 +67,7 @@ def test_units_in_comparisons(prepared):
 
 
 def test_constants_are_folded_at_compile_time(prepared):
-    fn = prepared.ctx.compile(node(prepared, "v_hero + 12.42mph"))
+    fn = prepared.env.compile(node(prepared, "v_hero + 12.42mph"))
     assert is_constant(fn)
     assert fn() == pytest.approx(35 / 3.6 + 12.42 * 0.447038889)
 
@@ -87,8 +87,8 @@ def test_road_distance_lateral(prepared):
 
 
 def test_closures_read_live_state_every_evaluation(prepared):
-    fn = prepared.ctx.compile(node(prepared, "hero.speed < 0.1kph"))
-    speed = prepared.ctx.compile(node(prepared, "hero.speed"))
+    fn = prepared.env.compile(node(prepared, "hero.speed < 0.1kph"))
+    speed = prepared.env.compile(node(prepared, "hero.speed"))
     before = speed()
     state = prepared.ctx.states["hero"]
     prepared.ctx.states["hero"] = type(state)(

@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from osc2check.road import get_map
+from osc2runner.execution.loop import TickLoop
 from osc2runner.sim import (
     ActorSpec,
-    ControlLoop,
     VehicleController,
     VehicleParams,
     World,
@@ -64,12 +64,12 @@ def _drive(
     controller = VehicleController(params, ROAD, world.dt_control)
     controller.lateral.keep_lane(2)
     controller.speed.set_target(target, profile)
-    loop = ControlLoop(world, {"ego": controller})
+    loop = TickLoop.without_scenario(world, {"ego": controller})
     rows = []
     first = world.state("ego")
     rows.append((0.0, first.x, first.y, first.speed, 0.0))
     for _ in range(round(seconds / world.dt_control)):
-        loop.tick()
+        loop.step()
         s = world.state("ego")
         rows.append((s.time, s.x, s.y, s.speed, s.accel))
         if stop_when_stopped and s.speed < 0.01:
@@ -184,12 +184,13 @@ def lane_change():
     controller = VehicleController(sedan(), ROAD, world.dt_control)
     controller.lateral.keep_lane(1)
     controller.speed.set_target(V35)
-    loop = ControlLoop(world, {"ego": controller})
-    loop.run(1.0)
+    loop = TickLoop.without_scenario(world, {"ego": controller})
+    for _ in range(round(1.0 / world.dt_control)):
+        loop.step()
     controller.lateral.change_lane(world.state("ego"), 2, duration=4.0)
     during, after = [], []
     for _ in range(round(9.0 / world.dt_control)):
-        loop.tick()
+        loop.step()
         state = world.state("ego")
         if controller.lateral.done(state):
             after.append(state.y - ROAD.lane_center_y(2))
@@ -248,7 +249,7 @@ def _scripted_run() -> tuple[str, bytes]:
     for a in actors:
         controllers[a.name].lateral.keep_lane(a.lane)
         controllers[a.name].speed.set_target(a.speed, "smooth")
-    loop = ControlLoop(world, controllers)
+    loop = TickLoop.without_scenario(world, controllers)
     digest = hashlib.sha256()
     for tick in range(200):
         if tick == 20:
@@ -256,7 +257,7 @@ def _scripted_run() -> tuple[str, bytes]:
             controllers["truck"].speed.set_target(0.0, "asap")
         if tick == 100:
             world.set_road_friction(0.4)
-        loop.tick()
+        loop.step()
         digest.update(world.state_array().tobytes())
     return digest.hexdigest(), world.state_array().tobytes()
 

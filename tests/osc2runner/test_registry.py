@@ -2,14 +2,21 @@
 
 from __future__ import annotations
 
+import types
 from pathlib import Path
 
 import pytest
 
 from osc2check.semantics.stdlib import standard_library
-from osc2runner.compile.registry import MethodRegistry, registry
-from osc2runner.coverage import coverage_markdown
+from osc2runner.compile.registry import (
+    MethodRegistry,
+    action,
+    load_registry,
+    modifier,
+    standard_registry,
+)
 from osc2runner.errors import ScenarioError
+from osc2runner.output.support import coverage_markdown
 from osc2runner.runner import compile_file
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -39,34 +46,58 @@ def _symbol(kind: str, name: str, actor: str | None = None):
     raise LookupError(name)
 
 
+def _module(name: str, **members: object) -> types.ModuleType:
+    module = types.ModuleType(name)
+    for key, value in members.items():
+        value.__module__ = name  # type: ignore[attr-defined]
+        setattr(module, key, value)
+    return module
+
+
 def test_registration_serves_subtypes_nearest_first():
     reg = MethodRegistry()
 
-    @reg.action("movable_object", "change_speed")
+    @action("movable_object", "change_speed")
     class Generic:
         pass
 
-    @reg.action("vehicle", "change_speed")
+    @action("vehicle", "change_speed")
     class ForVehicles:
         pass
 
-    model, action = _symbol("ACTION", "change_speed")
+    reg.collect(_module("marked", Generic=Generic, ForVehicles=ForVehicles))
+
+    model, change_speed = _symbol("ACTION", "change_speed")
     vehicle = next(s for s in model.symbols if s.kind.name == "ACTOR" and s.name == "vehicle")
     person = next(s for s in model.symbols if s.kind.name == "ACTOR" and s.name == "person")
-    assert reg.find_action(model, vehicle, action).target is ForVehicles
-    assert reg.find_action(model, person, action).target is Generic
+    assert reg.find_action(model, vehicle, change_speed).target is ForVehicles
+    assert reg.find_action(model, person, change_speed).target is Generic
 
 
 def test_registering_twice_is_an_error():
-    reg = MethodRegistry()
-    reg.modifier("speed")(type("A", (), {}))
+    first = modifier("speed")(type("A", (), {}))
+    second = modifier("speed")(type("B", (), {}))
     with pytest.raises(ValueError, match="registered twice"):
-        reg.modifier("speed")(type("B", (), {}))
+        MethodRegistry().collect(_module("twice", A=first, B=second))
+
+
+def test_marking_registers_nothing_until_a_registry_is_loaded():
+    marked = action("vehicle", "hover_over_traffic")(type("Hover", (), {}))
+    assert standard_registry().action_entry("vehicle", "hover_over_traffic") is None
+    reg = MethodRegistry()
+    reg.collect(_module("hovering", Hover=marked))
+    assert reg.action_entry("vehicle", "hover_over_traffic") is not None
+
+
+def test_an_imported_implementation_is_registered_with_its_own_module_only():
+    import osc2runner.behaviours.motion as motion
+
+    reg = load_registry(["osc2runner.behaviours.motion", "osc2runner.behaviours.modifiers"])
+    assert reg.action_entry("vehicle", "drive").target is motion.Drive  # once, no error
 
 
 def test_required_actions_and_modifiers_are_registered():
-    import osc2runner.behaviours  # noqa: F401
-
+    registry = standard_registry()
     for actor, name in [
         ("vehicle", "drive"),
         ("movable_object", "move"),
@@ -115,7 +146,7 @@ def test_unsupported_action_and_modifier_stop_the_run_with_their_locations():
 def test_coverage_page_is_up_to_date():
     page = ROOT / "docs" / "coverage.md"
     assert page.read_text(encoding="utf-8") == coverage_markdown(), (
-        "docs/coverage.md is stale: python -m osc2runner.coverage > docs/coverage.md"
+        "docs/coverage.md is stale: python -m osc2runner.output.support > docs/coverage.md"
     )
 
 

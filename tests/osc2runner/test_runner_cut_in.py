@@ -59,7 +59,11 @@ def test_paper_npc_starts_behind_and_one_lane_right(paper):
     hero, npc = paper.telemetry["hero"], paper.telemetry["npc"]
     # Town06 counts the scenario's lanes from the left: lane 1 is road lane 4
     assert (hero["lane"][0], npc["lane"][0]) == (4.0, 3.0)
-    bumper_gap = (hero["x"][0] - 2.25) - (npc["x"][0] + 6.0)
+    # bodies as the checker placed them: the witness's (and the catalogue's) lengths
+    actors = paper.metadata["actors"]
+    sizes = {name: a["size"]["length"] for name, a in actors.items() if "size" in a}
+    assert (sizes["hero"], sizes["npc"]) == (4.69, 12.0)  # tesla.model3, european_hgv
+    bumper_gap = (hero["x"][0] - sizes["hero"] / 2) - (npc["x"][0] + sizes["npc"] / 2)
     assert bumper_gap == pytest.approx(5.0, abs=1e-6)
     assert hero["speed"][0] == npc["speed"][0] == 0.0
 

@@ -7,7 +7,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from osc2runner.telemetry import CHANNELS, Recorder
+from osc2runner.output.telemetry import CHANNELS, Recorder
 
 
 def _state(accel: float) -> SimpleNamespace:

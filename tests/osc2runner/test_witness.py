@@ -7,16 +7,13 @@ from pathlib import Path
 import pytest
 
 from osc2runner import run
-from osc2runner.witness import witness_values
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 @pytest.fixture(scope="module")
 def witnessed():
-    return run(
-        ROOT / "examples" / "braking_friction.osc", values=witness_values(seed=0), duration=20.0
-    )
+    return run(ROOT / "examples" / "braking_friction.osc", seed=0, duration=20.0)
 
 
 def test_witness_values_are_used(witnessed):

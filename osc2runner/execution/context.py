@@ -1,11 +1,12 @@
-"""The ExecutionContext: everything a behaviour reads while the tree is ticked.
+"""The RunContext: everything a behaviour reads while the tree is ticked.
 
 One context per run. Behaviours receive it through ``tree.setup(context=ctx)``
 and read only it: the simulated time and tick, each actor's state at this tick
 (read once per tick, shared by every expression), the actors' controllers,
-the world, the compiled expressions, and the edge detectors (``rise``,
-``fall``, ``every``) that are evaluated every tick whether or not a behaviour
-is currently waiting on them.
+the world, and the edge detectors (``rise``, ``fall``, ``every``) that are
+evaluated every tick whether or not a behaviour is currently waiting on them.
+What the compiler needs (the model, the parameter values, the registry) is in
+``compile.environment.CompileEnvironment``, not here.
 
 State shared *between* behaviours lives on the py_trees blackboard only:
 event occurrences under ``/osc2/events/<name>`` and scenario variables under
@@ -17,7 +18,7 @@ Nothing here reads the wall clock: time is ``tick * dt``.
 from __future__ import annotations
 
 import logging
-import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -25,26 +26,20 @@ import numpy as np
 import py_trees
 
 from osc2check.road import Road
-from osc2check.semantics.model import Model
-from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
-from osc2runner.actors import Actor
-from osc2runner.errors import CompileProblem
-from osc2runner.expressions import Closure, ExpressionCompiler, PositionOf, constant, namespace
-from osc2runner.roads import LaneNumbers
-from osc2runner.values import ParameterValues, to_runtime
+from osc2runner.instance.actors import Actor
+from osc2runner.instance.roads import LaneNumbers
 
 if TYPE_CHECKING:
-    from osc2runner.compile.registry import MethodRegistry
     from osc2runner.sim import ActorState, World
 
 __all__ = [
     "EVENT_ROOT",
     "EdgeDetector",
-    "ExecutionContext",
     "LogRecord",
     "Occurrence",
     "PeriodicDetector",
+    "RunContext",
     "event_key",
     "fresh_blackboard",
 ]
@@ -95,7 +90,7 @@ class EdgeDetector:
 
     __slots__ = ("fn", "rising", "previous", "edge", "node")
 
-    def __init__(self, fn: Closure, rising: bool, node: ast.Node | None = None) -> None:
+    def __init__(self, fn: Callable[[], Any], rising: bool, node: ast.Node | None = None) -> None:
         self.fn = fn
         self.rising = rising
         self.previous: bool | None = None
@@ -136,13 +131,10 @@ class PeriodicDetector:
                 self._next += self.period
 
 
-class ExecutionContext:
+class RunContext:
     """Live state and services for one run (see the module docstring).
 
     Parameters:
-        model: the program's model.
-        values: the parameter values of the scenario instance.
-        registry: the method registry (actions, modifiers, methods).
         road: the road the scenario runs on.
         actors: the scenario's actors.
         dt: control period in seconds.
@@ -151,18 +143,12 @@ class ExecutionContext:
 
     def __init__(
         self,
-        model: Model,
-        values: ParameterValues,
-        registry: MethodRegistry,
         road: Road,
         actors: list[Actor],
         *,
         dt: float = 0.05,
         seed: int = 0,
     ) -> None:
-        self.model = model
-        self.values = values
-        self.registry = registry
         self.road = road
         self.lanes = LaneNumbers(road)
         self.actors: dict[str, Actor] = {a.name: a for a in actors}
@@ -175,9 +161,7 @@ class ExecutionContext:
         self.controllers: dict[str, Any] = {}
         self.states: dict[str, ActorState] = {}
         self.variables: dict[str, Any] = {}
-        self.variable_symbols: set[Symbol] = set()
-        self.variable_inits: list[tuple[str, Closure]] = []
-        self.placed: set[ast.Node] = set()  # invocations the initializer realised
+        self.placed: set[ast.Node] = set()  # invocations the witness realised at time 0
         self.detectors: list[EdgeDetector] = []
         self.periodic: list[PeriodicDetector] = []
         self.records: list[LogRecord] = []
@@ -185,16 +169,11 @@ class ExecutionContext:
         self.collisions_allowed: dict[str, int] = {}
         self.failed: str | None = None
         self.event_names: set[str] = set()
-        self.compiler = ExpressionCompiler(self)
         self._client = py_trees.blackboard.Client(name="osc2runner")
         self._client.register_key(VARIABLES_KEY, access=py_trees.common.Access.WRITE)
         self._client.set(VARIABLES_KEY, self.variables)
 
-    # ---- compile-time services
-
-    def compile(self, expr: ast.Node, scope: Any = None) -> Closure:
-        """Compile an expression to a closure over this context."""
-        return self.compiler.compile(expr, scope)
+    # ---- events and detectors, declared while compiling
 
     def declare_event(self, name: str) -> str:
         """Make an event known (its blackboard key exists, empty); returns the key."""
@@ -205,7 +184,9 @@ class ExecutionContext:
             self._client.set(key, ())
         return key
 
-    def edge(self, fn: Closure, rising: bool, node: ast.Node | None = None) -> EdgeDetector:
+    def edge(
+        self, fn: Callable[[], Any], rising: bool, node: ast.Node | None = None
+    ) -> EdgeDetector:
         """A rise/fall detector on ``fn``, updated at the start of every tick."""
         detector = EdgeDetector(fn, rising, node)
         self.detectors.append(detector)
@@ -217,42 +198,6 @@ class ExecutionContext:
         return detector
 
     # ---- actors
-
-    def actor_member(
-        self, actor: Actor, member: str, sym: Symbol | None, node: ast.Node
-    ) -> Closure:
-        """A closure for ``actor.member`` (live state or a constant attribute)."""
-        states = self.states
-        n = actor.name
-        if member == "position" and sym is not None and sym.toolkit:
-            return constant(PositionOf(actor))
-        if actor.has_body:
-            if member == "speed":
-                return lambda: states[n].speed
-            if member == "velocity":
-                return lambda: _velocity(states[n])
-            if member == "acceleration":
-                return lambda: _acceleration(states[n])
-            if member == "pose":
-                return lambda: _pose(states[n])
-            if member == "bounding_box" and actor.params is not None:
-                p = actor.params
-                height = getattr(p, "height", 1.5)
-                return constant(
-                    namespace(
-                        length=p.length,
-                        width=p.width,
-                        height=height,
-                        center=namespace(x=0.0, y=0.0, z=0.0),
-                    )
-                )
-        if member in actor.attributes:
-            return constant(to_runtime(actor.attributes[member]))
-        if member == "name":
-            return constant(actor.name)
-        if member == "model" and actor.blueprint is not None:
-            return constant(actor.blueprint)
-        raise CompileProblem(f"the runner cannot read `{actor.name}.{member}`", node)
 
     def state(self, name: str) -> ActorState:
         """The state of actor ``name`` at this tick."""
@@ -319,27 +264,3 @@ def _short(value: object) -> str:
     if isinstance(value, Actor):
         return value.name
     return str(value)
-
-
-def _velocity(s: ActorState) -> Any:
-    c, sn = math.cos(s.yaw), math.sin(s.yaw)
-    vx = s.speed * c - s.lateral_speed * sn
-    vy = s.speed * sn + s.lateral_speed * c
-    return namespace(
-        translational=namespace(x=vx, y=vy, z=0.0),
-        angular=namespace(roll=0.0, pitch=0.0, yaw=s.yaw_rate),
-    )
-
-
-def _acceleration(s: ActorState) -> Any:
-    ax, ay = s.accel * math.cos(s.yaw), s.accel * math.sin(s.yaw)
-    return namespace(
-        translational=namespace(x=ax, y=ay, z=0.0), angular=namespace(roll=0.0, pitch=0.0, yaw=0.0)
-    )
-
-
-def _pose(s: ActorState) -> Any:
-    return namespace(
-        position=namespace(x=s.x, y=s.y, z=0.0),
-        orientation=namespace(roll=0.0, pitch=0.0, yaw=s.yaw),
-    )

@@ -4,7 +4,7 @@
 zero-argument function; evaluating it reads only the execution context's
 per-tick state (actor states, variables). Numbers are SI floats at run time
 (units are folded into literals at compile time, exactly, then converted);
-enum values are their member names; actors are :class:`~osc2runner.actors.Actor`
+enum values are their member names; actors are :class:`~osc2runner.instance.actors.Actor`
 objects. Sub-expressions without live inputs are folded at compile time.
 
 Methods of the domain model that are ``is undefined`` (``object_distance``,
@@ -19,20 +19,19 @@ from collections.abc import Callable
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
-from osc2check.semantics import types as T
+from osc2check.semantics.builtins import EVENT_FUNCTIONS
+from osc2check.semantics.constants import NotConstant, physical_literal, to_runtime
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.errors import CompileProblem
-from osc2runner.values import NoValue, to_runtime
+from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
-    from osc2runner.context import ExecutionContext
+    from osc2runner.compile.environment import CompileEnvironment
 
 __all__ = ["Closure", "ExpressionCompiler", "Scope", "PositionOf", "constant"]
 
 Closure = Callable[[], Any]
-
-EVENT_FUNCTIONS = frozenset({"rise", "fall", "elapsed", "every"})
 
 
 class Scope:
@@ -100,13 +99,12 @@ _BINARY: dict[str, Callable[[Any, Any], Any]] = {
 
 
 class ExpressionCompiler:
-    """Compiles expression nodes of one program against an execution context."""
+    """Compiles expression nodes of one program; the closures read the run context."""
 
-    def __init__(self, ctx: ExecutionContext) -> None:
-        self.ctx = ctx
-        self.model = ctx.model
-        self._references = [m.references for m in _chain(ctx.model)]
-        self._types = [m.expr_types for m in _chain(ctx.model)]
+    def __init__(self, env: CompileEnvironment) -> None:
+        self.env = env
+        self.model = env.model
+        self._references = [m.references for m in _chain(env.model)]
 
     def ref(self, name: ast.Name) -> Symbol | None:
         """What ``name`` refers to, in the program or in the library it builds on."""
@@ -114,13 +112,6 @@ class ExpressionCompiler:
             sym = table.get(name)
             if sym is not None:
                 return sym
-        return None
-
-    def type_of(self, node: ast.Node) -> T.Type | None:
-        for table in self._types:
-            t = table.get(node)
-            if t is not None:
-                return t
         return None
 
     # ---- entry
@@ -139,55 +130,50 @@ class ExpressionCompiler:
     # ---- dispatch
 
     def _c(self, e: ast.Node, scope: Scope) -> Closure:
-        method = getattr(self, f"_{type(e).__name__}", None)
-        if method is None:
-            raise CompileProblem(f"the runner cannot evaluate {type(e).__name__} expressions", e)
-        return method(e, scope)
-
-    # ---- literals
-
-    def _IntLiteral(self, e: ast.IntLiteral, scope: Scope) -> Closure:
-        return constant(e.value)
-
-    def _FloatLiteral(self, e: ast.FloatLiteral, scope: Scope) -> Closure:
-        return constant(float(e.value))
-
-    def _StringLiteral(self, e: ast.StringLiteral, scope: Scope) -> Closure:
-        return constant(e.value)
-
-    def _BoolLiteral(self, e: ast.BoolLiteral, scope: Scope) -> Closure:
-        return constant(e.value)
-
-    def _PhysicalLiteral(self, e: ast.PhysicalLiteral, scope: Scope) -> Closure:
-        unit = self.ref(e.unit) or self.model.unit(e.unit.text)
-        if unit is None:
-            raise CompileProblem(f"unknown unit `{e.unit.text}`", e)
-        from fractions import Fraction
-
-        number = e.number if isinstance(e.number, Fraction) else Fraction(e.number)
-        return constant(float(number * unit.factor + unit.offset))
-
-    def _EnumRef(self, e: ast.EnumRef, scope: Scope) -> Closure:
-        return constant(e.member.text)
-
-    def _Missing(self, e: ast.Missing, scope: Scope) -> Closure:
-        raise CompileProblem("incomplete expression", e)
-
-    def _ListLiteral(self, e: ast.ListLiteral, scope: Scope) -> Closure:
-        items = [self._c(i, scope) for i in e.items]
-        if all(is_constant(i) for i in items):
-            return constant(tuple(i() for i in items))
-        return lambda: tuple(i() for i in items)
-
-    def _RangeLiteral(self, e: ast.RangeLiteral, scope: Scope) -> Closure:
-        lo, hi = self._c(e.low, scope), self._c(e.high, scope)
-        if is_constant(lo) and is_constant(hi):
-            return constant((lo(), hi()))
-        return lambda: (lo(), hi())
+        match e:
+            case ast.IntLiteral() | ast.StringLiteral() | ast.BoolLiteral():
+                return constant(e.value)
+            case ast.FloatLiteral():
+                return constant(float(e.value))
+            case ast.PhysicalLiteral():
+                try:
+                    return constant(float(physical_literal(e, self.model).si))
+                except NotConstant as exc:
+                    raise CompileProblem(str(exc), e) from None
+            case ast.EnumRef():
+                return constant(e.member.text)
+            case ast.ListLiteral():
+                items = [self._c(i, scope) for i in e.items]
+                if all(is_constant(i) for i in items):
+                    return constant(tuple(i() for i in items))
+                return lambda: tuple(i() for i in items)
+            case ast.RangeLiteral():
+                lo, hi = self._c(e.low, scope), self._c(e.high, scope)
+                if is_constant(lo) and is_constant(hi):
+                    return constant((lo(), hi()))
+                return lambda: (lo(), hi())
+            case ast.NameRef():
+                return self._name(e, scope)
+            case ast.Unary():
+                return self._unary(e, scope)
+            case ast.Binary():
+                return self._binary(e, scope)
+            case ast.Ternary():
+                return self._ternary(e, scope)
+            case ast.Index():
+                target, index = self._c(e.target, scope), self._c(e.index, scope)
+                return lambda: target()[index()]
+            case ast.MemberAccess():
+                return self._member(e, scope)
+            case ast.Call():
+                return self._call(e, scope)
+            case ast.Missing():
+                raise CompileProblem("incomplete expression", e)
+        raise CompileProblem(f"the runner cannot evaluate {type(e).__name__} expressions", e)
 
     # ---- names
 
-    def _NameRef(self, e: ast.NameRef, scope: Scope) -> Closure:
+    def _name(self, e: ast.NameRef, scope: Scope) -> Closure:
         name = e.name.name
         bound = scope.lookup(name.text) if e.name.namespace is None else None
         sym = self.ref(name)
@@ -199,15 +185,15 @@ class ExpressionCompiler:
 
     def symbol_value(self, sym: Symbol, node: ast.Node) -> Closure:
         """The closure for a referenced symbol (field, variable, enum member, ...)."""
-        ctx = self.ctx
+        env = self.env
         if sym.kind is SymbolKind.ENUM_MEMBER:
             return constant(sym.name)
         if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
-            actor = ctx.actors.get(sym.name)
+            actor = env.actors.get(sym.name)
             if actor is not None and actor.symbol is sym:
                 return constant(actor)
-            if sym in ctx.variable_symbols:
-                store = ctx.variables
+            if sym in env.variable_symbols:
+                store = env.run.variables
                 key = sym.name
                 if key in store:
                     return (
@@ -217,8 +203,8 @@ class ExpressionCompiler:
                     )
                 return lambda: store[key]
             try:
-                return constant(to_runtime(ctx.values.value(sym)))
-            except NoValue as exc:
+                return constant(to_runtime(env.values.value(sym)))
+            except NotConstant as exc:
                 raise CompileProblem(str(exc), node) from None
         if sym.kind is SymbolKind.IMPLICIT:
             raise CompileProblem(f"`{sym.name}` is not bound here", node)
@@ -226,7 +212,7 @@ class ExpressionCompiler:
 
     # ---- operators
 
-    def _Unary(self, e: ast.Unary, scope: Scope) -> Closure:
+    def _unary(self, e: ast.Unary, scope: Scope) -> Closure:
         operand = self._c(e.operand, scope)
         if e.op == "not":
             fn = operator.not_
@@ -238,7 +224,7 @@ class ExpressionCompiler:
             return constant(fn(operand()))
         return lambda: fn(operand())
 
-    def _Binary(self, e: ast.Binary, scope: Scope) -> Closure:
+    def _binary(self, e: ast.Binary, scope: Scope) -> Closure:
         left, right = self._c(e.left, scope), self._c(e.right, scope)
         op = e.op
         if op == "and":
@@ -249,8 +235,6 @@ class ExpressionCompiler:
             fn = lambda: (not left()) or bool(right())  # noqa: E731
         elif op == "in":
             fn = lambda: _contains(right(), left())  # noqa: E731
-        elif op == "/" and self._integral(e.left) and self._integral(e.right):
-            fn = lambda: left() // right()  # noqa: E731
         else:
             binary = _BINARY.get(op)
             if binary is None:
@@ -265,48 +249,36 @@ class ExpressionCompiler:
                 raise CompileProblem("division by zero", e) from None
         return fn
 
-    def _integral(self, e: ast.Node) -> bool:
-        t = self.type_of(e)
-        return t is not None and t.kind in (T.Kind.INT, T.Kind.UINT)
-
-    def _Ternary(self, e: ast.Ternary, scope: Scope) -> Closure:
+    def _ternary(self, e: ast.Ternary, scope: Scope) -> Closure:
         cond = self._c(e.condition, scope)
         then, other = self._c(e.then, scope), self._c(e.otherwise, scope)
         if is_constant(cond):
             return then if cond() else other
         return lambda: then() if cond() else other()
 
-    def _Index(self, e: ast.Index, scope: Scope) -> Closure:
-        target, index = self._c(e.target, scope), self._c(e.index, scope)
-        return lambda: target()[index()]
-
     # ---- members and calls
 
-    def _MemberAccess(self, e: ast.MemberAccess, scope: Scope) -> Closure:
+    def _member(self, e: ast.MemberAccess, scope: Scope) -> Closure:
         target = self._c(e.target, scope)
         member = e.member.text
         sym = self.ref(e.member)
         if is_constant(target):
             value = target()
-            from osc2runner.actors import Actor
-
             if isinstance(value, Actor):
-                return self.ctx.actor_member(value, member, sym, e)
-        ctx = self.ctx
+                return self.env.actor_member(value, member, sym, e)
+        env = self.env
 
         def access() -> object:
             value = target()
-            from osc2runner.actors import Actor
-
             if isinstance(value, Actor):
-                return ctx.actor_member(value, member, sym, e)()
+                return env.actor_member(value, member, sym, e)()
             if isinstance(value, dict):
                 return value[member]
             return getattr(value, member)
 
         return access
 
-    def _Call(self, e: ast.Call, scope: Scope) -> Closure:
+    def _call(self, e: ast.Call, scope: Scope) -> Closure:
         callee = e.callee
         if (
             isinstance(callee, ast.NameRef)
@@ -362,14 +334,14 @@ class ExpressionCompiler:
             bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
             inner = Scope(None, actor=target, **bindings)
             return self._c(decl.body, inner)
-        entry = self.ctx.registry.find_method(self.model, method)
+        entry = self.env.registry.find_method(self.model, method)
         if entry is None:
             owner = method.owner.name if method.owner is not None else ""
             raise CompileProblem(
                 f"method `{owner}.{method.name}` has no runner implementation", call
             )
         fn = entry.target
-        ctx = self.ctx
+        ctx = self.env.run
         if len(args) == 1:
             a0 = args[0]
             return lambda: fn(ctx, target(), a0())

@@ -2,7 +2,7 @@
 
 Every action, modifier and ``is undefined`` method of the bundled library
 (the standard ``std`` namespace and the toolkit's own) is listed, supported
-or not. Regenerate with ``python -m osc2runner.coverage > docs/coverage.md``;
+or not. Regenerate with ``python -m osc2runner.output.support > docs/coverage.md``;
 a test fails when the file is out of date.
 """
 
@@ -14,7 +14,7 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.stdlib import standard_library
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
-from osc2runner.compile.registry import MethodRegistry, registry
+from osc2runner.compile.registry import MethodRegistry, standard_registry
 
 __all__ = ["coverage_markdown"]
 
@@ -24,7 +24,7 @@ _HEADER = """\
 What `osc2run` executes, for every action, modifier and implemented method of
 the bundled library (ASAM OpenSCENARIO DSL 2.1 `std` plus the toolkit's
 `osc2toolkit` extensions). Generated from the runner's method registry by
-`python -m osc2runner.coverage > docs/coverage.md`; a test checks that this
+`python -m osc2runner.output.support > docs/coverage.md`; a test checks that this
 file is up to date. Invoking anything marked "no" is an error before the run
 starts, with its location: nothing is skipped silently.
 
@@ -154,9 +154,7 @@ def _methods(model: Model, reg: MethodRegistry) -> list[str]:
 
 def coverage_markdown(reg: MethodRegistry | None = None) -> str:
     """The text of ``docs/coverage.md``."""
-    import osc2runner.behaviours  # noqa: F401 - fills the registry
-
-    reg = reg or registry
+    reg = reg or standard_registry()
     model = standard_library().model
     actions = [s for s in _library_symbols(model, SymbolKind.ACTION) if not _is_base(s)]
     modifiers = _library_symbols(model, SymbolKind.MODIFIER)

@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from osc2runner.context import LogRecord
+from osc2runner.execution.context import LogRecord
 from osc2runner.sim import ActorState
 
 __all__ = ["CHANNELS", "Recorder", "write"]

@@ -1,0 +1,115 @@
+"""The language's built-in vocabulary: what every OSC2 program has without declaring it.
+
+The analysis types these names, the language server completes and explains
+them, and the runner executes them; each of those reads this module.
+
+* predefined events of every behaviour: ``start``, ``end``, ``fail`` (§7.3.10.4);
+* event functions (§7.3.10.3): ``rise``, ``fall``, ``elapsed``, ``every``;
+* value functions: ``sample`` (§7.3.6.6), ``range``;
+* list methods (§7.2.4.2): ``size``, ``count``, ``has``, ``filter``, ``map``,
+  ``first_index``; type tests ``as`` and ``is``;
+* primitive types; ``parallel`` overlap kinds (§7.3.9.3.3); the structured
+  imports of the standard library.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+__all__ = [
+    "Builtin",
+    "BuiltinParameter",
+    "EVENT_FUNCTIONS",
+    "LIST_METHODS",
+    "OVERLAP_KINDS",
+    "PREDEFINED_EVENTS",
+    "PRIMITIVE_TYPES",
+    "STANDARD_MODULE_NAMES",
+    "TYPE_TESTS",
+    "VALUE_FUNCTIONS",
+]
+
+PREDEFINED_EVENTS = ("start", "end", "fail")
+PRIMITIVE_TYPES = ("bool", "int", "uint", "float", "string")
+OVERLAP_KINDS = ("equal", "start", "end", "initial", "final", "inside", "full", "any")
+TYPE_TESTS = ("as", "is")
+#: The structured imports of the standard library (§7.7.5.1).
+STANDARD_MODULE_NAMES = (
+    "osc.standard",
+    "osc.standard.all",
+    "osc.standard.types",
+    "osc.standard.domain",
+)
+
+
+@dataclass(frozen=True, slots=True)
+class BuiltinParameter:
+    name: str
+    type: str  # as written in OSC2: `bool`, `time`, `any`
+    optional: bool = False
+
+    @property
+    def text(self) -> str:
+        return f"{self.name}: {self.type}"
+
+
+@dataclass(frozen=True, slots=True)
+class Builtin:
+    """A built-in function or method: its parameters, result and one line of documentation."""
+
+    name: str
+    parameters: tuple[BuiltinParameter, ...]
+    result: str
+    doc: str
+
+    @property
+    def signature(self) -> str:
+        return f"{self.name}({', '.join(p.text for p in self.parameters)})"
+
+
+def _p(name: str, type_: str, optional: bool = False) -> BuiltinParameter:
+    return BuiltinParameter(name, type_, optional)
+
+
+EVENT_FUNCTIONS: dict[str, Builtin] = {
+    b.name: b
+    for b in (
+        Builtin("rise", (_p("condition", "bool"),), "bool",
+                "occurs when the condition becomes true"),
+        Builtin("fall", (_p("condition", "bool"),), "bool",
+                "occurs when the condition becomes false"),
+        Builtin("elapsed", (_p("duration", "time"),), "bool",
+                "occurs once the duration has passed since the enclosing phase started"),
+        Builtin("every", (_p("period", "time"), _p("offset", "time", optional=True)), "bool",
+                "occurs at the start of the enclosing context and then once per period "
+                "(shifted by the offset when given)"),
+    )
+}  # fmt: skip
+
+VALUE_FUNCTIONS: dict[str, Builtin] = {
+    b.name: b
+    for b in (
+        Builtin("sample", (_p("expression", "any"), _p("event", "event"),
+                           _p("default", "any", optional=True)), "any",
+                "the expression's value when the event occurs (the default before it)"),
+        Builtin("range", (_p("low", "any"), _p("high", "any")), "range",
+                "the range from low to high"),
+    )
+}  # fmt: skip
+
+LIST_METHODS: dict[str, Builtin] = {
+    b.name: b
+    for b in (
+        Builtin("size", (), "int", "the number of elements"),
+        Builtin("count", (_p("condition", "bool"),), "int",
+                "the number of elements for which the condition (on `it`) holds"),
+        Builtin("has", (_p("condition", "bool"),), "bool",
+                "whether some element satisfies the condition (on `it`)"),
+        Builtin("filter", (_p("condition", "bool"),), "list",
+                "the elements for which the condition (on `it`) holds"),
+        Builtin("map", (_p("expression", "any"),), "list",
+                "the expression (on `it`) for each element"),
+        Builtin("first_index", (_p("condition", "bool"),), "int",
+                "the index of the first element for which the condition holds, else -1"),
+    )
+}  # fmt: skip

@@ -1,0 +1,125 @@
+"""The CompileEnvironment: what compiling a scenario reads, apart from the run it compiles for.
+
+The model (names, types), the parameter values of the instance (the witness),
+the method registry, and the :class:`~osc2runner.execution.context.RunContext`
+whose live state the compiled closures will read. Compiling never runs
+anything: it builds the behaviour tree and the closures, declares the events
+and the edge detectors in the run context, and records which ``var`` fields are
+initialised when the run starts.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from osc2check.semantics.constants import to_runtime
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol
+from osc2check.syntax import ast
+from osc2runner.compile.expressions import (
+    Closure,
+    ExpressionCompiler,
+    PositionOf,
+    Scope,
+    constant,
+    namespace,
+)
+from osc2runner.compile.registry import MethodRegistry
+from osc2runner.errors import CompileProblem
+from osc2runner.execution.context import RunContext
+from osc2runner.instance.actors import Actor
+from osc2runner.instance.values import ScenarioValues
+from osc2runner.sim import ActorState
+
+__all__ = ["CompileEnvironment"]
+
+
+class CompileEnvironment:
+    """Model, values, registry and the run context a scenario is compiled against.
+
+    Parameters:
+        model: the program's model.
+        values: the parameter values of the scenario instance (the witness).
+        registry: the method registry (actions, modifiers, methods).
+        run: the run context the compiled tree and closures belong to.
+    """
+
+    def __init__(
+        self, model: Model, values: ScenarioValues, registry: MethodRegistry, run: RunContext
+    ) -> None:
+        self.model = model
+        self.values = values
+        self.registry = registry
+        self.run = run
+        self.variable_symbols: set[Symbol] = set()
+        self.variable_inits: list[tuple[str, Closure]] = []
+        self.compiler = ExpressionCompiler(self)
+
+    @property
+    def actors(self) -> dict[str, Actor]:
+        return self.run.actors
+
+    def compile(self, expr: ast.Node, scope: Scope | None = None) -> Closure:
+        """Compile an expression to a closure over the run context."""
+        return self.compiler.compile(expr, scope)
+
+    def actor_member(
+        self, actor: Actor, member: str, sym: Symbol | None, node: ast.Node
+    ) -> Closure:
+        """A closure for ``actor.member`` (live state or a constant attribute)."""
+        states = self.run.states
+        n = actor.name
+        if member == "position" and sym is not None and sym.toolkit:
+            return constant(PositionOf(actor))
+        if actor.has_body:
+            if member == "speed":
+                return lambda: states[n].speed
+            if member == "velocity":
+                return lambda: _velocity(states[n])
+            if member == "acceleration":
+                return lambda: _acceleration(states[n])
+            if member == "pose":
+                return lambda: _pose(states[n])
+            if member == "bounding_box" and actor.params is not None:
+                p = actor.params
+                return constant(
+                    namespace(
+                        length=p.length,
+                        width=p.width,
+                        height=p.height,
+                        center=namespace(x=0.0, y=0.0, z=0.0),
+                    )
+                )
+        if member in actor.attributes:
+            return constant(to_runtime(actor.attributes[member]))
+        if member == "name":
+            return constant(actor.name)
+        if member == "model" and actor.blueprint is not None:
+            return constant(actor.blueprint)
+        raise CompileProblem(f"the runner cannot read `{actor.name}.{member}`", node)
+
+
+def _velocity(s: ActorState) -> Any:
+    c, sn = math.cos(s.yaw), math.sin(s.yaw)
+    vx = s.speed * c - s.lateral_speed * sn
+    vy = s.speed * sn + s.lateral_speed * c
+    return namespace(
+        translational=namespace(x=vx, y=vy, z=0.0),
+        angular=namespace(roll=0.0, pitch=0.0, yaw=s.yaw_rate),
+    )
+
+
+def _acceleration(s: ActorState) -> Any:
+    ax, ay = s.accel * math.cos(s.yaw), s.accel * math.sin(s.yaw)
+    return namespace(
+        translational=namespace(x=ax, y=ay, z=0.0),
+        angular=namespace(roll=0.0, pitch=0.0, yaw=0.0),
+    )
+
+
+def _pose(s: ActorState) -> Any:
+    return namespace(
+        position=namespace(x=s.x, y=s.y, z=0.0),
+        orientation=namespace(roll=0.0, pitch=0.0, yaw=s.yaw),
+    )

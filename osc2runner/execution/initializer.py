@@ -1,0 +1,50 @@
+"""The start of a run: every body actor where, and as fast as, the checker's witness says.
+
+The checker placed every actor (``osc2check.verify.placement``) and drew the
+witness for the seed: its lane (as the scenario numbers lanes on the map), the
+position ``s`` of its centre along the road, its offset ``t`` from the lane
+centre, its heading and speed. :func:`start_specs` turns that into the world's
+:class:`~osc2runner.sim.ActorSpec` list; the bodies come from the actors'
+catalogue rows (``instance.bodies``). Nothing is placed twice.
+"""
+
+from __future__ import annotations
+
+from osc2runner.errors import RunProblem
+from osc2runner.instance.actors import Actor
+from osc2runner.instance.roads import LaneNumbers
+from osc2runner.sim import ActorSpec
+
+__all__ = ["start_specs"]
+
+
+def start_specs(
+    actors: list[Actor], lanes: LaneNumbers
+) -> tuple[list[ActorSpec], list[RunProblem]]:
+    """The world specs of the body actors, in declaration order, and any that lack a start."""
+    specs: list[ActorSpec] = []
+    problems: list[RunProblem] = []
+    for actor in actors:
+        if not actor.has_body:
+            continue
+        start, params = actor.start, actor.params
+        if start is None or params is None:
+            problems.append(
+                RunProblem(
+                    f"the checker's witness has no start for `{actor.name}`",
+                    actor.symbol.name_span,
+                )
+            )
+            continue
+        specs.append(
+            ActorSpec(
+                actor.name,
+                params,
+                s=float(start.s),
+                lane=lanes.to_road(start.lane),
+                offset=float(start.t),
+                yaw=start.heading,
+                speed=float(start.speed),
+            )
+        )
+    return specs, problems

@@ -1,0 +1,174 @@
+"""The one tick loop: behaviour tree, controllers and world advanced together.
+
+Each control tick (50 ms by default):
+
+1. the edge detectors (``rise``, ``fall``, ``every``) read this tick's state;
+2. the behaviour tree is ticked once (behaviours set controller targets);
+3. every controller turns its targets and its actor's state into inputs;
+4. the world advances one control step (its physics sub-steps);
+5. every actor's state is read once, and recorded; collisions and road
+   departures come back as world events.
+
+Nothing reads the wall clock except to report the real-time factor: the same
+inputs give the same ticks. :meth:`TickLoop.run` returns how the run ended with
+what it recorded, also when it is interrupted or a bug stops it, so that the
+caller can write the files before re-raising.
+"""
+
+from __future__ import annotations
+
+import time as wallclock
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import py_trees
+from py_trees.common import Status
+
+from osc2runner.compile.composites import running_open
+from osc2runner.execution.context import RunContext
+from osc2runner.output.telemetry import Recorder
+from osc2runner.sim import World
+
+__all__ = ["RunOutcome", "TickLoop", "Ticked"]
+
+
+@dataclass(frozen=True, slots=True)
+class RunOutcome:
+    """How a run ended: ``success``, ``failure``, ``timeout``, ``interrupted`` or ``error``."""
+
+    status: str
+    reason: str
+    tick: int
+    time: float
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "success"
+
+
+@dataclass
+class Ticked:
+    """What the loop did: its outcome, the telemetry, the wall time, and an exception that
+    stopped it (KeyboardInterrupt or a bug), to re-raise once the files are written."""
+
+    outcome: RunOutcome
+    recorder: Recorder
+    wall_seconds: float
+    error: BaseException | None = None
+
+
+class TickLoop:
+    """The tick loop of one run (see the module docstring).
+
+    ``step()`` does one control tick and returns the outcome once the run has
+    ended; ``run(limit)`` steps to the end. :meth:`without_scenario` drives
+    controllers and a world with no behaviour tree (physics measurements).
+    """
+
+    def __init__(
+        self,
+        root: py_trees.behaviour.Behaviour,
+        ctx: RunContext,
+        world: World,
+        *,
+        limit: float = float("inf"),
+    ) -> None:
+        self.root = root
+        self.ctx = ctx
+        self.world = world
+        self.limit = limit
+        self.max_ticks = max(0, round(limit / world.dt_control)) if limit != float("inf") else -1
+        py_trees.trees.BehaviourTree(root).setup(context=ctx)
+        self.recorder = Recorder(world.names, world.dt_control)
+        self.recorder.record(ctx.states, world.tick, world.time, ctx.controllers)
+
+    @classmethod
+    def without_scenario(cls, world: World, controllers: dict[str, Any]) -> TickLoop:
+        """A loop that steps ``controllers`` and ``world`` under a tree that never ends."""
+        ctx = RunContext(world.road, [], dt=world.dt_control)
+        ctx.attach(world, controllers)
+        return cls(py_trees.behaviours.Running(name="no scenario"), ctx, world)
+
+    def step(self) -> RunOutcome | None:
+        """One control tick; the outcome when the run ends with it, else None."""
+        ctx, world, root = self.ctx, self.world, self.root
+        ctx.begin_tick()
+        for _ in root.tick():
+            pass
+        outcome = _tree_outcome(root, ctx, world, self.max_ticks, self.limit)
+        if outcome is not None:
+            return outcome
+        states, controllers = ctx.states, ctx.controllers
+        inputs = {name: c.step(states[name]) for name, c in controllers.items()}
+        events = world.step_control(inputs)
+        ctx.refresh()
+        self.recorder.record(states, world.tick, world.time, controllers)
+        return _world_events(ctx, events) if events else None
+
+    def run(self, progress: Callable[[float, float, float], None] | None = None) -> Ticked:
+        """Step until the run ends; also when it is interrupted or a bug stops it."""
+        ctx, world = self.ctx, self.world
+        progress_every = max(1, round(1.0 / world.dt_control))
+        start_wall = wallclock.perf_counter()
+        outcome: RunOutcome | None = None
+        error: BaseException | None = None
+        try:
+            while outcome is None:
+                outcome = self.step()
+                if progress is not None and world.tick % progress_every == 0:
+                    progress(world.time, self.limit, wallclock.perf_counter() - start_wall)
+        except KeyboardInterrupt as exc:
+            outcome = RunOutcome("interrupted", "interrupted", ctx.tick, ctx.time)
+            error = exc
+        except BaseException as exc:  # a bug: recorded, reported, re-raised by the caller
+            outcome = RunOutcome(
+                "error", f"internal error: {type(exc).__name__}: {exc}", ctx.tick, ctx.time
+            )
+            error = exc
+        wall = wallclock.perf_counter() - start_wall
+        ctx.record("outcome", outcome.status, outcome.reason)
+        return Ticked(outcome, self.recorder, wall, error)
+
+
+def _tree_outcome(
+    root: py_trees.behaviour.Behaviour, ctx: RunContext, world: World, max_ticks: int, limit: float
+) -> RunOutcome | None:
+    if ctx.failed is not None:
+        return RunOutcome("failure", ctx.failed, ctx.tick, ctx.time)
+    status = root.status
+    if status == Status.SUCCESS:
+        return RunOutcome("success", "the scenario's behaviour ended", ctx.tick, ctx.time)
+    if status == Status.FAILURE:
+        return RunOutcome("failure", _failure_reason(root), ctx.tick, ctx.time)
+    if 0 <= max_ticks <= world.tick:
+        if running_open(getattr(root, "do", root)):
+            return RunOutcome(
+                "success",
+                f"time limit {limit:g} s reached with only open-ended actions running",
+                ctx.tick,
+                ctx.time,
+            )
+        return RunOutcome("timeout", f"time limit {limit:g} s reached", ctx.tick, ctx.time)
+    return None
+
+
+def _failure_reason(root: py_trees.behaviour.Behaviour) -> str:
+    failed = [n for n in root.iterate() if n.status == Status.FAILURE and not n.children]
+    if failed:
+        node = failed[0]
+        why = f": {node.feedback_message}" if node.feedback_message else ""
+        return f"`{node.name}` failed{why}"
+    return "the scenario's behaviour failed"
+
+
+def _world_events(ctx: RunContext, events: list[Any]) -> RunOutcome | None:
+    outcome = None
+    for event in events:
+        ctx.record(event.kind, "-".join(event.actors), event.detail, tuple(event.actors))
+        if event.kind == "collision" and outcome is None:
+            if not any(ctx.collisions_allowed.get(a, 0) > 0 for a in event.actors):
+                outcome = RunOutcome(
+                    "failure", f"collision: {' and '.join(event.actors)}", event.tick, event.time
+                )
+    return outcome

@@ -1,0 +1,75 @@
+"""The scenario instance a run executes: the witness's values, the actors, the road.
+
+:func:`instantiate` draws the checker's witness for the seed (``osc2check.solve``,
+the only source of values and starts), builds the actors from its catalogue
+rows and takes the road it placed them on.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from osc2check.analysis import Analysis
+from osc2check.road import Road, UnknownMapError
+from osc2check.semantics.symbols import Symbol
+from osc2check.verify.api import Unsolvable, solve
+from osc2check.verify.witness import Witness
+from osc2runner.errors import RunProblem, ScenarioError
+from osc2runner.instance.actors import Actor, scenario_actors
+from osc2runner.instance.roads import road_for
+from osc2runner.instance.values import ScenarioValues
+
+__all__ = ["ScenarioInstance", "instantiate"]
+
+
+@dataclass
+class ScenarioInstance:
+    """One concrete instance of a scenario: the witness and what the runner builds from it."""
+
+    scenario: Symbol
+    witness: Witness
+    values: ScenarioValues
+    actors: list[Actor]
+    road: Road
+
+
+def instantiate(analysis: Analysis, uri: str, scenario: Symbol, seed: int) -> ScenarioInstance:
+    """The instance of ``scenario`` for ``seed``; ScenarioError when it has none."""
+    model = analysis.programs[uri].model
+    witness = solve(analysis, scenario=scenario.name, seed=seed, uri=uri)
+    if isinstance(witness, Unsolvable):
+        span = scenario.name_span
+        if witness.status == "unsat":
+            raise ScenarioError(
+                [RunProblem(f"scenario `{scenario.name}` has no solution", span)],
+                diagnostics=witness.diagnostics,
+                texts=analysis.texts,
+            )
+        raise ScenarioError(
+            [
+                RunProblem(
+                    f"the solver could not decide scenario `{scenario.name}` "
+                    f"({witness.status}); nothing to run",
+                    span,
+                )
+            ],
+            diagnostics=witness.diagnostics,
+            texts=analysis.texts,
+        )
+    if witness.unused_map is not None:
+        raise ScenarioError(
+            [
+                RunProblem(
+                    f"map `{witness.unused_map}` cannot be used by the runner: "
+                    + "; ".join(witness.notes),
+                    scenario.name_span,
+                )
+            ]
+        )
+    values = ScenarioValues(model, scenario, witness)
+    actors = scenario_actors(model, scenario, values, witness)
+    try:
+        road = road_for(witness.map or None)
+    except UnknownMapError as exc:
+        raise ScenarioError([RunProblem(str(exc), scenario.name_span)]) from None
+    return ScenarioInstance(scenario, witness, values, actors, road)

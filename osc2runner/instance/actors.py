@@ -1,0 +1,115 @@
+"""The actors of a scenario instance: which fields are actors, and what each one is in the world.
+
+A scenario field whose type is an actor becomes an :class:`Actor`. Its kind
+says how the world represents it:
+
+========================= ============ ==========================================
+OSC2 type (or subtype)    kind         in the world
+========================= ============ ==========================================
+``vehicle``               vehicle      MuJoCo multibody vehicle of its catalogue row
+``person``, ``animal``    pedestrian   kinematic walker
+``stationary_object``     obstacle     static box
+``environment``           environment  weather and road friction (no body)
+``map``                   map          selects the road (``map_file``)
+anything else             other        no body; invoking an action on it is an error
+========================= ============ ==========================================
+
+What a body actor is comes from the witness (``ActorStart.model``: the row of
+``osc2check.world.catalogue`` the checker placed it with, and its length and
+width), so the body the world builds has the footprint the checker placed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from osc2check.semantics import types as T
+from osc2check.semantics.constants import Value
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.verify.witness import ActorStart, Witness
+from osc2check.world.catalogue import MODELS, ActorRow, category_row, kind_row
+from osc2runner.instance.bodies import ActorParams, body_params
+from osc2runner.instance.values import ScenarioValues, scenario_fields
+
+__all__ = ["Actor", "actor_kind", "scenario_actors"]
+
+_KINDS = (
+    ("vehicle", "vehicle"),
+    ("person", "pedestrian"),
+    ("animal", "pedestrian"),
+    ("stationary_object", "obstacle"),
+    ("environment", "environment"),
+    ("map", "map"),
+)
+
+
+@dataclass
+class Actor:
+    """One actor of the scenario instance.
+
+    ``name`` is the field name (also the actor's name in the world and the
+    telemetry); ``type`` the OSC2 actor type; ``attributes`` the attributes a
+    constraint decides (``model``, ``vehicle_category``, ...), exact; ``row`` the
+    catalogue row of a body actor and ``start`` its start in the witness.
+    """
+
+    name: str
+    symbol: Symbol
+    type: Symbol
+    kind: str
+    params: ActorParams | None = None
+    attributes: dict[str, Value] = field(default_factory=dict)
+    row: ActorRow | None = None
+    start: ActorStart | None = None
+
+    @property
+    def has_body(self) -> bool:
+        return self.kind in ("vehicle", "pedestrian", "obstacle")
+
+    @property
+    def blueprint(self) -> str | None:
+        """The catalogue row the body is built from (a model name, category or kind)."""
+        return self.row.key if self.row is not None else None
+
+    def __repr__(self) -> str:
+        return f"<actor {self.name}: {self.type.name}>"
+
+
+def actor_kind(model: Model, type_symbol: Symbol) -> str:
+    """``vehicle``, ``pedestrian``, ``obstacle``, ``environment``, ``map`` or ``other``."""
+    names = [s.name for s in model.ancestors(type_symbol)]
+    for base, kind in _KINDS:
+        if base in names:
+            return kind
+    return "other"
+
+
+def _row(start: ActorStart) -> ActorRow:
+    if start.model in MODELS:
+        return MODELS[start.model]
+    if start.kind == "vehicle":
+        return category_row(start.category)
+    return kind_row(start.kind)
+
+
+def scenario_actors(
+    model: Model, scenario: Symbol, values: ScenarioValues, witness: Witness
+) -> list[Actor]:
+    """The scenario's actor fields, in declaration order, built as the witness says."""
+    actors: list[Actor] = []
+    for sym in scenario_fields(model, scenario):
+        t = sym.type
+        if t is None or t.kind is not T.Kind.COMPOUND or t.symbol is None:
+            continue
+        if t.symbol.kind is not SymbolKind.ACTOR:
+            continue
+        kind = actor_kind(model, t.symbol)
+        actor = Actor(sym.name, sym, t.symbol, kind, attributes=values.attributes(sym))
+        start = witness.actor(sym.name)
+        if actor.has_body and start is not None:
+            actor.row = _row(start)
+            actor.start = start
+            actor.params = body_params(actor.row, float(start.length), float(start.width))
+        actors.append(actor)
+    return actors

@@ -1,0 +1,113 @@
+"""Parameter values of one scenario instance: the checker's witness, and nothing else.
+
+The checker's solver draws a witness for the seed (``osc2check.solve``): an exact
+value for every parameter that a constraint, a default or an argument decides,
+and every actor's category, size and start. The runner executes exactly that.
+:class:`ScenarioValues` reads it as exact values of
+``osc2check.semantics.constants`` (a speed is a ``Quantity`` in SI units);
+``constants.to_runtime`` turns them into the floats the simulation runs with.
+
+``var`` fields are not parameters: their initialisers are evaluated when the
+run starts (constant ones exactly, here; the others by the compiler, over the
+live state).
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+from osc2check.semantics import types as T
+from osc2check.semantics.constants import EnumValue, NotConstant, Quantity, Value, to_json
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.verify.witness import Witness
+
+__all__ = ["ScenarioValues", "scenario_fields"]
+
+
+def scenario_fields(model: Model, scenario: Symbol) -> list[Symbol]:
+    """The fields (parameters and variables, not events) of a scenario, inherited first."""
+    return [
+        m for m in model.all_members(scenario) if m.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE)
+    ]
+
+
+def exact(value: Fraction | bool | str, type_: T.Type | None, model: Model) -> Value:
+    """A witness value as the exact value of its type (a speed becomes a Quantity)."""
+    if isinstance(value, bool) or type_ is None:
+        return value
+    if type_.kind is T.Kind.PHYSICAL and isinstance(value, Fraction):
+        return Quantity(value, type_.dimension or T.DIMENSIONLESS)
+    if type_.kind in (T.Kind.INT, T.Kind.UINT) and isinstance(value, Fraction):
+        return int(value)
+    if type_.kind is T.Kind.ENUM and isinstance(value, str):
+        enum = type_.symbol
+        members = model.enum_values(enum) if enum is not None else []
+        number = next((m.value for m in members if m.name == value), 0)
+        return EnumValue(enum.name if enum is not None else "", value, number)
+    return value
+
+
+class ScenarioValues:
+    """The witness's values of one scenario instance (see the module docstring)."""
+
+    def __init__(self, model: Model, scenario: Symbol, witness: Witness) -> None:
+        self.model = model
+        self.scenario = scenario
+        self.witness = witness
+        self.fields = scenario_fields(model, scenario)
+        self._by_name = {p.name: p for p in witness.parameters}
+
+    def value(self, field: Symbol) -> Value:
+        """The value of a scenario parameter; NotConstant when the witness has none."""
+        p = self._by_name.get(field.name)
+        if p is None:
+            raise NotConstant(
+                f"the checker's witness gives `{field.name}` no value (the solver cannot "
+                "encode its type)",
+                field.decl,
+            )
+        return exact(p.value, field.type, self.model)
+
+    def attribute(self, actor: Symbol, member: str) -> Value | None:
+        """An actor field's attribute that a constraint decides (``keep(it.model ==
+        ...)``), or None: attributes nothing constrains are not chosen by the solver."""
+        p = self._by_name.get(f"{actor.name}.{member}")
+        if p is None or not p.constrained:
+            return None
+        owner = actor.type.symbol if actor.type is not None else None
+        found = self.model.member(owner, member) if owner is not None else []
+        return exact(p.value, found[0].type if found else None, self.model)
+
+    def attributes(self, actor: Symbol) -> dict[str, Value]:
+        """Every attribute of an actor field that a constraint decides."""
+        result: dict[str, Value] = {}
+        prefix = f"{actor.name}."
+        for name in self._by_name:
+            rest = name[len(prefix) :] if name.startswith(prefix) else ""
+            if rest and "@" not in rest and "." not in rest:
+                value = self.attribute(actor, rest)
+                if value is not None:
+                    result[rest] = value
+        return result
+
+    def table(self) -> dict[str, object]:
+        """The scenario's own parameters by name (JSON-ready), for the run metadata."""
+        result: dict[str, object] = {}
+        for field in self.fields:
+            if field.kind is not SymbolKind.FIELD:
+                continue
+            if field.type is not None and field.type.kind is T.Kind.COMPOUND:
+                attrs = self.attributes(field)
+                if attrs:
+                    result[field.name] = {k: to_json(v) for k, v in attrs.items()}
+                continue
+            try:
+                result[field.name] = to_json(self.value(field))
+            except NotConstant:
+                continue
+        return result
+
+    @property
+    def source(self) -> str:
+        return f"witness (seed {self.witness.seed})"
