@@ -26,8 +26,10 @@ from lark.parsers.lalr_analysis import Shift
 from osc2check.syntax.lexer import Token
 
 BOUNDARIES = frozenset({"_NL", "_DEDENT", "$END"})
-# Terminals tried at the second and third step of a repair.
-_REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_DEDENT")
+# Terminals a repair may insert, tried in this order, at most MAX_REPAIR of them
+# (the language server's ``expected.run`` repairs with the same alphabet and depth).
+REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_DEDENT")
+MAX_REPAIR = 3
 _MAX_FORKS = 400
 
 
@@ -59,7 +61,7 @@ def _repair(ip, boundary: Token) -> list[Token] | None:
     """The shortest terminal sequence after which ``boundary`` is accepted."""
     forks = 0
     frontier: list[list[str]] = [[]]
-    for _depth in range(3):
+    for _depth in range(MAX_REPAIR):
         next_frontier: list[list[str]] = []
         for prefix in frontier:
             if prefix:
@@ -72,7 +74,7 @@ def _repair(ip, boundary: Token) -> list[Token] | None:
             else:
                 base = ip
             choices = base.choices()
-            candidates = [k for k in _REPAIR_ALPHABET if k in choices]
+            candidates = [k for k in REPAIR_ALPHABET if k in choices]
             for kind in candidates:
                 if kind in ("$END", boundary.type):
                     continue

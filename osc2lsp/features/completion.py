@@ -23,13 +23,13 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.types import Kind, Type
 from osc2check.syntax import ast
+from osc2check.syntax.expected import keywords
 from osc2lsp.features import describe
 from osc2lsp.features.context import PLACEHOLDER, Cursor, Focus, cursor_at, focus
-from osc2lsp.features.grammar_state import keywords
 from osc2lsp.features.lookup import BEHAVIOR_KINDS, Scope, visible_globals
 from osc2lsp.snapshot import Snapshot
 
-_TYPE_AFTER = frozenset({"COLON", "OF", "__ANON_1", "INHERITS", "EXTEND"})
+_TYPE_AFTER = frozenset({"COLON", "OF", "ARROW", "INHERITS", "EXTEND"})
 _DECLARING = frozenset(
     {
         "SCENARIO",

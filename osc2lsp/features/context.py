@@ -30,9 +30,9 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.program import build_program
 from osc2check.source import decode_source
 from osc2check.syntax import ParseResult, ast, parse
+from osc2check.syntax import expected
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
-from osc2lsp.features import grammar_state
 from osc2lsp.features.lookup import Scope, node_path, scope_at
 from osc2lsp.snapshot import Snapshot
 
@@ -93,7 +93,7 @@ class Cursor:
     chunk: tuple[int, int]
     word: tuple[int, int]  # the identifier being typed (replaced by a completion)
     tokens: list[Token]  # significant tokens of the chunk before the word (chunk-relative)
-    state: grammar_state.GrammarState | None
+    state: expected.GrammarState | None
     in_comment: bool = False
     in_string: bool = False
     number: Token | None = None  # a number right before the cursor (`0.5` in `elapsed(0.5`)
@@ -163,7 +163,7 @@ def cursor_at(text: str, offset: int) -> Cursor:
     cut = next((i for i, t in enumerate(laid_out) if t is sentinel), len(laid_out))
     prefix_tokens = laid_out[:cut]
     cursor.statement_start = not prefix_tokens or prefix_tokens[-1].type in _LAYOUT
-    cursor.state = grammar_state.run([t.type for t in prefix_tokens])
+    cursor.state = expected.run([t.type for t in prefix_tokens])
     cursor.tokens = [t for t in prefix_tokens if t.type not in _LAYOUT]
     return cursor
 
@@ -293,7 +293,7 @@ def _placeholder_text(cursor: Cursor) -> str:
         "UNTIL",
         "IF",
         "KEEP",
-        "__ANON_0",
+        "DOUBLE_COLON",
     ):
         return PLACEHOLDER
     return ""

@@ -27,9 +27,9 @@ from osc2check.syntax.lexer import Token, tokenize
 
 _NEWLINE = re.compile(r"\r\n|\r|\n")
 _NO_SPACE_BEFORE = frozenset(
-    {"COMMA", "RPAR", "RSQB", "COLON", "DOT", "DOTDOT", "BANG", "__ANON_0"}
+    {"COMMA", "RPAR", "RSQB", "COLON", "DOT", "DOTDOT", "BANG", "DOUBLE_COLON"}
 )
-_NO_SPACE_AFTER = frozenset({"LPAR", "LSQB", "DOT", "DOTDOT", "BANG", "__ANON_0", "AT"})
+_NO_SPACE_AFTER = frozenset({"LPAR", "LSQB", "DOT", "DOTDOT", "BANG", "DOUBLE_COLON", "AT"})
 # Tokens after which `(` opens an argument list (no space before it).
 _CALLABLE = frozenset(
     {
@@ -66,7 +66,7 @@ _OPERAND_EXPECTED = frozenset(
         "IN",
         "QMARK",
         "DOTDOT",
-        "__ANON_1",
+        "ARROW",
         "KEEP",
         "RETURN",
         "WAIT",
@@ -244,6 +244,6 @@ def _space(before: Token | None, a: Token, b: Token) -> bool:
         return not (a.type in _CALLABLE or a.type in _SOFT_NAMES)
     if b.type == "LSQB":
         return a.type not in _INDEXABLE
-    if a.type == "MUL_OP" and before is not None and before.type == "__ANON_0":
+    if a.type == "MUL_OP" and before is not None and before.type == "DOUBLE_COLON":
         return False  # `ns::*`
     return True

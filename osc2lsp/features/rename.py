@@ -14,7 +14,7 @@ from collections.abc import Iterable
 from osc2check.diagnostics import TextEdit
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
-from osc2lsp.features.grammar_state import keywords, soft_keywords
+from osc2check.syntax.expected import keywords, soft_keywords
 from osc2lsp.features.navigation import declaration_span, references_of, symbol_at
 from osc2lsp.snapshot import Snapshot
 

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
+from osc2check.syntax.expected import keywords, run
 from osc2lsp.features.context import chunk_bounds, cursor_at, focus, map_offset
-from osc2lsp.features.grammar_state import keywords, run
 from tests.osc2lsp.lsp_helpers import cursor, seed_text, snapshot
 
 TEXT = "import osc.standard\n\nscenario a:\n    x: int\n\n# note\nscenario b:\n    y: int\n"

@@ -1,10 +1,13 @@
-"""What the grammar accepts at a point: lark's LALR table driven over a token prefix.
+"""What may come next at a point: lark's LALR table driven over a token prefix.
 
-Only the state stack is kept (no values, no tree callbacks), so a prefix of a
-few hundred tokens is fed in well under a millisecond. Tokens the parser
-cannot take are repaired the way the checker's recovery does it, in a
-simpler form: a missing `)`/`]`/`:` before a line end is inserted, a
-statement that cannot be completed is popped, other tokens are dropped.
+The language server completes with it; it is a question about the syntax, so it
+lives here beside the parser. Only the state stack is kept (no values, no tree
+callbacks), so a prefix of a few hundred tokens is fed in well under a
+millisecond. Tokens the parser cannot take are repaired as the checker's
+recovery (``recover.py``) repairs them, with its alphabet and depth: at a
+statement boundary the shortest sequence of missing terminals (a `)`, a `:`) is
+inserted, else the statement that cannot be completed is popped; other tokens
+are dropped; an unexpected indented block is skipped.
 """
 
 from __future__ import annotations
@@ -16,18 +19,10 @@ from lark.lexer import PatternStr
 from lark.parsers.lalr_analysis import Shift
 
 from osc2check.syntax.grammar import lark_parser
+from osc2check.syntax.recover import MAX_REPAIR, REPAIR_ALPHABET
 
 _BOUNDARIES = frozenset({"_NL", "_DEDENT"})
-_REPAIRS = (
-    ("RPAR",),
-    ("RSQB",),
-    ("COLON",),
-    ("NAME",),
-    ("RPAR", "RPAR"),
-    ("RPAR", "COLON"),
-    ("NAME", "RPAR"),
-    ("RSQB", "RPAR"),
-)
+_MAX_TRIALS = 400  # repair candidates tried at one boundary (as recovery's fork limit)
 _IDENTIFIER = re.compile(r"[^\W\d]\w*")
 
 
@@ -98,14 +93,6 @@ class GrammarState:
                 return False
             stack.append(goto[1])
 
-    def feed_all(self, types) -> bool:
-        trial = self.copy()
-        for t in types:
-            if not trial.feed(t):
-                return False
-        self.stack = trial.stack
-        return True
-
     def accepts(self) -> frozenset[str]:
         """Terminals that can come next."""
         states = _table()[0]
@@ -132,14 +119,9 @@ def run(types: list[str]) -> GrammarState:
             i += 1
             continue
         if t in _BOUNDARIES or t == "_INDENT":
-            repaired = False
-            for fix in _REPAIRS:
-                trial = state.copy()
-                if trial.feed_all(fix) and trial.feed(t):
-                    state = trial
-                    repaired = True
-                    break
-            if repaired:
+            repaired = _repair(state, t)
+            if repaired is not None:
+                state = repaired
                 i += 1
                 continue
             if t == "_INDENT":  # an unexpected block: skip it
@@ -158,6 +140,28 @@ def run(types: list[str]) -> GrammarState:
                 continue
         i += 1  # drop the token
     return state
+
+
+def _repair(state: GrammarState, boundary: str) -> GrammarState | None:
+    """The state after the shortest repair sequence that makes ``boundary`` acceptable."""
+    frontier = [state]
+    trials = 0
+    for _depth in range(MAX_REPAIR):
+        following: list[GrammarState] = []
+        for base in frontier:
+            for kind in REPAIR_ALPHABET:
+                if kind == boundary or trials >= _MAX_TRIALS:
+                    continue
+                trials += 1
+                trial = base.copy()
+                if not trial.feed(kind):
+                    continue
+                done = trial.copy()
+                if done.feed(boundary):
+                    return done
+                following.append(trial)
+        frontier = following
+    return None
 
 
 def _pop_until(state: GrammarState, ttype: str) -> GrammarState | None:
