@@ -151,7 +151,7 @@ INVALID_UNIT_DECLARATION = Code(
 NOT_CALLABLE = Code("T208", "not-callable", E, "something that is not a method is called")
 
 # --- A: arguments and invocations ------------------------------------------
-UNKNOWN_BEHAVIOR = Code(
+UNKNOWN_ACTION_OR_MODIFIER = Code(
     "A301",
     "unknown-action-or-modifier",
     E,

@@ -347,7 +347,7 @@ def not_an_actor_value(span: Span, value_type) -> Diagnostic:
     )
 
 
-def modifier_of_not_behavior(span: Span, symbol) -> Diagnostic:
+def modifier_of_not_behaviour(span: Span, symbol) -> Diagnostic:
     return _diag(
         codes.TYPE_MISMATCH,
         f"a modifier's `of` names a scenario or an action; {_where(symbol)} is neither",
@@ -564,10 +564,10 @@ def _callee(symbol) -> str:
     return f"`{symbol.name}`"
 
 
-def unknown_behavior(span: Span, name: str, actor, suggestion: str | None) -> Diagnostic:
+def unknown_behaviour(span: Span, name: str, actor, suggestion: str | None) -> Diagnostic:
     owner = f"actor `{actor.name}`" if actor is not None else "this scope"
     return _diag(
-        codes.UNKNOWN_BEHAVIOR,
+        codes.UNKNOWN_ACTION_OR_MODIFIER,
         f"{owner} has no action or scenario `{name}`{_did_you_mean(suggestion)}",
         span,
         fix=_replace_fix(span, suggestion),
@@ -577,7 +577,7 @@ def unknown_behavior(span: Span, name: str, actor, suggestion: str | None) -> Di
 
 def unknown_modifier(span: Span, name: str, suggestion: str | None) -> Diagnostic:
     return _diag(
-        codes.UNKNOWN_BEHAVIOR,
+        codes.UNKNOWN_ACTION_OR_MODIFIER,
         f"unknown modifier `{name}`{_did_you_mean(suggestion)}",
         span,
         fix=_replace_fix(span, suggestion),
@@ -590,7 +590,7 @@ def modifier_not_applicable(span: Span, modifier) -> Diagnostic:
     where = f"`{owner.qualified_name}`" if owner is not None else "another declaration"
     related = [Related(modifier.name_span, "declared here")] if modifier.name_span else []
     return _diag(
-        codes.UNKNOWN_BEHAVIOR,
+        codes.UNKNOWN_ACTION_OR_MODIFIER,
         f"modifier `{modifier.name}` belongs to {where} and cannot be applied here",
         span,
         related,

@@ -14,13 +14,11 @@ from osc2check.semantics.calls import CallChecker, Extra
 from osc2check.semantics.declare import Pending
 from osc2check.semantics.expressions import ExpressionChecker
 from osc2check.semantics.model import Context, Model
-from osc2check.semantics.scope import Scope
+from osc2check.semantics.scope import BEHAVIOUR_KINDS, Scope, declaration_scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-
-_BEHAVIOR_KINDS = (SymbolKind.SCENARIO, SymbolKind.ACTION, SymbolKind.MODIFIER)
 
 
 class BodyChecker:
@@ -62,15 +60,7 @@ class BodyChecker:
             if isinstance(p.decl, ast.ExtendDecl):
                 target = self.model.declarations.get(p.decl)
                 if target is not None:
-                    self._members(target, p.decl.members, self._scope_for(target, p.context))
-
-    def _scope_for(self, sym: Symbol, ctx: Context) -> Scope:
-        it = sym.type  # in a declaration's own body, `it` is the instance being declared
-        if sym.kind is SymbolKind.MODIFIER:
-            it = sym.of.type if sym.of is not None else None
-        return Scope(
-            ctx, owner=sym, it=it, actor=sym.actor if sym.kind in _BEHAVIOR_KINDS else None
-        )
+                    self._members(target, p.decl.members, declaration_scope(target, p.context))
 
     def _enum_values(self, decl: ast.EnumDecl, ctx: Context) -> None:
         for member in decl.members:
@@ -80,7 +70,7 @@ class BodyChecker:
                 self.expr.check(member.value, Scope(ctx), T.UINT, "enum value")
 
     def _structured(self, sym: Symbol, decl: ast.StructuredDecl, ctx: Context) -> None:
-        scope = self._scope_for(sym, ctx)
+        scope = declaration_scope(sym, ctx)
         if decl.inherits is not None and decl.inherits.condition is not None and sym.parent:
             self._condition(sym, decl.inherits.condition, ctx)
         self._members(sym, decl.members, scope)
@@ -113,24 +103,24 @@ class BodyChecker:
                 case ast.CoverageDecl():
                     self._coverage(member, scope)
                 case ast.Invocation():
-                    if owner.kind in _BEHAVIOR_KINDS:
+                    if owner.kind in BEHAVIOUR_KINDS:
                         self._modifier_application(member, scope, None, None)
                     else:  # struct and actor members include no modifier application
                         self.report(messages.misplaced_modifier(member.span, owner))
                 case ast.OnDirective():
-                    self._behavior_allowed(owner, member)
+                    self._behaviour_allowed(owner, member)
                     local = self._event_spec(member.event, scope)
                     for item in member.members:
                         self._do_body(item, local, emitted)
                 case ast.DoDirective():
-                    if self._behavior_allowed(owner, member):
+                    if self._behaviour_allowed(owner, member):
                         self._dos[owner] = self._dos.get(owner, 0) + 1
                         if self._dos[owner] > 1:  # §7.3.9: extensions included
                             self.report(messages.second_do(member.span, owner))
                     self._do_member(member.member, scope.child(), emitted)
 
-    def _behavior_allowed(self, owner: Symbol, member: ast.Node) -> bool:
-        if owner.kind in _BEHAVIOR_KINDS:
+    def _behaviour_allowed(self, owner: Symbol, member: ast.Node) -> bool:
+        if owner.kind in BEHAVIOUR_KINDS:
             return True
         self.report(
             messages.misplaced_member(
@@ -377,7 +367,7 @@ class BodyChecker:
             case ast.Composition():
                 self._composition(body, scope, emitted)
             case ast.Invocation():
-                behavior = self._behavior_invocation(body, scope)
+                behaviour = self._behaviour_invocation(body, scope)
                 label = next(
                     (
                         s
@@ -388,8 +378,8 @@ class BodyChecker:
                     ),
                     None,
                 )
-                if label is not None and behavior is not None:
-                    label.type = behavior.type
+                if label is not None and behaviour is not None:
+                    label.type = behaviour.type
             case ast.Wait():
                 self._event_spec(body.event, scope)
             case ast.Emit():
@@ -460,7 +450,7 @@ class BodyChecker:
         self.report(messages.not_an_actor_value(expr.span, t))
         return None, False
 
-    def _behavior_invocation(self, inv: ast.Invocation, scope: Scope) -> Symbol | None:
+    def _behaviour_invocation(self, inv: ast.Invocation, scope: Scope) -> Symbol | None:
         actor, known = self._actor_of(inv.actor, scope)
         if not known or inv.name.missing:
             self._loose(inv, scope)
@@ -468,39 +458,39 @@ class BodyChecker:
         name = inv.name.text
         found: list[Symbol] = []
         if actor is not None:
-            found = self.model.behavior(actor, name)
+            found = self.model.behaviour(actor, name)
         else:
             if scope.actor is not None:
-                found = self.model.behavior(scope.actor, name)
+                found = self.model.behaviour(scope.actor, name)
             if not found:
-                found = self.model.lookup(name, scope.context, None, lambda s: s.kind.is_behavior)
+                found = self.model.lookup(name, scope.context, None, lambda s: s.kind.is_behaviour)
                 if self.model.ambiguous(found):
                     self.report(messages.ambiguous_name(inv.name.span, name, found))
                     self._loose(inv, scope)
                     return None
         if not found:
-            pool = [s.name for s in self.model.behaviors_of(actor or scope.actor)]
-            self.report(messages.unknown_behavior(inv.name.span, name, actor, closest(name, pool)))
+            pool = [s.name for s in self.model.behaviours_of(actor or scope.actor)]
+            self.report(messages.unknown_behaviour(inv.name.span, name, actor, closest(name, pool)))
             self._loose(inv, scope)
             return None
-        behavior = found[0]
-        self.model.references[inv.name] = behavior
-        if behavior.toolkit:
-            self.report(messages.toolkit_extension(inv.name.span, behavior))
+        behaviour = found[0]
+        self.model.references[inv.name] = behaviour
+        if behaviour.toolkit:
+            self.report(messages.toolkit_extension(inv.name.span, behaviour))
         self.calls.check(
-            behavior,
-            self.model.parameters(behavior),
+            behaviour,
+            self.model.parameters(behaviour),
             inv.arguments,
             scope,
             inv.span,
             self._duration_extra(),
-            library_rules=behavior.library,
+            library_rules=behaviour.library,
             allow_range=True,
         )
-        inner = scope.child(it=behavior.type, behavior=behavior)
+        inner = scope.child(it=behaviour.type, behaviour=behaviour)
         for item in inv.with_members:
-            self._with_member(item, inner, behavior, actor or scope.actor)
-        return behavior
+            self._with_member(item, inner, behaviour, actor or scope.actor)
+        return behaviour
 
     def _loose(self, inv: ast.Invocation, scope: Scope) -> None:
         for arg in inv.arguments:
@@ -511,7 +501,7 @@ class BodyChecker:
                 self.expr.check(item.expr, scope.child(it=T.UNKNOWN))
 
     def _with_member(
-        self, item: ast.Node, scope: Scope, behavior: Symbol | None, actor: Symbol | None
+        self, item: ast.Node, scope: Scope, behaviour: Symbol | None, actor: Symbol | None
     ) -> None:
         match item:
             case ast.KeepConstraint():
@@ -521,10 +511,10 @@ class BodyChecker:
             case ast.Until():
                 self._event_spec(item.event, scope)
             case ast.Invocation():
-                self._modifier_application(item, scope, behavior, actor)
+                self._modifier_application(item, scope, behaviour, actor)
 
     def _modifier_application(
-        self, inv: ast.Invocation, scope: Scope, behavior: Symbol | None, actor: Symbol | None
+        self, inv: ast.Invocation, scope: Scope, behaviour: Symbol | None, actor: Symbol | None
     ) -> None:
         if inv.name.missing:
             return
@@ -540,11 +530,11 @@ class BodyChecker:
         if receiver is not None:
             keys = [receiver]
         else:
-            if behavior is not None:
-                keys.append(behavior)
+            if behaviour is not None:
+                keys.append(behaviour)
             if actor is not None:
                 keys.append(actor)
-            if scope.owner is not None and scope.owner.kind in _BEHAVIOR_KINDS:
+            if scope.owner is not None and scope.owner.kind in BEHAVIOUR_KINDS:
                 keys.append(scope.owner)
                 if scope.owner.actor is not None:
                     keys.append(scope.owner.actor)

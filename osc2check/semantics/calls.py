@@ -144,6 +144,6 @@ class CallChecker:
             given = [n for n in bound if n in group]
             if len(given) > 1:
                 self.report(messages.exclusive_arguments(bound[given[1]].span, callee, given))
-        for (behavior, arg), needed in REQUIRES.items():
-            if behavior == callee.name and arg in bound and needed not in bound:
+        for (behaviour, arg), needed in REQUIRES.items():
+            if behaviour == callee.name and arg in bound and needed not in bound:
                 self.report(messages.incomplete_arguments(bound[arg].span, callee, arg, needed))

@@ -262,7 +262,7 @@ class Declarer:
 
     # ---- pass 2: structure -----------------------------------------------------------
 
-    def structure(self, resolve_type, resolve_behavior_name) -> None:
+    def structure(self, resolve_type, resolve_behaviour_name) -> None:
         """Bind units, actors, parents, extensions and members (in that order)."""
         self._resolve_type = resolve_type
         self._bind_exports()
@@ -276,13 +276,13 @@ class Declarer:
         ]
         for p in structured:  # modifiers `of` a behaviour need the behaviours first
             if not (isinstance(p.decl, ast.ModifierDecl) and p.decl.of is not None):
-                self._associate(p, resolve_behavior_name)
+                self._associate(p, resolve_behaviour_name)
         for p in structured:
             if isinstance(p.decl, ast.ModifierDecl) and p.decl.of is not None:
-                self._associate(p, resolve_behavior_name)
+                self._associate(p, resolve_behaviour_name)
         for p in self.pending:
             if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None:
-                self._inherit(p, resolve_behavior_name)
+                self._inherit(p, resolve_behaviour_name)
         for p in self.pending:
             if isinstance(p.decl, ast.StructuredDecl) and p.symbol is not None:
                 self._members(p.symbol, p.decl.members, p.context, p.unit)
@@ -293,7 +293,7 @@ class Declarer:
                     if sym is not None:
                         sym.type = t
         for p in self.extensions:
-            self._extend(p, resolve_behavior_name)
+            self._extend(p, resolve_behaviour_name)
         check_overrides(self.model, self.methods, self.report)
         resolve_aliases(self.model, self.aliases, self.report)
 
@@ -354,10 +354,10 @@ class Declarer:
 
     def _visible_names(self, ctx: Context):
         for ns in (ctx.namespace, *ctx.uses, ""):
-            for part in self.model._namespace_parts(ns):
+            for part in self.model.namespace_parts(ns):
                 yield [n for n, syms in part.symbols.items() if any(s.kind.is_type for s in syms)]
 
-    def _associate(self, p: Pending, resolve_behavior_name) -> None:
+    def _associate(self, p: Pending, resolve_behaviour_name) -> None:
         decl: ast.StructuredDecl = p.decl  # type: ignore[assignment]
         sym = p.symbol
         if decl.name.actor is not None:
@@ -371,14 +371,14 @@ class Declarer:
         table = (
             self.model.modifiers
             if sym.kind is SymbolKind.MODIFIER
-            else self.model.behaviors
-            if sym.kind.is_behavior
+            else self.model.behaviours
+            if sym.kind.is_behaviour
             else None
         )
         if isinstance(decl, ast.ModifierDecl) and decl.of is not None:
-            target = resolve_behavior_name(decl.of, p.context)
-            if target is not None and not target.kind.is_behavior:
-                self.report(messages.modifier_of_not_behavior(decl.of.span, target))
+            target = resolve_behaviour_name(decl.of, p.context)
+            if target is not None and not target.kind.is_behaviour:
+                self.report(messages.modifier_of_not_behaviour(decl.of.span, target))
                 target = None
             sym.of = target
             if target is not None:
@@ -398,10 +398,10 @@ class Declarer:
             )
 
     def _existing_keyed(self, table, key, name) -> list[Symbol]:
-        attr = "modifiers" if table is self.model.modifiers else "behaviors"
+        attr = "modifiers" if table is self.model.modifiers else "behaviours"
         return self.model._keyed(attr, key, name)
 
-    def _inherit(self, p: Pending, resolve_behavior_name) -> None:
+    def _inherit(self, p: Pending, resolve_behaviour_name) -> None:
         decl: ast.StructuredDecl = p.decl  # type: ignore[assignment]
         sym = p.symbol
         if decl.inherits is None:
@@ -413,7 +413,7 @@ class Declarer:
                 )
             )
             return
-        parent = resolve_behavior_name(decl.inherits.target, p.context)
+        parent = resolve_behaviour_name(decl.inherits.target, p.context)
         if parent is None:
             return
         if parent.kind is not sym.kind:
@@ -429,7 +429,7 @@ class Declarer:
             )
             return
         span = decl.inherits.target.span
-        if sym.kind.is_behavior and _has_actor(sym) != _has_actor(parent):
+        if sym.kind.is_behaviour and _has_actor(sym) != _has_actor(parent):
             # §7.3.8.1: a behaviour of an actor inherits from a behaviour of an actor,
             # one without an actor from one without.
             self.report(
@@ -450,9 +450,9 @@ class Declarer:
         sym.condition = decl.inherits.condition
         self.model.children.setdefault(parent, []).append(sym)
 
-    def _extend(self, p: Pending, resolve_behavior_name) -> None:
+    def _extend(self, p: Pending, resolve_behaviour_name) -> None:
         decl = p.decl
-        target = resolve_behavior_name(decl.target, p.context)
+        target = resolve_behaviour_name(decl.target, p.context)
         if target is None:
             return
         if isinstance(decl, ast.EnumExtension):
@@ -577,9 +577,9 @@ class Declarer:
             )
 
 
-def _has_actor(behavior: Symbol) -> bool:
+def _has_actor(behaviour: Symbol) -> bool:
     """Whether a scenario or action is declared `actor.name` (resolved or not)."""
-    decl = behavior.decl
+    decl = behaviour.decl
     return isinstance(decl, ast.StructuredDecl) and decl.name.actor is not None
 
 

@@ -30,7 +30,7 @@ class Model:
     base: Model | None = None
     namespaces: dict[str, Namespace] = field(default_factory=dict)
     members: dict[Symbol, dict[str, list[Symbol]]] = field(default_factory=dict)
-    behaviors: dict[Symbol | None, dict[str, list[Symbol]]] = field(default_factory=dict)
+    behaviours: dict[Symbol | None, dict[str, list[Symbol]]] = field(default_factory=dict)
     modifiers: dict[Symbol | None, dict[str, list[Symbol]]] = field(default_factory=dict)
     units: dict[str, Symbol] = field(default_factory=dict)
     enum_members: dict[Symbol, list[Symbol]] = field(default_factory=dict)
@@ -57,7 +57,8 @@ class Model:
             ns = self.namespaces[name] = Namespace(name)
         return ns
 
-    def _namespace_parts(self, name: str) -> list[Namespace]:
+    def namespace_parts(self, name: str) -> list[Namespace]:
+        """The library's and the program's parts of namespace ``name`` that are in reach."""
         parts = []
         if (
             self.base is not None
@@ -69,12 +70,9 @@ class Model:
             parts.append(self.namespaces[name])
         return parts
 
-    def has_namespace(self, name: str) -> bool:
-        return bool(self._namespace_parts(name))
-
     def _own(self, ns: str, name: str) -> list[Symbol]:
         found: list[Symbol] = []
-        for part in self._namespace_parts(ns):
+        for part in self.namespace_parts(ns):
             found.extend(part.symbols.get(name, ()))
         return found
 
@@ -84,7 +82,7 @@ class Model:
             return []
         seen.add(ns)
         found: list[Symbol] = []
-        for part in self._namespace_parts(ns):
+        for part in self.namespace_parts(ns):
             if part.exports_all or name in part.exports:
                 found.extend(part.symbols.get(name, ()))
             for other, only in part.reexports:
@@ -196,20 +194,20 @@ class Model:
                 found.extend(entries.get(name, ()))
         return found
 
-    def behavior(self, actor: Symbol | None, name: str) -> list[Symbol]:
+    def behaviour(self, actor: Symbol | None, name: str) -> list[Symbol]:
         """Scenarios and actions named ``name`` of ``actor`` or its supertypes."""
         if actor is None:
-            return self._keyed("behaviors", None, name)
+            return self._keyed("behaviours", None, name)
         for sym in self.ancestors(actor):
-            found = self._keyed("behaviors", sym, name)
+            found = self._keyed("behaviours", sym, name)
             if found:
                 return found
         return []
 
-    def behaviors_of(self, actor: Symbol | None) -> list[Symbol]:
+    def behaviours_of(self, actor: Symbol | None) -> list[Symbol]:
         result: list[Symbol] = []
         for sym in self.ancestors(actor) if actor is not None else [None]:
-            result.extend(self._keyed("behaviors", sym, None))
+            result.extend(self._keyed("behaviours", sym, None))
         return result
 
     def modifier(self, key: Symbol | None, name: str) -> list[Symbol]:
@@ -261,7 +259,7 @@ class Model:
             spaces.append("")
         seen: set[int] = set()
         for ns in spaces:
-            for part in self._namespace_parts(ns):
+            for part in self.namespace_parts(ns):
                 for group in part.symbols.values():
                     for sym in group:
                         if sym.kind is SymbolKind.ENUM and id(sym) not in seen:

@@ -21,7 +21,7 @@ def resolve(model: Model, units: list[Unit]) -> list[Diagnostic]:
     for unit in units:
         declarer.declare(unit)
     names = _Names(model, report)
-    declarer.structure(names.type_of, names.behavior)
+    declarer.structure(names.type_of, names.behaviour)
     BodyChecker(model, report).check(declarer.pending, declarer.extensions)
     return diagnostics
 
@@ -76,13 +76,13 @@ class _Names:
     def _type_names(self, ctx: Context) -> list[str]:
         names = list(T.PRIMITIVES)
         for ns in (ctx.namespace, *ctx.uses, ""):
-            for part in self.model._namespace_parts(ns):
+            for part in self.model.namespace_parts(ns):
                 names.extend(
                     n for n, syms in part.symbols.items() if any(s.kind.is_type for s in syms)
                 )
         return names
 
-    def behavior(self, name: ast.BehaviorName, ctx: Context) -> Symbol | None:
+    def behaviour(self, name: ast.BehaviourName, ctx: Context) -> Symbol | None:
         """The declaration a `inherits`, `extend` or `of` clause names."""
         if name.name.missing:
             return None
@@ -124,13 +124,13 @@ class _Names:
             return None
         actor = actors[0]
         self.model.references[name.actor.name] = actor
-        found = self.model.behavior(actor, name.name.text) or self.model.modifier(
+        found = self.model.behaviour(actor, name.name.text) or self.model.modifier(
             actor, name.name.text
         )
         if not found:
-            pool = [s.name for s in self.model.behaviors_of(actor)]
+            pool = [s.name for s in self.model.behaviours_of(actor)]
             self.report(
-                messages.unknown_behavior(
+                messages.unknown_behaviour(
                     name.name.span, name.name.text, actor, closest(name.name.text, pool)
                 )
             )

@@ -1,11 +1,16 @@
-"""Lexical scopes for the resolution pass: what `it`, `actor` and local names mean."""
+"""Lexical scopes: what `it`, `actor` and local names mean at a point.
+
+The resolution pass (``bodies.py``) builds them as it walks declarations;
+``visibility.scope_at`` rebuilds the one at a position (for the language
+server), from the same rule for a declaration's own body (``declaration_scope``).
+"""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
 from osc2check.semantics.model import Context
-from osc2check.semantics.symbols import Symbol
+from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.types import Type
 
 
@@ -15,18 +20,19 @@ class Scope:
     owner: Symbol | None = None  # the type whose members are visible unqualified
     it: Type | None = None  # the type of `it`, when it means something here
     actor: Symbol | None = None  # the associated actor (`actor`)
-    behavior: Symbol | None = None  # the invoked behaviour of a `with:` block
+    behaviour: Symbol | None = None  # the invoked behaviour of a `with:` block
     locals: dict[str, Symbol] = field(default_factory=dict)
     parent: Scope | None = None
     in_argument: bool = False  # inside an invocation's arguments (dialect D805)
+    modifier_block: bool = False  # inside the `with:` block of an invocation or composition
 
-    def child(self, **changes) -> Scope:
+    def child(self, **changes: object) -> Scope:
         values = dict(
             context=self.context,
             owner=self.owner,
             it=self.it,
             actor=self.actor,
-            behavior=self.behavior,
+            behaviour=self.behaviour,
             parent=self,
         )
         values.update(changes)
@@ -39,3 +45,16 @@ class Scope:
                 return scope.locals[name]
             scope = scope.parent
         return None
+
+
+BEHAVIOUR_KINDS = frozenset({SymbolKind.SCENARIO, SymbolKind.ACTION, SymbolKind.MODIFIER})
+
+
+def declaration_scope(sym: Symbol, ctx: Context) -> Scope:
+    """The scope of a declaration's own body: its members unqualified, `it` the instance
+    being declared (a modifier's: the behaviour it modifies), `actor` a behaviour's actor."""
+    it = sym.type
+    if sym.kind is SymbolKind.MODIFIER:
+        it = sym.of.type if sym.of is not None else None
+    actor = sym.actor if sym.kind in BEHAVIOUR_KINDS else None
+    return Scope(ctx, owner=sym, it=it, actor=actor)

@@ -42,7 +42,7 @@ class SymbolKind(Enum):
         return self in TYPE_KINDS
 
     @property
-    def is_behavior(self) -> bool:
+    def is_behaviour(self) -> bool:
         return self in (SymbolKind.SCENARIO, SymbolKind.ACTION)
 
 

@@ -44,7 +44,7 @@ class QualifiedName(Node):
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class BehaviorName(Node):
+class BehaviourName(Node):
     """``vehicle.drive`` (actor and behaviour), ``drive`` or ``ns::drive`` (no actor)."""
 
     actor: QualifiedName | None
@@ -430,13 +430,13 @@ class EnumDecl(Node):
 
 @dataclass(frozen=True, slots=True, eq=False)
 class EnumExtension(Node):
-    target: BehaviorName
+    target: BehaviourName
     members: tuple[EnumMember, ...]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
 class Inherits(Node):
-    target: BehaviorName
+    target: BehaviourName
     condition: Expr | None
 
 
@@ -444,7 +444,7 @@ class Inherits(Node):
 class StructuredDecl(Node):
     """Common shape of struct, actor, scenario, action and modifier declarations."""
 
-    name: BehaviorName
+    name: BehaviourName
     inherits: Inherits | None
     members: tuple[Member, ...]
     has_body: bool
@@ -472,12 +472,12 @@ class ActionDecl(StructuredDecl):
 
 @dataclass(frozen=True, slots=True, eq=False)
 class ModifierDecl(StructuredDecl):
-    of: BehaviorName | None = None
+    of: BehaviourName | None = None
 
 
 @dataclass(frozen=True, slots=True, eq=False)
 class ExtendDecl(Node):
-    target: BehaviorName
+    target: BehaviourName
     members: tuple[Member, ...]
 
 

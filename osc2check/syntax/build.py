@@ -189,11 +189,11 @@ class Builder(Transformer):
     def dotted_name(self, c):
         return _Group("dotted", tuple(c), _cover(c))
 
-    def behavior_name(self, c):
+    def behaviour_name(self, c):
         if len(c) == 2 and c[1] is not None:
-            return ast.BehaviorName(_cover(c), c[0], c[1])
+            return ast.BehaviourName(_cover(c), c[0], c[1])
         qn = c[0]
-        return ast.BehaviorName(qn.span, None, qn.name, qn.namespace)
+        return ast.BehaviourName(qn.span, None, qn.name, qn.namespace)
 
     def named_type(self, c):
         return ast.NamedType(c[0].span, c[0])
@@ -519,7 +519,7 @@ class Builder(Transformer):
     def _structured(self, cls, c, **extra):
         name = c[1]
         if isinstance(name, ast.QualifiedName):
-            name = ast.BehaviorName(name.span, None, name.name, name.namespace)
+            name = ast.BehaviourName(name.span, None, name.name, name.namespace)
         inherits = _first(c, ast.Inherits)
         members = _group(c, "body")
         return cls(_cover(c), name, inherits, members, bool(members), **extra)
@@ -539,7 +539,7 @@ class Builder(Transformer):
         return self._structured(ast.ActionDecl, c)
 
     def modifier_decl(self, c):
-        names = _nodes(c, ast.BehaviorName)
+        names = _nodes(c, ast.BehaviourName)
         of = names[1] if len(names) > 1 else None
         return self._structured(ast.ModifierDecl, c, of=of)
 

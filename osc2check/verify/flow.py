@@ -118,8 +118,10 @@ def _composition(model: Model, comp: ast.Composition, found) -> None:
         inv = member.body
         if not isinstance(inv, ast.Invocation) or not isinstance(inv.actor, ast.NameRef):
             continue
-        behavior = model.references.get(inv.name)
-        if behavior is None or not any(a.name == _MOVEMENT_BASE for a in model.ancestors(behavior)):
+        behaviour = model.references.get(inv.name)
+        if behaviour is None or not any(
+            a.name == _MOVEMENT_BASE for a in model.ancestors(behaviour)
+        ):
             continue
         actor = inv.actor.name.name.text
         if actor in seen:

@@ -266,20 +266,20 @@ class Lowerer:
                 self._invocation(body, scope, member.label)
 
     def _invocation(self, inv: ast.Invocation, scope: Scope, label: ast.Name | None) -> None:
-        behavior = self.model.references.get(inv.name)
-        if behavior is None or not behavior.kind.is_behavior:
+        behaviour = self.model.references.get(inv.name)
+        if behaviour is None or not behaviour.kind.is_behaviour:
             return
         actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
-        name = label.text if label is not None else f"{behavior.name}@{inv.span.line}"
+        name = label.text if label is not None else f"{behaviour.name}@{inv.span.line}"
         path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix, name)
-        body = Scope(path, behavior, path, behavior, actor_path)  # the behaviour's own members
+        body = Scope(path, behaviour, path, behaviour, actor_path)  # the behaviour's own members
         inner = Scope(
-            scope.prefix, scope.owner, path, behavior, scope.actor, dict(scope.locals)
+            scope.prefix, scope.owner, path, behaviour, scope.actor, dict(scope.locals)
         )  # its `with:` block: `it` is the behaviour
-        self._arguments(behavior, inv.arguments, path, scope, "argument")
-        if self.depth <= MAX_DEPTH and not behavior.library:
-            self.instances[path] = behavior
-            self._instance(behavior, body)
+        self._arguments(behaviour, inv.arguments, path, scope, "argument")
+        if self.depth <= MAX_DEPTH and not behaviour.library:
+            self.instances[path] = behaviour
+            self._instance(behaviour, body)
         for item in inv.with_members:
             match item:
                 case ast.KeepConstraint():

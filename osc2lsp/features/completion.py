@@ -20,13 +20,14 @@ from osc2check.semantics.builtins import (
     STANDARD_MODULE_NAMES,
 )
 from osc2check.semantics.model import Model
+from osc2check.semantics.scope import BEHAVIOUR_KINDS, Scope
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.types import Kind, Type
+from osc2check.semantics.visibility import visible_globals
 from osc2check.syntax import ast
 from osc2check.syntax.expected import keywords
 from osc2lsp.features import describe
 from osc2lsp.features.context import PLACEHOLDER, Cursor, Focus, cursor_at, focus
-from osc2lsp.features.lookup import BEHAVIOR_KINDS, Scope, visible_globals
 from osc2lsp.snapshot import Snapshot
 
 _TYPE_AFTER = frozenset({"COLON", "OF", "ARROW", "INHERITS", "EXTEND"})
@@ -260,7 +261,7 @@ def _members(out: _Collector, f: Focus, cursor: Cursor) -> None:
         return
     statement = _is_statement_invocation(f, cursor)
     if owner.kind is SymbolKind.ACTOR:
-        for sym in model.behaviors_of(owner):
+        for sym in model.behaviours_of(owner):
             out.symbol(sym, CONTEXT if statement else MEMBER)
     for sym in model.all_members(owner):
         if sym.kind is SymbolKind.EVENT:
@@ -363,7 +364,7 @@ def _event_path(out: _Collector, f: Focus, cursor: Cursor) -> bool:
             if sym.kind is SymbolKind.EVENT:
                 out.symbol(sym, CONTEXT)
     if (label is not None and label.kind is SymbolKind.LABEL) or (
-        target is not None and target.symbol is not None and target.symbol.kind.is_behavior
+        target is not None and target.symbol is not None and target.symbol.kind.is_behaviour
     ):
         for name in PREDEFINED_EVENTS:
             out.add(Candidate(name, "event", "standard event of a behaviour", group=CONTEXT))
@@ -591,9 +592,9 @@ def _statements(out: _Collector, f: Focus, where: str) -> None:
         return
     if where == "do":
         if scope.actor is not None:
-            for sym in model.behaviors_of(scope.actor):
+            for sym in model.behaviours_of(scope.actor):
                 out.symbol(sym, LOCAL)
-        for sym in model.behaviors_of(None):
+        for sym in model.behaviours_of(None):
             out.symbol(sym, GLOBAL)
         for sym in _owner_members(model, scope):
             if (
@@ -602,7 +603,7 @@ def _statements(out: _Collector, f: Focus, where: str) -> None:
                 and sym.type.kind is Kind.COMPOUND
             ):
                 out.symbol(sym, CONTEXT)
-    elif scope.owner is not None and scope.owner.kind in BEHAVIOR_KINDS:
+    elif scope.owner is not None and scope.owner.kind in BEHAVIOUR_KINDS:
         for sym in _modifiers(model, scope):
             out.symbol(sym, MEMBER)
 
@@ -611,12 +612,12 @@ def _modifiers(model: Model, scope: Scope) -> list[Symbol]:
     """Modifiers applicable in the current `with:` block or behaviour body, the way
     the checker looks them up."""
     keys: list[Symbol | None] = []
-    if scope.behavior is not None:
-        keys.append(scope.behavior)
+    if scope.behaviour is not None:
+        keys.append(scope.behaviour)
     if scope.actor is not None:
         keys.append(scope.actor)
     owner = scope.owner
-    if owner is not None and owner.kind in BEHAVIOR_KINDS:
+    if owner is not None and owner.kind in BEHAVIOUR_KINDS:
         keys.append(owner)
         if owner.actor is not None:
             keys.append(owner.actor)

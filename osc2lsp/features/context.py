@@ -28,11 +28,12 @@ from pathlib import Path
 
 from osc2check.semantics.model import Model
 from osc2check.semantics.program import build_program
+from osc2check.semantics.scope import Scope
+from osc2check.semantics.visibility import node_path, scope_at
 from osc2check.source import decode_source
 from osc2check.syntax import ParseResult, ast, expected, parse
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
-from osc2lsp.features.lookup import Scope, node_path, scope_at
 from osc2lsp.snapshot import Snapshot
 
 PLACEHOLDER = "__cursor__"

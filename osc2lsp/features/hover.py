@@ -7,10 +7,10 @@ from dataclasses import dataclass
 
 from osc2check import codes, rules
 from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.semantics.visibility import node_path
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2lsp.features import describe
-from osc2lsp.features.lookup import node_path
 from osc2lsp.features.values import Quantity, evaluate, value_of
 from osc2lsp.features.values import describe as describe_value
 from osc2lsp.snapshot import Snapshot

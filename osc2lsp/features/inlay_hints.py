@@ -11,10 +11,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from osc2check.semantics.visibility import extent
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2lsp.features import describe
-from osc2lsp.features.lookup import extent
 from osc2lsp.features.values import evaluate, short
 from osc2lsp.snapshot import Snapshot
 

@@ -14,9 +14,9 @@ from osc2check.resources import stdlib_dir
 from osc2check.semantics.stdlib import LIBRARY_FILES, STANDARD_FILE_NAMES, STANDARD_MODULES
 from osc2check.semantics.symbols import Symbol
 from osc2check.semantics.types import Kind, Type
+from osc2check.semantics.visibility import node_path
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2lsp.features.lookup import node_path
 from osc2lsp.snapshot import Snapshot, symbol_key
 
 _EXPRESSIONS = (

@@ -42,7 +42,7 @@ def _outline(node: ast.Node) -> tuple:
     """Kinds and names of a file's declarations and their members (constraints left out)."""
     name = getattr(node, "name", None)
     names = [n.text for n in getattr(node, "names", ())]
-    if isinstance(name, ast.BehaviorName):
+    if isinstance(name, ast.BehaviourName):
         names.append(name.name.text)
     elif isinstance(name, ast.Name):
         names.append(name.text)

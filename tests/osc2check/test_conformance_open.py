@@ -30,7 +30,7 @@ def _declared(result) -> list[tuple[str, str]]:
     names = []
     for decl in result.ast.declarations:
         name = getattr(decl, "name", None)
-        if isinstance(name, ast.BehaviorName):
+        if isinstance(name, ast.BehaviourName):
             names.append((type(decl).__name__, name.name.text))
         elif isinstance(name, ast.Name):
             names.append((type(decl).__name__, name.text))
@@ -73,7 +73,7 @@ def test_namespaces_resolve_every_prefixed_name():
     model = analysis.programs[path].model
     bound = []
     for node in walk(analysis.parses[path].ast):
-        if isinstance(node, (ast.QualifiedName, ast.BehaviorName)) and node.namespace is not None:
+        if isinstance(node, (ast.QualifiedName, ast.BehaviourName)) and node.namespace is not None:
             symbol = model.references.get(node.name)
             found = (symbol.name, symbol.namespace) if symbol is not None else None
             bound.append((node.span.line, f"{node.namespace}::{node.name.text}", found))

@@ -52,7 +52,7 @@ def test_focus_resolves_the_chunk_against_an_older_snapshot():
     old = snapshot(seed)
     text, offset = cursor(seed.replace("speed(v_hero)", "speed(v_hero)\n          lane($0"))
     f = focus(old, text, offset)
-    assert f.scope.modifier_block and f.scope.behavior.name == "drive"
+    assert f.scope.modifier_block and f.scope.behaviour.name == "drive"
     assert f.scope.owner.name == "hello_world"
 
 

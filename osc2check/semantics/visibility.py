@@ -1,22 +1,20 @@
-"""Find what is at an offset: the chain of AST nodes, the scope around it.
+"""What is visible at a position: the chain of AST nodes down to it, and its scope.
 
-The analysis keeps no scopes (only ``references`` and ``expr_types``), so the
-scope of a position is rebuilt here from the enclosing nodes: the declaration
-that owns the members (``owner``), what ``it`` means, the labels, method
-parameters and event bindings in reach.
+The resolver keeps no scopes after the analysis (only ``references`` and
+``expr_types``), so the scope at a position is rebuilt from the enclosing nodes
+with the resolver's own rules (``scope.declaration_scope`` for a declaration's
+body): the declaration that owns the members (``owner``), what ``it`` means,
+the labels, method parameters and event bindings in reach. The language server
+asks this module instead of knowing scope rules itself.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-
 from osc2check.semantics.model import Context, Model
-from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.semantics.types import Type
+from osc2check.semantics.scope import Scope, declaration_scope
+from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 from osc2check.syntax.walk import children
-
-BEHAVIOR_KINDS = (SymbolKind.SCENARIO, SymbolKind.ACTION, SymbolKind.MODIFIER)
 
 
 def extent(node: ast.Node) -> int:
@@ -75,36 +73,17 @@ def innermost(path: list[ast.Node], kinds) -> ast.Node | None:
     return None
 
 
-@dataclass
-class Scope:
-    """What names mean at a position."""
-
-    context: Context = field(default_factory=Context)
-    owner: Symbol | None = None  # the declaration whose members are visible
-    it: Type | None = None
-    actor: Symbol | None = None
-    behavior: Symbol | None = None  # the invoked behaviour of an enclosing `with:`
-    modifier_block: bool = False  # inside the `with:` of an invocation
-    locals: dict[str, Symbol] = field(default_factory=dict)
-
-
 def scope_at(model: Model, path: list[ast.Node]) -> Scope:
     """Rebuild the scope of the innermost node of ``path``."""
-    scope = Scope()
+    scope = Scope(Context())
     for i, node in enumerate(path):
         inner = path[i + 1] if i + 1 < len(path) else None
         match node:
             case ast.StructuredDecl() | ast.ExtendDecl():
                 owner = model.declarations.get(node)
-                scope.owner = owner
                 if owner is not None:
-                    if isinstance(owner.context, Context):
-                        scope.context = owner.context
-                    scope.it = owner.type
-                    if owner.kind is SymbolKind.MODIFIER:
-                        scope.it = owner.of.type if owner.of is not None else None
-                    if owner.kind in BEHAVIOR_KINDS:
-                        scope.actor = owner.actor
+                    context = owner.context if isinstance(owner.context, Context) else Context()
+                    scope = declaration_scope(owner, context)
             case ast.GlobalDecl():
                 sym = model.references.get(node.field.names[0]) if node.field.names else None
                 if sym is not None and isinstance(sym.context, Context):
@@ -113,26 +92,26 @@ def scope_at(model: Model, path: list[ast.Node]) -> Scope:
                 if inner is not None and any(inner is w for w in node.with_members):
                     sym = model.references.get(node.names[0]) if node.names else None
                     scope.it = sym.type if sym is not None else None
-                    scope.behavior = None
+                    scope.behaviour = None
                     scope.modifier_block = False
             case ast.Invocation():
                 if inner is not None and any(inner is w for w in node.with_members):
                     target = model.references.get(node.name)
-                    if target is not None and target.kind.is_behavior:
+                    if target is not None and target.kind.is_behaviour:
                         scope.it = target.type
-                        scope.behavior = target
+                        scope.behaviour = target
                         if node.actor is not None:
                             actor_type = model.expr_types.get(node.actor)
                             if actor_type is not None and actor_type.symbol is not None:
                                 scope.actor = actor_type.symbol
                     else:
                         scope.it = None
-                        scope.behavior = target
+                        scope.behaviour = target
                     scope.modifier_block = True
             case ast.Composition():
                 if inner is not None and any(inner is w for w in node.with_members):
                     scope.it = None
-                    scope.behavior = None
+                    scope.behaviour = None
                     scope.modifier_block = True
             case ast.DoDirective():
                 for member in _do_members(node.member):
@@ -173,7 +152,7 @@ def visible_globals(model: Model, ctx: Context, accept=None) -> list[Symbol]:
     seen: set[int] = set()
     found: list[Symbol] = []
     for ns in dict.fromkeys([ctx.namespace, *ctx.uses, ""]):
-        for part in namespace_parts(model, ns):
+        for part in model.namespace_parts(ns):
             exported_only = ns != ctx.namespace and ns != ""
             for name, group in part.symbols.items():
                 if exported_only and not (part.exports_all or name in part.exports):
