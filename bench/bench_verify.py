@@ -25,8 +25,8 @@ from osc2check.analysis import AnalysisOptions, SourceInput, analyze  # noqa: E4
 from osc2check.verify.check import scenarios_of, source_text  # noqa: E402
 from osc2check.verify.lower import lower_scenario, member_declarations  # noqa: E402
 from osc2check.verify.z3_backend import (  # noqa: E402
-    Outcome,
     Sampler,
+    SolverOutcome,
     _Encoder,
     _z3,
     active_constraints,
@@ -160,7 +160,7 @@ def main() -> None:
     )
     med, best, _ = timed(lambda: solve(problem, seed=1), repeat=5)
     print(f"  a witness from z3 (solve + one sample):   median {med:.1f} ms, best {best:.1f} ms")
-    active = active_constraints(problem, Outcome("sat"))
+    active = active_constraints(problem, SolverOutcome("sat"))
     base = check(problem).values
     sampler = Sampler(problem, active, base)
     sampler.sample(0)

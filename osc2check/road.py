@@ -25,8 +25,7 @@ Frames and conventions
   scenario's lane numbers from the left instead (``numbering="from_left"``):
   the Town06 stand-in does, as CARLA numbers lanes outward from the centre
   line, so the design paper's `lane(1)` is the lane next to the median and
-  "one lane to the right of it" exists. ``from_scenario_lane`` and
-  ``to_scenario_lane`` convert.
+  "one lane to the right of it" exists. ``to_scenario_lane`` converts.
 
 OpenDRIVE maps are a later extension behind the same interface
 (``lane_center_y``, ``lane_of``, ``to_xy``, ``to_st``, ``bounds``).
@@ -97,10 +96,6 @@ class Road:
     def has_lane(self, lane: int) -> bool:
         """True when ``lane`` is a valid lane number (1 .. lane_count)."""
         return 1 <= lane <= self.lane_count
-
-    def from_scenario_lane(self, number: int) -> int:
-        """The internal lane (1 = rightmost) that a scenario's lane number names."""
-        return self.lane_count + 1 - number if self.numbering == "from_left" else number
 
     def to_scenario_lane(self, lane: int) -> int:
         """The scenario's number for internal lane ``lane`` (the inverse of the above)."""

@@ -22,12 +22,6 @@ class Span:
     start: int = 0
     end: int = 0
 
-    def contains(self, line: int, column: int) -> bool:
-        """True when the 1-based (line, column) lies inside this span (end inclusive)."""
-        if (line, column) < (self.line, self.column):
-            return False
-        return (line, column) <= (self.end_line, self.end_column)
-
     def cover(self, other: Span) -> Span:
         """The smallest span of the same file that covers both spans."""
         first = self if (self.line, self.column) <= (other.line, other.column) else other

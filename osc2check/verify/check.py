@@ -31,9 +31,9 @@ from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
     Conflict,
-    Outcome,
     Sampler,
     Session,
+    SolverOutcome,
     active_constraints,
     check,
     never_holds,
@@ -54,8 +54,8 @@ class ScenarioResult:
     """One verified scenario: its problem, the outcome, and (on demand) its witness."""
 
     scenario: Symbol
-    problem: ir.Problem
-    outcome: Outcome
+    problem: ir.ConstraintProblem
+    outcome: SolverOutcome
     seed: int | None = None
     rlimit: int = DEFAULT_RLIMIT
     timeout_ms: int = DEFAULT_TIMEOUT_MS
@@ -73,7 +73,7 @@ class ScenarioResult:
         seed, the model that decided the scenario. None unless the constraints hold."""
         if self.outcome.status != "sat":
             return None
-        active = active_constraints(self.problem, Outcome("sat"))
+        active = active_constraints(self.problem, SolverOutcome("sat"))
         values = self.outcome.values
         if seed is not None:
             sample = Sampler(
@@ -192,7 +192,7 @@ def verify_program(
                 )
             )
         else:
-            active = active_constraints(problem, Outcome("sat"))
+            active = active_constraints(problem, SolverOutcome("sat"))
             for c in _vacuous(problem, active, rlimit, session):
                 report(messages.vacuous_constraint(c))
             for gap in _unsafe_gaps(problem, active, outcome, rlimit):
@@ -215,7 +215,7 @@ def verify_program(
 MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's speed is unsafe
 
 
-def _unsafe_gaps(problem: ir.Problem, active, outcome: Outcome, rlimit: int):
+def _unsafe_gaps(problem: ir.ConstraintProblem, active, outcome: SolverOutcome, rlimit: int):
     """Start gaps shorter than MIN_TIME_GAP at the follower's speed in every model."""
     placement = problem.placement
     if placement is None:
@@ -255,7 +255,7 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     return found
 
 
-def _placement_notes(problem: ir.Problem, report) -> None:
+def _placement_notes(problem: ir.ConstraintProblem, report) -> None:
     placement = problem.placement
     if placement is None:
         return
@@ -350,7 +350,10 @@ def _literal_value(node: ast.Node):
 
 
 def _vacuous(
-    problem: ir.Problem, active: list[ir.Constraint], rlimit: int, session: Session | None = None
+    problem: ir.ConstraintProblem,
+    active: list[ir.Constraint],
+    rlimit: int,
+    session: Session | None = None,
 ):
     """User keeps that hold for every value of their parameters' own domains.
 
@@ -410,7 +413,7 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
 
 
 def _holds_always(
-    problem: ir.Problem,
+    problem: ir.ConstraintProblem,
     c: ir.Constraint,
     limits: list[ir.Term],
     rlimit: int,

@@ -2,7 +2,7 @@
 
 Terms are small immutable trees over exact rationals. Every constraint keeps
 the span and text it came from, so a solver's unsatisfiable core maps back to
-source lines. ``lower.py`` builds a ``Problem`` from the model;
+source lines. ``lower.py`` builds a ``ConstraintProblem`` from the model;
 ``z3_backend.py`` solves it.
 """
 
@@ -132,7 +132,7 @@ class Constraint:
 
 
 @dataclass
-class Problem:
+class ConstraintProblem:
     """Everything the solver needs for one scenario instance."""
 
     scenario: str
@@ -142,7 +142,7 @@ class Problem:
     removed_defaults: set[str] = field(default_factory=set)  # parameters after remove_default
     skipped: list[tuple[Span, str]] = field(default_factory=list)  # not encodable: why
     strings: dict[int, str] = field(default_factory=dict)  # string constants by their number
-    placement: object | None = None  # placement.Placement, when the scenario has actors
+    placement: object | None = None  # placement.StartPlacement, when the scenario has actors
 
     def var(self, name: str, sort: str, **kw) -> Var:
         existing = self.variables.get(name)

@@ -1,4 +1,4 @@
-"""Lower one scenario of the model to a constraint ``Problem``.
+"""Lower one scenario of the model to a constraint ``ConstraintProblem``.
 
 The instance tree: the scenario's parameters, its actors' parameters (one
 level, more when a constraint reaches deeper), every behaviour and modifier
@@ -51,7 +51,7 @@ class NotEncodable(Exception):
 
 
 @dataclass
-class Scope:
+class InstanceScope:
     prefix: str  # path of the instance whose members are in scope ("" = top scenario)
     owner: Symbol | None
     it: str | None  # path `it` stands for
@@ -66,7 +66,7 @@ def _join(prefix: str, name: str) -> str:
 
 
 class Lowerer:
-    def __init__(self, model: Model, problem: ir.Problem, text_of, member_decls=None):
+    def __init__(self, model: Model, problem: ir.ConstraintProblem, text_of, member_decls=None):
         self.model = model
         self.problem = problem
         self.text_of = text_of  # span -> source text
@@ -74,7 +74,7 @@ class Lowerer:
         self.instances: dict[str, Symbol] = {}  # path -> type of the compound instance there
         # (path, field, declaration, scope, where its default goes in the constraint list,
         # the body it is written in)
-        self.pending_defaults: list[tuple[str, Symbol, ast.FieldDecl, Scope, int, str]] = []
+        self.pending_defaults: list[tuple[str, Symbol, ast.FieldDecl, InstanceScope, int, str]] = []
         self.member_decls = member_decls if member_decls is not None else member_declarations(model)
         self.kinds = self.member_decls.kinds  # shared by the scenarios of a model
         self.depth = 0
@@ -84,7 +84,7 @@ class Lowerer:
     # ---- instances -----------------------------------------------------------------
 
     def scenario(self, sym: Symbol) -> None:
-        scope = Scope("", sym, "", sym, actor="actor" if sym.actor else None)
+        scope = InstanceScope("", sym, "", sym, actor="actor" if sym.actor else None)
         self.instances[""] = sym
         self._instance(sym, scope)
         for param in self.model.all_members(sym):
@@ -108,9 +108,11 @@ class Lowerer:
             return
         self.instances[path] = type_symbol
         actor = path if type_symbol.kind is SymbolKind.ACTOR else None
-        self._instance(type_symbol, Scope(path, type_symbol, path, type_symbol, actor=actor))
+        self._instance(
+            type_symbol, InstanceScope(path, type_symbol, path, type_symbol, actor=actor)
+        )
 
-    def _instance(self, sym: Symbol, scope: Scope) -> None:
+    def _instance(self, sym: Symbol, scope: InstanceScope) -> None:
         """Constraints of ``sym``'s declaration (and supertypes and extensions)."""
         if sym in self.active or self.depth > MAX_DEPTH:
             return
@@ -127,7 +129,7 @@ class Lowerer:
             self.depth -= 1
             self.active.pop()
 
-    def _members(self, members, scope: Scope) -> None:
+    def _members(self, members, scope: InstanceScope) -> None:
         for member in members:
             match member:
                 case ast.FieldDecl():
@@ -141,7 +143,7 @@ class Lowerer:
                 case ast.DoDirective():
                     self._do_member(member.member, scope)
 
-    def _field(self, decl: ast.FieldDecl, scope: Scope) -> None:
+    def _field(self, decl: ast.FieldDecl, scope: InstanceScope) -> None:
         for name in decl.names:
             sym = self.model.references.get(name)
             if sym is None:
@@ -161,7 +163,7 @@ class Lowerer:
                     (path, sym, decl, scope, len(self.problem.constraints), self._origin(scope))
                 )
             if decl.with_members:
-                inner = Scope(
+                inner = InstanceScope(
                     scope.prefix,
                     scope.owner,
                     path,
@@ -217,12 +219,12 @@ class Lowerer:
 
     # ---- constraints ------------------------------------------------------------------
 
-    def _origin(self, scope: Scope) -> str:
+    def _origin(self, scope: InstanceScope) -> str:
         """The declaration body a constraint is written in, for one instance; the
         `with:` blocks of its fields and invocations belong to that body."""
         return f"{scope.prefix}|{self.body}"
 
-    def _keep(self, keep: ast.KeepConstraint, scope: Scope, kind: str) -> None:
+    def _keep(self, keep: ast.KeepConstraint, scope: InstanceScope, kind: str) -> None:
         try:
             term = self._term(keep.expr, scope)
         except NotEncodable as reason:
@@ -243,7 +245,7 @@ class Lowerer:
             )
         )
 
-    def _subject(self, expr: ast.Node, scope: Scope) -> ir.Var | None:
+    def _subject(self, expr: ast.Node, scope: InstanceScope) -> ir.Var | None:
         """The parameter alone on the left of `==` or `in` (the override rule's form)."""
         if isinstance(expr, ast.Binary) and expr.op in ("==", "in"):
             path = self._path(expr.left, scope)
@@ -253,7 +255,7 @@ class Lowerer:
 
     # ---- behaviour ----------------------------------------------------------------------
 
-    def _do_member(self, member: ast.DoMember, scope: Scope) -> None:
+    def _do_member(self, member: ast.DoMember, scope: InstanceScope) -> None:
         body = member.body
         match body:
             case ast.Composition():
@@ -265,15 +267,19 @@ class Lowerer:
             case ast.Invocation():
                 self._invocation(body, scope, member.label)
 
-    def _invocation(self, inv: ast.Invocation, scope: Scope, label: ast.Name | None) -> None:
+    def _invocation(
+        self, inv: ast.Invocation, scope: InstanceScope, label: ast.Name | None
+    ) -> None:
         behaviour = self.model.references.get(inv.name)
         if behaviour is None or not behaviour.kind.is_behaviour:
             return
         actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
         name = label.text if label is not None else f"{behaviour.name}@{inv.span.line}"
         path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix, name)
-        body = Scope(path, behaviour, path, behaviour, actor_path)  # the behaviour's own members
-        inner = Scope(
+        body = InstanceScope(
+            path, behaviour, path, behaviour, actor_path
+        )  # the behaviour's own members
+        inner = InstanceScope(
             scope.prefix, scope.owner, path, behaviour, scope.actor, dict(scope.locals)
         )  # its `with:` block: `it` is the behaviour
         self._arguments(behaviour, inv.arguments, path, scope, "argument")
@@ -290,7 +296,9 @@ class Lowerer:
                         mod_path = _join(path, f"{modifier.name}@{item.span.line}")
                         self._arguments(modifier, item.arguments, mod_path, scope, "modifier")
 
-    def _arguments(self, callee: Symbol, arguments, path: str, scope: Scope, kind: str) -> None:
+    def _arguments(
+        self, callee: Symbol, arguments, path: str, scope: InstanceScope, kind: str
+    ) -> None:
         params = self.model.parameters(callee)
         by_name = {p.name: p for p in params}
         position = 0
@@ -323,7 +331,7 @@ class Lowerer:
                 ir.Constraint(term, arg.span, kind, f"{callee.name}({written})", "hard", var)
             )
 
-    def _membership(self, var: ir.Var, value: ast.Node, scope: Scope) -> ir.Term:
+    def _membership(self, var: ir.Var, value: ast.Node, scope: InstanceScope) -> ir.Term:
         """``var == value`` (an argument is a constraint), or ``var in value`` for a range."""
         if isinstance(value, ast.RangeLiteral):
             return self._in_range(ir.Ref(var), value, scope)
@@ -401,7 +409,7 @@ class Lowerer:
                 text = f"`{sym.name}` is a uint"
         return sort, kw, domain, text
 
-    def _path(self, expr: ast.Node | None, scope: Scope) -> str | None:
+    def _path(self, expr: ast.Node | None, scope: InstanceScope) -> str | None:
         """The instance path an expression names, or None if it names no parameter."""
         match expr:
             case ast.NameRef():
@@ -436,7 +444,7 @@ class Lowerer:
                 return _join(base, sym.name)
         return None
 
-    def _member_path(self, scope: Scope, sym: Symbol) -> str:
+    def _member_path(self, scope: InstanceScope, sym: Symbol) -> str:
         """Path of field ``sym`` seen from ``scope``: a member of `it`'s type or of the owner."""
         if (
             scope.it is not None
@@ -446,7 +454,7 @@ class Lowerer:
             return _join(scope.it, sym.name)
         return _join(scope.prefix, sym.name)
 
-    def _var_at(self, path: str, expr: ast.Node, scope: Scope) -> ir.Var:
+    def _var_at(self, path: str, expr: ast.Node, scope: InstanceScope) -> ir.Var:
         var = self.problem.variables.get(path)
         if var is not None:
             return var
@@ -470,7 +478,7 @@ class Lowerer:
 
     # ---- expressions ---------------------------------------------------------------------
 
-    def _term(self, expr: ast.Node, scope: Scope) -> ir.Term:
+    def _term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
         match expr:
             case ast.IntLiteral() | ast.FloatLiteral() | ast.PhysicalLiteral():
                 try:
@@ -517,7 +525,7 @@ class Lowerer:
                 )
         raise NotEncodable(f"`{self.text_of(expr.span)}` cannot be solved for")
 
-    def _binary(self, expr: ast.Binary, scope: Scope) -> ir.Term:
+    def _binary(self, expr: ast.Binary, scope: InstanceScope) -> ir.Term:
         if expr.op == "in":
             left = self._term(expr.left, scope)
             if isinstance(expr.right, ast.RangeLiteral):
@@ -541,7 +549,7 @@ class Lowerer:
             raise NotEncodable("division by a parameter")
         raise NotEncodable(f"operator `{expr.op}`")
 
-    def _in_range(self, target: ir.Term, rng: ast.RangeLiteral, scope: Scope) -> ir.Term:
+    def _in_range(self, target: ir.Term, rng: ast.RangeLiteral, scope: InstanceScope) -> ir.Term:
         """``target in [low..high]``; the bounds of a range may come in either order."""
         low, high = self._term(rng.low, scope), self._term(rng.high, scope)
         return in_range(target, low, high)
@@ -644,7 +652,7 @@ def member_declarations(model: Model) -> Declarations:
 
 def lower_scenario(
     model: Model, scenario: Symbol, text_of, default_map: str = "default", member_decls=None
-) -> ir.Problem:
+) -> ir.ConstraintProblem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 
     ``member_decls`` (from ``member_declarations(model)``) can be shared by the
@@ -653,7 +661,7 @@ def lower_scenario(
     from osc2check.verify.placement import lower_placement
 
     span = scenario.name_span or Span("", 1, 1, 1, 1)
-    problem = ir.Problem(scenario.name, span)
+    problem = ir.ConstraintProblem(scenario.name, span)
     lowerer = Lowerer(model, problem, text_of, member_decls)
     lowerer.scenario(scenario)
     problem.strings = {v: k for k, v in lowerer.strings.items()}

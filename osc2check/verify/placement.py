@@ -130,7 +130,7 @@ class Gap:
 
 
 @dataclass
-class Placement:
+class StartPlacement:
     road: Road
     actors: dict[str, PlacedActor] = field(default_factory=dict)
     edges: list[tuple[str, str, Span]] = field(default_factory=list)  # a placed relative to b
@@ -152,7 +152,7 @@ def _is_trailer(model, sym: Symbol | None) -> bool:
     return any(a.name == "trailer" and a.library for a in model.ancestors(sym))
 
 
-def _constants(problem: ir.Problem) -> dict[str, tuple[Fraction | bool, ir.Constraint]]:
+def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool, ir.Constraint]]:
     """The constant that the first hard `==` gives each variable, and that constraint."""
     found: dict[str, tuple[Fraction | bool, ir.Constraint]] = {}
     for c in problem.constraints:
@@ -182,7 +182,7 @@ class PlacementLowerer:
     def __init__(self, lowerer, scenario: Symbol, default_map: str = "default"):
         self.lw = lowerer
         self.model = lowerer.model
-        self.problem: ir.Problem = lowerer.problem
+        self.problem: ir.ConstraintProblem = lowerer.problem
         self.scenario = scenario
         self.default_map = default_map
         self.unknown_map: tuple[Span, str, tuple[str, ...]] | None = None
@@ -193,7 +193,7 @@ class PlacementLowerer:
         self.alternatives: list[ast.Invocation] = []  # time-0 invocations inside a one_of
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
 
-    def lower(self) -> Placement | None:
+    def lower(self) -> StartPlacement | None:
         actors = [
             (p, actor_kind(self.model, p.type.symbol if p.type else None))
             for p in self.model.parameters(self.scenario)
@@ -203,7 +203,7 @@ class PlacementLowerer:
         if not actors:
             return None
         self.constants = _constants(self.problem)
-        placement = Placement(self._road())
+        placement = StartPlacement(self._road())
         placement.unknown_map = self.unknown_map
         placement.unread_map = self.unread_map
         for param, kind in actors:
@@ -483,7 +483,7 @@ class PlacementLowerer:
                     self.alternatives.extend(zero.alternatives)
         return found
 
-    def _modifiers(self, inv: ast.Invocation, placement: Placement, first: set[str]) -> None:
+    def _modifiers(self, inv: ast.Invocation, placement: StartPlacement, first: set[str]) -> None:
         """Apply the start modifiers of a time-0 invocation: those with `at: start`, and,
         in the actor's first invocation, those without `at` (`at: all` holds at the start
         too) unless a modifier of the same name gives the actor's start explicitly."""
@@ -520,7 +520,7 @@ class PlacementLowerer:
                 self.applied.add(id(item))
                 handler(actor, args, item, placement)
 
-    def _phase_limits(self, placement: Placement) -> None:
+    def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
         the vehicle reaches, whenever the phase runs."""
         for members in self.lw.member_decls.get(self.scenario, []):
@@ -542,7 +542,9 @@ class PlacementLowerer:
                         ):
                             self._phase_limit(actor, item, placement)
 
-    def _phase_limit(self, actor: PlacedActor, item: ast.Invocation, placement: Placement) -> None:
+    def _phase_limit(
+        self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement
+    ) -> None:
         args = self._args(item)
         name = item.name.text
         if (
@@ -590,9 +592,9 @@ class PlacementLowerer:
         return bound
 
     def _scope(self):
-        from osc2check.verify.lower import Scope
+        from osc2check.verify.lower import InstanceScope
 
-        return Scope("", self.scenario, "", self.scenario)
+        return InstanceScope("", self.scenario, "", self.scenario)
 
     def _value(self, node: ast.Node) -> ir.Term | None:
         from osc2check.verify.lower import NotEncodable
@@ -604,7 +606,7 @@ class PlacementLowerer:
             return None
 
     def _reference(
-        self, node: ast.Node | None, actor: PlacedActor, placement: Placement, span: Span
+        self, node: ast.Node | None, actor: PlacedActor, placement: StartPlacement, span: Span
     ) -> PlacedActor | None:
         if not isinstance(node, ast.NameRef):
             return None
@@ -762,7 +764,7 @@ class PlacementLowerer:
 
     # ---- no overlap --------------------------------------------------------------------
 
-    def _no_overlap(self, placement: Placement) -> None:
+    def _no_overlap(self, placement: StartPlacement) -> None:
         fixed = self._fixed_lanes(placement)
         names = list(placement.actors)
         for i, a_name in enumerate(names):
@@ -787,7 +789,7 @@ class PlacementLowerer:
                     f"`{a_name}` and `{b_name}` do not overlap at the start",
                 )
 
-    def _fixed_lanes(self, placement: Placement) -> dict[str, Fraction]:
+    def _fixed_lanes(self, placement: StartPlacement) -> dict[str, Fraction]:
         """The start lanes that the lane modifiers fix: `lane(2)`, and `lane(same_as: b)` or
         `lane(side_of: b, ...)` once `b`'s is fixed. Pairs of actors in lanes fixed apart
         need no constraint against overlapping."""
@@ -839,7 +841,9 @@ def _internal_lane(number: ir.Term, road: Road, numbering: str) -> ir.Term:
     return ir.op("-", ir.const(road.lane_count + 1), number)
 
 
-def lower_placement(lowerer, scenario: Symbol, default_map: str = "default") -> Placement | None:
+def lower_placement(
+    lowerer, scenario: Symbol, default_map: str = "default"
+) -> StartPlacement | None:
     """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
     return PlacementLowerer(lowerer, scenario, default_map).lower()
 

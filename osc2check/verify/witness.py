@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.verify import ir, quick
-from osc2check.verify.placement import ActorBody, Placement
+from osc2check.verify.placement import ActorBody, StartPlacement
 from osc2check.world.catalogue import CATEGORIES, ActorRow
 
 
@@ -179,7 +179,7 @@ def _number(value: Fraction) -> str:
 
 
 def build_witness(
-    problem: ir.Problem, values: dict[str, Fraction | bool], active, seed: int | None
+    problem: ir.ConstraintProblem, values: dict[str, Fraction | bool], active, seed: int | None
 ) -> Witness:
     """Assemble the witness of ``problem`` from a solver model's ``values``."""
     mentioned: set[str] = set()
@@ -187,7 +187,7 @@ def build_witness(
         if c.kind not in ("domain", "placement"):
             mentioned.update(v.name for v in ir.variables(c.term))
     params = []
-    placement: Placement | None = problem.placement  # type: ignore[assignment]
+    placement: StartPlacement | None = problem.placement  # type: ignore[assignment]
     for name in sorted(problem.variables):
         if "@start." in name:
             continue

@@ -1,4 +1,4 @@
-"""Solve a ``Problem`` with z3: satisfiability, minimal conflicts, defaults, samples.
+"""Solve a ``ConstraintProblem`` with z3: satisfiability, minimal conflicts, defaults, samples.
 
 ``check`` decides a problem for the analysis: a model found by propagation
 (``quick``) settles a plainly satisfiable problem without z3 (z3 is not even
@@ -42,7 +42,7 @@ class Conflict:
 
 
 @dataclass
-class Outcome:
+class SolverOutcome:
     status: str  # "sat" | "unsat" | "unknown"
     values: dict[str, Fraction | bool] = field(default_factory=dict)
     conflicts: list[Conflict] = field(default_factory=list)
@@ -70,7 +70,9 @@ def _position(c: ir.Constraint) -> tuple:
     return (c.span.uri, c.span.line, c.span.column)
 
 
-def active_constraints(problem: ir.Problem, outcome: Outcome) -> list[ir.Constraint]:
+def active_constraints(
+    problem: ir.ConstraintProblem, outcome: SolverOutcome
+) -> list[ir.Constraint]:
     """The constraints that hold after the override rule (see module ``lower``).
 
     A default on a parameter yields to a hard constraint that has the parameter
@@ -112,7 +114,7 @@ def active_constraints(problem: ir.Problem, outcome: Outcome) -> list[ir.Constra
 
 
 class _Encoder:
-    def __init__(self, problem: ir.Problem, ctx):
+    def __init__(self, problem: ir.ConstraintProblem, ctx):
         z3 = _z3()
         self.z3 = z3
         self.ctx = ctx
@@ -194,18 +196,18 @@ def _value(expr) -> Fraction | bool:
 
 
 def check(
-    problem: ir.Problem,
+    problem: ir.ConstraintProblem,
     *,
     rlimit: int = DEFAULT_RLIMIT,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
     session: Session | None = None,
-) -> Outcome:
+) -> SolverOutcome:
     """Decide the problem: a model by propagation if an easy one exists, else z3.
 
     The values of a satisfiable outcome are a model, but not the seeded sample
     that ``solve`` gives: witnesses come from ``solve``.
     """
-    outcome = Outcome("sat")
+    outcome = SolverOutcome("sat")
     active = active_constraints(problem, outcome)
     outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
     model = quick.find_model(problem.variables, [c.term for c in active])
@@ -218,16 +220,16 @@ def check(
 
 
 def solve(
-    problem: ir.Problem,
+    problem: ir.ConstraintProblem,
     *,
     seed: int | None = None,
     rlimit: int = DEFAULT_RLIMIT,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
     ctx=None,
-) -> Outcome:
+) -> SolverOutcome:
     """Check the problem with z3; report conflicts, or a model (a sample picked by
     ``seed``; without a seed, z3's first model)."""
-    outcome = Outcome("sat")
+    outcome = SolverOutcome("sat")
     active = active_constraints(problem, outcome)
     outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
     return _solve(
@@ -242,14 +244,14 @@ def solve(
 
 
 def _solve(
-    problem: ir.Problem,
-    outcome: Outcome,
+    problem: ir.ConstraintProblem,
+    outcome: SolverOutcome,
     active: list[ir.Constraint],
     seed: int | None,
     rlimit: int,
     timeout_ms: int,
     ctx,
-) -> Outcome:
+) -> SolverOutcome:
     z3 = _z3()
     enc = _Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
@@ -372,7 +374,7 @@ class Sampler:
 
     def __init__(
         self,
-        problem: ir.Problem,
+        problem: ir.ConstraintProblem,
         active: list[ir.Constraint],
         base: dict[str, Fraction | bool],
         *,
@@ -519,7 +521,10 @@ def _dependent(terms: list[ir.Term], fixed: dict) -> set[str]:
 
 
 def never_holds(
-    problem: ir.Problem, active: list[ir.Constraint], term: ir.Term, rlimit: int = DEFAULT_RLIMIT
+    problem: ir.ConstraintProblem,
+    active: list[ir.Constraint],
+    term: ir.Term,
+    rlimit: int = DEFAULT_RLIMIT,
 ) -> bool:
     """Whether ``term`` is false in every model of the active constraints."""
     z3 = _z3()

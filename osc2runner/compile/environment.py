@@ -18,10 +18,10 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 from osc2runner.compile.expressions import (
+    Bindings,
     Closure,
     ExpressionCompiler,
     PositionOf,
-    Scope,
     constant,
     namespace,
 )
@@ -60,7 +60,7 @@ class CompileEnvironment:
     def actors(self) -> dict[str, Actor]:
         return self.run.actors
 
-    def compile(self, expr: ast.Node, scope: Scope | None = None) -> Closure:
+    def compile(self, expr: ast.Node, scope: Bindings | None = None) -> Closure:
         """Compile an expression to a closure over the run context."""
         return self.compiler.compile(expr, scope)
 

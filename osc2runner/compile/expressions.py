@@ -29,28 +29,28 @@ from osc2runner.instance.actors import Actor
 if TYPE_CHECKING:
     from osc2runner.compile.environment import CompileEnvironment
 
-__all__ = ["Closure", "ExpressionCompiler", "Scope", "PositionOf", "constant"]
+__all__ = ["Closure", "ExpressionCompiler", "Bindings", "PositionOf", "constant"]
 
 Closure = Callable[[], Any]
 
 
-class Scope:
+class Bindings:
     """Names bound while compiling: ``it``, ``actor``, event ``as`` aliases, method parameters."""
 
-    def __init__(self, parent: Scope | None = None, **bindings: Closure) -> None:
+    def __init__(self, parent: Bindings | None = None, **bindings: Closure) -> None:
         self.parent = parent
         self.bindings = dict(bindings)
 
     def lookup(self, name: str) -> Closure | None:
-        scope: Scope | None = self
+        scope: Bindings | None = self
         while scope is not None:
             if name in scope.bindings:
                 return scope.bindings[name]
             scope = scope.parent
         return None
 
-    def child(self, **bindings: Closure) -> Scope:
-        return Scope(self, **bindings)
+    def child(self, **bindings: Closure) -> Bindings:
+        return Bindings(self, **bindings)
 
 
 class _Constant:
@@ -116,11 +116,11 @@ class ExpressionCompiler:
 
     # ---- entry
 
-    def compile(self, expr: ast.Node, scope: Scope | None = None) -> Closure:
+    def compile(self, expr: ast.Node, scope: Bindings | None = None) -> Closure:
         """A closure evaluating ``expr``; raises CompileProblem for what cannot run."""
-        return self._c(expr, scope or Scope())
+        return self._c(expr, scope or Bindings())
 
-    def constant_value(self, expr: ast.Node, scope: Scope | None = None) -> object:
+    def constant_value(self, expr: ast.Node, scope: Bindings | None = None) -> object:
         """The value of an expression that must not depend on live state."""
         fn = self.compile(expr, scope)
         if not is_constant(fn):
@@ -129,7 +129,7 @@ class ExpressionCompiler:
 
     # ---- dispatch
 
-    def _c(self, e: ast.Node, scope: Scope) -> Closure:
+    def _c(self, e: ast.Node, scope: Bindings) -> Closure:
         match e:
             case ast.IntLiteral() | ast.StringLiteral() | ast.BoolLiteral():
                 return constant(e.value)
@@ -173,7 +173,7 @@ class ExpressionCompiler:
 
     # ---- names
 
-    def _name(self, e: ast.NameRef, scope: Scope) -> Closure:
+    def _name(self, e: ast.NameRef, scope: Bindings) -> Closure:
         name = e.name.name
         bound = scope.lookup(name.text) if e.name.namespace is None else None
         sym = self.ref(name)
@@ -212,7 +212,7 @@ class ExpressionCompiler:
 
     # ---- operators
 
-    def _unary(self, e: ast.Unary, scope: Scope) -> Closure:
+    def _unary(self, e: ast.Unary, scope: Bindings) -> Closure:
         operand = self._c(e.operand, scope)
         if e.op == "not":
             fn = operator.not_
@@ -224,7 +224,7 @@ class ExpressionCompiler:
             return constant(fn(operand()))
         return lambda: fn(operand())
 
-    def _binary(self, e: ast.Binary, scope: Scope) -> Closure:
+    def _binary(self, e: ast.Binary, scope: Bindings) -> Closure:
         left, right = self._c(e.left, scope), self._c(e.right, scope)
         op = e.op
         if op == "and":
@@ -249,7 +249,7 @@ class ExpressionCompiler:
                 raise CompileProblem("division by zero", e) from None
         return fn
 
-    def _ternary(self, e: ast.Ternary, scope: Scope) -> Closure:
+    def _ternary(self, e: ast.Ternary, scope: Bindings) -> Closure:
         cond = self._c(e.condition, scope)
         then, other = self._c(e.then, scope), self._c(e.otherwise, scope)
         if is_constant(cond):
@@ -258,7 +258,7 @@ class ExpressionCompiler:
 
     # ---- members and calls
 
-    def _member(self, e: ast.MemberAccess, scope: Scope) -> Closure:
+    def _member(self, e: ast.MemberAccess, scope: Bindings) -> Closure:
         target = self._c(e.target, scope)
         member = e.member.text
         sym = self.ref(e.member)
@@ -278,7 +278,7 @@ class ExpressionCompiler:
 
         return access
 
-    def _call(self, e: ast.Call, scope: Scope) -> Closure:
+    def _call(self, e: ast.Call, scope: Bindings) -> Closure:
         callee = e.callee
         if (
             isinstance(callee, ast.NameRef)
@@ -301,7 +301,7 @@ class ExpressionCompiler:
                 return self._method_call(method, owner or constant(None), e, scope)
         raise CompileProblem("the runner cannot call this", e)
 
-    def _arguments(self, method: Symbol, call: ast.Call, scope: Scope) -> list[Closure]:
+    def _arguments(self, method: Symbol, call: ast.Call, scope: Bindings) -> list[Closure]:
         params = list(method.parameters)
         given: dict[str, Closure] = {}
         position = 0
@@ -326,13 +326,13 @@ class ExpressionCompiler:
         return result
 
     def _method_call(
-        self, method: Symbol, target: Closure, call: ast.Call, scope: Scope
+        self, method: Symbol, target: Closure, call: ast.Call, scope: Bindings
     ) -> Closure:
         args = self._arguments(method, call, scope)
         decl = method.decl
         if isinstance(decl, ast.MethodDecl) and decl.kind == "expression" and decl.body is not None:
             bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
-            inner = Scope(None, actor=target, **bindings)
+            inner = Bindings(None, actor=target, **bindings)
             return self._c(decl.body, inner)
         entry = self.env.registry.find_method(self.model, method)
         if entry is None:

@@ -47,7 +47,7 @@ from osc2runner.compile.conditions import (
     emit_now,
 )
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.expressions import Closure, Scope, constant, is_constant
+from osc2runner.compile.expressions import Bindings, Closure, constant, is_constant
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
@@ -206,7 +206,9 @@ class TreeCompiler:
         if do is None:
             main: py_trees.behaviour.Behaviour = Serial("do (empty)")
         else:
-            main = self._guard(lambda: self.do_member(do.member, Scope()), do) or self._failed("do")
+            main = self._guard(lambda: self.do_member(do.member, Bindings()), do) or self._failed(
+                "do"
+            )
         root = ScenarioRoot(
             node_name(f"scenario {scenario.name}", scenario.decl or do or ast.Missing(_no_span())),
             main,
@@ -266,7 +268,7 @@ class TreeCompiler:
 
     # ---- behaviour
 
-    def do_member(self, member: ast.DoMember, scope: Scope) -> py_trees.behaviour.Behaviour:
+    def do_member(self, member: ast.DoMember, scope: Bindings) -> py_trees.behaviour.Behaviour:
         body = member.body
         node: py_trees.behaviour.Behaviour
         try:
@@ -296,7 +298,7 @@ class TreeCompiler:
             node = Labelled(node_name(f"{label}:", member), node, label)
         return node
 
-    def composition(self, comp: ast.Composition, scope: Scope) -> py_trees.behaviour.Behaviour:
+    def composition(self, comp: ast.Composition, scope: Bindings) -> py_trees.behaviour.Behaviour:
         args = self._named(
             comp.arguments, ("duration", "overlap", "start_to_start", "end_to_end"), comp
         )
@@ -363,7 +365,7 @@ class TreeCompiler:
         owner: ast.Node,
         duration: ast.Node | None,
         untils: list[ast.Until],
-        scope: Scope,
+        scope: Bindings,
     ) -> py_trees.behaviour.Behaviour:
         for until in untils:
             watch = self.watch(until.event, scope)
@@ -388,7 +390,7 @@ class TreeCompiler:
 
     # ---- invocations
 
-    def invocation(self, inv: ast.Invocation, scope: Scope) -> py_trees.behaviour.Behaviour:
+    def invocation(self, inv: ast.Invocation, scope: Bindings) -> py_trees.behaviour.Behaviour:
         sym = self.model.references.get(inv.name)
         if sym is None:
             raise CompileProblem(f"`{inv.name.text}` is not a behaviour the runner knows", inv)
@@ -450,7 +452,7 @@ class TreeCompiler:
         self,
         sym: Symbol,
         arguments: tuple[ast.Argument, ...],
-        scope: Scope,
+        scope: Bindings,
         owner: ast.Node,
         allow_duration: bool = False,
     ) -> tuple[dict[str, Closure], ast.Node | None]:
@@ -474,7 +476,7 @@ class TreeCompiler:
                 raise CompileProblem("event arguments are not supported here", arg)
         return result, duration
 
-    def modifier(self, wm: ast.Invocation, actor: Actor, scope: Scope) -> Modifier:
+    def modifier(self, wm: ast.Invocation, actor: Actor, scope: Bindings) -> Modifier:
         sym = self.model.references.get(wm.name)
         if sym is None or sym.kind is not SymbolKind.MODIFIER:
             raise CompileProblem(f"`{wm.name.text}` is not a modifier the runner knows", wm)
@@ -493,16 +495,16 @@ class TreeCompiler:
 
     # ---- events
 
-    def wait(self, wait: ast.Wait, scope: Scope) -> py_trees.behaviour.Behaviour:
+    def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
         return Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
 
-    def emit(self, emit: ast.Emit, scope: Scope) -> py_trees.behaviour.Behaviour:
+    def emit(self, emit: ast.Emit, scope: Bindings) -> py_trees.behaviour.Behaviour:
         name, key, args = self._emission(emit, scope)
         return Emit(node_name(self._text(emit), emit), name, key, args)
 
-    def _emission(self, emit: ast.Emit, scope: Scope) -> tuple[str, str, dict[str, Closure]]:
+    def _emission(self, emit: ast.Emit, scope: Bindings) -> tuple[str, str, dict[str, Closure]]:
         name = emit.event.text
         key = self.run.declare_event(name)
         sym = self.model.references.get(emit.event)
@@ -520,7 +522,7 @@ class TreeCompiler:
         return name, key, args
 
     def on(self, on: ast.OnDirective) -> py_trees.behaviour.Behaviour:
-        scope = Scope()
+        scope = Bindings()
         watch = self.watch(on.event, scope)
         members: list[Callable[[Any], None]] = []
         keys: list[str] = []
@@ -537,7 +539,7 @@ class TreeCompiler:
                 members.append(lambda h, c=call: c())
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
 
-    def watch(self, spec: ast.Node, scope: Scope) -> Watch:
+    def watch(self, spec: ast.Node, scope: Bindings) -> Watch:
         """The watch of an event spec (see :mod:`osc2runner.compile.conditions`)."""
         env, run = self.env, self.run
         if isinstance(spec, ast.EventReference):
@@ -564,7 +566,7 @@ class TreeCompiler:
             return LevelWatch(env.compile(expr, scope))
         raise CompileProblem("unsupported event", spec)
 
-    def _event_function(self, fname: str, call: ast.Call, scope: Scope) -> Watch:
+    def _event_function(self, fname: str, call: ast.Call, scope: Bindings) -> Watch:
         env, run = self.env, self.run
         positional = [a.value for a in call.arguments if isinstance(a, ast.PositionalArgument)]
         named = {a.name.text: a.value for a in call.arguments if isinstance(a, ast.NamedArgument)}

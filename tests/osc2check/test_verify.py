@@ -24,7 +24,7 @@ from osc2check import cli
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.verify import ir, quick
 from osc2check.verify.lower import in_range
-from osc2check.verify.z3_backend import Outcome, Sampler, active_constraints, check, solve
+from osc2check.verify.z3_backend import Sampler, SolverOutcome, active_constraints, check, solve
 
 CASES = Path(__file__).resolve().parent / "cases"
 SHARED_SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
@@ -66,8 +66,8 @@ HEADER = "import osc.standard\n\n"
 # --- the IR and the backend ---------------------------------------------------------------
 
 
-def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ir.Problem:
-    p = ir.Problem("p", span(1))
+def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ir.ConstraintProblem:
+    p = ir.ConstraintProblem("p", span(1))
     for v in variables:
         p.variables[v.name] = v
     for line, (term, kind) in enumerate(constraints, start=2):
@@ -141,7 +141,7 @@ def test_ranges_hold_in_either_order_even_with_parameter_bounds():
 def test_override_rule_on_the_ir():
     """A default yields to a hard `==`/`in` on its parameter alone and to remove_default."""
     x, y, z_ = ir.Var("x", "real"), ir.Var("y", "real"), ir.Var("z", "real")
-    p = ir.Problem("p", span(1))
+    p = ir.ConstraintProblem("p", span(1))
     for v in (x, y, z_):
         p.variables[v.name] = v
     dx = ir.Constraint(ir.op("==", ir.Ref(x), ir.const(1)), span(2), "default", "dx", "default", x)
@@ -153,7 +153,7 @@ def test_override_rule_on_the_ir():
     )
     p.constraints = [dx, hx, dy, hy, dz]
     p.removed_defaults.add("z")
-    outcome = Outcome("sat")
+    outcome = SolverOutcome("sat")
     active = active_constraints(p, outcome)
     assert active == [hx, dy, hy]
     assert outcome.overridden == [(dx, hx), (dz, None)]
@@ -597,7 +597,7 @@ def test_samples_reuse_one_optimizer_and_keep_free_variables_in_their_bounds():
     from osc2check.verify.z3_backend import _Encoder
 
     enc = _Encoder(p, z3.Context())
-    active = active_constraints(p, Outcome("sat"))
+    active = active_constraints(p, SolverOutcome("sat"))
     sampler = Sampler(p, active, first, enc=enc, exprs=[enc.term(c.term) for c in active])
     samples = [sampler.sample(seed) for seed in range(8)]
     assert all(s is not None and 0 <= s["x"] <= 100 and s["y"] >= s["x"] + 3 for s in samples)

@@ -42,7 +42,7 @@ def holds(op: str, a: Fraction, b: Fraction) -> bool:
 @st.composite
 def modelled(draw):
     """(problem, model): a random constraint set and values that satisfy it."""
-    problem = ir.Problem("p", Span("t.osc", 1, 1, 1, 2))
+    problem = ir.ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
     model: dict[str, Fraction] = {}
     variables = []
     for i in range(draw(st.integers(1, 4))):  # physical parameters (speeds, in m/s)
@@ -97,14 +97,14 @@ def modelled(draw):
     return problem, model
 
 
-def add(problem: ir.Problem, term: ir.Term, text: str) -> ir.Constraint:
+def add(problem: ir.ConstraintProblem, term: ir.Term, text: str) -> ir.Constraint:
     line = len(problem.constraints) + 2
     c = ir.Constraint(term, Span("t.osc", line, 5, line, 9), "keep", text)
     problem.add(c)
     return c
 
 
-def satisfiable(problem: ir.Problem, members: list[ir.Constraint]) -> bool:
+def satisfiable(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> bool:
     ctx = z3.Context()
     enc = _Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
@@ -115,7 +115,7 @@ def satisfiable(problem: ir.Problem, members: list[ir.Constraint]) -> bool:
     return result == z3.sat
 
 
-def assert_minimal(problem: ir.Problem, members: list[ir.Constraint]) -> None:
+def assert_minimal(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> None:
     assert not satisfiable(problem, members)
     for i in range(len(members)):
         assert satisfiable(problem, members[:i] + members[i + 1 :]), members[i].text
