@@ -551,13 +551,46 @@ def test_explicit_config_file_and_isolated(project, capsys, tmp_path):
     assert status == 2 and "missing.toml: cannot read" in err
 
 
-def test_bad_option_values_exit_2(project, capsys):
+def test_bad_option_values_exit_2_with_one_line(project, capsys):
     write(project / "a.osc", CLEAN)
     status, _, err = run(capsys, "a.osc", "--select", "X99")
     assert (status, err) == (2, "osc2check: error: --select: unknown code, name or prefix 'X99'\n")
-    status, _, err = run(capsys, "a.osc", "--output-format", "xml")
-    assert status == 2 and "invalid choice: 'xml'" in err
-    assert run(capsys, "--no-such-option")[0] == 2
+    status, out, err = run(capsys, "a.osc", "--output-format", "xml")
+    assert (status, out) == (2, "")
+    assert err.startswith("osc2check: error: argument --output-format: invalid choice: 'xml'")
+    assert err.count("\n") == 1
+    assert run(capsys, "--no-such-option") == (
+        2,
+        "",
+        "osc2check: error: unrecognized arguments: --no-such-option\n",
+    )
+    assert run(capsys, "a.osc", "--seed") == (
+        2,
+        "",
+        "osc2check: error: argument --seed: expected one argument\n",
+    )
+    assert run(capsys, "rule", "N101", "N102") == (
+        2,
+        "",
+        "osc2check: error: unrecognized arguments: N102\n",
+    )
+
+
+@pytest.mark.parametrize("seed", ["-1", "1.5", "abc", ""])
+def test_seed_that_is_not_a_non_negative_integer_is_a_usage_error(project, capsys, seed):
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "a.osc", "--witness", "--seed", seed) == (
+        2,
+        "",
+        f"osc2check: error: argument --seed: expected a non-negative integer, got {seed!r}\n",
+    )
+
+
+def test_seed_zero_and_large_seeds_are_accepted(project, capsys, analysis):
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "a.osc", "--witness", "--seed", "0")[0] == 0
+    assert run(capsys, "a.osc", "--witness", "--seed=12345678901234567890")[0] == 0
+    assert [options.seed for _, options in analysis.calls] == [0, 12345678901234567890]
 
 
 def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
@@ -573,6 +606,34 @@ def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
     assert "Traceback" not in err
     status, _, err = run(capsys, "a.osc", "--debug")
     assert status == 2 and "Traceback" in err and "RuntimeError: boom" in err
+
+
+# --- witnesses ---------------------------------------------------------------------------
+
+WITNESSED = """\
+import osc.standard
+
+scenario cruise:
+    hero: vehicle
+    limit: speed with:
+        keep(limit in [30kph..40kph])
+    do hero.drive(duration: 10s) with:
+        speed(limit)
+"""
+
+
+def test_witness_comes_first_in_json(tmp_path, monkeypatch, capsys):
+    """The real checker: the witness is read before the findings (L506 here)."""
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path / "w.osc", WITNESSED)
+    status, out, _ = run(capsys, "w.osc", "--isolated", "--witness", "--output-format", "json")
+    assert status == 0
+    doc = json.loads(out)
+    assert list(doc) == ["scenarios", "version", "tool", "findings", "errors", "skipped"]
+    (scenario,) = doc["scenarios"]
+    assert scenario["witness"]["scenario"] == "cruise"
+    assert [f["code"] for f in doc["findings"]] == ["L506"]
+    assert out.index('"witness"') < out.index('"findings"')
 
 
 # --- other commands --------------------------------------------------------------------
