@@ -689,6 +689,21 @@ def standard_file_import(span: Span, target: str) -> Diagnostic:
     )
 
 
+def unquoted_file_import(span: Span, target: str, beside: bool) -> Diagnostic:
+    """``import basic.osc`` read as the file ``basic.osc``; ``beside``: found beside the
+    importing file, so that ``import "basic.osc"`` names the same file."""
+    module_file = target.removesuffix(".osc").replace(".", "/") + "/osc.osc"
+    quoted = f'"{target}"'
+    fix = Fix(f"write `import {quoted}`", (TextEdit(span, quoted),)) if beside else None
+    return _diag(
+        codes.UNQUOTED_FILE_IMPORT,
+        f"`import {target}` is read as the file `{target}`, as CARLA does; the standard "
+        f"reads it as the module file `{module_file}`: write `import {quoted}`",
+        span,
+        fix=fix,
+    )
+
+
 def one_of_race(span: Span) -> Diagnostic:
     return _diag(
         codes.ONE_OF_RACE,

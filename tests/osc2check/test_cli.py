@@ -608,6 +608,24 @@ def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
     assert status == 2 and "Traceback" in err and "RuntimeError: boom" in err
 
 
+def test_import_of_a_fifo_or_device_is_unresolved_without_blocking(tmp_path, monkeypatch, capsys):
+    """The real checker: an imported FIFO or device is never opened."""
+    monkeypatch.chdir(tmp_path)
+    os.mkfifo(tmp_path / "pipe.osc")
+    write(tmp_path / "main.osc", 'import "pipe.osc"\nimport "/dev/zero"\nimport pipe\n')
+    with writer_waiting_on(tmp_path / "pipe.osc"):
+        status, out, err = run(capsys, "main.osc", "--isolated", "--output-format", "concise")
+    assert (status, err) == (1, "")
+    assert out.splitlines() == [
+        "main.osc:1:8: N105 cannot import `pipe.osc`: `pipe.osc` is not a regular file "
+        "(a named pipe)",
+        "main.osc:2:8: N105 cannot import `/dev/zero`: `/dev/zero` is not a regular file "
+        "(a character device)",
+        "main.osc:3:8: N105 cannot import `pipe`: `pipe.osc` is not a regular file (a named pipe)",
+        "Found 3 errors in 1 file (1 file checked)",
+    ]
+
+
 # --- witnesses ---------------------------------------------------------------------------
 
 WITNESSED = """\
