@@ -29,7 +29,7 @@ from osc2check.verify.z3_backend import Outcome, Sampler, active_constraints, ch
 CASES = Path(__file__).resolve().parent / "cases"
 SHARED_SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
 SEED_DIR = Path(os.environ.get("OSC2_SEED_DIR", SHARED_SEED))
-THREE_FILES = CASES / "C" / "C401_conflict_across_three_files"
+THREE_FILES = CASES / "constraints" / "C401_conflict_across_three_files"
 KPH = Fraction(5, 18)
 
 
