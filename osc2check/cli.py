@@ -402,8 +402,10 @@ def _collect(
             if key not in seen:
                 seen.add(key)
                 entries.append(entry)
-    if not entries:
-        raise UsageError(f"no .osc files found in {', '.join(paths)}")
+    if not any(isinstance(e, _Input) or e.is_error for e in entries):
+        skipped = len(entries)  # only special files, each skipped with a note
+        also = f" ({skipped} skipped: not regular files)" if skipped else ""
+        raise UsageError(f"no .osc files found in {', '.join(paths)}{also}")
     return entries
 
 

@@ -158,17 +158,19 @@ def _parse(text: str, uri: str) -> ParseResult:
     tokens, layout_errors = indent(lexed.tokens, text)
     unclosed_lines = set()
     error_lines: set[int] = set()
-    for err in layout_errors:
-        span = _tok_span(uri, err.token)
-        if err.kind == "unclosed":
-            unclosed_lines.add(err.token.line)
-            error_lines.update(range(err.token.line, max(err.end_line, err.token.line + 1)))
-            diagnostics.append(messages.unclosed_bracket(span, str(err.token)))
-        elif err.kind == "indent":
+    for layout in layout_errors:
+        span = _tok_span(uri, layout.token)
+        if layout.kind == "unclosed":
+            unclosed_lines.add(layout.token.line)
+            error_lines.update(
+                range(layout.token.line, max(layout.end_line, layout.token.line + 1))
+            )
+            diagnostics.append(messages.unclosed_bracket(span, str(layout.token)))
+        elif layout.kind == "indent":
             diagnostics.append(messages.unexpected_indent(span))
         else:
             diagnostics.append(
-                messages.inconsistent_dedent(span, err.token.column - 1, err.expected)
+                messages.inconsistent_dedent(span, layout.token.column - 1, layout.expected)
             )
     problems: list = []
     uri_token = _URI.set(uri)

@@ -426,6 +426,16 @@ def test_special_files_in_a_folder_are_skipped_with_a_note(project, capsys):
     assert run(capsys, "d", "-q")[2] == ""  # --quiet leaves notes out
 
 
+def test_folder_of_special_files_only_has_no_osc_files(project, capsys):
+    os.mkfifo(project / "pipe.osc")
+    with writer_waiting_on(project / "pipe.osc"):
+        assert run(capsys, ".") == (
+            2,
+            "",
+            "osc2check: error: no .osc files found in . (1 skipped: not regular files)\n",
+        )
+
+
 def test_broken_link_in_a_folder_is_an_error(project, capsys):
     write(project / "d" / "a.osc", CLEAN)
     (project / "d" / "b.osc").symlink_to("nowhere.osc")
