@@ -125,13 +125,15 @@ def not_regular(status: os.stat_result) -> str | None:
 
 
 def _mib(size: int) -> str:
-    return f"{size / (1024 * 1024):.0f} MiB"
+    """``50 MiB`` for a whole number of MiB, else the bytes (``40 bytes``)."""
+    mib, rest = divmod(size, 1024 * 1024)
+    return f"{mib} MiB" if mib and not rest else f"{size:,} bytes"
 
 
 def _too_large(size: int | None, limit: int) -> str:
     if size is None:
         return f"too large (more than the limit of {_mib(limit)})"
-    return f"too large ({_mib(size)}; the limit is {_mib(limit)})"
+    return f"too large ({size:,} bytes; the limit is {_mib(limit)})"
 
 
 def read_bytes(path: str | Path, limit: int | None = None) -> bytes:

@@ -499,8 +499,9 @@ def test_too_large_file_is_refused_unread(project, capsys):
     status, out, err = run(capsys, "huge.osc", "a.osc")
     assert status == 2
     assert out == "No findings in 1 file; 1 file could not be read\n"
-    assert (
-        err == "osc2check: error: huge.osc: cannot read: too large (50 MiB; the limit is 50 MiB)\n"
+    assert err == (
+        "osc2check: error: huge.osc: cannot read: too large (52,428,801 bytes; "
+        "the limit is 50 MiB)\n"
     )
 
 
@@ -520,8 +521,9 @@ def test_standard_input_is_read_up_to_the_limit(project, capsys, monkeypatch):
     monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(CLEAN.encode() + b"#")))
     status, _, err = run(capsys, "-")
     assert status == 2
-    assert (
-        err == "osc2check: error: <stdin>: cannot read: too large (more than the limit of 0 MiB)\n"
+    assert err == (
+        f"osc2check: error: <stdin>: cannot read: too large (more than the limit of "
+        f"{len(CLEAN)} bytes)\n"
     )
 
 
