@@ -4,6 +4,12 @@ No analysis happens here. Exit codes: 0 when no finding is at or above the
 ``--fail-on`` severity, 1 when one is, 2 for a usage, configuration or I/O
 error or an internal error (with a message on stderr, never a traceback unless
 ``--debug``).
+
+A path that cannot be read (missing, a broken or looping link, a FIFO, socket or
+device, no permission, too large) is reported for itself, on stderr and in the
+output format's place for it, and the other files are still checked and written;
+the exit status is then 2. A special file met while walking a folder is skipped with
+a note. ``osc2check.inputs`` reads the files, never blocking.
 """
 
 from __future__ import annotations
@@ -11,14 +17,16 @@ from __future__ import annotations
 import argparse
 import logging
 import os
+import stat
 import sys
 import traceback
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, NoReturn, TextIO
 
-from osc2check import codes, rules
+from osc2check import codes, inputs, rules
+from osc2check.codes import Severity
 from osc2check.config import (
     FORMAT_ALIASES,
     OUTPUT_FORMATS,
@@ -29,6 +37,7 @@ from osc2check.config import (
     parse_codes,
     parse_severity,
 )
+from osc2check.inputs import InputError, InputProblem
 from osc2check.output import render, render_statistics, tool
 from osc2check.source import decode_source
 
@@ -48,7 +57,8 @@ commands:
 exit status:
   0  no finding at or above --fail-on (default: error)
   1  findings at or above --fail-on
-  2  usage, configuration or I/O error, or an internal error
+  2  usage, configuration or I/O error, or an internal error; a file that cannot
+     be read is reported for itself and every other file is still checked
 
 Configuration is read from the nearest osc2check.toml or pyproject.toml with a
 [tool.osc2check] table, looking upward from the first path. Options given here
@@ -57,7 +67,25 @@ override it; --ignore adds to the configured ignore list.
 
 
 class UsageError(Exception):
-    """A problem with the command line or the input files (exit status 2)."""
+    """A problem with the command line or the configuration (exit status 2)."""
+
+
+class _ArgumentParser(argparse.ArgumentParser):
+    """argparse that reports a bad command line as one line, ``osc2check: error: ...``."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(message)
+
+
+def _seed(text: str) -> int:
+    """A seed: a non-negative integer (``-1`` and ``1`` would draw the same witness)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = -1
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {text!r}")
+    return value
 
 
 @dataclass(frozen=True, slots=True)
@@ -68,7 +96,7 @@ class _Input:
 
 def build_parser() -> argparse.ArgumentParser:
     """The parser of the checking command (``osc2check [options] PATH...``)."""
-    p = argparse.ArgumentParser(
+    p = _ArgumentParser(
         prog="osc2check",
         description="Check ASAM OpenSCENARIO DSL 2.x (.osc) files.",
         epilog=_EPILOG,
@@ -111,10 +139,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scenario", metavar="NAME", help="verify only the scenario NAME")
     p.add_argument(
         "--seed",
-        type=int,
+        type=_seed,
         default=0,
         metavar="N",
-        help="pick the witness with seed N (default 0): different seeds, different witnesses",
+        help="pick the witness with seed N, a non-negative integer (default 0): different "
+        "seeds, different witnesses",
     )
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     p.add_argument("--version", action="version", version=f"%(prog)s {tool.version()}")
@@ -151,9 +180,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _rule_command(argv: list[str], out: TextIO) -> int:
-    p = argparse.ArgumentParser(
-        prog="osc2check rule", description="Print the documentation of a code."
-    )
+    p = _ArgumentParser(prog="osc2check rule", description="Print the documentation of a code.")
     p.add_argument("code", nargs="?", metavar="CODE", help="a code or name; none lists all")
     args = p.parse_args(argv)
     if args.code is None:
@@ -179,22 +206,30 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     )
     paths = args.paths or ["."]
     config = _with_options(_load_config(args, paths), args)
-    inputs = _collect(paths, config, args.stdin_filename)
-    sources = _read(inputs)
+    sources, problems = _read(_collect(paths, config, args.stdin_filename))
+    _report_problems(problems, args.quiet)
+    failed = any(p.is_error for p in problems)
     if args.dump_ast:
-        return _dump_ast(sources, out)
+        status = _dump_ast(sources, out)
+        return EXIT_ERROR if failed else status
 
-    analysis = _analyze(sources, config, args.seed if args.witness else None, args.scenario)
-    diagnostics = analysis.diagnostics
-    results = [r for checked in analysis.verified.values() for r in checked.scenarios]
+    diagnostics: list[Any] = []
+    results: list[Any] = []
+    texts = {s.uri: s.text for s in sources}
+    if sources:
+        analysis = _analyze(sources, config, args.seed if args.witness else None, args.scenario)
+        diagnostics = analysis.diagnostics
+        results = [r for checked in analysis.verified.values() for r in checked.scenarios]
+        texts.update(analysis.texts)
     summaries = []
     if results:
         from osc2check.verify.check import scenario_summary  # z3 loads only when needed
 
         summaries = [scenario_summary(r, args.witness) for r in results]
-    texts = {**{s.uri: s.text for s in sources}, **analysis.texts}
     if args.statistics:
-        text = render_statistics(diagnostics, files_checked=len(sources), quiet=args.quiet)
+        text = render_statistics(
+            diagnostics, files_checked=len(sources), quiet=args.quiet, problems=problems
+        )
     else:
         text = render(
             config.output_format,
@@ -203,18 +238,37 @@ def _check_command(argv: list[str], out: TextIO) -> int:
             files_checked=len(sources),
             quiet=args.quiet,
             scenarios=summaries,
+            problems=problems,
         )
         if args.witness and config.output_format not in ("json", "sarif", "github"):
             text += _witness_tables(results)
     out.write(text)
     out.flush()
+    if failed:
+        return EXIT_ERROR
     if args.exit_zero or not config.fails(diagnostics):
         return EXIT_OK
     return EXIT_FINDINGS
 
 
+def _report_problems(problems: list[InputProblem], quiet: bool) -> None:
+    """One stderr line per path not checked: errors always, notes unless ``quiet``."""
+    for p in problems:
+        if p.is_error:
+            sys.stderr.write(f"osc2check: error: {p.path}: {p.message}\n")
+        elif not quiet:
+            sys.stderr.write(f"osc2check: note: {p.path}: {p.message}\n")
+    sys.stderr.flush()
+
+
 def _load_config(args: argparse.Namespace, paths: list[str]) -> Config:
     if args.config:
+        try:  # a FIFO named as the configuration must not block the run
+            why = inputs.not_regular(inputs.probe(args.config))
+        except InputError:
+            why = None  # the configuration loader says why it cannot read it
+        if why:
+            raise UsageError(f"{args.config}: cannot read: {why}")
         return load_config_file(args.config)
     if args.isolated:
         return Config()
@@ -223,7 +277,12 @@ def _load_config(args: argparse.Namespace, paths: list[str]) -> Config:
         start = Path(args.stdin_filename).parent if args.stdin_filename else Path.cwd()
     else:
         start = Path(first)
-    if not start.exists():
+    try:
+        if not start.is_dir():  # a file, or a path that cannot be read: its folder
+            start = start.parent
+        if not start.is_dir():
+            start = Path.cwd()
+    except OSError:
         start = Path.cwd()
     config, path = load_config(start)
     log.debug("configuration: %s", path or "defaults")
@@ -251,66 +310,151 @@ def _with_options(config: Config, args: argparse.Namespace) -> Config:
 
 
 def _display(path: Path) -> str:
-    """``path`` relative to the working directory when below it, with ``/``."""
+    """``path`` relative to the working directory when below it, with ``/``.
+
+    Links are followed (a linked file is reported under its target's name, beside the
+    files it imports); a link that cannot be followed is named as given.
+    """
     try:
-        return path.resolve().relative_to(Path.cwd().resolve()).as_posix()
+        real = path.resolve(strict=True)
+    except (OSError, RuntimeError):  # broken or looping link: RuntimeError before 3.13
+        return _display_as_given(path)
+    try:
+        return real.relative_to(Path.cwd().resolve()).as_posix()
     except ValueError:
         return path.as_posix()
 
 
-def _walk(root: Path, config: Config) -> list[Path]:
-    check = not config.is_excluded(root)  # a folder named explicitly is searched anyway
-    found = []
-    for dirpath, dirnames, filenames in os.walk(root):
+def _display_as_given(path: Path) -> str:
+    """``path`` relative to the working directory when below it, links not followed."""
+    absolute = Path(os.path.abspath(path))
+    try:
+        return absolute.relative_to(Path.cwd().resolve()).as_posix()
+    except ValueError:
+        return path.as_posix()
+
+
+def _excluded(config: Config, path: Path, *, name_only: bool = False) -> bool:
+    """``config.is_excluded``; a looping link, which it cannot resolve, is not excluded."""
+    try:
+        return config.is_excluded(path, name_only=name_only)
+    except RuntimeError:  # pathlib's "Symlink loop" (Python < 3.13): reported when read
+        return False
+
+
+def _cannot_read(path: Path, why: str) -> InputProblem:
+    return InputProblem(_display_as_given(path), f"cannot read: {why}")
+
+
+def _walk(root: Path, config: Config) -> tuple[list[Path], list[InputProblem]]:
+    """The ``*.osc`` files below ``root``, and the paths below it that were not taken.
+
+    A folder that cannot be listed and a ``.osc`` link that leads nowhere cannot be
+    read (errors); a FIFO, socket or device named ``*.osc`` is skipped with a note.
+    Links to folders are not followed.
+    """
+    check = not _excluded(config, root)  # a folder named explicitly is searched anyway
+    found: list[Path] = []
+    problems: list[InputProblem] = []
+
+    def unlisted(exc: OSError) -> None:
+        where = Path(exc.filename) if exc.filename else root
+        problems.append(_cannot_read(where, inputs.reason(exc)))
+
+    for dirpath, dirnames, filenames in os.walk(root, onerror=unlisted):
         here = Path(dirpath)
         dirnames[:] = sorted(
-            d for d in dirnames if not (check and config.is_excluded(here / d, name_only=True))
+            d for d in dirnames if not (check and _excluded(config, here / d, name_only=True))
         )
         for name in sorted(filenames):
             path = here / name
-            if name.endswith(".osc") and not (check and config.is_excluded(path, name_only=True)):
+            if not name.endswith(".osc") or (check and _excluded(config, path, name_only=True)):
+                continue
+            try:
+                why = inputs.not_regular(inputs.probe(path))
+            except InputError as exc:
+                problems.append(_cannot_read(path, str(exc)))
+                continue
+            if why is None:
                 found.append(path)
-    return found
+            else:
+                problems.append(
+                    InputProblem(_display_as_given(path), f"skipped: {why}", Severity.INFO)
+                )
+    return found, problems
 
 
-def _collect(paths: list[str], config: Config, stdin_filename: str | None) -> list[_Input]:
-    inputs: list[_Input] = []
+def _collect(
+    paths: list[str], config: Config, stdin_filename: str | None
+) -> list[_Input | InputProblem]:
+    """The inputs named by ``paths`` (folders walked) and the paths that will not be
+    checked, in the order met."""
+    entries: list[_Input | InputProblem] = []
     seen: set[str] = set()
     for raw in paths:
         if raw == STDIN:
             uri = Path(stdin_filename).as_posix() if stdin_filename else STDIN_URI
-            candidates = [_Input(uri, None)]
+            found: list[_Input | InputProblem] = [_Input(uri, None)]
         else:
-            path = Path(raw)
-            if path.is_dir():
-                candidates = [_Input(_display(p), p) for p in _walk(path, config)]
-            elif path.exists():
-                excluded = config.force_exclude and config.is_excluded(path)
-                candidates = [] if excluded else [_Input(_display(path), path)]
-            else:
-                raise UsageError(f"{raw}: no such file or directory")
-        for item in candidates:
-            if item.uri not in seen:
-                seen.add(item.uri)
-                inputs.append(item)
-    if not inputs:
-        raise UsageError(f"no .osc files found in {', '.join(paths)}")
-    return inputs
+            found = _named(Path(raw), config)
+        for entry in found:
+            key = entry.uri if isinstance(entry, _Input) else entry.path
+            if key not in seen:
+                seen.add(key)
+                entries.append(entry)
+    if not any(isinstance(e, _Input) or e.is_error for e in entries):
+        skipped = len(entries)  # only special files, each skipped with a note
+        also = f" ({skipped} skipped: not regular files)" if skipped else ""
+        raise UsageError(f"no .osc files found in {', '.join(paths)}{also}")
+    return entries
 
 
-def _read(inputs: list[_Input]) -> list[Any]:
-    """The decoded sources; a file that is not valid UTF-8 carries its problem (P004)."""
+def _named(path: Path, config: Config) -> list[_Input | InputProblem]:
+    """What one path on the command line stands for: a file, a folder's files, a problem."""
+    excluded = config.force_exclude and _excluded(config, path)
+    try:
+        status = inputs.probe(path)
+    except InputError as exc:
+        return [] if excluded else [_cannot_read(path, str(exc))]
+    if stat.S_ISDIR(status.st_mode):
+        files, problems = _walk(path, config)
+        entries: list[_Input | InputProblem] = [_Input(_display(p), p) for p in files]
+        return sorted(
+            [*entries, *problems],
+            key=lambda e: e.uri if isinstance(e, _Input) else e.path,
+        )
+    if excluded:
+        return []
+    why = inputs.not_regular(status)
+    if why is not None:
+        return [_cannot_read(path, why)]
+    return [_Input(_display(path), path)]
+
+
+def _read(entries: list[_Input | InputProblem]) -> tuple[list[Any], list[InputProblem]]:
+    """The decoded sources, and the paths not checked (those met, then those unreadable).
+
+    A file that is not valid UTF-8 is read, and carries its problem (P004).
+    """
     from osc2check.analysis import SourceInput
 
     sources = []
-    for item in inputs:
+    problems = []
+    for entry in entries:
+        if isinstance(entry, InputProblem):
+            problems.append(entry)
+            continue
         try:
-            data = sys.stdin.buffer.read() if item.path is None else item.path.read_bytes()
-        except OSError as exc:
-            raise UsageError(f"{item.uri}: cannot read: {exc.strerror or exc}") from None
+            if entry.path is None:
+                data = inputs.read_stream(sys.stdin.buffer)
+            else:
+                data = inputs.read_bytes(entry.path)
+        except InputError as exc:
+            problems.append(InputProblem(entry.uri, f"cannot read: {exc}"))
+            continue
         text, problem = decode_source(data)
-        sources.append(SourceInput(uri=item.uri, text=text, problem=problem))
-    return sources
+        sources.append(SourceInput(uri=entry.uri, text=text, problem=problem))
+    return sources, problems
 
 
 def _analyze(sources: list[Any], config: Config, seed: int | None, scenario: str | None) -> Any:

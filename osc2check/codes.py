@@ -310,6 +310,12 @@ SPEC_EXAMPLE_PARAMETER = Code(
     W,
     "a parameter used in the standard's examples but not declared by its library",
 )
+UNQUOTED_FILE_IMPORT = Code(
+    "D808",
+    "unquoted-file-import",
+    W,
+    "a file is imported by its name without quotes (`import basic.osc`), as CARLA does",
+)
 
 # --- S: suppressions and tooling -------------------------------------------
 UNUSED_SUPPRESSION = Code(

@@ -78,6 +78,34 @@ def not_an_invocation(span: Span) -> Diagnostic:
     )
 
 
+def spaced_unit(span: Span, number: str, unit: str) -> Diagnostic:
+    """``20 kph``: ``span`` covers the number, the blanks and the unit."""
+    literal = f"{number}{unit}"
+    return _diag(
+        codes.INVALID_LITERAL,
+        f"a unit follows its number without a space: write `{literal}`",
+        span,
+        fix=Fix(f"write `{literal}`", (TextEdit(span, literal),)),
+    )
+
+
+def misplaced_in_with(span: Span, keyword: str, in_field: bool, call: bool = False) -> Diagnostic:
+    """A statement that a ``with:`` block cannot hold: ``cover(...)``, ``emit``, a modifier
+    (``call``: ``keyword`` is the name of what is called) in a field's ``with:``."""
+    coverage = keyword in ("cover", "record")
+    if in_field:
+        allowed = "a field's `with:` block holds only `keep` and `remove_default`"
+        where = "move it out of the `with:`, beside the field"
+    else:
+        allowed = (
+            "a behaviour's `with:` block holds only `keep`, `remove_default`, `until` and modifiers"
+        )
+        where = "move it out of the `do`, among the members of the scenario"
+    what = f"`{keyword}(...)`" if call or coverage else f"`{keyword}`"
+    hint = f"; {where}" if coverage else ""
+    return _diag(codes.MISPLACED_MEMBER, f"{what} cannot be here: {allowed}{hint}", span)
+
+
 def unexpected_indent(span: Span) -> Diagnostic:
     return _diag(codes.INDENTATION_ERROR, "unexpected indentation", span)
 
@@ -686,6 +714,21 @@ def standard_file_import(span: Span, target: str) -> Diagnostic:
         "library; write `import osc.standard`",
         span,
         fix=Fix("write `import osc.standard`", (TextEdit(span, "import osc.standard"),), False),
+    )
+
+
+def unquoted_file_import(span: Span, target: str, beside: bool) -> Diagnostic:
+    """``import basic.osc`` read as the file ``basic.osc``; ``beside``: found beside the
+    importing file, so that ``import "basic.osc"`` names the same file."""
+    module_file = target.removesuffix(".osc").replace(".", "/") + "/osc.osc"
+    quoted = f'"{target}"'
+    fix = Fix(f"write `import {quoted}`", (TextEdit(span, quoted),)) if beside else None
+    return _diag(
+        codes.UNQUOTED_FILE_IMPORT,
+        f"`import {target}` is read as the file `{target}`, as CARLA does; the standard "
+        f"reads it as the module file `{module_file}`: write `import {quoted}`",
+        span,
+        fix=fix,
     )
 
 

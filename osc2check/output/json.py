@@ -1,6 +1,23 @@
 """The versioned JSON format (``"version": 1``): a contract for other tools.
 
-Fields may be added in later versions; consumers ignore fields they do not know.
+One object, its keys in this order::
+
+    {
+      "scenarios": [{"name", "path", "line", "status", "conflicts", "witness"?}],
+      "version": 1,
+      "tool": {"name": "osc2check", "version": "..."},
+      "findings": [{"code", "name", "severity", "message", "location", "related",
+                    "url", "fix"}],
+      "errors": [{"path", "message"}],
+      "skipped": [{"path", "message"}]
+    }
+
+``scenarios`` come first, so that the witnesses of ``--witness`` (``"witness"``, only
+with that option) are read before the findings. ``errors`` are the paths that could
+not be read (``"cannot read: permission denied"``; the exit status is then 2);
+``skipped`` are special files (FIFOs, sockets, devices) left out of a folder walk.
+Locations are 1-based. Fields may be added in later versions; consumers ignore fields
+they do not know, and do not rely on the order of keys.
 """
 
 from __future__ import annotations
@@ -11,6 +28,7 @@ from typing import Any
 
 from osc2check import rules
 from osc2check.diagnostics import Diagnostic, Fix
+from osc2check.inputs import InputProblem
 from osc2check.output import tool
 from osc2check.source import Span
 
@@ -50,16 +68,23 @@ def finding(d: Diagnostic) -> dict[str, Any]:
     }
 
 
-def render(diagnostics: Sequence[Diagnostic], scenarios: Sequence[dict] = ()) -> str:
+def render(
+    diagnostics: Sequence[Diagnostic],
+    scenarios: Sequence[dict] = (),
+    problems: Sequence[InputProblem] = (),
+) -> str:
     """The whole document, indented, with a final newline.
 
     ``scenarios`` are the verified scenarios (``verify.check.scenario_summary``):
-    name, file, status and, when the constraints can hold, the witness.
+    name, file, status and, when the constraints can hold, the witness. ``problems``
+    are the paths not checked: errors and skipped files.
     """
     document = {
+        "scenarios": list(scenarios),
         "version": FORMAT_VERSION,
         "tool": {"name": tool.NAME, "version": tool.version()},
         "findings": [finding(d) for d in diagnostics],
-        "scenarios": list(scenarios),
+        "errors": [{"path": p.path, "message": p.message} for p in problems if p.is_error],
+        "skipped": [{"path": p.path, "message": p.message} for p in problems if not p.is_error],
     }
     return json.dumps(document, indent=2, ensure_ascii=False) + "\n"

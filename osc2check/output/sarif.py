@@ -4,6 +4,11 @@ One run; ``rules`` lists the codes that occur, each with its documentation page
 as ``help``. Columns are Unicode code points (``columnKind``). Each result has a
 ``partialFingerprints`` entry: a hash of code, path and message (and, for
 identical findings in one file, their ordinal), stable across runs.
+
+The run's one ``invocation`` says whether every path could be read
+(``executionSuccessful``) and lists, as ``toolExecutionNotifications``, the paths
+that could not (level ``error``) and the special files skipped in a folder walk
+(level ``note``).
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ from urllib.parse import quote
 from osc2check import rules
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+from osc2check.inputs import InputProblem
 from osc2check.output import tool
 from osc2check.source import Span
 
@@ -65,7 +71,15 @@ def fingerprint(d: Diagnostic, ordinal: int = 0) -> str:
     return hashlib.sha256(key.encode("utf-8")).hexdigest()[:32]
 
 
-def render(diagnostics: Sequence[Diagnostic]) -> str:
+def _notification(p: InputProblem) -> dict[str, Any]:
+    return {
+        "level": _LEVEL[p.severity],
+        "message": {"text": p.message},
+        "locations": [{"physicalLocation": {"artifactLocation": {"uri": _uri(p.path)}}}],
+    }
+
+
+def render(diagnostics: Sequence[Diagnostic], problems: Sequence[InputProblem] = ()) -> str:
     """The SARIF log, indented, with a final newline."""
     used = sorted({d.code for d in diagnostics}, key=lambda c: c.code)
     index = {c: i for i, c in enumerate(used)}
@@ -100,6 +114,12 @@ def render(diagnostics: Sequence[Diagnostic]) -> str:
                         "rules": [_rule(c) for c in used],
                     }
                 },
+                "invocations": [
+                    {
+                        "executionSuccessful": not any(p.is_error for p in problems),
+                        "toolExecutionNotifications": [_notification(p) for p in problems],
+                    }
+                ],
                 "columnKind": "unicodeCodePoints",
                 "results": results,
             }

@@ -15,11 +15,24 @@ def _count(n: int, singular: str, plural: str) -> str:
     return f"{n} {singular if n == 1 else plural}"
 
 
-def summary_line(diagnostics: Sequence[Diagnostic], files_checked: int) -> str:
-    """``Found 2 errors, 1 warning in 2 files (3 checked)``, or ``All checks passed (3 files)``."""
+def summary_line(diagnostics: Sequence[Diagnostic], files_checked: int, unreadable: int = 0) -> str:
+    """``Found 2 errors, 1 warning in 2 files (3 checked)``, or ``All checks passed (3 files)``.
+
+    With files that could not be read (``unreadable``), nothing "passed": ``No findings
+    in 3 files; 1 file could not be read``.
+    """
     checked = _count(files_checked, "file", "files")
+    if unreadable:
+        not_read = f"; {_count(unreadable, 'file', 'files')} could not be read"
+        if not diagnostics:
+            return f"No findings in {checked}{not_read}"
+        return _found(diagnostics, checked) + not_read
     if not diagnostics:
         return f"All checks passed ({checked})"
+    return _found(diagnostics, checked)
+
+
+def _found(diagnostics: Sequence[Diagnostic], checked: str) -> str:
     by_severity = Counter(d.severity for d in diagnostics)
     parts = [
         _count(by_severity[s], *_NOUNS.get(s, (s.label, s.label))) for s in sorted(by_severity)

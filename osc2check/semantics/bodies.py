@@ -179,7 +179,15 @@ class BodyChecker:
         if field.with_members:
             inner = scope.child(it=ftype)
             for item in field.with_members:
-                self._with_member(item, inner, None, None)
+                match item:
+                    case ast.KeepConstraint() | ast.RemoveDefault():
+                        self._with_member(item, inner, None, None)
+                    case ast.Until():  # §7.3: a field's `with:` holds constraints only
+                        self.report(messages.misplaced_in_with(item.span, "until", True))
+                    case ast.Invocation() if not item.name.missing:
+                        self.report(
+                            messages.misplaced_in_with(item.name.span, item.name.text, True, True)
+                        )
 
     def _remove_default(self, member: ast.RemoveDefault, scope: Scope) -> None:
         target = member.target

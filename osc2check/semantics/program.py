@@ -1,10 +1,12 @@
 """A program: one root file, everything it imports, and the standard library.
 
 Imports are followed depth first; each file is read and parsed once per
-analysis. ``import osc.standard`` (and the design paper's ``import
-"domain.osc"``) puts the library's namespaces on the file's use list; the
-other ``osc.standard.*`` modules only make them available for qualified names
-and ``namespace ... use``.
+analysis. A FIFO, socket or device is never opened (it could block or never end):
+importing one is an unresolved import that says what the path is.
+
+``import osc.standard`` (and the design paper's ``import "domain.osc"``) puts the
+library's namespaces on the file's use list; the other ``osc.standard.*`` modules
+only make them available for qualified names and ``namespace ... use``.
 """
 
 from __future__ import annotations
@@ -14,7 +16,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from osc2check import messages
+from osc2check import inputs, messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.declare import Unit
 from osc2check.semantics.model import Context, Model
@@ -49,6 +51,34 @@ def _resolve_path(importer: str, target: str) -> Path:
     return Path(os.path.normpath(path if path.is_absolute() else base / path))
 
 
+def _not_a_source(path: Path) -> str | None:
+    """Why the file at ``path`` is not read (a FIFO, a device, a folder), or None when it
+    is a regular file or missing (the reader then says whether it has it)."""
+    try:
+        return inputs.not_regular(inputs.probe(path))
+    except inputs.InputError:
+        return None
+
+
+def _not_found(tried: list[Path]) -> str:
+    """Why none of the files ``tried`` was imported: what the first special one is, or
+    that none exists."""
+    for path in tried:
+        why = _not_a_source(path)
+        if why is not None:
+            return f"`{path}` is {why}"
+    return "no file " + " or ".join(f"`{path}`" for path in tried)
+
+
+def _first_file(candidates: list[Path], read: Reader) -> tuple[Path, ParseResult] | None:
+    for path in candidates:
+        if _not_a_source(path) is None:
+            result = read(str(path))
+            if result is not None:
+                return path, result
+    return None
+
+
 def _module_path(
     importer: str, target: str, search_paths: tuple[str, ...], read: Reader
 ) -> tuple[Path, ParseResult | None]:
@@ -56,11 +86,22 @@ def _module_path(
     first search path that has it; the file beside the importer when none does."""
     relative = target.replace(".", "/") + ".osc"
     first = _resolve_path(importer, relative)
-    for path in (first, *(Path(folder) / relative for folder in search_paths)):
-        result = read(str(path))
-        if result is not None:
-            return path, result
-    return first, None
+    found = _first_file([first, *(Path(folder) / relative for folder in search_paths)], read)
+    return found if found is not None else (first, None)
+
+
+def _carla_file(
+    importer: str, target: str, search_paths: tuple[str, ...], read: Reader
+) -> tuple[Path, ParseResult, bool] | None:
+    """The file ``basic.osc`` of CARLA's ``import basic.osc`` (beside the importer, then in
+    the search paths), and whether it is the one beside the importer."""
+    if not target.endswith(".osc"):
+        return None
+    beside = _resolve_path(importer, target)
+    found = _first_file([beside, *(Path(folder) / target for folder in search_paths)], read)
+    if found is None:
+        return None
+    return found[0], found[1], found[0] == beside
 
 
 def build_program(
@@ -121,18 +162,29 @@ def build_program(
                     )
                     continue
                 path, found = _module_path(uri, target, search_paths, read)
+                carla = None if found is not None else _carla_file(uri, target, search_paths, read)
+                if carla is not None:
+                    path, found, beside = carla
+                    program.diagnostics.append(
+                        messages.unquoted_file_import(decl.target_span, target, beside)
+                    )
             else:
                 path = _resolve_path(uri, target)
             key = str(path)
-            imported_result = found if found is not None else read(key)
+            imported_result = found
+            if imported_result is None and _not_a_source(path) is None:
+                imported_result = read(key)
             if imported_result is None:
                 if decl.kind == "file" and Path(target).name in STANDARD_FILE_NAMES:
                     program.diagnostics.append(messages.standard_file_import(decl.span, target))
                     model.library_namespaces.update(STANDARD_MODULES["osc.standard"][0])
                     uses.extend(AUTO_USE)
                     continue
+                tried = [path]
+                if decl.kind == "module" and target.endswith(".osc"):
+                    tried.append(_resolve_path(uri, target))
                 program.diagnostics.append(
-                    messages.unresolved_import(decl.target_span, target, f"no file `{key}`")
+                    messages.unresolved_import(decl.target_span, target, _not_found(tried))
                 )
                 continue
             imported.append(key)

@@ -118,6 +118,22 @@ def _line_of(text: str, offset: int) -> int:
     )
 
 
+def _previous_tokens(tokens: list[Token]) -> dict[int, Token]:
+    """Each token's predecessor, by the token's ``id``."""
+    return {id(tok): prev for prev, tok in zip(tokens, tokens[1:], strict=False)}
+
+
+def _number_before_unit(text: str, tok: Token, prev: Token | None) -> Token | None:
+    """The number of ``20 kph`` when ``tok`` is a name that follows a number on its line
+    after blanks only: a unit written apart from its number (``20kph``)."""
+    if prev is None or tok.type != "NAME" or prev.type not in ("INT", "FLOAT"):
+        return None
+    between = text[prev.end_pos : tok.start_pos]
+    if not between or between.strip(" \t") or prev.end_line != tok.line:
+        return None
+    return prev
+
+
 def parse(text: str, uri: str = "<string>") -> ParseResult:
     """Parse OSC2 source text into an AST and syntax diagnostics."""
     collecting = gc.isenabled()
@@ -142,17 +158,19 @@ def _parse(text: str, uri: str) -> ParseResult:
     tokens, layout_errors = indent(lexed.tokens, text)
     unclosed_lines = set()
     error_lines: set[int] = set()
-    for err in layout_errors:
-        span = _tok_span(uri, err.token)
-        if err.kind == "unclosed":
-            unclosed_lines.add(err.token.line)
-            error_lines.update(range(err.token.line, max(err.end_line, err.token.line + 1)))
-            diagnostics.append(messages.unclosed_bracket(span, str(err.token)))
-        elif err.kind == "indent":
+    for layout in layout_errors:
+        span = _tok_span(uri, layout.token)
+        if layout.kind == "unclosed":
+            unclosed_lines.add(layout.token.line)
+            error_lines.update(
+                range(layout.token.line, max(layout.end_line, layout.token.line + 1))
+            )
+            diagnostics.append(messages.unclosed_bracket(span, str(layout.token)))
+        elif layout.kind == "indent":
             diagnostics.append(messages.unexpected_indent(span))
         else:
             diagnostics.append(
-                messages.inconsistent_dedent(span, err.token.column - 1, err.expected)
+                messages.inconsistent_dedent(span, layout.token.column - 1, layout.expected)
             )
     problems: list = []
     uri_token = _URI.set(uri)
@@ -164,12 +182,24 @@ def _parse(text: str, uri: str) -> ParseResult:
         _PROBLEMS.reset(problems_token)
     reported_lines = {d.span.line for d in diagnostics}
     bracket_lines = set(error_lines)  # statements an unclosed bracket ran into
+    before = _previous_tokens(tokens) if syntax else {}
     for problem in syntax:
         tok = problem.token
         if tok.line in bracket_lines or (problem.inserted and tok.line in reported_lines):
             continue
         span = _tok_span(uri, tok)
-        if problem.inserted and all(k in _terminal_text() for k in problem.inserted):
+        number = _number_before_unit(text, tok, before.get(id(tok)))
+        if problem.misplaced is not None:
+            diagnostics.append(
+                messages.misplaced_in_with(span, str(tok), problem.misplaced == "field")
+            )
+        elif number is not None and not problem.inserted:
+            whole = Span(
+                uri, number.line, number.column, tok.end_line, tok.end_column,
+                number.start_pos, tok.end_pos,
+            )  # fmt: skip
+            diagnostics.append(messages.spaced_unit(whole, str(number), str(tok)))
+        elif problem.inserted and all(k in _terminal_text() for k in problem.inserted):
             missing = [_describe(k) for k in problem.inserted]
             diagnostics.append(messages.missing_tokens(span, missing))
         elif tok.type == "_INDENT":

@@ -9,6 +9,10 @@ On a token the parser cannot take:
 - when no such sequence exists it drops the partial statement by popping the
   parser stack until the token after the boundary can start something;
 - an unexpected _INDENT skips the whole indented block;
+- a statement that a `with:` block cannot hold (`cover(...)`, `emit`, `wait`, `do`,
+  ...) is skipped whole, with its indented block, and recorded once as misplaced
+  (``SyntaxProblem.misplaced``: the kind of `with:` block) instead of as the cascade
+  of errors its tokens would give one by one;
 - any other token is dropped.
 
 One error is recorded per statement, so N broken statements give N errors.
@@ -23,9 +27,18 @@ from dataclasses import dataclass
 from lark.exceptions import UnexpectedInput
 from lark.parsers.lalr_analysis import Shift
 
+from osc2check.syntax import ast
 from osc2check.syntax.lexer import Token
 
 BOUNDARIES = frozenset({"_NL", "_DEDENT", "$END"})
+# Keywords that begin a statement or member that no `with:` block may hold.
+NOT_IN_WITH = frozenset(
+    {"COVER", "RECORD", "ON", "DO", "SERIAL", "PARALLEL", "ONE_OF", "WAIT", "EMIT", "CALL"}
+    | {"VAR", "DEF"}
+)
+# Terminals that only the start of a `with:` member expects.
+_WITH_MEMBER_START = frozenset({"KEEP", "REMOVE_DEFAULT", "UNTIL"})
+_TYPE_NODES = (ast.NamedType, ast.ListType, ast.RangeType)
 # Terminals a repair may insert, tried in this order, at most MAX_REPAIR of them
 # (the language server's ``expected.run`` repairs with the same alphabet and depth).
 REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_DEDENT")
@@ -38,6 +51,36 @@ class SyntaxProblem:
     token: Token
     expected: frozenset[str]
     inserted: tuple[str, ...] = ()
+    misplaced: str | None = None  # "field" or "behaviour": the `with:` block `token` is in
+
+
+def _with_block_owner(ip) -> str:
+    """Whose `with:` block the parser is in: a field's (``"field"``: its type or default
+    value comes before `with`) or an invocation's or composition's (``"behaviour"``)."""
+    values = ip.parser_state.value_stack
+    for i in range(len(values) - 1, 0, -1):
+        value = values[i]
+        if isinstance(value, Token) and value.type == "WITH":
+            before = values[i - 1]
+            if isinstance(before, _TYPE_NODES):
+                return "field"
+            after_equals = (
+                i >= 2 and isinstance(values[i - 2], Token) and values[i - 2].value == "="
+            )
+            return "field" if after_equals else "behaviour"
+    return "behaviour"
+
+
+def _statement_end(tokens: list[Token], i: int) -> int:
+    """Index of the token after the statement that starts at ``i``, with its block."""
+    n = len(tokens)
+    while i < n and tokens[i].type not in ("_NL", "_DEDENT"):
+        i += 1
+    if i < n and tokens[i].type == "_NL":
+        i += 1
+        if i < n and tokens[i].type == "_INDENT":
+            i = _matching_dedent(tokens, i) + 1
+    return i
 
 
 def _synthetic(kind: str, at: Token) -> Token:
@@ -233,6 +276,22 @@ def parse_tokens(lark, tokens: list[Token], start: str = "start"):
         except UnexpectedInput:
             pass
         expected = frozenset(ip.choices())
+        if (
+            at_statement_start
+            and not in_error
+            and tok.type in NOT_IN_WITH
+            and _WITH_MEMBER_START <= expected
+        ):
+            problems.append(SyntaxProblem(tok, expected, misplaced=_with_block_owner(ip)))
+            i = _statement_end(tokens, i)
+            state = ip.parser_state
+            top = state.value_stack[-1] if state.value_stack else None
+            if i < n and tokens[i].type == "_DEDENT" and getattr(top, "type", "") == "_INDENT":
+                # It was the block's only statement: read the block as empty, `with:` alone.
+                del state.state_stack[-1:]
+                del state.value_stack[-1:]
+                i += 1
+            continue
         if not in_error:
             problems.append(SyntaxProblem(tok, expected))
             in_error = True

@@ -7,17 +7,21 @@ policy, as the real ``analyze`` does. Swap in the real module once it exists.
 
 from __future__ import annotations
 
+import contextlib
 import io
 import json
+import os
+import socket
 import subprocess
 import sys
+import threading
 import types
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import pytest
 
-from osc2check import cli, codes, messages, rules
+from osc2check import cli, codes, inputs, messages, rules
 from osc2check.analysis import AnalysisOptions
 from osc2check.diagnostics import Diagnostic
 from osc2check.source import Span
@@ -266,8 +270,8 @@ def test_invalid_utf8_is_reported_as_p004(project, capsys):
 def test_missing_path_exits_2_naming_it(project, capsys):
     assert run(capsys, "nope.osc") == (
         2,
-        "",
-        "osc2check: error: nope.osc: no such file or directory\n",
+        "No findings in 0 files; 1 file could not be read\n",
+        "osc2check: error: nope.osc: cannot read: no such file or directory\n",
     )
 
 
@@ -276,18 +280,268 @@ def test_no_osc_files_exits_2(project, capsys):
     assert run(capsys, ".") == (2, "", "osc2check: error: no .osc files found in .\n")
 
 
-def test_unreadable_file_exits_2_naming_it(project, capsys, monkeypatch):
-    write(project / "a.osc", CLEAN)
+# --- paths that cannot be read: reported each, the rest checked, exit 2 ------------------
 
-    def refuse(self):
-        raise PermissionError(13, "Permission denied")
+CANNOT_READ_FIFO = "cannot read: not a regular file (a named pipe)"
 
-    monkeypatch.setattr(Path, "read_bytes", refuse)
-    assert run(capsys, "a.osc") == (
-        2,
-        "",
-        "osc2check: error: a.osc: cannot read: Permission denied\n",
+
+@contextlib.contextmanager
+def writer_waiting_on(fifo: Path):
+    """A thread that opens ``fifo`` for writing and closes it at once.
+
+    A checker that opened the FIFO would get an empty file instead of hanging, and the
+    test fails on what it reports; at the end the thread is released if nothing opened
+    the FIFO.
+    """
+    thread = threading.Thread(target=lambda: open(fifo, "wb").close(), daemon=True)
+    thread.start()
+    try:
+        yield
+    finally:
+        fd = os.open(fifo, os.O_RDONLY | os.O_NONBLOCK)  # lets a waiting writer go
+        thread.join()
+        os.close(fd)
+
+
+def broken_and_good(project: Path) -> None:
+    write(project / "good.osc", BROKEN)
+    (project / "dangling.osc").symlink_to("gone.osc")
+    (project / "loop.osc").symlink_to("loop.osc")
+
+
+def test_broken_and_looping_links_are_reported_and_the_rest_checked(project, capsys):
+    broken_and_good(project)
+    status, out, err = run(
+        capsys, "dangling.osc", "loop.osc", "good.osc", "--output-format", "concise"
     )
+    assert status == 2
+    assert out == (
+        "good.osc:3:8: N101 undefined name `hreo`\n"
+        "Found 1 error in 1 file (1 file checked); 2 files could not be read\n"
+    )
+    assert err == (
+        "osc2check: error: dangling.osc: cannot read: broken symbolic link to `gone.osc`\n"
+        "osc2check: error: loop.osc: cannot read: symbolic link loop\n"
+    )
+
+
+def test_unreadable_paths_go_into_json_errors(project, capsys):
+    broken_and_good(project)
+    status, out, err = run(capsys, ".", "--output-format", "json")
+    assert status == 2
+    doc = json.loads(out)
+    assert [f["location"]["path"] for f in doc["findings"]] == ["good.osc"]
+    assert doc["errors"] == [
+        {"path": "dangling.osc", "message": "cannot read: broken symbolic link to `gone.osc`"},
+        {"path": "loop.osc", "message": "cannot read: symbolic link loop"},
+    ]
+    assert doc["skipped"] == []
+    assert err.count("osc2check: error: ") == 2
+
+
+def test_unreadable_paths_go_into_sarif_invocation(project, capsys):
+    broken_and_good(project)
+    status, out, _ = run(capsys, "loop.osc", "good.osc", "--output-format", "sarif")
+    assert status == 2
+    (sarif_run,) = json.loads(out)["runs"]
+    assert [r["ruleId"] for r in sarif_run["results"]] == ["N101"]
+    (invocation,) = sarif_run["invocations"]
+    assert invocation["executionSuccessful"] is False
+    assert invocation["toolExecutionNotifications"] == [
+        {
+            "level": "error",
+            "message": {"text": "cannot read: symbolic link loop"},
+            "locations": [{"physicalLocation": {"artifactLocation": {"uri": "loop.osc"}}}],
+        }
+    ]
+
+
+def test_unreadable_paths_are_github_errors(project, capsys):
+    broken_and_good(project)
+    status, out, _ = run(capsys, "loop.osc", "good.osc", "--output-format", "github")
+    assert status == 2
+    assert out.splitlines() == [
+        "::error file=loop.osc,title=osc2check::cannot read: symbolic link loop",
+        "::error file=good.osc,line=3,col=8,endLine=3,endColumn=12,title=N101::"
+        "undefined name `hreo`",
+    ]
+
+
+def test_exit_zero_does_not_hide_a_file_that_cannot_be_read(project, capsys):
+    broken_and_good(project)
+    assert run(capsys, "loop.osc", "good.osc", "--exit-zero")[0] == 2
+    assert run(capsys, "good.osc", "--exit-zero")[0] == 0
+
+
+def test_fifo_named_is_refused_without_blocking(project, capsys):
+    fifo = project / "pipe.osc"
+    os.mkfifo(fifo)
+    write(project / "a.osc", CLEAN)
+    with writer_waiting_on(fifo):
+        status, out, err = run(capsys, "pipe.osc", "a.osc")
+    assert status == 2
+    assert out == "No findings in 1 file; 1 file could not be read\n"
+    assert err == f"osc2check: error: pipe.osc: {CANNOT_READ_FIFO}\n"
+
+
+def test_link_to_a_device_is_refused(project, capsys):
+    (project / "zero.osc").symlink_to("/dev/zero")
+    status, out, err = run(capsys, "zero.osc", "--output-format", "json")
+    assert status == 2
+    assert json.loads(out)["errors"] == [
+        {"path": "zero.osc", "message": "cannot read: not a regular file (a character device)"}
+    ]
+    assert "zero.osc: cannot read: not a regular file (a character device)" in err
+
+
+def test_socket_is_refused(project, capsys):
+    sock = socket.socket(socket.AF_UNIX)
+    try:
+        sock.bind("s.osc")
+        status, _, err = run(capsys, "s.osc")
+    finally:
+        sock.close()
+    assert status == 2
+    assert err == "osc2check: error: s.osc: cannot read: not a regular file (a socket)\n"
+
+
+def test_special_files_in_a_folder_are_skipped_with_a_note(project, capsys):
+    write(project / "d" / "a.osc", BROKEN)
+    os.mkfifo(project / "d" / "pipe.osc")
+    (project / "d" / "zero.osc").symlink_to("/dev/zero")
+    with writer_waiting_on(project / "d" / "pipe.osc"):
+        status, out, err = run(capsys, "d", "--output-format", "json")
+    assert status == 1  # the findings decide: a skipped special file is no error
+    doc = json.loads(out)
+    assert [f["location"]["path"] for f in doc["findings"]] == ["d/a.osc"]
+    assert doc["errors"] == []
+    assert doc["skipped"] == [
+        {"path": "d/pipe.osc", "message": "skipped: not a regular file (a named pipe)"},
+        {"path": "d/zero.osc", "message": "skipped: not a regular file (a character device)"},
+    ]
+    assert err == (
+        "osc2check: note: d/pipe.osc: skipped: not a regular file (a named pipe)\n"
+        "osc2check: note: d/zero.osc: skipped: not a regular file (a character device)\n"
+    )
+    assert run(capsys, "d", "-q")[2] == ""  # --quiet leaves notes out
+
+
+def test_folder_of_special_files_only_has_no_osc_files(project, capsys):
+    os.mkfifo(project / "pipe.osc")
+    with writer_waiting_on(project / "pipe.osc"):
+        assert run(capsys, ".") == (
+            2,
+            "",
+            "osc2check: error: no .osc files found in . (1 skipped: not regular files)\n",
+        )
+
+
+def test_broken_link_in_a_folder_is_an_error(project, capsys):
+    write(project / "d" / "a.osc", CLEAN)
+    (project / "d" / "b.osc").symlink_to("nowhere.osc")
+    status, out, err = run(capsys, "d")
+    assert status == 2
+    assert out == "No findings in 1 file; 1 file could not be read\n"
+    assert err == "osc2check: error: d/b.osc: cannot read: broken symbolic link to `nowhere.osc`\n"
+
+
+def test_folder_that_cannot_be_listed_is_an_error(project, capsys, monkeypatch):
+    write(project / "d" / "a.osc", CLEAN)
+    write(project / "d" / "locked" / "b.osc", BROKEN)
+    real_scandir = os.scandir
+
+    def scandir(path="."):
+        if Path(path).name == "locked":
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return real_scandir(path)
+
+    monkeypatch.setattr(os, "scandir", scandir)
+    status, out, err = run(capsys, "d")
+    assert status == 2
+    assert out == "No findings in 1 file; 1 file could not be read\n"
+    assert err == "osc2check: error: d/locked: cannot read: permission denied\n"
+
+
+def test_permission_denied_is_reported_and_the_rest_checked(project, capsys):
+    secret = write(project / "secret.osc", CLEAN)
+    write(project / "a.osc", BROKEN)
+    secret.chmod(0)
+    if os.access(secret, os.R_OK):
+        pytest.skip("running as a user who reads every file (root)")
+    status, out, err = run(capsys, "secret.osc", "a.osc", "--output-format", "concise")
+    assert status == 2
+    assert out.startswith("a.osc:3:8: N101 ")
+    assert err == "osc2check: error: secret.osc: cannot read: permission denied\n"
+
+
+def test_open_refused_is_reported_and_the_rest_checked(project, capsys, monkeypatch):
+    """As the test above, for a user (root) whom no permission stops."""
+    write(project / "secret.osc", CLEAN)
+    write(project / "a.osc", BROKEN)
+    real_open = os.open
+
+    def refuse(path, flags, *args, **kwargs):
+        if Path(path).name == "secret.osc":
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return real_open(path, flags, *args, **kwargs)
+
+    monkeypatch.setattr(os, "open", refuse)
+    status, out, err = run(capsys, "secret.osc", "a.osc", "--output-format", "concise")
+    assert status == 2
+    assert out.startswith("a.osc:3:8: N101 ")
+    assert err == "osc2check: error: secret.osc: cannot read: permission denied\n"
+
+
+def test_too_large_file_is_refused_unread(project, capsys):
+    with open(project / "huge.osc", "wb") as f:
+        f.truncate(inputs.MAX_SOURCE_BYTES + 1)  # sparse: no disk space used
+    write(project / "a.osc", CLEAN)
+    status, out, err = run(capsys, "huge.osc", "a.osc")
+    assert status == 2
+    assert out == "No findings in 1 file; 1 file could not be read\n"
+    assert err == (
+        "osc2check: error: huge.osc: cannot read: too large (52,428,801 bytes; "
+        "the limit is 50 MiB)\n"
+    )
+
+
+def test_file_that_grows_past_the_limit_while_read_is_refused(tmp_path, monkeypatch):
+    small = write(tmp_path / "small.osc", "x")
+    big = write(tmp_path / "big.osc", "y" * 100)
+    monkeypatch.setattr(inputs, "probe", lambda path: os.stat(small))  # stat before growth
+    with pytest.raises(inputs.InputError, match=r"too large \(more than the limit"):
+        inputs.read_bytes(big, limit=10)
+    assert inputs.read_bytes(big, limit=100) == b"y" * 100
+
+
+def test_standard_input_is_read_up_to_the_limit(project, capsys, monkeypatch):
+    monkeypatch.setattr(inputs, "MAX_SOURCE_BYTES", len(CLEAN))
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(CLEAN.encode())))
+    assert run(capsys, "-")[0] == 0
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(CLEAN.encode() + b"#")))
+    status, _, err = run(capsys, "-")
+    assert status == 2
+    assert err == (
+        f"osc2check: error: <stdin>: cannot read: too large (more than the limit of "
+        f"{len(CLEAN)} bytes)\n"
+    )
+
+
+def test_dump_ast_with_a_path_that_cannot_be_read_exits_2(project, capsys):
+    write(project / "a.osc", CLEAN)
+    status, out, err = run(capsys, "a.osc", "gone.osc", "--dump-ast")
+    assert status == 2
+    assert out.startswith("File @1:1\n")
+    assert err == "osc2check: error: gone.osc: cannot read: no such file or directory\n"
+
+
+def test_configuration_file_that_is_a_fifo_is_a_usage_error(project, capsys):
+    os.mkfifo(project / "conf.toml")
+    write(project / "a.osc", CLEAN)
+    with writer_waiting_on(project / "conf.toml"):
+        status, out, err = run(capsys, "a.osc", "--config", "conf.toml")
+    assert (status, out) == (2, "")
+    assert err == "osc2check: error: conf.toml: cannot read: not a regular file (a named pipe)\n"
 
 
 def test_bad_configuration_exits_2_naming_file_and_key(project, capsys):
@@ -309,13 +563,46 @@ def test_explicit_config_file_and_isolated(project, capsys, tmp_path):
     assert status == 2 and "missing.toml: cannot read" in err
 
 
-def test_bad_option_values_exit_2(project, capsys):
+def test_bad_option_values_exit_2_with_one_line(project, capsys):
     write(project / "a.osc", CLEAN)
     status, _, err = run(capsys, "a.osc", "--select", "X99")
     assert (status, err) == (2, "osc2check: error: --select: unknown code, name or prefix 'X99'\n")
-    status, _, err = run(capsys, "a.osc", "--output-format", "xml")
-    assert status == 2 and "invalid choice: 'xml'" in err
-    assert run(capsys, "--no-such-option")[0] == 2
+    status, out, err = run(capsys, "a.osc", "--output-format", "xml")
+    assert (status, out) == (2, "")
+    assert err.startswith("osc2check: error: argument --output-format: invalid choice: 'xml'")
+    assert err.count("\n") == 1
+    assert run(capsys, "--no-such-option") == (
+        2,
+        "",
+        "osc2check: error: unrecognized arguments: --no-such-option\n",
+    )
+    assert run(capsys, "a.osc", "--seed") == (
+        2,
+        "",
+        "osc2check: error: argument --seed: expected one argument\n",
+    )
+    assert run(capsys, "rule", "N101", "N102") == (
+        2,
+        "",
+        "osc2check: error: unrecognized arguments: N102\n",
+    )
+
+
+@pytest.mark.parametrize("seed", ["-1", "1.5", "abc", ""])
+def test_seed_that_is_not_a_non_negative_integer_is_a_usage_error(project, capsys, seed):
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "a.osc", "--witness", "--seed", seed) == (
+        2,
+        "",
+        f"osc2check: error: argument --seed: expected a non-negative integer, got {seed!r}\n",
+    )
+
+
+def test_seed_zero_and_large_seeds_are_accepted(project, capsys, analysis):
+    write(project / "a.osc", CLEAN)
+    assert run(capsys, "a.osc", "--witness", "--seed", "0")[0] == 0
+    assert run(capsys, "a.osc", "--witness", "--seed=12345678901234567890")[0] == 0
+    assert [options.seed for _, options in analysis.calls] == [0, 12345678901234567890]
 
 
 def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
@@ -331,6 +618,52 @@ def test_internal_error_exits_2_without_traceback(project, capsys, analysis):
     assert "Traceback" not in err
     status, _, err = run(capsys, "a.osc", "--debug")
     assert status == 2 and "Traceback" in err and "RuntimeError: boom" in err
+
+
+def test_import_of_a_fifo_or_device_is_unresolved_without_blocking(tmp_path, monkeypatch, capsys):
+    """The real checker: an imported FIFO or device is never opened."""
+    monkeypatch.chdir(tmp_path)
+    os.mkfifo(tmp_path / "pipe.osc")
+    write(tmp_path / "main.osc", 'import "pipe.osc"\nimport "/dev/zero"\nimport pipe\n')
+    with writer_waiting_on(tmp_path / "pipe.osc"):
+        status, out, err = run(capsys, "main.osc", "--isolated", "--output-format", "concise")
+    assert (status, err) == (1, "")
+    assert out.splitlines() == [
+        "main.osc:1:8: N105 cannot import `pipe.osc`: `pipe.osc` is not a regular file "
+        "(a named pipe)",
+        "main.osc:2:8: N105 cannot import `/dev/zero`: `/dev/zero` is not a regular file "
+        "(a character device)",
+        "main.osc:3:8: N105 cannot import `pipe`: `pipe.osc` is not a regular file (a named pipe)",
+        "Found 3 errors in 1 file (1 file checked)",
+    ]
+
+
+# --- witnesses ---------------------------------------------------------------------------
+
+WITNESSED = """\
+import osc.standard
+
+scenario cruise:
+    hero: vehicle
+    limit: speed with:
+        keep(limit in [30kph..40kph])
+    do hero.drive(duration: 10s) with:
+        speed(limit)
+"""
+
+
+def test_witness_comes_first_in_json(tmp_path, monkeypatch, capsys):
+    """The real checker: the witness is read before the findings (L506 here)."""
+    monkeypatch.chdir(tmp_path)
+    write(tmp_path / "w.osc", WITNESSED)
+    status, out, _ = run(capsys, "w.osc", "--isolated", "--witness", "--output-format", "json")
+    assert status == 0
+    doc = json.loads(out)
+    assert list(doc) == ["scenarios", "version", "tool", "findings", "errors", "skipped"]
+    (scenario,) = doc["scenarios"]
+    assert scenario["witness"]["scenario"] == "cruise"
+    assert [f["code"] for f in doc["findings"]] == ["L506"]
+    assert out.index('"witness"') < out.index('"findings"')
 
 
 # --- other commands --------------------------------------------------------------------

@@ -9,6 +9,7 @@ import pytest
 from osc2check import codes, rules
 from osc2check.codes import Severity
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
+from osc2check.inputs import InputProblem
 from osc2check.output import render, render_statistics, sarif, tool
 from osc2check.output.full import excerpt
 from osc2check.output.summary import summary_line
@@ -250,6 +251,59 @@ def test_sarif_uri_is_percent_encoded():
     assert location["artifactLocation"]["uri"] == "my%20dir/a.osc"
 
 
+PROBLEMS = [
+    InputProblem("gone.osc", "cannot read: no such file or directory"),
+    InputProblem("d/pipe.osc", "skipped: not a regular file (a named pipe)", Severity.INFO),
+]
+
+
+def test_json_format_puts_scenarios_first_and_lists_paths_not_checked():
+    doc = json.loads(render("json", diagnostics()[:1], TEXTS, problems=PROBLEMS))
+    assert list(doc) == ["scenarios", "version", "tool", "findings", "errors", "skipped"]
+    assert doc["errors"] == [{"path": "gone.osc", "message": PROBLEMS[0].message}]
+    assert doc["skipped"] == [{"path": "d/pipe.osc", "message": PROBLEMS[1].message}]
+    assert json.loads(render("json", [], TEXTS))["errors"] == []
+
+
+def test_sarif_invocation_says_whether_every_path_was_read():
+    (run,) = json.loads(render("sarif", [], TEXTS, problems=PROBLEMS))["runs"]
+    (invocation,) = run["invocations"]
+    assert invocation["executionSuccessful"] is False
+    notes = invocation["toolExecutionNotifications"]
+    assert [(n["level"], n["message"]["text"]) for n in notes] == [
+        ("error", PROBLEMS[0].message),
+        ("note", PROBLEMS[1].message),
+    ]
+    location = notes[1]["locations"][0]["physicalLocation"]["artifactLocation"]
+    assert location == {"uri": "d/pipe.osc"}
+    (clean,) = json.loads(render("sarif", [], TEXTS, problems=PROBLEMS[1:]))["runs"]
+    assert clean["invocations"][0]["executionSuccessful"] is True
+
+
+def test_github_format_annotates_paths_not_checked_first():
+    out = render("github", diagnostics()[1:2], TEXTS, problems=PROBLEMS)
+    assert out.splitlines() == [
+        "::error file=gone.osc,title=osc2check::cannot read: no such file or directory",
+        "::notice file=d/pipe.osc,title=osc2check::skipped: not a regular file (a named pipe)",
+        "::warning file=b.osc,line=3,col=25,endLine=3,endColumn=30,title=D805::"
+        "`100.0` has no unit; read as 100 m/s",
+    ]
+
+
+def test_human_formats_count_files_that_could_not_be_read():
+    assert render("concise", [], TEXTS, files_checked=2, problems=PROBLEMS) == (
+        "No findings in 2 files; 1 file could not be read\n"
+    )
+    assert render("concise", [], TEXTS, files_checked=2, problems=PROBLEMS[1:]) == (
+        "All checks passed (2 files)\n"
+    )
+    assert render("concise", [], TEXTS, quiet=True, problems=PROBLEMS) == ""
+    assert render_statistics(diagnostics()[:1], files_checked=1, problems=PROBLEMS) == (
+        "1  N101  undefined-name\n"
+        "Found 1 error in 1 file (1 file checked); 1 file could not be read\n"
+    )
+
+
 def test_render_rejects_unknown_format():
     with pytest.raises(ValueError, match="xml"):
         render("xml", [], {})
@@ -275,6 +329,15 @@ def test_summary_line(severities, files, checked, expected):
         for i, s in enumerate(severities)
     ]
     assert summary_line(ds, checked) == expected
+
+
+def test_summary_line_with_files_that_could_not_be_read_never_says_passed():
+    error = Diagnostic(codes.SYNTAX_ERROR, "m", span("a.osc", 1, 1, 1, 2), Severity.ERROR)
+    assert summary_line([], 0, 1) == "No findings in 0 files; 1 file could not be read"
+    assert summary_line([], 3, 2) == "No findings in 3 files; 2 files could not be read"
+    assert summary_line([error], 3, 1) == (
+        "Found 1 error in 1 file (3 files checked); 1 file could not be read"
+    )
 
 
 def test_statistics_counts_per_code_most_frequent_first():

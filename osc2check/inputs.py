@@ -1,0 +1,193 @@
+"""Reading the files to check: what a path is, and its bytes, without ever blocking.
+
+People and scripts hand the checker paths, and a path can be anything: a dangling or
+looping symbolic link, a named pipe that blocks whoever opens it, a device that never
+ends (``/dev/zero``), a file too large to be a scenario. Each of these becomes an
+``InputProblem`` of that path, and every other file is still checked.
+
+- The type of a path is decided with ``os.stat`` before it is opened, and only regular
+  files are read. A FIFO, socket or device named on the command line cannot be read;
+  met while walking a folder, it is skipped with a note.
+- A file is opened with ``O_NONBLOCK`` (a path swapped for a FIFO between the ``stat``
+  and the ``open`` still cannot block), checked again with ``fstat``, and read up to
+  ``MAX_SOURCE_BYTES``: a larger file is a problem that says so, never a read without
+  end.
+
+The reasons are words for people (``broken symbolic link to `gone.osc```), written
+after ``cannot read:`` by the command line.
+"""
+
+from __future__ import annotations
+
+import errno
+import os
+import stat
+from dataclasses import dataclass
+from pathlib import Path
+from typing import BinaryIO
+
+from osc2check.codes import Severity
+
+__all__ = [
+    "MAX_SOURCE_BYTES",
+    "InputError",
+    "InputProblem",
+    "not_regular",
+    "probe",
+    "read_bytes",
+    "read_stream",
+    "reason",
+]
+
+MAX_SOURCE_BYTES = 50 * 1024 * 1024  # far above any scenario; below what hurts to hold
+_CHUNK = 1 << 20
+_OPEN_FLAGS = (
+    os.O_RDONLY
+    | getattr(os, "O_NONBLOCK", 0)
+    | getattr(os, "O_NOCTTY", 0)
+    | getattr(os, "O_CLOEXEC", 0)
+    | getattr(os, "O_BINARY", 0)
+)
+_REASONS = {
+    errno.ENOENT: "no such file or directory",
+    errno.EACCES: "permission denied",
+    errno.EPERM: "permission denied",
+    errno.ELOOP: "symbolic link loop",
+    errno.ENOTDIR: "a part of the path is not a folder",
+    errno.ENAMETOOLONG: "file name too long",
+    errno.EISDIR: "a folder, not a file",
+}
+
+
+class InputError(Exception):
+    """Why a path cannot be read, in words (``permission denied``)."""
+
+
+@dataclass(frozen=True, slots=True)
+class InputProblem:
+    """A path that was not checked, and why.
+
+    An error (``cannot read: ...``) makes the exit status 2; a note (``skipped: ...``)
+    tells of a special file left out of a folder walk and changes nothing else.
+    """
+
+    path: str  # as the output names files
+    message: str
+    severity: Severity = Severity.ERROR
+
+    @property
+    def is_error(self) -> bool:
+        return self.severity is Severity.ERROR
+
+
+def reason(exc: OSError, path: str | Path | None = None) -> str:
+    """``exc`` in words; a missing ``path`` that is a link is named a broken link."""
+    if exc.errno == errno.ENOENT and path is not None:
+        try:
+            target = os.readlink(path)
+        except OSError:
+            pass
+        else:
+            return f"broken symbolic link to `{target}`"
+    known = _REASONS.get(exc.errno or 0)
+    if known:
+        return known
+    text = exc.strerror or str(exc)
+    return text[:1].lower() + text[1:]
+
+
+def probe(path: str | Path) -> os.stat_result:
+    """The status of ``path``, symbolic links followed; ``InputError`` says why not."""
+    try:
+        return os.stat(path)
+    except OSError as exc:
+        raise InputError(reason(exc, path)) from None
+    except ValueError:  # a NUL byte in the name
+        raise InputError("invalid file name") from None
+
+
+def not_regular(status: os.stat_result) -> str | None:
+    """Why a path with ``status`` is not read as a source, or None for a regular file."""
+    mode = status.st_mode
+    if stat.S_ISREG(mode):
+        return None
+    if stat.S_ISDIR(mode):
+        return "a folder, not a file"
+    for test, kind in (
+        (stat.S_ISFIFO, "a named pipe"),
+        (stat.S_ISSOCK, "a socket"),
+        (stat.S_ISCHR, "a character device"),
+        (stat.S_ISBLK, "a block device"),
+    ):
+        if test(mode):
+            return f"not a regular file ({kind})"
+    return "not a regular file"
+
+
+def _mib(size: int) -> str:
+    """``50 MiB`` for a whole number of MiB, else the bytes (``40 bytes``)."""
+    mib, rest = divmod(size, 1024 * 1024)
+    return f"{mib} MiB" if mib and not rest else f"{size:,} bytes"
+
+
+def _too_large(size: int | None, limit: int) -> str:
+    if size is None:
+        return f"too large (more than the limit of {_mib(limit)})"
+    return f"too large ({size:,} bytes; the limit is {_mib(limit)})"
+
+
+def read_bytes(path: str | Path, limit: int | None = None) -> bytes:
+    """The bytes of the regular file ``path``, at most ``limit`` (``MAX_SOURCE_BYTES``).
+
+    Never blocks and never reads more than ``limit + 1`` bytes; raises ``InputError``
+    for anything else than a readable regular file of at most ``limit`` bytes.
+    """
+    limit = MAX_SOURCE_BYTES if limit is None else limit
+    status = probe(path)
+    why = not_regular(status)
+    if why:
+        raise InputError(why)
+    if status.st_size > limit:
+        raise InputError(_too_large(status.st_size, limit))
+    try:
+        fd = os.open(path, _OPEN_FLAGS)
+    except OSError as exc:
+        raise InputError(reason(exc, path)) from None
+    try:
+        why = not_regular(os.fstat(fd))  # the path may have changed since the stat
+        if why:
+            raise InputError(why)
+        chunks: list[bytes] = []
+        size = 0
+        while size <= limit:
+            chunk = os.read(fd, min(_CHUNK, limit + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    except OSError as exc:
+        raise InputError(reason(exc)) from None
+    finally:
+        os.close(fd)
+    if size > limit:  # the file grew after the stat
+        raise InputError(_too_large(None, limit))
+    return b"".join(chunks)
+
+
+def read_stream(stream: BinaryIO, limit: int | None = None) -> bytes:
+    """All of ``stream`` (standard input), at most ``limit`` bytes, else ``InputError``."""
+    limit = MAX_SOURCE_BYTES if limit is None else limit
+    chunks: list[bytes] = []
+    size = 0
+    try:
+        while size <= limit:
+            chunk = stream.read(min(_CHUNK, limit + 1 - size))
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+    except OSError as exc:
+        raise InputError(reason(exc)) from None
+    if size > limit:
+        raise InputError(_too_large(None, limit))
+    return b"".join(chunks)
