@@ -11,10 +11,10 @@ import gc
 import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from pathlib import Path
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic, Severity
+from osc2check.inputs import InputError, read_bytes
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
@@ -55,8 +55,8 @@ class FileCache:
         text = self.sources.get(uri)
         if text is None:
             try:
-                data = Path(uri).read_bytes()
-            except OSError:
+                data = read_bytes(uri)  # never blocks, never reads past the size cap
+            except InputError:
                 return None
             # An imported file's own findings (P004 included) show when it is checked.
             text, _ = decode_source(data)

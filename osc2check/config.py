@@ -161,7 +161,7 @@ class Config:
         base = self.root or Path.cwd()
         try:
             return Path(path).resolve().relative_to(base.resolve()).as_posix()
-        except (ValueError, OSError):
+        except (ValueError, OSError, RuntimeError):  # RuntimeError: a symlink loop (< 3.13)
             return PurePosixPath(Path(path).as_posix()).as_posix()
 
 
