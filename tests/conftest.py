@@ -1,8 +1,13 @@
-"""Shared pytest options."""
+"""Shared pytest options, and where the tests' data lives."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
+
+#: The design paper's scenarios, vendored (tests/data/README.md).
+SEED_DIR = Path(__file__).resolve().parent / "data" / "seed"
 
 
 def pytest_addoption(parser: pytest.Parser) -> None:

@@ -67,3 +67,9 @@ def test_the_paper_scenario_has_exactly_its_dialect_warnings(name):
 def test_every_dialect_form_of_the_paper_is_reported():
     codes = {code for findings in EXPECTED.values() for _, code in findings}
     assert codes == {D801, D802, D803, D804, D805, D806}
+
+
+@pytest.mark.parametrize("name", ["cut_in_and_stop.osc", "braking_friction.osc"])
+def test_the_vendored_copies_are_the_shared_scenarios(name):
+    vendored = Path(__file__).resolve().parents[1] / "data" / "seed" / name
+    assert vendored.read_bytes() == (FOLDER / name).read_bytes()

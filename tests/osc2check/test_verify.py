@@ -27,8 +27,7 @@ from osc2check.verify.lower import in_range
 from osc2check.verify.z3_backend import Sampler, SolverOutcome, active_constraints, check, solve
 
 CASES = Path(__file__).resolve().parent / "cases"
-SHARED_SEED = Path(__file__).resolve().parents[3] / "shared" / "conformance" / "seed"
-SEED_DIR = Path(os.environ.get("OSC2_SEED_DIR", SHARED_SEED))
+SEED_DIR = Path(__file__).resolve().parents[1] / "data" / "seed"  # vendored
 THREE_FILES = CASES / "constraints" / "C401_conflict_across_three_files"
 KPH = Fraction(5, 18)
 
@@ -472,10 +471,9 @@ scenario top:
 
 # --- the paper's scenarios ---------------------------------------------------------------------
 
-PAPER = sorted(SEED_DIR.glob("*.osc")) if SEED_DIR.is_dir() else []
+PAPER = sorted(SEED_DIR.glob("*.osc"))
 
 
-@pytest.mark.skipif(not PAPER, reason="the design paper's scenarios are not here")
 @pytest.mark.parametrize("path", PAPER, ids=lambda p: p.stem)
 def test_the_papers_scenarios_check_without_errors(path: Path):
     analysis = analyze([SourceInput(str(path), path.read_text())])
@@ -484,10 +482,6 @@ def test_the_papers_scenarios_check_without_errors(path: Path):
     assert [r.outcome.status for r in analysis.verified[str(path)].scenarios] == ["sat"]
 
 
-@pytest.mark.skipif(
-    not (SEED_DIR / "cut_in_and_stop.osc").exists(),
-    reason="the design paper's cut-in scenario is not here",
-)
 @pytest.mark.parametrize("seed", [0, 1, 2, 3, 7, 42])
 def test_the_cut_in_witness_puts_the_npc_5m_behind_and_one_lane_right(seed: int):
     path = SEED_DIR / "cut_in_and_stop.osc"
@@ -502,10 +496,6 @@ def test_the_cut_in_witness_puts_the_npc_5m_behind_and_one_lane_right(seed: int)
     assert witness.parameter("safety_gap").value == 12
 
 
-@pytest.mark.skipif(
-    not (SEED_DIR / "braking_friction.osc").exists(),
-    reason="the design paper's braking scenario is not here",
-)
 def test_the_braking_witness_starts_the_hero_standing_in_lane_1():
     path = SEED_DIR / "braking_friction.osc"
     analysis = osc2check.analyze([SourceInput(str(path), path.read_text())])

@@ -4,24 +4,17 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import pytest
-
 from osc2lsp.state import snapshot_of
 
 REPO = Path(__file__).resolve().parents[2]
-SHARED_SEED = REPO.parent / "shared" / "conformance" / "seed" / "cut_in_and_stop.osc"
-EXAMPLE_SEED = REPO / "examples" / "cut_in_and_stop.osc"
+SEED = REPO / "tests" / "data" / "seed" / "cut_in_and_stop.osc"  # vendored
 CURSOR = "$0"
 URI = "file:///tmp/osc2lsp-tests/document.osc"
 
 
-def seed_path(required: bool = True) -> Path:
-    """The design paper's scenario from the shared conformance folder (skip when absent)."""
-    if SHARED_SEED.is_file():
-        return SHARED_SEED
-    if required:
-        pytest.skip(f"{SHARED_SEED} is not available")
-    return EXAMPLE_SEED
+def seed_path() -> Path:
+    """The design paper's cut-in scenario (vendored under tests/data/seed)."""
+    return SEED
 
 
 def seed_text() -> str:

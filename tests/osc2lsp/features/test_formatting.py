@@ -72,7 +72,7 @@ def test_formatting_refuses_a_file_with_syntax_errors():
     assert format_text("scenario s:\n    x: int = (1 +\n") is None
 
 
-@pytest.mark.parametrize("path", CORPUS + [str(seed_path(required=False))])
+@pytest.mark.parametrize("path", CORPUS + [str(seed_path())])
 def test_formatting_is_idempotent_and_keeps_tokens_and_comments(path):
     text = open(path, encoding="utf-8", errors="replace").read()
     once = format_text(text)

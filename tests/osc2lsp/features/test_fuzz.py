@@ -22,7 +22,7 @@ def _steps(target: str):
 
 
 def test_typing_and_deleting_the_seed_never_fails():
-    target = seed_path(required=False).read_text(encoding="utf-8")
+    target = seed_path().read_text(encoding="utf-8")
     snap = snapshot("")
     requests = 0
     for text in _steps(target):
