@@ -485,14 +485,10 @@ class ExpressionChecker:
             inner = scope.child(it=element)
             for a in args:
                 self.check(a, inner)
-            return {
-                "size": T.INT,
-                "count": T.INT,
-                "has": T.BOOL,
-                "first_index": T.INT,
-                "filter": target,
-                "map": T.list_of(T.UNKNOWN),
-            }[name]
+            result = LIST_METHODS[name].result
+            if result == "list":
+                return target if name == "filter" else T.list_of(T.UNKNOWN)
+            return T.PRIMITIVES[result]
         if target.kind is T.Kind.RANGE and name in ("lower", "upper"):
             return target.element or T.UNKNOWN
         return None

@@ -19,6 +19,7 @@ from fractions import Fraction
 
 from osc2check import codes, messages
 from osc2check.diagnostics import Diagnostic, Related
+from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import strip_comment
@@ -293,6 +294,7 @@ def _cycles(edges) -> list[tuple[list[str], object]]:
 
 
 def _reversed_ranges(sym: Symbol, program: Program, text_of, report) -> None:
+    """C402: a range whose constant bounds (compared in SI) are written high to low."""
     decl = sym.decl
     if decl is None:
         return
@@ -305,14 +307,9 @@ def _reversed_ranges(sym: Symbol, program: Program, text_of, report) -> None:
         return  # no range is written in it
     for node in walk(decl):
         if isinstance(node, ast.RangeLiteral):
-            low, high = _literal_value(node.low), _literal_value(node.high)
-            if (
-                isinstance(low, tuple) != isinstance(high, tuple)
-                or low is None
-                or high is None
-                or (isinstance(low, tuple) and low[1] != high[1])
-            ):
-                continue  # only bounds written in one unit are compared
+            low, high = _bound(node.low, program), _bound(node.high, program)
+            if low is None or high is None:
+                continue  # only constant bounds of one dimension are compared
             if low > high:
                 report(
                     messages.reversed_range(
@@ -332,20 +329,16 @@ def _text(node: ast.Node, text_of) -> str:
     return text_of(node.span)
 
 
-def _literal_value(node: ast.Node):
-    """The number a literal writes, in its own unit (bounds share one unit to compare)."""
-    match node:
-        case ast.IntLiteral():
-            return node.value
-        case ast.FloatLiteral():
-            return node.value
-        case ast.PhysicalLiteral():
-            return (float(node.number), node.unit.text)
-        case ast.Unary(op="-"):
-            inner = _literal_value(node.operand)
-            if isinstance(inner, tuple):
-                return (-inner[0], inner[1])
-            return -inner if inner is not None else None
+def _bound(node: ast.Node, program: Program) -> Fraction | None:
+    """A range bound's constant value in SI units, or None (names are not constants)."""
+    try:
+        value = evaluate(node, program.model)
+    except NotConstant:
+        return None
+    if isinstance(value, Quantity):
+        return value.si
+    if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
+        return Fraction(value)
     return None
 
 

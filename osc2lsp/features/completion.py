@@ -547,7 +547,8 @@ def _callee_of(model: Model, node: ast.Node) -> Symbol | None:
 def _builtin_expected(model: Model, node: ast.Node, f: Focus) -> Type | None:
     if isinstance(node, ast.Call) and isinstance(node.callee, ast.NameRef):
         name = node.callee.name.name.text
-        if name in ("elapsed", "every"):
+        builtin = EVENT_FUNCTIONS.get(name)
+        if builtin is not None and builtin.parameters[0].type == "time":
             found = [
                 s
                 for s in model.lookup("time", f.scope.context)
