@@ -192,7 +192,9 @@ def _integrate_direction(
 # ---------------------------------------------------------------- poly3 and paramPoly3
 
 
-def _local_polynomials(g: Geometry) -> tuple[np.polynomial.Polynomial, np.polynomial.Polynomial, float]:
+def _local_polynomials(
+    g: Geometry,
+) -> tuple[np.polynomial.Polynomial, np.polynomial.Polynomial, float]:
     """``u(p)``, ``v(p)`` in the record's local frame and the end parameter ``p1``."""
     Poly = np.polynomial.Polynomial
     if g.kind == "poly3":
@@ -224,7 +226,9 @@ def _arc_length_table(
     return p, np.concatenate(([0.0], np.cumsum(lengths)))
 
 
-def _end_parameter(u: np.polynomial.Polynomial, v: np.polynomial.Polynomial, length: float) -> float:
+def _end_parameter(
+    u: np.polynomial.Polynomial, v: np.polynomial.Polynomial, length: float
+) -> float:
     """The ``p`` at which the arc length of ``(u, v)`` reaches ``length`` (u(p) = p)."""
     hi = length
     p, table = _arc_length_table(u, v, hi, 64)
@@ -260,8 +264,6 @@ def _polynomial(g: Geometry, ds: FloatArray) -> GeometrySamples:
     heading = g.hdg + np.arctan2(vp, up)
     curvature = (up * ddv(p) - vp * ddu(p)) / np.maximum(np.hypot(up, vp), 1e-12) ** 3
     return GeometrySamples(x, y, heading, curvature)
-
-
 
 
 # ---------------------------------------------------------------- cubic profiles

@@ -43,6 +43,7 @@ from osc2check.world.geometry import (
     sample_spacing,
 )
 from osc2check.world.network import (
+    Junction,
     Lane,
     LaneRef,
     LaneSection,
@@ -70,12 +71,14 @@ def build_network(
     for road_spec in spec.roads:
         if road_spec.id in seen:
             raise MapError(
-                f"road id `{road_spec.id}` is used twice", spec.source, road_spec.line,
+                f"road id `{road_spec.id}` is used twice",
+                spec.source,
+                road_spec.line,
                 road_spec.column,
             )
         seen.add(road_spec.id)
     roads = {r.id: _build_road(r, spec.source, tolerance, max_step) for r in spec.roads}
-    junctions = {}
+    junctions: dict[str, Junction] = {}
     for junction in spec.junctions:
         if junction.id in junctions:
             raise MapError(f"junction id `{junction.id}` is used twice", spec.source, junction.line)
@@ -179,9 +182,7 @@ def _build_road(spec: RoadSpec, source: str | None, tolerance: float, max_step: 
         zip(section_specs, starts, ends, pieces, strict=True)
     ):
         stop = start + len(piece)
-        lanes, borders = _section_lanes(
-            spec, sec, index, piece - s0, offset[start:stop], source
-        )
+        lanes, borders = _section_lanes(spec, sec, index, piece - s0, offset[start:stop], source)
         sections.append(
             LaneSection(
                 road=spec.id,
@@ -313,9 +314,7 @@ def _section_lanes(
                 )
             outer[lane_id] = inner
     rows = [outer[i] for i in left] + [offset] + [outer[i] for i in right]
-    lanes = tuple(
-        _lane(road, index, by_id[i], source) for i in (*left, *right)
-    )
+    lanes = tuple(_lane(road, index, by_id[i], source) for i in (*left, *right))
     return lanes, np.vstack(rows)
 
 
@@ -348,7 +347,7 @@ def _lane(road: RoadSpec, section: int, spec: LaneSpec, source: str | None) -> L
 # ---------------------------------------------------------------- links
 
 
-def _check_links(spec: NetworkSpec, roads: dict[str, Road], junctions: dict[str, object]) -> None:
+def _check_links(spec: NetworkSpec, roads: dict[str, Road], junctions: dict[str, Junction]) -> None:
     for road_spec in spec.roads:
         if road_spec.junction is not None and road_spec.junction not in junctions:
             raise MapError(
@@ -361,8 +360,8 @@ def _check_links(spec: NetworkSpec, roads: dict[str, Road], junctions: dict[str,
         for link in (road_spec.predecessor, road_spec.successor):
             if link is None:
                 continue
-            table: dict[str, object] = roads if link.element_type == "road" else junctions  # type: ignore[assignment]
-            if link.element_id not in table:
+            known = roads if link.element_type == "road" else junctions
+            if link.element_id not in known:
                 raise MapError(
                     f"road `{road_spec.id}` links to {link.element_type} `{link.element_id}`, "
                     "which does not exist",
@@ -406,7 +405,9 @@ def _lane_graph(
             return None
         return (LaneRef(road.id, section, lane_id), end)
 
-    def join_ids(a: _End, other: Road, section: int, lane_id: int, end: int, line: int | None) -> None:
+    def join_ids(
+        a: _End, other: Road, section: int, lane_id: int, end: int, line: int | None
+    ) -> None:
         b = lane_end(other, section, lane_id, end, line)
         if b is not None:
             join(a, b)
@@ -456,16 +457,18 @@ def _lane_graph(
     predecessors: dict[LaneRef, tuple[LaneRef, ...]] = {}
     for ref, lane in lanes.items():
         exit_end = 1 if lane.direction > 0 else 0
-        after = {
-            other for other, end in joins.get((ref, exit_end), ())
+        after_refs = {
+            other
+            for other, end in joins.get((ref, exit_end), ())
             if end == (0 if lanes[other].direction > 0 else 1)
         }
-        before = {
-            other for other, end in joins.get((ref, 1 - exit_end), ())
+        before_refs = {
+            other
+            for other, end in joins.get((ref, 1 - exit_end), ())
             if end == (1 if lanes[other].direction > 0 else 0)
         }
-        successors[ref] = tuple(sorted(after, key=order.__getitem__))
-        predecessors[ref] = tuple(sorted(before, key=order.__getitem__))
+        successors[ref] = tuple(sorted(after_refs, key=order.__getitem__))
+        predecessors[ref] = tuple(sorted(before_refs, key=order.__getitem__))
     return successors, predecessors
 
 

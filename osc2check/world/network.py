@@ -41,8 +41,8 @@ from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
-from osc2check.world.errors import MapWarning
 from osc2check.world.arrays import BoolArray, FloatArray, IntArray
+from osc2check.world.errors import MapWarning
 from osc2check.world.geometry import Cubic, Geometry, cubic_profile
 
 if TYPE_CHECKING:
@@ -454,10 +454,8 @@ class RoadNetwork:
 
         return to_road(self, x, y, yaw)
 
-    def project(
-        self, x: FloatArray, y: FloatArray, yaw: FloatArray | None = None
-    ) -> Projection:
-        """Vectorised :meth:`to_road`: arrays of N points in, a :class:`Projection` of arrays out."""
+    def project(self, x: FloatArray, y: FloatArray, yaw: FloatArray | None = None) -> Projection:
+        """Vectorised :meth:`to_road`: N points in, a :class:`Projection` of arrays out."""
         from osc2check.world.projection import project
 
         return project(self, x, y, yaw)
@@ -483,6 +481,16 @@ class RoadNetwork:
         from osc2check.world.projection import past_end
 
         return past_end(self, x, y)
+
+    def signal_pose(self, signal: Signal | SignalReference) -> WorldPose:
+        """World position of a signal; yaw faces the traffic it is valid for (``+``: along s)."""
+        import math
+
+        pose = self.to_world(signal.road, signal.s, signal.t)
+        turn = math.pi if signal.orientation == "+" else 0.0
+        extra = signal.h_offset if isinstance(signal, Signal) else 0.0
+        yaw = (pose.yaw + turn + extra + math.pi) % (2.0 * math.pi) - math.pi
+        return type(pose)(pose.x, pose.y, yaw)
 
     # ------------------------------------------------------------ lanes
 
@@ -530,7 +538,9 @@ class RoadNetwork:
         side: Literal["right", "left"] = "left" if self.numbering == "from_left" else "right"
         return self.osc2_lane_index(ref, side)
 
-    def lane_from_scenario(self, road_id: str, s: float, number: int, direction: int = 1) -> LaneRef:
+    def lane_from_scenario(
+        self, road_id: str, s: float, number: int, direction: int = 1
+    ) -> LaneRef:
         """The lane a scenario's lane ``number`` names (per ``numbering``)."""
         side: Literal["right", "left"] = "left" if self.numbering == "from_left" else "right"
         return self.lane_from_osc2_index(road_id, s, number, direction, side)

@@ -236,8 +236,9 @@ def lane_to_world(network: RoadNetwork, ref: LaneRef, s: float, offset: float = 
     road = network.roads[ref.road]
     tc, slope = lane_centre(network, ref, np.array([s]))
     t = float(tc[0]) + offset * lane.direction
-    x, y, h = road_to_world(network, np.array([network.road_number(ref.road)]), np.array([s]),
-                            np.array([t]))
+    x, y, h = road_to_world(
+        network, np.array([network.road_number(ref.road)]), np.array([s]), np.array([t])
+    )
     kappa = float(np.interp(s, road.s, road.curvature))
     yaw = float(h[0]) + math.atan2(float(slope[0]), 1.0 - kappa * t)
     if lane.direction < 0:
@@ -288,7 +289,12 @@ def build_index(network: RoadNetwork, cell: float = CELL, margin: float = MARGIN
         for sec in road.sections:
             n = sec.stop - sec.start
             sl = slice(sec.start, sec.stop)
-            for key, values in (("s", road.s), ("x", road.x), ("y", road.y), ("heading", road.heading)):
+            for key, values in (
+                ("s", road.s),
+                ("x", road.x),
+                ("y", road.y),
+                ("heading", road.heading),
+            ):
                 parts[key].append(values[sl])
             road_of.append(np.full(n, number, dtype=np.int64))
             section_of.append(np.full(n, g, dtype=np.int64))
@@ -306,7 +312,7 @@ def build_index(network: RoadNetwork, cell: float = CELL, margin: float = MARGIN
     x = np.concatenate(parts["x"])
     y = np.concatenate(parts["y"])
     heading = np.concatenate(parts["heading"])
-    road = np.concatenate(road_of)
+    road_number = np.concatenate(road_of)
     section = np.concatenate(section_of)
     borders = np.concatenate(border_parts)
     lengths = np.array([sec.s1 + 1.0 for sec in sections])
@@ -374,7 +380,9 @@ def build_index(network: RoadNetwork, cell: float = CELL, margin: float = MARGIN
     local = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
     cx = ix0[owner] + local // wy[owner]
     cy = iy0[owner] + local % wy[owner]
-    keep = _patch_overlaps_cell(corners_x[owner], corners_y[owner], x0 + cx * cell, y0 + cy * cell, cell)
+    keep = _patch_overlaps_cell(
+        corners_x[owner], corners_y[owner], x0 + cx * cell, y0 + cy * cell, cell
+    )
     keys_all = (cx * ny + cy)[keep]
     patch_all = owner[keep]
     order = np.argsort(keys_all, kind="stable")
@@ -382,7 +390,7 @@ def build_index(network: RoadNetwork, cell: float = CELL, margin: float = MARGIN
     keys, key_first = np.unique(keys_sorted, return_index=True)
     key_start = np.append(key_first, len(keys_sorted)).astype(np.int64)
     return SpatialIndex(
-        road=road,
+        road=road_number,
         section=section,
         s=s,
         x=x,
@@ -476,7 +484,9 @@ def _dead_ends(network: RoadNetwork) -> FloatArray:
             low, high = float(section.borders[-1, column]), float(section.borders[0, column])
             if flip:  # looking out of the road's start, its left side is on the right
                 low, high = -high, -low
-            rows.append((float(road.x[i]), float(road.y[i]), float(road.heading[i]) + flip, low, high))
+            rows.append(
+                (float(road.x[i]), float(road.y[i]), float(road.heading[i]) + flip, low, high)
+            )
     return np.array(rows, dtype=np.float64).reshape(-1, 5)
 
 
@@ -662,9 +672,7 @@ def _argmin_per_group(group: IntArray, score: FloatArray) -> IntArray:
     return result
 
 
-def to_road(
-    network: RoadNetwork, x: float, y: float, yaw: float | None = None
-) -> RoadPoint | None:
+def to_road(network: RoadNetwork, x: float, y: float, yaw: float | None = None) -> RoadPoint | None:
     """Road coordinates of one world point (None when no road is within the margin)."""
     result = project(
         network, np.array([x]), np.array([y]), None if yaw is None else np.array([yaw])

@@ -35,7 +35,6 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Literal
 
-from osc2check.world.errors import MapError
 from osc2check.world.geometry import Cubic, Geometry
 from osc2check.world.network import (
     Connection,
@@ -184,7 +183,9 @@ def _geometry(e: Element) -> Geometry:
         case "line":
             return Geometry("line", s, x, y, hdg, length, line=e.line)
         case "arc":
-            return Geometry("arc", s, x, y, hdg, length, curvature=shape.number("curvature"), line=e.line)
+            return Geometry(
+                "arc", s, x, y, hdg, length, curvature=shape.number("curvature"), line=e.line
+            )
         case "spiral":
             return Geometry(
                 "spiral",
@@ -220,8 +221,9 @@ def _geometry(e: Element) -> Geometry:
                 line=e.line,
             )
         case other:
-            raise shape.error(f"unknown geometry <{other}> (expected line, arc, spiral, poly3 "
-                              "or paramPoly3)")
+            raise shape.error(
+                f"unknown geometry <{other}> (expected line, arc, spiral, poly3 or paramPoly3)"
+            )
 
 
 def _cubic(e: Element, start: str) -> Cubic:
@@ -342,14 +344,18 @@ def _junction(e: Element) -> Junction:
             raise c.error("<connection> has neither `connectingRoad` nor `linkedRoad`")
         contact = c.text("contactPoint", "start")
         if contact not in ("start", "end"):
-            raise c.error(f"<connection> attribute `contactPoint` must be start or end, got {contact!r}")
+            raise c.error(
+                f"<connection> attribute `contactPoint` must be start or end, got {contact!r}"
+            )
         connections.append(
             Connection(
                 id=c.text("id"),
                 incoming_road=c.text("incomingRoad"),
                 connecting_road=target,
                 contact_point="start" if contact == "start" else "end",
-                lane_links=tuple((k.integer("from"), k.integer("to")) for k in c.findall("laneLink")),
+                lane_links=tuple(
+                    (k.integer("from"), k.integer("to")) for k in c.findall("laneLink")
+                ),
                 line=c.line,
             )
         )

@@ -144,7 +144,9 @@ def parse_xml(data: bytes, file: str | None = None) -> Element:
         parser.Parse(data, True)
     except expat.ExpatError as exc:
         message = expat.errors.messages.get(exc.code, str(exc)) if exc.code else str(exc)
-        raise MapError(f"not well-formed XML: {message}", file, exc.lineno, exc.offset + 1) from None
+        raise MapError(
+            f"not well-formed XML: {message}", file, exc.lineno, exc.offset + 1
+        ) from None
     if builder.root is None:
         raise MapError("no XML element in the file", file, 1, 1)
     return builder.root
