@@ -235,7 +235,13 @@ def _end_parameter(
     while table[-1] < length:  # v' != 0 makes the curve longer than its u-extent
         hi *= 2.0
         p, table = _arc_length_table(u, v, hi, 64)
-    return float(np.interp(length, table, p))
+    end = float(np.interp(length, table, p))
+    pieces = max(16, math.ceil(length / _PIECE))
+    du, dv = u.deriv(), v.deriv()
+    for _ in range(3):  # Newton on L(end) = length
+        reached = float(_arc_length_table(u, v, end, pieces)[1][-1])
+        end -= (reached - length) / max(float(np.hypot(du(end), dv(end))), 1e-12)
+    return end
 
 
 def _polynomial(g: Geometry, ds: FloatArray) -> GeometrySamples:
