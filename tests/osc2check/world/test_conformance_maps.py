@@ -93,9 +93,9 @@ def test_geometry_records_meet_the_next_record(networks: dict[str, RoadNetwork],
             gap = math.hypot(float(end.x[0]) - after.x, float(end.y[0]) - after.y)
             turn = abs(math.remainder(float(end.heading[0]) - after.hdg, 2 * math.pi))
             worst = max(worst, gap)
-            assert gap < 5e-3, (road.id, g.kind, gap)
+            assert gap < 1e-4, (road.id, g.kind, gap)
             assert turn < 1e-3, (road.id, g.kind, turn)
-    assert worst < 5e-3
+    assert worst < 1e-4
 
 
 def test_curves_spirals_have_linear_curvature() -> None:
