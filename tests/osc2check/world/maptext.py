@@ -24,18 +24,19 @@ def shared_map(name: str) -> Path:
     return path
 
 
-LANES_2 = """
+WIDTH = '<width sOffset="0" a="3.5" b="0" c="0" d="0"/>'
+LANES_2 = f"""
       <laneSection s="0">
-        <left><lane id="1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></left>
+        <left><lane id="1" type="driving">{WIDTH}</lane></left>
         <center><lane id="0" type="none"/></center>
-        <right><lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right>
+        <right><lane id="-1" type="driving">{WIDTH}</lane></right>
       </laneSection>"""
 
 
 def road_xml(
     road_id: str = "1",
     length: float = 100.0,
-    geometry: str = '<line/>',
+    geometry: str = "<line/>",
     lanes: str = LANES_2,
     extra: str = "",
     attrs: str = "",

@@ -32,10 +32,14 @@ def test_lane_centres_agree_with_the_builtin_road(name: str) -> None:
 def test_lane_of_a_point_agrees_with_the_builtin_road(name: str) -> None:
     road = get_map(name)
     net = builtin_network(name)
-    ys = np.concatenate((np.linspace(-1.0, road.width + 1.0, 97), np.arange(road.lane_count + 1) * road.lane_width))
+    ys = np.concatenate(
+        (np.linspace(-1.0, road.width + 1.0, 97), np.arange(road.lane_count + 1) * road.lane_width)
+    )
     xs = np.full_like(ys, 321.0)
     projected = net.project(xs, ys)
-    for y, inside, lane_id, road_number in zip(ys, projected.inside, projected.lane, projected.road, strict=True):
+    for y, inside, lane_id, road_number in zip(
+        ys, projected.inside, projected.lane, projected.road, strict=True
+    ):
         expected = road.lane_of(float(y))
         if expected is None:
             assert not inside
@@ -47,7 +51,11 @@ def test_lane_of_a_point_agrees_with_the_builtin_road(name: str) -> None:
     s, t = road.to_st(321.0, 1.0)
     assert point.s == pytest.approx(s)
     assert point.offset == pytest.approx(road.lane_offset(1.0))
-    assert list(net.on_drivable(np.array([10.0, 10.0, -1.0]), np.array([1.0, -0.5, 1.0]))) == [True, False, False]
+    assert list(net.on_drivable(np.array([10.0, 10.0, -1.0]), np.array([1.0, -0.5, 1.0]))) == [
+        True,
+        False,
+        False,
+    ]
     assert list(net.past_end(np.array([road.length + 5.0]), np.array([1.0]))) == [True]
 
 

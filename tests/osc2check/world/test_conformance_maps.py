@@ -1,7 +1,8 @@
 """The shared OpenDRIVE conformance maps: load, round-trip, continuity, junction links.
 
 The maps live in ``../shared/conformance/opendrive`` (never copied here); each
-test skips when that folder is absent.
+test skips when that folder is absent. The map-wide checks run on the bundled
+maps of ``examples/maps`` too.
 """
 
 from __future__ import annotations
@@ -17,25 +18,34 @@ from osc2check.world.geometry import evaluate
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.opendrive import load_opendrive
 from osc2check.world.routes import turn_of
-from tests.osc2check.world.maptext import SHARED_MAPS, shared_map, shared_maps
+from tests.osc2check.world.maptext import BUNDLED_MAPS, SHARED_MAPS, shared_map, shared_maps
 
-MAPS = [p.name for p in shared_maps()] or ["esmini_curves.xodr"]
+BUNDLED = sorted(p.name for p in BUNDLED_MAPS.glob("*.xodr"))
+MAPS = ([p.name for p in shared_maps()] or ["esmini_curves.xodr"]) + BUNDLED
 
 
 @pytest.fixture(scope="module")
 def networks() -> dict[str, RoadNetwork]:
-    return {p.name: load_opendrive(p) for p in shared_maps()}
+    paths = shared_maps() + [BUNDLED_MAPS / name for name in BUNDLED]
+    return {p.name: load_opendrive(p) for p in paths}
 
 
 def _net(networks: dict[str, RoadNetwork], name: str) -> RoadNetwork:
-    shared_map(name)
+    if name not in BUNDLED:
+        shared_map(name)
     return networks[name]
 
 
+def _file(name: str) -> Path:
+    return BUNDLED_MAPS / name if name in BUNDLED else SHARED_MAPS / name
+
+
 @pytest.mark.parametrize("name", MAPS)
-def test_shared_map_loads_with_every_road_and_lane(networks: dict[str, RoadNetwork], name: str) -> None:
+def test_shared_map_loads_with_every_road_and_lane(
+    networks: dict[str, RoadNetwork], name: str
+) -> None:
     net = _net(networks, name)
-    tree = ET.parse(SHARED_MAPS / name).getroot()
+    tree = ET.parse(_file(name)).getroot()
     assert set(net.roads) == {r.get("id") for r in tree.iter("road")}
     lanes_in_file = sum(1 for lane in tree.iter("lane") if lane.get("id") != "0")
     assert sum(1 for _ in net.lanes()) == lanes_in_file

@@ -101,8 +101,9 @@ def test_param_poly3_follows_its_polynomials(normalized: bool) -> None:
     p1 = 1.0 if normalized else length
     # A gentle S-bend: u grows about linearly, v is a cubic.
     coefficients = (0.0, 29.0 / p1, 0.5 / p1**2, 0.0, 0.0, 0.0, 3.0 / p1**2, -2.0 / p1**3)
-    g = Geometry("paramPoly3", 0.0, 0.0, 0.0, 0.0, length, coefficients=coefficients,
-                 normalized=normalized)
+    g = Geometry(
+        "paramPoly3", 0.0, 0.0, 0.0, 0.0, length, coefficients=coefficients, normalized=normalized
+    )
     ds = np.linspace(0.0, length, 61)
     r = evaluate(g, ds)
     au, bu, cu, du_, av, bv, cv, dv = coefficients

@@ -12,7 +12,7 @@ import pytest
 from osc2check.world.errors import MapError
 from osc2check.world.network import LaneRef
 from osc2check.world.opendrive import load_opendrive
-from tests.osc2check.world.maptext import LANES_2, road_xml, xodr
+from tests.osc2check.world.maptext import LANES_2, WIDTH, road_xml, xodr
 
 WriteMap = Callable[..., Path]
 
@@ -31,7 +31,9 @@ def test_lane_widths_are_cubic_in_ds_with_several_records(write_map: WriteMap) -
       </laneSection>
       <laneSection s="80">
         <center><lane id="0" type="none"/></center>
-        <right><lane id="-1" type="driving"><width sOffset="5" a="2.5" b="0" c="0.001" d="0"/></lane></right>
+        <right><lane id="-1" type="driving">
+          <width sOffset="5" a="2.5" b="0" c="0.001" d="0"/>
+        </lane></right>
       </laneSection>"""
     net = load_opendrive(write_map(xodr(road_xml(lanes=lanes))))
     ref = LaneRef("1", 0, -1)
@@ -83,7 +85,9 @@ def test_rht_right_lanes_drive_along_s_and_lht_flips(write_map: WriteMap) -> Non
 
 
 def test_lane_direction_attribute_reverses_a_lane(write_map: WriteMap) -> None:
-    lanes = LANES_2.replace('<lane id="-1" type="driving">', '<lane id="-1" type="driving" direction="reversed">')
+    lanes = LANES_2.replace(
+        '<lane id="-1" type="driving">', '<lane id="-1" type="driving" direction="reversed">'
+    )
     net = load_opendrive(write_map(xodr(road_xml(lanes=lanes))))
     assert net.lane(LaneRef("1", 0, -1)).direction == -1
 
@@ -94,7 +98,8 @@ def test_signals_and_references_are_kept(write_map: WriteMap) -> None:
               subtype="-1" country="DE" zOffset="2" height="0.9" hOffset="0.1">
         <validity fromLane="-1" toLane="-1"/>
       </signal>
-      <signal id="8" s="20" t="4" dynamic="no" orientation="-" type="274" subtype="56" value="50" unit="km/h"/>
+      <signal id="8" s="20" t="4" dynamic="no" orientation="-" type="274" subtype="56"
+              value="50" unit="km/h"/>
       <signalReference id="7" s="90" t="3" orientation="-"/>
     </signals>"""
     road = road_xml().replace("    </lanes>\n  </road>", f"    </lanes>\n    {signals}\n  </road>")
@@ -102,7 +107,11 @@ def test_signals_and_references_are_kept(write_map: WriteMap) -> None:
     net = load_opendrive(write_map(xodr(road, tail=tail)))
     light, sign = net.signals
     assert (light.id, light.dynamic, light.type, light.country, light.validity) == (
-        "7", True, "1000001", "DE", ((-1, -1),)
+        "7",
+        True,
+        "1000001",
+        "DE",
+        ((-1, -1),),
     )
     assert (sign.value, sign.unit, sign.orientation, sign.dynamic) == (50.0, "km/h", "-", False)
     assert net.signal_references[0].s == 90.0
@@ -139,32 +148,126 @@ MALFORMED = [
     ("wrong root", '<?xml version="1.0"?>\n<road/>', 2, "not <OpenDRIVE>"),
     ("no roads", '<OpenDRIVE><header revMajor="1" revMinor="6"/></OpenDRIVE>', 1, "no <road>"),
     ("revision 2", _case('revMajor="1"', 'revMajor="2"'), "<header", "not supported"),
-    ("missing length", _case('length="100.0" junction', 'junction'), "<road ", "no `length`"),
-    ("length not a number", _case('length="100.0" junction', 'length="long" junction'), "<road ", "not a number: 'long'"),
+    ("missing length", _case('length="100.0" junction', "junction"), "<road ", "no `length`"),
+    (
+        "length not a number",
+        _case('length="100.0" junction', 'length="long" junction'),
+        "<road ",
+        "not a number: 'long'",
+    ),
     ("hdg not a number", _case('hdg="0"', 'hdg="north"'), "<geometry", "`hdg` is not a number"),
-    ("unknown geometry", _case("<line/>", "<clothoid/>"), "<clothoid", "unknown geometry <clothoid>"),
+    (
+        "unknown geometry",
+        _case("<line/>", "<clothoid/>"),
+        "<clothoid",
+        "unknown geometry <clothoid>",
+    ),
     ("empty geometry", _case("<line/>", ""), "<geometry", "has no line, arc"),
     ("arc without curvature", _case("<line/>", "<arc/>"), "<arc", "no `curvature`"),
-    ("no planView", _case("<planView>", "<planViewX>").replace("</planView>", "</planViewX>"), "<road ", "no <planView>"),
-    ("empty road", _case('<geometry s="0" x="0" y="0" hdg="0" length="100.0"><line/></geometry>', ""), "<road ", "no geometry"),
+    (
+        "no planView",
+        _case("<planView>", "<planViewX>").replace("</planView>", "</planViewX>"),
+        "<road ",
+        "no <planView>",
+    ),
+    (
+        "empty road",
+        _case('<geometry s="0" x="0" y="0" hdg="0" length="100.0"><line/></geometry>', ""),
+        "<road ",
+        "no geometry",
+    ),
     ("no lane section", GOOD.replace(LANES_2, ""), "<road ", "no <laneSection>"),
-    ("lane without width", _case('<width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane></right>', "</lane></right>"), '<lane id="-1"', "neither <width> nor <border>"),
-    ("lane on wrong side", _case('<lane id="-1" type="driving">', '<lane id="2" type="driving">'), '<lane id="2"', "ids are negative"),
-    ("lane id gap", _case('<lane id="-1" type="driving">', '<lane id="-3" type="driving">'), "<laneSection", "count 1, 2"),
-    ("lane id not integer", _case('<lane id="-1" type="driving">', '<lane id="minus one" type="driving">'), '<lane id="minus', "not a number"),
+    (
+        "lane without width",
+        _case(WIDTH + "</lane></right>", "</lane></right>"),
+        '<lane id="-1"',
+        "neither <width> nor <border>",
+    ),
+    (
+        "lane on wrong side",
+        _case('<lane id="-1" type="driving">', '<lane id="2" type="driving">'),
+        '<lane id="2"',
+        "ids are negative",
+    ),
+    (
+        "lane id gap",
+        _case('<lane id="-1" type="driving">', '<lane id="-3" type="driving">'),
+        "<laneSection",
+        "count 1, 2",
+    ),
+    (
+        "lane id not integer",
+        _case('<lane id="-1" type="driving">', '<lane id="minus one" type="driving">'),
+        '<lane id="minus',
+        "not a number",
+    ),
     ("bad rule", _case('junction="-1" ', 'junction="-1" rule="middle" '), "<road ", "RHT or LHT"),
-    ("link to missing road", _case("<planView>", '<link><successor elementType="road" elementId="99" contactPoint="start"/></link>\n    <planView>'), "<successor", "road `99`, which does not exist"),
-    ("link to missing junction", _case("<planView>", '<link><predecessor elementType="junction" elementId="5"/></link>\n    <planView>'), "<predecessor", "junction `5`, which does not exist"),
-    ("bad link type", _case("<planView>", '<link><successor elementType="bridge" elementId="1"/></link>\n    <planView>'), "<successor", "road or junction"),
-    ("road in missing junction", _case('junction="-1"', 'junction="4"'), "<road ", "junction `4`, which does not exist"),
-    ("junction to missing road", GOOD.replace("</OpenDRIVE>", '<junction id="9"><connection id="0" incomingRoad="1" connectingRoad="77" contactPoint="start"/></junction>\n</OpenDRIVE>'), "<connection", "connecting road `77` does not exist"),
-    ("duplicate road", GOOD.replace("</OpenDRIVE>", road_xml() + "\n</OpenDRIVE>"), None, "used twice"),
+    (
+        "link to missing road",
+        _case(
+            "<planView>",
+            '<link><successor elementType="road" elementId="99" contactPoint="start"/></link>\n'
+            "    <planView>",
+        ),
+        "<successor",
+        "road `99`, which does not exist",
+    ),
+    (
+        "link to missing junction",
+        _case(
+            "<planView>",
+            '<link><predecessor elementType="junction" elementId="5"/></link>\n    <planView>',
+        ),
+        "<predecessor",
+        "junction `5`, which does not exist",
+    ),
+    (
+        "bad link type",
+        _case(
+            "<planView>",
+            '<link><successor elementType="bridge" elementId="1"/></link>\n    <planView>',
+        ),
+        "<successor",
+        "road or junction",
+    ),
+    (
+        "road in missing junction",
+        _case('junction="-1"', 'junction="4"'),
+        "<road ",
+        "junction `4`, which does not exist",
+    ),
+    (
+        "junction to missing road",
+        GOOD.replace(
+            "</OpenDRIVE>",
+            '<junction id="9"><connection id="0" incomingRoad="1" connectingRoad="77" '
+            'contactPoint="start"/></junction>\n</OpenDRIVE>',
+        ),
+        "<connection",
+        "connecting road `77` does not exist",
+    ),
+    (
+        "duplicate road",
+        GOOD.replace("</OpenDRIVE>", road_xml() + "\n</OpenDRIVE>"),
+        None,
+        "used twice",
+    ),
     ("infinite value", _case('x="0"', 'x="inf"'), "<geometry", "not finite"),
-    ("bad pRange", _case("<line/>", '<paramPoly3 aU="0" bU="1" cU="0" dU="0" aV="0" bV="0" cV="0" dV="0" pRange="metres"/>'), "<paramPoly3", "arcLength or normalized"),
+    (
+        "bad pRange",
+        _case(
+            "<line/>",
+            '<paramPoly3 aU="0" bU="1" cU="0" dU="0" aV="0" bV="0" cV="0" dV="0" pRange="metres"/>',
+        ),
+        "<paramPoly3",
+        "arcLength or normalized",
+    ),
 ]
 
 
-@pytest.mark.parametrize(("label", "text", "where", "problem"), MALFORMED, ids=[c[0] for c in MALFORMED])
+@pytest.mark.parametrize(
+    ("label", "text", "where", "problem"), MALFORMED, ids=[c[0] for c in MALFORMED]
+)
 def test_malformed_file_raises_map_error_at_its_line(
     write_map: WriteMap, label: str, text: str, where: str | int | None, problem: str
 ) -> None:
@@ -196,8 +299,13 @@ def test_column_points_at_the_element(write_map: WriteMap) -> None:
 
 
 def test_link_to_missing_lane_is_a_warning_not_an_error(write_map: WriteMap) -> None:
-    a = road_xml("1", extra='<link><successor elementType="road" elementId="2" contactPoint="start"/></link>')
-    a = a.replace('<lane id="-1" type="driving">', '<lane id="-1" type="driving"><link><successor id="-5"/></link>')
+    a = road_xml(
+        "1", extra='<link><successor elementType="road" elementId="2" contactPoint="start"/></link>'
+    )
+    a = a.replace(
+        '<lane id="-1" type="driving">',
+        '<lane id="-1" type="driving"><link><successor id="-5"/></link>',
+    )
     b = road_xml("2").replace('x="0" y="0"', 'x="100" y="0"')
     net = load_opendrive(write_map(xodr(a, b)))
     assert len(net.warnings) == 1 and "lane -5" in str(net.warnings[0])
