@@ -376,15 +376,26 @@ def build_index(network: RoadNetwork, cell: float = CELL, margin: float = MARGIN
     wx = ix1 - ix0 + 1
     wy = iy1 - iy0 + 1
     counts = wx * wy
-    owner = np.repeat(np.arange(len(first)), counts)
-    local = np.arange(int(counts.sum())) - np.repeat(np.cumsum(counts) - counts, counts)
-    cx = ix0[owner] + local // wy[owner]
-    cy = iy0[owner] + local % wy[owner]
-    keep = _patch_overlaps_cell(
-        corners_x[owner], corners_y[owner], x0 + cx * cell, y0 + cy * cell, cell
-    )
-    keys_all = (cx * ny + cy)[keep]
-    patch_all = owner[keep]
+    key_parts: list[IntArray] = []
+    patch_parts: list[IntArray] = []
+    # Enumerate (patch, cell) candidates in blocks to bound memory on wide roads.
+    bounds = np.searchsorted(np.cumsum(counts), np.arange(0, int(counts.sum()), 65536))
+    for lo_p, hi_p in zip(bounds, [*bounds[1:], len(counts)], strict=True):
+        block = np.arange(lo_p, hi_p)
+        if len(block) == 0:
+            continue
+        c = counts[block]
+        owner = np.repeat(block, c)
+        local = np.arange(int(c.sum())) - np.repeat(np.cumsum(c) - c, c)
+        cx = ix0[owner] + local // wy[owner]
+        cy = iy0[owner] + local % wy[owner]
+        keep = _patch_overlaps_cell(
+            corners_x[owner], corners_y[owner], x0 + cx * cell, y0 + cy * cell, cell
+        )
+        key_parts.append((cx * ny + cy)[keep])
+        patch_parts.append(owner[keep])
+    keys_all = np.concatenate(key_parts)
+    patch_all = np.concatenate(patch_parts)
     order = np.argsort(keys_all, kind="stable")
     keys_sorted = keys_all[order]
     keys, key_first = np.unique(keys_sorted, return_index=True)
