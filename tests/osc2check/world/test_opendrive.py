@@ -310,3 +310,46 @@ def test_link_to_missing_lane_is_a_warning_not_an_error(write_map: WriteMap) -> 
     net = load_opendrive(write_map(xodr(a, b)))
     assert len(net.warnings) == 1 and "lane -5" in str(net.warnings[0])
     assert net.next_lanes(LaneRef("1", 0, -1)) == ()
+
+
+def test_elevation_profile_is_read_as_cubics(write_map: WriteMap) -> None:
+    extra = (
+        '<elevationProfile><elevation s="0" a="1" b="0.01" c="0" d="0"/>'
+        '<elevation s="50" a="1.5" b="0" c="0.001" d="0"/></elevationProfile>'
+    )
+    road = road_xml().replace("    <planView>", f"    {extra}\n    <planView>")
+    net = load_opendrive(write_map(xodr(road)))
+    z = net.roads["1"].elevation_at(np.array([0.0, 20.0, 50.0, 60.0]))
+    assert np.allclose(z, [1.0, 1.2, 1.5, 1.5 + 0.001 * 100])
+
+
+def test_lht_numbering_counts_from_the_right_in_travel_direction(write_map: WriteMap) -> None:
+    lanes = f"""
+      <laneSection s="0">
+        <left>
+          <lane id="3" type="sidewalk">{WIDTH}</lane>
+          <lane id="2" type="driving">{WIDTH}</lane>
+          <lane id="1" type="driving">{WIDTH}</lane>
+        </left>
+        <center><lane id="0" type="none"/></center>
+        <right>
+          <lane id="-1" type="driving">{WIDTH}</lane>
+          <lane id="-2" type="driving">{WIDTH}</lane>
+        </right>
+      </laneSection>"""
+    net = load_opendrive(write_map(xodr(road_xml(lanes=lanes, attrs='rule="LHT"'))))
+    # Left lanes drive along +s under LHT; the right of that direction is towards the centre.
+    assert net.osc2_lane_index(LaneRef("1", 0, 1)) == 1
+    assert net.osc2_lane_index(LaneRef("1", 0, 2)) == 2
+    assert net.osc2_lane_index(LaneRef("1", 0, 2), "left") == 1
+    # Right lanes drive against s: travelling -x, the right is +y, towards the centre line:
+    # under left-hand traffic the lane next to oncoming traffic is the rightmost.
+    assert net.osc2_lane_index(LaneRef("1", 0, -1)) == 1
+    assert net.osc2_lane_index(LaneRef("1", 0, -2)) == 2
+    assert net.lane_from_osc2_index("1", 5.0, 1, direction=1) == LaneRef("1", 0, 1)
+    assert net.lane_from_osc2_index("1", 5.0, 2, direction=-1) == LaneRef("1", 0, -2)
+    with pytest.raises(ValueError, match="not a driving lane"):
+        net.osc2_lane_index(LaneRef("1", 0, 3))
+    n = net.neighbours(LaneRef("1", 0, 1))
+    assert n.left == LaneRef("1", 0, 2) and n.right == LaneRef("1", 0, -1)
+    assert n.left_same_direction and not n.right_same_direction
