@@ -35,8 +35,9 @@ Conventions (those of OpenDRIVE):
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Literal
 
 import numpy as np
@@ -46,8 +47,9 @@ from osc2check.world.errors import MapWarning
 from osc2check.world.geometry import Cubic, Geometry, cubic_profile
 
 if TYPE_CHECKING:
+    from osc2check.world.grid import SpatialIndex
     from osc2check.world.paths import LanePath
-    from osc2check.world.projection import Projection, RoadPoint, SpatialIndex, WorldPose
+    from osc2check.world.projection import Projection, RoadPoint, WorldPose
     from osc2check.world.routes import LaneSpan, Route, TurnChoice
     from osc2check.world.summary import NetworkSummary
     from osc2check.world.topology import Neighbours
@@ -355,6 +357,8 @@ class RoadNetwork:
         speed_limit: the map's speed limit in m/s when it has one for all roads.
         description: one line for humans.
         warnings: problems that were skipped while reading.
+
+    ``path_cache`` holds the lane centre lines :mod:`.paths` has built.
     """
 
     name: str
@@ -373,7 +377,7 @@ class RoadNetwork:
     warnings: tuple[MapWarning, ...] = ()
     road_ids: tuple[str, ...] = field(init=False)
     _index: SpatialIndex | None = field(default=None, init=False, repr=False)
-    _paths: dict[LaneRef, LanePath] = field(default_factory=dict, init=False, repr=False)
+    path_cache: dict[LaneRef, LanePath] = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.road_ids = tuple(self.roads)
@@ -484,13 +488,11 @@ class RoadNetwork:
 
     def signal_pose(self, signal: Signal | SignalReference) -> WorldPose:
         """World position of a signal; yaw faces the traffic it is valid for (``+``: along s)."""
-        import math
-
         pose = self.to_world(signal.road, signal.s, signal.t)
         turn = math.pi if signal.orientation == "+" else 0.0
         extra = signal.h_offset if isinstance(signal, Signal) else 0.0
         yaw = (pose.yaw + turn + extra + math.pi) % (2.0 * math.pi) - math.pi
-        return type(pose)(pose.x, pose.y, yaw)
+        return replace(pose, yaw=yaw)
 
     # ------------------------------------------------------------ lanes
 
@@ -576,7 +578,7 @@ class RoadNetwork:
     def spatial_index(self) -> SpatialIndex:
         """The grid of road patches behind projections (built on first use, then cached)."""
         if self._index is None:
-            from osc2check.world.projection import build_index
+            from osc2check.world.grid import build_index
 
             self._index = build_index(self)
         return self._index

@@ -82,7 +82,7 @@ class LanePath:
 
 def lane_path(network: RoadNetwork, ref: LaneRef) -> LanePath:
     """The centre line of lane ``ref`` in its direction of travel (cached on the network)."""
-    cached = network._paths.get(ref)
+    cached = network.path_cache.get(ref)
     if cached is not None:
         return cached
     road = network.roads[ref.road]
@@ -120,7 +120,7 @@ def lane_path(network: RoadNetwork, ref: LaneRef) -> LanePath:
         curvature=curvature,
         width=width.copy(),
     )
-    network._paths[ref] = path
+    network.path_cache[ref] = path
     return path
 
 
