@@ -353,3 +353,65 @@ def test_lht_numbering_counts_from_the_right_in_travel_direction(write_map: Writ
     n = net.neighbours(LaneRef("1", 0, 1))
     assert n.left == LaneRef("1", 0, 2) and n.right == LaneRef("1", 0, -1)
     assert n.left_same_direction and not n.right_same_direction
+
+
+def test_lane_graph_across_sections_and_a_road_joined_end_to_end(write_map: WriteMap) -> None:
+    # Road 1 (0..100, +x) has two sections; a right lane -2 opens at s=60. Road 2 runs
+    # back from x=200 to x=100, so road 1's end meets road 2's end (contactPoint="end").
+    sections = f"""
+      <laneSection s="0">
+        <left><lane id="1" type="driving">{WIDTH}<link><predecessor id="1"/></link></lane></left>
+        <center><lane id="0" type="none"/></center>
+        <right><lane id="-1" type="driving">{WIDTH}<link><successor id="-1"/></link></lane></right>
+      </laneSection>
+      <laneSection s="60">
+        <left><lane id="1" type="driving">{WIDTH}<link><predecessor id="1"/>
+          <successor id="-1"/></link></lane></left>
+        <center><lane id="0" type="none"/></center>
+        <right>
+          <lane id="-1" type="driving">{WIDTH}<link><predecessor id="-1"/>
+            <successor id="1"/></link></lane>
+          <lane id="-2" type="shoulder">{WIDTH}</lane>
+        </right>
+      </laneSection>"""
+    one = road_xml(
+        "1",
+        lanes=sections,
+        extra='<link><successor elementType="road" elementId="2" contactPoint="end"/></link>',
+    )
+    two = road_xml(
+        "2", extra='<link><successor elementType="road" elementId="1" contactPoint="end"/></link>'
+    ).replace('x="0" y="0" hdg="0"', f'x="200" y="0" hdg="{math.pi}"')
+    two = two.replace(
+        '<lane id="1" type="driving">',
+        '<lane id="1" type="driving"><link><successor id="-1"/></link>',
+    ).replace(
+        '<lane id="-1" type="driving">',
+        '<lane id="-1" type="driving"><link><successor id="1"/></link>',
+    )
+    net = load_opendrive(write_map(xodr(one, two)))
+    a0, a1 = LaneRef("1", 0, -1), LaneRef("1", 1, -1)
+    assert net.next_lanes(a0) == (a1,)
+    assert net.previous_lanes(a1) == (a0,)
+    # Driving +x out of road 1 enters road 2 at its end: road 2's left lane drives -s there.
+    assert net.next_lanes(a1) == (LaneRef("2", 0, 1),)
+    assert net.previous_lanes(LaneRef("2", 0, 1)) == (a1,)
+    # And back: road 2's right lane (towards x=100) leads into road 1's left lane.
+    assert net.next_lanes(LaneRef("2", 0, -1)) == (LaneRef("1", 1, 1),)
+    assert net.next_lanes(LaneRef("1", 1, 1)) == (LaneRef("1", 0, 1),)
+    route = net.route(a0)
+    assert route.lanes == (a0, a1, LaneRef("2", 0, 1)) and route.end == "dead_end"
+    assert route.path.length == pytest.approx(200.0)
+    assert route.path.x[-1] == pytest.approx(200.0) and route.path.y[-1] == pytest.approx(-1.75)
+    spans = net.reachable(a0, 50.0, 60.0)
+    assert [(span.lane, span.distance) for span in spans] == [
+        (a0, 0.0),
+        (a1, pytest.approx(10.0)),
+        (LaneRef("2", 0, 1), pytest.approx(50.0)),
+    ]
+    assert spans[-1].s_from == pytest.approx(100.0) and spans[-1].s_to == pytest.approx(90.0)
+    # Drivable surface by type: the shoulder opens at s=60.
+    x = np.array([30.0, 80.0])
+    y = np.array([-5.0, -5.0])
+    assert list(net.on_drivable(x, y)) == [False, False]
+    assert list(net.on_drivable(x, y, frozenset({"shoulder"}))) == [False, True]
