@@ -8,7 +8,8 @@ parameters, so the MuJoCo body has exactly the footprint the checker placed:
 * vehicles (``car``, ``truck``, ``bus``, ``trailer``, ``two_wheeler``): the
   multibody car of ``sim/vehicle.py`` with the row's box, wheelbase, front
   overhang and mass; drive force from the row's acceleration limit, power from
-  its top speed, brake torque from its deceleration limit, the rest from the
+  the template's power to weight (at least what its top speed takes), brake
+  torque from its deceleration limit, the rest from the
   measured sedan (cars, two-wheelers) or heavy goods vehicle (the others).
   A two-wheeler is built as a narrow four-wheeled body with its centre of
   gravity kept low enough not to roll over (its footprint, mass and limits are
@@ -72,7 +73,10 @@ def vehicle_params(row: ActorRow, length: float, width: float) -> VehicleParams:
     top = float(row.max_speed)
     resistance = template.rolling_resistance * mass * GRAVITY
     drive_force = mass * float(row.max_acceleration) + resistance
-    power = (resistance + 0.5 * template.air_density * drag_area * top * top) * top * 1.05
+    # the template's power to weight (a governed top speed is reached with power to spare),
+    # and at least what holding the top speed takes
+    cruise = (resistance + 0.5 * template.air_density * drag_area * top * top) * top * 1.05
+    power = max(template.max_power * mass / template.mass, cruise)
     inertia = _box_inertia(mass, length, width, height, template)
     unsprung = 4.0 * (template.wheel_mass + template.knuckle_mass)
     wheel_mass, knuckle_mass = template.wheel_mass, template.knuckle_mass
@@ -98,7 +102,7 @@ def vehicle_params(row: ActorRow, length: float, width: float) -> VehicleParams:
         wheel_radius=radius,
         h_cog=h_cog,
         max_drive_force=drive_force,
-        max_power=max(power, drive_force * 2.0),
+        max_power=power,
         max_brake_torque=mass * float(row.max_deceleration) * radius * 1.15,
         drag_area=drag_area,
         max_speed=top,

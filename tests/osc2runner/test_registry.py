@@ -156,3 +156,13 @@ def test_coverage_page_lists_every_library_action_and_modifier():
     for sym in model.symbols:
         if sym.kind.name in ("ACTION", "MODIFIER") and (sym.library or sym.toolkit):
             assert f"`{sym.qualified_name}`" in text, sym.qualified_name
+
+
+def test_the_runner_and_the_checker_agree_on_which_actions_are_instant():
+    from osc2check.semantics.phases import INSTANT_ACTIONS
+    from osc2runner.behaviours.base import InstantAction
+
+    registry = standard_registry()
+    for entry in registry.actions():
+        instant = issubclass(entry.target, InstantAction)
+        assert instant == (entry.name in INSTANT_ACTIONS), entry.label
