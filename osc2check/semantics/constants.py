@@ -113,10 +113,9 @@ def physical_literal(node: ast.PhysicalLiteral, model: Model) -> Quantity:
     unit = model.reference(node.unit) or model.unit(node.unit.text)
     if unit is None or unit.kind is not SymbolKind.UNIT or unit.dimension is None:
         raise NotConstant(f"unknown unit `{node.unit.text}`", node)
-    try:
-        number = Fraction(node.number_text.replace("_", ""))
-    except (ValueError, ZeroDivisionError):
-        raise NotConstant(f"`{node.number_text}` has no exact value", node) from None
+    number = node.number  # exact as written (a float only for what has no exact value)
+    if isinstance(number, float):
+        raise NotConstant(f"`{node.number_text}` has no exact value", node)
     return Quantity(number * unit.factor + unit.offset, unit.dimension, unit)
 
 

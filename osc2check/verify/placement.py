@@ -203,6 +203,10 @@ class PlacementLowerer:
         if not actors:
             return None
         self.constants = _constants(self.problem)
+        self.written: set[str] = set()  # variables the scenario's own constraints mention
+        for c in self.problem.constraints:
+            if c.kind not in ("domain", "placement"):
+                self.written |= ir.names(c.term)
         placement = StartPlacement(self._road())
         placement.unknown_map = self.unknown_map
         placement.unread_map = self.unread_map
@@ -361,10 +365,8 @@ class PlacementLowerer:
         return body
 
     def _mentioned(self, var: ir.Var) -> bool:
-        """Whether a constraint other than its own domain mentions ``var``."""
-        return any(
-            c.kind != "domain" and var.name in ir.names(c.term) for c in self.problem.constraints
-        )
+        """Whether a constraint of the scenario (not a domain or placement rule) mentions it."""
+        return var.name in self.written
 
     def _actor(self, param: Symbol, kind: str, road: Road) -> PlacedActor:
         body = self._body(param, kind)
@@ -387,13 +389,13 @@ class PlacementLowerer:
             ),
         )
         s = ir.Ref(actor.s)
-        half = ir.op("*", ir.const(Fraction(1, 2)), body.length)
+        half = _half(body.length)
         self._lane_range(actor, road)
         self._implicit(
             ir.op(
                 "and",
                 ir.op(">=", s, half),
-                ir.op("<=", s, ir.op("-", ir.const(Fraction(road.length)), half)),
+                ir.op("<=", s, _minus(ir.const(Fraction(road.length)), half)),
             ),
             span,
             "road-extent",
@@ -408,7 +410,7 @@ class PlacementLowerer:
         """The actor's sides stay on the road (with its lateral offset)."""
         width = Fraction(road.lane_width)
         body = actor.body
-        half = ir.op("*", ir.const(Fraction(1, 2)), body.width)
+        half = _half(body.width)
         across = ir.op(
             "+",
             ir.op("*", ir.const(width), ir.op("-", ir.Ref(actor.lane), ir.const(Fraction(1, 2)))),
@@ -418,7 +420,7 @@ class PlacementLowerer:
             ir.op(
                 "and",
                 ir.op(">=", across, half),
-                ir.op("<=", across, ir.op("-", ir.const(width * road.lane_count), half)),
+                ir.op("<=", across, _minus(ir.const(width * road.lane_count), half)),
             ),
             actor.span,
             "road-extent",
@@ -692,9 +694,7 @@ class PlacementLowerer:
         if other is None:
             self._require(ir.op("==", s, gap), item)
             return
-        half = ir.op(
-            "*", ir.const(Fraction(1, 2)), ir.op("+", actor.body.length, other.body.length)
-        )
+        half = _half(_plus(actor.body.length, other.body.length))
         distance = ir.op("+", half, gap)
         target = (
             ir.op("-", ir.Ref(other.s), distance)
@@ -772,9 +772,7 @@ class PlacementLowerer:
                 if a_name in fixed and b_name in fixed and fixed[a_name] != fixed[b_name]:
                     continue  # never in the same lane
                 a, b = placement.actors[a_name], placement.actors[b_name]
-                need = ir.op(
-                    "*", ir.const(Fraction(1, 2)), ir.op("+", a.body.length, b.body.length)
-                )
+                need = _half(_plus(a.body.length, b.body.length))
                 sa, sb = ir.Ref(a.s), ir.Ref(b.s)
                 term = ir.op(
                     "or",
@@ -865,3 +863,24 @@ def _by_category(category: ir.Var, value_of) -> ir.Term:
             term,
         )
     return term
+
+
+def _number(term: ir.Term) -> Fraction | None:
+    if isinstance(term, ir.Const) and not isinstance(term.value, bool):
+        return term.value
+    return None
+
+
+def _half(term: ir.Term) -> ir.Term:
+    value = _number(term)
+    return ir.const(value / 2) if value is not None else ir.op("*", ir.const(Fraction(1, 2)), term)
+
+
+def _plus(a: ir.Term, b: ir.Term) -> ir.Term:
+    x, y = _number(a), _number(b)
+    return ir.const(x + y) if x is not None and y is not None else ir.op("+", a, b)
+
+
+def _minus(a: ir.Term, b: ir.Term) -> ir.Term:
+    x, y = _number(a), _number(b)
+    return ir.const(x - y) if x is not None and y is not None else ir.op("-", a, b)

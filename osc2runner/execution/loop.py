@@ -25,7 +25,8 @@ from typing import Any
 import py_trees
 from py_trees.common import Status
 
-from osc2runner.compile.composites import running_open
+from osc2runner.behaviours.base import FastLeaf
+from osc2runner.compile.composites import running_open, tick_child
 from osc2runner.execution.context import RunContext
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
@@ -73,6 +74,7 @@ class TickLoop:
         world: World,
         *,
         limit: float = float("inf"),
+        record: bool = True,
     ) -> None:
         self.root = root
         self.ctx = ctx
@@ -80,22 +82,24 @@ class TickLoop:
         self.limit = limit
         self.max_ticks = max(0, round(limit / world.dt_control)) if limit != float("inf") else -1
         py_trees.trees.BehaviourTree(root).setup(context=ctx)
-        self.recorder = Recorder(world.names, world.dt_control)
+        self.recorder = Recorder(world.names if record else (), world.dt_control)
         self.recorder.record(ctx.states, world.tick, world.time, ctx.controllers)
 
     @classmethod
-    def without_scenario(cls, world: World, controllers: dict[str, Any]) -> TickLoop:
-        """A loop that steps ``controllers`` and ``world`` under a tree that never ends."""
+    def without_scenario(
+        cls, world: World, controllers: dict[str, Any], *, record: bool = False
+    ) -> TickLoop:
+        """A loop that steps ``controllers`` and ``world`` under a tree that never ends
+        (physics measurements; it records no telemetry unless asked)."""
         ctx = RunContext(world.road, [], dt=world.dt_control)
         ctx.attach(world, controllers)
-        return cls(py_trees.behaviours.Running(name="no scenario"), ctx, world)
+        return cls(_Forever("no scenario"), ctx, world, record=record)
 
     def step(self) -> RunOutcome | None:
         """One control tick; the outcome when the run ends with it, else None."""
         ctx, world, root = self.ctx, self.world, self.root
         ctx.begin_tick()
-        for _ in root.tick():
-            pass
+        tick_child(root)
         outcome = _tree_outcome(root, ctx, world, self.max_ticks, self.limit)
         if outcome is not None:
             return outcome
@@ -129,6 +133,13 @@ class TickLoop:
         wall = wallclock.perf_counter() - start_wall
         ctx.record("outcome", outcome.status, outcome.reason)
         return Ticked(outcome, self.recorder, wall, error)
+
+
+class _Forever(FastLeaf, py_trees.behaviour.Behaviour):
+    """A tree that never ends (``TickLoop.without_scenario``)."""
+
+    def update(self) -> Status:
+        return Status.RUNNING
 
 
 def _tree_outcome(
