@@ -243,6 +243,12 @@ UNSAFE_GAP = Code(
     "a start gap is shorter than one second at the follower's speed",
 )
 UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
+ROAD_TOO_SHORT_FOR_MOTION = Code(
+    "L514",
+    "road-too-short-for-motion",
+    E,
+    "constant speeds and durations take an actor past the road's end from every start",
+)
 
 # --- B: behaviour flow -----------------------------------------------------------
 WAIT_WITHOUT_EMITTER = Code(

@@ -771,10 +771,11 @@ def unsatisfiable(code: Code, primary, others, scenario: str) -> Diagnostic:
         "L503": "this puts an actor of scenario `{s}` in a lane the road does not have",
         "L507": "this puts an actor of scenario `{s}` off the road",
         "L508": "this speed in scenario `{s}` is above what the vehicle can reach",
+        "L514": "the road is too short for what scenario `{s}` makes an actor do",
     }[code.code].format(s=scenario)
-    texts = [f"`{primary.text}`"] + [
+    texts = [
         f"`{c.text}`" if c.kind not in ("domain", "placement") else (c.explanation or c.text)
-        for c in others
+        for c in (primary, *others)
     ]
     message = f"{lead}: " + "; ".join(texts)
     if any(c.strength == "default" for c in [primary, *others]):

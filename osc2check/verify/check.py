@@ -46,6 +46,7 @@ _PLACEMENT_CODES = {
     "road-extent": codes.OFF_ROAD,
     "max-speed": codes.SPEED_ABOVE_MAX,
     "overlap": codes.FOOTPRINT_OVERLAP,
+    "road-room": codes.ROAD_TOO_SHORT_FOR_MOTION,
 }
 _UNSET = object()
 
@@ -240,7 +241,7 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     members = [conflict.primary, *conflict.others]
     code = codes.UNSATISFIABLE_CONSTRAINTS
     rules = [c.rule for c in members if c.kind == "placement"]
-    for rule in ("lane-range", "max-speed", "road-extent", "overlap"):
+    for rule in ("lane-range", "max-speed", "road-room", "road-extent", "overlap"):
         if rule in rules:
             code = _PLACEMENT_CODES[rule]
             break

@@ -143,6 +143,9 @@ class ConstraintProblem:
     skipped: list[tuple[Span, str]] = field(default_factory=list)  # not encodable: why
     strings: dict[int, str] = field(default_factory=dict)  # string constants by their number
     placement: object | None = None  # placement.StartPlacement, when the scenario has actors
+    # plausible values where the constraints leave a choice: the witness draws there
+    # when it can (``placement._preferences``); never a constraint
+    preferred: dict[str, tuple[Fraction, Fraction]] = field(default_factory=dict)
 
     def var(self, name: str, sort: str, **kw) -> Var:
         existing = self.variables.get(name)

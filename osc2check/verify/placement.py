@@ -50,14 +50,18 @@ from fractions import Fraction
 
 from osc2check.road import Road, UnknownMapError, get_map
 from osc2check.semantics import types as T
+from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.phases import modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.room import motion_bounds
 from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+#: the witness prefers starts in this first share of the road: room to drive ahead
+PREFERRED_START_SHARE = Fraction(3, 10)
 
 
 @dataclass
@@ -256,7 +260,79 @@ class PlacementLowerer:
             ):
                 self._on_road(actor, placement.road)  # else its lane keeps it on the road
         self._no_overlap(placement)
+        self._room(placement)
+        self._preferences(placement)
         return placement
+
+    # ---- room to drive, and plausible values -------------------------------------------
+
+    def _room(self, placement: StartPlacement) -> None:
+        """Where speeds and durations are constants: road enough ahead of each start."""
+        bodies = [
+            member.member.body
+            for members in self.lw.member_decls.get(self.scenario, [])
+            for member in members
+            if isinstance(member, ast.DoDirective)
+        ]
+        motion = motion_bounds(self.model, bodies, self._lookup)
+        if motion.duration is None or motion.duration == 0:
+            return
+        road = placement.road
+        duration = motion.duration
+        for actor in placement.actors.values():
+            if actor.kind == "stationary_object" or actor.name in motion.unknown_speed:
+                continue
+            end = ir.op("-", ir.const(Fraction(road.length)), _half(actor.body.length))
+            top = motion.top_speed.get(actor.name, Fraction(0))
+            for speed, said in ((ir.const(top), f"{float(top) * 3.6:g} kph"),
+                                (ir.Ref(actor.speed), "its start speed")):  # fmt: skip
+                reach = ir.op("+", ir.Ref(actor.s), ir.op("*", ir.const(duration), speed))
+                self._implicit(
+                    ir.op("<=", reach, end),
+                    actor.span,
+                    "road-room",
+                    f"`{actor.name}` drives up to {said} for the scenario's "
+                    f"{float(duration):g} s and stays on the {road.length:g} m road "
+                    f"`{road.name}`",
+                )
+
+    def _lookup(self, sym: Symbol, node: ast.Node) -> Value:
+        """A parameter's value where a hard `==` gives it one, or its declared default when
+        no hard constraint replaces that (for constant durations and speeds)."""
+        found = self.constants.get(sym.name)
+        if found is None:
+            if any(
+                c.strength == "hard" and c.subject is not None and c.subject.name == sym.name
+                for c in self.problem.constraints
+            ):
+                raise NotConstant(f"`{sym.name}` is not a constant", node)
+            return initial_value(self.model, sym)
+        if isinstance(found[0], bool):
+            raise NotConstant(f"`{sym.name}` is not a number", node)
+        t = sym.type
+        if t is not None and t.kind is T.Kind.PHYSICAL:
+            return Quantity(found[0], t.dimension or T.DIMENSIONLESS)
+        return found[0]
+
+    def _preferences(self, placement: StartPlacement) -> None:
+        """Plausible values where the constraints leave a choice (the witness draws there
+        when it can): starts near the road's entry, leaving room to drive; speeds within
+        the road's limit and the vehicle's top speed."""
+        road = placement.road
+        preferred = self.problem.preferred
+        limit = Fraction(road.speed_limit).limit_denominator(1000) if road.speed_limit else None
+        for actor in placement.actors.values():
+            half = _largest(actor.body.length) / 2
+            room = Fraction(road.length) - 2 * half
+            preferred[actor.s.name] = (half, half + room * PREFERRED_START_SHARE)
+            top = _largest(actor.body.max_speed)
+            plausible = min(top, limit) if limit is not None else top
+            for var in self.problem.variables.values():
+                if var.unit == "kph" and var.name.startswith(f"{actor.name}@"):
+                    preferred[var.name] = (Fraction(0), plausible)
+        for var in self.problem.variables.values():
+            if var.unit == "kph" and var.name not in preferred and limit is not None:
+                preferred[var.name] = (Fraction(0), limit)
 
     # ---- road and actors -----------------------------------------------------------
 

@@ -239,15 +239,20 @@ class Prepared:
 
 
 def find_model(
-    variables: dict[str, ir.Var], terms: list[ir.Term] | Prepared, rng: random.Random | None = None
+    variables: dict[str, ir.Var],
+    terms: list[ir.Term] | Prepared,
+    rng: random.Random | None = None,
+    preferred: dict[str, tuple[Fraction, Fraction]] | None = None,
 ) -> dict[str, Fraction | bool] | None:
     """A model of the conjunction of ``terms``, or None when none is found easily.
 
     Without ``rng`` the choices are fixed (points spread over each variable's bounds in
     a fixed sequence); with it they are drawn at random, so a seeded ``rng`` draws one
-    model of many (the sampler's first try).
+    model of many (the sampler's first try). A variable with a ``preferred`` range is
+    drawn inside it where its bounds allow (a plausible value, never a constraint).
     ``terms`` may be a ``Prepared`` set, to draw many models of one set.
     """
+    preferred = preferred or {}
     prepared = terms if isinstance(terms, Prepared) else Prepared(terms)
     conjuncts, atoms, by_var, order = (
         prepared.conjuncts,
@@ -302,7 +307,9 @@ def find_model(
             break
         name = order[next_pick]
         where = _spread(picks) if rng is None else Fraction(rng.randint(1, 999_999), 1_000_000)
-        value = _choose(variables.get(name), name, by_var[name], values, where, rng)
+        value = _choose(
+            variables.get(name), name, by_var[name], values, where, rng, preferred.get(name)
+        )
         picks += 1
         if value is None or not assign(name, value):
             return None
@@ -321,8 +328,10 @@ def _choose(
     values,
     where: Fraction,
     rng: random.Random | None = None,
+    preferred: tuple[Fraction, Fraction] | None = None,
 ):
-    """A value for ``name`` inside the bounds its one-variable constraints give."""
+    """A value for ``name`` inside the bounds its one-variable constraints give (inside
+    ``preferred`` too where those bounds allow)."""
     sort = var.sort if var is not None else "real"
     if sort == "bool":
         for a in atoms:
@@ -370,6 +379,13 @@ def _choose(
             return False
         return sort != "int" or Fraction(x).denominator == 1
 
+    if preferred is not None and sort != "bool":
+        lo_p = preferred[0] if low is None else max(low, preferred[0])
+        hi_p = preferred[1] if high is None else min(high, preferred[1])
+        if lo_p <= hi_p:  # the plausible part of the bounds (open ends kept open)
+            low, high = lo_p, hi_p
+            low_strict = low_strict and low == lo_p and low != preferred[0]
+            high_strict = high_strict and high == hi_p and high != preferred[1]
     if allowed is not None:
         fitting = [x for x in sorted(allowed) if fits(x)]
         if not fitting:

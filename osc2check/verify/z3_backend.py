@@ -442,6 +442,12 @@ class Sampler:
         if var.enum:
             return Fraction(rng.choice(var.enum)[1])
         low, high = self.bounds.get(var.name, (None, None))
+        plausible = self.problem.preferred.get(var.name)
+        if plausible is not None:  # draw in the plausible part of the bounds when there is one
+            lo_p = plausible[0] if low is None else max(low, plausible[0])
+            hi_p = plausible[1] if high is None else min(high, plausible[1])
+            if lo_p <= hi_p:
+                low, high = lo_p, hi_p
         spread = Fraction(10 if var.sort == "real" else 3)
         if low is None and high is None:
             low, high = -spread, spread
@@ -473,7 +479,10 @@ class Sampler:
             return values
         for attempt in range(self.TRIES):
             drawn = quick.find_model(
-                self.problem.variables, self.terms, random.Random(f"{seed}/{attempt}")
+                self.problem.variables,
+                self.terms,
+                random.Random(f"{seed}/{attempt}"),
+                self.problem.preferred,
             )
             if drawn is not None:
                 values.update((name, drawn[name]) for name in self.linked)

@@ -129,8 +129,21 @@ class ScenarioBehaviour(FastLeaf, py_trees.behaviour.Behaviour):
 class Modifier:
     """A constraint of one modifier application on its action's actor (see the module docs).
 
-    Subclasses set ``longitudinal`` / ``lateral`` when they drive the speed or
-    the lateral position, so that an action does not override them.
+    The standard's timing (``at``, §7.3.7 "movement modifiers"):
+
+    * ``start``: the constraint holds when the phase starts. For a phase that
+      begins at time 0 the checker's witness placed the actor so; for a later
+      phase the runner checks it then (:meth:`holds`) and fails the phase when it
+      does not hold — nothing can change the past.
+    * ``end``: the constraint holds when the phase ends. With a planned duration
+      the modifier plans its motion to arrive then (:meth:`realise`); without
+      one, reaching the constraint ends the phase (:meth:`finished`). When the
+      phase ends on its own or on its duration, :meth:`holds` is checked.
+    * ``all`` (the default): the constraint is reached and held throughout.
+
+    Subclasses set ``longitudinal`` / ``lateral`` when they drive the speed or the
+    lateral position, so that an action does not override them, and implement
+    :meth:`realise` (``end`` and ``all``), :meth:`step` and :meth:`holds`.
     """
 
     longitudinal = False
@@ -148,18 +161,39 @@ class Modifier:
         self.at = str(self.args.get("at", "all"))
         return self.args
 
+    @property
+    def drives(self) -> bool:
+        """Whether it acts on the motion in this phase (``at: start`` only checks)."""
+        return self.at != "start"
+
     # ---- hooks
 
     def begin(self, action: ActionBehaviour) -> None:
-        """The phase starts (arguments are evaluated here)."""
-        self.evaluate()
+        """The phase starts (arguments were evaluated): ``at: start`` is checked (or was
+        realised by the witness), ``end`` and ``all`` are realised."""
+        if self.at == "start":
+            if not action.at_scenario_start:
+                problem = self.holds(action)
+                if problem is not None:
+                    raise ActionError(
+                        f"`{self.text}` does not hold when the phase starts: {problem}"
+                    )
+            return
+        self.realise(action)
+
+    def realise(self, action: ActionBehaviour) -> None:
+        """Start driving the actor towards the constraint (``at: end`` or ``all``)."""
 
     def step(self, action: ActionBehaviour) -> None:
         """Every tick of the phase."""
 
     def finished(self, action: ActionBehaviour) -> bool:
-        """True when the modifier ends the phase (``distance``)."""
+        """True when the modifier ends the phase (``distance``; ``at: end`` reached)."""
         return False
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        """None when the constraint holds now, else what is wrong (``speed 76.3 kph``)."""
+        return None
 
     def end(self, action: ActionBehaviour) -> None:
         """The phase ended (or was stopped)."""
@@ -171,6 +205,10 @@ class Modifier:
     @property
     def node(self) -> ast.Invocation:
         return self.use.node
+
+    @property
+    def text(self) -> str:
+        return f"{self.use.name}(...) [{self.node.span.line}]"
 
 
 class ActionBehaviour(ScenarioBehaviour):
@@ -189,6 +227,7 @@ class ActionBehaviour(ScenarioBehaviour):
         self.start_tick = 0
         self.phase: float | None = None  # the phase's planned duration, when known
         self.at_scenario_start = False
+        self.ended_on_time = False  # stopped by its own duration bound, not pre-empted
 
     # ---- conveniences
 
@@ -210,8 +249,9 @@ class ActionBehaviour(ScenarioBehaviour):
         return max(self.phase - self.elapsed, 0.0)
 
     def drives(self, channel: str) -> bool:
-        """True when one of the modifiers controls ``longitudinal`` or ``lateral`` motion."""
-        return any(getattr(m, channel) for m in self.use.modifiers)
+        """True when a modifier acting in this phase controls ``longitudinal`` or
+        ``lateral`` motion (an ``at: start`` one only checks the start)."""
+        return any(getattr(m, channel) and m.drives for m in self.use.modifiers)
 
     def fail(self, message: str) -> Status:
         """Fail the phase (and the run) with a message naming the invocation."""
@@ -232,18 +272,22 @@ class ActionBehaviour(ScenarioBehaviour):
             low, high = self.use.duration()
             self.phase = high if high is not None else low
         self.at_scenario_start = ctx.tick == 0 and self.use.node in ctx.placed
+        self.ended_on_time = False
         ctx.record("start", self.use.label, actors=(self.actor.name,))
         self._failure: str | None = None
         modifiers = [] if self.modifiers_realised else self.use.modifiers
-        # only the modifiers that act every tick are called every tick
-        self._stepping = [m for m in modifiers if type(m).step is not Modifier.step]
-        self._finishing = [m for m in modifiers if type(m).finished is not Modifier.finished]
         try:
+            for modifier in modifiers:
+                modifier.evaluate()  # before the action starts: it reads their timing
             self.start()
             for modifier in modifiers:
                 modifier.begin(self)
         except ActionError as exc:
             self._failure = str(exc)
+        # only the modifiers that act every tick are called every tick
+        acting = [m for m in modifiers if m.drives]
+        self._stepping = [m for m in acting if type(m).step is not Modifier.step]
+        self._finishing = [m for m in acting if type(m).finished is not Modifier.finished]
 
     def update(self) -> Status:
         if self._failure is not None:
@@ -264,10 +308,18 @@ class ActionBehaviour(ScenarioBehaviour):
         if new_status == Status.INVALID and self.status != Status.RUNNING:
             return
         how = {Status.SUCCESS: "end", Status.FAILURE: "fail"}.get(new_status, "stop")
+        if new_status == Status.INVALID and self.ended_on_time:
+            how = "end"
         self.ctx.record(how, self.use.label, actors=(self.actor.name,))
-        if not self.modifiers_realised:
+        if self.modifiers_realised:
+            return
+        for modifier in self.use.modifiers:
+            modifier.end(self)
+        if how == "end":  # the phase ended as planned: its `at: end` constraints must hold
             for modifier in self.use.modifiers:
-                modifier.end(self)
+                problem = modifier.holds(self) if modifier.at == "end" else None
+                if problem is not None:
+                    self.fail(f"`{modifier.text}` does not hold when the phase ends: {problem}")
 
     # ---- hooks
 

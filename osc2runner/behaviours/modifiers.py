@@ -1,12 +1,17 @@
 """Movement modifiers: constraints on the speed and lateral controllers of an action's actor.
 
-Each class documents what its ``at: start`` / ``end`` / ``all`` forms do. The
-reference-relative forms (``faster_than``, ``side_of``, ``behind``, ...) track
-the reference every tick while ``at: all`` holds.
+The timing rule is the base class's (``behaviours.base.Modifier``): ``at: start``
+is realised by the witness at time 0 and checked at a later phase's start;
+``at: end`` is planned to arrive when the phase ends (and checked then); ``at:
+all`` is reached and held. The reference-relative forms (``faster_than``,
+``side_of``, ``behind``, ...) obey the same rule and track the reference every
+tick while they drive. Each class documents its own forms; the tolerances the
+checks allow are the module's constants.
 """
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
@@ -22,7 +27,7 @@ from osc2runner.behaviours.driving import (
 )
 from osc2runner.compile.registry import modifier
 from osc2runner.instance.actors import Actor
-from osc2runner.sim import RateProfile
+from osc2runner.sim import ActorState, RateProfile
 
 __all__ = [
     "Acceleration",
@@ -44,6 +49,13 @@ __all__ = [
 
 #: gain of the longitudinal position tracking (1/s)
 POSITION_GAIN = 0.5
+#: what the checks of ``at: start`` and ``at: end`` allow
+SPEED_TOLERANCE = 0.5 / 3.6  # m/s (0.5 kph)
+GAP_TOLERANCE = 0.5  # m
+LATERAL_TOLERANCE = 0.25  # m
+YAW_TOLERANCE = 0.05  # rad
+#: a gap (``at: end``) is closed at most this fast relative to the reference (m/s)
+MAX_CLOSING_SPEED = 8.0
 
 
 def _lateral(action: ActionBehaviour) -> Any:
@@ -53,22 +65,26 @@ def _lateral(action: ActionBehaviour) -> Any:
     return ctrl.lateral
 
 
-def _skip_start(modifier: Modifier, action: ActionBehaviour) -> bool:
-    """``at: start`` constraints of phases that start the scenario were realised before tick 0."""
-    return modifier.at == "start" and action.at_scenario_start
+def _kph(speed: float) -> str:
+    return f"{speed * 3.6:.2f} kph"
 
 
 # ---------------------------------------------------------------------- speed
 
 
+_RELATIVE_SPEED = ("faster_than", "slower_than", "same_as")
+
+
 @modifier("speed")
 class Speed(Modifier):
-    """``speed(v)``: reach ``v`` (``smooth`` profile: 2.5 m/s², 10 m/s³) and hold it.
+    """``speed(v)``; ``faster_than``/``slower_than``/``same_as: ref`` make it
+    ``ref.speed * factor ± v``.
 
-    ``faster_than``/``slower_than``/``same_as: ref`` make the target
-    ``ref.speed * factor ± v``, tracked every tick. ``at: start`` sets the
-    start speed (or the target when the phase starts later); ``at: end``
-    reaches ``v`` by the end of the phase at a constant rate.
+    ``all``: reached with the ``smooth`` profile (2.5 m/s², 10 m/s³) and held; a
+    reference is tracked every tick. ``end``: with a planned duration the speed
+    changes at the one constant rate that arrives when the phase ends; without
+    one the phase ends when the speed is reached. ``start``: the speed when the
+    phase starts.
     """
 
     longitudinal = True
@@ -83,29 +99,31 @@ class Speed(Modifier):
                 return action.ctx.states[ref.name].speed * factor + sign * v
         return v
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
-        self.tracking = self.at == "all" and any(
-            k in self.args for k in ("faster_than", "slower_than", "same_as")
-        )
-        if _skip_start(self, action):
-            return
+    def realise(self, action: ActionBehaviour) -> None:
         ctrl = action.controller
         v = self.target(action)
-        if self.at == "end":
-            remaining = action.remaining()
-            profile = (
-                profile_for("constant", change=v - action.state.speed, duration=remaining)
-                if remaining
-                else RateProfile(SPEED_PROFILE)
-            )
-            set_speed(ctrl, v, profile)
+        self.relative = any(k in self.args for k in _RELATIVE_SPEED)
+        self.planned = self.at == "end" and bool(action.remaining())
+        if self.planned:
+            change = v - action.state.speed
+            set_speed(ctrl, v, profile_for("constant", change=change, duration=action.remaining()))
         else:
             set_speed(ctrl, v, SPEED_PROFILE)
 
     def step(self, action: ActionBehaviour) -> None:
-        if self.tracking:
+        if self.relative:
             retarget(action.controller, self.target(action))
+
+    def finished(self, action: ActionBehaviour) -> bool:
+        if self.at != "end" or self.planned:
+            return False
+        return abs(action.state.speed - self.target(action)) <= SPEED_TOLERANCE
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        v, want = action.state.speed, self.target(action)
+        if abs(v - want) <= SPEED_TOLERANCE:
+            return None
+        return f"the speed is {_kph(v)}, not {_kph(want)}"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         pose.speed = self.target(action)
@@ -113,21 +131,28 @@ class Speed(Modifier):
 
 @modifier("change_speed")
 class ChangeSpeedModifier(Modifier):
-    """``change_speed(dv)``: the speed changes by ``dv`` from its value when the phase starts."""
+    """``change_speed(dv)``: the speed changes by ``dv`` from its value when the phase starts.
+
+    Spread evenly over a planned duration, else with the ``smooth`` profile; ``end``
+    and ``all`` both mean the change is complete when the phase ends.
+    """
 
     longitudinal = True
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
-        v0 = action.state.speed
-        dv = float(self.args.get("speed", 0.0))
+    def realise(self, action: ActionBehaviour) -> None:
+        self.goal = action.state.speed + float(self.args.get("speed", 0.0))
         remaining = action.remaining()
         profile = (
-            profile_for("constant", change=dv, duration=remaining)
+            profile_for("constant", change=self.goal - action.state.speed, duration=remaining)
             if remaining
             else RateProfile(SPEED_PROFILE)
         )
-        set_speed(action.controller, v0 + dv, profile)
+        set_speed(action.controller, self.goal, profile)
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        if abs(action.state.speed - self.goal) <= SPEED_TOLERANCE:
+            return None
+        return f"the speed is {_kph(action.state.speed)}, not {_kph(self.goal)}"
 
 
 @modifier("keep_speed")
@@ -136,8 +161,7 @@ class KeepSpeedModifier(Modifier):
 
     longitudinal = True
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
+    def realise(self, action: ActionBehaviour) -> None:
         set_speed(action.controller, action.state.speed, "none")
 
 
@@ -151,9 +175,8 @@ class Acceleration(Modifier):
 
     longitudinal = True
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
-        if any(k in self.args for k in ("faster_than", "slower_than", "same_as")):
+    def realise(self, action: ActionBehaviour) -> None:
+        if any(k in self.args for k in _RELATIVE_SPEED):
             raise ActionError("acceleration relative to another actor is not supported")
         a = float(self.args.get("acceleration", 0.0))
         ctrl = action.controller
@@ -170,17 +193,19 @@ class KeepPosition(Modifier):
 
     longitudinal = True
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
+    def realise(self, action: ActionBehaviour) -> None:
         set_speed(action.controller, 0.0, SPEED_PROFILE)
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        speed = action.state.speed
+        return None if abs(speed) <= SPEED_TOLERANCE else f"the speed is {_kph(speed)}"
 
 
 @modifier("distance")
 class Distance(Modifier):
     """``distance(d)``: the phase ends when the actor has travelled ``d`` along the road."""
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
+    def realise(self, action: ActionBehaviour) -> None:
         self.s0 = action.state.s
         self.goal = float(self.args.get("distance", 0.0))
 
@@ -190,13 +215,16 @@ class Distance(Modifier):
 
 @modifier("position")
 class Position(Modifier):
-    """``position(distance: d, behind:|ahead_of: ref)``: a bumper-to-bumper gap ``d``.
+    """``position(distance: d | time: t, behind:|ahead_of: ref)``: a bumper-to-bumper gap.
 
-    The checker's convention (its witness says "bumper to bumper"). ``at:
-    start`` places the actor; ``at: all`` / ``end`` track the gap with the
-    speed (gain :data:`POSITION_GAIN`). ``time:`` is a headway at the actor's
-    speed. Without a reference only ``at: start`` is supported (the actor's
-    centre ``d`` from the start of the road).
+    The checker's convention (its witness says "bumper to bumper"); ``time:`` is a
+    headway at the follower's speed. ``all``: the gap is tracked with the speed
+    (gain :data:`POSITION_GAIN`) from the phase start. ``end``: with a planned
+    duration the gap error is closed evenly over the time left (at most
+    :data:`MAX_CLOSING_SPEED` relative to the reference), so that it holds when
+    the phase ends; without one the phase ends when it holds. ``start``: the
+    gap when the phase starts. Without a reference, ``distance`` is the centre's
+    distance along the road (``start`` only).
     """
 
     longitudinal = True
@@ -209,50 +237,76 @@ class Position(Modifier):
             return args["behind"], -1.0
         return None, 1.0
 
-    def _distance(self, speed: float) -> float:
+    def _distance(self, me: ActorState, other: ActorState | None, sign: float) -> float:
         if "distance" in self.args:
             return float(self.args["distance"])
         if "time" in self.args:
-            return float(self.args["time"]) * speed
+            follower = me if sign < 0 or other is None else other
+            return float(self.args["time"]) * max(follower.speed, 0.0)
         raise ActionError("position() needs `distance` or `time`")
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
+    def _error(self, action: ActionBehaviour) -> tuple[float, ActorState, float]:
+        """(gap error: > 0 farther from the reference than asked, the reference's state, sign)."""
+        ref, sign = self._reference()
+        assert ref is not None
+        me, other = action.state, action.ctx.states[ref.name]
+        gap = sign * gap_between(other, me, bumpers=True)  # my bumper gap on the asked side
+        return gap - self._distance(me, other, sign), other, sign
+
+    def realise(self, action: ActionBehaviour) -> None:
         ref, _ = self._reference()
-        if _skip_start(self, action):
-            return
         if ref is None:
             raise ActionError(
-                "position() without `ahead_of` or `behind` can only place an "
-                "actor at the start of the scenario"
+                "position() without `ahead_of` or `behind` can only place an actor at the "
+                "start of the scenario"
             )
         self.step(action)
 
     def step(self, action: ActionBehaviour) -> None:
-        if self.at == "start" and action.elapsed > 0.0:
-            return
+        error, other, sign = self._error(action)
+        if self.at == "end" and action.remaining():
+            remaining = max(action.remaining() or 0.0, 4 * action.ctx.dt)
+            closing = max(-MAX_CLOSING_SPEED, min(MAX_CLOSING_SPEED, error / remaining))
+            retarget(action.controller, other.speed - sign * closing)
+        else:
+            retarget(action.controller, other.speed - sign * POSITION_GAIN * error)
+
+    def finished(self, action: ActionBehaviour) -> bool:
+        if self.at != "end" or action.remaining():
+            return False
+        error, other, _ = self._error(action)
+        return abs(error) <= GAP_TOLERANCE and abs(action.state.speed - other.speed) < 0.3
+
+    def holds(self, action: ActionBehaviour) -> str | None:
         ref, sign = self._reference()
+        state = action.state
         if ref is None:
-            return
-        me = action.state
-        other = action.ctx.states[ref.name]
-        want = self._distance(max(me.speed, 0.0))
-        gap = sign * gap_between(other, me, bumpers=True)  # my bumper gap on the asked side
-        error = gap - want  # >0: farther from the reference than asked
-        retarget(action.controller, other.speed - sign * POSITION_GAIN * error)
+            want = float(self.args.get("distance", 0.0))
+            if abs(state.s - want) <= GAP_TOLERANCE:
+                return None
+            return f"it is at {state.s:.2f} m along the road, not {want:.2f} m"
+        error, _, _ = self._error(action)
+        if abs(error) <= GAP_TOLERANCE:
+            return None
+        return f"the gap is {error:+.2f} m from the one asked"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         ref, sign = self._reference()
         speed = pose.speed if pose.speed is not None else action.state.speed
-        d = self._distance(max(speed, 0.0))
         if ref is None:
-            pose.s = d
+            pose.s = float(self.args.get("distance", 0.0))
             return
+        other = action.ctx.states[ref.name]
+        follower_speed = speed if sign < 0 else other.speed
+        if "distance" in self.args:
+            d = float(self.args["distance"])
+        else:
+            d = float(self.args.get("time", 0.0)) * max(follower_speed, 0.0)
         half = 0.5 * (
             float(getattr(action.actor.params, "length", 0.0))
             + float(getattr(ref.params, "length", 0.0))
         )
-        pose.s = action.ctx.states[ref.name].s + sign * (d + half)
+        pose.s = other.s + sign * (d + half)
 
 
 # ---------------------------------------------------------------------- lanes
@@ -263,9 +317,12 @@ class Lane(Modifier):
     """``lane(n)``, ``lane(same_as: ref)``, ``lane(side_of: ref, side: s)``.
 
     ``n`` counts from the ``from:`` side (default: the map's, see
-    :mod:`osc2runner.instance.roads`). ``at: start`` places the actor; ``all``
-    changes into the lane if needed and keeps it (following the reference
-    when it changes lanes); ``end`` arrives by the end of the phase.
+    :mod:`osc2runner.instance.roads`). ``all``: changes into the lane at once if
+    needed and keeps it (following a reference when it changes lanes). ``end``:
+    with a planned duration the lane change is timed to end when the phase ends
+    (it starts a change's length before; a shorter phase spreads it over all of
+    it); without one the change starts at once and the phase ends in the lane.
+    ``start``: the lane when the phase starts.
     """
 
     lateral = True
@@ -284,24 +341,49 @@ class Lane(Modifier):
         side = args.get("from")
         return ctx.lanes.to_road(n, str(side) if side is not None else None)
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
-        self.changing_to: int | None = None
-        if _skip_start(self, action):
-            return
-        self._apply(action, first=True)
-
-    def step(self, action: ActionBehaviour) -> None:
-        if self.at == "all" and ("same_as" in self.args or "side_of" in self.args):
-            self._apply(action, first=False)
-
-    def _apply(self, action: ActionBehaviour, first: bool) -> None:
+    def _lane(self, action: ActionBehaviour) -> int:
         ctx = action.ctx
         target = self._target(ctx, lambda a: lane_of(ctx, a))
         if not ctx.road.has_lane(target):
             raise ActionError(
                 f"lane {ctx.lanes.to_scenario(target)} does not exist on map `{ctx.road.name}`"
             )
+        return target
+
+    def realise(self, action: ActionBehaviour) -> None:
+        self.changing_to: int | None = None
+        self.change_at: float | None = None
+        self.relative = "same_as" in self.args or "side_of" in self.args
+        if self.at == "end" and action.remaining():
+            target = self._lane(action)
+            if action.state.lane == target:
+                _lateral(action).keep_lane(target)
+                self.changing_to = target
+                return
+            length = lane_change_duration(
+                1, action.ctx.road.lane_width, phase=None, rate_peak=None, profile=None
+            )
+            remaining = action.remaining() or 0.0
+            self.change_at = action.elapsed + max(0.0, remaining - length)
+            self.step(action)
+            return
+        self._apply(action, first=True)
+
+    def step(self, action: ActionBehaviour) -> None:
+        if self.change_at is not None:
+            if action.elapsed + 1e-9 >= self.change_at:
+                self.change_at = None
+                target = self._lane(action)
+                duration = max(action.remaining() or 0.0, action.ctx.dt)
+                _lateral(action).change_lane(action.state, target, duration=duration)
+                self.changing_to = target
+            return
+        if self.at == "all" and self.relative:
+            self._apply(action, first=False)
+
+    def _apply(self, action: ActionBehaviour, first: bool) -> None:
+        ctx = action.ctx
+        target = self._lane(action)
         lateral = _lateral(action)
         if not first and target == self.changing_to:
             return
@@ -309,15 +391,30 @@ class Lane(Modifier):
         if state.lane == target and self.changing_to is None:
             lateral.keep_lane(target)
         else:
-            duration = action.remaining() if self.at == "end" else None
             lateral.change_lane(
                 state,
                 target,
                 duration=lane_change_duration(
-                    1, ctx.road.lane_width, phase=duration, rate_peak=None, profile=None
+                    1, ctx.road.lane_width, phase=None, rate_peak=None, profile=None
                 ),
             )
         self.changing_to = target
+
+    def finished(self, action: ActionBehaviour) -> bool:
+        if self.at != "end" or action.remaining():
+            return False
+        return self.holds(action) is None and _lateral(action).done(action.state)
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        target = self._lane(action)
+        lane = action.state.lane
+        if lane == target and abs(action.state.t - action.ctx.road.lane_center_t(target)) <= (
+            action.ctx.road.lane_width / 2
+        ):
+            return None
+        lanes = action.ctx.lanes
+        where = f"lane {lanes.to_scenario(lane)}" if lane is not None else "off the road"
+        return f"it is in {where}, not lane {lanes.to_scenario(target)}"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         ctx = action.ctx
@@ -328,13 +425,13 @@ class Lane(Modifier):
 class ChangeLaneModifier(Modifier):
     """``change_lane(n, side)``: end the phase ``n`` lanes to the side of the start lane.
 
-    Without ``side`` one is drawn with the run's seed among the sides that exist.
+    The change takes the phase's planned duration, else the default lane-change
+    time. Without ``side`` one is drawn with the run's seed among the sides that exist.
     """
 
     lateral = True
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
+    def realise(self, action: ActionBehaviour) -> None:
         ctx = action.ctx
         n = int(self.args.get("lane", 1))
         start = lane_of(ctx, action.actor)
@@ -351,10 +448,19 @@ class ChangeLaneModifier(Modifier):
             raise ActionError(
                 f"there is no lane {n} lane(s) to the {side} of lane {ctx.lanes.to_scenario(start)}"
             )
+        self.target = target
         duration = lane_change_duration(
             n, ctx.road.lane_width, phase=action.remaining(), rate_peak=None, profile=None
         )
         _lateral(action).change_lane(action.state, target, duration=duration)
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        lane = action.state.lane
+        if lane == self.target:
+            return None
+        lanes = action.ctx.lanes
+        where = f"lane {lanes.to_scenario(lane)}" if lane is not None else "off the road"
+        return f"it is in {where}, not lane {lanes.to_scenario(self.target)}"
 
 
 @modifier("keep_lane")
@@ -363,15 +469,18 @@ class KeepLane(Modifier):
 
     lateral = True
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
+    def realise(self, action: ActionBehaviour) -> None:
         _lateral(action).keep_lane(lane_of(action.ctx, action.actor))
 
 
 @modifier("lateral")
 class Lateral(Modifier):
     """``lateral(distance: d)``: ``d`` to the left of the lane centre; with a reference,
-    ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned), tracked."""
+    ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned).
+
+    ``all``: reached and tracked; ``end``: reached over the planned duration (else
+    the phase ends when reached); ``start``: the offset when the phase starts.
+    """
 
     lateral = True
 
@@ -388,13 +497,23 @@ class Lateral(Modifier):
             return action.ctx.states[ref.name].t + sign * d
         return None
 
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
-        if _skip_start(self, action):
+    def _wanted_t(self, action: ActionBehaviour) -> float:
+        t = self._target_t(action)
+        if t is not None:
+            return t
+        lane = lane_of(action.ctx, action.actor)
+        return action.ctx.road.lane_center_t(lane) + float(self.args.get("distance", 0.0))
+
+    def realise(self, action: ActionBehaviour) -> None:
+        if self.at == "end" and action.remaining():
+            lateral = _lateral(action)
+            lateral.move_to(action.state, self._wanted_t(action), duration=action.remaining())
             return
         self.step(action)
 
     def step(self, action: ActionBehaviour) -> None:
+        if self.at == "end" and action.remaining():
+            return  # the planned path arrives when the phase ends
         lateral = _lateral(action)
         t = self._target_t(action)
         if t is None:
@@ -403,6 +522,18 @@ class Lateral(Modifier):
             )
         else:
             lateral.keep_offset(t)
+
+    def finished(self, action: ActionBehaviour) -> bool:
+        if self.at != "end" or action.remaining():
+            return False
+        return self.holds(action) is None
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        want = self._wanted_t(action)
+        t = action.state.t
+        if abs(t - want) <= LATERAL_TOLERANCE:
+            return None
+        return f"it is {t - want:+.2f} m from the lateral position asked"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         t = self._target_t(action)
@@ -415,30 +546,45 @@ class Lateral(Modifier):
 # ---------------------------------------------------------------------- orientation
 
 
-class _StartOnly(Modifier):
-    def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
-        if _skip_start(self, action):
-            return
+class _Heading(Modifier):
+    """Heading modifiers: the start heading (the witness's, at time 0); checked later."""
+
+    def wanted(self, action: ActionBehaviour) -> float:  # pragma: no cover - abstract
+        raise NotImplementedError
+
+    def realise(self, action: ActionBehaviour) -> None:
         raise ActionError(
-            f"{self.use.name}() is only supported with `at: start` on a phase "
-            "that starts the scenario"
+            f"{self.use.name}() with `at: {self.at}` is not supported: the runner steers "
+            "along the lanes; give the heading `at: start`"
         )
 
+    def holds(self, action: ActionBehaviour) -> str | None:
+        want = action.ctx.road.heading + self.wanted(action)
+        diff = (action.state.yaw - want + math.pi) % (2 * math.pi) - math.pi
+        if abs(diff) <= YAW_TOLERANCE:
+            return None
+        return f"the heading differs by {math.degrees(diff):+.1f} deg"
 
-@modifier("yaw", note="at: start only")
-class Yaw(_StartOnly):
-    """``yaw(angle, at: start)``: the start heading relative to the road."""
 
-    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+@modifier("yaw", note="at: start (the witness's heading), else checked")
+class Yaw(_Heading):
+    """``yaw(angle, at: start)``: the heading relative to the road when the phase starts."""
+
+    def wanted(self, action: ActionBehaviour) -> float:
         if self.args.get("relative_to") is not None:
             raise ActionError("yaw relative to another actor is not supported")
-        pose.yaw = float(self.args.get("angle", 0.0))
+        return float(self.args.get("angle", 0.0))
+
+    def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
+        pose.yaw = self.wanted(action)
 
 
-@modifier("orientation", note="at: start only (yaw)")
-class Orientation(_StartOnly):
-    """``orientation(yaw: a, at: start)``: the start heading relative to the road."""
+@modifier("orientation", note="at: start (yaw), else checked")
+class Orientation(_Heading):
+    """``orientation(yaw: a, at: start)``: the heading relative to the road at the phase start."""
+
+    def wanted(self, action: ActionBehaviour) -> float:
+        return float(self.args.get("yaw", 0.0))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         if "yaw" in self.args:
@@ -453,7 +599,6 @@ class AvoidCollisions(Modifier):
     """``avoid_collisions(false)``: this actor's collisions in the phase do not fail the run."""
 
     def begin(self, action: ActionBehaviour) -> None:
-        self.evaluate()
         self.allowing = not bool(self.args.get("avoid", True))
         if self.allowing:
             allowed = action.ctx.collisions_allowed

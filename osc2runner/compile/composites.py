@@ -43,6 +43,7 @@ __all__ = [
     "Parallel",
     "ScenarioRoot",
     "Serial",
+    "running_endless",
     "running_open",
     "tick_child",
 ]
@@ -224,19 +225,27 @@ def running_open(node: Behaviour) -> bool:
 
 
 class DurationBound(_Fast, py_trees.decorators.Decorator):
-    """Bounds the child's phase to ``[low, high]`` seconds of simulated time.
+    """Bounds the child's phase to ``[low, high]`` seconds of simulated time (``duration:``).
 
     ``bounds()`` is evaluated when the phase starts and returns ``(low, high)``
-    (either may be None). At ``high`` the child is stopped and the phase
-    succeeds; a child that succeeds before ``low`` is held (not re-ticked)
-    until ``low``. A failing child fails the phase.
+    (either may be None). A child that succeeds before ``low`` is held (not
+    re-ticked) until ``low``. At ``high`` the phase ends: a child that is still
+    running is stopped — the end it was planned for when everything still
+    running is open-ended (``drive()``; an action's ``at: end`` modifiers are then
+    checked), a failure otherwise (a goal not reached in time: the phase
+    "exceeds its duration bound"). A failing child fails the phase.
     """
 
     def __init__(
-        self, name: str, child: Behaviour, bounds: Callable[[], tuple[float | None, float | None]]
+        self,
+        name: str,
+        child: Behaviour,
+        bounds: Callable[[], tuple[float | None, float | None]],
+        where: str = "",
     ) -> None:
         super().__init__(name=name, child=child)
         self.bounds = bounds
+        self.where = where  # "file:line:column" of the invocation or composition
         self.ctx: Any = None
         self.low: float | None = None
         self.high: float | None = None
@@ -259,7 +268,18 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
         eps = 1e-9
         child = self.decorated
         if self.high is not None and elapsed >= self.high - eps:
+            if child.status == RUNNING and not running_endless(child):
+                reason = (
+                    f"{self.where}: `{child.name}` did not complete within its duration "
+                    f"({self.high:g} s)"
+                )
+                self.ctx.fail(reason)
+                self.feedback_message = reason
+                child.stop(INVALID)
+                self.stop(FAILURE)
+                return FAILURE
             if child.status == RUNNING:
+                mark_ended_on_time(child)
                 child.stop(INVALID)
             self.feedback_message = f"ended at {elapsed:.3f} s"
             self.stop(SUCCESS)
@@ -279,6 +299,28 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
 
     def update(self) -> Status:  # pragma: no cover - tick_status() decides
         return self.status
+
+
+def running_endless(node: Behaviour) -> bool:
+    """True when ``node`` runs and everything running under it is an action that cannot
+    end on its own (``drive()``, ``keep_speed()``: their ``endless`` is set), so that
+    a duration bound ending them is their planned end, not a goal missed."""
+    if node.status != RUNNING:
+        return False
+    if getattr(node, "endless", False):
+        return True
+    running = [c for c in node.children if c.status == RUNNING]
+    return bool(running) and all(running_endless(c) for c in running)
+
+
+def mark_ended_on_time(node: Behaviour) -> None:
+    """Tell the running endless actions under ``node`` that their phase ends as planned
+    (their ``at: end`` modifiers are then checked), not that they are pre-empted."""
+    if getattr(node, "endless", False) and node.status == RUNNING:
+        node.ended_on_time = True  # type: ignore[attr-defined]
+    for child in node.children:
+        if child.status == RUNNING:
+            mark_ended_on_time(child)
 
 
 class Labelled(_Fast, py_trees.decorators.Decorator):

@@ -372,8 +372,12 @@ class TreeCompiler:
             node = Until(node_name(f"until {self._text(until.event)}", until), node, watch)
         if duration is not None:
             bounds = self._bounds(self.env.compile(duration, scope))
+            span = owner.span
             node = DurationBound(
-                node_name(f"duration: {self._text(duration)}", duration), node, bounds
+                node_name(f"duration: {self._text(duration)}", duration),
+                node,
+                bounds,
+                f"{span.uri}:{span.line}:{span.column}",
             )
         return node
 
@@ -445,6 +449,7 @@ class TreeCompiler:
         use.behaviour = cls
         behaviour = cls(node_name(f"{actor.name}.{sym.name}()", inv), use)
         behaviour.open_ended = not cls.finite and duration is None and not untils
+        behaviour.endless = not cls.finite
         self.uses[inv] = (use, cls)
         return self._wrap(behaviour, inv, duration, untils, inner)
 

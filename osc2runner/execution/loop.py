@@ -174,12 +174,31 @@ def _failure_reason(root: py_trees.behaviour.Behaviour) -> str:
 
 
 def _world_events(ctx: RunContext, events: list[Any]) -> RunOutcome | None:
+    """Log the world's events; a collision no ``avoid_collisions(false)`` allows, or an
+    actor off the drivable road (past its end included), fails the run."""
     outcome = None
     for event in events:
         ctx.record(event.kind, "-".join(event.actors), event.detail, tuple(event.actors))
-        if event.kind == "collision" and outcome is None:
+        if outcome is not None:
+            continue
+        if event.kind == "collision":
             if not any(ctx.collisions_allowed.get(a, 0) > 0 for a in event.actors):
                 outcome = RunOutcome(
                     "failure", f"collision: {' and '.join(event.actors)}", event.tick, event.time
                 )
+        elif event.kind == "off_road":
+            (name,) = event.actors
+            outcome = RunOutcome("failure", _off_road(ctx, name), event.tick, event.time)
     return outcome
+
+
+def _off_road(ctx: RunContext, name: str) -> str:
+    state = ctx.states[name]
+    road = ctx.road
+    if state.s > road.length:
+        return f"`{name}` drove past the end of the road (s = {state.s:.1f} m of {road.length:g} m)"
+    if state.s < 0.0:
+        return f"`{name}` left the road at its start (s = {state.s:.1f} m)"
+    return (
+        f"`{name}` left the drivable road (lateral position {state.t:.2f} m at s = {state.s:.1f} m)"
+    )

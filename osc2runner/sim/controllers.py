@@ -343,14 +343,27 @@ class StanleyController:
         With ``duration`` the distance is ``duration * speed`` at the start.
         Returns the path now followed.
         """
+        target = self.road.lane_center_t(lane) + offset
+        return self.move_to(state, target, distance=distance, duration=duration, shape=shape)
+
+    def move_to(
+        self,
+        state: ActorState,
+        t: float,
+        *,
+        distance: float | None = None,
+        duration: float | None = None,
+        shape: str = "smooth",
+    ) -> LateralPath:
+        """Move from the current lateral position to road coordinate ``t`` over a distance
+        or a duration (the distance is ``duration * speed`` at the start)."""
         if distance is None:
             if duration is None:
-                raise ValueError("change_lane needs a distance or a duration")
+                raise ValueError("a lateral move needs a distance or a duration")
             distance = duration * max(state.speed, 1.0)
         s_front, t_front = self._front(state)
         t_now = self.path.at(s_front)[0] if self.path is not None else t_front
-        target = self.road.lane_center_t(lane) + offset
-        self.path = LateralPath(t_now, target, s_front, s_front + distance, shape)
+        self.path = LateralPath(t_now, t, s_front, s_front + distance, shape)
         return self.path
 
     def done(self, state: ActorState) -> bool:

@@ -37,6 +37,10 @@ class FakeContext:
         self.tick = 0
         self.dt = 0.5
         self.emitted: list[tuple[int, str]] = []
+        self.failed: str | None = None
+
+    def fail(self, reason: str) -> None:
+        self.failed = self.failed or reason
 
     def emit(self, name: str, args: object = None, *, kind: str = "emit") -> None:
         self.emitted.append((self.tick, name))
@@ -165,6 +169,7 @@ def test_one_of_fails_when_every_member_failed():
 def test_duration_ends_an_open_ended_child_at_the_upper_bound():
     ctx = FakeContext()  # dt 0.5 s
     child = script("drive", then=R)
+    child.endless = True  # an action that cannot end on its own, as drive()
     root = DurationBound("duration: 1.5s", child, lambda: (1.5, 1.5))
     # Expect: the child runs for ticks 0..2 (1.5 s); at tick 3 the phase ends
     assert table(root, [child], 5, ctx) == [
@@ -174,6 +179,15 @@ def test_duration_ends_an_open_ended_child_at_the_upper_bound():
         "S -",
         "R R",  # a new phase when ticked again
     ]
+
+
+def test_a_goal_not_reached_within_the_duration_fails_the_phase():
+    ctx = FakeContext()
+    child = script("change_speed", then=R)  # has a goal: not endless
+    root = DurationBound("change_speed, duration: 1s", child, lambda: (1.0, 1.0), "f.osc:3:5")
+    # Expect: running for 1 s, then the phase fails, naming where
+    assert table(root, [child], 3, ctx) == ["R R", "R R", "F -"]
+    assert ctx.failed == ("f.osc:3:5: `change_speed` did not complete within its duration (1 s)")
 
 
 def test_duration_holds_an_early_success_until_the_lower_bound():

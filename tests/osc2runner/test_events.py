@@ -36,7 +36,7 @@ def test_emit_order_and_arguments(events):
 def test_label_events_and_duration(events):
     assert events.event_ticks("start", "warm_up.start") == [0]
     assert events.event_ticks("end", "warm_up.end") == [40]
-    assert events.event_ticks("stop", "hero.drive")[0] == 40  # duration: 2s
+    assert events.event_ticks("end", "hero.drive")[0] == 40  # duration: 2s, its planned end
 
 
 def test_a_wait_sees_only_what_happens_after_it_starts(tmp_path):

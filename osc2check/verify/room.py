@@ -1,0 +1,161 @@
+"""Road room: how far an actor can drive during the scenario, where that is a constant.
+
+The witness must leave each actor enough road ahead of its start for what the
+scenario makes it do. Where the scenario fixes how long everything lasts (every
+phase has a constant ``duration``; no phase waits for an event or a goal) and
+how fast an actor goes (constant ``speed(v)`` modifiers, ``change_speed``
+targets, ``assign_speed``; ``remain_stationary`` is 0), the distance the actor
+covers is at most its largest speed (or its start speed, if larger) times the
+scenario's duration; placement then requires that much road ahead of the
+actor's start (L514 when no start allows it). Where it does not, nothing is
+required; placement prefers starts near the road's entry instead
+(``placement.PREFERRED_START_SHARE``), which leaves room for most scenarios.
+
+Durations and speeds are folded with the one evaluator
+(``semantics.constants``), parameters through the constants that hard
+``==`` constraints give them.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Iterator
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, Value, evaluate
+from osc2check.semantics.model import Model
+from osc2check.semantics.phases import is_instant
+from osc2check.semantics.symbols import Symbol
+from osc2check.syntax import ast
+
+__all__ = ["Motion", "motion_bounds"]
+
+Lookup = Callable[[Symbol, ast.Node], Value]
+
+_STOPPING = frozenset({"remain_stationary"})
+_ABSOLUTE_SPEED_ARGS = ("speed",)
+_RELATIVE = ("faster_than", "slower_than", "same_as")
+
+
+@dataclass
+class Motion:
+    """A bound on what the scenario makes its actors do: its total duration (None when
+    not a constant) and each actor's largest constant speed (absent when unknown)."""
+
+    duration: Fraction | None
+    top_speed: dict[str, Fraction] = field(default_factory=dict)  # m/s, by actor name
+    unknown_speed: set[str] = field(default_factory=set)  # actors whose speed is not constant
+
+
+def motion_bounds(model: Model, bodies: list[ast.Node], lookup: Lookup) -> Motion:
+    """The bounds of the ``do`` bodies of a scenario (see the module docstring)."""
+    motion = Motion(Fraction(0))
+    for body in bodies:
+        length = _duration(model, body, lookup)
+        if length is None or motion.duration is None:
+            motion.duration = None
+        else:
+            motion.duration = max(motion.duration, length)
+        for inv in _invocations(body):
+            _speeds(model, inv, lookup, motion)
+    return motion
+
+
+def _number(model: Model, node: ast.Node, lookup: Lookup, upper: bool = True) -> Fraction | None:
+    """A constant SI number (a range's upper, else lower, bound), or None."""
+    try:
+        value = evaluate(node, model, lookup)
+    except NotConstant:
+        return None
+    if isinstance(value, RangeValue):
+        bounds = [_si(value.low), _si(value.high)]
+        if None in bounds:
+            return None
+        known = [b for b in bounds if b is not None]
+        return max(known) if upper else min(known)
+    return _si(value)
+
+
+def _si(value: Value) -> Fraction | None:
+    if isinstance(value, Quantity):
+        return value.si
+    if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
+        return Fraction(value)
+    return None
+
+
+def _named(arguments: tuple[ast.Argument, ...], name: str) -> ast.Node | None:
+    for arg in arguments:
+        if isinstance(arg, ast.NamedArgument) and arg.name.text == name:
+            return arg.value
+    return None
+
+
+def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
+    """The constant length of ``body`` in seconds, or None when it is not one."""
+    match body:
+        case ast.Composition():
+            given = _named(body.arguments, "duration")
+            if given is not None:
+                return _number(model, given, lookup)
+            lengths = [_duration(model, m.body, lookup) for m in body.members]
+            if any(length is None for length in lengths):
+                return None
+            known = [length for length in lengths if length is not None]
+            if body.op == "serial":
+                return sum(known, Fraction(0))
+            return max(known, default=Fraction(0))
+        case ast.Invocation():
+            given = _named(body.arguments, "duration")
+            if given is not None:
+                return _number(model, given, lookup)
+            return Fraction(0) if is_instant(body) else None
+        case ast.Emit() | ast.CallDirective():
+            return Fraction(0)
+    return None
+
+
+def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
+    match body:
+        case ast.Composition():
+            for member in body.members:
+                yield from _invocations(member.body)
+        case ast.Invocation():
+            yield body
+
+
+def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -> None:
+    """Record the speeds an invocation gives its actor (or that they are not constant)."""
+    if not isinstance(inv.actor, ast.NameRef):
+        return
+    actor = inv.actor.name.name.text
+    found: list[Fraction | None] = []
+    if inv.name.text in _STOPPING:
+        found.append(Fraction(0))
+    for key in ("target", "speed"):
+        given = _named(inv.arguments, key)
+        if given is not None and inv.name.text in ("change_speed", "assign_speed"):
+            found.append(_number(model, given, lookup))
+    if inv.name.text == "assign_speed" and not inv.arguments:
+        found.append(None)
+    for item in inv.with_members:
+        if not isinstance(item, ast.Invocation):
+            continue
+        name = item.name.text
+        if name in ("speed", "change_speed", "acceleration", "keep_speed"):
+            if name != "speed" or any(_named(item.arguments, k) is not None for k in _RELATIVE):
+                found.append(None)
+                continue
+            given = _named(item.arguments, "speed")
+            if (
+                given is None
+                and item.arguments
+                and isinstance(item.arguments[0], ast.PositionalArgument)
+            ):
+                given = item.arguments[0].value
+            found.append(_number(model, given, lookup) if given is not None else None)
+    for speed in found:
+        if speed is None:
+            motion.unknown_speed.add(actor)
+        else:
+            motion.top_speed[actor] = max(motion.top_speed.get(actor, Fraction(0)), abs(speed))
