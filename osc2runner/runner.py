@@ -33,6 +33,7 @@ import py_trees
 from osc2check.analysis import Analysis, SourceInput, analyze
 from osc2check.diagnostics import Severity
 from osc2check.semantics.phases import time_zero
+from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.syntax import ast
@@ -144,27 +145,15 @@ def _read(path: str | Path, source: str | None) -> tuple[str, str]:
 
 
 def _choose_scenario(analysis: Analysis, uri: str, name: str | None) -> Symbol:
+    """The scenario to run: ``--scenario``, else ``top``, else the one no other invokes."""
     program = analysis.programs[uri]
-    model = program.model
     result = program.files.get(uri)
-    decls = [
-        d for d in (result.ast.declarations if result else ()) if isinstance(d, ast.ScenarioDecl)
-    ]
-    symbols = [model.declarations[d] for d in decls if d in model.declarations]
-    if name is not None:
-        for sym in symbols:
-            if sym.name == name or sym.qualified_name == name:
-                return sym
-        known = ", ".join(s.name for s in symbols) or "none"
-        raise ScenarioError([RunProblem(f"{uri}: no scenario `{name}` (scenarios: {known})")])
-    if not symbols:
-        raise ScenarioError([RunProblem(f"{uri}: declares no scenario to run")])
-    if len(symbols) > 1:
-        names = ", ".join(s.name for s in symbols)
-        raise ScenarioError(
-            [RunProblem(f"{uri}: declares several scenarios ({names}); choose one with --scenario")]
-        )
-    return symbols[0]
+    scenarios = file_scenarios(program.model, result.ast.declarations if result else ())
+    try:
+        return root_scenario(program.model, scenarios, name)
+    except RootScenarioError as exc:
+        choices = f" (choose one with --scenario: {', '.join(exc.choices)})" if exc.choices else ""
+        raise ScenarioError([RunProblem(f"{uri}: {exc}{choices}")]) from None
 
 
 def compile_file(

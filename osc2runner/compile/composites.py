@@ -3,13 +3,11 @@
 * :class:`Serial` is a py_trees ``Sequence`` with memory: members run one
   after the other; a member that finishes hands over to the next in the same
   tick.
-* :class:`Parallel` starts all members together (``overlap: start``) and
-  joins on all: a member that has succeeded is not ticked again; the first
-  failure stops the others and fails the composition. Open-ended members
-  (``drive()`` without ``duration`` or ``until``) end with the others.
-* :class:`OneOf` is a race (the design paper's semantics): members run side
-  by side, the first to succeed wins and the others are stopped. A member
-  that fails drops out; the race fails only when every member has failed.
+* :class:`Parallel` starts all members together and ends as its ``overlap``
+  says: when all have ended (``start``, ``any``, ``full``), or with its first
+  member (``equal``, ``end``, ``final``, ``initial``, ``inside``).
+* :class:`OneOf`: exactly one acting member runs (chosen with the run's seed,
+  recorded); members that only wait run alongside and may end it.
 * :class:`DurationBound` bounds its child in simulated time: it succeeds at
   the upper bound (stopping the child), and holds an early success until the
   lower bound.
@@ -105,20 +103,45 @@ class Serial(_Fast, py_trees.composites.Sequence):
         return SUCCESS
 
 
-class Parallel(_Fast, py_trees.composites.Parallel):
-    """``parallel``: members start together; success when all have succeeded.
+#: ``parallel(overlap: ...)`` kinds whose other members end no later than the first
+#: one (§7.3.9: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
+#: ``inside`` within it): the composition ends when its first member ends.
+ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
 
-    Members that cannot end on their own (open-ended actions such as
-    ``drive()`` without ``duration`` or ``until``) end with the others: once
-    every other member has succeeded and only open-ended ones still run, the
-    parallel succeeds.
+
+class Parallel(_Fast, py_trees.composites.Parallel):
+    """``parallel``: members start together; the end depends on ``overlap``.
+
+    * ``start`` (the default), ``any``, ``full``: success when every member has
+      ended. Members that cannot end on their own (open-ended actions such as
+      ``drive()`` without ``duration`` or ``until``) end with the others.
+    * ``equal``, ``end``, ``final``, ``initial``, ``inside``: the first member is
+      primary and the composition ends with it: a member that is done earlier is
+      held (its phase lasts until then), one still running then is stopped — its
+      planned end if it is open-ended, a failure if it had a goal it had not
+      reached. An open-ended first member ends when the others have ended.
+
+    Starting all members together satisfies every kind's rule for the starts.
+    The first failure stops the others and fails the composition.
     """
 
-    def __init__(self, name: str, children: Sequence[Behaviour] = ()) -> None:
+    def __init__(
+        self,
+        name: str,
+        children: Sequence[Behaviour] = (),
+        overlap: str = "start",
+        where: str = "",
+    ) -> None:
         super().__init__(
             name, policy=ParallelPolicy.SuccessOnAll(synchronise=True), children=list(children)
         )
         self._open = [may_be_open(c) for c in self.children]
+        self.overlap = overlap
+        self.where = where
+        self.ctx: Any = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.ctx = kwargs.get("context", self.ctx)
 
     def tick_status(self) -> Status:
         children = self.children
@@ -144,24 +167,86 @@ class Parallel(_Fast, py_trees.composites.Parallel):
         if done == len(children):
             self.stop(SUCCESS)
             return SUCCESS
+        if self.overlap in ENDS_WITH_FIRST and children[0].status == SUCCESS:
+            return self._end_with_first()
         if done and all(
             c.status == SUCCESS or (o and running_open(c))
             for c, o in zip(children, self._open, strict=True)
         ):
             self.feedback_message = "open-ended members ended with the others"
+            for child in children:
+                if child.status == RUNNING:
+                    mark_ended_on_time(child)
             self.stop(SUCCESS)
             return SUCCESS
         self.current_child = next((c for c in children if c.status == RUNNING), None)
         self.status = RUNNING
         return RUNNING
 
+    def _end_with_first(self) -> Status:
+        for child in self.children[1:]:
+            if child.status != RUNNING:
+                continue
+            if not running_endless(child):
+                reason = (
+                    f"{self.where}: `{child.name}` had not completed when the first member "
+                    f"of `parallel(overlap: {self.overlap})` ended"
+                )
+                if self.ctx is not None:
+                    self.ctx.fail(reason)
+                self.feedback_message = reason
+                self.stop(FAILURE)
+                return FAILURE
+            mark_ended_on_time(child)
+        self.feedback_message = f"ended with its first member (overlap: {self.overlap})"
+        self.stop(SUCCESS)
+        return SUCCESS
+
 
 class OneOf(_Fast, py_trees.composites.Parallel):
-    """``one_of`` as a race: the first member to succeed wins, the others are stopped."""
+    """``one_of``: exactly one member's behaviour happens (§7.3.9).
 
-    def __init__(self, name: str, children: Sequence[Behaviour] = ()) -> None:
+    Members that only wait (they invoke no action or scenario: ``wait``, ``emit``,
+    ``call``) command nothing and run alongside; among the members that act, one
+    is chosen when the composition starts, with the run's seed, and recorded in
+    the event log (``choice``); the others never start. The first of the running
+    members to succeed ends the composition (a waiting member ends the chosen
+    behaviour: the design paper's ``one_of: drive() / wait fall(...)``). With no
+    acting member, the waiting members race. A failing chosen member fails it.
+    """
+
+    def __init__(
+        self,
+        name: str,
+        children: Sequence[Behaviour] = (),
+        acting: Sequence[bool] | None = None,
+    ) -> None:
         super().__init__(name, policy=ParallelPolicy.SuccessOnOne(), children=list(children))
+        self.acting = list(acting) if acting is not None else [True] * len(self.children)
         self.winner: Behaviour | None = None
+        self.chosen: Behaviour | None = None
+        self.running: list[Behaviour] = []
+        self.ctx: Any = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.ctx = kwargs.get("context", self.ctx)
+
+    def _choose(self) -> None:
+        acting = [c for c, a in zip(self.children, self.acting, strict=True) if a]
+        waiting = [c for c, a in zip(self.children, self.acting, strict=True) if not a]
+        self.chosen = None
+        if acting:
+            rng = getattr(self.ctx, "rng", None)
+            index = int(rng.integers(len(acting))) if rng is not None else 0
+            self.chosen = acting[index]
+            if self.ctx is not None:
+                position = self.children.index(self.chosen) + 1
+                self.ctx.record(
+                    "choice",
+                    self.name,
+                    f"member {position} of {len(self.children)}: {self.chosen.name}",
+                )
+        self.running = ([self.chosen] if self.chosen is not None else []) + waiting
 
     def tick_status(self) -> Status:
         children = self.children
@@ -170,23 +255,28 @@ class OneOf(_Fast, py_trees.composites.Parallel):
             self.current_child = None
             self.winner = None
             self.initialise()
+            self._choose()
         if not children:
             self.stop(SUCCESS)
             return SUCCESS
-        new_status = FAILURE
-        for child in children:
+        alive = False
+        for child in self.running:
             if child.status == FAILURE:
-                continue  # dropped out of the race
+                continue
             status = tick_child(child)
             if status == SUCCESS:
                 self.winner = child
                 self.current_child = child
                 self.stop(SUCCESS)
                 return SUCCESS
+            if status == FAILURE and child is self.chosen:
+                self.current_child = child
+                self.stop(FAILURE)
+                return FAILURE
             if status == RUNNING:
-                new_status = RUNNING
-        if new_status == RUNNING:
-            self.current_child = next((c for c in children if c.status == RUNNING), None)
+                alive = True
+        if alive:
+            self.current_child = next((c for c in self.running if c.status == RUNNING), None)
             self.status = RUNNING
             return RUNNING
         self.stop(FAILURE)

@@ -19,7 +19,7 @@ from typing import Any
 
 import py_trees
 
-from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS
+from osc2check.semantics.builtins import EVENT_FUNCTIONS, OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.phases import time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -55,8 +55,6 @@ from osc2runner.instance.values import scenario_fields
 __all__ = ["CompiledScenario", "compile_scenario", "node_name", "unparse"]
 
 log = logging.getLogger(__name__)
-
-_OVERLAPS = ("start", "any")
 
 
 @dataclass
@@ -308,21 +306,20 @@ class TreeCompiler:
         if comp.op == "serial":
             node = Serial(name, children)
         elif comp.op == "parallel":
-            overlap = args.get("overlap")
-            if overlap is not None:
-                value = self.env.compiler.constant_value(overlap, scope)
-                if value not in _OVERLAPS:
-                    raise CompileProblem(
-                        f"parallel(overlap: {value}) is not supported; the runner starts all "
-                        "members together (overlap: start)",
-                        overlap,
-                    )
+            overlap = "start"
+            if "overlap" in args:
+                overlap = _overlap_kind(args["overlap"])
             for key in ("start_to_start", "end_to_end"):
                 if key in args:
-                    raise CompileProblem(f"parallel({key}: ...) is not supported", args[key])
-            node = Parallel(name, children)
+                    raise CompileProblem(
+                        f"parallel({key}: ...) is not supported by the runner: it starts every "
+                        "member with the composition",
+                        args[key],
+                    )
+            span = comp.span
+            node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}")
         elif comp.op == "one_of":
-            node = OneOf(name, children)
+            node = OneOf(name, children, [_acts(m.body) for m in comp.members])
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
         untils = []
@@ -605,6 +602,30 @@ class TreeCompiler:
             if entry is not None:
                 found.append(entry[0])
         return found
+
+
+def _overlap_kind(node: ast.Node) -> str:
+    """The overlap kind a ``parallel(overlap: ...)`` names (the checker validated it)."""
+    match node:
+        case ast.NameRef():
+            word = node.name.name.text
+        case ast.EnumRef():
+            word = node.member.text
+        case _:
+            raise CompileProblem("`overlap` takes one of the overlap kinds", node)
+    if word not in OVERLAP_KINDS:
+        raise CompileProblem(f"`{word}` is not an overlap kind ({', '.join(OVERLAP_KINDS)})", node)
+    return word
+
+
+def _acts(body: ast.Node) -> bool:
+    """Whether a ``one_of`` member invokes an action or scenario (else it only waits)."""
+    match body:
+        case ast.Composition():
+            return any(_acts(m.body) for m in body.members)
+        case ast.Invocation():
+            return True
+    return False
 
 
 def _no_span() -> Any:

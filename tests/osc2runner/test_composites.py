@@ -6,6 +6,7 @@ child (R running, S success, F failure, - invalid), after that tick.
 
 from __future__ import annotations
 
+import numpy as np
 import py_trees
 import pytest
 from py_trees.behaviours import StatusQueue
@@ -33,11 +34,16 @@ def script(name: str, *statuses: Status, then: Status | None = None) -> StatusQu
 class FakeContext:
     """Just what composites read: tick, dt, and emit (recorded)."""
 
-    def __init__(self) -> None:
+    def __init__(self, seed: int = 0) -> None:
         self.tick = 0
         self.dt = 0.5
         self.emitted: list[tuple[int, str]] = []
         self.failed: str | None = None
+        self.records: list[tuple[str, str, str]] = []
+        self.rng = np.random.default_rng(seed)
+
+    def record(self, kind: str, name: str, detail: str = "") -> None:
+        self.records.append((kind, name, detail))
 
     def fail(self, reason: str) -> None:
         self.failed = self.failed or reason
@@ -126,44 +132,56 @@ def test_parallel_of_open_ended_members_keeps_running():
     assert running_open(root)
 
 
-def test_one_of_is_a_race_first_success_wins():
+def test_one_of_a_waiting_member_ends_the_acting_one():
+    """The paper's idiom: `one_of: drive() / wait fall(...)`; the wait ends it."""
     drive = script("drive", then=R)
     wait = script("wait", R, R, S)
-    root = OneOf("one_of", [drive, wait])
-    assert table(root, [drive, wait], 3) == [
+    root = OneOf("one_of", [drive, wait], acting=[True, False])
+    assert table(root, [drive, wait], 3, FakeContext()) == [
         "R R R",
         "R R R",
-        "S - S",  # the loser is stopped
+        "S - S",  # the acting member is stopped
     ]
     assert root.winner is wait
 
 
-def test_one_of_first_member_wins_a_tie():
-    a, b = script("a", R, S), script("b", R, S, then=F)
-    root = OneOf("one_of", [a, b])
-    assert table(root, [a, b], 2) == [
-        "R R R",
-        "S S -",  # b is not ticked once a has won
-    ]
+@pytest.mark.parametrize("seed", range(6))
+def test_one_of_runs_exactly_one_acting_member_chosen_by_the_seed(seed):
+    a, b = script("a", R, S), script("b", R, S)
+    ctx = FakeContext(seed)
+    root = OneOf("one_of", [a, b], acting=[True, True])
+    rows = table(root, [a, b], 2, ctx)
+    chosen = root.chosen
+    assert chosen in (a, b)
+    other = b if chosen is a else a
+    column = 1 if chosen is a else 2
+    assert [row.split()[column] for row in rows] == ["R", "S"]
+    assert {row.split()[3 - column] for row in rows} == {"-"}  # never started
+    assert ctx.records == [("choice", "one_of", f"member {column} of 2: {chosen.name}")]
+    assert other.status == Status.INVALID
 
 
-def test_one_of_member_that_fails_drops_out():
-    a = script("a", F)
-    b = script("b", R, S)
-    root = OneOf("one_of", [a, b])
-    assert table(root, [a, b], 2) == [
-        "R F R",
-        "S F S",
-    ]
+def test_one_of_choices_spread_over_seeds():
+    chosen = set()
+    for seed in range(20):
+        a, b = script("a", R), script("b", R)
+        root = OneOf("one_of", [a, b], acting=[True, True])
+        table(root, [a, b], 1, FakeContext(seed))
+        chosen.add(root.chosen.name)
+    assert chosen == {"a", "b"}
 
 
-def test_one_of_fails_when_every_member_failed():
-    a, b = script("a", R, F), script("b", F)
-    root = OneOf("one_of", [a, b])
-    assert table(root, [a, b], 2) == [
-        "R R F",
-        "F F F",
-    ]
+def test_one_of_fails_when_its_chosen_member_fails():
+    a = script("a", R, F)
+    wait = script("wait", then=R)
+    root = OneOf("one_of", [a, wait], acting=[True, False])
+    assert table(root, [a, wait], 2, FakeContext()) == ["R R R", "F F -"]
+
+
+def test_one_of_with_only_waiting_members_is_a_race():
+    a, b = script("a", R, S), script("b", R, R, S)
+    root = OneOf("one_of", [a, b], acting=[False, False])
+    assert table(root, [a, b], 2, FakeContext()) == ["R R R", "S S -"]
 
 
 def test_duration_ends_an_open_ended_child_at_the_upper_bound():
@@ -253,3 +271,37 @@ def test_composites_render_with_py_trees_glyphs():
         "    /_/ one_of [3]",
         "        --> b",
     ]
+
+
+@pytest.mark.parametrize("overlap", ["start", "any", "full"])
+def test_parallel_joins_on_every_member(overlap):
+    a, b = script("a", R, S), script("b", R, R, R, S)
+    root = Parallel("parallel", [a, b], overlap)
+    # Expect: done when the last member is done; a, done early, is not ticked again
+    assert table(root, [a, b], 4, FakeContext()) == ["R R R", "R S R", "R S R", "S S S"]
+
+
+@pytest.mark.parametrize("overlap", ["equal", "end", "final", "initial", "inside"])
+def test_parallel_ends_with_its_first_member_and_stops_open_ended_others(overlap):
+    first, other = script("first", R, S), script("drive", then=R)
+    other.endless = True
+    root = Parallel("parallel", [first, other], overlap)
+    assert table(root, [first, other], 2, FakeContext()) == ["R R R", "S S -"]
+
+
+@pytest.mark.parametrize("overlap", ["equal", "end", "final", "initial", "inside"])
+def test_parallel_fails_when_a_member_with_a_goal_is_stopped_by_the_first(overlap):
+    first, other = script("first", R, S), script("change_speed", then=R)
+    ctx = FakeContext()
+    root = Parallel("parallel", [first, other], overlap, "f.osc:4:9")
+    assert table(root, [first, other], 2, ctx) == ["R R R", "F S -"]
+    assert ctx.failed == (
+        f"f.osc:4:9: `change_speed` had not completed when the first member of "
+        f"`parallel(overlap: {overlap})` ended"
+    )
+
+
+def test_parallel_equal_holds_a_member_done_early_until_the_first_ends():
+    first, other = script("first", R, R, S), script("other", S)
+    root = Parallel("parallel", [first, other], "equal")
+    assert table(root, [first, other], 3, FakeContext()) == ["R R S", "R R S", "S S S"]

@@ -1,0 +1,96 @@
+"""Which scenario of a file is the one to run: the root of the invocation tree.
+
+The rule (the standard leaves the choice of the top-level scenario to the tool;
+``top`` is its convention in examples and in the migration guide): the scenario
+named by the user; else the scenario named ``top``; else the one scenario of
+the file that no other scenario of the file invokes. Anything else is an error
+that lists the choices. The runner and ``osc2check.solve`` share it.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.syntax import ast
+
+__all__ = ["RootScenarioError", "file_scenarios", "invoked_scenarios", "root_scenario"]
+
+TOP = "top"
+
+
+class RootScenarioError(Exception):
+    """No scenario, or no single one, to run; ``choices`` are the candidates."""
+
+    def __init__(self, message: str, choices: tuple[str, ...] = ()) -> None:
+        super().__init__(message)
+        self.choices = choices
+
+
+def file_scenarios(model: Model, declarations: tuple[ast.Node, ...]) -> list[Symbol]:
+    """The scenarios a file declares, in source order."""
+    found: list[Symbol] = []
+    for decl in declarations:
+        if isinstance(decl, ast.ScenarioDecl):
+            sym = model.declarations.get(decl)
+            if sym is not None and sym.kind is SymbolKind.SCENARIO:
+                found.append(sym)
+    return found
+
+
+def invoked_scenarios(model: Model, scenarios: list[Symbol]) -> set[Symbol]:
+    """The scenarios that one of ``scenarios`` invokes in its behaviour (directly)."""
+    invoked: set[Symbol] = set()
+    for scenario in scenarios:
+        decl = scenario.decl
+        if not isinstance(decl, ast.StructuredDecl):
+            continue
+        for member in decl.members:
+            if isinstance(member, (ast.DoDirective, ast.OnDirective)):
+                for inv in _invocations(member):
+                    target = model.reference(inv.name)
+                    if target is not None and target.kind is SymbolKind.SCENARIO:
+                        invoked.add(target)
+    return invoked
+
+
+def root_scenario(model: Model, scenarios: list[Symbol], name: str | None = None) -> Symbol:
+    """The scenario to run among ``scenarios`` (see the module docstring)."""
+    names = tuple(s.name for s in scenarios)
+    if name is not None:
+        for sym in scenarios:
+            if sym.name == name or sym.qualified_name == name:
+                return sym
+        raise RootScenarioError(f"no scenario `{name}`", names)
+    if not scenarios:
+        raise RootScenarioError("declares no scenario to run")
+    if len(scenarios) == 1:
+        return scenarios[0]
+    tops = [s for s in scenarios if s.name == TOP]
+    if len(tops) == 1:
+        return tops[0]
+    invoked = invoked_scenarios(model, scenarios)
+    roots = [s for s in scenarios if s not in invoked]
+    if len(roots) == 1:
+        return roots[0]
+    candidates = tuple(s.name for s in (roots or scenarios))
+    raise RootScenarioError(
+        "declares several scenarios that no other invokes and none named `top`", candidates
+    )
+
+
+def _invocations(node: ast.Node) -> Iterator[ast.Invocation]:
+    match node:
+        case ast.DoDirective():
+            yield from _invocations(node.member.body)
+        case ast.OnDirective():
+            for member in node.members:
+                yield from _invocations(member)
+        case ast.DoMember():
+            yield from _invocations(node.body)
+        case ast.Composition():
+            for member in node.members:
+                yield from _invocations(member.body)
+        case ast.Invocation():
+            yield node
