@@ -32,11 +32,9 @@ import py_trees
 
 from osc2check.analysis import Analysis, SourceInput, analyze
 from osc2check.diagnostics import Severity
-from osc2check.semantics.phases import time_zero
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
-from osc2check.syntax import ast
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
@@ -199,24 +197,11 @@ def prepare(
     specs, problems = start_specs(c.instance.actors, ctx.lanes)
     if problems:
         raise ScenarioError(problems, texts=c.analysis.texts)
-    do = next((m for m in _members(c) if isinstance(m, ast.DoDirective)), None)
-    if do is not None:  # the witness realised what begins at time 0
-        ctx.placed.update(time_zero(do.member.body).starts)
     world = World(ctx.road, specs, dt_control=dt_control, dt_physics=dt_physics)
     ctx.attach(world, controllers_for(world, ctx.road))
     for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
     return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world)
-
-
-def _members(c: Compiled) -> list[ast.Node]:
-    """The members of the scenario's declarations, supertypes first (its `do` is the last)."""
-    model = c.env.model
-    found: list[ast.Node] = []
-    for sym in reversed(list(model.ancestors(c.scenario))):
-        if isinstance(sym.decl, ast.StructuredDecl):
-            found.extend(sym.decl.members)
-    return list(reversed(found))
 
 
 # ---------------------------------------------------------------------- running

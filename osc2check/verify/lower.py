@@ -29,6 +29,7 @@ from fractions import Fraction
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, literal_number, physical_literal
+from osc2check.semantics.members import declaration_bodies
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -65,6 +66,16 @@ def _join(prefix: str, name: str) -> str:
     return f"{prefix}.{name}" if prefix else name
 
 
+def invocation_path(
+    prefix: str, actor_path: str | None, label: ast.Name | None, name: str, inv: ast.Invocation
+) -> str:
+    """The instance path of an invocation: under its actor (or the enclosing instance),
+    named by its label, else ``name@line`` (``hero.cut_in@12``). The witness names an
+    invoked scenario's parameters under it; the runner reads them there."""
+    own = label.text if label is not None else f"{name}@{inv.span.line}"
+    return _join(actor_path if actor_path else prefix, own)
+
+
 class Lowerer:
     def __init__(self, model: Model, problem: ir.ConstraintProblem, text_of, member_decls=None):
         self.model = model
@@ -80,6 +91,7 @@ class Lowerer:
         self.depth = 0
         self.active: list[Symbol] = []
         self.body = ""  # the declaration whose members are being lowered (C404 compares)
+        self.aliases: dict[str, str] = {}  # an invoked scenario's actor parameter -> the actor
 
     # ---- instances -----------------------------------------------------------------
 
@@ -267,22 +279,32 @@ class Lowerer:
             case ast.Invocation():
                 self._invocation(body, scope, member.label)
 
+    def instance_scope(
+        self, inv: ast.Invocation, scope: InstanceScope, label: ast.Name | None
+    ) -> tuple[Symbol, InstanceScope] | None:
+        """The behaviour an invocation invokes and the scope of its own members (its
+        instance's path: ``invocation_path``); None when it invokes nothing known."""
+        behaviour = self.model.references.get(inv.name)
+        if behaviour is None or not behaviour.kind.is_behaviour:
+            return None
+        actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
+        path = invocation_path(scope.prefix, actor_path, label, behaviour.name, inv)
+        return behaviour, InstanceScope(path, behaviour, path, behaviour, actor_path)
+
     def _invocation(
         self, inv: ast.Invocation, scope: InstanceScope, label: ast.Name | None
     ) -> None:
-        behaviour = self.model.references.get(inv.name)
-        if behaviour is None or not behaviour.kind.is_behaviour:
+        found = self.instance_scope(inv, scope, label)
+        if found is None:
             return
-        actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
-        name = label.text if label is not None else f"{behaviour.name}@{inv.span.line}"
-        path = _join(actor_path or scope.prefix, name) if actor_path else _join(scope.prefix, name)
-        body = InstanceScope(
-            path, behaviour, path, behaviour, actor_path
-        )  # the behaviour's own members
+        behaviour, body = found
+        path = body.prefix
         inner = InstanceScope(
             scope.prefix, scope.owner, path, behaviour, scope.actor, dict(scope.locals)
         )  # its `with:` block: `it` is the behaviour
         self._arguments(behaviour, inv.arguments, path, scope, "argument")
+        if behaviour.kind is SymbolKind.SCENARIO:
+            self._bind_actors(behaviour, inv.arguments, path, scope)
         if self.depth <= MAX_DEPTH and not behaviour.library:
             self.instances[path] = behaviour
             self._instance(behaviour, body)
@@ -295,6 +317,31 @@ class Lowerer:
                     if modifier is not None and modifier.kind is SymbolKind.MODIFIER:
                         mod_path = _join(path, f"{modifier.name}@{item.span.line}")
                         self._arguments(modifier, item.arguments, mod_path, scope, "modifier")
+
+    def _bind_actors(
+        self, scenario: Symbol, arguments: tuple[ast.Argument, ...], path: str, scope: InstanceScope
+    ) -> None:
+        """An invoked scenario's actor parameters given as arguments (``cut_in(car1: npc)``)
+        are the actors passed: their paths are aliases of the actors' own."""
+        params = self.model.parameters(scenario)
+        by_name = {p.name: p for p in params}
+        position = 0
+        for arg in arguments:
+            if isinstance(arg, ast.PositionalArgument):
+                if position >= len(params):
+                    continue
+                param = params[position]
+                position += 1
+            elif isinstance(arg, ast.NamedArgument) and arg.name.text in by_name:
+                param = by_name[arg.name.text]
+            else:
+                continue
+            target = _type_symbol(param)
+            if target is None or target.kind is not SymbolKind.ACTOR:
+                continue
+            actual = self._path(arg.value, scope)
+            if actual is not None:
+                self.aliases[_join(path, param.name)] = actual
 
     def _arguments(
         self, callee: Symbol, arguments, path: str, scope: InstanceScope, kind: str
@@ -426,7 +473,7 @@ class Lowerer:
                 if sym.kind is SymbolKind.GLOBAL:
                     return f"::{sym.name}"
                 if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
-                    return self._member_path(scope, sym)
+                    return self._aliased(self._member_path(scope, sym))
                 return None
             case ast.MemberAccess():
                 base = self._path(expr.target, scope)
@@ -441,8 +488,20 @@ class Lowerer:
                     target_type = self.model.expr_types.get(expr.target)
                     if target_type is not None and target_type.symbol is not None:
                         self._compound(base, target_type.symbol)
-                return _join(base, sym.name)
+                return self._aliased(_join(base, sym.name))
         return None
+
+    def _aliased(self, path: str) -> str:
+        """``path`` with an aliased prefix replaced (an actor passed to a scenario)."""
+        if not self.aliases:
+            return path
+        head = path
+        while True:
+            if head in self.aliases:
+                return self.aliases[head] + path[len(head) :]
+            if "." not in head:
+                return path
+            head = head.rsplit(".", 1)[0]
 
     def _member_path(self, scope: InstanceScope, sym: Symbol) -> str:
         """Path of field ``sym`` seen from ``scope``: a member of `it`'s type or of the owner."""
@@ -634,19 +693,9 @@ class Declarations(dict):
 
 
 def member_declarations(model: Model) -> Declarations:
-    """Each type's member lists: its declaration's body and every `extend` of it."""
+    """Each type's member lists (``semantics.members``), with room for the variable kinds."""
     result = Declarations()
-    chain = []
-    current: Model | None = model
-    while current is not None:
-        chain.append(current)
-        current = current.base
-    for m in reversed(chain):
-        for node, sym in m.declarations.items():
-            if isinstance(node, ast.StructuredDecl) and m.declarations.get(node) is sym:
-                result.setdefault(sym, []).insert(0, node.members)
-            elif isinstance(node, ast.ExtendDecl):
-                result.setdefault(sym, []).append(node.members)
+    result.update(declaration_bodies(model))
     return result
 
 

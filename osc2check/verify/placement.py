@@ -45,6 +45,7 @@ Conventions (shown in the witness):
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -52,10 +53,11 @@ from osc2check.road import Road, UnknownMapError, get_map
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.phases import modifier_timing, time_zero
-from osc2check.semantics.symbols import Symbol
+from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.lower import MAX_DEPTH, InstanceScope
 from osc2check.verify.room import motion_bounds
 from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
 
@@ -194,7 +196,8 @@ class PlacementLowerer:
         self.lateral: set[str] = set()  # actors with a lateral offset at the start
         self.moving: set[str] = set()  # actors given a speed at the start
         self.applied: set[int] = set()  # ids of the modifiers applied at the start
-        self.alternatives: list[ast.Invocation] = []  # time-0 invocations inside a one_of
+        self.alternatives: list[tuple[ast.Invocation, InstanceScope]] = []  # inside a one_of
+        self.scope = self._root_scope()  # the instance whose members are being placed
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
 
     def lower(self) -> StartPlacement | None:
@@ -218,22 +221,21 @@ class PlacementLowerer:
             placement.actors[param.name] = self._actor(param, kind, placement.road)
         first: set[str] = set()
         starts = self._start_invocations()
-        for inv in starts:  # which modifier kinds each actor gets `at: start`
-            actor = inv.actor.name.name.text if isinstance(inv.actor, ast.NameRef) else None
+        for inv, scope in starts:  # which modifier kinds each actor gets `at: start`
+            self.scope = scope
+            started = self._actor_at(inv, placement)
             for item in inv.with_members:
                 if (
                     isinstance(item, ast.Invocation)
                     and modifier_timing(self._args(item)) == "start"
                 ):
-                    self.explicit.add((actor, item.name.text))
-        for inv in starts:
+                    self.explicit.add((started.name if started else None, item.name.text))
+        for inv, scope in starts:
+            self.scope = scope
             self._modifiers(inv, placement, first)
-        for inv in self.alternatives:
-            actor = (
-                placement.actors.get(inv.actor.name.name.text)
-                if isinstance(inv.actor, ast.NameRef)
-                else None
-            )
+        for inv, scope in self.alternatives:
+            self.scope = scope
+            actor = self._actor_at(inv, placement)
             if actor is not None and any(
                 isinstance(m, ast.Invocation) and m.name.text in _POSITIONING
                 for m in inv.with_members
@@ -549,25 +551,86 @@ class PlacementLowerer:
 
     # ---- the invocations that begin at time 0 ------------------------------------------
 
-    def _start_invocations(self) -> list[ast.Invocation]:
-        found: list[ast.Invocation] = []
-        for members in self.lw.member_decls.get(self.scenario, []):
-            for member in members:
-                if isinstance(member, ast.DoDirective):
-                    zero = time_zero(member.member.body)
-                    found.extend(zero.starts)
-                    # alternatives of a one_of: none of them is known to run at time 0, so
-                    # none fixes a start; an actor one of them places counts as placed
-                    self.alternatives.extend(zero.alternatives)
+    def _root_scope(self) -> InstanceScope:
+        return InstanceScope("", self.scenario, "", self.scenario)
+
+    def _bodies(self, scenario: Symbol) -> list[ast.DoMember]:
+        return [
+            member.member
+            for members in self.lw.member_decls.get(scenario, [])
+            for member in members
+            if isinstance(member, ast.DoDirective)
+        ]
+
+    def _start_invocations(self) -> list[tuple[ast.Invocation, InstanceScope]]:
+        """The invocations that begin at time 0, each with the instance it belongs to:
+        the scenario's own, and those of the scenarios it invokes at time 0."""
+        found: list[tuple[ast.Invocation, InstanceScope]] = []
+        for member in self._bodies(self.scenario):
+            self._zero(member, self._root_scope(), found, 0)
         return found
+
+    def _zero(
+        self,
+        member: ast.DoMember,
+        scope: InstanceScope,
+        found: list[tuple[ast.Invocation, InstanceScope]],
+        depth: int,
+    ) -> None:
+        zero = time_zero(member.body)
+        labels = _labels(member)
+        for inv in zero.starts:
+            inner = self._invoked(inv, scope, labels, depth)
+            if inner is None:
+                found.append((inv, scope))
+            else:
+                for body in self._bodies(inner[0]):
+                    self._zero(body, inner[1], found, depth + 1)
+        # alternatives of a one_of: none of them is known to run at time 0, so none fixes a
+        # start; an actor one of them places counts as placed
+        self.alternatives.extend((inv, scope) for inv in zero.alternatives)
+
+    def _invoked(
+        self,
+        inv: ast.Invocation,
+        scope: InstanceScope,
+        labels: dict[int, ast.Name],
+        depth: int,
+    ) -> tuple[Symbol, InstanceScope] | None:
+        """The scenario an invocation invokes and its instance, or None (an action)."""
+        target = self.model.references.get(inv.name)
+        if target is None or target.kind is not SymbolKind.SCENARIO or target.library:
+            return None
+        if depth >= MAX_DEPTH:
+            return None
+        return self.lw.instance_scope(inv, scope, labels.get(id(inv)))
+
+    def _all_invocations(
+        self, member: ast.DoMember, scope: InstanceScope, depth: int = 0
+    ) -> Iterator[tuple[ast.Invocation, InstanceScope]]:
+        """Every invocation of a `do` tree, into the scenarios it invokes."""
+        labels = _labels(member)
+        for inv in _invocations(member.body):
+            inner = self._invoked(inv, scope, labels, depth)
+            if inner is None:
+                yield inv, scope
+            else:
+                for body in self._bodies(inner[0]):
+                    yield from self._all_invocations(body, inner[1], depth + 1)
+
+    def _actor_at(self, inv: ast.Invocation, placement: StartPlacement) -> PlacedActor | None:
+        """The placed actor an invocation is of, in the current instance."""
+        if inv.actor is None:
+            path = self.scope.actor
+        else:
+            path = self.lw._path(inv.actor, self.scope)
+        return placement.actors.get(path) if path is not None else None
 
     def _modifiers(self, inv: ast.Invocation, placement: StartPlacement, first: set[str]) -> None:
         """Apply the start modifiers of a time-0 invocation: those with `at: start`, and,
         in the actor's first invocation, those without `at` (`at: all` holds at the start
         too) unless a modifier of the same name gives the actor's start explicitly."""
-        if not isinstance(inv.actor, ast.NameRef):
-            return
-        actor = placement.actors.get(inv.actor.name.name.text)
+        actor = self._actor_at(inv, placement)
         if actor is None:
             return
         is_first = actor.name not in first
@@ -601,24 +664,21 @@ class PlacementLowerer:
     def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
         the vehicle reaches, whenever the phase runs."""
-        for members in self.lw.member_decls.get(self.scenario, []):
-            for member in members:
-                if not isinstance(member, ast.DoDirective):
+        for member in self._bodies(self.scenario):
+            for inv, scope in self._all_invocations(member, self._root_scope()):
+                self.scope = scope
+                actor = self._actor_at(inv, placement)
+                if actor is None:
                     continue
-                for inv in _invocations(member.member.body):
-                    if not isinstance(inv.actor, ast.NameRef):
-                        continue
-                    actor = placement.actors.get(inv.actor.name.name.text)
-                    if actor is None:
-                        continue
-                    actor.acts = True
-                    for item in inv.with_members:
-                        if (
-                            isinstance(item, ast.Invocation)
-                            and id(item) not in self.applied
-                            and item.name.text in ("lane", "speed")
-                        ):
-                            self._phase_limit(actor, item, placement)
+                actor.acts = True
+                for item in inv.with_members:
+                    if (
+                        isinstance(item, ast.Invocation)
+                        and id(item) not in self.applied
+                        and item.name.text in ("lane", "speed")
+                    ):
+                        self._phase_limit(actor, item, placement)
+        self.scope = self._root_scope()
 
     def _phase_limit(
         self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement
@@ -669,16 +729,11 @@ class PlacementLowerer:
                 bound[arg.name.text] = arg.value
         return bound
 
-    def _scope(self):
-        from osc2check.verify.lower import InstanceScope
-
-        return InstanceScope("", self.scenario, "", self.scenario)
-
     def _value(self, node: ast.Node) -> ir.Term | None:
         from osc2check.verify.lower import NotEncodable
 
         try:
-            return self.lw._term(node, self._scope())
+            return self.lw._term(node, self.scope)
         except NotEncodable as reason:
             self.problem.skipped.append((node.span, str(reason)))
             return None
@@ -686,14 +741,15 @@ class PlacementLowerer:
     def _reference(
         self, node: ast.Node | None, actor: PlacedActor, placement: StartPlacement, span: Span
     ) -> PlacedActor | None:
-        if not isinstance(node, ast.NameRef):
+        if not isinstance(node, (ast.NameRef, ast.MemberAccess)):
             return None
-        name = node.name.name.text
-        other = placement.actors.get(name)
+        path = self.lw._path(node, self.scope)
+        other = placement.actors.get(path) if path is not None else None
         if other is None:
-            placement.unplaced_references.append((node.span, actor.name, name))
+            written = node.name.name.text if isinstance(node, ast.NameRef) else str(path)
+            placement.unplaced_references.append((node.span, actor.name, written))
             return None
-        placement.edges.append((actor.name, name, span))
+        placement.edges.append((actor.name, other.name, span))
         return other
 
     def _require(self, term: ir.Term, item: ast.Invocation) -> None:
@@ -894,6 +950,20 @@ class PlacementLowerer:
                     known[v] = -rest / form[v]
                     changed = True
         return {owner[v]: value for v, value in known.items()}
+
+
+def _labels(member: ast.DoMember) -> dict[int, ast.Name]:
+    """The labels of the invocations of a `do` tree (``lbl: hero.cut_in()``), by node id:
+    an invoked scenario's instance is named by its label."""
+    found: dict[int, ast.Name] = {}
+    stack = [member]
+    while stack:
+        m = stack.pop()
+        if m.label is not None and isinstance(m.body, ast.Invocation):
+            found[id(m.body)] = m.label
+        if isinstance(m.body, ast.Composition):
+            stack.extend(m.body.members)
+    return found
 
 
 def _invocations(body):

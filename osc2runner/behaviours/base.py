@@ -109,6 +109,7 @@ class ActionUse:
     modifiers: list[Modifier] = field(default_factory=list)
     duration: Callable[[], tuple[float | None, float | None]] | None = None
     behaviour: type | None = None  # the registered class
+    starts_scenario: bool = False  # begins at time 0: the witness realised its `at: start`
 
     @property
     def label(self) -> str:
@@ -271,7 +272,7 @@ class ActionBehaviour(ScenarioBehaviour):
         if self.use.duration is not None:
             low, high = self.use.duration()
             self.phase = high if high is not None else low
-        self.at_scenario_start = ctx.tick == 0 and self.use.node in ctx.placed
+        self.at_scenario_start = ctx.tick == 0 and self.use.starts_scenario
         self.ended_on_time = False
         ctx.record("start", self.use.label, actors=(self.actor.name,))
         self._failure: str | None = None

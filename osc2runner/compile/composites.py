@@ -36,6 +36,7 @@ from py_trees.common import ParallelPolicy, Status
 
 __all__ = [
     "DurationBound",
+    "InvokedScenario",
     "Labelled",
     "OneOf",
     "Parallel",
@@ -289,13 +290,19 @@ class OneOf(_Fast, py_trees.composites.Parallel):
         py_trees.composites.Composite.stop(self, new_status)
 
 
+def _behaviour_of(node: Behaviour) -> list[Behaviour]:
+    """The children that make ``node``'s behaviour (a scenario's ``do``, not its handlers)."""
+    do = getattr(node, "do", None)
+    return [do] if do is not None else list(node.children)
+
+
 def may_be_open(node: Behaviour) -> bool:
     """Whether ``node`` has open-ended leaves outside bounds (see :func:`running_open`)."""
     if getattr(node, "open_ended", False):
         return True
     if isinstance(node, py_trees.decorators.Decorator) and not isinstance(node, Labelled):
         return False
-    return any(may_be_open(c) for c in node.children)
+    return any(may_be_open(c) for c in _behaviour_of(node))
 
 
 def running_open(node: Behaviour) -> bool:
@@ -310,7 +317,7 @@ def running_open(node: Behaviour) -> bool:
         return True
     if isinstance(node, py_trees.decorators.Decorator) and not isinstance(node, Labelled):
         return False
-    running = [c for c in node.children if c.status == RUNNING]
+    running = [c for c in _behaviour_of(node) if c.status == RUNNING]
     return bool(running) and all(running_open(c) for c in running)
 
 
@@ -399,7 +406,7 @@ def running_endless(node: Behaviour) -> bool:
         return False
     if getattr(node, "endless", False):
         return True
-    running = [c for c in node.children if c.status == RUNNING]
+    running = [c for c in _behaviour_of(node) if c.status == RUNNING]
     return bool(running) and all(running_endless(c) for c in running)
 
 
@@ -449,12 +456,18 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
     predefined events ``start`` and ``end`` (or ``fail``) are emitted here.
     """
 
-    def __init__(self, name: str, do: Behaviour, handlers: Sequence[Behaviour] = ()) -> None:
+    def __init__(
+        self, name: str, do: Behaviour, handlers: Sequence[Behaviour] = (), path: str = ""
+    ) -> None:
         super().__init__(
             name, policy=ParallelPolicy.SuccessOnSelected(children=[do]), children=[do, *handlers]
         )
         self.do = do
+        self.path = path  # the instance's path: its events are `<path>.start` ...
         self.ctx: Any = None
+
+    def _event(self, name: str) -> str:
+        return f"{self.path}.{name}" if self.path else name
 
     def setup(self, **kwargs: Any) -> None:
         self.ctx = kwargs.get("context", self.ctx)
@@ -463,7 +476,7 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
         if self.status != RUNNING:
             _reset(self.children)
             if self.ctx is not None:
-                self.ctx.emit("start", kind="start")
+                self.ctx.emit(self._event("start"), kind="start")
         for child in self.children[1:]:
             tick_child(child)
         status = tick_child(self.do)
@@ -472,6 +485,11 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
             return RUNNING
         if self.ctx is not None:
             end = status == SUCCESS
-            self.ctx.emit("end" if end else "fail", kind="end" if end else "fail")
+            self.ctx.emit(self._event("end" if end else "fail"), kind="end" if end else "fail")
         self.stop(status)
         return status
+
+
+class InvokedScenario(ScenarioRoot):
+    """A scenario invoked by another: its instance's ``do`` and ``on`` handlers, with its
+    events ``<path>.start``, ``<path>.end`` (or ``.fail``); it ends with its ``do``."""

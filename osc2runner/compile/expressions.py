@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import operator
 from collections.abc import Callable
+from dataclasses import dataclass, field
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
@@ -29,17 +30,44 @@ from osc2runner.instance.actors import Actor
 if TYPE_CHECKING:
     from osc2runner.compile.environment import CompileEnvironment
 
-__all__ = ["Closure", "ExpressionCompiler", "Bindings", "PositionOf", "constant"]
+__all__ = ["Bindings", "Closure", "ExpressionCompiler", "Frame", "PositionOf", "constant"]
 
 Closure = Callable[[], Any]
 
 
-class Bindings:
-    """Names bound while compiling: ``it``, ``actor``, event ``as`` aliases, method parameters."""
+@dataclass
+class Frame:
+    """One scenario instance being compiled: the root scenario, or one that it invokes.
 
-    def __init__(self, parent: Bindings | None = None, **bindings: Closure) -> None:
+    ``path`` names the instance as the checker's witness does (``""`` for the root,
+    ``hero.cut_in@12`` for an invocation: ``osc2check.verify.lower.invocation_path``);
+    ``fields`` are the closures of the instance's own parameters, actor parameters
+    and variables; ``at_start`` the invocations of its behaviour that begin at time 0
+    (the witness realised their ``at: start`` modifiers).
+    """
+
+    path: str
+    scenario: Symbol
+    fields: dict[Symbol, Closure] = field(default_factory=dict)
+    actor: Closure | None = None
+    at_start: frozenset[ast.Node] = frozenset()
+    parent: Frame | None = None
+
+    def qualified(self, name: str) -> str:
+        """A name of this instance (a variable's, an event's) unique among instances."""
+        return f"{self.path}.{name}" if self.path else name
+
+
+class Bindings:
+    """Names bound while compiling: ``it``, ``actor``, event ``as`` aliases, method
+    parameters, and the scenario instance (``frame``) being compiled."""
+
+    def __init__(
+        self, parent: Bindings | None = None, frame: Frame | None = None, **bindings: Closure
+    ) -> None:
         self.parent = parent
         self.bindings = dict(bindings)
+        self.frame = frame if frame is not None else (parent.frame if parent else None)
 
     def lookup(self, name: str) -> Closure | None:
         scope: Bindings | None = self
@@ -181,6 +209,13 @@ class ExpressionCompiler:
             return bound
         if sym is None:
             raise CompileProblem(f"`{name.text}` has no meaning here for the runner", e)
+        frame = scope.frame
+        while frame is not None:  # an instance's own fields, then its invoker's
+            if sym in frame.fields:
+                return frame.fields[sym]
+            frame = frame.parent
+        if name.text == "actor" and scope.frame is not None and scope.frame.actor is not None:
+            return scope.frame.actor
         return self.symbol_value(sym, e)
 
     def symbol_value(self, sym: Symbol, node: ast.Node) -> Closure:

@@ -19,14 +19,18 @@ from typing import Any
 
 import py_trees
 
+from osc2check.semantics import types as T
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
+from osc2check.semantics.members import declaration_bodies
 from osc2check.semantics.phases import time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
+from osc2check.verify.lower import invocation_path
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
     DurationBound,
+    InvokedScenario,
     Labelled,
     OneOf,
     Parallel,
@@ -47,7 +51,7 @@ from osc2runner.compile.conditions import (
     emit_now,
 )
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.expressions import Bindings, Closure, constant, is_constant
+from osc2runner.compile.expressions import Bindings, Closure, Frame, constant, is_constant
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
@@ -148,6 +152,9 @@ class TreeCompiler:
         self.problems: list[RunProblem] = []
         self.notes: list[str] = []
         self.uses: dict[ast.Invocation, tuple[ActionUse, type]] = {}
+        self.labels: dict[int, ast.Name] = {}  # the label of an invocation, by node id
+        self.invoking: list[Symbol] = []  # the scenarios being compiled, outermost first
+        self._argument_scope: dict[int, Bindings] = {}
 
     # ---- helpers
 
@@ -201,12 +208,18 @@ class TreeCompiler:
                             f"line {member.span.line}: coverage "
                             f"({member.kind}) is not collected by the runner"
                         )
+        frame = Frame(
+            "",
+            scenario,
+            at_start=frozenset(time_zero(do.member.body).starts) if do else frozenset(),
+        )
+        self.invoking.append(scenario)
         if do is None:
             main: py_trees.behaviour.Behaviour = Serial("do (empty)")
         else:
-            main = self._guard(lambda: self.do_member(do.member, Bindings()), do) or self._failed(
-                "do"
-            )
+            main = self._guard(
+                lambda: self.do_member(do.member, Bindings(frame=frame)), do
+            ) or self._failed("do")
         root = ScenarioRoot(
             node_name(f"scenario {scenario.name}", scenario.decl or do or ast.Missing(_no_span())),
             main,
@@ -269,6 +282,8 @@ class TreeCompiler:
     def do_member(self, member: ast.DoMember, scope: Bindings) -> py_trees.behaviour.Behaviour:
         body = member.body
         node: py_trees.behaviour.Behaviour
+        if member.label is not None and not member.label.missing:
+            self.labels[id(body)] = member.label
         try:
             match body:
                 case ast.Composition():
@@ -396,18 +411,10 @@ class TreeCompiler:
         if sym is None:
             raise CompileProblem(f"`{inv.name.text}` is not a behaviour the runner knows", inv)
         if sym.kind is SymbolKind.SCENARIO:
-            raise CompileProblem(
-                f"invoking the scenario `{sym.name}` from another scenario is "
-                "not supported by the runner yet",
-                inv,
-            )
+            return self.scenario_invocation(inv, sym, scope)
         if sym.kind is not SymbolKind.ACTION:
             raise CompileProblem(f"`{inv.name.text}` is a {sym.kind.value}, not an action", inv)
-        if inv.actor is None:
-            raise CompileProblem(
-                f"`{inv.name.text}()` needs an actor (`hero.{inv.name.text}()`)", inv
-            )
-        actor = self.env.compiler.constant_value(inv.actor, scope)
+        actor = self._actor(inv, scope)
         if not isinstance(actor, Actor):
             raise CompileProblem(
                 "the actor of an action must be an actor field of the scenario", inv.actor
@@ -441,6 +448,7 @@ class TreeCompiler:
             arguments,
             modifiers,
             self._bounds(self.env.compile(duration, inner)) if duration else None,
+            starts_scenario=scope.frame is not None and inv in scope.frame.at_start,
         )
         cls = entry.target
         use.behaviour = cls
@@ -449,6 +457,150 @@ class TreeCompiler:
         behaviour.endless = not cls.finite
         self.uses[inv] = (use, cls)
         return self._wrap(behaviour, inv, duration, untils, inner)
+
+    def _actor(self, inv: ast.Invocation, scope: Bindings) -> Actor:
+        """The actor an invocation is of: written, or the actor of the enclosing
+        actor-associated scenario."""
+        if inv.actor is None:
+            implicit = scope.lookup("actor")
+            value = implicit() if implicit is not None and is_constant(implicit) else None
+            if not isinstance(value, Actor):
+                raise CompileProblem(
+                    f"`{inv.name.text}()` needs an actor (`hero.{inv.name.text}()`)", inv
+                )
+            return value
+        actor = self.env.compiler.constant_value(inv.actor, scope)
+        if not isinstance(actor, Actor):
+            raise CompileProblem(
+                "the actor of an action must be an actor field of the scenario", inv.actor
+            )
+        return actor
+
+    def scenario_invocation(
+        self, inv: ast.Invocation, sym: Symbol, scope: Bindings
+    ) -> py_trees.behaviour.Behaviour:
+        """An invoked scenario, compiled in place as an instance of its own (§7.3.8).
+
+        Its parameters take the witness's values at the instance's path; its actor
+        parameters are the actors its arguments pass; ``actor`` is the invoking actor
+        of an actor-associated scenario. ``duration``, ``until`` and the invocation's
+        label apply as to any invocation; recursion is refused with its cycle.
+        """
+        if sym in self.invoking:
+            cycle = " -> ".join(s.name for s in [*self.invoking[self.invoking.index(sym) :], sym])
+            raise CompileProblem(f"scenario `{sym.name}` invokes itself ({cycle})", inv)
+        outer = scope.frame
+        assert outer is not None
+        actor: Actor | None = None
+        if inv.actor is not None:
+            actor = self._actor(inv, scope)
+        elif sym.actor is not None:
+            implicit = scope.lookup("actor")
+            value = implicit() if implicit is not None and is_constant(implicit) else None
+            actor = value if isinstance(value, Actor) else None
+        path = invocation_path(
+            outer.path, actor.name if actor else None, self.labels.get(id(inv)), sym.name, inv
+        )
+        given, duration = self._scenario_arguments(sym, inv, scope)
+        fields: dict[Symbol, Closure] = {}
+        for param in self.model.all_members(sym):
+            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE):
+                continue
+            fields[param] = self._instance_field(param, path, given, inv)
+        bodies = declaration_bodies(self.model).get(sym, [])
+        do = next(
+            (m for members in bodies for m in members if isinstance(m, ast.DoDirective)), None
+        )
+        at_start: frozenset[ast.Node] = frozenset()
+        if do is not None and outer is not None and inv in outer.at_start:
+            at_start = frozenset(time_zero(do.member.body).starts)
+        frame = Frame(path, sym, fields, constant(actor) if actor else None, at_start, parent=outer)
+        inner = Bindings(frame=frame, **({"actor": constant(actor)} if actor else {}))
+        self.invoking.append(sym)
+        try:
+            main = (
+                self.do_member(do.member, inner)
+                if do is not None
+                else Serial(node_name(f"{sym.name} (empty)", inv))
+            )
+            handlers = [
+                self.on(m) for members in bodies for m in members if isinstance(m, ast.OnDirective)
+            ]
+        finally:
+            self.invoking.pop()
+        for event in ("start", "end", "fail"):
+            self.run.declare_event(frame.qualified(event))
+        node: py_trees.behaviour.Behaviour = InvokedScenario(
+            node_name(f"{actor.name + '.' if actor else ''}{sym.name}()", inv),
+            main,
+            handlers,
+            path,
+        )
+        untils: list[ast.Until] = []
+        for wm in inv.with_members:
+            if isinstance(wm, ast.Until):
+                untils.append(wm)
+            elif isinstance(wm, ast.Invocation):
+                raise CompileProblem(
+                    f"`{self._text(wm)}`: modifiers of a scenario invocation are not supported "
+                    "by the runner",
+                    wm,
+                )
+        return self._wrap(node, inv, duration, untils, scope)
+
+    def _scenario_arguments(
+        self, sym: Symbol, inv: ast.Invocation, scope: Bindings
+    ) -> tuple[dict[str, ast.Node], ast.Node | None]:
+        """The arguments of a scenario invocation by parameter name, and its duration."""
+        params = [p.name for p in self.model.parameters(sym)]
+        given: dict[str, ast.Node] = {}
+        duration: ast.Node | None = None
+        position = 0
+        for arg in inv.arguments:
+            if isinstance(arg, ast.NamedArgument):
+                if arg.name.text == "duration" and "duration" not in params:
+                    duration = arg.value
+                else:
+                    given[arg.name.text] = arg.value
+            elif isinstance(arg, ast.PositionalArgument) and position < len(params):
+                given[params[position]] = arg.value
+                position += 1
+        self._argument_scope[id(inv)] = scope
+        return given, duration
+
+    def _instance_field(
+        self, param: Symbol, path: str, given: dict[str, ast.Node], inv: ast.Invocation
+    ) -> Closure:
+        """The closure of one field of an invoked scenario's instance."""
+        scope = self._argument_scope[id(inv)]
+        t = param.type
+        if t is not None and t.kind is T.Kind.COMPOUND and t.symbol is not None:
+            if t.symbol.kind is SymbolKind.ACTOR:
+                if param.name not in given:
+                    raise CompileProblem(
+                        f"the runner needs the actor parameter `{param.name}` of "
+                        f"`{param.owner.name if param.owner else ''}` passed as an argument "
+                        f"(`{param.name}: <an actor>`)",
+                        inv,
+                    )
+                value = self.env.compiler.constant_value(given[param.name], scope)
+                if not isinstance(value, Actor):
+                    raise CompileProblem(f"`{param.name}` must be given an actor", inv)
+                return constant(value)
+        if param.kind is SymbolKind.VARIABLE:
+            store, key = self.run.variables, f"{path}.{param.name}"
+            if param.default is not None:
+                self.env.variable_inits.append((key, self.env.compile(param.default, Bindings())))
+            return lambda: store[key]
+        try:
+            return constant(to_runtime(self.env.values.value_at(path, param)))
+        except NotConstant:
+            if param.name in given:
+                return self.env.compile(given[param.name], scope)
+            raise CompileProblem(
+                f"`{param.name}` of the invoked scenario has no value in the checker's witness",
+                inv,
+            ) from None
 
     def _arguments(
         self,

@@ -161,7 +161,6 @@ class RunContext:
         self.controllers: dict[str, Any] = {}
         self.states: dict[str, ActorState] = {}
         self.variables: dict[str, Any] = {}
-        self.placed: set[ast.Node] = set()  # invocations the witness realised at time 0
         self.detectors: list[EdgeDetector] = []
         self.periodic: list[PeriodicDetector] = []
         self.records: list[LogRecord] = []

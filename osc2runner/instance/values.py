@@ -69,6 +69,15 @@ class ScenarioValues:
             )
         return exact(p.value, field.type, self.model)
 
+    def value_at(self, path: str, field: Symbol) -> Value:
+        """The value of a parameter of an invoked scenario's instance (``hero.cut_in@12.gap``)."""
+        p = self._by_name.get(f"{path}.{field.name}" if path else field.name)
+        if p is None:
+            raise NotConstant(
+                f"the checker's witness gives `{field.name}` of `{path}` no value", field.decl
+            )
+        return exact(p.value, field.type, self.model)
+
     def attribute(self, actor: Symbol, member: str) -> Value | None:
         """An actor field's attribute that a constraint decides (``keep(it.model ==
         ...)``), or None: attributes nothing constrains are not chosen by the solver."""

@@ -1,0 +1,35 @@
+"""The member lists of every declared type: its declaration's body and each ``extend`` of it.
+
+A scenario, actor or struct is written once and may be extended (``extend
+cut_in: ...``) in the same file or another; what it is, is all of those member
+lists together, the declaration's first. Lowering (the solver's view) and the
+runner's compiler both read it from here.
+"""
+
+from __future__ import annotations
+
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol
+from osc2check.syntax import ast
+
+__all__ = ["declaration_bodies"]
+
+MemberList = tuple[ast.Node, ...]
+
+
+def declaration_bodies(model: Model) -> dict[Symbol, list[MemberList]]:
+    """Each type's member lists (the library's types too): its declaration's body first,
+    then every ``extend`` of it in declaration order."""
+    result: dict[Symbol, list[MemberList]] = {}
+    chain = []
+    current: Model | None = model
+    while current is not None:
+        chain.append(current)
+        current = current.base
+    for m in reversed(chain):
+        for node, sym in m.declarations.items():
+            if isinstance(node, ast.StructuredDecl) and m.declarations.get(node) is sym:
+                result.setdefault(sym, []).insert(0, node.members)
+            elif isinstance(node, ast.ExtendDecl):
+                result.setdefault(sym, []).append(node.members)
+    return result
