@@ -64,7 +64,7 @@ def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[in
     """``(start, end)`` tick indices of each stop: brake applied after ``quiet`` s without,
     while moving, until standstill."""
     brake, speed, time = ch["brake"], ch["speed"], ch["time"]
-    segments = []
+    segments: list[tuple[int, int]] = []
     last_free = 0.0
     i, n = 0, len(time)
     while i < n:
