@@ -170,6 +170,9 @@ def _main(args_list: list[str]) -> int:
     except ScenarioError as exc:
         _print_input_errors(exc, sys.stderr)
         return EXIT_ERROR
+    except OptionError as exc:  # --out changed under the run
+        sys.stderr.write(f"osc2run: error: {_one_line(exc.cli)}\n")
+        return EXIT_ERROR
     except Exception as exc:  # the one guard of this entry point
         if args.debug:
             traceback.print_exc(file=sys.stderr)

@@ -5,12 +5,14 @@ from __future__ import annotations
 import csv
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
 
 from osc2check.road import get_map
 from osc2runner import run
+from osc2runner import runner as runner_module
 from osc2runner.cli import main
 from osc2runner.errors import ScenarioError
 from osc2runner.sim import ActorSpec, PedestrianInput, PedestrianParams, World, sedan
@@ -170,3 +172,18 @@ def test_the_world_names_a_pedestrian_with_a_non_finite_state():
     world.step_control()
     found = world.diverged()
     assert found is not None and found[0] == "walker" and "speed nan" in found[1]
+
+
+def test_a_start_that_is_not_finite_is_an_error_before_the_first_tick(tmp_path, monkeypatch):
+    real_specs = runner_module.start_specs
+
+    def nan_speed(*args, **kwargs):
+        specs, problems = real_specs(*args, **kwargs)
+        return [s if s.name != "npc" else replace(s, speed=math.nan) for s in specs], problems
+
+    monkeypatch.setattr(runner_module, "start_specs", nan_speed)
+    result = run(_write(tmp_path, TWO_CARS))
+    assert result.outcome.status == "error" and result.outcome.tick == 0
+    assert (
+        "`npc`: non-finite state" in result.outcome.reason and "speed nan" in result.outcome.reason
+    )
