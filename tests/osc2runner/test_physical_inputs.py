@@ -115,6 +115,7 @@ def _rows(path: Path) -> list[dict[str, str]]:
 def test_a_diverged_physics_ends_the_run_as_error_and_writes_the_files(
     tmp_path, capsys, monkeypatch
 ):
+    monkeypatch.chdir(tmp_path)  # MuJoCo writes its warning to MUJOCO_LOG.TXT in the cwd
     real_step = World.step_control
 
     def step_into_nan(self: World, inputs=None):  # the physics blows up at tick 30
