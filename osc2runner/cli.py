@@ -2,9 +2,12 @@
 
 Exit status: 0 when the scenario ends successfully; 1 when it fails (a failed
 phase, the ``fail`` event, a collision, the time limit with bounded phases
-still running); 2 for input errors (the checker's error diagnostics or the
-runner's own problems are printed, and nothing runs) and internal errors;
-130 when interrupted (what was recorded is written first).
+still running); 2 for usage errors (one line ``osc2run: error: ...``; a bad
+option or ``--out`` is found before the checker runs), input errors (the
+checker's error diagnostics or the runner's own problems are printed, and
+nothing runs), a run whose physics diverged (outcome ``error``, files written)
+and internal errors; 128 + the signal's number when SIGINT (130), SIGTERM
+(143) or SIGHUP (129) interrupted it (what was recorded is written first).
 
 On a terminal a progress bar shows simulated time and the real-time factor;
 otherwise one summary is printed at the end.
@@ -17,62 +20,147 @@ import logging
 import os
 import sys
 import traceback
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, TextIO
+from typing import Any, NoReturn, TextIO
 
 from osc2runner.errors import ScenarioError
+from osc2runner.execution.signals import SignalInterrupt, exit_status, raising, signal_name
+from osc2runner.options import OptionError, check_out, check_seed, check_steps, check_time
 
-__all__ = ["EXIT_ERROR", "EXIT_FAILURE", "EXIT_INTERRUPTED", "EXIT_OK", "build_parser", "main"]
+__all__ = [
+    "EXIT_ERROR",
+    "EXIT_FAILURE",
+    "EXIT_INTERRUPTED",
+    "EXIT_OK",
+    "UsageError",
+    "build_parser",
+    "main",
+]
 
 EXIT_OK, EXIT_FAILURE, EXIT_ERROR, EXIT_INTERRUPTED = 0, 1, 2, 130
 
 
+class UsageError(Exception):
+    """A bad command line (exit status 2, one line ``osc2run: error: ...``)."""
+
+
+class _ArgumentParser(argparse.ArgumentParser):
+    """argparse that reports a bad command line as one line, ``osc2run: error: ...``."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(message)
+
+
+def _checked(text: str | None, parse: Callable[[str], Any], check: Callable[[Any], Any]) -> Any:
+    """An option's text parsed and checked; an OptionError quotes the text as given."""
+    if text is None:
+        return None
+    try:
+        value: Any = parse(text)
+    except ValueError:
+        value = text
+    try:
+        return check(value)
+    except OptionError as exc:
+        raise OptionError(exc.name, text, exc.why) from None
+
+
 def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(
+    p = _ArgumentParser(
         prog="osc2run",
         description="Run an ASAM OpenSCENARIO DSL 2.x scenario in the MuJoCo world.",
-        epilog="exit status: 0 success, 1 scenario failed, 2 input or internal error, "
-        "130 interrupted",
+        epilog="exit status: 0 success, 1 scenario failed, 2 usage, input or internal error "
+        "or diverged physics, 128 + N stopped by signal N (130 SIGINT, 143 SIGTERM, "
+        "129 SIGHUP); what was recorded is written first",
     )
     p.add_argument("file", metavar="FILE", help="the .osc file")
     p.add_argument("--scenario", metavar="NAME", help="the scenario to run (when several)")
-    p.add_argument("--seed", type=int, default=0, metavar="N", help="seed of the run (default 0)")
     p.add_argument(
-        "--duration", type=float, metavar="T", help="time limit in simulated seconds (default 600)"
+        "--seed",
+        default="0",
+        metavar="N",
+        help="seed of the run, a non-negative integer (default 0)",
     )
-    p.add_argument("--out", metavar="DIR", help="write telemetry.csv, events.csv, run.json here")
+    p.add_argument(
+        "--duration",
+        metavar="T",
+        help="time limit in simulated seconds, positive (default 600)",
+    )
+    p.add_argument(
+        "--out",
+        metavar="DIR",
+        help="write telemetry.csv, events.csv, run.json here (created when missing; checked "
+        "before anything runs)",
+    )
     p.add_argument("--plot", action="store_true", help="also write PNG plots (needs --out)")
     p.add_argument(
         "--dt-control",
-        type=float,
-        default=0.05,
+        default="0.05",
         metavar="S",
-        help="control period: one tree tick (default 0.05)",
+        help="control period: one tree tick (default 0.05); a whole multiple of --dt-physics",
     )
     p.add_argument(
-        "--dt-physics", type=float, default=0.002, metavar="S", help="physics step (default 0.002)"
+        "--dt-physics",
+        default="0.002",
+        metavar="S",
+        help="physics step (default 0.002)",
     )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
 
 
+def _parse(argv: list[str]) -> argparse.Namespace:
+    """The command line, every option checked (UsageError, OptionError)."""
+    args = build_parser().parse_args(argv)
+    if args.plot and not args.out:
+        raise UsageError("--plot needs --out DIR")
+    args.seed = _checked(args.seed, int, check_seed)
+    args.duration = _checked(args.duration, float, lambda v: check_time("duration", v))
+    control = _checked(args.dt_control, float, lambda v: check_time("dt_control", v))
+    physics = _checked(args.dt_physics, float, lambda v: check_time("dt_physics", v))
+    try:
+        check_steps(control, physics)
+    except OptionError as exc:
+        given = {"dt_control": args.dt_control, "dt_physics": args.dt_physics}
+        raise OptionError(exc.name, given[exc.name], exc.why) from None
+    args.dt_control, args.dt_physics = control, physics
+    if args.out is not None:
+        args.out = check_out(args.out)  # a bad --out is found before the checker runs
+    return args
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``) and return the exit status."""
     args_list = list(sys.argv[1:] if argv is None else argv)
     try:
-        args = build_parser().parse_args(args_list)
-    except SystemExit as exc:
+        with raising():
+            return _main(args_list)
+    except SignalInterrupt as exc:  # outside the run's loop (the checker, a summary)
+        sys.stderr.write(f"osc2run: interrupted by {signal_name(exc.signum)}\n")
+        return exit_status(exc.signum)
+    except KeyboardInterrupt:
+        sys.stderr.write("osc2run: interrupted\n")
+        return EXIT_INTERRUPTED
+
+
+def _main(args_list: list[str]) -> int:
+    try:
+        args = _parse(args_list)
+    except SystemExit as exc:  # --help, --version
         return exc.code if isinstance(exc.code, int) else EXIT_ERROR
+    except UsageError as exc:
+        sys.stderr.write(f"osc2run: error: {_one_line(str(exc))}\n")
+        return EXIT_ERROR
+    except OptionError as exc:
+        sys.stderr.write(f"osc2run: error: {_one_line(exc.cli)}\n")
+        return EXIT_ERROR
     logging.basicConfig(
         level=logging.DEBUG if args.debug else logging.WARNING,
         format="osc2run: %(levelname)s: %(name)s: %(message)s",
         stream=sys.stderr,
     )
-    if args.plot and not args.out:
-        sys.stderr.write("osc2run: error: --plot needs --out DIR\n")
-        return EXIT_ERROR
     try:
         return _run(args, sys.stdout, sys.stderr)
     except BrokenPipeError:  # the reader went away (`osc2run ... | head`): stop quietly
@@ -81,6 +169,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_FAILURE
     except ScenarioError as exc:
         _print_input_errors(exc, sys.stderr)
+        return EXIT_ERROR
+    except OptionError as exc:  # --out changed under the run
+        sys.stderr.write(f"osc2run: error: {_one_line(exc.cli)}\n")
         return EXIT_ERROR
     except Exception as exc:  # the one guard of this entry point
         if args.debug:
@@ -111,9 +202,9 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
             result = execute(prepared, out=args.out, duration=args.duration, plot=args.plot)
     except RunInterrupted as exc:
         _summary(exc.result, out)
-        return EXIT_INTERRUPTED
+        return exit_status(exc.signum)
     _summary(result, out)
-    if result.outcome.status == "error":  # pragma: no cover - execute re-raises errors
+    if result.outcome.status == "error":  # the physics diverged (a bug is re-raised)
         return EXIT_ERROR
     return EXIT_OK if result.success else EXIT_FAILURE
 
@@ -161,6 +252,10 @@ def _summary(result: Any, out: TextIO) -> None:
     for path in result.outputs:
         out.write(f"  wrote {path}\n")
     out.flush()
+
+
+def _one_line(message: str) -> str:
+    return " ".join(message.split())
 
 
 def _problem(message: str) -> Any:

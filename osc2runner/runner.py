@@ -16,7 +16,14 @@ Outcomes: ``success`` (the scenario's behaviour succeeded, or only open-ended
 actions were still running at the time limit), ``failure`` (a failed phase, the
 ``fail`` event, a collision no ``avoid_collisions(false)`` allowed),
 ``timeout`` (the time limit with bounded phases still running),
-``interrupted``, ``error`` (a bug: the exception propagates after writing).
+``interrupted`` (SIGINT, SIGTERM or SIGHUP: the loop stops at the end of the
+tick, the files are written, then :class:`RunInterrupted` is raised), ``error``
+(the physics diverged: the result is returned; or a bug: the exception
+propagates after writing).
+
+The options are checked before anything runs (:mod:`osc2runner.options`:
+:class:`~osc2runner.options.OptionError`, a ``ValueError``); every file is written
+whole or not at all (:mod:`osc2runner.output.files`), ``run.json`` last.
 """
 
 from __future__ import annotations
@@ -43,9 +50,11 @@ from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
 from osc2runner.execution.drivers import controllers_for
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
+from osc2runner.execution.signals import Interrupts
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.roads import LaneNumbers
-from osc2runner.output.telemetry import Recorder, write
+from osc2runner.options import check_duration, check_out, check_seed, check_steps
+from osc2runner.output.telemetry import Recorder, write_data, write_metadata
 from osc2runner.sim import World, versions
 
 __all__ = [
@@ -90,11 +99,14 @@ class RunResult:
 
 
 class RunInterrupted(KeyboardInterrupt):
-    """The run was interrupted (Ctrl-C); ``result`` holds what was recorded and written."""
+    """The run was interrupted (SIGINT, SIGTERM, SIGHUP or a ``KeyboardInterrupt``);
+    ``result`` holds what was recorded and written, ``signum`` the signal (None for
+    a ``KeyboardInterrupt`` raised by other means)."""
 
-    def __init__(self, result: RunResult) -> None:
-        super().__init__("interrupted")
+    def __init__(self, result: RunResult, signum: int | None = None) -> None:
+        super().__init__(result.outcome.reason)
         self.result = result
+        self.signum = signum
 
 
 @dataclass
@@ -225,9 +237,10 @@ def run(
     Parameters:
         path: the ``.osc`` file.
         scenario: which scenario (needed when the file declares several).
-        seed: seed of the run: picks the checker's witness (parameter values, starts)
-            and the random choices left open; recorded.
-        out: folder for telemetry, events, metadata (and plots); None writes nothing.
+        seed: seed of the run, a non-negative integer: picks the checker's witness
+            (parameter values, starts) and the random choices left open; recorded.
+        out: folder for telemetry, events, metadata (and plots), created when missing;
+            None writes nothing.
         duration: time limit in simulated seconds (default 600).
         dt_control: control period (tree tick) in seconds.
         dt_physics: physics step in seconds; ``dt_control`` must be a whole multiple.
@@ -235,10 +248,21 @@ def run(
         progress: called as ``progress(sim_time, limit, wall_seconds)`` every simulated second.
         source: the file's text, instead of reading ``path``.
 
+    The result's outcome is ``error`` (and the files are written) when the physics
+    diverged. Called from the main thread, the run installs handlers for SIGINT,
+    SIGTERM and SIGHUP while it executes and restores the previous ones after it
+    (:mod:`osc2runner.execution.signals`); from another thread it installs none.
+
     Raises:
+        OptionError: a bad option, ``out`` included (a ``ValueError``; nothing ran).
         ScenarioError: the input has errors (nothing ran).
-        RunInterrupted: Ctrl-C; its ``result`` has what was recorded (and written).
+        RunInterrupted: a signal or Ctrl-C; its ``result`` has what was recorded (and written).
     """
+    check_seed(seed)
+    check_steps(dt_control, dt_physics)
+    check_duration(duration)
+    if out is not None:
+        check_out(out)
     prepared = prepare(
         path,
         scenario=scenario,
@@ -258,17 +282,48 @@ def execute(
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
 ) -> RunResult:
-    """Tick a prepared scenario to its end and write its files (see :func:`run`)."""
+    """Tick a prepared scenario to its end and write its files (see :func:`run`).
+
+    Signals are noted from before the first tick until the files are written
+    (:class:`~osc2runner.execution.signals.Interrupts`): the first one ends the
+    loop at a tick boundary, later ones cannot cut a file short.
+    """
     world = prepared.world
     assert world is not None
-    limit = DEFAULT_TIME_LIMIT if duration is None else float(duration)
-    ticked = TickLoop(prepared.root, prepared.ctx, world, limit=limit).run(progress)
-    result = _finish(prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, out, plot)
-    if isinstance(ticked.error, KeyboardInterrupt):
-        raise RunInterrupted(result) from ticked.error
+    seconds = check_duration(duration)
+    folder = check_out(out) if out is not None else None
+    limit = DEFAULT_TIME_LIMIT if seconds is None else seconds
+    if log.isEnabledFor(logging.DEBUG):
+        progress = _logging(progress)
+    with Interrupts() as interrupts:
+        loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
+        log.debug(
+            "ticking scenario %s (signals caught: %s)", prepared.scenario.name, interrupts.installed
+        )
+        ticked = loop.run(progress, interrupts)
+        result = _finish(
+            prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, folder, plot
+        )
+    if ticked.outcome.status == "interrupted":
+        raise RunInterrupted(result, interrupts.first if interrupts.consumed else None) from (
+            ticked.error
+        )
     if ticked.error is not None:
         raise ticked.error
     return result
+
+
+def _logging(
+    progress: Callable[[float, float, float], None] | None,
+) -> Callable[[float, float, float], None]:
+    """``progress`` that also logs the simulated time (``--debug``: a marker tests wait for)."""
+
+    def report(sim: float, limit: float, wall: float) -> None:
+        log.debug("simulated %.1f s of %g s", sim, limit)
+        if progress is not None:
+            progress(sim, limit, wall)
+
+    return report
 
 
 def _finish(
@@ -279,16 +334,20 @@ def _finish(
     out: str | Path | None,
     plot: bool,
 ) -> RunResult:
+    """The result, and its files: telemetry and events, the plots, ``run.json`` last
+    (a folder with a ``run.json`` has every file of its run)."""
     ctx = prepared.ctx
     metadata = _metadata(prepared, outcome, wall)
     result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata)
     if out is not None:
         folder = Path(out)
-        result.outputs = write(folder, recorder, result.events, metadata)
+        folder.mkdir(parents=True, exist_ok=True)
+        result.outputs = write_data(folder, recorder, result.events)
         if plot:
             from osc2runner.output.plots import plot_run
 
             result.outputs.extend(plot_run(result, folder))
+        result.outputs.append(write_metadata(folder, metadata, result.events))
     return result
 
 
@@ -352,5 +411,6 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
             "reason": outcome.reason,
             "tick": outcome.tick,
             "time": outcome.time,
+            **({"signal": outcome.signal} if outcome.signal is not None else {}),
         },
     }

@@ -4,14 +4,28 @@ Rain sets the road friction (1.0 dry, 0.7 light to 0.4 heavy rain) unless a
 friction was set explicitly; ``set_road_friction`` sets it for the whole road.
 Fog is recorded (it has no effect on vehicle dynamics). Air, snow, wind,
 clouds and the sun's position are recorded in the event log only.
+
+A friction outside :data:`FRICTION_RANGE` (0, 2], or a rain intensity that is
+negative or not finite, is an input error at its argument when the argument
+is constant (a literal, a parameter); otherwise the phase fails when the value
+turns out bad at run time.
 """
 
 from __future__ import annotations
 
-from osc2runner.behaviours.base import ActionError, InstantAction
-from osc2runner.compile.registry import action
+import math
+from collections.abc import Callable
 
-__all__ = ["Fog", "Rain", "Recorded", "SetRoadFriction"]
+from osc2check.syntax import ast
+from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
+from osc2runner.compile.expressions import is_constant
+from osc2runner.compile.registry import action
+from osc2runner.errors import CompileProblem
+
+__all__ = ["FRICTION_RANGE", "Fog", "Rain", "Recorded", "SetRoadFriction", "friction_problem"]
+
+#: road friction coefficients the world takes: above the first, at most the second
+FRICTION_RANGE = (0.0, 2.0)
 
 #: rain intensity (mm/h) taken as the heaviest rain of the friction model
 HEAVY_RAIN_MMPH = 50.0
@@ -20,13 +34,60 @@ FOG_RANGE = 1000.0
 _MPS_TO_MMPH = 3.6e6
 
 
+def friction_problem(value: object) -> str | None:
+    """Why ``value`` is not a road friction coefficient (None when it is one)."""
+    low, high = FRICTION_RANGE
+    if isinstance(value, (int, float)) and math.isfinite(value) and low < value <= high:
+        return None
+    return f"road friction must be in ({low:g}, {high:g}], got {_number(value)}"
+
+
+def _rain_problem(value: object) -> str | None:
+    if isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0:
+        return None
+    given = f"{value * _MPS_TO_MMPH:.6g} mm/h" if isinstance(value, (int, float)) else repr(value)
+    return f"rain intensity must be finite and not negative, got {given}"
+
+
+def _number(value: object) -> str:
+    return f"{value:.6g}" if isinstance(value, (int, float)) else repr(value)
+
+
+def _check_constant(use: ActionUse, name: str, problem: Callable[[object], str | None]) -> None:
+    """Raise CompileProblem (an input error at the argument) when the argument ``name`` is
+    constant and ``problem`` finds it bad."""
+    fn = use.arguments.get(name)
+    if fn is None or not is_constant(fn):
+        return
+    why = problem(fn())
+    if why is not None:
+        raise CompileProblem(why, _argument(use, name))
+
+
+def _argument(use: ActionUse, name: str) -> ast.Node:
+    """The expression given for the parameter ``name`` (the invocation when not found)."""
+    node = use.node
+    positional = [a for a in node.arguments if isinstance(a, ast.PositionalArgument)]
+    for arg in node.arguments:
+        if isinstance(arg, ast.NamedArgument) and arg.name.text == name:
+            return arg.value
+    return positional[0].value if len(positional) == 1 else node
+
+
 @action("environment", "rain")
 class Rain(InstantAction):
     """``rain(intensity)``: rain level = intensity / 50 mm/h (capped at 1)."""
 
+    def __init__(self, name: str, use: ActionUse) -> None:
+        super().__init__(name, use)
+        _check_constant(use, "intensity", _rain_problem)
+
     def start(self) -> None:
         if "intensity" not in self.args:
             return
+        why = _rain_problem(self.args["intensity"])
+        if why is not None:
+            raise ActionError(why)
         mmph = float(self.args["intensity"]) * _MPS_TO_MMPH
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.world
@@ -55,10 +116,15 @@ class Fog(InstantAction):
 class SetRoadFriction(InstantAction):
     """``set_road_friction(value)``: the tire-road friction of the whole road from now on."""
 
+    def __init__(self, name: str, use: ActionUse) -> None:
+        super().__init__(name, use)
+        _check_constant(use, "value", friction_problem)
+
     def start(self) -> None:
+        why = friction_problem(self.args["value"])
+        if why is not None:
+            raise ActionError(why)
         value = float(self.args["value"])
-        if value <= 0.0:
-            raise ActionError(f"road friction must be positive, got {value}")
         self.ctx.world.set_road_friction(value)
         self.ctx.record("environment", "set_road_friction", f"{value:.6g}")
 

@@ -9,10 +9,17 @@ Each control tick (50 ms by default):
 5. every actor's state is read once, and recorded; collisions and road
    departures come back as world events.
 
+A state that is no longer physical after step 4 (NaN or infinite values, or
+MuJoCo resetting a diverged simulation: :meth:`World.diverged`) ends the run
+with outcome ``error`` naming the actor and the tick; that tick is not
+recorded (the telemetry ends with the last physical state).
+
 Nothing reads the wall clock except to report the real-time factor: the same
 inputs give the same ticks. :meth:`TickLoop.run` returns how the run ended with
-what it recorded, also when it is interrupted or a bug stops it, so that the
-caller can write the files before re-raising.
+what it recorded, also when it is interrupted (a signal noted by
+:class:`~osc2runner.execution.signals.Interrupts`, read between ticks, or a
+``KeyboardInterrupt``) or a bug stops it, so that the caller can write the
+files before re-raising.
 """
 
 from __future__ import annotations
@@ -28,6 +35,7 @@ from py_trees.common import Status
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import running_open, tick_child
 from osc2runner.execution.context import RunContext
+from osc2runner.execution.signals import Interrupts, signal_name
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
 
@@ -36,12 +44,16 @@ __all__ = ["RunOutcome", "TickLoop", "Ticked"]
 
 @dataclass(frozen=True, slots=True)
 class RunOutcome:
-    """How a run ended: ``success``, ``failure``, ``timeout``, ``interrupted`` or ``error``."""
+    """How a run ended: ``success``, ``failure``, ``timeout``, ``interrupted`` or ``error``.
+
+    ``signal`` names the signal that interrupted the run (``SIGTERM``), when one did.
+    """
 
     status: str
     reason: str
     tick: int
     time: float
+    signal: str | None = None
 
     @property
     def ok(self) -> bool:
@@ -106,19 +118,37 @@ class TickLoop:
         states, controllers = ctx.states, ctx.controllers
         inputs = {name: c.step(states[name]) for name, c in controllers.items()}
         events = world.step_control(inputs)
+        if (bad := world.diverged()) is not None:
+            return _diverged(world, *bad)
         ctx.refresh()
         self.recorder.record(states, world.tick, world.time, controllers)
         return _world_events(ctx, events) if events else None
 
-    def run(self, progress: Callable[[float, float, float], None] | None = None) -> Ticked:
-        """Step until the run ends; also when it is interrupted or a bug stops it."""
+    def run(
+        self,
+        progress: Callable[[float, float, float], None] | None = None,
+        interrupts: Interrupts | None = None,
+    ) -> Ticked:
+        """Step until the run ends; also when it is interrupted or a bug stops it.
+
+        ``interrupts.first`` is read before every tick: once a signal has arrived
+        the run ends as ``interrupted`` (at a tick boundary).
+        """
         ctx, world = self.ctx, self.world
         progress_every = max(1, round(1.0 / world.dt_control))
         start_wall = wallclock.perf_counter()
         outcome: RunOutcome | None = None
         error: BaseException | None = None
         try:
+            if (bad := world.diverged()) is not None:  # a start that is not physical
+                outcome = _diverged(world, *bad)
             while outcome is None:
+                if interrupts is not None and interrupts.first is not None:
+                    name = signal_name(interrupts.consume() or 0)
+                    outcome = RunOutcome(
+                        "interrupted", f"interrupted by {name}", ctx.tick, ctx.time, signal=name
+                    )
+                    break
                 outcome = self.step()
                 if progress is not None and world.tick % progress_every == 0:
                     progress(world.time, self.limit, wallclock.perf_counter() - start_wall)
@@ -171,6 +201,16 @@ def _failure_reason(root: py_trees.behaviour.Behaviour) -> str:
         why = f": {node.feedback_message}" if node.feedback_message else ""
         return f"`{node.name}` failed{why}"
     return "the scenario's behaviour failed"
+
+
+def _diverged(world: World, actor: str, what: str) -> RunOutcome:
+    who = f"`{actor}`" if actor else "an actor"
+    return RunOutcome(
+        "error",
+        f"the physics diverged at tick {world.tick} ({world.time:g} s): {who}: {what}",
+        world.tick,
+        world.time,
+    )
 
 
 def _world_events(ctx: RunContext, events: list[Any]) -> RunOutcome | None:

@@ -8,7 +8,8 @@
   other actor (projected on its heading), and the steering inputs.
 
 Emitted events are marked on the time axes. Figures are drawn with
-matplotlib's Agg canvas directly (no pyplot state, no display needed).
+matplotlib's Agg canvas directly (no pyplot state, no display needed), each
+written whole or not at all (:func:`osc2runner.output.files.atomic_open`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,8 @@ from typing import Any
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
+
+from osc2runner.output.files import atomic_open
 
 __all__ = ["brake_onsets", "plot_run"]
 
@@ -61,7 +64,7 @@ def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[in
     """``(start, end)`` tick indices of each stop: brake applied after ``quiet`` s without,
     while moving, until standstill."""
     brake, speed, time = ch["brake"], ch["speed"], ch["time"]
-    segments = []
+    segments: list[tuple[int, int]] = []
     last_free = 0.0
     i, n = 0, len(time)
     while i < n:
@@ -174,5 +177,6 @@ def plot_run(result: Any, out: Path) -> list[Path]:
 
 
 def _save(fig: Figure, path: Path) -> Path:
-    fig.savefig(path)
+    with atomic_open(path, "wb") as f:
+        fig.savefig(f, format="png")
     return path

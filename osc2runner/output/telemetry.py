@@ -10,14 +10,15 @@ lane (1 = rightmost, NaN off the road); ``throttle``/``brake``/``steer``
 the lateral controller's cross-track error of the front axle from its path
 (m, positive: left of the path; NaN without one).
 
-Files (``write``):
+Files (``write_data``, then ``write_metadata``; ``write`` does both), each
+written whole or not at all (:mod:`osc2runner.output.files`):
 
 * ``telemetry.csv``: one row per actor and tick, columns as above after
   ``actor``; floats written with ``repr`` (exact, so identical runs give
   identical bytes);
 * ``events.csv``: the event log (``tick, time, kind, name, actors, detail``);
 * ``run.json``: metadata (versions, seed, steps, parameter values, actors,
-  outcome) and the event log.
+  outcome) and the event log. The runner writes it last, after the plots.
 """
 
 from __future__ import annotations
@@ -32,9 +33,10 @@ from typing import Any
 import numpy as np
 
 from osc2runner.execution.context import LogRecord
+from osc2runner.output.files import atomic_open, write_atomically
 from osc2runner.sim import ActorState
 
-__all__ = ["CHANNELS", "Recorder", "write"]
+__all__ = ["CHANNELS", "Recorder", "write", "write_data", "write_metadata"]
 
 CHANNELS = (
     "tick",
@@ -139,7 +141,7 @@ def _number(value: float) -> str:
 
 
 def write_telemetry(path: Path, recorder: Recorder) -> None:
-    with path.open("w", newline="", encoding="utf-8") as f:
+    with atomic_open(path, "w", newline="", encoding="utf-8") as f:
         f.write("actor," + ",".join(CHANNELS) + "\n")
         for name, rows in recorder.rows.items():
             for row in rows:
@@ -154,7 +156,7 @@ def write_telemetry(path: Path, recorder: Recorder) -> None:
 
 
 def write_events(path: Path, records: Iterable[LogRecord]) -> None:
-    with path.open("w", newline="", encoding="utf-8") as f:
+    with atomic_open(path, "w", newline="", encoding="utf-8") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow(["tick", "time", "kind", "name", "actors", "detail"])
         for r in records:
@@ -175,20 +177,30 @@ def event_dicts(records: Iterable[LogRecord]) -> list[dict[str, Any]]:
     ]
 
 
+def write_data(out: Path, recorder: Recorder, records: list[LogRecord]) -> list[Path]:
+    """Write ``telemetry.csv`` and ``events.csv`` into the folder ``out``; returns the paths."""
+    telemetry = out / "telemetry.csv"
+    events = out / "events.csv"
+    write_telemetry(telemetry, recorder)
+    write_events(events, records)
+    return [telemetry, events]
+
+
+def write_metadata(out: Path, metadata: dict[str, Any], records: list[LogRecord]) -> Path:
+    """Write ``run.json`` (``metadata`` and the event log) into the folder ``out``."""
+    document = dict(metadata)
+    document["events"] = event_dicts(records)
+    text = json.dumps(document, indent=2, default=_json_default) + "\n"
+    return write_atomically(out / "run.json", text)
+
+
 def write(
     out: Path, recorder: Recorder, records: list[LogRecord], metadata: dict[str, Any]
 ) -> list[Path]:
-    """Write ``telemetry.csv``, ``events.csv`` and ``run.json`` into ``out``; returns the paths."""
+    """Write ``telemetry.csv``, ``events.csv`` and ``run.json`` into ``out`` (created when
+    missing); returns the paths."""
     out.mkdir(parents=True, exist_ok=True)
-    telemetry = out / "telemetry.csv"
-    events = out / "events.csv"
-    meta = out / "run.json"
-    write_telemetry(telemetry, recorder)
-    write_events(events, records)
-    document = dict(metadata)
-    document["events"] = event_dicts(records)
-    meta.write_text(json.dumps(document, indent=2, default=_json_default) + "\n", encoding="utf-8")
-    return [telemetry, events, meta]
+    return [*write_data(out, recorder, records), write_metadata(out, metadata, records)]
 
 
 def _json_default(value: object) -> object:

@@ -16,6 +16,12 @@ Nothing here reads the wall clock or draws random numbers: the same
 construction and the same inputs give bit-identical states (within one MuJoCo
 version and platform; see :func:`osc2runner.sim.versions`).
 
+The physics can diverge (a force too large for the time step): MuJoCo then
+finds NaN, infinite or huge values, warns and resets its state to the initial
+one. :meth:`World.diverged` reports that, or a non-finite read-out, after a
+step, naming the actor, so that the runner ends the run as an error instead of
+carrying on from a teleported or NaN state.
+
 Friction is a property of the tires (they override the road's geom friction
 by priority): :meth:`World.set_road_friction` writes every tire,
 :meth:`World.set_wheel_friction` one vehicle or one wheel. Weather is recorded;
@@ -59,6 +65,13 @@ __all__ = [
 ActorParams = VehicleParams | PedestrianParams | ObstacleParams
 
 DRY_FRICTION = 1.0
+
+#: MuJoCo's warnings of a diverged simulation (NaN, inf or > 1e10 in qpos, qvel, qacc)
+_BAD_STATE = (
+    (mujoco.mjtWarning.mjWARN_BADQPOS, "position"),
+    (mujoco.mjtWarning.mjWARN_BADQVEL, "velocity"),
+    (mujoco.mjtWarning.mjWARN_BADQACC, "acceleration"),
+)
 
 
 # ---------------------------------------------------------------------- data
@@ -344,6 +357,7 @@ class World:
         )
         self._centre = np.zeros((n, 2))
         self._yaw_all = np.zeros(n)
+        self._bad_stats = tuple(self.data.warning[int(w)] for w, _ in _BAD_STATE)
 
     # ------------------------------------------------------------------ reset
 
@@ -383,6 +397,8 @@ class World:
                 self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
+        self._bad_seen = self._bad_counts()
+        self._bad_total = sum(self._bad_seen)
 
     def place(self, name: str, x: float, y: float, yaw: float, speed: float = 0.0) -> None:
         """Move an actor to ``(x, y)`` with heading ``yaw`` and ``speed`` along it.
@@ -660,6 +676,70 @@ class World:
             for i in self._obs_pos:
                 name = self._names[i]
                 out[name] = self.state(name)
+
+    # ------------------------------------------------------------------ divergence
+
+    def _bad_counts(self) -> tuple[int, ...]:
+        return tuple(stat.number for stat in self._bad_stats)
+
+    def diverged(self) -> tuple[str, str] | None:
+        """``(actor, what)`` when the state is no longer physical, else None.
+
+        Either MuJoCo found a NaN, infinite or huge value since the last call (it
+        then resets the simulation, so the state would look finite but be
+        teleported), or an actor's position or speed is not finite. ``actor`` is
+        the actor concerned (``""`` when MuJoCo's report names none).
+        """
+        a, b, c = self._bad_stats
+        if a.number + b.number + c.number != self._bad_total:
+            return self._mujoco_divergence()
+        if len(self._vehicles) and not math.isfinite(
+            float(self._speed.dot(self._speed)) + float(np.vdot(self._pos, self._pos))
+        ):
+            for row, spec in enumerate(self._vehicles):
+                (x, y), speed = self._pos[row].tolist(), float(self._speed[row])
+                if not all(math.isfinite(v) for v in (x, y, speed)):
+                    return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
+        if len(self._pedestrians) and not np.isfinite(self.data.mocap_pos[self._mocap]).all():
+            for row, spec in enumerate(self._pedestrians):
+                x, y = self.data.mocap_pos[self._mocap[row], :2].tolist()
+                speed = float(self._ped_speed[row])
+                if not all(math.isfinite(v) for v in (x, y, speed)):
+                    return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
+        return None
+
+    def _mujoco_divergence(self) -> tuple[str, str]:
+        m = self.model
+        counts = self._bad_counts()
+        found: tuple[str, str] | None = None
+        for (warning, what), stat, now, seen in zip(
+            _BAD_STATE, self._bad_stats, counts, self._bad_seen, strict=True
+        ):
+            if now == seen or found is not None:
+                continue
+            index = int(stat.lastinfo)
+            if warning == mujoco.mjtWarning.mjWARN_BADQPOS:
+                joints = np.flatnonzero(m.jnt_qposadr <= index)
+                body = int(m.jnt_bodyid[joints[-1]]) if len(joints) else -1
+            else:
+                body = int(m.dof_bodyid[index]) if 0 <= index < m.nv else -1
+            found = (
+                self._actor_of_body(body),
+                f"NaN, infinite or huge {what} in the physics (MuJoCo reset the simulation)",
+            )
+        self._bad_seen = counts
+        self._bad_total = sum(counts)
+        return found or ("", "MuJoCo reported an unstable simulation")
+
+    def _actor_of_body(self, body: int) -> str:
+        if body < 0:
+            return ""
+        root = int(self.model.body_rootid[body])
+        for spec in self.specs:
+            bid = mujoco.mj_name2id(self.model, mujoco.mjtObj.mjOBJ_BODY, self._prefix(spec.name))
+            if bid == root:
+                return spec.name
+        return ""
 
     def wheel_loads(self, name: str) -> tuple[float, float, float, float]:
         """Measured normal load (N) of each tire (fl, fr, rl, rr) of a vehicle."""
