@@ -19,11 +19,12 @@ from typing import Any
 
 import py_trees
 
-from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS
+from osc2check.semantics.builtins import PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.phases import time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
     DurationBound,
@@ -35,19 +36,17 @@ from osc2runner.compile.composites import (
 )
 from osc2runner.compile.conditions import (
     CallDirective,
-    EdgeWatch,
-    ElapsedWatch,
     Emit,
-    LevelWatch,
     NamedEventWatch,
     OnHandler,
     Until,
     Wait,
     Watch,
+    compile_watch,
     emit_now,
 )
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.expressions import Bindings, Closure, constant, is_constant
+from osc2runner.compile.expressions import Bindings, Closure, constant
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
@@ -225,7 +224,10 @@ class TreeCompiler:
 
     def _variables(self, scenario: Symbol) -> None:
         """``var`` fields with an initialiser: a constant one (over the parameters' values)
-        is set now; another is evaluated at tick 0, over the live state."""
+        is set now; one that holds a ``sample(...)`` is live (it reads the sample's value
+        at the last occurrence of its event so far, :mod:`osc2runner.compile.sampling`);
+        another is evaluated at tick 0, over the live state. A ``var`` is never read from
+        the checker's witness: the witness gives parameters only."""
         env = self.env
         values = env.values
         for sym in scenario_fields(self.model, scenario):
@@ -235,8 +237,14 @@ class TreeCompiler:
             env.variable_symbols.add(sym)
             if default is None:
                 continue
+            if any(_is_sample(node) for node in walk(default)):
+                try:
+                    env.compiler.live_variables[sym] = env.compile(default)
+                except CompileProblem as exc:
+                    self._problem(exc)
+                continue
             try:
-                value = evaluate(default, self.model, lambda field, node: values.value(field))
+                value = evaluate(default, self.model, lambda field, node: _parameter(values, field))
                 env.run.variables[sym.name] = to_runtime(value)
                 continue
             except NotConstant:
@@ -282,10 +290,7 @@ class TreeCompiler:
                 case ast.Emit():
                     node = self.emit(body, scope)
                 case ast.CallDirective():
-                    node = CallDirective(
-                        node_name(f"call {self._text(body.call)}", body),
-                        self.env.compile(body.call, scope),
-                    )
+                    node = self.call(body, scope)
                 case _:
                     raise CompileProblem("the runner cannot run this member", body)
         except CompileProblem as exc:
@@ -496,6 +501,7 @@ class TreeCompiler:
     # ---- events
 
     def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
+        """``wait <event>``: its event context is the wait (§7.3.10.3)."""
         return Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
@@ -505,25 +511,54 @@ class TreeCompiler:
         return Emit(node_name(self._text(emit), emit), name, key, args)
 
     def _emission(self, emit: ast.Emit, scope: Bindings) -> tuple[str, str, dict[str, Closure]]:
+        """The event, its blackboard key and its argument closures, by parameter name in
+        declaration order: positional arguments in order, then named ones; a parameter
+        not given takes its default (an input error when it has none)."""
         name = emit.event.text
         key = self.run.declare_event(name)
         sym = self.model.references.get(emit.event)
-        params = [p.name for p in sym.parameters] if sym is not None else []
-        args: dict[str, Closure] = {}
+        params = list(sym.parameters) if sym is not None else []
+        names = [p.name for p in params]
+        given: dict[str, Closure] = {}
         position = 0
         for arg in emit.arguments:
             if isinstance(arg, ast.NamedArgument):
-                args[arg.name.text] = self.env.compile(arg.value, scope)
+                if arg.name.text not in names:
+                    raise CompileProblem(
+                        f"event `{name}` has no parameter `{arg.name.text}`", arg.name
+                    )
+                given[arg.name.text] = self.env.compile(arg.value, scope)
             elif isinstance(arg, ast.PositionalArgument):
                 if position >= len(params):
                     raise CompileProblem(f"too many arguments for event `{name}`", arg)
-                args[params[position]] = self.env.compile(arg.value, scope)
+                given[names[position]] = self.env.compile(arg.value, scope)
                 position += 1
+            else:
+                raise CompileProblem("an event is not an argument of `emit`", arg)
+        args: dict[str, Closure] = {}
+        for p in params:
+            if p.name in given:
+                args[p.name] = given[p.name]
+            elif p.default is not None:
+                args[p.name] = self.env.compile(p.default, Bindings())
+            else:
+                raise CompileProblem(f"`emit {name}` needs its argument `{p.name}`", emit)
         return name, key, args
 
+    def call(self, call: ast.CallDirective, scope: Bindings) -> py_trees.behaviour.Behaviour:
+        """``call m(args)`` as a member of ``do``: the call is evaluated once."""
+        return CallDirective(
+            node_name(f"call {self._text(call.call)}", call), self.env.compile(call.call, scope)
+        )
+
     def on(self, on: ast.OnDirective) -> py_trees.behaviour.Behaviour:
+        """``on <event>: emit ... / call ...``: the event context is the scenario; an
+        ``as`` alias of the event is visible in the members."""
         scope = Bindings()
         watch = self.watch(on.event, scope)
+        if isinstance(watch, NamedEventWatch) and watch.cell is not None:
+            alias = on.event.alias.text if isinstance(on.event, ast.EventReference) else ""
+            scope = scope.child(**{alias: lambda c=watch.cell: c[0]})
         members: list[Callable[[Any], None]] = []
         keys: list[str] = []
         env, run = self.env, self.run
@@ -540,53 +575,8 @@ class TreeCompiler:
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
 
     def watch(self, spec: ast.Node, scope: Bindings) -> Watch:
-        """The watch of an event spec (see :mod:`osc2runner.compile.conditions`)."""
-        env, run = self.env, self.run
-        if isinstance(spec, ast.EventReference):
-            name = ".".join(p.text for p in spec.path)
-            condition = None
-            cell: list[Any] | None = None
-            if spec.condition is not None:
-                inner = scope
-                if spec.alias is not None:
-                    cell = [None]
-                    inner = scope.child(**{spec.alias.text: lambda c=cell: c[0]})
-                condition = env.compile(spec.condition, inner)
-            return NamedEventWatch(run, name, condition, cell)
-        if isinstance(spec, ast.EventCondition):
-            expr = spec.expr
-            if (
-                isinstance(expr, ast.Call)
-                and isinstance(expr.callee, ast.NameRef)
-                and self.model.references.get(expr.callee.name.name) is None
-            ):
-                fname = expr.callee.name.name.text
-                if fname in EVENT_FUNCTIONS:
-                    return self._event_function(fname, expr, scope)
-            return LevelWatch(env.compile(expr, scope))
-        raise CompileProblem("unsupported event", spec)
-
-    def _event_function(self, fname: str, call: ast.Call, scope: Bindings) -> Watch:
-        env, run = self.env, self.run
-        positional = [a.value for a in call.arguments if isinstance(a, ast.PositionalArgument)]
-        named = {a.name.text: a.value for a in call.arguments if isinstance(a, ast.NamedArgument)}
-        first = positional[0] if positional else next(iter(named.values()), None)
-        if first is None:
-            raise CompileProblem(f"`{fname}` needs an argument", call)
-        if fname in ("rise", "fall"):
-            return EdgeWatch(run.edge(env.compile(first, scope), fname == "rise", call))
-        if fname == "elapsed":
-            return ElapsedWatch(run, env.compile(first, scope))
-        period = env.compile(first, scope)
-        offset_node = named.get("offset") or (positional[1] if len(positional) > 1 else None)
-        offset = env.compile(offset_node, scope) if offset_node is not None else None
-        if not is_constant(period) or (offset is not None and not is_constant(offset)):
-            raise CompileProblem("every() needs constant durations", call)
-        try:
-            detector = run.every(float(period()), float(offset()) if offset else None)
-        except ValueError as exc:
-            raise CompileProblem(str(exc), call) from None
-        return EdgeWatch(detector)
+        """The watch of an event spec (:func:`osc2runner.compile.conditions.compile_watch`)."""
+        return compile_watch(self.env, spec, scope)
 
     # ---- the phases that start the scenario
 
@@ -600,6 +590,22 @@ class TreeCompiler:
             if entry is not None:
                 found.append(entry[0])
         return found
+
+
+def _parameter(values: Any, field: Symbol) -> Any:
+    """A parameter's value from the witness; a ``var`` is not constant (not a parameter)."""
+    if field.kind is SymbolKind.VARIABLE:
+        raise NotConstant(f"`{field.name}` is a variable")
+    return values.value(field)
+
+
+def _is_sample(node: ast.Node) -> bool:
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.callee, ast.NameRef)
+        and node.callee.name.namespace is None
+        and node.callee.name.name.text == "sample"
+    )
 
 
 def _no_span() -> Any:

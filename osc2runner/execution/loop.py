@@ -27,7 +27,7 @@ from py_trees.common import Status
 
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import running_open, tick_child
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
 
@@ -98,8 +98,11 @@ class TickLoop:
     def step(self) -> RunOutcome | None:
         """One control tick; the outcome when the run ends with it, else None."""
         ctx, world, root = self.ctx, self.world, self.root
-        ctx.begin_tick()
-        tick_child(root)
+        try:
+            ctx.begin_tick()
+            tick_child(root)
+        except RunFault as fault:  # the scenario went wrong at run time: a failed run
+            ctx.fail(str(fault))
         outcome = _tree_outcome(root, ctx, world, self.max_ticks, self.limit)
         if outcome is not None:
             return outcome
