@@ -41,11 +41,13 @@ from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
+from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.roads import LaneNumbers
+from osc2runner.output.coverage import write_coverage
 from osc2runner.output.telemetry import Recorder, write
 from osc2runner.sim import World, versions
 
@@ -72,7 +74,8 @@ class RunResult:
 
     ``telemetry[actor][channel]`` is a numpy array over the ticks (channels:
     :data:`osc2runner.output.telemetry.CHANNELS`); ``events`` the event log;
-    ``outputs`` the files written.
+    ``coverage`` every ``cover``/``record`` item with its samples (what
+    ``coverage.json`` holds); ``outputs`` the files written.
     """
 
     outcome: RunOutcome
@@ -80,6 +83,7 @@ class RunResult:
     events: list[LogRecord]
     metadata: dict[str, Any]
     outputs: list[Path] = field(default_factory=list)
+    coverage: RunCoverage = field(default_factory=RunCoverage)
 
     @property
     def success(self) -> bool:
@@ -307,10 +311,13 @@ def _finish(
 ) -> RunResult:
     ctx = prepared.ctx
     metadata = _metadata(prepared, outcome, wall)
-    result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata)
+    coverage = ctx.coverage
+    coverage.scenario, coverage.source = prepared.scenario.name, prepared.uri
+    result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata, coverage=coverage)
     if out is not None:
         folder = Path(out)
         result.outputs = write(folder, recorder, result.events, metadata)
+        result.outputs.append(write_coverage(folder, coverage))
         if plot:
             from osc2runner.output.plots import plot_run
 
@@ -372,6 +379,12 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "witness": prepared.instance.witness.to_json(),
         "actors": actors,
         "lights": dict(ctx.lights),
+        "coverage": {
+            "file": "coverage.json",
+            "items": {
+                i.name: {"kind": i.kind, "samples": len(i.samples)} for i in ctx.coverage.items
+            },
+        },
         "notes": [*prepared.compiled.notes, *prepared.instance.witness.notes],
         "outcome": {
             "status": outcome.status,

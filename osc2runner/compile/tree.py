@@ -45,6 +45,7 @@ from osc2runner.compile.conditions import (
     compile_watch,
     emit_now,
 )
+from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.expressions import Bindings, Closure, constant
 from osc2runner.errors import CompileProblem, RunProblem
@@ -198,10 +199,7 @@ class TreeCompiler:
                     case ast.Invocation():
                         self._scenario_modifier(member)
                     case ast.CoverageDecl():
-                        self.notes.append(
-                            f"line {member.span.line}: coverage "
-                            f"({member.kind}) is not collected by the runner"
-                        )
+                        self._guard(lambda m=member: self.coverage(m), member)
         if do is None:
             main: py_trees.behaviour.Behaviour = Serial("do (empty)")
         else:
@@ -573,6 +571,11 @@ class TreeCompiler:
                 call = env.compile(member.call, scope)
                 members.append(lambda h, c=call: c())
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
+
+    def coverage(self, decl: ast.CoverageDecl) -> None:
+        """``cover(...)`` / ``record(...)``: an item of the run's coverage, sampled at its
+        event (:mod:`osc2runner.compile.coverage`)."""
+        self.run.coverage.items.append(compile_coverage(self.env, decl, self.notes))
 
     def watch(self, spec: ast.Node, scope: Bindings) -> Watch:
         """The watch of an event spec (:func:`osc2runner.compile.conditions.compile_watch`)."""

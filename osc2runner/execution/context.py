@@ -30,6 +30,7 @@ import py_trees
 
 from osc2check.road import Road
 from osc2check.syntax import ast
+from osc2runner.execution.coverage import RunCoverage
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
 
@@ -212,6 +213,7 @@ class RunContext:
         self.detectors: list[EdgeDetector] = []
         self.background: list[Callable[[], None]] = []  # polled every tick, before the tree
         self.listeners: dict[str, list[Callable[[Occurrence], None]]] = {}
+        self.coverage = RunCoverage(seed=seed)  # the cover/record items and their samples
         self.records: list[LogRecord] = []
         self.lights: dict[str, str] = {}
         self.collisions_allowed: dict[str, int] = {}
