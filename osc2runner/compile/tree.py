@@ -48,6 +48,7 @@ from osc2runner.compile.conditions import (
 from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.expressions import Bindings, Closure, constant
+from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
@@ -182,6 +183,7 @@ class TreeCompiler:
             if member.kind is SymbolKind.EVENT:
                 run.declare_event(member.name)
         self._variables(scenario)
+        self._declared_events(scenario)
         do: ast.DoDirective | None = None
         handlers: list[py_trees.behaviour.Behaviour] = []
         for sym in reversed(list(self.model.ancestors(scenario))):
@@ -253,6 +255,23 @@ class TreeCompiler:
                 self._problem(exc)
                 continue
             env.variable_inits.append((sym.name, fn))
+
+    def _declared_events(self, scenario: Symbol) -> None:
+        """``event e is <spec>`` (§7.3.10.2): ``e`` occurs whenever its spec occurs, watched
+        from the scenario's start (its event context); logged as kind ``event``."""
+        run = self.run
+        for sym in self.model.all_members(scenario):
+            decl = sym.decl
+            if sym.kind is not SymbolKind.EVENT or not isinstance(decl, ast.EventDecl):
+                continue
+            if decl.spec is None:
+                continue
+            try:
+                watch = self.watch(decl.spec, Bindings())
+            except CompileProblem as exc:
+                self._problem(exc)
+                continue
+            on_occurrence(run, watch, lambda n=sym.name: run.emit(n, kind="event"))
 
     def _scenario_modifier(self, member: ast.Invocation) -> None:
         sym = self.model.references.get(member.name)

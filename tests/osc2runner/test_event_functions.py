@@ -82,3 +82,16 @@ def test_no_edge_on_the_first_evaluation(result):
 
 def test_elapsed_occurs_once(result):
     assert _emitted(result, "once") == [30]
+
+
+def test_a_declared_event_occurs_whenever_its_spec_occurs():
+    result = run(SCENARIOS / "declared_events.osc")
+    assert result.outcome.status == "success", result.outcome.reason
+    speed = result.telemetry["hero"]["speed"] * KPH
+    quick = _crossings(speed, 20.0, rising=True)
+    # event quick is rise(hero.speed > 20kph): ends the drive (until) and runs `on @quick`
+    assert result.event_ticks("event", "quick") == quick[:1]
+    assert result.event_ticks("emit", "done") == quick[:1]
+    assert result.outcome.tick == quick[0]
+    # event tick2 is every(1s, offset: 0.5s), from the scenario's start
+    assert result.event_ticks("event", "tick2") == list(range(10, result.outcome.tick + 1, 20))
