@@ -24,7 +24,7 @@ ends:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
@@ -98,7 +98,7 @@ class NamedEventWatch(Watch):
     ) -> None:
         self.ctx = ctx
         self.name = name
-        self.key = ctx.declare_event(name)
+        self.key: str = ctx.declare_event(name)
         self.condition = condition
         self.cell = cell  # where the `as` alias reads the occurrence from
         self.cursor = 0
@@ -453,8 +453,12 @@ class OnHandler(_ContextBehaviour):
     occurrence runs the members, in order, with the ``as`` alias bound to it."""
 
     def __init__(
-        self, name: str, watch: Watch, members: list[Callable[[Any], None]], keys: list[str] = ()
-    ) -> None:  # type: ignore[assignment]
+        self,
+        name: str,
+        watch: Watch,
+        members: list[Callable[[Any], None]],
+        keys: Sequence[str] = (),
+    ) -> None:
         super().__init__(name)
         self.watch = watch
         self.members = members

@@ -109,7 +109,10 @@ def compile_coverage(
     if "disable" in named:
         item.disabled = bool(env.compiler.constant_value(named["disable"]))
     if "target" in named:
-        item.target = int(env.compiler.constant_value(named["target"]))
+        target = env.compiler.constant_value(named["target"])
+        if not isinstance(target, int) or isinstance(target, bool) or target < 0:
+            raise CompileProblem("`target:` takes a whole number of samples", named["target"])
+        item.target = target
     if decl.kind == "cover":
         _buckets(env, item, named, value_type, unit)
     if expression_node is None or item.disabled:

@@ -573,9 +573,10 @@ class TreeCompiler:
         ``as`` alias of the event is visible in the members."""
         scope = Bindings()
         watch = self.watch(on.event, scope)
-        if isinstance(watch, NamedEventWatch) and watch.cell is not None:
-            alias = on.event.alias.text if isinstance(on.event, ast.EventReference) else ""
-            scope = scope.child(**{alias: lambda c=watch.cell: c[0]})
+        event = on.event
+        if isinstance(event, ast.EventReference) and event.alias is not None:
+            cell = watch.cell if isinstance(watch, NamedEventWatch) else None
+            scope = scope.child(**{event.alias.text: lambda c=cell: c[0] if c else None})
         members: list[Callable[[Any], None]] = []
         keys: list[str] = []
         env, run = self.env, self.run

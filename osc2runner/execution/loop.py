@@ -2,8 +2,12 @@
 
 Each control tick (50 ms by default):
 
-1. the edge detectors (``rise``, ``fall``, ``every``) read this tick's state;
-2. the behaviour tree is ticked once (behaviours set controller targets);
+1. the active edge detectors (``rise``, ``fall``) read this tick's state, then
+   the background polls (event functions of ``sample``, coverage, declared
+   events);
+2. the behaviour tree is ticked once (behaviours set controller targets); a
+   :class:`~osc2runner.execution.context.RunFault` raised by the scenario in
+   1 or 2 fails the run at this tick;
 3. every controller turns its targets and its actor's state into inputs;
 4. the world advances one control step (its physics sub-steps);
 5. every actor's state is read once, and recorded; collisions and road
