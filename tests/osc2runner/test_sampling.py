@@ -57,3 +57,14 @@ def test_a_sample_read_before_its_event_without_default_fails_the_run():
     assert reason.startswith(f"{SCENARIOS / 'sampling_early.osc'}:8:24: ")
     assert "`sample(hero.speed, @go)` was read before `go` occurred" in reason
     assert result.outcome.tick == 20  # when `emit report(at_go)` read it
+
+
+def test_a_sampled_var_is_not_the_witness_value(sampled):
+    """The issue: `var v = sample(...)` ran as the solver's value; the witness still
+    lists one (the checker encodes `var` fields), the run must not use it."""
+    result, reports, goes = sampled
+    parameters = {p["name"]: p for p in result.metadata["witness"]["parameters"]}
+    held = reports[1].args["held"]
+    assert held == result.telemetry["hero"]["speed"][goes[0]]
+    if "at_go" in parameters:
+        assert parameters["at_go"]["si_float"] != pytest.approx(held)
