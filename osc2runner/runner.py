@@ -47,6 +47,7 @@ from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
+from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
@@ -54,6 +55,7 @@ from osc2runner.execution.signals import Interrupts
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
+from osc2runner.output.coverage import write_coverage
 from osc2runner.output.telemetry import Recorder, write_data, write_metadata
 from osc2runner.sim import World, versions
 
@@ -80,7 +82,8 @@ class RunResult:
 
     ``telemetry[actor][channel]`` is a numpy array over the ticks (channels:
     :data:`osc2runner.output.telemetry.CHANNELS`); ``events`` the event log;
-    ``outputs`` the files written.
+    ``coverage`` every ``cover``/``record`` item with its samples (what
+    ``coverage.json`` holds); ``outputs`` the files written.
     """
 
     outcome: RunOutcome
@@ -88,6 +91,7 @@ class RunResult:
     events: list[LogRecord]
     metadata: dict[str, Any]
     outputs: list[Path] = field(default_factory=list)
+    coverage: RunCoverage = field(default_factory=RunCoverage)
 
     @property
     def success(self) -> bool:
@@ -338,11 +342,14 @@ def _finish(
     (a folder with a ``run.json`` has every file of its run)."""
     ctx = prepared.ctx
     metadata = _metadata(prepared, outcome, wall)
-    result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata)
+    coverage = ctx.coverage
+    coverage.scenario, coverage.source = prepared.scenario.name, prepared.uri
+    result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata, coverage=coverage)
     if out is not None:
         folder = Path(out)
         folder.mkdir(parents=True, exist_ok=True)
         result.outputs = write_data(folder, recorder, result.events)
+        result.outputs.append(write_coverage(folder, coverage))
         if plot:
             from osc2runner.output.plots import plot_run
 
@@ -405,6 +412,12 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "witness": prepared.instance.witness.to_json(),
         "actors": actors,
         "lights": dict(ctx.lights),
+        "coverage": {
+            "file": "coverage.json",
+            "items": {
+                i.name: {"kind": i.kind, "samples": len(i.samples)} for i in ctx.coverage.items
+            },
+        },
         "notes": [*prepared.compiled.notes, *prepared.instance.witness.notes],
         "outcome": {
             "status": outcome.status,

@@ -8,6 +8,8 @@ them, and the runner executes them; each of those reads this module.
 * value functions: ``sample`` (§7.3.6.6), ``range``;
 * list methods (§7.2.4.2): ``size``, ``count``, ``has``, ``filter``, ``map``,
   ``first_index``; type tests ``as`` and ``is``;
+* coverage (§7.5): ``cover`` and ``record`` and their parameters, the default
+  sampling event;
 * primitive types; ``parallel`` overlap kinds (§7.3.9.3.3); the structured
   imports of the standard library.
 """
@@ -19,6 +21,9 @@ from dataclasses import dataclass
 __all__ = [
     "Builtin",
     "BuiltinParameter",
+    "COVERAGE_KINDS",
+    "COVERAGE_PARAMETERS",
+    "DEFAULT_SAMPLING_EVENT",
     "EVENT_FUNCTIONS",
     "LIST_METHODS",
     "OVERLAP_KINDS",
@@ -113,3 +118,32 @@ LIST_METHODS: dict[str, Builtin] = {
                 "the index of the first element for which the condition holds, else -1"),
     )
 }  # fmt: skip
+
+#: The coverage directives (§7.5): ``cover`` collects values into buckets, ``record``
+#: only records them.
+COVERAGE_KINDS = ("cover", "record")
+#: The event a coverage item is sampled at when it names none: the end of the enclosing
+#: scenario (§7.5).
+DEFAULT_SAMPLING_EVENT = "end"
+
+#: The parameters of ``cover(...)`` and ``record(...)`` (§7.5); ``record`` has all but
+#: ``target``. The item's name may also be the first positional argument.
+COVERAGE_PARAMETERS: dict[str, BuiltinParameter] = {
+    p.name: p
+    for p in (
+        _p("name", "identifier", optional=True),
+        _p("expression", "any", optional=True),
+        _p("unit", "unit", optional=True),
+        _p("range", "range", optional=True),
+        _p("every", "any", optional=True),
+        _p("event", "event", optional=True),
+        _p("text", "string", optional=True),
+        _p("items", "list", optional=True),
+        _p("ignore", "bool", optional=True),
+        _p("disable", "bool", optional=True),
+        _p("buckets", "list", optional=True),
+        _p("target", "uint", optional=True),
+        _p("illegal", "bool", optional=True),
+        _p("override", "identifier", optional=True),
+    )
+}

@@ -1,62 +1,83 @@
 """Events and conditions: ``wait``, ``emit``, ``until``, ``on``, ``call``; watches over event specs.
 
-An event spec compiles to a *watch*, which a behaviour starts when it
-becomes active and asks once per tick whether the event occurred since:
+An event spec compiles to a *watch*. A behaviour starts the watch when its
+event context starts (§7.3.10.3: a ``wait`` starts it when the wait starts,
+``until`` when the invocation starts, ``on`` when the scenario starts), asks
+it once per tick whether the event occurred since, and stops it when it
+ends:
 
-* ``@e [as x] [if cond]`` (:class:`NamedEventWatch`): an occurrence of ``e``
-  on the blackboard at or after the tick the watch started. An emit in a
-  branch ticked earlier in the same tick is seen in that tick; one in a
-  branch ticked later is seen on the next tick.
-* ``rise(b)`` / ``fall(b)`` (:class:`EdgeWatch`): the edge detectors are
-  evaluated at the start of every tick by the execution context, whether a
-  behaviour waits on them or not, so an edge is never missed.
-* ``every(d[, offset: o])`` (:class:`EdgeWatch` on a periodic detector).
-* ``elapsed(d)`` (:class:`ElapsedWatch`): ``d`` of simulated time since the
-  watch started.
-* a boolean expression (:class:`LevelWatch`): true when evaluated.
+* ``@e [as x] [if cond]`` (:class:`NamedEventWatch`): each occurrence of ``e``
+  on the blackboard at or after the tick the watch started, one per call;
+  ``x`` reads the occurrence's arguments (SI values) and ``cond`` is
+  evaluated on it. An emit in a branch ticked earlier in the same tick is
+  seen in that tick; one in a branch ticked later is seen on the next tick.
+* ``rise(b)`` / ``fall(b)`` (:class:`EdgeWatch`): the value of ``b`` when the
+  context starts is its first evaluation (no edge there); from then on the
+  execution context evaluates ``b`` at the start of every tick, so an edge
+  between two ticks is seen at the second.
+* ``every(d[, offset: o])`` (:class:`EveryWatch`): at the start of the
+  context plus ``o`` (default 0), then every ``d``.
+* ``elapsed(d)`` (:class:`ElapsedWatch`): once, ``d`` after the context started.
+* a boolean expression (:class:`LevelWatch`): at every evaluation (tick) where
+  it is true.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from types import SimpleNamespace
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import py_trees
 from py_trees.common import Access, Status
 
+from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS
+from osc2check.semantics.symbols import SymbolKind
+from osc2check.syntax import ast
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import tick_child
-from osc2runner.compile.expressions import Closure
+from osc2runner.compile.expressions import Bindings, Closure, is_constant
+from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import (
     EdgeDetector,
     Occurrence,
     PeriodicDetector,
     RunContext,
+    RunFault,
     event_key,
 )
+
+if TYPE_CHECKING:
+    from osc2runner.compile.environment import CompileEnvironment
 
 __all__ = [
     "CallDirective",
     "Emit",
     "EdgeWatch",
     "ElapsedWatch",
+    "EveryWatch",
     "LevelWatch",
     "NamedEventWatch",
     "OnHandler",
     "Until",
     "Wait",
     "Watch",
+    "compile_watch",
+    "event_path",
 ]
 
 
 class Watch:
-    """A compiled event spec: ``start()`` when the waiting begins, ``occurred()`` each tick."""
+    """A compiled event spec: ``start()`` when its context starts, ``occurred()`` once per
+    tick while it runs, ``stop()`` when the context ends."""
 
     key: str | None = None
     consumes = False  # True when each call consumes one occurrence
 
     def start(self) -> None:
+        pass
+
+    def stop(self) -> None:
         pass
 
     def occurred(self) -> bool:  # pragma: no cover - abstract
@@ -77,7 +98,7 @@ class NamedEventWatch(Watch):
     ) -> None:
         self.ctx = ctx
         self.name = name
-        self.key = ctx.declare_event(name)
+        self.key: str = ctx.declare_event(name)
         self.condition = condition
         self.cell = cell  # where the `as` alias reads the occurrence from
         self.cursor = 0
@@ -97,50 +118,200 @@ class NamedEventWatch(Watch):
         while self.cursor < len(occurrences):
             occurrence = occurrences[self.cursor]
             self.cursor += 1
-            if self.condition is None:
-                return True
             if self.cell is not None:
                 self.cell[0] = SimpleNamespace(**occurrence.args)
-            if self.condition():
+            if self.condition is None or self.condition():
                 return True
         return False
 
 
 class EdgeWatch(Watch):
-    """An edge detector's value at this tick (``rise``, ``fall``, ``every``)."""
+    """``rise(b)`` / ``fall(b)``: the detector's edge at this tick, within the context."""
 
-    def __init__(self, detector: EdgeDetector | PeriodicDetector) -> None:
+    def __init__(self, detector: EdgeDetector) -> None:
         self.detector = detector
+        self.running = False
+
+    def start(self) -> None:
+        if self.running:
+            self.detector.deactivate()
+        self.running = True
+        self.detector.activate()
+
+    def stop(self) -> None:
+        if self.running:
+            self.running = False
+            self.detector.deactivate()
 
     def occurred(self) -> bool:
         return self.detector.edge
 
 
+class EveryWatch(Watch):
+    """``every(period[, offset: o])``: at the context's start + ``o``, then every period.
+
+    The durations are evaluated when the context starts (a parameter's value, or the
+    live value of an expression at that tick).
+    """
+
+    def __init__(
+        self, ctx: RunContext, period: Closure, offset: Closure | None, node: ast.Node
+    ) -> None:
+        self.ctx = ctx
+        self.period = period
+        self.offset = offset
+        self.node = node
+        self.detector: PeriodicDetector | None = None
+
+    def start(self) -> None:
+        offset = float(self.offset()) if self.offset is not None else 0.0
+        try:
+            self.detector = PeriodicDetector(float(self.period()), offset)
+        except ValueError as exc:
+            raise RunFault(str(exc), self.node) from None
+        self.detector.start(self.ctx.time)
+
+    def stop(self) -> None:
+        self.detector = None
+
+    def occurred(self) -> bool:
+        return self.detector is not None and self.detector.occurred(self.ctx.time)
+
+
 class ElapsedWatch(Watch):
-    """``elapsed(d)``: ``d`` seconds of simulated time since the watch started."""
+    """``elapsed(d)``: once, ``d`` seconds of simulated time after the context started."""
 
     def __init__(self, ctx: RunContext, duration: Closure) -> None:
         self.ctx = ctx
         self.duration = duration
         self.start_tick = 0
         self.seconds = 0.0
+        self.fired = True  # nothing before start()
 
     def start(self) -> None:
         self.start_tick = self.ctx.tick
         self.seconds = float(self.duration())
+        self.fired = False
 
     def occurred(self) -> bool:
-        return (self.ctx.tick - self.start_tick) * self.ctx.dt >= self.seconds - 1e-9
+        if self.fired:
+            return False
+        if (self.ctx.tick - self.start_tick) * self.ctx.dt >= self.seconds - 1e-9:
+            self.fired = True
+            return True
+        return False
 
 
 class LevelWatch(Watch):
-    """A boolean condition, true whenever it evaluates true."""
+    """A boolean condition: occurs at every evaluation where it is true."""
 
     def __init__(self, condition: Closure) -> None:
         self.condition = condition
 
     def occurred(self) -> bool:
         return bool(self.condition())
+
+
+# ---------------------------------------------------------------------- compiling
+
+
+def compile_watch(env: CompileEnvironment, spec: ast.Node, scope: Bindings) -> Watch:
+    """The watch of an event spec (``@e as x if c``, an event function, a condition), of
+    an event argument (``@e`` in ``sample``) or of an event named by a path (``event: e``
+    of a coverage item). Raises CompileProblem for what the runner cannot watch."""
+    run = env.run
+    match spec:
+        case ast.EventReference():
+            name = event_name(tuple(p.text for p in spec.path))
+            condition = None
+            cell: list[Any] | None = None
+            inner = scope
+            if spec.alias is not None:
+                cell = [None]
+                inner = scope.child(**{spec.alias.text: lambda c=cell: c[0]})
+            if spec.condition is not None:
+                condition = env.compile(spec.condition, inner)
+            return NamedEventWatch(run, name, condition, cell)
+        case ast.EventArgument():
+            return NamedEventWatch(run, event_name(tuple(p.text for p in spec.path)))
+        case ast.EventCondition():
+            return compile_watch(env, spec.expr, scope)
+    path = event_path(env, spec)
+    if path is not None:
+        return NamedEventWatch(run, path)
+    if (
+        isinstance(spec, ast.Call)
+        and isinstance(spec.callee, ast.NameRef)
+        and spec.callee.name.name.text in EVENT_FUNCTIONS
+        and env.compiler.ref(spec.callee.name.name) is None
+    ):
+        return _event_function(env, spec.callee.name.name.text, spec, scope)
+    if isinstance(spec, ast.Expr):
+        return LevelWatch(env.compile(spec, scope))
+    raise CompileProblem("the runner cannot watch this event", spec)
+
+
+def event_path(env: CompileEnvironment, node: ast.Node) -> str | None:
+    """``e`` or ``lbl.end`` written as an expression, when it names an event: its name."""
+    names: list[str] = []
+    current = node
+    while isinstance(current, ast.MemberAccess):
+        names.append(current.member.text)
+        current = current.target
+    if not isinstance(current, ast.NameRef) or current.name.namespace is not None:
+        return None
+    names.append(current.name.name.text)
+    names.reverse()
+    if len(names) == 1:
+        sym = env.compiler.ref(current.name.name)
+        if names[0] in PREDEFINED_EVENTS or (sym is not None and sym.kind is SymbolKind.EVENT):
+            return names[0]
+        return None
+    if names[-1] in PREDEFINED_EVENTS:  # `lbl.end`
+        return event_name(tuple(names))
+    return None
+
+
+def _arguments(builtin: str, call: ast.Call) -> dict[str, ast.Node]:
+    """The arguments of a built-in call by parameter name (positional ones in order)."""
+    params = [p.name for p in EVENT_FUNCTIONS[builtin].parameters]
+    given: dict[str, ast.Node] = {}
+    position = 0
+    for arg in call.arguments:
+        if isinstance(arg, ast.NamedArgument):
+            if arg.name.text not in params:
+                raise CompileProblem(f"`{builtin}` has no parameter `{arg.name.text}`", arg)
+            given[arg.name.text] = arg.value
+        elif isinstance(arg, ast.PositionalArgument):
+            if position >= len(params):
+                raise CompileProblem(f"too many arguments for `{builtin}`", arg)
+            given[params[position]] = arg.value
+            position += 1
+        else:
+            raise CompileProblem(f"`{builtin}` takes no event argument", arg)
+    for p in EVENT_FUNCTIONS[builtin].parameters:
+        if not p.optional and p.name not in given:
+            raise CompileProblem(f"`{builtin}` needs its argument `{p.name}`", call)
+    return given
+
+
+def _event_function(env: CompileEnvironment, fname: str, call: ast.Call, scope: Bindings) -> Watch:
+    run = env.run
+    args = _arguments(fname, call)
+    first = args[EVENT_FUNCTIONS[fname].parameters[0].name]
+    if fname in ("rise", "fall"):
+        return EdgeWatch(run.edge(env.compile(first, scope), fname == "rise", call))
+    if fname == "elapsed":
+        return ElapsedWatch(run, env.compile(first, scope))
+    period = env.compile(first, scope)
+    offset_node = args.get(EVENT_FUNCTIONS[fname].parameters[1].name)
+    offset = env.compile(offset_node, scope) if offset_node is not None else None
+    if is_constant(period) and (offset is None or is_constant(offset)):
+        try:  # known before the run: check it now
+            PeriodicDetector(float(period()), float(offset()) if offset is not None else 0.0)
+        except ValueError as exc:
+            raise CompileProblem(str(exc), call) from None
+    return EveryWatch(run, period, offset, call)
 
 
 # ---------------------------------------------------------------------- behaviours
@@ -180,6 +351,9 @@ class Wait(_ContextBehaviour):
             return Status.SUCCESS
         return Status.RUNNING
 
+    def terminate(self, new_status: Status) -> None:
+        self.watch.stop()
+
 
 class Emit(_ContextBehaviour):
     """``emit e(args)``: one occurrence of ``e`` on the blackboard, then success."""
@@ -202,11 +376,15 @@ class Emit(_ContextBehaviour):
 def emit_now(
     ctx: RunContext, client: Any, event: str, key: str, arguments: dict[str, Closure]
 ) -> None:
-    """Append an occurrence of ``event`` through ``client`` and log it."""
+    """Append an occurrence of ``event`` through ``client``, log it and tell its listeners.
+
+    The arguments are evaluated now (SI values, in the event's parameter order).
+    """
     args = {k: fn() for k, fn in arguments.items()}
     occurrence = Occurrence(ctx.tick, ctx.time, args)
     client.set(key, client.get(key) + (occurrence,))
     ctx.record("emit", event, ", ".join(f"{k}: {_text(v)}" for k, v in args.items()))
+    ctx.occurred(event, occurrence)
     if event == "fail":
         ctx.fail("the scenario emitted `fail`")
 
@@ -232,8 +410,10 @@ class CallDirective(_ContextBehaviour):
 class Until(py_trees.decorators.Decorator):
     """``with: until <event>``: the child's phase ends (success) when the event occurs.
 
-    The event is checked before the child is ticked, so an event seen at a
-    tick ends the phase at that tick and the next member starts at once.
+    The event context is the invocation (§7.3.10.3): the watch starts when the
+    invocation starts and stops when it ends. The event is checked before the
+    child is ticked, so an event seen at a tick ends the phase at that tick and
+    the next member starts at once.
     """
 
     def __init__(self, name: str, child: py_trees.behaviour.Behaviour, watch: Watch) -> None:
@@ -243,6 +423,9 @@ class Until(py_trees.decorators.Decorator):
 
     def initialise(self) -> None:
         self.watch.start()
+
+    def terminate(self, new_status: Status) -> None:
+        self.watch.stop()
 
     def tick_status(self) -> Status:
         if self.status != Status.RUNNING:
@@ -266,11 +449,16 @@ class Until(py_trees.decorators.Decorator):
 
 
 class OnHandler(_ContextBehaviour):
-    """``on <event>: ...``: runs for the whole scenario; each occurrence runs the members."""
+    """``on <event>: ...``: runs for the whole scenario (its event context); each
+    occurrence runs the members, in order, with the ``as`` alias bound to it."""
 
     def __init__(
-        self, name: str, watch: Watch, members: list[Callable[[Any], None]], keys: list[str] = ()
-    ) -> None:  # type: ignore[assignment]
+        self,
+        name: str,
+        watch: Watch,
+        members: list[Callable[[Any], None]],
+        keys: Sequence[str] = (),
+    ) -> None:
         super().__init__(name)
         self.watch = watch
         self.members = members
@@ -281,6 +469,9 @@ class OnHandler(_ContextBehaviour):
 
     def initialise(self) -> None:
         self.watch.start()
+
+    def terminate(self, new_status: Status) -> None:
+        self.watch.stop()
 
     def update(self) -> Status:
         if self.watch.consumes:

@@ -20,11 +20,14 @@ from dataclasses import dataclass, field
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
-from osc2check.semantics.builtins import EVENT_FUNCTIONS
+from osc2check.semantics import types as T
+from osc2check.semantics.builtins import EVENT_FUNCTIONS, VALUE_FUNCTIONS
 from osc2check.semantics.constants import NotConstant, physical_literal, to_runtime
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.errors import CompileProblem
+from osc2runner.execution.context import RunFault
+from osc2runner.external import ExternalLoadError, ExternalRegistry
 from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
@@ -111,6 +114,10 @@ class PositionOf:
         self.actor = actor
 
 
+# Names a scope binds: `it`, `actor`, `as` aliases; a method's parameters while its body is
+# compiled inline.
+_BOUND_KINDS = (SymbolKind.IMPLICIT, SymbolKind.ARGUMENT)
+
 _BINARY: dict[str, Callable[[Any, Any], Any]] = {
     "+": operator.add,
     "-": operator.sub,
@@ -133,6 +140,13 @@ class ExpressionCompiler:
         self.env = env
         self.model = env.model
         self._references = [m.references for m in _chain(env.model)]
+        #: ``var`` fields whose value is live (a ``sample``): the closure that reads them
+        self.live_variables: dict[Symbol, Closure] = {}
+        #: the ``sample`` calls compiled, in order (each has a sampler in the run)
+        self.samplers: list[Any] = []
+        #: Python functions of ``is external`` methods (:mod:`osc2runner.external`)
+        self.externals = ExternalRegistry()
+        self._inlining: list[Symbol] = []  # `is expression` methods being compiled inline
 
     def ref(self, name: ast.Name) -> Symbol | None:
         """What ``name`` refers to, in the program or in the library it builds on."""
@@ -205,7 +219,7 @@ class ExpressionCompiler:
         name = e.name.name
         bound = scope.lookup(name.text) if e.name.namespace is None else None
         sym = self.ref(name)
-        if bound is not None and (sym is None or sym.kind is SymbolKind.IMPLICIT):
+        if bound is not None and (sym is None or sym.kind in _BOUND_KINDS):
             return bound
         if sym is None:
             raise CompileProblem(f"`{name.text}` has no meaning here for the runner", e)
@@ -227,6 +241,9 @@ class ExpressionCompiler:
             actor = env.actors.get(sym.name)
             if actor is not None and actor.symbol is sym:
                 return constant(actor)
+            live = self.live_variables.get(sym)
+            if live is not None:
+                return live
             if sym in env.variable_symbols:
                 store = env.run.variables
                 key = sym.name
@@ -236,7 +253,9 @@ class ExpressionCompiler:
                         if sym.kind is SymbolKind.FIELD
                         else (lambda: store[key])
                     )
-                return lambda: store[key]
+                return lambda: _variable(store, key, node)
+            if sym.kind is SymbolKind.VARIABLE:  # never from the witness: not a parameter
+                raise CompileProblem(f"the variable `{sym.name}` has no value here", node)
             try:
                 return constant(to_runtime(env.values.value(sym)))
             except NotConstant as exc:
@@ -315,14 +334,14 @@ class ExpressionCompiler:
 
     def _call(self, e: ast.Call, scope: Bindings) -> Closure:
         callee = e.callee
-        if (
-            isinstance(callee, ast.NameRef)
-            and callee.name.name.text in EVENT_FUNCTIONS
-            and self.ref(callee.name.name) is None
-        ):
-            raise CompileProblem(
-                f"`{callee.name.name.text}(...)` is an event; use it in `wait`, `until` or `on`", e
-            )
+        if isinstance(callee, ast.NameRef) and self.ref(callee.name.name) is None:
+            fname = callee.name.name.text
+            if fname in EVENT_FUNCTIONS:
+                raise CompileProblem(
+                    f"`{fname}(...)` is an event; use it in `wait`, `until` or `on`", e
+                )
+            if fname in VALUE_FUNCTIONS:
+                return self._value_function(fname, e, scope)
         if isinstance(callee, ast.MemberAccess):
             method = self.ref(callee.member)
             if method is None or method.kind is not SymbolKind.METHOD:
@@ -336,6 +355,20 @@ class ExpressionCompiler:
                 return self._method_call(method, owner or constant(None), e, scope)
         raise CompileProblem("the runner cannot call this", e)
 
+    def _value_function(self, fname: str, e: ast.Call, scope: Bindings) -> Closure:
+        """``sample(expression, event[, default])`` and ``range(low, high)``."""
+        if fname == "sample":
+            from osc2runner.compile.sampling import compile_sample
+            from osc2runner.compile.tree import unparse
+
+            read, sampler = compile_sample(self.env, e, scope, unparse(e))
+            self.samplers.append(sampler)
+            return read
+        values = [a.value for a in e.arguments if not isinstance(a, ast.EventArgument)]
+        if len(values) != 2:
+            raise CompileProblem("`range` needs two bounds", e)
+        return self._c(ast.RangeLiteral(e.span, values[0], values[1]), scope)
+
     def _arguments(self, method: Symbol, call: ast.Call, scope: Bindings) -> list[Closure]:
         params = list(method.parameters)
         given: dict[str, Closure] = {}
@@ -347,6 +380,10 @@ class ExpressionCompiler:
                 given[params[position].name] = self._c(arg.value, scope)
                 position += 1
             elif isinstance(arg, ast.NamedArgument):
+                if not any(p.name == arg.name.text for p in params):
+                    raise CompileProblem(
+                        f"`{method.name}` has no parameter `{arg.name.text}`", arg.name
+                    )
                 given[arg.name.text] = self._c(arg.value, scope)
             else:
                 raise CompileProblem("event arguments are not supported in calls", arg)
@@ -355,7 +392,7 @@ class ExpressionCompiler:
             if p.name in given:
                 result.append(given[p.name])
             elif p.default is not None:
-                result.append(self._c(p.default, scope))
+                result.append(self._c(p.default, Bindings()))
             else:
                 raise CompileProblem(f"`{method.name}` needs its argument `{p.name}`", call)
         return result
@@ -363,12 +400,24 @@ class ExpressionCompiler:
     def _method_call(
         self, method: Symbol, target: Closure, call: ast.Call, scope: Bindings
     ) -> Closure:
+        """A method call: ``is expression`` bodies compiled inline with the parameters
+        bound to the argument closures; ``is external`` through the external registry;
+        ``is undefined`` through the method registry (the runner's implementations)."""
         args = self._arguments(method, call, scope)
         decl = method.decl
         if isinstance(decl, ast.MethodDecl) and decl.kind == "expression" and decl.body is not None:
+            if any(m is method for m in self._inlining):
+                raise CompileProblem(
+                    f"`{method.name}` calls itself: recursive methods are not supported", call
+                )
             bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
-            inner = Bindings(None, actor=target, **bindings)
-            return self._c(decl.body, inner)
+            self._inlining.append(method)
+            try:
+                return self._c(decl.body, Bindings(None, actor=target, **bindings))
+            finally:
+                self._inlining.pop()
+        if isinstance(decl, ast.MethodDecl) and decl.kind == "external":
+            return self._external_call(method, decl, target, args, call)
         entry = self.env.registry.find_method(self.model, method)
         if entry is None:
             owner = method.owner.name if method.owner is not None else ""
@@ -384,6 +433,66 @@ class ExpressionCompiler:
             a0, a1 = args
             return lambda: fn(ctx, target(), a0(), a1())
         return lambda: fn(ctx, target(), *(a() for a in args))
+
+    def _external_call(
+        self,
+        method: Symbol,
+        decl: ast.MethodDecl,
+        target: Closure,
+        args: list[Closure],
+        call: ast.Call,
+    ) -> Closure:
+        """``def m(x: speed) -> bool is external pkg.mod.fn(x, limit: 3kph)``: the external
+        arguments are evaluated with the parameters bound (SI values) and passed to the
+        registered Python function, positional then by keyword; an empty argument list
+        passes the method's parameters in order."""
+        name = ".".join(n.text for n in decl.external)
+        try:
+            found = self.externals.find(name)
+        except ExternalLoadError as exc:
+            raise CompileProblem(str(exc), decl) from None
+        if found is None:
+            raise CompileProblem(
+                f"no external function `{name}` is registered: mark a Python function "
+                f'with @external("{name}") in an importable module (docs/runner.md)',
+                decl,
+            )
+        bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
+        inner = Bindings(None, actor=target, **bindings)
+        positional: list[Closure] = []
+        keywords: dict[str, Closure] = {}
+        for arg in decl.external_arguments:
+            if isinstance(arg, ast.NamedArgument):
+                keywords[arg.name.text] = self._c(arg.value, inner)
+            elif isinstance(arg, ast.PositionalArgument):
+                positional.append(self._c(arg.value, inner))
+            else:
+                raise CompileProblem("an event is not an argument of an external method", arg)
+        if not decl.external_arguments:
+            positional = list(args)
+        convert = _result_conversion(method)
+        return found.closure(positional, keywords, convert, call)
+
+
+def _variable(store: dict[str, Any], key: str, node: ast.Node) -> Any:
+    try:
+        return store[key]
+    except KeyError:
+        raise RunFault(f"the variable `{key}` has no value (it has no initialiser)", node) from None
+
+
+def _result_conversion(method: Symbol) -> Callable[[Any], Any]:
+    """How an external function's result becomes a run-time value of the method's type."""
+    t = method.type
+    if t is None or t.kind is T.Kind.NONE:
+        return lambda value: None
+    if t.kind is T.Kind.BOOL:
+        return bool
+    if t.kind in (T.Kind.INT, T.Kind.UINT):
+        return int
+    if t.kind in (T.Kind.FLOAT, T.Kind.PHYSICAL):
+        return float
+    return lambda value: value
 
 
 def _chain(model: Any) -> list[Any]:

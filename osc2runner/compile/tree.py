@@ -20,12 +20,13 @@ from typing import Any
 import py_trees
 
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import EVENT_FUNCTIONS, OVERLAP_KINDS, PREDEFINED_EVENTS
+from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies
 from osc2check.semantics.phases import time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
 from osc2check.verify.lower import invocation_path
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
@@ -39,19 +40,19 @@ from osc2runner.compile.composites import (
 )
 from osc2runner.compile.conditions import (
     CallDirective,
-    EdgeWatch,
-    ElapsedWatch,
     Emit,
-    LevelWatch,
     NamedEventWatch,
     OnHandler,
     Until,
     Wait,
     Watch,
+    compile_watch,
     emit_now,
 )
+from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.expressions import Bindings, Closure, Frame, constant, is_constant
+from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
@@ -187,6 +188,7 @@ class TreeCompiler:
             if member.kind is SymbolKind.EVENT:
                 run.declare_event(member.name)
         self._variables(scenario)
+        self._declared_events(scenario)
         do: ast.DoDirective | None = None
         handlers: list[py_trees.behaviour.Behaviour] = []
         for sym in reversed(list(self.model.ancestors(scenario))):
@@ -204,10 +206,7 @@ class TreeCompiler:
                     case ast.Invocation():
                         self._scenario_modifier(member)
                     case ast.CoverageDecl():
-                        self.notes.append(
-                            f"line {member.span.line}: coverage "
-                            f"({member.kind}) is not collected by the runner"
-                        )
+                        self._guard(lambda m=member: self.coverage(m), member)
         frame = Frame(
             "",
             scenario,
@@ -236,7 +235,10 @@ class TreeCompiler:
 
     def _variables(self, scenario: Symbol) -> None:
         """``var`` fields with an initialiser: a constant one (over the parameters' values)
-        is set now; another is evaluated at tick 0, over the live state."""
+        is set now; one that holds a ``sample(...)`` is live (it reads the sample's value
+        at the last occurrence of its event so far, :mod:`osc2runner.compile.sampling`);
+        another is evaluated at tick 0, over the live state. A ``var`` is never read from
+        the checker's witness: the witness gives parameters only."""
         env = self.env
         values = env.values
         for sym in scenario_fields(self.model, scenario):
@@ -246,8 +248,14 @@ class TreeCompiler:
             env.variable_symbols.add(sym)
             if default is None:
                 continue
+            if any(_is_sample(node) for node in walk(default)):
+                try:
+                    env.compiler.live_variables[sym] = env.compile(default)
+                except CompileProblem as exc:
+                    self._problem(exc)
+                continue
             try:
-                value = evaluate(default, self.model, lambda field, node: values.value(field))
+                value = evaluate(default, self.model, lambda field, node: _parameter(values, field))
                 env.run.variables[sym.name] = to_runtime(value)
                 continue
             except NotConstant:
@@ -258,6 +266,23 @@ class TreeCompiler:
                 self._problem(exc)
                 continue
             env.variable_inits.append((sym.name, fn))
+
+    def _declared_events(self, scenario: Symbol) -> None:
+        """``event e is <spec>`` (§7.3.10.2): ``e`` occurs whenever its spec occurs, watched
+        from the scenario's start (its event context); logged as kind ``event``."""
+        run = self.run
+        for sym in self.model.all_members(scenario):
+            decl = sym.decl
+            if sym.kind is not SymbolKind.EVENT or not isinstance(decl, ast.EventDecl):
+                continue
+            if decl.spec is None:
+                continue
+            try:
+                watch = self.watch(decl.spec, Bindings())
+            except CompileProblem as exc:
+                self._problem(exc)
+                continue
+            on_occurrence(run, watch, lambda n=sym.name: run.emit(n, kind="event"))
 
     def _scenario_modifier(self, member: ast.Invocation) -> None:
         sym = self.model.references.get(member.name)
@@ -295,10 +320,7 @@ class TreeCompiler:
                 case ast.Emit():
                     node = self.emit(body, scope)
                 case ast.CallDirective():
-                    node = CallDirective(
-                        node_name(f"call {self._text(body.call)}", body),
-                        self.env.compile(body.call, scope),
-                    )
+                    node = self.call(body, scope)
                 case _:
                     raise CompileProblem("the runner cannot run this member", body)
         except CompileProblem as exc:
@@ -650,6 +672,7 @@ class TreeCompiler:
     # ---- events
 
     def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
+        """``wait <event>``: its event context is the wait (§7.3.10.3)."""
         return Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
@@ -659,25 +682,55 @@ class TreeCompiler:
         return Emit(node_name(self._text(emit), emit), name, key, args)
 
     def _emission(self, emit: ast.Emit, scope: Bindings) -> tuple[str, str, dict[str, Closure]]:
+        """The event, its blackboard key and its argument closures, by parameter name in
+        declaration order: positional arguments in order, then named ones; a parameter
+        not given takes its default (an input error when it has none)."""
         name = emit.event.text
         key = self.run.declare_event(name)
         sym = self.model.references.get(emit.event)
-        params = [p.name for p in sym.parameters] if sym is not None else []
-        args: dict[str, Closure] = {}
+        params = list(sym.parameters) if sym is not None else []
+        names = [p.name for p in params]
+        given: dict[str, Closure] = {}
         position = 0
         for arg in emit.arguments:
             if isinstance(arg, ast.NamedArgument):
-                args[arg.name.text] = self.env.compile(arg.value, scope)
+                if arg.name.text not in names:
+                    raise CompileProblem(
+                        f"event `{name}` has no parameter `{arg.name.text}`", arg.name
+                    )
+                given[arg.name.text] = self.env.compile(arg.value, scope)
             elif isinstance(arg, ast.PositionalArgument):
                 if position >= len(params):
                     raise CompileProblem(f"too many arguments for event `{name}`", arg)
-                args[params[position]] = self.env.compile(arg.value, scope)
+                given[names[position]] = self.env.compile(arg.value, scope)
                 position += 1
+            else:
+                raise CompileProblem("an event is not an argument of `emit`", arg)
+        args: dict[str, Closure] = {}
+        for p in params:
+            if p.name in given:
+                args[p.name] = given[p.name]
+            elif p.default is not None:
+                args[p.name] = self.env.compile(p.default, Bindings())
+            else:
+                raise CompileProblem(f"`emit {name}` needs its argument `{p.name}`", emit)
         return name, key, args
 
+    def call(self, call: ast.CallDirective, scope: Bindings) -> py_trees.behaviour.Behaviour:
+        """``call m(args)`` as a member of ``do``: the call is evaluated once."""
+        return CallDirective(
+            node_name(f"call {self._text(call.call)}", call), self.env.compile(call.call, scope)
+        )
+
     def on(self, on: ast.OnDirective) -> py_trees.behaviour.Behaviour:
+        """``on <event>: emit ... / call ...``: the event context is the scenario; an
+        ``as`` alias of the event is visible in the members."""
         scope = Bindings()
         watch = self.watch(on.event, scope)
+        event = on.event
+        if isinstance(event, ast.EventReference) and event.alias is not None:
+            cell = watch.cell if isinstance(watch, NamedEventWatch) else None
+            scope = scope.child(**{event.alias.text: lambda c=cell: c[0] if c else None})
         members: list[Callable[[Any], None]] = []
         keys: list[str] = []
         env, run = self.env, self.run
@@ -693,54 +746,14 @@ class TreeCompiler:
                 members.append(lambda h, c=call: c())
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
 
-    def watch(self, spec: ast.Node, scope: Bindings) -> Watch:
-        """The watch of an event spec (see :mod:`osc2runner.compile.conditions`)."""
-        env, run = self.env, self.run
-        if isinstance(spec, ast.EventReference):
-            name = ".".join(p.text for p in spec.path)
-            condition = None
-            cell: list[Any] | None = None
-            if spec.condition is not None:
-                inner = scope
-                if spec.alias is not None:
-                    cell = [None]
-                    inner = scope.child(**{spec.alias.text: lambda c=cell: c[0]})
-                condition = env.compile(spec.condition, inner)
-            return NamedEventWatch(run, name, condition, cell)
-        if isinstance(spec, ast.EventCondition):
-            expr = spec.expr
-            if (
-                isinstance(expr, ast.Call)
-                and isinstance(expr.callee, ast.NameRef)
-                and self.model.references.get(expr.callee.name.name) is None
-            ):
-                fname = expr.callee.name.name.text
-                if fname in EVENT_FUNCTIONS:
-                    return self._event_function(fname, expr, scope)
-            return LevelWatch(env.compile(expr, scope))
-        raise CompileProblem("unsupported event", spec)
+    def coverage(self, decl: ast.CoverageDecl) -> None:
+        """``cover(...)`` / ``record(...)``: an item of the run's coverage, sampled at its
+        event (:mod:`osc2runner.compile.coverage`)."""
+        self.run.coverage.items.append(compile_coverage(self.env, decl, self.notes))
 
-    def _event_function(self, fname: str, call: ast.Call, scope: Bindings) -> Watch:
-        env, run = self.env, self.run
-        positional = [a.value for a in call.arguments if isinstance(a, ast.PositionalArgument)]
-        named = {a.name.text: a.value for a in call.arguments if isinstance(a, ast.NamedArgument)}
-        first = positional[0] if positional else next(iter(named.values()), None)
-        if first is None:
-            raise CompileProblem(f"`{fname}` needs an argument", call)
-        if fname in ("rise", "fall"):
-            return EdgeWatch(run.edge(env.compile(first, scope), fname == "rise", call))
-        if fname == "elapsed":
-            return ElapsedWatch(run, env.compile(first, scope))
-        period = env.compile(first, scope)
-        offset_node = named.get("offset") or (positional[1] if len(positional) > 1 else None)
-        offset = env.compile(offset_node, scope) if offset_node is not None else None
-        if not is_constant(period) or (offset is not None and not is_constant(offset)):
-            raise CompileProblem("every() needs constant durations", call)
-        try:
-            detector = run.every(float(period()), float(offset()) if offset else None)
-        except ValueError as exc:
-            raise CompileProblem(str(exc), call) from None
-        return EdgeWatch(detector)
+    def watch(self, spec: ast.Node, scope: Bindings) -> Watch:
+        """The watch of an event spec (:func:`osc2runner.compile.conditions.compile_watch`)."""
+        return compile_watch(self.env, spec, scope)
 
     # ---- the phases that start the scenario
 
@@ -778,6 +791,22 @@ def _acts(body: ast.Node) -> bool:
         case ast.Invocation():
             return True
     return False
+
+
+def _parameter(values: Any, field: Symbol) -> Any:
+    """A parameter's value from the witness; a ``var`` is not constant (not a parameter)."""
+    if field.kind is SymbolKind.VARIABLE:
+        raise NotConstant(f"`{field.name}` is a variable")
+    return values.value(field)
+
+
+def _is_sample(node: ast.Node) -> bool:
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.callee, ast.NameRef)
+        and node.callee.name.namespace is None
+        and node.callee.name.name.text == "sample"
+    )
 
 
 def _no_span() -> Any:

@@ -3,9 +3,11 @@
 One context per run. Behaviours receive it through ``tree.setup(context=ctx)``
 and read only it: the simulated time and tick, each actor's state at this tick
 (read once per tick, shared by every expression), the actors' controllers,
-the world, and the edge detectors (``rise``, ``fall``, ``every``) that are
-evaluated every tick whether or not a behaviour is currently waiting on them.
-What the compiler needs (the model, the parameter values, the registry) is in
+the world, the edge detectors (``rise``, ``fall``) that are evaluated at the
+start of every tick while their context is active, whether or not a behaviour
+asks in that tick, and the listeners of event occurrences (``sample``,
+coverage), called at the moment an event occurs. What the compiler needs (the
+model, the parameter values, the registry) is in
 ``compile.environment.CompileEnvironment``, not here.
 
 State shared *between* behaviours lives on the py_trees blackboard only:
@@ -18,6 +20,7 @@ Nothing here reads the wall clock: time is ``tick * dt``.
 from __future__ import annotations
 
 import logging
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
@@ -27,6 +30,7 @@ import py_trees
 
 from osc2check.road import Road
 from osc2check.syntax import ast
+from osc2runner.execution.coverage import RunCoverage
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
 
@@ -40,6 +44,7 @@ __all__ = [
     "Occurrence",
     "PeriodicDetector",
     "RunContext",
+    "RunFault",
     "event_key",
     "fresh_blackboard",
 ]
@@ -81,14 +86,32 @@ class LogRecord:
     actors: tuple[str, ...] = ()
 
 
-class EdgeDetector:
-    """``rise(b)`` / ``fall(b)``: true on the tick where ``b`` changes, evaluated every tick.
+class RunFault(Exception):
+    """The scenario itself went wrong while running (not a bug, not bad input seen before
+    the run): a ``sample`` read before its event with no default, an external method that
+    raised. The loop ends the run as a ``failure`` whose reason is the message, which
+    names the place in the source."""
 
-    The first evaluation only records the value (there is no edge without a
-    previous tick).
+    def __init__(self, message: str, node: ast.Node | None = None) -> None:
+        where = ""
+        if node is not None:
+            s = node.span
+            where = f"{s.uri}:{s.line}:{s.column}: "
+        super().__init__(where + message)
+        self.node = node
+
+
+class EdgeDetector:
+    """``rise(b)`` / ``fall(b)``: true on the tick where ``b`` changes.
+
+    A detector is evaluated only while its context is active (a watch on it has
+    started and not stopped): at :meth:`activate`, which only records the value
+    (there is no edge without a previous evaluation in the context), and then at
+    the start of every tick, before the tree, by :meth:`RunContext.begin_tick`, so
+    an edge is never missed whether or not a behaviour asks in that tick.
     """
 
-    __slots__ = ("fn", "rising", "previous", "edge", "node")
+    __slots__ = ("fn", "rising", "previous", "edge", "node", "active")
 
     def __init__(self, fn: Callable[[], Any], rising: bool, node: ast.Node | None = None) -> None:
         self.fn = fn
@@ -96,6 +119,19 @@ class EdgeDetector:
         self.previous: bool | None = None
         self.edge = False
         self.node = node
+        self.active = 0
+
+    def activate(self) -> None:
+        """The context starts: the value now is the first evaluation (no edge)."""
+        self.active += 1
+        self.previous = bool(self.fn())
+        self.edge = False
+
+    def deactivate(self) -> None:
+        self.active = max(0, self.active - 1)
+        if not self.active:
+            self.edge = False
+            self.previous = None
 
     def update(self) -> None:
         value = bool(self.fn())
@@ -110,25 +146,37 @@ class EdgeDetector:
 
 
 class PeriodicDetector:
-    """``every(period, offset: o)``: at ``o, o + period, ...`` (``o`` defaults to ``period``)."""
+    """``every(period, offset: o)``: at ``c + o, c + o + period, ...`` where ``c`` is the
+    time its context started (``o`` defaults to 0: the first occurrence is the start of
+    the context). Occurrences are on the control grid: the first tick at or after each
+    due time (a period that is not a multiple of the tick keeps its phase; it does not
+    drift)."""
 
-    __slots__ = ("period", "offset", "dt", "edge", "_next")
+    __slots__ = ("period", "offset", "_next")
 
-    def __init__(self, period: float, offset: float | None, dt: float) -> None:
-        if period <= 0.0:
+    def __init__(self, period: float, offset: float = 0.0) -> None:
+        if not period > 0.0:
             raise ValueError("every() needs a positive period")
+        if offset < 0.0:
+            raise ValueError("every() needs an offset of zero or more")
         self.period = period
-        self.offset = period if offset is None else offset
-        self.dt = dt
-        self.edge = False
-        self._next = self.offset
+        self.offset = offset
+        self._next = math.inf
 
-    def update_at(self, time: float) -> None:
-        self.edge = False
-        if time + 1e-9 * self.dt >= self._next - 1e-9:
-            self.edge = True
-            while self._next <= time + 1e-9:
-                self._next += self.period
+    def start(self, time: float) -> None:
+        """The context starts at ``time``."""
+        self._next = time + self.offset
+
+    def occurred(self, time: float) -> bool:
+        """Whether an occurrence is due at ``time`` (each occurrence is reported once)."""
+        if time < self._next - _TIME_EPS:
+            return False
+        while self._next <= time + _TIME_EPS:
+            self._next += self.period
+        return True
+
+
+_TIME_EPS = 1e-9  # s: tick times are multiples of dt computed in floating point
 
 
 class RunContext:
@@ -162,7 +210,9 @@ class RunContext:
         self.states: dict[str, ActorState] = {}
         self.variables: dict[str, Any] = {}
         self.detectors: list[EdgeDetector] = []
-        self.periodic: list[PeriodicDetector] = []
+        self.background: list[Callable[[], None]] = []  # polled every tick, before the tree
+        self.listeners: dict[str, list[Callable[[Occurrence], None]]] = {}
+        self.coverage = RunCoverage(seed=seed)  # the cover/record items and their samples
         self.records: list[LogRecord] = []
         self.lights: dict[str, str] = {}
         self.collisions_allowed: dict[str, int] = {}
@@ -186,15 +236,21 @@ class RunContext:
     def edge(
         self, fn: Callable[[], Any], rising: bool, node: ast.Node | None = None
     ) -> EdgeDetector:
-        """A rise/fall detector on ``fn``, updated at the start of every tick."""
+        """A rise/fall detector on ``fn``, updated at the start of every tick while active."""
         detector = EdgeDetector(fn, rising, node)
         self.detectors.append(detector)
         return detector
 
-    def every(self, period: float, offset: float | None) -> PeriodicDetector:
-        detector = PeriodicDetector(period, offset, self.dt)
-        self.periodic.append(detector)
-        return detector
+    def listen(self, name: str, callback: Callable[[Occurrence], None]) -> None:
+        """Call ``callback(occurrence)`` at every occurrence of event ``name``, when it
+        occurs (``sample`` and coverage read the state of the occurrence's tick)."""
+        self.declare_event(name)
+        self.listeners.setdefault(name, []).append(callback)
+
+    def poll(self, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` at the start of every tick, after the edge detectors (the
+        event functions that ``sample`` and coverage items wait for)."""
+        self.background.append(callback)
 
     # ---- actors
 
@@ -222,12 +278,13 @@ class RunContext:
         self.refresh()
 
     def begin_tick(self) -> None:
-        """Evaluate every edge detector against this tick's state (before the tree tick)."""
+        """Evaluate the active edge detectors against this tick's state (before the tree
+        tick), then the background polls."""
         for detector in self.detectors:
-            detector.update()
-        time = self.time
-        for periodic in self.periodic:
-            periodic.update_at(time)
+            if detector.active:
+                detector.update()
+        for callback in self.background:
+            callback()
 
     # ---- events
 
@@ -240,6 +297,13 @@ class RunContext:
         occurrence = Occurrence(self.tick, self.time, dict(args or {}))
         self._client.set(key, self._client.get(key) + (occurrence,))
         self.record(kind, name, _args_text(args))
+        self.occurred(name, occurrence)
+
+    def occurred(self, name: str, occurrence: Occurrence) -> None:
+        """Tell the listeners of ``name`` (see :meth:`listen`) that it occurred now; every
+        path that appends an occurrence calls this once."""
+        for callback in self.listeners.get(name, ()):
+            callback(occurrence)
 
     def record(self, kind: str, name: str, detail: str = "", actors: tuple[str, ...] = ()) -> None:
         """Add a line to the event log at the current tick."""

@@ -2,8 +2,12 @@
 
 Each control tick (50 ms by default):
 
-1. the edge detectors (``rise``, ``fall``, ``every``) read this tick's state;
-2. the behaviour tree is ticked once (behaviours set controller targets);
+1. the active edge detectors (``rise``, ``fall``) read this tick's state, then
+   the background polls (event functions of ``sample``, coverage, declared
+   events);
+2. the behaviour tree is ticked once (behaviours set controller targets); a
+   :class:`~osc2runner.execution.context.RunFault` raised by the scenario in
+   1 or 2 fails the run at this tick;
 3. every controller turns its targets and its actor's state into inputs;
 4. the world advances one control step (its physics sub-steps);
 5. every actor's state is read once, and recorded; collisions and road
@@ -34,7 +38,7 @@ from py_trees.common import Status
 
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import running_open, tick_child
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.execution.signals import Interrupts, signal_name
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
@@ -110,8 +114,11 @@ class TickLoop:
     def step(self) -> RunOutcome | None:
         """One control tick; the outcome when the run ends with it, else None."""
         ctx, world, root = self.ctx, self.world, self.root
-        ctx.begin_tick()
-        tick_child(root)
+        try:
+            ctx.begin_tick()
+            tick_child(root)
+        except RunFault as fault:  # the scenario went wrong at run time: a failed run
+            ctx.fail(str(fault))
         outcome = _tree_outcome(root, ctx, world, self.max_ticks, self.limit)
         if outcome is not None:
             return outcome

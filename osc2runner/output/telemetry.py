@@ -36,7 +36,7 @@ from osc2runner.execution.context import LogRecord
 from osc2runner.output.files import atomic_open, write_atomically
 from osc2runner.sim import ActorState
 
-__all__ = ["CHANNELS", "Recorder", "write", "write_data", "write_metadata"]
+__all__ = ["CHANNELS", "Recorder", "write_data", "write_metadata"]
 
 CHANNELS = (
     "tick",
@@ -192,15 +192,6 @@ def write_metadata(out: Path, metadata: dict[str, Any], records: list[LogRecord]
     document["events"] = event_dicts(records)
     text = json.dumps(document, indent=2, default=_json_default) + "\n"
     return write_atomically(out / "run.json", text)
-
-
-def write(
-    out: Path, recorder: Recorder, records: list[LogRecord], metadata: dict[str, Any]
-) -> list[Path]:
-    """Write ``telemetry.csv``, ``events.csv`` and ``run.json`` into ``out`` (created when
-    missing); returns the paths."""
-    out.mkdir(parents=True, exist_ok=True)
-    return [*write_data(out, recorder, records), write_metadata(out, metadata, records)]
 
 
 def _json_default(value: object) -> object:

@@ -56,7 +56,7 @@ def test_success_exits_0_and_writes_outputs(tmp_path, capsys):
     summary = capsys.readouterr().out
     assert "success" in summary and "wrote" in summary
     names = sorted(p.name for p in out.iterdir())
-    assert names == ["events.csv", "run.json", "telemetry.csv"]
+    assert names == ["coverage.json", "events.csv", "run.json", "telemetry.csv"]
     meta = json.loads((out / "run.json").read_text())
     assert meta["outcome"]["status"] == "success"
     assert set(meta["versions"]) >= {"mujoco", "numpy", "python", "platform"}

@@ -153,7 +153,12 @@ def test_the_command_line_itself_prints_one_line(tmp_path):
 def test_a_missing_out_folder_is_created_only_when_the_run_writes(tmp_path, capsys):
     out = tmp_path / "a" / "b"
     assert main([str(EVENTS), "--out", str(out), "--duration", "1", "-q"]) == 1  # timeout
-    assert sorted(p.name for p in out.iterdir()) == ["events.csv", "run.json", "telemetry.csv"]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "coverage.json",
+        "events.csv",
+        "run.json",
+        "telemetry.csv",
+    ]
 
 
 def test_good_steps_are_accepted(capsys):

@@ -27,7 +27,7 @@ def test_emit_order_and_arguments(events):
     assert _emits(events) == [
         (20, "marker", "count: 1"),  # elapsed(1s) from tick 0
         (40, "marker", "count: 3"),  # @warm_up.end: the label's end, same tick
-        (60, "marker", "count: 5"),  # every(1.5s) occurs at 3.0 s
+        (60, "marker", "count: 5"),  # every(1.5s, offset: 1s) from 2.0 s: at 3.0 s
         (61, "slow", ""),  # the waiting branch was ticked first: sees it one tick later
         (62, "done", ""),  # on @slow, ticked before the do: one tick later
     ]

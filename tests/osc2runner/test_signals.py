@@ -40,15 +40,15 @@ scenario long_drive:
         serial:
             hero.assign_position() with:
                 lane(1, at: start)
-                speed(20kph, at: start)
+                speed(1kph, at: start)
             hero.drive(duration: 1000s) with:
-                speed(30kph)
+                speed(1kph)
         serial:
             npc.assign_position() with:
                 lane(2, at: start)
-                speed(20kph, at: start)
+                speed(1kph, at: start)
             npc.drive(duration: 1000s) with:
-                speed(30kph)
+                speed(1kph)
 """
 
 #: started instead of ``python -m osc2runner``: sends itself SIGINT after tick 40, and again

@@ -1,0 +1,70 @@
+"""``sample(expression, event[, default])`` at run time, checked against telemetry.
+
+``scenarios/sampling.osc`` emits ``report(held, with_default, doubled)``
+before ``go``, after the first ``go`` and after the second; the occurrences'
+arguments are exact SI values.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from osc2runner import run
+from osc2runner.runner import execute, prepare
+
+SCENARIOS = Path(__file__).parent / "scenarios"
+KPH = 1000.0 / 3600.0
+
+
+@pytest.fixture(scope="module")
+def sampled():
+    prepared = prepare(SCENARIOS / "sampling.osc")
+    result = execute(prepared)
+    assert result.outcome.status == "success", result.outcome.reason
+    reports = prepared.ctx.occurrences("report")
+    goes = [o.tick for o in prepared.ctx.occurrences("go")]
+    return result, reports, goes
+
+
+def test_a_sample_is_the_value_at_the_tick_of_the_last_occurrence(sampled):
+    result, reports, goes = sampled
+    speed = result.telemetry["hero"]["speed"]
+    assert goes == [20, 70] and [r.tick for r in reports] == [20, 40, 80]
+    first, second = reports[1].args, reports[2].args
+    # var at_go = sample(hero.speed, @go): the speed at the first go, then at the second
+    assert first["held"] == speed[goes[0]]
+    assert second["held"] == speed[goes[1]]
+    assert first["held"] != second["held"]  # the car accelerates: the two differ
+    # `sample` inside an expression, with and without a default
+    assert first["doubled"] == 2 * speed[goes[0]]
+    assert second["doubled"] == 2 * speed[goes[1]]
+
+
+def test_a_sample_is_its_default_before_the_event(sampled):
+    result, reports, goes = sampled
+    before = reports[0]
+    assert before.tick == goes[0]  # emitted just before the first `go`
+    assert before.args["with_default"] == pytest.approx(1.0 * KPH, rel=1e-15)
+    assert reports[1].args["with_default"] == result.telemetry["hero"]["speed"][goes[0]]
+
+
+def test_a_sample_read_before_its_event_without_default_fails_the_run():
+    result = run(SCENARIOS / "sampling_early.osc")
+    assert result.outcome.status == "failure"
+    reason = result.outcome.reason
+    assert reason.startswith(f"{SCENARIOS / 'sampling_early.osc'}:8:24: ")
+    assert "`sample(hero.speed, @go)` was read before `go` occurred" in reason
+    assert result.outcome.tick == 20  # when `emit report(at_go)` read it
+
+
+def test_a_sampled_var_is_not_the_witness_value(sampled):
+    """The issue: `var v = sample(...)` ran as the solver's value; the witness still
+    lists one (the checker encodes `var` fields), the run must not use it."""
+    result, reports, goes = sampled
+    parameters = {p["name"]: p for p in result.metadata["witness"]["parameters"]}
+    held = reports[1].args["held"]
+    assert held == result.telemetry["hero"]["speed"][goes[0]]
+    if "at_go" in parameters:
+        assert parameters["at_go"]["si_float"] != pytest.approx(held)
