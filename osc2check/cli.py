@@ -467,7 +467,13 @@ def _witness_tables(results: list[Any]) -> str:
     """The readable witness of every scenario, or why there is none."""
     parts = []
     for r in results:
-        if r.witness is not None:
+        if r.invoked_by:
+            by = ", ".join(f"`{name}`" for name in r.invoked_by)
+            parts.append(
+                f"no witness for scenario `{r.scenario.name}`: it is invoked by {by}, whose "
+                "witness places its actors (`--scenario` checks it on its own)"
+            )
+        elif r.witness is not None:
             parts.append(r.witness.table())
         else:
             why = (

@@ -15,7 +15,13 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 
-__all__ = ["RootScenarioError", "file_scenarios", "invoked_scenarios", "root_scenario"]
+__all__ = [
+    "RootScenarioError",
+    "file_scenarios",
+    "invoked_scenarios",
+    "invokers",
+    "root_scenario",
+]
 
 TOP = "top"
 
@@ -41,7 +47,13 @@ def file_scenarios(model: Model, declarations: tuple[ast.Node, ...]) -> list[Sym
 
 def invoked_scenarios(model: Model, scenarios: list[Symbol]) -> set[Symbol]:
     """The scenarios that one of ``scenarios`` invokes in its behaviour (directly)."""
-    invoked: set[Symbol] = set()
+    return set(invokers(model, scenarios))
+
+
+def invokers(model: Model, scenarios: list[Symbol]) -> dict[Symbol, list[Symbol]]:
+    """Each scenario one of ``scenarios`` invokes in its behaviour (directly), with the
+    scenarios that invoke it, in order."""
+    invoked: dict[Symbol, list[Symbol]] = {}
     for scenario in scenarios:
         decl = scenario.decl
         if not isinstance(decl, ast.StructuredDecl):
@@ -51,7 +63,9 @@ def invoked_scenarios(model: Model, scenarios: list[Symbol]) -> set[Symbol]:
                 for inv in _invocations(member):
                     target = model.reference(inv.name)
                     if target is not None and target.kind is SymbolKind.SCENARIO:
-                        invoked.add(target)
+                        by = invoked.setdefault(target, [])
+                        if scenario not in by:
+                            by.append(scenario)
     return invoked
 
 

@@ -21,6 +21,7 @@ from osc2check import codes, messages
 from osc2check.diagnostics import Diagnostic, Related
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
+from osc2check.semantics.roots import invokers
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import strip_comment
 from osc2check.syntax import ast
@@ -61,11 +62,17 @@ class ScenarioResult:
     seed: int | None = None
     rlimit: int = DEFAULT_RLIMIT
     timeout_ms: int = DEFAULT_TIMEOUT_MS
+    #: the scenarios that invoke this one (when it was not asked for by name): its actors
+    #: and start are theirs, so it has no witness of its own
+    invoked_by: tuple[str, ...] = ()
     _witness: object = field(default=_UNSET, repr=False, compare=False)
 
     @property
     def witness(self) -> Witness | None:
-        """The scenario's witness for ``seed`` (None unless its constraints can hold)."""
+        """The scenario's witness for ``seed`` (None unless its constraints can hold, or
+        when the scenario is only invoked by others)."""
+        if self.invoked_by:
+            return None
         if self._witness is _UNSET:
             self._witness = self.witness_for(self.seed)
         return self._witness  # type: ignore[return-value]
@@ -173,9 +180,13 @@ def verify_program(
     report = result.diagnostics.append
     session = Session()
     decls = None
-    for sym in scenarios_of(program):
+    scenarios = scenarios_of(program)
+    invoked = invokers(program.model, scenarios)
+    for sym in scenarios:
         if scenario is not None and sym.name != scenario:
             continue
+        # an invoked scenario's actors are its invoker's: its start is checked there
+        standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
         if decls is None:
@@ -183,7 +194,8 @@ def verify_program(
         problem = lower_scenario(program.model, sym, text_of, default_map, decls)
         _reversed_ranges(sym, program, text_of, report)
         outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
-        _placement_notes(problem, report)
+        if standalone:
+            _placement_notes(problem, report)
         if outcome.status == "unsat":
             for conflict in outcome.conflicts:
                 report(_conflict(conflict, sym))
@@ -197,7 +209,8 @@ def verify_program(
             active = active_constraints(problem, SolverOutcome("sat"))
             for c in _vacuous(problem, active, rlimit, session):
                 report(messages.vacuous_constraint(c))
-            for gap in _unsafe_gaps(problem, active, outcome, rlimit):
+            gaps = _unsafe_gaps(problem, active, outcome, rlimit) if standalone else ()
+            for gap in gaps:
                 report(
                     messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader, MIN_TIME_GAP)
                 )
@@ -210,7 +223,10 @@ def verify_program(
         for c in outcome.nonlinear:
             if _user_written(c, program):
                 report(messages.nonlinear_constraint(c))
-        result.scenarios.append(ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms))
+        by = () if standalone else tuple(s.name for s in invoked[sym])
+        result.scenarios.append(
+            ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms, invoked_by=by)
+        )
     return result
 
 
@@ -436,6 +452,8 @@ def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict:
         "status": result.outcome.status,
         "conflicts": len(result.outcome.conflicts),
     }
+    if result.invoked_by:
+        data["invoked_by"] = list(result.invoked_by)
     if with_witness:
         data["witness"] = result.witness.to_json() if result.witness is not None else None
     return data

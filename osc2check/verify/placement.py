@@ -690,7 +690,7 @@ class PlacementLowerer:
             and "lane" in args
             and not any(k in args for k in ("same_as", "side_of", "left_of", "right_of"))
         ):
-            lane = self.problem.var(f"{actor.name}@{item.span.line}.lane", "int", span=actor.span)
+            lane = self.problem.var(self._phase_name(actor, item, "lane"), "int", span=actor.span)
             saved, actor.lane = actor.lane, lane
             try:
                 self._lane_range(actor, placement.road)
@@ -703,7 +703,7 @@ class PlacementLowerer:
             and not any(k in args for k in ("faster_than", "slower_than", "same_as"))
         ):
             speed = self.problem.var(
-                f"{actor.name}@{item.span.line}.speed",
+                self._phase_name(actor, item, "speed"),
                 "real",
                 unit="kph",
                 unit_factor=Fraction(5, 18),
@@ -715,6 +715,12 @@ class PlacementLowerer:
                 self._mod_speed(actor, args, item, placement)
             finally:
                 actor.speed = saved
+
+    def _phase_name(self, actor: PlacedActor, item: ast.Invocation, what: str) -> str:
+        """The variable of ``actor``'s lane or speed in the phase of modifier ``item``,
+        one for each instance of an invoked scenario."""
+        own = f"{actor.name}@{item.span.line}.{what}"
+        return f"{self.scope.prefix}.{own}" if self.scope.prefix else own
 
     def _args(self, inv: ast.Invocation) -> dict[str, ast.Node]:
         modifier = self.model.references.get(inv.name)
