@@ -351,6 +351,7 @@ class Declarer:
             return
         sym.type = target.type
         sym.owner = target
+        assert sym.dimension is not None  # set when the unit was declared
         if target.dimension is not None and sym.dimension != target.dimension:
             self.report(
                 messages.unit_dimension(

@@ -79,7 +79,11 @@ def _target(model: Model, sym: Symbol, report: Callable[[Diagnostic], None]) -> 
         )
         return None
     if len({id(m.owner) for m in found}) > 1:
-        report(messages.ambiguous_enum_literal(written.span, name.text, [m.owner for m in found]))
+        report(
+            messages.ambiguous_enum_literal(
+                written.span, name.text, [m.owner for m in found if m.owner]
+            )
+        )
         return None
     model.references[written] = found[0]
     return found[0]
