@@ -105,7 +105,7 @@ class Symbol:
     toolkit: bool = False  # declared in the toolkit's own extension library
     doc: str | None = None
     context: Context | None = None  # the lookup context of the declaration
-    extra: SymbolExtra = field(default_factory=lambda: SymbolExtra())
+    extra: SymbolExtra = field(default_factory=SymbolExtra)
 
     @property
     def qualified_name(self) -> str:
