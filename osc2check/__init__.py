@@ -10,10 +10,17 @@ Public entry points (imported on first use, so that ``import osc2check`` stays c
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # what __getattr__ gives, as type checkers should see it
+    from osc2check.analysis import AnalysisOptions, SourceInput, analyze
+    from osc2check.syntax import parse
+    from osc2check.verify.api import solve
+
 __all__ = ["AnalysisOptions", "SourceInput", "analyze", "parse", "solve"]
 
 
-def __getattr__(name: str):
+def __getattr__(name: str) -> object:
     if name == "parse":
         from osc2check.syntax import parse
 

@@ -23,7 +23,7 @@ import traceback
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any, NoReturn, TextIO
+from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 
 from osc2check import codes, inputs, rules
 from osc2check.codes import Severity
@@ -40,6 +40,11 @@ from osc2check.config import (
 from osc2check.inputs import InputError, InputProblem
 from osc2check.output import render, render_statistics, tool
 from osc2check.source import decode_source
+
+if TYPE_CHECKING:  # imported where first needed, to keep the start fast
+    from osc2check.analysis import Analysis, SourceInput
+    from osc2check.diagnostics import Diagnostic
+    from osc2check.verify.check import ScenarioResult
 
 __all__ = ["EXIT_ERROR", "EXIT_FINDINGS", "EXIT_OK", "UsageError", "build_parser", "main"]
 
@@ -213,8 +218,8 @@ def _check_command(argv: list[str], out: TextIO) -> int:
         status = _dump_ast(sources, out)
         return EXIT_ERROR if failed else status
 
-    diagnostics: list[Any] = []
-    results: list[Any] = []
+    diagnostics: list[Diagnostic] = []
+    results: list[ScenarioResult] = []
     texts = {s.uri: s.text for s in sources}
     if sources:
         analysis = _analyze(sources, config, args.seed if args.witness else None, args.scenario)
@@ -431,7 +436,7 @@ def _named(path: Path, config: Config) -> list[_Input | InputProblem]:
     return [_Input(_display(path), path)]
 
 
-def _read(entries: list[_Input | InputProblem]) -> tuple[list[Any], list[InputProblem]]:
+def _read(entries: list[_Input | InputProblem]) -> tuple[list[SourceInput], list[InputProblem]]:
     """The decoded sources, and the paths not checked (those met, then those unreadable).
 
     A file that is not valid UTF-8 is read, and carries its problem (P004).
@@ -457,13 +462,15 @@ def _read(entries: list[_Input | InputProblem]) -> tuple[list[Any], list[InputPr
     return sources, problems
 
 
-def _analyze(sources: list[Any], config: Config, seed: int | None, scenario: str | None) -> Any:
+def _analyze(
+    sources: list[SourceInput], config: Config, seed: int | None, scenario: str | None
+) -> Analysis:
     from osc2check.analysis import analyze
 
     return analyze(sources, config.analysis_options(seed=seed, scenario=scenario))
 
 
-def _witness_tables(results: list[Any]) -> str:
+def _witness_tables(results: list[ScenarioResult]) -> str:
     """The readable witness of every scenario, or why there is none."""
     parts = []
     for r in results:
@@ -485,7 +492,7 @@ def _witness_tables(results: list[Any]) -> str:
     return ("\n" + "\n\n".join(parts) + "\n") if parts else ""
 
 
-def _dump_ast(sources: list[Any], out: TextIO) -> int:
+def _dump_ast(sources: list[SourceInput], out: TextIO) -> int:
     from osc2check.syntax import dump, parse  # provided by the parser
 
     for source in sources:

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import difflib
 import tomllib
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, replace
 from fnmatch import fnmatchcase
 from pathlib import Path, PurePosixPath
@@ -227,40 +227,46 @@ def parse_severity(
     raise ConfigError(f"expected one of {', '.join(map(repr, names))}, got {value!r}", path, key)
 
 
-def _expect(value: object, kind: type | tuple[type, ...], what: str, path, key) -> Any:
+# Where a value was read: the configuration file, if any (ConfigError names it).
+_Where = Path | str | None
+# Reads the value of one key into the Config fields it sets.
+_Reader = Callable[[object, _Where, str], dict[str, Any]]
+
+
+def _expect(
+    value: object, kind: type | tuple[type, ...], what: str, path: _Where, key: str | None
+) -> Any:  # `value` itself, of the type `kind` (TOML data)
     if not isinstance(value, kind) or (kind is not bool and isinstance(value, bool)):
         raise ConfigError(f"expected {what}, got {value!r}", path, key)
     return value
 
 
-def _string_list(value: object, path, key) -> list[str]:
-    _expect(value, list, "a list of strings", path, key)
-    for item in value:  # type: ignore[attr-defined]
-        _expect(item, str, "a list of strings", path, key)
-    return list(value)  # type: ignore[call-overload]
+def _string_list(value: object, path: _Where, key: str) -> list[str]:
+    items: list[object] = _expect(value, list, "a list of strings", path, key)
+    return [_expect(item, str, "a list of strings", path, key) for item in items]
 
 
-def _read_select(v: object, path, key) -> dict[str, Any]:
+def _read_select(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"select": parse_codes(_string_list(v, path, key), path=path, key=key)}
 
 
-def _read_ignore(v: object, path, key) -> dict[str, Any]:
+def _read_ignore(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"ignore": parse_codes(_string_list(v, path, key), path=path, key=key)}
 
 
-def _read_strict(v: object, path, key) -> dict[str, Any]:
+def _read_strict(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"strict": _expect(v, bool, "true or false", path, key)}
 
 
-def _read_force_exclude(v: object, path, key) -> dict[str, Any]:
+def _read_force_exclude(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"force_exclude": _expect(v, bool, "true or false", path, key)}
 
 
-def _read_fail_on(v: object, path, key) -> dict[str, Any]:
+def _read_fail_on(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"fail_on": parse_severity(v, path=path, key=key)}
 
 
-def _read_output_format(v: object, path, key) -> dict[str, Any]:
+def _read_output_format(v: object, path: _Where, key: str) -> dict[str, Any]:
     name = FORMAT_ALIASES.get(str(v), v)
     if name not in OUTPUT_FORMATS:
         choices = ", ".join(map(repr, OUTPUT_FORMATS))
@@ -268,16 +274,16 @@ def _read_output_format(v: object, path, key) -> dict[str, Any]:
     return {"output_format": name}
 
 
-def _read_per_file_ignores(v: object, path, key) -> dict[str, Any]:
+def _read_per_file_ignores(v: object, path: _Where, key: str) -> dict[str, Any]:
     table = _expect(v, dict, 'a table of glob = ["CODE", ...]', path, key)
-    result = {}
+    result: dict[str, frozenset[Code]] = {}
     for pattern, names in table.items():
         sub = f'{key}."{pattern}"'
         result[pattern] = parse_codes(_string_list(names, path, sub), path=path, key=sub)
     return {"per_file_ignores": MappingProxyType(result)}
 
 
-def _read_severity(v: object, path, key) -> dict[str, Any]:
+def _read_severity(v: object, path: _Where, key: str) -> dict[str, Any]:
     table = _expect(v, dict, 'a table of CODE = "error" | "warning" | "info"', path, key)
     result: dict[Code, Severity] = {}
     for name, level in table.items():
@@ -288,18 +294,18 @@ def _read_severity(v: object, path, key) -> dict[str, Any]:
     return {"severity_overrides": MappingProxyType(result)}
 
 
-def _read_exclude(v: object, path, key) -> dict[str, Any]:
+def _read_exclude(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"exclude": tuple(_string_list(v, path, key))}
 
 
-def _raw_table(name: str):
-    def read(v: object, path, key) -> dict[str, Any]:
+def _raw_table(name: str) -> _Reader:
+    def read(v: object, path: _Where, key: str) -> dict[str, Any]:
         return {name: MappingProxyType(dict(_expect(v, dict, "a table", path, key)))}
 
     return read
 
 
-def _read_solver(v: object, path, key) -> dict[str, Any]:
+def _read_solver(v: object, path: _Where, key: str) -> dict[str, Any]:
     table = dict(_expect(v, dict, "a table", path, key))
     for name in ("rlimit", "timeout-ms"):
         value = table.get(name)
@@ -310,12 +316,12 @@ def _read_solver(v: object, path, key) -> dict[str, Any]:
     return {"solver": MappingProxyType(table)}
 
 
-def _read_search_paths(v: object, path, key) -> dict[str, Any]:
+def _read_search_paths(v: object, path: _Where, key: str) -> dict[str, Any]:
     base = Path(path).resolve().parent if path else Path.cwd()
     return {"search_paths": tuple(str(base / p) for p in _string_list(v, path, key))}
 
 
-_READERS = {
+_READERS: dict[str, _Reader] = {
     "select": _read_select,
     "ignore": _read_ignore,
     "strict": _read_strict,

@@ -47,8 +47,8 @@ class Diagnostic:
     severity: Severity
     related: tuple[Related, ...] = ()
     fix: Fix | None = None
-    data: dict = field(default_factory=dict, compare=False, hash=False)
+    data: dict[str, object] = field(default_factory=dict, compare=False, hash=False)
 
     @property
-    def sort_key(self) -> tuple:
+    def sort_key(self) -> tuple[str, int, int, str, str]:
         return (self.span.uri, self.span.line, self.span.column, self.code.code, self.message)

@@ -8,11 +8,18 @@ start, no final period, source names in backticks, units kept as written.
 from __future__ import annotations
 
 from collections.abc import Iterable, Sequence
+from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from osc2check import codes
 from osc2check.codes import Code
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
 from osc2check.source import Span
+
+if TYPE_CHECKING:
+    from osc2check.semantics.symbols import Symbol
+    from osc2check.semantics.types import Dimension, Type
+    from osc2check.verify.ir import Constraint
 
 
 def _diag(
@@ -21,7 +28,7 @@ def _diag(
     span: Span,
     related: Sequence[Related] = (),
     fix: Fix | None = None,
-    **data,
+    **data: object,
 ) -> Diagnostic:
     return Diagnostic(code, message, span, code.severity, tuple(related), fix, data)
 
@@ -144,17 +151,17 @@ def invalid_encoding(span: Span, problem: str) -> Diagnostic:
 # ---- N: names -------------------------------------------------------------------
 
 
-def _where(symbol) -> str:
+def _where(symbol: Symbol) -> str:
     return f"{symbol.kind.value} `{symbol.qualified_name}`"
 
 
-def _first_declared(previous) -> list[Related]:
+def _first_declared(previous: Symbol | None) -> list[Related]:
     if previous is None or previous.name_span is None:
         return []
     return [Related(previous.name_span, f"`{previous.name}` is first declared here")]
 
 
-def duplicate_definition(span: Span, name: str, previous) -> Diagnostic:
+def duplicate_definition(span: Span, name: str, previous: Symbol) -> Diagnostic:
     return _diag(
         codes.DUPLICATE_DEFINITION,
         f"`{name}` is already declared in this scope; use `extend` to add to it",
@@ -163,7 +170,7 @@ def duplicate_definition(span: Span, name: str, previous) -> Diagnostic:
     )
 
 
-def duplicate_member(span: Span, name: str, owner: str | None, previous) -> Diagnostic:
+def duplicate_member(span: Span, name: str, owner: str | None, previous: Symbol) -> Diagnostic:
     where = f" of `{owner}`" if owner else ""
     return _diag(
         codes.DUPLICATE_DEFINITION,
@@ -173,7 +180,7 @@ def duplicate_member(span: Span, name: str, owner: str | None, previous) -> Diag
     )
 
 
-def shadows_inherited(span: Span, name: str, owner: str, previous) -> Diagnostic:
+def shadows_inherited(span: Span, name: str, owner: str, previous: Symbol) -> Diagnostic:
     return _diag(
         codes.DUPLICATE_DEFINITION,
         f"`{name}` already exists in a supertype of `{owner}` and cannot be declared again",
@@ -182,7 +189,7 @@ def shadows_inherited(span: Span, name: str, owner: str, previous) -> Diagnostic
     )
 
 
-def override_without_only(span: Span, name: str, previous) -> Diagnostic:
+def override_without_only(span: Span, name: str, previous: Symbol | None) -> Diagnostic:
     owner = previous.owner.name if previous is not None and previous.owner is not None else "?"
     return _diag(
         codes.DUPLICATE_DEFINITION,
@@ -192,7 +199,7 @@ def override_without_only(span: Span, name: str, previous) -> Diagnostic:
     )
 
 
-def ambiguous_name(span: Span, name: str, candidates) -> Diagnostic:
+def ambiguous_name(span: Span, name: str, candidates: Sequence[Symbol]) -> Diagnostic:
     names = _quote_list((c.qualified_name for c in candidates), conj="and")
     first = candidates[0].qualified_name
     return _diag(
@@ -246,7 +253,7 @@ def undefined_event(span: Span, name: str, suggestion: str | None) -> Diagnostic
     )
 
 
-def unknown_member(span: Span, name: str, owner_type, suggestion: str | None) -> Diagnostic:
+def unknown_member(span: Span, name: str, owner_type: Type, suggestion: str | None) -> Diagnostic:
     return _diag(
         codes.UNKNOWN_MEMBER,
         f"`{owner_type}` has no member `{name}`{_did_you_mean(suggestion)}",
@@ -256,7 +263,7 @@ def unknown_member(span: Span, name: str, owner_type, suggestion: str | None) ->
     )
 
 
-def unknown_method(span: Span, name: str, owner_type, suggestion: str | None) -> Diagnostic:
+def unknown_method(span: Span, name: str, owner_type: Type, suggestion: str | None) -> Diagnostic:
     return _diag(
         codes.UNKNOWN_MEMBER,
         f"`{owner_type}` has no method `{name}`{_did_you_mean(suggestion)}",
@@ -276,7 +283,9 @@ def unknown_unit(span: Span, name: str, suggestion: str | None) -> Diagnostic:
     )
 
 
-def unknown_enum_member(span: Span, name: str, enum, suggestion: str | None) -> Diagnostic:
+def unknown_enum_member(
+    span: Span, name: str, enum: Symbol | None, suggestion: str | None
+) -> Diagnostic:
     enum_name = enum.name if enum is not None else "?"
     return _diag(
         codes.UNKNOWN_ENUM_MEMBER,
@@ -287,7 +296,7 @@ def unknown_enum_member(span: Span, name: str, enum, suggestion: str | None) -> 
     )
 
 
-def ambiguous_enum_literal(span: Span, name: str, enums) -> Diagnostic:
+def ambiguous_enum_literal(span: Span, name: str, enums: Sequence[Symbol]) -> Diagnostic:
     owners = _quote_list((e.qualified_name for e in enums), conj="and")
     first = enums[0].name
     return _diag(
@@ -316,13 +325,15 @@ def import_cycle(span: Span, chain: Sequence[str]) -> Diagnostic:
     return _diag(codes.IMPORT_CYCLE, "import cycle: " + " -> ".join(chain), span)
 
 
-def invalid_inheritance(span: Span, symbol, parent, reason: str) -> Diagnostic:
+def invalid_inheritance(
+    span: Span, symbol: Symbol, parent: Symbol | None, reason: str
+) -> Diagnostic:
     if reason == "different kinds" and parent is not None:
         text = (
             f"{symbol.kind.value} `{symbol.name}` cannot inherit from "
             f"{_where(parent)}; a declaration inherits from one of the same kind"
         )
-    elif reason == "cycle":
+    elif reason == "cycle" and parent is not None:
         text = f"`{symbol.name}` inherits from itself through `{parent.name}`"
     elif reason == "actor" and parent is not None:
         text = (
@@ -345,7 +356,7 @@ def invalid_inheritance(span: Span, symbol, parent, reason: str) -> Diagnostic:
     return _diag(codes.INVALID_INHERITANCE, text, span)
 
 
-def inheritance_guard(span: Span, field_type) -> Diagnostic:
+def inheritance_guard(span: Span, field_type: Type) -> Diagnostic:
     return _diag(
         codes.INVALID_INHERITANCE,
         f"a conditional inheritance needs a bool or enum field; this one is `{field_type}`",
@@ -353,13 +364,13 @@ def inheritance_guard(span: Span, field_type) -> Diagnostic:
     )
 
 
-def cannot_extend(span: Span, target, what: str) -> Diagnostic:
+def cannot_extend(span: Span, target: Symbol, what: str) -> Diagnostic:
     return _diag(
         codes.INVALID_INHERITANCE, f"{_where(target)} cannot be extended with {what}", span
     )
 
 
-def not_an_actor(span: Span, symbol) -> Diagnostic:
+def not_an_actor(span: Span, symbol: Symbol) -> Diagnostic:
     return _diag(
         codes.TYPE_MISMATCH,
         f"{_where(symbol)} is not an actor; behaviours and modifiers belong to actors",
@@ -367,7 +378,7 @@ def not_an_actor(span: Span, symbol) -> Diagnostic:
     )
 
 
-def not_an_actor_value(span: Span, value_type) -> Diagnostic:
+def not_an_actor_value(span: Span, value_type: Type) -> Diagnostic:
     return _diag(
         codes.TYPE_MISMATCH,
         f"this is a `{value_type}`, not an actor; only actors have behaviours",
@@ -375,7 +386,7 @@ def not_an_actor_value(span: Span, value_type) -> Diagnostic:
     )
 
 
-def modifier_of_not_behaviour(span: Span, symbol) -> Diagnostic:
+def modifier_of_not_behaviour(span: Span, symbol: Symbol) -> Diagnostic:
     return _diag(
         codes.TYPE_MISMATCH,
         f"a modifier's `of` names a scenario or an action; {_where(symbol)} is neither",
@@ -383,7 +394,7 @@ def modifier_of_not_behaviour(span: Span, symbol) -> Diagnostic:
     )
 
 
-def not_a_physical_type(span: Span, name: str, symbol) -> Diagnostic:
+def not_a_physical_type(span: Span, name: str, symbol: Symbol) -> Diagnostic:
     return _diag(
         codes.TYPE_MISMATCH, f"`{name}` is a {symbol.kind.value}, not a physical type", span
     )
@@ -404,7 +415,7 @@ def _a(noun: str) -> str:
     return ("an " if noun[:1] in "aeiou" else "a ") + noun
 
 
-def misplaced_member(span: Span, owner, what: str) -> Diagnostic:
+def misplaced_member(span: Span, owner: Symbol, what: str) -> Diagnostic:
     return _diag(
         codes.MISPLACED_MEMBER,
         f"{_a(owner.kind.value)} has no behaviour; `{what}` belongs to a scenario, an "
@@ -413,7 +424,7 @@ def misplaced_member(span: Span, owner, what: str) -> Diagnostic:
     )
 
 
-def misplaced_modifier(span: Span, owner) -> Diagnostic:
+def misplaced_modifier(span: Span, owner: Symbol) -> Diagnostic:
     return _diag(
         codes.MISPLACED_MEMBER,
         f"{_a(owner.kind.value)} cannot apply modifiers; apply them in a scenario, an "
@@ -431,7 +442,7 @@ def event_spec_with_parameters(span: Span, name: str) -> Diagnostic:
     )
 
 
-def second_do(span: Span, owner) -> Diagnostic:
+def second_do(span: Span, owner: Symbol) -> Diagnostic:
     return _diag(
         codes.MISPLACED_MEMBER,
         f"`{owner.name}` already has a `do`; a declaration has at most one",
@@ -454,24 +465,24 @@ def _what(what: str) -> str:
     return f" for {what}" if what else ""
 
 
-def type_mismatch(span: Span, actual, expected, what: str = "") -> Diagnostic:
+def type_mismatch(span: Span, actual: Type, expected: Type | None, what: str = "") -> Diagnostic:
     if expected is None:
         return _diag(codes.TYPE_MISMATCH, f"`{actual}` is not valid as {what}", span)
     return _diag(codes.TYPE_MISMATCH, f"expected `{expected}`{_what(what)}, found `{actual}`", span)
 
 
-def dimension_mismatch(span: Span, actual, expected, what: str = "") -> Diagnostic:
-    from osc2check.semantics.types import dimension_text
+def dimension_mismatch(span: Span, actual: Type, expected: Type, what: str = "") -> Diagnostic:
+    from osc2check.semantics.types import DIMENSIONLESS, dimension_text
 
     return _diag(
         codes.DIMENSION_MISMATCH,
-        f"expected `{expected}` ({dimension_text(expected.dimension)}){_what(what)}, "
-        f"found `{actual}` ({dimension_text(actual.dimension)})",
+        f"expected `{expected}` ({dimension_text(expected.dimension or DIMENSIONLESS)})"
+        f"{_what(what)}, found `{actual}` ({dimension_text(actual.dimension or DIMENSIONLESS)})",
         span,
     )
 
 
-def missing_unit(span: Span, expected, what: str = "") -> Diagnostic:
+def missing_unit(span: Span, expected: Type, what: str = "") -> Diagnostic:
     return _diag(
         codes.MISSING_UNIT,
         f"a plain number where `{expected}` is expected{_what(what)}; add a unit "
@@ -480,7 +491,7 @@ def missing_unit(span: Span, expected, what: str = "") -> Diagnostic:
     )
 
 
-def unitless_literal(span: Span, expected) -> Diagnostic:
+def unitless_literal(span: Span, expected: Type) -> Diagnostic:
     return _diag(
         codes.UNITLESS_PHYSICAL_LITERAL,
         f"a plain number where `{expected}` is expected; the toolkit reads it in SI "
@@ -489,8 +500,8 @@ def unitless_literal(span: Span, expected) -> Diagnostic:
     )
 
 
-def _example_unit(expected) -> str:
-    while getattr(expected, "element", None) is not None:  # range of time -> time
+def _example_unit(expected: Type) -> str:
+    while expected.element is not None:  # range of time -> time
         expected = expected.element
     examples = {
         "speed": "50kph",
@@ -501,17 +512,17 @@ def _example_unit(expected) -> str:
         "mass": "1000kg",
         "temperature": "20celsius",
     }
-    name = getattr(getattr(expected, "symbol", None), "name", "")
+    name = expected.symbol.name if expected.symbol is not None else ""
     return examples.get(name, "1" + ("m" if name == "" else "<unit>"))
 
 
-def float_to_int(span: Span, expected) -> Diagnostic:
+def float_to_int(span: Span, expected: Type) -> Diagnostic:
     return _diag(
         codes.FLOAT_TO_INT, f"a float where `{expected}` is expected; the fraction is lost", span
     )
 
 
-def non_boolean(span: Span, actual, what: str) -> Diagnostic:
+def non_boolean(span: Span, actual: Type, what: str) -> Diagnostic:
     return _diag(
         codes.NON_BOOLEAN_CONDITION,
         f"the {what} must be a boolean expression, found `{actual}`",
@@ -519,7 +530,9 @@ def non_boolean(span: Span, actual, what: str) -> Diagnostic:
     )
 
 
-def override_return_type(span: Span, name: str, previous, actual) -> Diagnostic:
+def override_return_type(
+    span: Span, name: str, previous: Symbol, actual: Type | None
+) -> Diagnostic:
     owner = previous.owner.name if previous.owner is not None else "?"
     return _diag(
         codes.TYPE_MISMATCH,
@@ -530,7 +543,7 @@ def override_return_type(span: Span, name: str, previous, actual) -> Diagnostic:
     )
 
 
-def override_parameters(span: Span, name: str, previous) -> Diagnostic:
+def override_parameters(span: Span, name: str, previous: Symbol) -> Diagnostic:
     owner = previous.owner.name if previous.owner is not None else "?"
     return _diag(
         codes.TYPE_MISMATCH,
@@ -540,7 +553,7 @@ def override_parameters(span: Span, name: str, previous) -> Diagnostic:
     )
 
 
-def range_bounds(span: Span, low, high) -> Diagnostic:
+def range_bounds(span: Span, low: Type, high: Type) -> Diagnostic:
     return _diag(
         codes.RANGE_BOUNDS_TYPE,
         f"the bounds of a range must have the same type; found `{low}` and `{high}`",
@@ -548,7 +561,7 @@ def range_bounds(span: Span, low, high) -> Diagnostic:
     )
 
 
-def range_of_non_numeric(span: Span, element) -> Diagnostic:
+def range_of_non_numeric(span: Span, element: Type | None) -> Diagnostic:
     return _diag(
         codes.TYPE_MISMATCH,
         f"`range of` needs a numeric type (int, uint, float or a physical type), not `{element}`",
@@ -556,7 +569,9 @@ def range_of_non_numeric(span: Span, element) -> Diagnostic:
     )
 
 
-def unit_dimension(span: Span, unit: str, dim, type_name: str, type_dim) -> Diagnostic:
+def unit_dimension(
+    span: Span, unit: str, dim: Dimension, type_name: str, type_dim: Dimension
+) -> Diagnostic:
     from osc2check.semantics.types import dimension_text
 
     return _diag(
@@ -580,7 +595,7 @@ def si_argument(span: Span, key: str | None) -> Diagnostic:
     return _diag(codes.INVALID_UNIT_DECLARATION, text, span)
 
 
-def not_callable(span: Span, symbol) -> Diagnostic:
+def not_callable(span: Span, symbol: Symbol | None) -> Diagnostic:
     what = _where(symbol) if symbol is not None else "this expression"
     return _diag(codes.NOT_CALLABLE, f"{what} is not a method and cannot be called", span)
 
@@ -588,11 +603,13 @@ def not_callable(span: Span, symbol) -> Diagnostic:
 # ---- A: arguments ----------------------------------------------------------------
 
 
-def _callee(symbol) -> str:
+def _callee(symbol: Symbol) -> str:
     return f"`{symbol.name}`"
 
 
-def unknown_behaviour(span: Span, name: str, actor, suggestion: str | None) -> Diagnostic:
+def unknown_behaviour(
+    span: Span, name: str, actor: Symbol | None, suggestion: str | None
+) -> Diagnostic:
     owner = f"actor `{actor.name}`" if actor is not None else "this scope"
     return _diag(
         codes.UNKNOWN_ACTION_OR_MODIFIER,
@@ -613,7 +630,7 @@ def unknown_modifier(span: Span, name: str, suggestion: str | None) -> Diagnosti
     )
 
 
-def modifier_not_applicable(span: Span, modifier) -> Diagnostic:
+def modifier_not_applicable(span: Span, modifier: Symbol) -> Diagnostic:
     owner = modifier.of or modifier.actor
     where = f"`{owner.qualified_name}`" if owner is not None else "another declaration"
     related = [Related(modifier.name_span, "declared here")] if modifier.name_span else []
@@ -625,7 +642,7 @@ def modifier_not_applicable(span: Span, modifier) -> Diagnostic:
     )
 
 
-def unknown_argument(span: Span, name: str, callee, suggestion: str | None) -> Diagnostic:
+def unknown_argument(span: Span, name: str, callee: Symbol, suggestion: str | None) -> Diagnostic:
     return _diag(
         codes.UNKNOWN_ARGUMENT,
         f"{_callee(callee)} has no parameter `{name}`{_did_you_mean(suggestion)}",
@@ -643,7 +660,7 @@ def positional_after_named(span: Span) -> Diagnostic:
     )
 
 
-def too_many_positional(span: Span, callee, count: int) -> Diagnostic:
+def too_many_positional(span: Span, callee: Symbol, count: int) -> Diagnostic:
     return _diag(
         codes.TOO_MANY_POSITIONAL,
         f"{_callee(callee)} takes {count} positional argument"
@@ -656,11 +673,11 @@ def duplicate_argument(span: Span, name: str) -> Diagnostic:
     return _diag(codes.DUPLICATE_ARGUMENT, f"`{name}` is given more than once", span)
 
 
-def missing_argument(span: Span, callee, name: str) -> Diagnostic:
+def missing_argument(span: Span, callee: Symbol, name: str) -> Diagnostic:
     return _diag(codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{name}`", span)
 
 
-def exclusive_arguments(span: Span, callee, given: Sequence[str]) -> Diagnostic:
+def exclusive_arguments(span: Span, callee: Symbol, given: Sequence[str]) -> Diagnostic:
     return _diag(
         codes.EXCLUSIVE_ARGUMENTS,
         f"{_quote_list(given, conj='and')} exclude each other in {_callee(callee)}; give only one",
@@ -668,7 +685,7 @@ def exclusive_arguments(span: Span, callee, given: Sequence[str]) -> Diagnostic:
     )
 
 
-def incomplete_arguments(span: Span, callee, arg: str, needed: str) -> Diagnostic:
+def incomplete_arguments(span: Span, callee: Symbol, arg: str, needed: str) -> Diagnostic:
     return _diag(
         codes.INCOMPLETE_ARGUMENTS, f"`{arg}` in {_callee(callee)} needs `{needed}` as well", span
     )
@@ -698,7 +715,7 @@ def undeclared_event(span: Span, name: str) -> Diagnostic:
     )
 
 
-def toolkit_extension(span: Span, symbol) -> Diagnostic:
+def toolkit_extension(span: Span, symbol: Symbol) -> Diagnostic:
     return _diag(
         codes.TOOLKIT_EXTENSION,
         f"`{symbol.name}` comes from the toolkit's own library, not the ASAM standard; "
@@ -741,7 +758,7 @@ def one_of_race(span: Span) -> Diagnostic:
     )
 
 
-def spec_example_parameter(span: Span, callee, name: str) -> Diagnostic:
+def spec_example_parameter(span: Span, callee: Symbol, name: str) -> Diagnostic:
     return _diag(
         codes.SPEC_EXAMPLE_PARAMETER,
         f"`{name}` is used in the standard's examples but {_callee(callee)} does not declare it",
@@ -752,7 +769,7 @@ def spec_example_parameter(span: Span, callee, name: str) -> Diagnostic:
 # ---- C and L: constraints and initial placement ------------------------------------
 
 
-def _member_notes(members) -> list[Related]:
+def _member_notes(members: Iterable[Constraint]) -> list[Related]:
     """Related locations for the other members of a conflict, each with its source text."""
     notes = []
     for c in members:
@@ -763,7 +780,9 @@ def _member_notes(members) -> list[Related]:
     return notes
 
 
-def unsatisfiable(code: Code, primary, others, scenario: str) -> Diagnostic:
+def unsatisfiable(
+    code: Code, primary: Constraint, others: Sequence[Constraint], scenario: str
+) -> Diagnostic:
     lead = {
         "C401": "constraints of scenario `{s}` cannot all hold",
         "L501": "the start positions of scenario `{s}` cannot all hold",
@@ -795,7 +814,7 @@ def reversed_range(span: Span, low: str, high: str) -> Diagnostic:
     )
 
 
-def default_overridden(default, by) -> Diagnostic:
+def default_overridden(default: Constraint, by: Constraint | None) -> Diagnostic:
     if by is None:
         return _diag(
             codes.DEFAULT_OVERRIDDEN,
@@ -810,7 +829,7 @@ def default_overridden(default, by) -> Diagnostic:
     )
 
 
-def conflicting_defaults(later, earlier) -> Diagnostic:
+def conflicting_defaults(later: Constraint, earlier: Constraint) -> Diagnostic:
     return _diag(
         codes.CONFLICTING_DEFAULTS,
         f"`{later.text}` gives the parameter another default than `{earlier.text}`; "
@@ -820,7 +839,7 @@ def conflicting_defaults(later, earlier) -> Diagnostic:
     )
 
 
-def vacuous_constraint(constraint) -> Diagnostic:
+def vacuous_constraint(constraint: Constraint) -> Diagnostic:
     return _diag(
         codes.VACUOUS_CONSTRAINT,
         f"`{constraint.text}` holds for every value its parameters can take; it constrains nothing",
@@ -838,7 +857,7 @@ def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
     )
 
 
-def nonlinear_constraint(constraint) -> Diagnostic:
+def nonlinear_constraint(constraint: Constraint) -> Diagnostic:
     return _diag(
         codes.NONLINEAR_CONSTRAINT,
         f"`{constraint.text}` multiplies two unknowns; it is solved within the "
@@ -866,7 +885,7 @@ def cyclic_placement(span: Span, cycle: Sequence[str]) -> Diagnostic:
     )
 
 
-def unsafe_gap(span: Span, text: str, follower: str, leader: str, min_gap) -> Diagnostic:
+def unsafe_gap(span: Span, text: str, follower: str, leader: str, min_gap: Fraction) -> Diagnostic:
     return _diag(
         codes.UNSAFE_GAP,
         f"`{text}` leaves `{follower}` less than {float(min_gap):g} s behind `{leader}` "

@@ -32,7 +32,7 @@ def render(
     *,
     files_checked: int | None = None,
     quiet: bool = False,
-    scenarios: Sequence[dict] = (),
+    scenarios: Sequence[dict[str, object]] = (),
     problems: Sequence[InputProblem] = (),
 ) -> str:
     """The findings in format ``fmt``, ready to write to stdout.

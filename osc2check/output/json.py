@@ -70,7 +70,7 @@ def finding(d: Diagnostic) -> dict[str, Any]:
 
 def render(
     diagnostics: Sequence[Diagnostic],
-    scenarios: Sequence[dict] = (),
+    scenarios: Sequence[dict[str, object]] = (),
     problems: Sequence[InputProblem] = (),
 ) -> str:
     """The whole document, indented, with a final newline.

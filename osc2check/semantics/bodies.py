@@ -17,6 +17,7 @@ from osc2check.semantics.model import Context, Model
 from osc2check.semantics.scope import BEHAVIOUR_KINDS, Scope, declaration_scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 
@@ -25,15 +26,21 @@ class BodyChecker:
     def __init__(self, model: Model, report: Callable[[Diagnostic], None]):
         self.model = model
         self.report = report
-        self.calls = CallChecker(None, report)
         self.expr = ExpressionChecker(model, report, self._method_call)
-        self.calls.expressions = self.expr
+        self.calls = CallChecker(self.expr, report)
         self._time: T.Type | None = None
         self._dos: dict[Symbol, int] = {}  # `do` directives per declaration, extensions too
 
     # ---- helpers -------------------------------------------------------------------
 
-    def _method_call(self, method: Symbol, params, arguments, scope: Scope, span) -> None:
+    def _method_call(
+        self,
+        method: Symbol,
+        params: list[Symbol],
+        arguments: tuple[ast.Argument, ...],
+        scope: Scope,
+        span: Span,
+    ) -> None:
         self.calls.check(method, params, arguments, scope, span)
 
     @property
@@ -86,7 +93,7 @@ class BodyChecker:
             return
         self.expr.condition(cond, scope, "inheritance condition")
 
-    def _members(self, owner: Symbol, members, scope: Scope) -> None:
+    def _members(self, owner: Symbol, members: tuple[ast.Member, ...], scope: Scope) -> None:
         emitted = self._implicit_events(owner, members)
         for member in members:
             match member:
@@ -129,7 +136,7 @@ class BodyChecker:
         )
         return False
 
-    def _implicit_events(self, owner: Symbol, members) -> set[str]:
+    def _implicit_events(self, owner: Symbol, members: tuple[ast.Member, ...]) -> set[str]:
         """Events emitted but never declared (the paper's dialect) become implicit events."""
         emitted: set[str] = set()
         for member in members:
@@ -299,7 +306,7 @@ class BodyChecker:
             self.expr.condition(spec.expr, scope, "event condition")
         return scope
 
-    def _event_path(self, path, scope: Scope, span) -> Symbol | None:
+    def _event_path(self, path: tuple[ast.Name, ...], scope: Scope, span: Span) -> Symbol | None:
         if not path or any(p.missing for p in path):
             return None
         *prefix, last = path
@@ -577,7 +584,9 @@ class BodyChecker:
             for item in inv.with_members:
                 self._with_member(item, inner, None, None)
 
-    def _unknown_modifier(self, inv: ast.Invocation, name: str, keys, scope: Scope) -> None:
+    def _unknown_modifier(
+        self, inv: ast.Invocation, name: str, keys: list[Symbol | None], scope: Scope
+    ) -> None:
         elsewhere = [
             s
             for s in self.model.symbols + (self.model.base.symbols if self.model.base else [])

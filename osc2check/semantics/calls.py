@@ -8,8 +8,9 @@ exclude or need each other; those tables are here.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
@@ -19,6 +20,9 @@ from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
+
+if TYPE_CHECKING:
+    from osc2check.semantics.expressions import ExpressionChecker
 
 # Arguments of standard-library modifiers and actions that exclude each other.
 EXCLUSIVE: dict[str, list[frozenset[str]]] = {
@@ -51,7 +55,7 @@ class Extra:
 
 
 class CallChecker:
-    def __init__(self, expressions, report: Callable[[Diagnostic], None]):
+    def __init__(self, expressions: ExpressionChecker, report: Callable[[Diagnostic], None]):
         self.expressions = expressions
         self.report = report
 
@@ -59,7 +63,7 @@ class CallChecker:
         self,
         callee: Symbol,
         params: list[Symbol],
-        arguments,
+        arguments: Iterable[ast.Argument],
         scope: Scope,
         span: Span,
         extras: tuple[Extra, ...] = (),
@@ -98,10 +102,10 @@ class CallChecker:
                 self.report(messages.duplicate_argument(arg.name.span, name))
                 self.expressions.check(arg.value, arg_scope)
                 continue
-            param = by_name.get(name)
-            if param is not None:
-                model.references[arg.name] = param
-                self._value(name, param.type, arg.value, arg_scope, allow_range)
+            named = by_name.get(name)
+            if named is not None:
+                model.references[arg.name] = named
+                self._value(name, named.type, arg.value, arg_scope, allow_range)
                 bound[name] = arg.value
                 continue
             if name in extra_by_name:

@@ -27,6 +27,7 @@ import operator
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any
 
 from osc2check.semantics import types as T
 from osc2check.semantics.model import Model
@@ -86,7 +87,7 @@ class RangeValue:
     high: Value
 
 
-Value = bool | int | Fraction | Quantity | str | EnumValue | RangeValue | tuple
+Value = bool | int | Fraction | Quantity | str | EnumValue | RangeValue | tuple["Value", ...]
 Lookup = Callable[[Symbol, ast.Node], Value]
 
 
@@ -145,7 +146,8 @@ def initial_value(model: Model, sym: Symbol | None, _seen: tuple[Symbol, ...] = 
 
 
 _VALUE_KINDS = (SymbolKind.FIELD, SymbolKind.VARIABLE, SymbolKind.GLOBAL, SymbolKind.ARGUMENT)
-_COMPARE: dict[str, Callable[[object, object], bool]] = {
+# Ordering raises TypeError for operands of kinds that have no order (a string and a number).
+_COMPARE: dict[str, Callable[[Any, Any], bool]] = {
     "==": operator.eq,
     "!=": operator.ne,
     "<": operator.lt,
@@ -225,6 +227,8 @@ class _Evaluator:
 
     def _binary(self, e: ast.Binary) -> Value:
         op = e.op
+        left: Value
+        right: Value
         if op in ("and", "or", "=>"):
             left, right = self._bool(e.left), self._bool(e.right)
             if op == "and":
@@ -234,12 +238,20 @@ class _Evaluator:
             return (not left) or right
         left, right = self.value(e.left), self.value(e.right)
         if op in _COMPARE:
-            return _COMPARE[op](_comparable(left, right, e), _comparable(right, left, e))
+            try:
+                return _COMPARE[op](_comparable(left, right, e), _comparable(right, left, e))
+            except TypeError:
+                raise NotConstant(f"`{op}` cannot compare these operands", e) from None
         if op == "in":
             if isinstance(right, RangeValue):
                 low, high = _comparable(right.low, left, e), _comparable(right.high, left, e)
                 item = _comparable(left, right.low, e)
-                return min(low, high) <= item <= max(low, high)  # type: ignore[operator]
+                le = _COMPARE["<="]
+                try:
+                    lo, hi = (low, high) if le(low, high) else (high, low)
+                    return le(lo, item) and le(item, hi)
+                except TypeError:
+                    raise NotConstant("`in` cannot compare these operands", e) from None
             if isinstance(right, tuple):
                 return left in right
             raise NotConstant("`in` needs a range or a list", e)
@@ -271,7 +283,7 @@ def arithmetic(op: str, left: Value, right: Value, node: ast.Node | None = None)
             raise NotConstant("the dimensions differ", node)
         if op == "%" and rq.si == 0:
             raise NotConstant("division by zero", node)
-        return Quantity(_ARITH[op](lq.si, rq.si), lq.dimension, lq.unit or rq.unit)
+        return Quantity(Fraction(_ARITH[op](lq.si, rq.si)), lq.dimension, lq.unit or rq.unit)
     if op == "*":
         dim = T.add_dims(lq.dimension, rq.dimension)
         unit = lq.unit if rn is not None else rq.unit if ln is not None else None

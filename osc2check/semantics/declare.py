@@ -8,9 +8,10 @@ compound type. Expressions inside bodies are checked later (``bodies.py``).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Literal, TypedDict, Unpack, cast
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
@@ -31,6 +32,12 @@ _DECL_KINDS = {
 }
 TOOLKIT_NAMESPACE = "osc2toolkit"
 
+# How the structure pass resolves a type reference and a behaviour name (``resolve._Names``).
+TypeResolver = Callable[[ast.TypeRef, Context], T.Type]
+BehaviourResolver = Callable[[ast.BehaviourName, Context], Symbol | None]
+# The model's behaviours or modifiers: actor or behaviour (None: unassociated) → name → symbols.
+_KeyedTable = dict[Symbol | None, dict[str, list[Symbol]]]
+
 
 @dataclass
 class Unit:
@@ -43,9 +50,20 @@ class Unit:
     comments: dict[int, str] = field(default_factory=dict)  # line → comment text
 
 
+class _SymbolFields(TypedDict, total=False):
+    """The ``Symbol`` fields that some declarations set when they are declared."""
+
+    type: T.Type | None
+    owner: Symbol | None
+    value: int
+    default: ast.Expr | None
+    has_default: bool
+    parameters: tuple[Symbol, ...]
+
+
 @dataclass
 class Pending:
-    decl: ast.Node
+    decl: ast.Declaration
     symbol: Symbol | None
     context: Context
     unit: Unit
@@ -79,7 +97,7 @@ class Declarer:
                     ) else None
                     ctx = Context(name, uses)
                 case ast.UseStatement():
-                    added = []
+                    added: list[str] = []
                     for dotted in decl.names:
                         added.extend(n.text for n in dotted)
                     ctx = Context(ctx.namespace, tuple(dict.fromkeys((*ctx.uses, *added))))
@@ -119,7 +137,13 @@ class Declarer:
                     ns.exports.add(item.name.name.text)
 
     def _new(
-        self, kind: SymbolKind, name: ast.Name, decl: ast.Node, ctx: Context, unit: Unit, **kw
+        self,
+        kind: SymbolKind,
+        name: ast.Name,
+        decl: ast.Node,
+        ctx: Context,
+        unit: Unit,
+        **kw: Unpack[_SymbolFields],
     ) -> Symbol:
         sym = Symbol(
             kind,
@@ -198,7 +222,9 @@ class Declarer:
                 return sym
         return None
 
-    def _enum_members(self, enum: Symbol, members, ctx: Context, unit: Unit) -> None:
+    def _enum_members(
+        self, enum: Symbol, members: tuple[ast.EnumMember, ...], ctx: Context, unit: Unit
+    ) -> None:
         """Declare members; a literal value sets the count for the next implicit ones, a
         value that names another member is an alias, resolved by `enums.resolve_aliases`."""
         existing = self.model.enum_values(enum)
@@ -207,7 +233,7 @@ class Declarer:
         by_name = {m.name: m for m in existing}
         for member in members:
             value = next_value
-            alias = isinstance(member.value, (ast.NameRef, ast.EnumRef))
+            alias = member.value if isinstance(member.value, (ast.NameRef, ast.EnumRef)) else None
             if isinstance(member.value, ast.IntLiteral):
                 value = member.value.value
             sym = self._new(
@@ -220,8 +246,8 @@ class Declarer:
                 value=value,
                 type=enum.type,
             )
-            if alias:
-                sym.extra["alias"] = member.value
+            if alias is not None:
+                sym.extra["alias"] = alias
                 self.aliases.append(sym)
             else:
                 next_value = value + 1
@@ -234,7 +260,9 @@ class Declarer:
             by_name[member.name.text] = sym
             self.model.enum_members.setdefault(enum, []).append(sym)
 
-    def _dimension(self, args, decl, *, for_unit: bool):
+    def _dimension(
+        self, args: tuple[ast.Argument, ...], decl: ast.Node, *, for_unit: bool
+    ) -> tuple[T.Dimension, Fraction, Fraction]:
         dim = [0] * len(T.BASE_UNITS)
         factor, offset = Fraction(1), Fraction(0)
         for arg in args:
@@ -258,11 +286,13 @@ class Declarer:
                     offset = T.snap_factor(number)
             else:
                 self.report(messages.si_argument(arg.name.span, key))
-        return tuple(dim), factor, offset
+        return cast(T.Dimension, tuple(dim)), factor, offset  # one exponent per base unit
 
     # ---- pass 2: structure -----------------------------------------------------------
 
-    def structure(self, resolve_type, resolve_behaviour_name) -> None:
+    def structure(
+        self, resolve_type: TypeResolver, resolve_behaviour_name: BehaviourResolver
+    ) -> None:
         """Bind units, actors, parents, extensions and members (in that order)."""
         self._resolve_type = resolve_type
         self._bind_exports()
@@ -310,8 +340,9 @@ class Declarer:
                 ns.reexports.append((found[0].namespace, qname.name.text))
 
     def _unit_type(self, p: Pending) -> None:
-        decl: ast.UnitDecl = p.decl  # type: ignore[assignment]
+        decl = p.decl
         sym = p.symbol
+        assert isinstance(decl, ast.UnitDecl) and sym is not None  # as `structure` picks them
         target = self._lookup_type(decl.type, p.context)
         if target is None:
             return
@@ -320,6 +351,7 @@ class Declarer:
             return
         sym.type = target.type
         sym.owner = target
+        assert sym.dimension is not None  # set when the unit was declared
         if target.dimension is not None and sym.dimension != target.dimension:
             self.report(
                 messages.unit_dimension(
@@ -352,14 +384,15 @@ class Declarer:
             )
         return None
 
-    def _visible_names(self, ctx: Context):
+    def _visible_names(self, ctx: Context) -> Iterator[list[str]]:
         for ns in (ctx.namespace, *ctx.uses, ""):
             for part in self.model.namespace_parts(ns):
                 yield [n for n, syms in part.symbols.items() if any(s.kind.is_type for s in syms)]
 
-    def _associate(self, p: Pending, resolve_behaviour_name) -> None:
-        decl: ast.StructuredDecl = p.decl  # type: ignore[assignment]
+    def _associate(self, p: Pending, resolve_behaviour_name: BehaviourResolver) -> None:
+        decl = p.decl
         sym = p.symbol
+        assert isinstance(decl, ast.StructuredDecl) and sym is not None  # as `structure` picks
         if decl.name.actor is not None:
             actor = self._lookup_type(decl.name.actor, p.context)
             if actor is not None and actor.kind is not SymbolKind.ACTOR:
@@ -388,7 +421,7 @@ class Declarer:
             if sym.actor is not None or sym.kind is SymbolKind.MODIFIER:
                 self._register(table, sym.actor, sym)
 
-    def _register(self, table, key, sym: Symbol) -> None:
+    def _register(self, table: _KeyedTable, key: Symbol | None, sym: Symbol) -> None:
         group = table.setdefault(key, {}).setdefault(sym.name, [])
         previous = [s for s in self._existing_keyed(table, key, sym.name) if s is not sym]
         group.append(sym)
@@ -397,13 +430,16 @@ class Declarer:
                 messages.duplicate_definition(sym.name_span, sym.qualified_name, previous[0])
             )
 
-    def _existing_keyed(self, table, key, name) -> list[Symbol]:
-        attr = "modifiers" if table is self.model.modifiers else "behaviours"
+    def _existing_keyed(self, table: _KeyedTable, key: Symbol | None, name: str) -> list[Symbol]:
+        attr: Literal["behaviours", "modifiers"] = (
+            "modifiers" if table is self.model.modifiers else "behaviours"
+        )
         return self.model._keyed(attr, key, name)
 
-    def _inherit(self, p: Pending, resolve_behaviour_name) -> None:
-        decl: ast.StructuredDecl = p.decl  # type: ignore[assignment]
+    def _inherit(self, p: Pending, resolve_behaviour_name: BehaviourResolver) -> None:
+        decl = p.decl
         sym = p.symbol
+        assert isinstance(decl, ast.StructuredDecl) and sym is not None  # as `structure` picks
         if decl.inherits is None:
             return
         if sym.kind is SymbolKind.MODIFIER:
@@ -450,8 +486,9 @@ class Declarer:
         sym.condition = decl.inherits.condition
         self.model.children.setdefault(parent, []).append(sym)
 
-    def _extend(self, p: Pending, resolve_behaviour_name) -> None:
+    def _extend(self, p: Pending, resolve_behaviour_name: BehaviourResolver) -> None:
         decl = p.decl
+        assert isinstance(decl, (ast.ExtendDecl, ast.EnumExtension))  # what `declare` defers
         target = resolve_behaviour_name(decl.target, p.context)
         if target is None:
             return
@@ -467,7 +504,9 @@ class Declarer:
         self.model.declarations[decl] = target
         self._members(target, decl.members, p.context, p.unit)
 
-    def _members(self, owner: Symbol, members, ctx: Context, unit: Unit) -> None:
+    def _members(
+        self, owner: Symbol, members: tuple[ast.Member, ...], ctx: Context, unit: Unit
+    ) -> None:
         for member in members:
             match member:
                 case ast.FieldDecl():
@@ -521,7 +560,9 @@ class Declarer:
                     )
                     self._add_member(owner, sym)
 
-    def _parameters(self, params, ctx: Context, unit: Unit) -> tuple[Symbol, ...]:
+    def _parameters(
+        self, params: tuple[ast.Parameter, ...], ctx: Context, unit: Unit
+    ) -> tuple[Symbol, ...]:
         result = []
         seen: dict[str, Symbol] = {}
         for param in params:
@@ -592,7 +633,7 @@ def _is_conditional(symbol: Symbol) -> bool:
     )
 
 
-def _constant_number(expr) -> Fraction | None:
+def _constant_number(expr: ast.Expr) -> Fraction | None:
     match expr:
         case ast.IntLiteral():
             return Fraction(expr.value)

@@ -40,19 +40,21 @@ def resolve_aliases(
             continue
         if target in chain:
             if target is sym:  # each member of a cycle reports it once
-                names = [f"{m.owner.name}!{m.name}" for m in (*chain, sym)]
+                names = [f"{m.owner.name if m.owner else '?'}!{m.name}" for m in (*chain, sym)]
+                assert sym.name_span is not None  # declared from a name, as every alias
                 report(messages.enum_value_cycle(sym.name_span, sym.name, names))
             continue
         sym.value = target.value
 
 
-def _target(model: Model, sym: Symbol, report) -> Symbol | None:
+def _target(model: Model, sym: Symbol, report: Callable[[Diagnostic], None]) -> Symbol | None:
     """The member an alias names: ``e!m``, or a bare name, first in its own enum."""
     ref = sym.extra["alias"]
-    enum = sym.owner
+    enum, ctx = sym.owner, sym.context
+    assert enum is not None and ctx is not None  # an alias is declared in its enum, in a file
     if isinstance(ref, ast.EnumRef):
         enums = model.lookup(
-            ref.enum.name.text, sym.context, ref.enum.namespace, lambda s: s.kind is SymbolKind.ENUM
+            ref.enum.name.text, ctx, ref.enum.namespace, lambda s: s.kind is SymbolKind.ENUM
         )
         if not enums:
             report(messages.undefined_type(ref.enum.span, str(ref.enum), None))
@@ -64,10 +66,7 @@ def _target(model: Model, sym: Symbol, report) -> Symbol | None:
     found = [m for m in model.enum_values(enum) if m.name == name.text]
     if not found and isinstance(ref, ast.NameRef) and ref.name.namespace is None:
         found = [
-            m
-            for e in model.visible_enums(sym.context)
-            for m in model.enum_values(e)
-            if m.name == name.text
+            m for e in model.visible_enums(ctx) for m in model.enum_values(e) if m.name == name.text
         ]
     if not found:
         report(
@@ -80,7 +79,11 @@ def _target(model: Model, sym: Symbol, report) -> Symbol | None:
         )
         return None
     if len({id(m.owner) for m in found}) > 1:
-        report(messages.ambiguous_enum_literal(written.span, name.text, [m.owner for m in found]))
+        report(
+            messages.ambiguous_enum_literal(
+                written.span, name.text, [m.owner for m in found if m.owner]
+            )
+        )
         return None
     model.references[written] = found[0]
     return found[0]

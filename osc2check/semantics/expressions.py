@@ -18,7 +18,11 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.source import Span
 from osc2check.syntax import ast
+
+# Checks a method call's arguments: (method, parameters, arguments, scope, span of the call).
+CallCheck = Callable[[Symbol, list[Symbol], tuple[ast.Argument, ...], Scope, Span], None]
 
 _ARITH = {"+", "-"}
 _SCALE = {"*", "/", "%"}
@@ -44,12 +48,16 @@ def _is_plain_literal(expr: ast.Node) -> bool:
 
 class ExpressionChecker:
     def __init__(
-        self, model: Model, report: Callable[[Diagnostic], None], check_call: Callable | None = None
+        self,
+        model: Model,
+        report: Callable[[Diagnostic], None],
+        check_call: CallCheck | None = None,
     ):
         self.model = model
         self.report = report
-        self.check_call = check_call  # (symbol, arguments, scope, span) -> None
-        self._physical_types: dict | None = None  # dimension -> named physical type
+        self.check_call = check_call
+        # dimension -> named physical type
+        self._physical_types: dict[T.Dimension | None, T.Type] | None = None
 
     # ---- entry points ------------------------------------------------------------
 
@@ -275,6 +283,7 @@ class ExpressionChecker:
         ]
         if len(owners) == 1:
             member = self._enum_member(owners[0], name)
+            assert member is not None  # as `owners` was chosen
             self.model.references[qname.name] = member
             return owners[0].type or T.UNKNOWN
         if len(owners) > 1:
@@ -284,6 +293,7 @@ class ExpressionChecker:
                 self.report(messages.ambiguous_enum_literal(qname.span, name, owners))
             return T.UNKNOWN
         if expected is not None and expected.kind is T.Kind.ENUM:
+            assert expected.symbol is not None  # an enum type is its declaration's
             members = [m.name for m in self.model.enum_values(expected.symbol)]
             self.report(
                 messages.unknown_enum_member(
@@ -667,7 +677,8 @@ class ExpressionChecker:
         rdim = right.dimension if right.kind is T.Kind.PHYSICAL else T.DIMENSIONLESS
         if op == "%":
             return left if left.kind is T.Kind.PHYSICAL else _plain_result(left, right)
-        dim = T.add_dims(ldim, rdim, 1 if op == "*" else -1)
+        sign = 1 if op == "*" else -1
+        dim = T.add_dims(ldim or T.DIMENSIONLESS, rdim or T.DIMENSIONLESS, sign)
         if dim == T.DIMENSIONLESS:
             if left.kind is T.Kind.PHYSICAL or right.kind is T.Kind.PHYSICAL or op == "/":
                 return T.FLOAT
@@ -677,7 +688,7 @@ class ExpressionChecker:
     def physical_type(self, dim: T.Dimension) -> T.Type:
         """The named physical type of a dimension (``length`` for m), or an anonymous one."""
         if self._physical_types is None:
-            table: dict = {}
+            table: dict[T.Dimension | None, T.Type] = {}
             for model in (self.model, self.model.base):  # the first declared wins
                 if model is None:
                     continue

@@ -14,14 +14,14 @@ from osc2check.syntax import ast
 
 __all__ = ["declaration_bodies"]
 
-MemberList = tuple[ast.Node, ...]
+MemberList = tuple[ast.Member, ...]
 
 
 def declaration_bodies(model: Model) -> dict[Symbol, list[MemberList]]:
     """Each type's member lists (the library's types too): its declaration's body first,
     then every ``extend`` of it in declaration order."""
     result: dict[Symbol, list[MemberList]] = {}
-    chain = []
+    chain: list[Model] = []
     current: Model | None = model
     while current is not None:
         chain.append(current)

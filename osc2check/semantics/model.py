@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
+from typing import Literal, overload
 
 from osc2check.semantics.symbols import Namespace, Symbol, SymbolKind
 from osc2check.semantics.types import Type
@@ -43,6 +44,10 @@ class Model:
 
     # ---- namespaces ------------------------------------------------------------
 
+    @overload
+    def namespace(self, name: str, create: Literal[True]) -> Namespace: ...
+    @overload
+    def namespace(self, name: str, create: bool = False) -> Namespace | None: ...
     def namespace(self, name: str, create: bool = False) -> Namespace | None:
         ns = self.namespaces.get(name)
         if ns is None and self.base is not None and name in self.base.namespaces:
@@ -133,7 +138,21 @@ class Model:
 
     # ---- members, behaviours, modifiers ----------------------------------------
 
-    def _tables(self, attr: str) -> Iterator[dict]:
+    @overload
+    def _tables(
+        self, attr: Literal["members"]
+    ) -> Iterator[dict[Symbol, dict[str, list[Symbol]]]]: ...
+    @overload
+    def _tables(
+        self, attr: Literal["behaviours", "modifiers"]
+    ) -> Iterator[dict[Symbol | None, dict[str, list[Symbol]]]]: ...
+    @overload
+    def _tables(self, attr: Literal["enum_members"]) -> Iterator[dict[Symbol, list[Symbol]]]: ...
+    @overload
+    def _tables(self, attr: Literal["references"]) -> Iterator[dict[ast.Name, Symbol]]: ...
+    @overload
+    def _tables(self, attr: Literal["expr_types"]) -> Iterator[dict[ast.Node, Type]]: ...
+    def _tables(self, attr: str) -> Iterator[object]:
         model: Model | None = self
         while model is not None:
             yield getattr(model, attr)
@@ -181,7 +200,9 @@ class Model:
         """Fields that are parameters (not variables, events or methods), in order."""
         return [m for m in self.all_members(owner) if m.kind is SymbolKind.FIELD]
 
-    def _keyed(self, attr: str, key: Symbol | None, name: str | None) -> list[Symbol]:
+    def _keyed(
+        self, attr: Literal["behaviours", "modifiers"], key: Symbol | None, name: str | None
+    ) -> list[Symbol]:
         found: list[Symbol] = []
         for table in self._tables(attr):
             entries = table.get(key)

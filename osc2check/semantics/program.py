@@ -28,6 +28,7 @@ from osc2check.semantics.stdlib import (
     comment_lines,
     standard_library,
 )
+from osc2check.source import Span
 from osc2check.syntax import ParseResult, ast
 
 Reader = Callable[[str], ParseResult | None]
@@ -126,7 +127,7 @@ def build_program(
     program = Program(root, model)
     units: list[Unit] = []
     visiting: list[str] = []  # normalised paths of the files being read, root first
-    leads: list = []  # span of the import in visiting[i] that leads to visiting[i + 1]
+    leads: list[Span] = []  # span of the import in visiting[i] that leads to visiting[i + 1]
     done: set[str] = set()
 
     def visit(uri: str, result: ParseResult, extra_modules: tuple[str, ...] = ()) -> None:

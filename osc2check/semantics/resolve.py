@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
@@ -29,7 +31,7 @@ def resolve(model: Model, units: list[Unit]) -> list[Diagnostic]:
 class _Names:
     """Resolution of type references and behaviour names in declarations."""
 
-    def __init__(self, model: Model, report):
+    def __init__(self, model: Model, report: Callable[[Diagnostic], None]):
         self.model = model
         self.report = report
 
@@ -41,7 +43,7 @@ class _Names:
             return None
         return found
 
-    def type_of(self, ref, ctx: Context) -> T.Type:
+    def type_of(self, ref: ast.TypeRef, ctx: Context) -> T.Type:
         match ref:
             case ast.ListType():
                 element = self.type_of(ref.element, ctx)

@@ -99,8 +99,8 @@ def _invocations(node: ast.Node) -> Iterator[ast.Invocation]:
         case ast.DoDirective():
             yield from _invocations(node.member.body)
         case ast.OnDirective():
-            for member in node.members:
-                yield from _invocations(member)
+            for action in node.members:
+                yield from _invocations(action)
         case ast.DoMember():
             yield from _invocations(node.body)
         case ast.Composition():

@@ -8,10 +8,23 @@ server), from the same rule for a declaration's own body (``declaration_scope``)
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TypedDict, Unpack
 
 from osc2check.semantics.model import Context
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.types import Type
+
+
+class ScopeChanges(TypedDict, total=False):
+    """What a child scope may set differently from its parent."""
+
+    owner: Symbol | None
+    it: Type | None
+    actor: Symbol | None
+    behaviour: Symbol | None
+    locals: dict[str, Symbol]
+    in_argument: bool
+    modifier_block: bool
 
 
 @dataclass
@@ -26,17 +39,15 @@ class Scope:
     in_argument: bool = False  # inside an invocation's arguments (dialect D805)
     modifier_block: bool = False  # inside the `with:` block of an invocation or composition
 
-    def child(self, **changes: object) -> Scope:
-        values = dict(
-            context=self.context,
+    def child(self, **changes: Unpack[ScopeChanges]) -> Scope:
+        values: ScopeChanges = dict(
             owner=self.owner,
             it=self.it,
             actor=self.actor,
             behaviour=self.behaviour,
-            parent=self,
         )
         values.update(changes)
-        return Scope(**values)
+        return Scope(self.context, parent=self, **values)
 
     def local(self, name: str) -> Symbol | None:
         scope: Scope | None = self

@@ -11,10 +11,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from enum import Enum
 from fractions import Fraction
+from typing import TYPE_CHECKING, TypedDict
 
 from osc2check.semantics.types import Dimension, Type
 from osc2check.source import Span
 from osc2check.syntax import ast
+
+if TYPE_CHECKING:
+    from osc2check.semantics.model import Context
 
 
 class SymbolKind(Enum):
@@ -68,6 +72,14 @@ COMPOUND_KINDS = frozenset(
 )
 
 
+class SymbolExtra(TypedDict, total=False):
+    """What only some symbols carry."""
+
+    alias: ast.NameRef | ast.EnumRef  # an enum member whose value names another member
+    implicit: bool  # an event that is emitted without a declaration
+    event: Symbol | None  # an `@e as x` binding: the event it binds
+
+
 @dataclass(eq=False)
 class Symbol:
     kind: SymbolKind
@@ -92,8 +104,8 @@ class Symbol:
     library: bool = False  # declared in the bundled library
     toolkit: bool = False  # declared in the toolkit's own extension library
     doc: str | None = None
-    context: object = None  # the lookup context of the declaration (declare.Context)
-    extra: dict = field(default_factory=dict)
+    context: Context | None = None  # the lookup context of the declaration
+    extra: SymbolExtra = field(default_factory=SymbolExtra)
 
     @property
     def qualified_name(self) -> str:

@@ -76,7 +76,7 @@ class Type:
             return self.symbol.name
         if self.kind is Kind.PHYSICAL:
             return f"physical ({dimension_text(self.dimension or DIMENSIONLESS)})"
-        return self.kind.value
+        return str(self.kind.value)  # mypy loses `value`'s type after the `in` narrowing
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Type) or other.kind is not self.kind:

@@ -10,9 +10,11 @@ asks this module instead of knowing scope rules itself.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
+
 from osc2check.semantics.model import Context, Model
 from osc2check.semantics.scope import Scope, declaration_scope
-from osc2check.semantics.symbols import Symbol
+from osc2check.semantics.symbols import Namespace, Symbol
 from osc2check.syntax import ast
 from osc2check.syntax.walk import children
 
@@ -66,7 +68,9 @@ def node_path(root: ast.Node, offset: int) -> list[ast.Node]:
         node = best
 
 
-def innermost(path: list[ast.Node], kinds) -> ast.Node | None:
+def innermost(
+    path: list[ast.Node], kinds: type[ast.Node] | tuple[type[ast.Node], ...]
+) -> ast.Node | None:
     for node in reversed(path):
         if isinstance(node, kinds):
             return node
@@ -132,7 +136,7 @@ def scope_at(model: Model, path: list[ast.Node]) -> Scope:
     return scope
 
 
-def _do_members(member: ast.DoMember):
+def _do_members(member: ast.DoMember) -> Iterator[ast.DoMember]:
     yield member
     body = member.body
     if isinstance(body, ast.Composition):
@@ -147,7 +151,9 @@ def visible_members(model: Model, scope: Scope) -> list[Symbol]:
     return model.all_members(scope.owner)
 
 
-def visible_globals(model: Model, ctx: Context, accept=None) -> list[Symbol]:
+def visible_globals(
+    model: Model, ctx: Context, accept: Callable[[Symbol], bool] | None = None
+) -> list[Symbol]:
     """Global symbols visible without qualification from ``ctx``."""
     seen: set[int] = set()
     found: list[Symbol] = []
@@ -164,7 +170,7 @@ def visible_globals(model: Model, ctx: Context, accept=None) -> list[Symbol]:
     return found
 
 
-def namespace_parts(model: Model, name: str) -> list:
+def namespace_parts(model: Model, name: str) -> list[Namespace]:
     """The library's and the program's parts of namespace ``name`` that are in reach."""
     parts = []
     base = model.base

@@ -10,9 +10,11 @@ parser (and this builder) is shared by every parse in the process.
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from contextvars import ContextVar
 from dataclasses import dataclass
 from fractions import Fraction
+from typing import Any, TypeVar, overload
 
 from lark import Transformer
 
@@ -21,9 +23,20 @@ from osc2check.syntax import ast
 from osc2check.syntax.lexer import Token
 
 _URI: ContextVar[str] = ContextVar("osc2_uri", default="")
-_PROBLEMS: ContextVar[list | None] = ContextVar("osc2_build_problems", default=None)
+_PROBLEMS: ContextVar[list[BuildProblem] | None] = ContextVar("osc2_build_problems", default=None)
 
 _PHYSICAL = re.compile(r"((?:\d+(?:\.\d+)?|\.\d+)(?:[eE][+-]?\d+)?)(.*)", re.DOTALL)
+# A rule's children as lark passes them: tokens, nodes, helper groups, method bodies and
+# None for an absent ``[optional]`` part. Which is where is said by the grammar, not by
+# Python types, so they are Any; each callback returns a typed node.
+Children = list[Any]
+_T = TypeVar("_T")
+_U = TypeVar("_U")
+_V = TypeVar("_V")
+_S = TypeVar("_S", bound=ast.StructuredDecl)
+# A method's body until ``method_decl`` unpacks it: kind, expression, external name, arguments.
+_MethodBody = tuple[str, ast.Expr | None, tuple[ast.Name, ...], tuple[ast.Argument, ...]]
+
 _ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "\\": "\\", '"': '"', "'": "'", "0": "\0"}
 
 
@@ -40,7 +53,7 @@ class _Group:
     """Children of a helper rule (arguments, a with block) until the parent unpacks them."""
 
     kind: str
-    items: tuple
+    items: tuple[Any, ...]  # the helper rule's children, of the kinds the grammar gives
     span: Span | None
 
 
@@ -50,7 +63,7 @@ def _tok_span(tok: Token) -> Span:
     )
 
 
-def span_of(item) -> Span | None:
+def span_of(item: object) -> Span | None:
     if isinstance(item, Token):
         return _tok_span(item)
     if isinstance(item, ast.Node):
@@ -60,7 +73,7 @@ def span_of(item) -> Span | None:
     return None
 
 
-def _edge(item) -> tuple | None:
+def _edge(item: object) -> tuple[int, int, int, int, int, int] | None:
     """(uri, line, column, start) and (end_line, end_column, end) of an item, or None."""
     if isinstance(item, Token):
         return item.line, item.column, item.start_pos, item.end_line, item.end_column, item.end_pos
@@ -70,7 +83,7 @@ def _edge(item) -> tuple | None:
     return span.line, span.column, span.start, span.end_line, span.end_column, span.end
 
 
-def _cover(children) -> Span:
+def _cover(children: Sequence[object]) -> Span:
     """The span from the first to the last child that has a position."""
     first = last = None
     for child in children:
@@ -84,25 +97,33 @@ def _cover(children) -> Span:
     return Span(_URI.get(), first[0], first[1], last[3], last[4], first[2], last[5])
 
 
-def _nodes(children, kind) -> tuple:
+def _nodes(children: Children, kind: type[_T]) -> tuple[_T, ...]:
     return tuple(c for c in children if isinstance(c, kind))
 
 
-def _group(children, kind: str) -> tuple:
+def _group(children: Children, kind: str) -> tuple[Any, ...]:
     for c in children:
         if isinstance(c, _Group) and c.kind == kind:
             return c.items
     return ()
 
 
-def _first(children, kind):
+@overload
+def _first(children: Children, kind: type[_T]) -> _T | None: ...
+@overload
+def _first(children: Children, kind: tuple[type[_T], type[_U]]) -> _T | _U | None: ...
+@overload
+def _first(
+    children: Children, kind: tuple[type[_T], type[_U], type[_V]]
+) -> _T | _U | _V | None: ...
+def _first(children: Children, kind: type[object] | tuple[type[object], ...]) -> object | None:
     for c in children:
         if isinstance(c, kind):
             return c
     return None
 
 
-def _has(children, token_type: str) -> bool:
+def _has(children: Children, token_type: str) -> bool:
     return any(isinstance(c, Token) and c.type == token_type for c in children)
 
 
@@ -148,15 +169,15 @@ _PRECEDENCE = {
 }
 
 
-def _group_chain(c):
+def _group_chain(c: Children) -> ast.Expr:
     """Group ``operand (op operand)*`` by precedence, left-associative."""
     operands = c[0::2]
     ops = [str(t) or "+" for t in c[1::2]]
     pos = 0
 
-    def parse(min_prec: int):
+    def parse(min_prec: int) -> ast.Expr:
         nonlocal pos
-        left = operands[pos]
+        left: ast.Expr = operands[pos]
         while pos < len(ops) and _PRECEDENCE.get(ops[pos], 6) >= min_prec:
             op = ops[pos]
             prec = _PRECEDENCE.get(op, 6)
@@ -168,45 +189,45 @@ def _group_chain(c):
     return parse(0)
 
 
-class Builder(Transformer):
+class Builder(Transformer[Token, ast.File]):
     """Lark callbacks that return ``ast`` nodes."""
 
     # ---- names ---------------------------------------------------------------
 
-    def name(self, c):
+    def name(self, c: Children) -> ast.Name:
         tok = c[0]
         return ast.Name(_tok_span(tok), str(tok))
 
-    def plain_name(self, c):
+    def plain_name(self, c: Children) -> ast.QualifiedName:
         return ast.QualifiedName(c[0].span, None, c[0])
 
-    def prefixed_name(self, c):
+    def prefixed_name(self, c: Children) -> ast.QualifiedName:
         return ast.QualifiedName(_cover(c), c[0].text, c[1])
 
-    def global_name(self, c):
+    def global_name(self, c: Children) -> ast.QualifiedName:
         return ast.QualifiedName(c[0].span, "", c[0])
 
-    def dotted_name(self, c):
+    def dotted_name(self, c: Children) -> _Group:
         return _Group("dotted", tuple(c), _cover(c))
 
-    def behaviour_name(self, c):
+    def behaviour_name(self, c: Children) -> ast.BehaviourName:
         if len(c) == 2 and c[1] is not None:
             return ast.BehaviourName(_cover(c), c[0], c[1])
         qn = c[0]
         return ast.BehaviourName(qn.span, None, qn.name, qn.namespace)
 
-    def named_type(self, c):
+    def named_type(self, c: Children) -> ast.NamedType:
         return ast.NamedType(c[0].span, c[0])
 
-    def list_type(self, c):
+    def list_type(self, c: Children) -> ast.ListType:
         return ast.ListType(_cover(c), c[-1])
 
-    def range_type(self, c):
+    def range_type(self, c: Children) -> ast.RangeType:
         return ast.RangeType(_cover(c), c[-1])
 
     # ---- literals and expressions ------------------------------------------
 
-    def int_literal(self, c):
+    def int_literal(self, c: Children) -> ast.IntLiteral:
         tok = c[0]
         text = str(tok)
         try:
@@ -215,11 +236,11 @@ class Builder(Transformer):
             value = 0
         return ast.IntLiteral(_tok_span(tok), value, text)
 
-    def float_literal(self, c):
+    def float_literal(self, c: Children) -> ast.FloatLiteral:
         tok = c[0]
         return ast.FloatLiteral(_tok_span(tok), float(str(tok) or "0"), str(tok))
 
-    def physical_literal(self, c):
+    def physical_literal(self, c: Children) -> ast.PhysicalLiteral:
         tok = c[0]
         span = _tok_span(tok)
         m = _PHYSICAL.fullmatch(str(tok))
@@ -238,68 +259,68 @@ class Builder(Transformer):
             span, Fraction(number_text), number_text, ast.Name(unit_span, unit_text)
         )
 
-    def string_literal(self, c):
+    def string_literal(self, c: Children) -> ast.StringLiteral:
         tok = c[0]
         text = str(tok)
         q = 3 if text[:3] in ('"""', "'''") else 1
         body = text[q:-q] if len(text) >= 2 * q and text[-q:] == text[:q] else text[q:]
         return ast.StringLiteral(_tok_span(tok), _unescape(body))
 
-    def bool_literal(self, c):
+    def bool_literal(self, c: Children) -> ast.BoolLiteral:
         return ast.BoolLiteral(_tok_span(c[0]), c[0].type == "TRUE")
 
-    def name_ref(self, c):
+    def name_ref(self, c: Children) -> ast.NameRef:
         return ast.NameRef(c[0].span, c[0])
 
-    def enum_ref(self, c):
+    def enum_ref(self, c: Children) -> ast.EnumRef:
         return ast.EnumRef(_cover(c), c[0], c[1])
 
-    def member_access(self, c):
+    def member_access(self, c: Children) -> ast.MemberAccess:
         return ast.MemberAccess(_cover(c), c[0], c[1])
 
-    def call(self, c):
+    def call(self, c: Children) -> ast.Call:
         args = c[1].items if isinstance(c[1], _Group) else ()
         return ast.Call(_cover(c), c[0], args)
 
-    def index(self, c):
+    def index(self, c: Children) -> ast.Index:
         return ast.Index(_cover(c), c[0], c[1])
 
-    def unary(self, c):
+    def unary(self, c: Children) -> ast.Unary:
         return ast.Unary(_cover(c), str(c[0]) or "-", c[1])
 
-    def logic(self, c):
+    def logic(self, c: Children) -> ast.Expr:
         return _group_chain(c)
 
-    def comparison(self, c):
+    def comparison(self, c: Children) -> ast.Expr:
         return _group_chain(c)
 
-    def ternary(self, c):
+    def ternary(self, c: Children) -> ast.Ternary:
         return ast.Ternary(_cover(c), c[0], c[1], c[2])
 
-    def list_literal(self, c):
+    def list_literal(self, c: Children) -> ast.ListLiteral:
         items = tuple(x for x in c if x is not None and not isinstance(x, Token))
         return ast.ListLiteral(_cover(c), items)
 
-    def range_literal(self, c):
+    def range_literal(self, c: Children) -> ast.RangeLiteral:
         return ast.RangeLiteral(_cover(c), c[1], c[3])
 
-    def arguments(self, c):
+    def arguments(self, c: Children) -> _Group:
         return _Group("args", tuple(c), _cover(c))
 
-    def positional_argument(self, c):
+    def positional_argument(self, c: Children) -> ast.PositionalArgument:
         return ast.PositionalArgument(c[0].span, c[0])
 
-    def named_argument(self, c):
+    def named_argument(self, c: Children) -> ast.NamedArgument:
         return ast.NamedArgument(_cover(c), c[0], c[1])
 
-    def event_argument(self, c):
+    def event_argument(self, c: Children) -> ast.EventArgument:
         path = c[1].items
         return ast.EventArgument(_cover(c), path)
 
-    def event_path(self, c):
+    def event_path(self, c: Children) -> _Group:
         return _Group("path", tuple(c), _cover(c))
 
-    def event_reference(self, c):
+    def event_reference(self, c: Children) -> ast.EventReference:
         path = c[1].items
         alias = condition = None
         rest = c[2:]
@@ -310,76 +331,78 @@ class Builder(Transformer):
                 condition = rest[i + 1]
         return ast.EventReference(_cover(c), path, alias, condition)
 
-    def event_condition(self, c):
+    def event_condition(self, c: Children) -> ast.EventCondition:
         return ast.EventCondition(c[0].span, c[0])
 
     # ---- members -------------------------------------------------------------
 
-    def member_end(self, c):
+    def member_end(self, c: Children) -> _Group:
         return _Group("with", c[0].items, c[0].span) if c else _Group("with", (), None)
 
-    def with_block(self, c):
+    def with_block(self, c: Children) -> _Group:
         items = tuple(x for x in c if isinstance(x, ast.Node))
         return _Group("with", items, _cover(c))
 
-    def field_decl(self, c):
+    def field_decl(self, c: Children) -> ast.FieldDecl:
         names = _nodes(c, ast.Name)
         type_ref = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
         default = self._default(c, type_ref)
         return ast.FieldDecl(_cover(c), names, type_ref, default, _group(c, "with"), False)
 
-    def var_decl(self, c):
+    def var_decl(self, c: Children) -> ast.FieldDecl:
         names = _nodes(c, ast.Name)
         type_ref = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
         default = self._default(c, type_ref)
         return ast.FieldDecl(_cover(c), names, type_ref, default, _group(c, "with"), True)
 
     @staticmethod
-    def _default(c, type_ref):
+    def _default(c: Children, type_ref: ast.TypeRef | None) -> ast.Expr | None:
         # The default is the expression after the type (names come first).
         seen_type = type_ref is None
         for item in c:
             if item is type_ref:
                 seen_type = True
-            elif seen_type and isinstance(item, ast.Node) and not isinstance(item, ast.Name):
+            elif seen_type and isinstance(item, ast.Expr):  # not a name, nor a `with` group
                 return item
         return None
 
-    def parameters(self, c):
+    def parameters(self, c: Children) -> _Group:
         return _Group("params", tuple(c), _cover(c))
 
-    def parameter(self, c):
+    def parameter(self, c: Children) -> ast.Parameter:
         return ast.Parameter(_cover(c), c[0], c[1], c[2] if len(c) > 2 else None)
 
-    def event_decl(self, c):
+    def event_decl(self, c: Children) -> ast.EventDecl:
         name = _first(c, ast.Name)
+        assert name is not None  # the grammar requires it (recovery inserts a missing one)
         spec = _first(c, (ast.EventReference, ast.EventCondition))
         return ast.EventDecl(_cover(c), name, _group(c, "params"), spec)
 
-    def constraint_strength(self, c):
-        return c[0]
+    def constraint_strength(self, c: Children) -> Token:
+        strength: Token = c[0]
+        return strength
 
-    def keep_stmt(self, c):
+    def keep_stmt(self, c: Children) -> ast.KeepConstraint:
         strength = "default" if _has(c, "DEFAULT") else "hard"
-        nodes = [x for x in c if isinstance(x, ast.Node)]
+        nodes = [x for x in c if isinstance(x, ast.Expr)]
         expr = nodes[-1] if nodes else ast.Missing(_cover(c))
         return ast.KeepConstraint(_cover(c), strength, expr)
 
-    def remove_default_stmt(self, c):
-        nodes = [x for x in c if isinstance(x, ast.Node)]
+    def remove_default_stmt(self, c: Children) -> ast.RemoveDefault:
+        nodes = [x for x in c if isinstance(x, ast.Expr)]
         return ast.RemoveDefault(_cover(c), nodes[-1] if nodes else ast.Missing(_cover(c)))
 
-    def method_expression(self, c):
+    def method_expression(self, c: Children) -> _MethodBody:
         return ("expression", c[-1], (), ())
 
-    def method_undefined(self, c):
+    def method_undefined(self, c: Children) -> _MethodBody:
         return ("undefined", None, (), ())
 
-    def method_external(self, c):
+    def method_external(self, c: Children) -> _MethodBody:
         args = _group(c, "args")
         return ("external", None, _group(c, "dotted"), args)
 
-    def method_decl(self, c):
+    def method_decl(self, c: Children) -> ast.MethodDecl:
         name = c[1]
         body = next(x for x in c if isinstance(x, tuple))
         return_type = _first(c, (ast.NamedType, ast.ListType, ast.RangeType))
@@ -396,10 +419,10 @@ class Builder(Transformer):
             ext_args,
         )
 
-    def coverage_stmt(self, c):
+    def coverage_stmt(self, c: Children) -> ast.CoverageDecl:
         return ast.CoverageDecl(_cover(c), str(c[0]) or "cover", _group(c, "args"))
 
-    def invocation_stmt(self, c):
+    def invocation_stmt(self, c: Children) -> ast.Invocation:
         expr, with_group = c[0], c[1]
         span = _cover([expr, with_group])
         if isinstance(expr, ast.Call):
@@ -417,106 +440,107 @@ class Builder(Transformer):
             return ast.Invocation(span, expr.target, expr.member, (), with_group.items)
         return ast.Invocation(span, None, ast.Name(expr.span, ""), (), with_group.items)
 
-    def until_stmt(self, c):
+    def until_stmt(self, c: Children) -> ast.Until:
         return ast.Until(_cover(c), c[-1])
 
-    def on_block(self, c):
+    def on_block(self, c: Children) -> ast.OnDirective:
         event = c[1]
-        members = tuple(x for x in c[2:] if isinstance(x, ast.Node))
+        members = tuple(x for x in c[2:] if isinstance(x, (ast.Emit, ast.CallDirective)))
         return ast.OnDirective(_cover(c), event, members)
 
     # ---- behaviour -----------------------------------------------------------
 
-    def do_block(self, c):
+    def do_block(self, c: Children) -> ast.DoDirective:
         return ast.DoDirective(_cover(c), c[-1])
 
-    def do_member(self, c):
+    def do_member(self, c: Children) -> ast.DoMember:
         label, body = c[0], c[-1]
         return ast.DoMember(_cover([x for x in c if x is not None]), label, body)
 
-    def composition_op(self, c):
-        return c[0]
+    def composition_op(self, c: Children) -> Token:
+        op: Token = c[0]
+        return op
 
-    def composition(self, c):
+    def composition(self, c: Children) -> ast.Composition:
         op = c[0]
         members = _nodes(c, ast.DoMember)
         return ast.Composition(
             _cover(c), str(op) or "serial", _group(c, "args"), members, _group(c, "with")
         )
 
-    def wait_stmt(self, c):
+    def wait_stmt(self, c: Children) -> ast.Wait:
         return ast.Wait(_cover(c), c[-1])
 
-    def emit_stmt(self, c):
+    def emit_stmt(self, c: Children) -> ast.Emit:
         return ast.Emit(_cover(c), c[1], _group(c, "args"))
 
-    def call_stmt(self, c):
+    def call_stmt(self, c: Children) -> ast.CallDirective:
         return ast.CallDirective(_cover(c), c[-1])
 
     # ---- declarations --------------------------------------------------------
 
-    def import_file(self, c):
+    def import_file(self, c: Children) -> ast.ImportDecl:
         lit = self.string_literal([c[1]])
         return ast.ImportDecl(_cover(c), "file", lit.value, lit.span)
 
-    def import_module(self, c):
+    def import_module(self, c: Children) -> ast.ImportDecl:
         dotted = c[1]
         target = ".".join(n.text for n in dotted.items)
         return ast.ImportDecl(_cover(c), "module", target, dotted.span)
 
-    def use_stmt(self, c):
+    def use_stmt(self, c: Children) -> ast.UseStatement:
         names = tuple(g.items for g in c if isinstance(g, _Group))
         return ast.UseStatement(_cover(c), names)
 
-    def namespace_stmt(self, c):
+    def namespace_stmt(self, c: Children) -> ast.NamespaceDecl:
         names = _nodes(c, ast.Name)
         return ast.NamespaceDecl(_cover(c), names[0], names[1:])
 
-    def export_stmt(self, c):
+    def export_stmt(self, c: Children) -> ast.ExportDecl:
         return ast.ExportDecl(_cover(c), _nodes(c, ast.ExportItem))
 
-    def export_name(self, c):
+    def export_name(self, c: Children) -> ast.ExportItem:
         return ast.ExportItem(c[0].span, "name", c[0], None)
 
-    def export_namespace(self, c):
+    def export_namespace(self, c: Children) -> ast.ExportItem:
         return ast.ExportItem(_cover(c), "namespace", None, c[0])
 
-    def export_all(self, c):
+    def export_all(self, c: Children) -> ast.ExportItem:
         return ast.ExportItem(_cover(c), "all", None, None)
 
-    def si_spec(self, c):
+    def si_spec(self, c: Children) -> _Group:
         return _Group("si", c[0].items if isinstance(c[0], _Group) else (), _cover(c))
 
-    def type_decl(self, c):
+    def type_decl(self, c: Children) -> ast.PhysicalTypeDecl:
         return ast.PhysicalTypeDecl(_cover(c), c[1], _group(c, "si"))
 
-    def unit_decl(self, c):
+    def unit_decl(self, c: Children) -> ast.UnitDecl:
         return ast.UnitDecl(_cover(c), c[1], c[3], _group(c, "si"))
 
-    def enum_members(self, c):
+    def enum_members(self, c: Children) -> _Group:
         return _Group("enum", _nodes(c, ast.EnumMember), _cover(c))
 
-    def enum_member(self, c):
+    def enum_member(self, c: Children) -> ast.EnumMember:
         return ast.EnumMember(_cover(c), c[0], c[1] if len(c) > 1 else None)
 
-    def enum_decl(self, c):
+    def enum_decl(self, c: Children) -> ast.EnumDecl:
         return ast.EnumDecl(_cover(c), c[1], _group(c, "enum"))
 
-    def extend_enum(self, c):
+    def extend_enum(self, c: Children) -> ast.EnumExtension:
         return ast.EnumExtension(_cover(c), c[1], _group(c, "enum"))
 
-    def extend_type(self, c):
+    def extend_type(self, c: Children) -> ast.ExtendDecl:
         return ast.ExtendDecl(_cover(c), c[1], _group(c, "body"))
 
-    def inherits(self, c):
-        condition = c[2] if len(c) > 2 and isinstance(c[2], ast.Node) else None
+    def inherits(self, c: Children) -> ast.Inherits:
+        condition = c[2] if len(c) > 2 and isinstance(c[2], ast.Expr) else None
         return ast.Inherits(_cover(c), c[1], condition)
 
-    def body(self, c):
+    def body(self, c: Children) -> _Group:
         members = tuple(x for x in c if isinstance(x, ast.Node))
         return _Group("body", members, _cover(members) if members else None)
 
-    def _structured(self, cls, c, **extra):
+    def _structured(self, cls: type[_S], c: Children, **extra: ast.BehaviourName | None) -> _S:
         name = c[1]
         if isinstance(name, ast.QualifiedName):
             name = ast.BehaviourName(name.span, None, name.name, name.namespace)
@@ -524,28 +548,28 @@ class Builder(Transformer):
         members = _group(c, "body")
         return cls(_cover(c), name, inherits, members, bool(members), **extra)
 
-    def struct_decl(self, c):
+    def struct_decl(self, c: Children) -> ast.StructDecl:
         if isinstance(c[1], ast.Name):
             c = [c[0], ast.QualifiedName(c[1].span, None, c[1]), *c[2:]]
         return self._structured(ast.StructDecl, c)
 
-    def actor_decl(self, c):
+    def actor_decl(self, c: Children) -> ast.ActorDecl:
         return self._structured(ast.ActorDecl, c)
 
-    def scenario_decl(self, c):
+    def scenario_decl(self, c: Children) -> ast.ScenarioDecl:
         return self._structured(ast.ScenarioDecl, c)
 
-    def action_decl(self, c):
+    def action_decl(self, c: Children) -> ast.ActionDecl:
         return self._structured(ast.ActionDecl, c)
 
-    def modifier_decl(self, c):
+    def modifier_decl(self, c: Children) -> ast.ModifierDecl:
         names = _nodes(c, ast.BehaviourName)
         of = names[1] if len(names) > 1 else None
         return self._structured(ast.ModifierDecl, c, of=of)
 
-    def global_decl(self, c):
+    def global_decl(self, c: Children) -> ast.GlobalDecl:
         return ast.GlobalDecl(_cover(c), c[1])
 
-    def start(self, c):
-        decls = tuple(x for x in c if isinstance(x, ast.Node))
+    def start(self, c: Children) -> ast.File:
+        decls = tuple(x for x in c if isinstance(x, ast.Declaration))
         return ast.File(_cover(decls), decls)

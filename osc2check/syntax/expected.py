@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import re
 from functools import cache
+from typing import Literal
 
 from lark.lexer import PatternStr
 from lark.parsers.lalr_analysis import Shift
@@ -25,12 +26,15 @@ _BOUNDARIES = frozenset({"_NL", "_DEDENT"})
 _MAX_TRIALS = 400  # repair candidates tried at one boundary (as recovery's fork limit)
 _IDENTIFIER = re.compile(r"[^\W\d]\w*")
 
+# A table entry: a shift and the state shifted to, or a reduction (rule size, rule name).
+_Entry = tuple[Literal[True], int] | tuple[Literal[False], tuple[int, str]]
+
 
 @cache
-def _table():
+def _table() -> tuple[dict[int, dict[str, _Entry]], int]:
     ip = lark_parser().parse_interactive(start="start")
     table = ip.parser_state.parse_conf.parse_table
-    states = {}
+    states: dict[int, dict[str, _Entry]] = {}
     for state, row in table.states.items():
         states[state] = {
             ttype: (True, arg)
@@ -44,7 +48,7 @@ def _table():
 @cache
 def keywords() -> dict[str, str]:
     """Keyword terminals (``SCENARIO``) and their text (``scenario``)."""
-    found = {}
+    found: dict[str, str] = {}
     for term in lark_parser().terminals:
         if isinstance(term.pattern, PatternStr) and _IDENTIFIER.fullmatch(term.pattern.value):
             found[term.name] = term.pattern.value
@@ -80,16 +84,15 @@ class GrammarState:
             entry = states[stack[-1]].get(ttype)
             if entry is None:
                 return False
-            shift, arg = entry
-            if shift:
-                stack.append(arg)
+            if entry[0]:
+                stack.append(entry[1])
                 self.stack = stack
                 return True
-            size, origin = arg
+            size, origin = entry[1]
             if size:
                 del stack[-size:]
             goto = states[stack[-1]].get(origin)
-            if goto is None:
+            if goto is None or not goto[0]:  # a rule's name is only ever shifted
                 return False
             stack.append(goto[1])
 
@@ -106,7 +109,7 @@ class GrammarState:
         if ttype not in soft_keywords():
             return True
         row = _table()[0][trial.stack[-1]]
-        return not all(not shift and arg[1] == "name" for shift, arg in row.values())
+        return not all(not entry[0] and entry[1][1] == "name" for entry in row.values())
 
 
 def run(types: list[str]) -> GrammarState:

@@ -34,7 +34,7 @@ def grammar_text() -> str:
 def lark_parser(transformer: object | None = None) -> Lark:
     """The LALR parser. Tokens are produced by our own lexer, so lark's is unused."""
     text = grammar_text()
-    kwargs: dict = dict(parser="lalr", lexer="basic", maybe_placeholders=True)
+    kwargs: dict[str, object] = dict(parser="lalr", lexer="basic", maybe_placeholders=True)
     if transformer is not None:
         kwargs["transformer"] = transformer
     try:

@@ -102,7 +102,7 @@ class LexResult:
 
 
 @cache
-def _tables() -> tuple[re.Pattern, dict[str, str]]:
+def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
     terminals = {t.name: t for t in lark_parser().terminals}
     keywords: dict[str, str] = {}
     punctuation: dict[str, str] = {}
@@ -141,6 +141,7 @@ def tokenize(text: str) -> LexResult:
     append = tokens.append
     for match in pattern.finditer(text):
         kind = match.lastgroup
+        assert kind is not None  # the last alternative, ERROR, matches any character
         start, end = match.span()
         value = match.group()
         column = start - line_start + 1

@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 import gc
+from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cache
+
+from lark import Lark
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2check.syntax.build import _PROBLEMS, _URI, Builder
+from osc2check.syntax.build import _PROBLEMS, _URI, Builder, BuildProblem
 from osc2check.syntax.grammar import grammar_text, lark_parser
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Comment, Token, tokenize
@@ -73,7 +76,7 @@ def _terminal_text() -> dict[str, str]:
 
 
 @cache
-def _builder_parser():
+def _builder_parser() -> Lark:
     return lark_parser(Builder())
 
 
@@ -88,7 +91,7 @@ def _found(tok: Token) -> str:
     return f"`{text}`" if len(text) <= 30 else f"`{text[:27]}...`"
 
 
-def _expected(kinds) -> list[str]:
+def _expected(kinds: Iterable[str]) -> list[str]:
     preferred = [k for k in kinds if not k.startswith("_") and k != "$END" and k.isupper()]
     names = sorted({_describe(k) for k in preferred})
     if len(names) > 6:
@@ -172,7 +175,7 @@ def _parse(text: str, uri: str) -> ParseResult:
             diagnostics.append(
                 messages.inconsistent_dedent(span, layout.token.column - 1, layout.expected)
             )
-    problems: list = []
+    problems: list[BuildProblem] = []
     uri_token = _URI.set(uri)
     problems_token = _PROBLEMS.set(problems)
     try:
@@ -209,10 +212,10 @@ def _parse(text: str, uri: str) -> ParseResult:
                 messages.syntax_error(span, _found(tok), _expected(problem.expected))
             )
     error_lines.update(d.span.line for d in diagnostics)
-    for problem in problems:
-        if problem.span.line not in error_lines:
-            diagnostics.append(messages.not_an_invocation(problem.span))
-            error_lines.add(problem.span.line)
+    for built in problems:
+        if built.span.line not in error_lines:
+            diagnostics.append(messages.not_an_invocation(built.span))
+            error_lines.add(built.span.line)
     if not isinstance(tree, ast.File):
         tree = ast.File(Span(uri, 1, 1, 1, 1, 0, 0), ())
     diagnostics.sort(key=lambda d: d.sort_key)

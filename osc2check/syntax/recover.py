@@ -22,10 +22,15 @@ them is safe and recovery stays cheap.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
+from typing import Any
 
+from lark import Lark
 from lark.exceptions import UnexpectedInput
+from lark.grammar import Rule
 from lark.parsers.lalr_analysis import Shift
+from lark.parsers.lalr_parser_state import ParseConf
 
 from osc2check.syntax import ast
 from osc2check.syntax.lexer import Token
@@ -45,6 +50,11 @@ REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_D
 MAX_REPAIR = 3
 _MAX_FORKS = 400
 
+# lark's interactive LALR parser (what ``Lark.parse_interactive`` returns). Typed as Any:
+# it is fed our own ``Token`` (lark reads only its ``type``), which lark's annotations
+# refuse, and its ``copy``, ``choices`` and ``feed_eof`` are not annotated.
+_Interactive = Any
+
 
 @dataclass(frozen=True, slots=True)
 class SyntaxProblem:
@@ -54,7 +64,7 @@ class SyntaxProblem:
     misplaced: str | None = None  # "field" or "behaviour": the `with:` block `token` is in
 
 
-def _with_block_owner(ip) -> str:
+def _with_block_owner(ip: _Interactive) -> str:
     """Whose `with:` block the parser is in: a field's (``"field"``: its type or default
     value comes before `with`) or an invocation's or composition's (``"behaviour"``)."""
     values = ip.parser_state.value_stack
@@ -87,7 +97,7 @@ def _synthetic(kind: str, at: Token) -> Token:
     return at.synthetic(kind)
 
 
-def _accepts(ip, tokens: list[Token]) -> bool:
+def _accepts(ip: _Interactive, tokens: list[Token]) -> bool:
     fork = ip.copy(deepcopy_values=False)
     try:
         for tok in tokens:
@@ -100,7 +110,7 @@ def _accepts(ip, tokens: list[Token]) -> bool:
     return True
 
 
-def _repair(ip, boundary: Token) -> list[Token] | None:
+def _repair(ip: _Interactive, boundary: Token) -> list[Token] | None:
     """The shortest terminal sequence after which ``boundary`` is accepted."""
     forks = 0
     frontier: list[list[str]] = [[]]
@@ -132,7 +142,7 @@ def _repair(ip, boundary: Token) -> list[Token] | None:
     return None
 
 
-def _resync(ip, following: Token | None) -> object | None:
+def _resync(ip: _Interactive, following: Token | None) -> _Interactive | None:
     """A parser state, popped back from ``ip``, that accepts ``following``."""
     if following is None:
         return None
@@ -148,10 +158,15 @@ def _resync(ip, following: Token | None) -> object | None:
     return None
 
 
-_TABLES: dict[int, dict] = {}
+# A row entry of the fast table: the state a shift goes to, or a reduction (the rule's
+# size, its callback or None when the rule passes its child through, the rule's name).
+_Reduce = tuple[int, Callable[[list[Any]], object] | None, str]
+_FastTable = dict[int, dict[str, int | _Reduce]]
+
+_TABLES: dict[int, _FastTable] = {}
 
 
-def _passes_through(rule) -> bool:
+def _passes_through(rule: Rule) -> bool:
     """A `?rule` alternative of one kept symbol and no alias: its value is its child's."""
     if len(rule.expansion) != 1 or rule.alias or not rule.options.expand1:
         return False
@@ -159,7 +174,7 @@ def _passes_through(rule) -> bool:
     return not symbol.is_term or not getattr(symbol, "filter_out", False)
 
 
-def _table(conf) -> dict:
+def _table(conf: ParseConf[int]) -> _FastTable:
     """The LALR table with rules replaced by (size, callback, goto-symbol) tuples.
 
     Lark keys its callbacks by ``Rule`` objects, whose hashing costs more than the
@@ -187,7 +202,7 @@ def _table(conf) -> dict:
     return table
 
 
-def _fast_prefix(ip, tokens: list[Token]) -> int:
+def _fast_prefix(ip: _Interactive, tokens: list[Token]) -> int:
     """Feed tokens in a tight loop until the first one the parser cannot take.
 
     Returns how many tokens were consumed. It works on the interactive
@@ -204,7 +219,7 @@ def _fast_prefix(ip, tokens: list[Token]) -> int:
             entry = row.get(ttype)
             if entry is None:
                 return consumed
-            if entry.__class__ is int:
+            if isinstance(entry, int):
                 states.append(entry)
                 values.append(tok)
                 row = table[entry]
@@ -220,6 +235,7 @@ def _fast_prefix(ip, tokens: list[Token]) -> int:
             else:
                 values.append(callback([]))
             goto = table[states[-1]][origin]
+            assert isinstance(goto, int)  # a rule's name is only ever shifted
             states.append(goto)
             row = table[goto]
         consumed += 1
@@ -238,10 +254,12 @@ def _matching_dedent(tokens: list[Token], i: int) -> int:
     return len(tokens) - 1
 
 
-def parse_tokens(lark, tokens: list[Token], start: str = "start"):
+def parse_tokens(
+    lark: Lark, tokens: list[Token], start: str = "start"
+) -> tuple[object, list[SyntaxProblem]]:
     """Parse ``tokens``; returns (tree or None, problems). Never raises on bad input."""
     problems: list[SyntaxProblem] = []
-    ip = lark.parse_interactive(start=start)
+    ip: _Interactive = lark.parse_interactive(start=start)
     in_error = False
     at_statement_start = True
     i, n = _fast_prefix(ip, tokens), len(tokens)

@@ -49,7 +49,7 @@ def dump(node: ast.Node, indent: int = 0) -> str:
 
 def _dump(node: ast.Node, depth: int, lines: list[str], label: str) -> None:
     scalars = []
-    nested: list[tuple[str, object]] = []
+    nested: list[tuple[str, ast.Node | tuple[object, ...]]] = []
     for f in fields(node):
         if f.name == "span":
             continue

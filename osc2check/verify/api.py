@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from osc2check.diagnostics import Diagnostic
 from osc2check.verify.check import verify_program
 from osc2check.verify.witness import Witness
+
+if TYPE_CHECKING:
+    from osc2check.analysis import Analysis
 
 
 @dataclass(frozen=True)
@@ -19,7 +23,7 @@ class Unsolvable:
 
 
 def solve(
-    analysis, scenario: str | None = None, seed: int = 0, uri: str | None = None
+    analysis: Analysis, scenario: str | None = None, seed: int = 0, uri: str | None = None
 ) -> Witness | Unsolvable:
     """The witness of ``scenario`` (default: the first scenario of the first file).
 
@@ -28,7 +32,7 @@ def solve(
     """
     uri = uri or next(iter(analysis.programs), None)
     program = analysis.programs.get(uri) if uri is not None else None
-    if program is None:
+    if uri is None or program is None:
         return Unsolvable(scenario or "", "not-found", ())
     errors = tuple(
         d for d in analysis.diagnostics if d.span.uri == uri and d.severity.name == "ERROR"

@@ -14,6 +14,7 @@ another file, at the scenario's name, so the file being checked shows it.
 
 from __future__ import annotations
 
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
@@ -23,11 +24,12 @@ from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.roots import invokers
 from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.source import strip_comment
+from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import flow, ir, quick
-from osc2check.verify.lower import lower_scenario, member_declarations
+from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
+from osc2check.verify.placement import Gap
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
@@ -103,14 +105,14 @@ class VerifyResult:
     scenarios: list[ScenarioResult] = field(default_factory=list)
 
 
-def source_text(program: Program):
+def source_text(program: Program) -> TextOf:
     """A function from a span to its source text, one line, without comments.
 
     A parenthesised expression's span leaves out its parentheses, so brackets the
     text opens are closed from the source that follows.
     """
 
-    def text_of(span) -> str:
+    def text_of(span: Span) -> str:
         result = program.files.get(span.uri)
         if result is None:
             return ""
@@ -223,9 +225,9 @@ def verify_program(
         for c in outcome.nonlinear:
             if _user_written(c, program):
                 report(messages.nonlinear_constraint(c))
-        by = () if standalone else tuple(s.name for s in invoked[sym])
+        invokers_of = () if standalone else tuple(s.name for s in invoked[sym])
         result.scenarios.append(
-            ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms, invoked_by=by)
+            ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms, invoked_by=invokers_of)
         )
     return result
 
@@ -233,7 +235,12 @@ def verify_program(
 MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's speed is unsafe
 
 
-def _unsafe_gaps(problem: ir.ConstraintProblem, active, outcome: SolverOutcome, rlimit: int):
+def _unsafe_gaps(
+    problem: ir.ConstraintProblem,
+    active: list[ir.Constraint],
+    outcome: SolverOutcome,
+    rlimit: int,
+) -> Iterator[Gap]:
     """Start gaps shorter than MIN_TIME_GAP at the follower's speed in every model."""
     placement = problem.placement
     if placement is None:
@@ -273,15 +280,15 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     return found
 
 
-def _placement_notes(problem: ir.ConstraintProblem, report) -> None:
+def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic], None]) -> None:
     placement = problem.placement
     if placement is None:
         return
     if placement.unknown_map is not None:
         span, name, known = placement.unknown_map
         report(messages.unknown_map(span, name, known))
-    for span, actor, reference in placement.unplaced_references:
-        report(messages.reference_not_placed(span, actor, reference))
+    for span, name, reference in placement.unplaced_references:
+        report(messages.reference_not_placed(span, name, reference))
     for cycle, span in _cycles(placement.edges):
         report(messages.cyclic_placement(span, cycle))
     for actor in placement.actors.values():
@@ -289,16 +296,17 @@ def _placement_notes(problem: ir.ConstraintProblem, report) -> None:
             report(messages.unplaced_actor(actor.span, actor.name))
 
 
-def _cycles(edges) -> list[tuple[list[str], object]]:
+def _cycles(edges: list[tuple[str, str, Span]]) -> list[tuple[list[str], Span]]:
     """Cycles in the placed-relative-to graph, each reported once."""
-    graph: dict[str, list[tuple[str, object]]] = {}
+    graph: dict[str, list[tuple[str, Span]]] = {}
     for a, b, span in edges:
         graph.setdefault(a, []).append((b, span))
-    found, seen = [], set()
+    found: list[tuple[list[str], Span]] = []
+    seen: set[frozenset[str]] = set()
     for start in sorted(graph):
-        stack = [(start, [start], None)]
+        stack: list[tuple[str, list[str], Span | None]] = [(start, [start], None)]
         while stack:
-            node, path, span = stack.pop()
+            node, path, _ = stack.pop()
             for nxt, edge_span in graph.get(node, ()):
                 if nxt == start:
                     key = frozenset(path)
@@ -310,7 +318,9 @@ def _cycles(edges) -> list[tuple[list[str], object]]:
     return found
 
 
-def _reversed_ranges(sym: Symbol, program: Program, text_of, report) -> None:
+def _reversed_ranges(
+    sym: Symbol, program: Program, text_of: TextOf, report: Callable[[Diagnostic], None]
+) -> None:
     """C402: a range whose constant bounds (compared in SI) are written high to low."""
     decl = sym.decl
     if decl is None:
@@ -335,7 +345,7 @@ def _reversed_ranges(sym: Symbol, program: Program, text_of, report) -> None:
                 )
 
 
-def _text(node: ast.Node, text_of) -> str:
+def _text(node: ast.Node, text_of: TextOf) -> str:
     match node:
         case ast.PhysicalLiteral():
             return f"{node.number_text}{node.unit.text}"
@@ -364,7 +374,7 @@ def _vacuous(
     active: list[ir.Constraint],
     rlimit: int,
     session: Session | None = None,
-):
+) -> Iterator[ir.Constraint]:
     """User keeps that hold for every value of their parameters' own domains.
 
     A value that breaks the keep is looked for first by trying a few (cheap, and
@@ -403,7 +413,7 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
     probes = sorted(numbers)
     for i, first in enumerate(probes):
         for second in (first, probes[(i + 1) % len(probes)], probes[i - 1]):
-            values = {}
+            values: dict[str, Fraction | bool] = {}
             for k, v in enumerate(variables):
                 value = first if k % 2 == 0 else second
                 if v.sort == "bool":
@@ -439,13 +449,13 @@ def _holds_always(
     for d in limits:
         s.add(enc.term(d))
     s.add(z3.Not(enc.term(c.term)))
-    return s.check() == z3.unsat
+    return bool(s.check() == z3.unsat)
 
 
-def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict:
+def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict[str, object]:
     """A JSON-ready summary of one verified scenario (the JSON output's `scenarios`)."""
     span = result.scenario.name_span
-    data: dict = {
+    data: dict[str, object] = {
         "name": result.scenario.name,
         "path": span.uri if span else "",
         "line": span.line if span else 0,

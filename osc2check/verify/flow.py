@@ -6,6 +6,7 @@ These checks read the AST and the model only; no solver.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from fractions import Fraction
 
 from osc2check import messages
@@ -76,7 +77,13 @@ def _conditional_events(model: Model, scenario: Symbol) -> set[str]:
     }
 
 
-def _wait(ref: ast.EventReference, wait: ast.Wait, emits, conditional, found) -> None:
+def _wait(
+    ref: ast.EventReference,
+    wait: ast.Wait,
+    emits: dict[str, list[ast.Emit]],
+    conditional: set[str],
+    found: list[Diagnostic],
+) -> None:
     if len(ref.path) != 1 or ref.path[0].missing:
         return
     name = ref.path[0].text
@@ -85,7 +92,9 @@ def _wait(ref: ast.EventReference, wait: ast.Wait, emits, conditional, found) ->
     found.append(messages.wait_without_emitter(wait.span, name))
 
 
-def _serial_order(serial: ast.Composition, emits, found) -> None:
+def _serial_order(
+    serial: ast.Composition, emits: dict[str, list[ast.Emit]], found: list[Diagnostic]
+) -> None:
     """A wait whose every emitter comes later in the same serial chain."""
     for i, member in enumerate(serial.members):
         body = member.body
@@ -104,7 +113,7 @@ def _serial_order(serial: ast.Composition, emits, found) -> None:
             found.append(messages.wait_blocks_emitter(body.span, name, emitters[0].span))
 
 
-def _composition(model: Model, comp: ast.Composition, found) -> None:
+def _composition(model: Model, comp: ast.Composition, found: list[Diagnostic]) -> None:
     if not comp.members:
         if comp.op == "one_of":
             found.append(messages.empty_one_of(comp.span))
@@ -161,7 +170,9 @@ def _fold_bool(expr: ast.Node, model: Model) -> bool | None:
     return value if isinstance(value, bool) else None
 
 
-def _recursion(model: Model, sym: Symbol, chain: list[Symbol], done: set[int]):
+def _recursion(
+    model: Model, sym: Symbol, chain: list[Symbol], done: set[int]
+) -> list[Symbol] | None:
     """A chain of scenario invocations that comes back to its start, or None."""
     for tree in _do_trees(sym):
         for node in _invocations(tree):
@@ -179,7 +190,7 @@ def _recursion(model: Model, sym: Symbol, chain: list[Symbol], done: set[int]):
     return None
 
 
-def _invocations(node):
+def _invocations(node: ast.Node) -> Iterator[ast.Invocation]:
     """The invocations of a `do` or `on` tree (members only, not modifiers)."""
     match node:
         case ast.DoDirective():
@@ -188,7 +199,7 @@ def _invocations(node):
             for member in node.members:
                 yield from _invocations(member)
         case ast.Composition():
-            for member in node.members:
-                yield from _invocations(member.body)
+            for do_member in node.members:
+                yield from _invocations(do_member.body)
         case ast.Invocation():
             yield node

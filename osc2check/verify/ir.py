@@ -10,8 +10,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import TYPE_CHECKING, TypedDict, Unpack
 
 from osc2check.source import Span
+
+if TYPE_CHECKING:
+    from osc2check.verify.placement import StartPlacement
 
 
 @dataclass(frozen=True, slots=True)
@@ -29,6 +33,16 @@ class Var:
 
     def __hash__(self) -> int:  # a problem has one variable per name; hash only that
         return hash(self.name)
+
+
+class VarDetails(TypedDict, total=False):
+    """The optional fields of a ``Var`` but its span, as ``ConstraintProblem.var`` takes them."""
+
+    unit: str
+    unit_factor: Fraction
+    unit_offset: Fraction
+    enum: tuple[tuple[str, int], ...]
+    is_string: bool
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,7 +71,7 @@ TRUE = Const(True)
 _SMALL = {i: Const(Fraction(i)) for i in range(-8, 65)}
 
 
-def const(value) -> Const:
+def const(value: bool | int | float | Fraction) -> Const:
     if isinstance(value, int) and not isinstance(value, bool) and value in _SMALL:
         return _SMALL[value]
     return Const(value if isinstance(value, (bool, Fraction)) else Fraction(value))
@@ -142,15 +156,15 @@ class ConstraintProblem:
     removed_defaults: set[str] = field(default_factory=set)  # parameters after remove_default
     skipped: list[tuple[Span, str]] = field(default_factory=list)  # not encodable: why
     strings: dict[int, str] = field(default_factory=dict)  # string constants by their number
-    placement: object | None = None  # placement.StartPlacement, when the scenario has actors
+    placement: StartPlacement | None = None  # when the scenario has actors
     # plausible values where the constraints leave a choice: the witness draws there
     # when it can (``placement._preferences``); never a constraint
     preferred: dict[str, tuple[Fraction, Fraction]] = field(default_factory=dict)
 
-    def var(self, name: str, sort: str, **kw) -> Var:
+    def var(self, name: str, sort: str, span: Span | None = None, **kw: Unpack[VarDetails]) -> Var:
         existing = self.variables.get(name)
         if existing is None:
-            existing = self.variables[name] = Var(name, sort, **kw)
+            existing = self.variables[name] = Var(name, sort, span=span, **kw)
         return existing
 
     def add(self, constraint: Constraint) -> None:

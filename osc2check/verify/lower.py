@@ -24,8 +24,10 @@ T204 warning), and a range's bounds may come in either order.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Literal
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, literal_number, physical_literal
@@ -37,7 +39,7 @@ from osc2check.syntax import ast
 from osc2check.verify import ir
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
-_DISPLAY_UNITS = {  # dimension -> unit the witness shows
+_DISPLAY_UNITS: dict[tuple[int, ...], str] = {  # dimension -> unit the witness shows
     (1, 0, -1, 0, 0, 0, 0, 0): "kph",
     (1, 0, -2, 0, 0, 0, 0, 0): "mpsps",
     (1, 0, 0, 0, 0, 0, 0, 0): "m",
@@ -45,6 +47,14 @@ _DISPLAY_UNITS = {  # dimension -> unit the witness shows
     (0, 0, 0, 0, 0, 0, 0, 1): "deg",
 }
 _CMP = {"==", "!=", "<", "<=", ">", ">="}
+
+# The source text of a span.
+TextOf = Callable[[Span], str]
+# A parameter's implicit domain: lowest and highest value, or the values it may take.
+_Domain = tuple[ir.Const | None, ir.Const | None, tuple[ir.Const, ...] | None]
+# How a parameter becomes a variable: its sort, the Var's details, its domain and the
+# domain's text; False for a parameter that is not a scalar.
+VarKind = tuple[str, ir.VarDetails, _Domain | None, str] | Literal[False]
 
 
 class NotEncodable(Exception):
@@ -78,10 +88,16 @@ def invocation_path(
 
 
 class Lowerer:
-    def __init__(self, model: Model, problem: ir.ConstraintProblem, text_of, member_decls=None):
+    def __init__(
+        self,
+        model: Model,
+        problem: ir.ConstraintProblem,
+        text_of: TextOf,
+        member_decls: Declarations | None = None,
+    ):
         self.model = model
         self.problem = problem
-        self.text_of = text_of  # span -> source text
+        self.text_of = text_of
         self.strings: dict[str, int] = {}
         self.instances: dict[str, Symbol] = {}  # path -> type of the compound instance there
         # (path, field, declaration, scope, where its default goes in the constraint list,
@@ -142,7 +158,7 @@ class Lowerer:
             self.depth -= 1
             self.active.pop()
 
-    def _members(self, members, scope: InstanceScope) -> None:
+    def _members(self, members: tuple[ast.Member, ...], scope: InstanceScope) -> None:
         for member in members:
             match member:
                 case ast.FieldDecl():
@@ -206,6 +222,7 @@ class Lowerer:
             var = self.problem.variables.get(path)
             if var is None:
                 continue
+            assert decl.default is not None  # only fields with a value are pending
             try:
                 value = coerce(var, self._term(decl.default, scope))
             except NotEncodable as reason:
@@ -345,12 +362,18 @@ class Lowerer:
                 self.aliases[_join(path, param.name)] = actual
 
     def _arguments(
-        self, callee: Symbol, arguments, path: str, scope: InstanceScope, kind: str
+        self,
+        callee: Symbol,
+        arguments: tuple[ast.Argument, ...],
+        path: str,
+        scope: InstanceScope,
+        kind: str,
     ) -> None:
         params = self.model.parameters(callee)
         by_name = {p.name: p for p in params}
         position = 0
         for arg in arguments:
+            param: Symbol | None
             if isinstance(arg, ast.PositionalArgument):
                 if position >= len(params):
                     continue
@@ -402,6 +425,7 @@ class Lowerer:
             lo, hi, values = domain
             ref = ir.Ref(var)
             if values is None:
+                assert lo is not None  # a domain is a lowest value or a list of values
                 term = (
                     ir.op(">=", ref, lo)
                     if hi is None
@@ -421,20 +445,22 @@ class Lowerer:
             )
         return var
 
-    def _kind(self, sym: Symbol):
+    def _kind(self, sym: Symbol) -> VarKind:
         """(sort, var keywords, domain, its text) of a parameter's variables, or False."""
         t = sym.type
         if t is None or not _scalar(t):
             return False
-        kw: dict = {}
-        domain = None
+        kw: ir.VarDetails = {}
+        domain: _Domain | None = None
         text = ""
         if t.kind is T.Kind.PHYSICAL:
             sort = "real"
             unit_name = _DISPLAY_UNITS.get(t.dimension or ())
             unit = self.model.unit(unit_name) if unit_name else None
             if unit is not None:
-                kw.update(unit=unit.name, unit_factor=unit.factor, unit_offset=unit.offset)
+                kw.update(
+                    {"unit": unit.name, "unit_factor": unit.factor, "unit_offset": unit.offset}
+                )
         elif t.kind is T.Kind.FLOAT:
             sort = "real"
         elif t.kind is T.Kind.BOOL:
@@ -684,13 +710,13 @@ def _type_symbol(sym: Symbol) -> Symbol | None:
     return sym.type.symbol if sym.type is not None and sym.type.kind is T.Kind.COMPOUND else None
 
 
-class Declarations(dict):
+class Declarations(dict[Symbol, list[tuple[ast.Member, ...]]]):
     """Each type's member lists (symbol -> lists), and how each parameter symbol becomes
     a variable (``kinds``): what the scenarios of one model share."""
 
     def __init__(self) -> None:
         super().__init__()
-        self.kinds: dict[Symbol, object] = {}
+        self.kinds: dict[Symbol, VarKind] = {}
 
 
 def member_declarations(model: Model) -> Declarations:
@@ -701,7 +727,11 @@ def member_declarations(model: Model) -> Declarations:
 
 
 def lower_scenario(
-    model: Model, scenario: Symbol, text_of, default_map: str = "default", member_decls=None
+    model: Model,
+    scenario: Symbol,
+    text_of: TextOf,
+    default_map: str = "default",
+    member_decls: Declarations | None = None,
 ) -> ir.ConstraintProblem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 

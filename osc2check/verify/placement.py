@@ -45,13 +45,15 @@ Conventions (shown in the witness):
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from osc2check.road import Road, UnknownMapError, get_map
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
+from osc2check.semantics.model import Model
 from osc2check.semantics.phases import modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -60,6 +62,9 @@ from osc2check.verify import ir
 from osc2check.verify.lower import MAX_DEPTH, InstanceScope
 from osc2check.verify.room import motion_bounds
 from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
+
+if TYPE_CHECKING:
+    from osc2check.verify.lower import Lowerer
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 #: the witness prefers starts in this first share of the road: room to drive ahead
@@ -146,7 +151,7 @@ class StartPlacement:
     gaps: list[Gap] = field(default_factory=list)
 
 
-def actor_kind(model, sym: Symbol | None) -> str | None:
+def actor_kind(model: Model, sym: Symbol | None) -> str | None:
     """The catalogue kind of an actor type (vehicle, person, animal, stationary_object)."""
     for ancestor in model.ancestors(sym):
         if ancestor.name in ACTOR_KINDS and ancestor.library:
@@ -154,7 +159,7 @@ def actor_kind(model, sym: Symbol | None) -> str | None:
     return None
 
 
-def _is_trailer(model, sym: Symbol | None) -> bool:
+def _is_trailer(model: Model, sym: Symbol | None) -> bool:
     return any(a.name == "trailer" and a.library for a in model.ancestors(sym))
 
 
@@ -185,7 +190,7 @@ def _word(node: ast.Node | None) -> str | None:
 
 
 class PlacementLowerer:
-    def __init__(self, lowerer, scenario: Symbol, default_map: str = "default"):
+    def __init__(self, lowerer: Lowerer, scenario: Symbol, default_map: str = "default"):
         self.lw = lowerer
         self.model = lowerer.model
         self.problem: ir.ConstraintProblem = lowerer.problem
@@ -201,12 +206,12 @@ class PlacementLowerer:
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
 
     def lower(self) -> StartPlacement | None:
-        actors = [
+        candidates = [
             (p, actor_kind(self.model, p.type.symbol if p.type else None))
             for p in self.model.parameters(self.scenario)
             if p.type is not None and p.type.kind is T.Kind.COMPOUND
         ]
-        actors = [(p, k) for p, k in actors if k is not None]
+        actors = [(p, k) for p, k in candidates if k is not None]
         if not actors:
             return None
         self.constants = _constants(self.problem)
@@ -362,13 +367,14 @@ class PlacementLowerer:
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""
         name = param.name
+        row: ActorRow | None
         if kind != "vehicle":
             row = kind_row(kind)
             return self._sized(name, ActorBody(kind, row, *self._row_terms(row)))
         category = self.problem.variables.get(f"{name}.vehicle_category")
         because: list[ir.Constraint] = []
         notes: list[str] = []
-        row: ActorRow | None = None
+        row = None
         model = self.constants.get(f"{name}.model")
         if model is not None and isinstance(model[0], Fraction):
             model_name = self.problem.strings.get(int(model[0]), "")
@@ -412,10 +418,9 @@ class PlacementLowerer:
                 )
             body = ActorBody(kind, row, *self._row_terms(row), category, tuple(because))
         elif category is not None:  # open: the solver chooses the category and the size
-            length, width, top = (
-                _by_category(category, lambda r, k=k: getattr(r, k))
-                for k in ("length", "width", "max_speed")
-            )
+            length = _by_category(category, lambda r: r.length)
+            width = _by_category(category, lambda r: r.width)
+            top = _by_category(category, lambda r: r.max_speed)
             body = ActorBody(kind, None, length, width, top, category)
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
@@ -764,15 +769,22 @@ class PlacementLowerer:
         span = call_span(item)
         self.problem.add(ir.Constraint(term, span, "modifier", self.lw.text_of(span)))
 
-    def _mod_lane(self, actor, args, item, placement) -> None:
+    def _mod_lane(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
         lane = ir.Ref(actor.lane)
         from osc2check.verify.lower import coerce
 
-        count = (
-            coerce(actor.lane, self._value(args["lane"]))
+        value = (
+            self._value(args["lane"])
             if "lane" in args and not isinstance(args["lane"], ast.RangeLiteral)
             else None
         )
+        count = coerce(actor.lane, value) if value is not None else None
         for key, sign in (("side_of", None), ("left_of", 1), ("right_of", -1)):
             if key not in args:
                 continue
@@ -811,7 +823,13 @@ class PlacementLowerer:
         elif count is not None:
             self._require(ir.op("==", lane, _internal_lane(count, road, numbering)), item)
 
-    def _mod_position(self, actor, args, item, placement) -> None:
+    def _mod_position(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
         s = ir.Ref(actor.s)
         gap = None
         reference_key = "behind" if "behind" in args else "ahead_of" if "ahead_of" in args else None
@@ -852,7 +870,13 @@ class PlacementLowerer:
             )
         )
 
-    def _mod_speed(self, actor, args, item, placement) -> None:
+    def _mod_speed(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
         self.moving.add(actor.name)
         v = ir.Ref(actor.speed)
         node = args.get("speed")
@@ -891,7 +915,13 @@ class PlacementLowerer:
         if value is not None:
             self._require(ir.op("==", v, value), item)
 
-    def _mod_lateral(self, actor, args, item, placement) -> None:
+    def _mod_lateral(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
         node = args.get("distance")
         value = self._value(node) if node is not None else None
         self.lateral.add(actor.name)
@@ -972,7 +1002,7 @@ def _labels(member: ast.DoMember) -> dict[int, ast.Name]:
     return found
 
 
-def _invocations(body):
+def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
     """The invocations of a `do` tree, in source order."""
     match body:
         case ast.Composition():
@@ -992,7 +1022,7 @@ def _internal_lane(number: ir.Term, road: Road, numbering: str) -> ir.Term:
 
 
 def lower_placement(
-    lowerer, scenario: Symbol, default_map: str = "default"
+    lowerer: Lowerer, scenario: Symbol, default_map: str = "default"
 ) -> StartPlacement | None:
     """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
     return PlacementLowerer(lowerer, scenario, default_map).lower()
@@ -1003,7 +1033,7 @@ def _member(category: ir.Var, name: str) -> int:
     return next(v for n, v in category.enum if n == name)
 
 
-def _by_category(category: ir.Var, value_of) -> ir.Term:
+def _by_category(category: ir.Var, value_of: Callable[[ActorRow], Fraction]) -> ir.Term:
     """``ite(category == car, value_of(car), ite(...))`` over the category's members."""
     members = [(n, v) for n, v in category.enum if n in CATEGORIES]
     term: ir.Term = ir.const(value_of(CATEGORIES[members[-1][0]]))

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import random
+from collections.abc import Iterator, Mapping
 from fractions import Fraction
 
 from osc2check.verify import ir
@@ -72,8 +73,9 @@ def _linear(term: ir.Term) -> Linear:
     raise _Unsupported
 
 
-def evaluate(term: ir.Term, values: dict[str, Fraction | bool]):
-    """The value of ``term`` under ``values`` (every variable it mentions must be there)."""
+def evaluate(term: ir.Term, values: Mapping[str, Fraction | bool]) -> Fraction | int:
+    """The value of ``term`` under ``values`` (every variable it mentions must be there);
+    a bool is an int, and arithmetic on one gives an int."""
     if isinstance(term, ir.Const):
         return term.value
     if isinstance(term, ir.Ref):
@@ -121,7 +123,15 @@ class _Atom:
 
     __slots__ = ("kind", "form", "op", "var", "values", "names", "unknown")
 
-    def __init__(self, kind, names, form=None, op="", var="", values=()):
+    def __init__(
+        self,
+        kind: str,
+        names: tuple[str, ...],
+        form: Linear | None = None,
+        op: str = "",
+        var: str = "",
+        values: tuple[Fraction | bool, ...] = (),
+    ):
         self.kind = kind
         self.form: Linear | None = form
         self.op = op
@@ -268,7 +278,7 @@ def find_model(
     steps = 0
     next_pick = 0
 
-    def assign(name: str, value) -> bool:
+    def assign(name: str, value: Fraction | bool) -> bool:
         var = variables.get(name)
         if (
             var is not None
@@ -296,6 +306,7 @@ def find_model(
                 if not assign(name, a.values[0]):
                     return None
                 continue
+            assert a.form is not None  # an equation has its linear form
             coeffs, constant = a.form
             rest = constant + sum(c * values[v] for v, c in coeffs.items() if v != name)
             if not assign(name, -rest / coeffs[name]):
@@ -325,11 +336,11 @@ def _choose(
     var: ir.Var | None,
     name: str,
     atoms: list[_Atom],
-    values,
+    values: dict[str, Fraction | bool],
     where: Fraction,
     rng: random.Random | None = None,
     preferred: tuple[Fraction, Fraction] | None = None,
-):
+) -> Fraction | bool | None:
     """A value for ``name`` inside the bounds its one-variable constraints give (inside
     ``preferred`` too where those bounds allow)."""
     sort = var.sort if var is not None else "real"
@@ -338,10 +349,11 @@ def _choose(
             if a.kind == "bool" and a.unknown == 1:
                 return a.values[0]
         return rng.random() < 0.5 if rng is not None else False
-    low = high = None
+    low: Fraction | None = None
+    high: Fraction | None = None
     low_strict = high_strict = False
-    allowed: set | None = None
-    excluded: set = set()
+    allowed: set[Fraction | bool] | None = None
+    excluded: set[Fraction | bool] = set()
     for a in atoms:
         if a.unknown != 1:
             continue
@@ -350,6 +362,7 @@ def _choose(
             continue
         if a.kind not in ("cmp", "eq"):
             continue
+        assert a.form is not None  # a comparison has its linear form
         coeffs, constant = a.form
         c = coeffs.get(name)
         if not c:
@@ -370,7 +383,7 @@ def _choose(
         elif high is None or bound < high or (bound == high and op == "<"):
             high, high_strict = bound, op == "<"
 
-    def fits(x) -> bool:
+    def fits(x: Fraction | bool) -> bool:
         if x in excluded:
             return False
         if low is not None and (x < low or (low_strict and x == low)):
@@ -430,6 +443,7 @@ def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
         if a.kind == "bool":
             value = a.values[0]
         else:
+            assert a.form is not None  # an equation has its linear form
             coeffs, constant = a.form
             value = (
                 -(constant + sum(c * values[v] for v, c in coeffs.items() if v != name))
@@ -443,7 +457,7 @@ def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
     return values
 
 
-def _int_candidates(lo: int | None, hi: int | None, where: Fraction):
+def _int_candidates(lo: int | None, hi: int | None, where: Fraction) -> Iterator[Fraction]:
     """Integers to try, the first one chosen by ``where`` when both bounds are known."""
     if lo is not None and hi is not None:
         yield Fraction(min(lo + math.floor((hi - lo + 1) * where), hi))

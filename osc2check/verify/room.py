@@ -18,7 +18,7 @@ Durations and speeds are folded with the one evaluator
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -47,7 +47,7 @@ class Motion:
     unknown_speed: set[str] = field(default_factory=set)  # actors whose speed is not constant
 
 
-def motion_bounds(model: Model, bodies: list[ast.Node], lookup: Lookup) -> Motion:
+def motion_bounds(model: Model, bodies: Sequence[ast.Node], lookup: Lookup) -> Motion:
     """The bounds of the ``do`` bodies of a scenario (see the module docstring)."""
     motion = Motion(Fraction(0))
     for body in bodies:

@@ -7,6 +7,7 @@ position, heading and speed.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -24,8 +25,12 @@ class Value:
     text: str  # e.g. "55 kph", "truck", "\"Town06\""
     constrained: bool  # some constraint mentions it (others are free choices)
 
-    def to_json(self) -> dict:
-        data: dict = {"name": self.name, "text": self.text, "constrained": self.constrained}
+    def to_json(self) -> dict[str, object]:
+        data: dict[str, object] = {
+            "name": self.name,
+            "text": self.text,
+            "constrained": self.constrained,
+        }
         if isinstance(self.value, Fraction):
             data["si"] = str(self.value)
             data["si_float"] = float(self.value)
@@ -58,7 +63,7 @@ class ActorStart:
     height: Fraction
     placed: bool  # positioned by the scenario (otherwise chosen freely)
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, object]:
         return {
             "name": self.name,
             "kind": self.kind,
@@ -98,7 +103,7 @@ class Witness:
     def actor(self, name: str) -> ActorStart | None:
         return next((a for a in self.actors if a.name == name), None)
 
-    def to_json(self) -> dict:
+    def to_json(self) -> dict[str, object]:
         return {
             "scenario": self.scenario,
             "seed": self.seed,
@@ -156,7 +161,9 @@ def _size(term: ir.Term, values: dict[str, Fraction | bool]) -> Fraction:
     return value if isinstance(value, Fraction) else Fraction(0)
 
 
-def _display(var: ir.Var, value: Fraction | bool, strings: dict[int, str]) -> tuple:
+def _display(
+    var: ir.Var, value: Fraction | bool, strings: dict[int, str]
+) -> tuple[Fraction | bool | str, str]:
     if isinstance(value, bool):
         return value, "true" if value else "false"
     if var.enum:
@@ -179,7 +186,10 @@ def _number(value: Fraction) -> str:
 
 
 def build_witness(
-    problem: ir.ConstraintProblem, values: dict[str, Fraction | bool], active, seed: int | None
+    problem: ir.ConstraintProblem,
+    values: dict[str, Fraction | bool],
+    active: Iterable[ir.Constraint],
+    seed: int | None,
 ) -> Witness:
     """Assemble the witness of ``problem`` from a solver model's ``values``."""
     mentioned: set[str] = set()
@@ -187,7 +197,7 @@ def build_witness(
         if c.kind not in ("domain", "placement"):
             mentioned.update(v.name for v in ir.variables(c.term))
     params = []
-    placement: StartPlacement | None = problem.placement  # type: ignore[assignment]
+    placement: StartPlacement | None = problem.placement
     for name in sorted(problem.variables):
         if "@start." in name:
             continue
@@ -195,7 +205,7 @@ def build_witness(
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))
     actors = []
-    notes = []
+    notes: list[str] = []
     if placement is not None:
         road = placement.road
         for a in placement.actors.values():

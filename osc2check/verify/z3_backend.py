@@ -19,6 +19,7 @@ import math
 import random
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import Any
 
 from osc2check.verify import ir, quick
 
@@ -27,8 +28,12 @@ DEFAULT_TIMEOUT_MS = 10_000
 MAX_CONFLICTS = 10
 _USER_KINDS = ("keep", "default", "argument", "modifier", "declaration")
 
+# z3 has no type stubs: the module, its contexts, solvers and expressions are Any.
+Z3Context = Any
+Z3Expr = Any
 
-def _z3():
+
+def _z3() -> Any:
     """z3, imported when first needed (the import takes about 0.1 s)."""
     import z3
 
@@ -57,16 +62,16 @@ class Session:
     """The z3 context that the scenarios of one analysis share, made when first needed."""
 
     def __init__(self) -> None:
-        self._ctx = None
+        self._ctx: Z3Context | None = None
 
     @property
-    def ctx(self):
+    def ctx(self) -> Z3Context:
         if self._ctx is None:
             self._ctx = _z3().Context()
         return self._ctx
 
 
-def _position(c: ir.Constraint) -> tuple:
+def _position(c: ir.Constraint) -> tuple[str, int, int]:
     return (c.span.uri, c.span.line, c.span.column)
 
 
@@ -114,11 +119,11 @@ def active_constraints(
 
 
 class _Encoder:
-    def __init__(self, problem: ir.ConstraintProblem, ctx):
+    def __init__(self, problem: ir.ConstraintProblem, ctx: Z3Context):
         z3 = _z3()
         self.z3 = z3
         self.ctx = ctx
-        self.vars: dict[str, object] = {}
+        self.vars: dict[str, Z3Expr] = {}
         for var in problem.variables.values():
             if var.sort == "real":
                 self.vars[var.name] = z3.Real(var.name, ctx)
@@ -127,17 +132,17 @@ class _Encoder:
             else:
                 self.vars[var.name] = z3.Int(var.name, ctx)
 
-    def num_or_bool(self, value: Fraction | bool):
+    def num_or_bool(self, value: Fraction | bool) -> Z3Expr:
         if isinstance(value, bool):
             return self.z3.BoolVal(value, self.ctx)
         return self.num(value)
 
-    def num(self, value: Fraction):
+    def num(self, value: Fraction) -> Z3Expr:
         if value.denominator == 1:
             return self.z3.IntVal(value.numerator, self.ctx)
         return self.z3.RealVal(f"{value.numerator}/{value.denominator}", self.ctx)
 
-    def term(self, t: ir.Term):
+    def term(self, t: ir.Term) -> Z3Expr:
         z3 = self.z3
         if isinstance(t, ir.Const):
             if isinstance(t.value, bool):
@@ -180,7 +185,7 @@ class _Encoder:
         raise ValueError(f"unknown operator {t.op}")
 
 
-def _value(expr) -> Fraction | bool:
+def _value(expr: Z3Expr) -> Fraction | bool:
     z3 = _z3()
     if z3.is_true(expr):
         return True
@@ -225,7 +230,7 @@ def solve(
     seed: int | None = None,
     rlimit: int = DEFAULT_RLIMIT,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
-    ctx=None,
+    ctx: Z3Context | None = None,
 ) -> SolverOutcome:
     """Check the problem with z3; report conflicts, or a model (a sample picked by
     ``seed``; without a seed, z3's first model)."""
@@ -250,7 +255,7 @@ def _solve(
     seed: int | None,
     rlimit: int,
     timeout_ms: int,
-    ctx,
+    ctx: Z3Context,
 ) -> SolverOutcome:
     z3 = _z3()
     enc = _Encoder(problem, ctx)
@@ -298,7 +303,7 @@ def _solve(
     return outcome
 
 
-def _minimal_core(solver, core: list) -> list:
+def _minimal_core(solver: Any, core: list[Z3Expr]) -> list[Z3Expr]:
     """Drop core members one by one while the rest stays unsatisfiable."""
     z3 = _z3()
     needed = list(core)
@@ -314,10 +319,10 @@ def _minimal_core(solver, core: list) -> list:
 
 def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Fraction | None]]:
     """Lower and upper bounds that constraints on one variable alone give it."""
-    found: dict[str, list] = {}
+    found: dict[str, list[Fraction | None]] = {}
     conjuncts: list[ir.Term] = []
-    for c in active:
-        quick._conjuncts(c.term, conjuncts)
+    for constraint in active:
+        quick._conjuncts(constraint.term, conjuncts)
     for term in conjuncts:
         atom = quick._atom(term)
         if len(atom.names) != 1:
@@ -328,6 +333,7 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
             values = [Fraction(v) for v in atom.values]
             candidates = [(min(values), ">="), (max(values), "<=")]
         elif atom.kind in ("cmp", "eq"):
+            assert atom.form is not None  # a comparison has its linear form
             coeffs, constant = atom.form
             c = coeffs[name]
             bound = -constant / c
@@ -381,14 +387,14 @@ class Sampler:
         timeout_ms: int = DEFAULT_TIMEOUT_MS,
         rlimit: int = DEFAULT_RLIMIT,
         enc: _Encoder | None = None,
-        exprs: list | None = None,
+        exprs: list[Z3Expr] | None = None,
     ):
         self.problem = problem
         self.active = active
         self.base = base
         self.timeout_ms, self.rlimit = timeout_ms, rlimit
-        self.enc, self.exprs = enc, exprs
-        self.opt = None
+        self.enc, self.exprs = enc, exprs  # both or neither
+        self.opt: Any = None  # a z3 Optimize
         self.terms = quick.Prepared([c.term for c in active])
         self.order = sorted(problem.variables)
         self.bounds = bounds(active)
@@ -408,7 +414,7 @@ class Sampler:
         follows = _dependent([c.term for c in active], fixed)
         self.aimed = [n for n in self.linked if n not in follows]
 
-    def _optimizer(self):
+    def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
         if self.opt is not None:
             return self.opt
@@ -417,12 +423,13 @@ class Sampler:
             self.enc = _Encoder(self.problem, z3.Context())
             self.exprs = [self.enc.term(c.term) for c in self.active]
         enc = self.enc
+        assert self.exprs is not None  # given with `enc`, or made with it here
         opt = self.opt = z3.Optimize(ctx=enc.ctx)
         opt.set("timeout", self.timeout_ms)
         opt.set("rlimit", self.rlimit)
         for expr in self.exprs:
             opt.add(expr)
-        self.target = {}
+        self.target: dict[str, Z3Expr] = {}
         distances = []
         for name in self.aimed:
             if self.problem.variables[name].sort != "real":
@@ -452,6 +459,7 @@ class Sampler:
         if low is None and high is None:
             low, high = -spread, spread
         elif low is None:
+            assert high is not None  # not both None
             low = high - spread - abs(high)
         elif high is None:
             high = low + spread + abs(low)
@@ -489,6 +497,7 @@ class Sampler:
                 return values
         z3 = _z3()
         opt = self._optimizer()
+        assert self.enc is not None  # made with the optimizer
         opt.push()
         try:
             for name in self.aimed:
@@ -507,7 +516,7 @@ class Sampler:
         return values
 
 
-def _dependent(terms: list[ir.Term], fixed: dict) -> set[str]:
+def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[str]:
     """Variables that equations express through other unknowns, one per equation."""
     conjuncts: list[ir.Term] = []
     for t in terms:
@@ -544,4 +553,4 @@ def never_holds(
     for c in active:
         solver.add(enc.term(c.term))
     solver.add(enc.term(term))
-    return solver.check() == z3.unsat
+    return bool(solver.check() == z3.unsat)

@@ -86,3 +86,15 @@ def test_division_by_zero_is_not_constant():
     model, fields = fields_of("    x: float = 1 / 0\n")
     with pytest.raises(NotConstant, match="division by zero"):
         initial_value(model, fields["x"])
+
+
+@pytest.mark.parametrize("expr", ['"a" < 1', '3m >= "a"', "[1..2] < 1", '"a" in [1..2]'])
+def test_comparing_values_that_have_no_order_is_not_constant(expr):
+    # A type error the checker reports; folding it (hover does) raised TypeError.
+    text = f"import osc.standard\n\nscenario s:\n    var b: bool = {expr}\n"
+    analysis = analyze([SourceInput("<c>.osc", text)], AnalysisOptions(verify=False))
+    assert [d.code for d in analysis.diagnostics if d.severity.name == "ERROR"]
+    model = analysis.programs["<c>.osc"].model
+    sym = next(s for s in model.symbols if s.name == "b")
+    with pytest.raises(NotConstant, match="cannot compare"):
+        initial_value(model, sym)
