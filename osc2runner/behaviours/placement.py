@@ -8,8 +8,11 @@ modifiers (their ``assign`` hooks), resolved against the actors' current positio
 
 from __future__ import annotations
 
+import numpy as np
+
+from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
-from osc2runner.behaviours.driving import set_speed
+from osc2runner.behaviours.driving import lane_heading, set_speed
 from osc2runner.compile.registry import action
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
@@ -47,8 +50,8 @@ class AssignPosition(InstantAction):
         for key in ("position", "route_point", "odr_point"):
             if key in self.args:
                 raise ActionError(
-                    f"assign_position({key}: ...) needs a road network; place the "
-                    "actor with the lane() and position() modifiers"
+                    f"assign_position({key}: ...) is not supported; place the actor with "
+                    "the lane() and position() modifiers"
                 )
         ctx = self.ctx
         name = self.actor.name
@@ -57,23 +60,37 @@ class AssignPosition(InstantAction):
         for modifier in sorted(self.use.modifiers, key=lambda m: m.use.name != "speed"):
             modifier.evaluate()  # the speed first: a time gap needs it
             modifier.assign(pose, self)
-        lane = pose.lane if pose.lane is not None else state.lane
-        s = pose.s if pose.s is not None else state.s
-        if lane is None or not ctx.road.has_lane(lane):
-            raise ActionError("the assigned lane does not exist")
+        where = pose.reference if pose.reference is not None else state
+        if where.road is None or not where.direction:
+            raise ActionError("the actor is not on a road to place it on")
+        network = ctx.network
+        road = network.roads[where.road]
+        s = pose.s if pose.s is not None else where.s
+        if not 0.0 <= s <= road.length:
+            raise ActionError(
+                f"s = {s:.2f} m is off road `{where.road}` (0 .. {road.length:.2f} m)"
+            )
+        section = road.section_at(s).index
+        number = pose.lane if pose.lane is not None else (state.lane or 1)
+        lanes = ctx.lanes.lanes(where.road, section, where.direction)
+        if not 1 <= number <= len(lanes):
+            raise ActionError(f"the assigned lane {number} does not exist on road `{where.road}`")
+        ref = lanes[number - 1]
         if pose.t is not None:
-            x, y = ctx.road.to_xy(s, pose.t)
+            centre, _ = lane_centre(network, ref, np.array([s]))
+            offset = (pose.t - float(centre[0])) * where.direction
         else:
-            x, y = ctx.road.lane_to_xy(s, lane, pose.offset or 0.0)
-        yaw = ctx.road.heading + (pose.yaw or 0.0)
+            offset = pose.offset or 0.0
+        target = network.lane_to_world(ref, s, offset)
+        yaw = target.yaw + (pose.yaw or 0.0)
         speed = pose.speed if pose.speed is not None else state.speed
-        ctx.world.place(name, x, y, yaw, speed)  # type: ignore[union-attr]
+        ctx.world.place(name, target.x, target.y, yaw, speed)  # type: ignore[union-attr]
         ctx.refresh()
         ctrl = self.controller
         if ctrl is not None:
             set_speed(ctrl, speed, "none")
             if getattr(ctrl, "lateral", None) is not None:
-                ctrl.lateral.keep_offset(ctx.states[name].t)
+                ctrl.lateral.keep_lane(ref, offset)
 
 
 @action("movable_object", "assign_speed")
@@ -98,4 +115,4 @@ class AssignOrientation(InstantAction):
         if yaw is None:
             raise ActionError("assign_orientation needs an orientation with a yaw")
         if not self.at_scenario_start:
-            _teleport(self, yaw=self.ctx.road.heading + float(yaw))
+            _teleport(self, yaw=lane_heading(self.ctx, self.state) + float(yaw))

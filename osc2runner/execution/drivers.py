@@ -1,7 +1,9 @@
 """The driver of each actor: the controller that turns behaviour targets into world inputs.
 
 Vehicles get a :class:`~osc2runner.sim.VehicleController` (speed PID with rate
-profiles, Stanley lateral control). Pedestrians get a
+profiles, Stanley lateral control along their lane's route: the roads of the
+witness's route for the actor, the other forks chosen with the run's seed).
+Pedestrians get a
 :class:`PedestrianController`: a speed with an acceleration limit along a
 heading, no dynamics. Obstacles and the environment have no driver.
 
@@ -13,9 +15,10 @@ driving as it was told until another behaviour changes it.
 from __future__ import annotations
 
 import math
+import zlib
+from collections.abc import Mapping, Sequence
 from typing import Any
 
-from osc2check.road import Road
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.vehicle import VehicleParams
 
@@ -44,10 +47,10 @@ class PedestrianSpeed:
 
 
 class PedestrianController:
-    """Speed along the road heading for a kinematic pedestrian."""
+    """Speed along a heading (its start heading unless told otherwise) for a kinematic
+    pedestrian."""
 
-    def __init__(self, road: Road, dt: float) -> None:
-        self.road = road
+    def __init__(self, dt: float) -> None:
         self.speed = PedestrianSpeed(dt)
         self.lateral = None
         self.yaw: float | None = None
@@ -60,25 +63,35 @@ class PedestrianController:
         if s.profile.kind == "asap":
             limit *= 2.0
         v = state.speed + max(-limit, min(limit, s.target - state.speed))
-        yaw = self.road.heading if self.yaw is None else self.yaw
+        yaw = state.yaw if self.yaw is None else self.yaw
         return PedestrianInput(v, yaw)
 
 
-def controllers_for(world: World, road: Road) -> dict[str, Any]:
-    """One controller per vehicle and pedestrian, holding the initial speed and lane."""
+def controllers_for(
+    world: World, routes: Mapping[str, Sequence[str]] | None = None, seed: int = 0
+) -> dict[str, Any]:
+    """One controller per vehicle and pedestrian, holding the initial speed and lane.
+
+    ``routes`` gives a vehicle the roads its lane following passes (the witness's
+    route); ``seed`` (with the actor's name) picks the forks nothing decides.
+    """
     controllers: dict[str, Any] = {}
+    routes = routes or {}
     for name in world.names:
         kind = world.kind(name)
         state = world.state(name)
         if kind == "vehicle":
             params = world.params(name)
             assert isinstance(params, VehicleParams)
-            ctrl = VehicleController(params, road, world.dt_control)
+            picked = zlib.crc32(f"{seed}/{name}".encode())
+            ctrl = VehicleController(params, world.network, world.dt_control, seed=picked)
+            ctrl.lateral.on_route = lambda path, n=name: world.follow(n, path)
+            ctrl.lateral.set_route(routes.get(name, ()))
             ctrl.speed.set_target(max(0.0, state.speed), "none")
-            ctrl.lateral.keep_offset(state.t)
+            ctrl.lateral.hold(state)
             controllers[name] = ctrl
         elif kind == "pedestrian":
-            ped = PedestrianController(road, world.dt_control)
+            ped = PedestrianController(world.dt_control)
             ped.speed.set_target(max(0.0, state.speed))
             ped.yaw = state.yaw if not math.isnan(state.yaw) else None
             controllers[name] = ped
