@@ -354,7 +354,8 @@ def _finish(
         if plot:
             from osc2runner.output.plots import plot_run
 
-            result.outputs.extend(plot_run(result, folder))
+            network = prepared.world.network if prepared.world is not None else None
+            result.outputs.extend(plot_run(result, folder, network))
         result.outputs.append(write_metadata(folder, metadata, result.events))
     return result
 

@@ -5,7 +5,11 @@
 * ``braking.png``: speed against the distance travelled since each brake
   onset (when the run has hard or comfortable stops);
 * ``gap_steering.png``: the longitudinal gap from the first vehicle to each
-  other actor (projected on its heading), and the steering inputs.
+  other actor (projected on its heading), and the steering inputs;
+* ``map.png``: a bird's-eye view of the map's lanes (driving lanes grey, other
+  lane types paler, junction roads darker) with every actor's path, its start
+  (a circle) and its end (a square); the view is the actors' paths with a
+  margin, or the whole map when that is smaller.
 
 Emitted events are marked on the time axes. Figures are drawn with
 matplotlib's Agg canvas directly (no pyplot state, no display needed), each
@@ -20,11 +24,14 @@ from typing import Any
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
+
+from osc2check.world.network import RoadNetwork
 
 from osc2runner.output.files import atomic_open
 
-__all__ = ["brake_onsets", "plot_run"]
+__all__ = ["brake_onsets", "plot_map", "plot_run"]
 
 KPH = 3.6
 
@@ -90,11 +97,14 @@ def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[in
     return segments
 
 
-def plot_run(result: Any, out: Path) -> list[Path]:
-    """Write the plots of ``result`` into ``out``; returns the files written."""
+def plot_run(result: Any, out: Path, network: RoadNetwork | None = None) -> list[Path]:
+    """Write the plots of ``result`` into ``out`` (with ``network``, the map view too);
+    returns the files written."""
     out.mkdir(parents=True, exist_ok=True)
     actors = _moving(result)
     written: list[Path] = []
+    if network is not None and result.telemetry:
+        written.append(plot_map(result, network, out / "map.png"))
     if not actors:
         return written
     title = f"{result.metadata['scenario']}: {result.outcome.status}"
@@ -180,3 +190,77 @@ def _save(fig: Figure, path: Path) -> Path:
     with atomic_open(path, "wb") as f:
         fig.savefig(f, format="png")
     return path
+
+
+_LANE_COLOURS = {"driving": "0.80", "junction": "0.70", "walking": "#efe2cf", "other": "0.92"}
+MAP_MARGIN = 40.0  # m around the actors' paths
+
+
+def _lane_polygons(network: RoadNetwork) -> dict[str, list[np.ndarray]]:
+    """Every lane as a polygon in the world, grouped by how it is drawn."""
+    groups: dict[str, list[np.ndarray]] = {key: [] for key in _LANE_COLOURS}
+    for road in network.roads.values():
+        for section in road.sections:
+            sl = slice(section.start, section.stop)
+            x, y, h = road.x[sl], road.y[sl], road.heading[sl]
+            nx, ny = -np.sin(h), np.cos(h)
+            for k, lane in enumerate(section.lanes):
+                left, right = section.borders[k], section.borders[k + 1]
+                if np.all(left - right <= 1e-6):
+                    continue
+                polygon = np.concatenate(
+                    (
+                        np.column_stack((x + left * nx, y + left * ny)),
+                        np.column_stack((x + right * nx, y + right * ny))[::-1],
+                    )
+                )
+                if lane.drivable:
+                    key = "junction" if road.junction is not None else "driving"
+                elif lane.type in ("sidewalk", "walking", "biking"):
+                    key = "walking"
+                else:
+                    key = "other"
+                groups[key].append(polygon)
+    return groups
+
+
+def plot_map(result: Any, network: RoadNetwork, path: Path) -> Path:
+    """``map.png``: the map's lanes seen from above and every actor's path on them."""
+    fig = Figure(figsize=(9, 9), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot(1, 1, 1)
+    for key, polygons in _lane_polygons(network).items():
+        if polygons:
+            ax.add_collection(
+                PolyCollection(
+                    polygons, facecolors=_LANE_COLOURS[key], edgecolors="0.55", linewidths=0.3
+                )
+            )
+    xs: list[np.ndarray] = []
+    ys: list[np.ndarray] = []
+    for name, ch in result.telemetry.items():
+        x, y = ch["x"], ch["y"]
+        ok = np.isfinite(x) & np.isfinite(y)
+        if not ok.any():
+            continue
+        x, y = x[ok], y[ok]
+        (line,) = ax.plot(x, y, lw=1.6, label=name)
+        ax.plot(x[0], y[0], "o", color=line.get_color(), ms=6)
+        ax.plot(x[-1], y[-1], "s", color=line.get_color(), ms=6)
+        xs.append(x)
+        ys.append(y)
+    x0, x1, y0, y1 = network.bounds()
+    if xs:
+        ax0 = min(float(a.min()) for a in xs) - MAP_MARGIN
+        ax1 = max(float(a.max()) for a in xs) + MAP_MARGIN
+        ay0 = min(float(a.min()) for a in ys) - MAP_MARGIN
+        ay1 = max(float(a.max()) for a in ys) + MAP_MARGIN
+        x0, x1, y0, y1 = max(x0, ax0), min(x1, ax1), max(y0, ay0), min(y1, ay1)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+    ax.set_aspect("equal", adjustable="datalim")
+    title = f"{result.metadata['scenario']}: {result.outcome.status}"
+    ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: map `{network.name}`")
+    ax.grid(alpha=0.2)
+    ax.legend(fontsize=8, loc="best")
+    return _save(fig, path)

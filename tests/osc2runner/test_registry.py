@@ -26,11 +26,11 @@ import osc.standard
 
 scenario s:
     hero: vehicle
-    r: route
+    t: trajectory
     do serial:
         hero.keep_acceleration()
         hero.drive(duration: 2s) with:
-            along(route: r)
+            along_trajectory(trajectory: t)
 """
 
 
@@ -140,7 +140,7 @@ def test_unsupported_action_and_modifier_stop_the_run_with_their_locations():
     assert problems[0][:2] == (7, 14)
     assert "action `vehicle.keep_acceleration` has no runner behaviour" in problems[0][2]
     assert problems[1][:2] == (9, 13)
-    assert "modifier `std::along` has no runner behaviour" in problems[1][2]
+    assert "modifier `std::along_trajectory` has no runner behaviour" in problems[1][2]
 
 
 def test_coverage_page_is_up_to_date():
