@@ -244,7 +244,7 @@ class PlacementLowerer:
             if p.type is not None and p.type.kind is T.Kind.COMPOUND
         ]
         actors = [(p, k) for p, k in candidates if k is not None]
-        if not actors:
+        if not actors and not self._map_modifier_members():
             return None
         self.constants = _constants(self.problem)
         self.written: set[str] = set()  # variables the scenario's own constraints mention
@@ -425,17 +425,23 @@ class PlacementLowerer:
         for members in self.lw.member_decls.get(self.scenario, []):
             yield from members
 
-    def _map_modifiers(self) -> None:
-        """The scenario's map modifiers (``m.number_of_lanes(...)``, ...) on its element fields."""
-        scope = self._root_scope()
+    def _map_modifier_members(self) -> list[tuple[ast.Invocation, Symbol]]:
+        """The scenario's map modifiers (``m.number_of_lanes(...)``, ...) and their symbols."""
+        found = []
         for member in self._scenario_members():
             if not isinstance(member, ast.Invocation):
                 continue
             modifier = self.model.references.get(member.name)
             if modifier is None or modifier.kind is not SymbolKind.MODIFIER:
                 continue
-            if not any(a.name == "map" and a.library for a in self.model.ancestors(modifier.actor)):
-                continue
+            if any(a.name == "map" and a.library for a in self.model.ancestors(modifier.actor)):
+                found.append((member, modifier))
+        return found
+
+    def _map_modifiers(self) -> None:
+        """Constrain the scenario's element fields as its map modifiers say."""
+        scope = self._root_scope()
+        for member, modifier in self._map_modifier_members():
             self.fields.modifier(member, modifier, self._args(member), scope, self._require)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:

@@ -54,7 +54,19 @@ class RoadTerms:
         if self.single:
             return None
         labels = tuple((cw.label, cw.index) for cw in self.carriageways)
-        return problem.var(name, "int", enum=labels, span=span)  # type: ignore[arg-type]
+        var = problem.var(name, "int", enum=labels, span=span)  # type: ignore[arg-type]
+        ref = ir.Ref(var)
+        problem.add(
+            ir.Constraint(
+                _between(ref, 0, len(self.carriageways) - 1),
+                span or problem.span,  # type: ignore[arg-type]
+                "domain",
+                f"one of the {len(self.carriageways)} carriageways of map `{self.name}`",
+                explanation=f"one of the {len(self.carriageways)} carriageways of map "
+                f"`{self.name}`",
+            )
+        )
+        return var
 
     @staticmethod
     def on(road: ir.Var | None, cw: Carriageway) -> ir.Term:
