@@ -133,7 +133,9 @@ def _odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, floa
         try:
             ref = ctx.network.lane_at(road, point.s, int(point.lane_id))
         except (KeyError, ValueError):
-            raise RunFault(f"road `{road}` has no lane `{point.lane_id}` at s = {point.s:g} m") from None
+            raise RunFault(
+                f"road `{road}` has no lane `{point.lane_id}` at s = {point.s:g} m"
+            ) from None
         centre, _ = lane_centre(ctx.network, ref, np.array([point.s]))
         t = float(centre[0]) + t
     return road, point.s, t
@@ -327,7 +329,9 @@ def _leads(ctx: RunContext, a: str, b: str) -> bool:
     for lane in network.roads[a].lanes():
         if not lane.drivable:
             continue
-        for span in reachable_lanes(network, lane.ref, 0.0 if lane.direction > 0 else network.roads[a].length, 1000.0):
+        for span in reachable_lanes(
+            network, lane.ref, 0.0 if lane.direction > 0 else network.roads[a].length, 1000.0
+        ):
             if span.lane.road == b:
                 return True
     return False
@@ -414,8 +418,10 @@ def distance_along_route(
     if state.road not in roads:
         raise RunFault(f"`{subject.name}` is not on the route (roads {', '.join(roads)})")
     network = ctx.network
-    direction = route.direction if isinstance(route, ElementValue) and route.direction else (
-        state.direction or 1
+    direction = (
+        route.direction
+        if isinstance(route, ElementValue) and route.direction
+        else (state.direction or 1)
     )
     before = 0.0
     for road in roads:

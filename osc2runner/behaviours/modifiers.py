@@ -14,8 +14,8 @@ from __future__ import annotations
 import math
 from typing import Any
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
 from osc2check.world.network import LaneRef
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
 from osc2runner.behaviours.driving import (
     SPEED_PROFILE,
     gap_between,
@@ -438,9 +438,7 @@ class Lane(Modifier):
         number = self._number(action)
         if ctx.lanes.number(here, "right") == number:
             return None
-        return (
-            f"it is in lane {ctx.lanes.number(here)}, not lane {_scenario(ctx, here, number)}"
-        )
+        return f"it is in lane {ctx.lanes.number(here)}, not lane {_scenario(ctx, here, number)}"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         pose.lane = self._number(action)
@@ -500,9 +498,8 @@ class ChangeLaneModifier(Modifier):
         lanes = action.ctx.lanes
         if lanes.number(here, "right") == self.target:
             return None
-        return (
-            f"it is in lane {lanes.number(here)}, not lane {_scenario(action.ctx, here, self.target)}"
-        )
+        wanted = _scenario(action.ctx, here, self.target)
+        return f"it is in lane {lanes.number(here)}, not lane {wanted}"
 
 
 @modifier("keep_lane")

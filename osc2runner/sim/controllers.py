@@ -39,9 +39,8 @@ curvature feed-forward (see :class:`StanleyController`).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -611,7 +610,6 @@ class StanleyController:
         self._follow(ref)
         if path.d1 <= self._distance:
             self.path = LateralPath.constant(path.at(self._distance)[0])
-
 
 
 class VehicleController:

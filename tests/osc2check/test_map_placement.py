@@ -26,6 +26,8 @@ NCAP_STRAIGHT = SHARED / "ncap_straight.xodr"
 FOUR_WAY = BUNDLED / "four_way_junction.xodr"
 RURAL = BUNDLED / "rural_curves.xodr"
 
+FOLLOW = "junction: j, in_road: a, out_road: b"
+
 needs_shared = pytest.mark.skipif(not NCAP_X.is_file(), reason="no shared conformance maps")
 
 
@@ -93,8 +95,8 @@ def test_a_map_modifier_no_road_satisfies_is_a_conflict_naming_it(tmp_path: Path
 def test_map_modifiers_that_exclude_each_other_conflict_naming_both(tmp_path: Path) -> None:
     body = (
         "    j: junction\n    a: road\n    b: road\n"
-        "    town.roads_follow_in_junction(junction: j, in_road: a, out_road: b, direction: left)\n"
-        "    town.roads_follow_in_junction(junction: j, in_road: a, out_road: b, direction: right)\n"
+        f"    town.roads_follow_in_junction({FOLLOW}, direction: left)\n"
+        f"    town.roads_follow_in_junction({FOLLOW}, direction: right)\n"
     )
     found, analysis = _check(tmp_path, body, NCAP_X)
     assert found == ["C401:10"]
@@ -136,7 +138,9 @@ def test_a_witness_stands_on_the_lane_it_names(tmp_path: Path, seed: int) -> Non
 
 
 def test_seeds_spread_unconstrained_starts_over_the_carriageways(tmp_path: Path) -> None:
-    body = "    ego: vehicle\n    do ego.drive() with:\n        position(distance: 20m, at: start)\n"
+    body = (
+        "    ego: vehicle\n    do ego.drive() with:\n        position(distance: 20m, at: start)\n"
+    )
     roads = {
         (w.actor("ego").road, w.actor("ego").lane_id)
         for w in (_witness(tmp_path, body, FOUR_WAY, seed) for seed in range(8))
@@ -148,7 +152,7 @@ def test_seeds_spread_unconstrained_starts_over_the_carriageways(tmp_path: Path)
 def test_along_names_the_roads_a_witness_route_passes(tmp_path: Path) -> None:
     body = (
         "    ego: vehicle\n    j: junction\n    a: road\n    b: road\n"
-        "    town.roads_follow_in_junction(junction: j, in_road: a, out_road: b, direction: right)\n"
+        f"    town.roads_follow_in_junction({FOLLOW}, direction: right)\n"
         "    do ego.drive(duration: 10s) with:\n"
         "        along(route: a, at: start)\n"
         "        position(distance: 150m, at: start)\n"
