@@ -37,6 +37,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.structs import is_struct, struct_leaves
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
 _DISPLAY_UNITS: dict[tuple[int, ...], str] = {  # dimension -> unit the witness shows
@@ -187,6 +188,8 @@ class Lowerer:
                 # the type's own constraints come first: the instance's `with:` block is
                 # more specific, so its defaults override the type's (see attach_defaults)
                 self._compound(path, type_symbol)
+            if scope.owner is not None and scope.owner.kind is SymbolKind.SCENARIO:
+                self.struct_variables(path, sym)
             if decl.default is not None:
                 self.pending_defaults.append(
                     (path, sym, decl, scope, len(self.problem.constraints), self._origin(scope))
@@ -409,6 +412,21 @@ class Lowerer:
         return ir.op("==", ir.Ref(var), coerce(var, self._term(value, scope)))
 
     # ---- paths and variables ------------------------------------------------------------
+
+    def struct_variables(self, path: str, sym: Symbol) -> None:
+        """A variable for every scalar leaf of a struct-typed scenario parameter
+        (:mod:`osc2check.verify.structs`), so the witness gives the whole struct a value."""
+        if sym.kind is not SymbolKind.FIELD or not is_struct(sym.type):
+            return
+        struct = _type_symbol(sym)
+        assert struct is not None
+        self._compound(path, struct)
+        for leaf, leaf_sym in struct_leaves(self.model, struct):
+            var = self._scalar_var(_join(path, leaf), leaf_sym)
+            if var is not None and (var.unit == "deg" or leaf == "z" or leaf.endswith(".z")):
+                # left open, an angle or a height is 0 (level, on the road), not a draw
+                self.problem.preferred.setdefault(var.name, (Fraction(0), Fraction(0)))
+
 
     def _scalar_var(self, path: str, sym: Symbol) -> ir.Var | None:
         existing = self.problem.variables.get(path)
