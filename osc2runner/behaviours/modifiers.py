@@ -623,6 +623,15 @@ class PhysicalMovement(Modifier):
 
 
 @modifier(
+    "location",
+    actor="stationary_object",
+    note="scenario member: the object's world pose (instance.locations)",
+)
+class Location(Modifier):
+    """``box.location(pose: p)``: the object is built at ``p`` (before compiling)."""
+
+
+@modifier(
     "set_map_file", actor="map", note="scenario member: chooses the built-in road before the run"
 )
 class SetMapFile(Modifier):
