@@ -258,6 +258,8 @@ class Lowerer:
         return f"{scope.prefix}|{self.body}"
 
     def _keep(self, keep: ast.KeepConstraint, scope: InstanceScope, kind: str) -> None:
+        if keep.strength != "default" and self._list_binding(keep.expr, scope):
+            return
         try:
             term = self._term(keep.expr, scope)
         except NotEncodable as reason:
@@ -412,6 +414,50 @@ class Lowerer:
         return ir.op("==", ir.Ref(var), coerce(var, self._term(value, scope)))
 
     # ---- paths and variables ------------------------------------------------------------
+
+    def _list_binding(self, expr: ast.Node, scope: InstanceScope) -> bool:
+        """``keep(s.points == [p1, p2])`` on a list member of a struct parameter: the
+        list's items recorded in ``problem.lists`` (each item's own constraints are its
+        leaves'); False when ``expr`` is not of that form."""
+        if not (
+            isinstance(expr, ast.Binary)
+            and expr.op == "=="
+            and isinstance(expr.left, ast.MemberAccess)
+            and isinstance(expr.right, ast.ListLiteral)
+        ):
+            return False
+        member = self.model.references.get(expr.left.member)
+        if member is None or member.type is None or member.type.kind is not T.Kind.LIST:
+            return False
+        path = self._path(expr.left, scope)
+        if path is None:
+            return False
+        element = member.type.element
+        items: list[ir.ListItem] = []
+        for item in expr.right.items:
+            if is_struct(element):
+                ref = self._path(item, scope)
+                if ref is None:
+                    return False
+                items.append(("ref", ref))
+                continue
+            if element is not None and element.kind is T.Kind.ENUM:
+                name = item.member.text if isinstance(item, ast.EnumRef) else None
+                if isinstance(item, ast.NameRef):
+                    name = item.name.name.text
+                if name is None:
+                    return False
+                items.append(("value", name))
+                continue
+            try:
+                term = self._term(item, scope)
+            except NotEncodable:
+                return False
+            if not isinstance(term, ir.Const):
+                return False
+            items.append(("value", term.value))
+        self.problem.lists[path] = tuple(items)
+        return True
 
     def struct_variables(self, path: str, sym: Symbol) -> None:
         """A variable for every scalar leaf of a struct-typed scenario parameter

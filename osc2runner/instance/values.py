@@ -28,7 +28,8 @@ from osc2check.semantics.constants import (
 )
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.verify.structs import is_struct, struct_leaves
+from osc2check.verify.ir import ListItem
+from osc2check.verify.structs import MAX_STRUCT_DEPTH, is_struct, struct_leaves
 from osc2check.verify.witness import Witness
 
 __all__ = ["ScenarioValues", "scenario_fields", "struct_json"]
@@ -66,6 +67,8 @@ class ScenarioValues:
         self.witness = witness
         self.fields = scenario_fields(model, scenario)
         self._by_name = {p.name: p for p in witness.parameters}
+        #: struct values by path, built once: a struct read twice is the same object
+        self._structs: dict[str, SimpleNamespace] = {}
 
     def value(self, field: Symbol) -> Value:
         """The value of a scenario parameter; NotConstant when the witness has none.
@@ -101,7 +104,20 @@ class ScenarioValues:
         values (SI floats, enum members by name), one per struct member."""
         struct = field.type.symbol if field.type is not None else None
         assert struct is not None
+        return self._struct(path, struct, field, 0)
+
+    def _struct(self, path: str, struct: Symbol, field: Symbol, depth: int) -> SimpleNamespace:
+        cached = self._structs.get(path)
+        if cached is not None:
+            return cached
         root = SimpleNamespace()
+        for member in self.model.parameters(struct):
+            t = member.type
+            if t is None or t.kind is not T.Kind.LIST:
+                continue
+            items = self.witness.lists.get(f"{path}.{member.name}")
+            if items is not None and depth < MAX_STRUCT_DEPTH:
+                setattr(root, member.name, self._items(items, t.element, field, depth))
         for leaf, sym in struct_leaves(self.model, struct):
             p = self._by_name.get(f"{path}.{leaf}")
             if p is None:
@@ -117,7 +133,22 @@ class ScenarioValues:
                     setattr(node, part, child)
                 node = child
             setattr(node, name, to_runtime(exact(p.value, sym.type, self.model)))
+        self._structs[path] = root
         return root
+
+    def _items(
+        self, items: tuple[ListItem, ...], element: T.Type | None, field: Symbol, depth: int
+    ) -> tuple[object, ...]:
+        values: list[object] = []
+        for kind, item in items:
+            if kind == "ref" and is_struct(element):
+                assert element is not None and element.symbol is not None
+                values.append(self._struct(str(item), element.symbol, field, depth + 1))
+            elif element is not None and element.kind is T.Kind.ENUM:
+                values.append(item)
+            else:
+                values.append(to_runtime(exact(item, element, self.model)))  # type: ignore[arg-type]
+        return tuple(values)
 
     def attribute(self, actor: Symbol, member: str) -> Value | None:
         """An actor field's attribute that a constraint decides (``keep(it.model ==
