@@ -42,6 +42,7 @@ __all__ = [
     "Parallel",
     "ScenarioRoot",
     "Serial",
+    "end_instances",
     "running_endless",
     "running_open",
     "tick_child",
@@ -377,6 +378,7 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
                 return FAILURE
             if child.status == RUNNING:
                 mark_ended_on_time(child)
+                end_instances(child)
                 child.stop(INVALID)
             self.feedback_message = f"ended at {elapsed:.3f} s"
             self.stop(SUCCESS)
@@ -453,17 +455,26 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
 
     Handlers run for as long as the ``do`` runs and are ticked first, so they
     see this tick's edges; the root's status is the ``do``'s. The scenario's
-    predefined events ``start`` and ``end`` (or ``fail``) are emitted here.
+    predefined events ``start`` and ``end`` (or ``fail``) are emitted here; the
+    handlers are ticked once more after ``end``/``fail``, so ``on @end:`` runs.
     """
 
     def __init__(
-        self, name: str, do: Behaviour, handlers: Sequence[Behaviour] = (), path: str = ""
+        self,
+        name: str,
+        do: Behaviour,
+        handlers: Sequence[Behaviour] = (),
+        path: str = "",
+        initialisers: Sequence[Callable[[], None]] = (),
+        emits_events: bool = True,
     ) -> None:
         super().__init__(
             name, policy=ParallelPolicy.SuccessOnSelected(children=[do]), children=[do, *handlers]
         )
         self.do = do
         self.path = path  # the instance's path: its events are `<path>.start` ...
+        self.initialisers = list(initialisers)  # run when the instance starts (its `var`s)
+        self.emits_events = emits_events  # False when a label of the same name emits them
         self.ctx: Any = None
 
     def _event(self, name: str) -> str:
@@ -472,22 +483,49 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
     def setup(self, **kwargs: Any) -> None:
         self.ctx = kwargs.get("context", self.ctx)
 
+    def _emit(self, name: str) -> None:
+        if self.ctx is not None and self.emits_events:
+            self.ctx.emit(self._event(name), kind=name)
+
     def tick_status(self) -> Status:
         if self.status != RUNNING:
             _reset(self.children)
-            if self.ctx is not None:
-                self.ctx.emit(self._event("start"), kind="start")
+            for initialise in self.initialisers:
+                initialise()
+            self._emit("start")
         for child in self.children[1:]:
             tick_child(child)
         status = tick_child(self.do)
         if status == RUNNING:
             self.status = RUNNING
             return RUNNING
-        if self.ctx is not None:
-            end = status == SUCCESS
-            self.ctx.emit(self._event("end" if end else "fail"), kind="end" if end else "fail")
+        self._end("end" if status == SUCCESS else "fail")
         self.stop(status)
         return status
+
+    def _end(self, event: str) -> None:
+        """Emit ``end`` (or ``fail``) and let the handlers see it."""
+        self._emit(event)
+        for child in self.children[1:]:
+            tick_child(child)
+
+    def end_now(self) -> None:
+        """The instance is ended from outside as planned (its invocation's ``until``
+        occurred, or its ``duration`` is up): its ``end`` occurs now."""
+        if self.status == RUNNING:
+            end_instances(self.do)
+            self._end("end")
+
+
+def end_instances(node: Behaviour) -> None:
+    """Emit ``end`` for every running scenario instance under ``node``, which is ended as
+    planned (by ``until`` or ``duration``), innermost last to first."""
+    if isinstance(node, ScenarioRoot):
+        node.end_now()
+        return
+    for child in _behaviour_of(node):
+        if child.status == RUNNING:
+            end_instances(child)
 
 
 class InvokedScenario(ScenarioRoot):
