@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -194,13 +194,15 @@ def to_lsp_diagnostic(
 
 
 def to_lsp_diagnostics(
-    snapshot: Snapshot,
-    diagnostics: list[Diagnostic],
+    lines_of: LinesOf,
+    diagnostics: Iterable[Diagnostic],
     uri_of: UriOf,
     codec: PositionCodec,
     docs_url: str = "",
 ) -> list[types.Diagnostic]:
-    return [to_lsp_diagnostic(d, snapshot.lines_of, uri_of, codec, docs_url) for d in diagnostics]
+    """Diagnostics as the client wants them; ``lines_of`` gives the text of each file
+    they point into (``Snapshot.lines_of``, or a preview's)."""
+    return [to_lsp_diagnostic(d, lines_of, uri_of, codec, docs_url) for d in diagnostics]
 
 
 # ---- feature results ------------------------------------------------------------
@@ -408,7 +410,9 @@ def to_lsp_code_actions(
             types.CodeAction(
                 title=a.title,
                 kind=types.CodeActionKind.QuickFix,
-                diagnostics=to_lsp_diagnostics(snapshot, a.diagnostics, uri_of, codec, docs_url),
+                diagnostics=to_lsp_diagnostics(
+                    snapshot.lines_of, a.diagnostics, uri_of, codec, docs_url
+                ),
                 is_preferred=a.preferred or None,
                 edit=to_lsp_workspace_edit(a.edits, snapshot.lines_of, uri_of, codec),
             )
