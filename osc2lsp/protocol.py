@@ -25,13 +25,14 @@ from __future__ import annotations
 import asyncio
 import logging
 import os
+import re
 import threading
 from collections.abc import Generator
 from concurrent.futures import Future
 from typing import TYPE_CHECKING, Any, BinaryIO
 
 from cattrs.errors import ClassValidationError, IterableValidationError
-from cattrs.v import transform_error
+from cattrs.v import format_exception, transform_error
 from lsprotocol import types
 from lsprotocol.types import ResponseError
 from pygls.exceptions import (
@@ -41,7 +42,11 @@ from pygls.exceptions import (
     JsonRpcParseError,
 )
 from pygls.protocol import LanguageServerProtocol, default_converter
-from pygls.protocol.json_rpc import JsonRPCProtocol
+from pygls.protocol.json_rpc import (
+    JsonRPCNotification,
+    JsonRPCRequestMessage,
+    JsonRPCResponseMessage,
+)
 from pygls.protocol.language_server import lsp_method
 
 from osc2lsp.framing import FrameReader, Garbled
@@ -105,12 +110,23 @@ def converter() -> Converter:
 
 
 def _problems(exc: BaseException) -> str:
+    """What is wrong with the params, one ``<what> at <where>`` per problem."""
     if isinstance(exc, (ClassValidationError, IterableValidationError)):
+
+        def describe(error: BaseException, kind: Any) -> str:
+            return str(error) if isinstance(error, TypeError) else format_exception(error, kind)
+
         try:
-            return "; ".join(transform_error(exc, path="params"))
-        except Exception:  # an unusual nesting cattrs cannot describe
-            pass
+            found = transform_error(exc, path="$", format_exception=describe)
+        except Exception:  # a nesting cattrs cannot describe
+            return str(exc)
+        return "; ".join(_camel(problem).replace(" @ $.", " at ") for problem in found)
     return str(exc)
+
+
+def _camel(text: str) -> str:
+    """``params.new_name`` as the JSON spells it: ``params.newName``."""
+    return re.sub(r"(?<=[a-z0-9])_([a-z])", lambda m: m.group(1).upper(), text)
 
 
 # ---- the protocol -------------------------------------------------------------------
@@ -120,16 +136,25 @@ class Osc2Protocol(LanguageServerProtocol):
     """pygls' protocol with checked params, answers after shutdown and quiet refusals."""
 
     def structure_message(self, data: dict[str, Any]) -> Any:
-        """A message from its JSON (the whole message: nested objects are left to cattrs)."""
+        """A message from its JSON (the whole message: nested objects are left to cattrs).
+
+        As pygls' own, without its error log and traceback for a client's mistake.
+        """
         if "jsonrpc" not in data:
             return data
+        method = data.get("method")
+        if "id" in data and "error" in data:
+            kind: Any = types.ResponseErrorMessage
+        elif "id" in data and method is None:
+            kind = self._result_types.pop(data["id"], None) or JsonRPCResponseMessage
+        elif "id" in data:
+            kind = self.get_message_type(method) or JsonRPCRequestMessage
+        else:
+            kind = self.get_message_type(method or "") or JsonRPCNotification
         try:
-            return super().structure_message(data)
-        except JsonRpcException as exc:
-            cause = exc.__cause__ if exc.__cause__ is not None else exc
-            raise InvalidParams(
-                f"invalid params of {data.get('method')!r}: {_problems(cause)}"
-            ) from None
+            return self._converter.structure(data, kind)
+        except Exception as exc:
+            raise InvalidParams(f"invalid params of {method!r}: {_problems(exc)}") from None
 
     def dispatch(self, data: Any) -> None:
         """Handle one parsed JSON message; malformed ones are answered when they can be."""
@@ -236,7 +261,6 @@ async def serve(protocol: Osc2Protocol, stdin: BinaryIO) -> None:
 
 __all__ = [
     "InvalidParams",
-    "JsonRPCProtocol",
     "Osc2Protocol",
     "REQUEST_FAILED",
     "Refusal",
