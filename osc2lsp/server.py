@@ -496,21 +496,44 @@ class _View:
 
 
 async def _view_at(
-    ls: Osc2LanguageServer, uri: str, position: types.Position
+    ls: Osc2LanguageServer, uri: str, position: types.Position, fresh: bool = False
 ) -> tuple[_View, int] | None:
-    """The view to answer about ``position`` of the current text, and its offset there."""
+    """The view to answer about ``position`` of the current text, and its offset there
+    (``fresh``: the current version's analysis, waiting for it if need be)."""
     text, lines = ls.current(uri)
     offset = ls.offset(lines, position)
-    found = await ls.state.view(uri, offset)
+    found = await ls.state.view(uri, offset) if not fresh else None
     if found is None:
-        return None
+        snap = await ls.state.fresh(uri)
+        if snap is None:
+            return None
+        found = (snap, None)
     snap, change = found
     if change is None:
-        return _View(ls, uri, snap, None), (
-            offset if snap.text is text else ls.offset(snap.lines, position)
-        )
+        same = snap.text is text or snap.text == text
+        return _View(ls, uri, snap, None), offset if same else ls.offset(snap.lines, position)
     old = change.to_old(offset)
     return _View(ls, uri, snap, change), old if old is not None else offset
+
+
+async def _located(
+    ls: Osc2LanguageServer, uri: str, position: types.Position, find
+) -> list[types.Location]:
+    """Locations ``find(snapshot, offset)`` gives, from the latest analysis when they lie
+    outside the text edited since, else from the current version's."""
+    found = await _view_at(ls, uri, position)
+    if found is None:
+        return []
+    view, offset = found
+    spans = find(view.snap, offset)
+    moved = view.spans(spans)
+    if len(moved) < len(spans):  # it points into the edited text: ask the current version
+        found = await _view_at(ls, uri, position, fresh=True)
+        if found is None:
+            return []
+        view, offset = found
+        moved = view.spans(find(view.snap, offset))
+    return convert.to_lsp_locations(moved, view.lines_of, ls.uri_of, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_HOVER)
@@ -531,24 +554,16 @@ async def on_hover(ls: Osc2LanguageServer, params: types.HoverParams):
 @guarded(list)
 async def definition(ls: Osc2LanguageServer, params: types.DefinitionParams):
     """Where the name under the cursor is declared (also in the bundled library)."""
-    found = await _view_at(ls, params.text_document.uri, params.position)
-    if found is None:
-        return []
-    view, offset = found
-    spans = view.spans(navigation.definition(view.snap, offset))
-    return convert.to_lsp_locations(spans, view.lines_of, ls.uri_of, ls.codec)
+    uri = params.text_document.uri
+    return await _located(ls, uri, params.position, navigation.definition)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_TYPE_DEFINITION)
 @guarded(list)
 async def type_definition(ls: Osc2LanguageServer, params: types.TypeDefinitionParams):
     """Where the type of the name or expression under the cursor is declared."""
-    found = await _view_at(ls, params.text_document.uri, params.position)
-    if found is None:
-        return []
-    view, offset = found
-    spans = view.spans(navigation.type_definition(view.snap, offset))
-    return convert.to_lsp_locations(spans, view.lines_of, ls.uri_of, ls.codec)
+    uri = params.text_document.uri
+    return await _located(ls, uri, params.position, navigation.type_definition)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_REFERENCES)

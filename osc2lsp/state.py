@@ -270,7 +270,7 @@ class State:
         if doc is None:
             return None
         changes = doc.changes()
-        if changes is not None and (changes.unchanged or changes.to_old(offset) is not None):
+        if changes is not None and (changes.unchanged or changes.clear_of(offset)):
             return doc.snapshot, None if changes.unchanged else changes  # type: ignore[return-value]
         snap = await self.fresh(uri)
         return (snap, None) if snap is not None else None

@@ -182,6 +182,11 @@ class TextMap:
             return offset - self.delta
         return None
 
+    def clear_of(self, offset: int) -> bool:
+        """Whether ``offset`` of the new text is away from the changed region (not at its
+        edges: a name there may have been edited)."""
+        return offset < self.prefix or offset > self.new_end
+
     def touches(self, start: int, end: int) -> bool:
         """Whether the old region ``[start, end]`` meets the changed region (edges included)."""
         return start <= self.old_end and end >= self.prefix
