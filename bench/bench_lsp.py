@@ -1,7 +1,20 @@
-"""Latency of the language server on a generated 2,000-line document.
+"""Latency and memory of the language server on generated documents.
 
-Prints p50/p95 latencies, measured through the real protocol (the server runs
-as a subprocess, driven by pygls' client) unless marked "in process":
+``python bench/bench_lsp.py`` (the default) compares documents of 60, 2,000 and
+10,000 lines through the real protocol (the server runs as a subprocess,
+driven by pygls' client), one keystroke at a time, each followed by a pause
+until its analysis is done:
+
+* first diagnostics after a keystroke: ``didChange`` sent → the first
+  ``publishDiagnostics`` of that version (the server's default 100 ms
+  debounce included; on slow documents it is the syntax-first preview);
+* hover, definition and completion p95 while the re-analysis runs: asked
+  right after that first push, at names away from the edit;
+* memory: the server's resident set after the first and after the last of
+  the keystrokes' analyses.
+
+``python bench/bench_lsp.py LINES`` prints the detailed report for one size
+(what follows), unless marked "in process":
 
 * start-up: process start → `initialize` answered, and → first diagnostics of
   the document (grammar, library and analysis included);
@@ -24,6 +37,7 @@ import os
 import re
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -63,12 +77,12 @@ class Client(BaseLanguageClient):
 
     def __init__(self):
         super().__init__("osc2lsp-bench", "1")
-        self.arrived: dict[int | None, float] = {}
+        self.arrived: dict[int | None, float] = {}  # the first push of each version
         self.event = asyncio.Event()
 
         @self.feature(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
         def _diagnostics(params: types.PublishDiagnosticsParams):
-            self.arrived[params.version] = time.perf_counter()
+            self.arrived.setdefault(params.version, time.perf_counter())
             self.event.set()
 
     async def wait_version(self, version: int, timeout: float = 30) -> float:
@@ -265,16 +279,134 @@ def in_process(text: str) -> None:
     report("definition", dfn)
 
 
-def main() -> None:
-    lines = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
-    text = generate(lines)
+def rss_mb(pid: int) -> float:
+    """Resident set of process ``pid`` in MB (Linux; 0 elsewhere)."""
+    try:
+        with open(f"/proc/{pid}/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return 0.0
+
+
+@dataclass
+class Keystrokes:
+    lines: int
+    first: list[float]  # keystroke -> first diagnostics of its version
+    analysed: list[float]  # keystroke -> its analysis done (a request that needs it answered)
+    hover: list[float]
+    definition: list[float]
+    completion: list[float]
+    memory: list[float]  # server RSS after each analysis
+
+
+async def keystrokes(text: str, count: int) -> Keystrokes:
+    """``count`` keystrokes into names of the document (a letter typed, then deleted),
+    each followed by the questions an editor asks while the re-analysis runs."""
+    client, _, _ = await start(text)
+    doc = _doc(URI)
+    lines = text.split("\n")
+    targets = [i for i, line in enumerate(lines) if line.startswith("    keep(top_")]
+    names = [i for i, line in enumerate(lines) if line.startswith("    hero: vehicle")]
+    result = Keystrokes(text.count("\n"), [], [], [], [], [], [])
+    pid = client._server.pid if client._server is not None else 0
+    version = 1
+    for n in range(count):
+        line = targets[(n // 2 * 7) % len(targets)]
+        at = types.Position(line=line, character=len("    keep(top"))
+        version += 1
+        sent = time.perf_counter()
+        if n % 2 == 0:
+            _insert(client, version, at, "x")
+        else:
+            _delete(client, version, at)
+        result.first.append(await client.wait_version(version) - sent)
+        # While the analysis of this version runs: questions about other lines.
+        other = names[(n * 13 + len(names) // 2) % len(names)]
+        name = types.Position(line=other, character=5)
+        t = time.perf_counter()
+        await client.text_document_hover_async(types.HoverParams(text_document=doc, position=name))
+        result.hover.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        await client.text_document_definition_async(
+            types.DefinitionParams(text_document=doc, position=name)
+        )
+        result.definition.append(time.perf_counter() - t)
+        t = time.perf_counter()
+        await client.text_document_completion_async(
+            types.CompletionParams(
+                text_document=doc, position=types.Position(line=other + 1, character=4)
+            )
+        )
+        result.completion.append(time.perf_counter() - t)
+        # documentSymbol answers from the current version's analysis: it is done then.
+        await client.text_document_document_symbol_async(
+            types.DocumentSymbolParams(text_document=doc)
+        )
+        result.analysed.append(time.perf_counter() - sent)
+        result.memory.append(rss_mb(pid))
+    await stop(client)
+    return result
+
+
+def _delete(client: Client, version: int, at: types.Position) -> None:
+    end = types.Position(line=at.line, character=at.character + 1)
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=URI, version=version),
+            content_changes=[
+                types.TextDocumentContentChangePartial(
+                    range=types.Range(start=at, end=end), text=""
+                )
+            ],
+        )
+    )
+
+
+def compare(sizes: list[int], count: int) -> None:
+    """The keystroke figures of documents of each size, side by side."""
     print(
-        f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
+        f"osc2lsp keystrokes: {count} per document (a letter typed into a name, then "
+        f"deleted), server defaults (debounce 100 ms, preview after 50 ms); "
         f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
     )
-    asyncio.run(startup())
-    asyncio.run(protocol(text, "server default debounce 100 ms"))
-    in_process(text)
+    runs = [asyncio.run(keystrokes(generate(size), count)) for size in sizes]
+    header = "".join(f"{r.lines:>14,} lines" for r in runs)
+    print(f"\n  {'':<46}{header}")
+
+    def row(name: str, pick, q: float = 0.95, unit: str = "ms") -> None:
+        cells = "".join(f"{pct([v * 1000 for v in pick(r)], q):>17.1f} {unit}" for r in runs)
+        print(f"  {name:<46}{cells}")
+
+    row("first diagnostics after a keystroke, p50", lambda r: r.first, 0.5)
+    row("first diagnostics after a keystroke, p95", lambda r: r.first)
+    row("analysis done after a keystroke, p50", lambda r: r.analysed, 0.5)
+    row("hover while re-analysis runs, p95", lambda r: r.hover)
+    row("definition while re-analysis runs, p95", lambda r: r.definition)
+    row("completion while re-analysis runs, p95", lambda r: r.completion)
+    memory = "".join(f"{r.memory[0]:>11.0f} -> {r.memory[-1]:>4.0f} MB" for r in runs)
+    print(f"  {'server memory after 1 -> ' + str(count) + ' analyses':<46}{memory}")
+    base = pct([v * 1000 for v in runs[0].first], 0.95)
+    for r in runs[1:]:
+        ratio = pct([v * 1000 for v in r.first], 0.95) / base
+        print(f"  first diagnostics p95, {r.lines:,} lines / {runs[0].lines:,} lines: {ratio:.1f}x")
+
+
+def main() -> None:
+    if len(sys.argv) > 1:
+        lines = int(sys.argv[1])
+        text = generate(lines)
+        print(
+            f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
+            f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
+        )
+        asyncio.run(startup())
+        asyncio.run(protocol(text, "server default debounce 100 ms"))
+        in_process(text)
+        return
+    compare([60, 2000, 10_000], int(os.environ.get("OSC2LSP_BENCH_KEYSTROKES", "30")))
 
 
 if __name__ == "__main__":

@@ -23,6 +23,8 @@ what it does wrong for an editor that must never lose its server:
 from __future__ import annotations
 
 import asyncio
+import inspect
+import json
 import logging
 import os
 import re
@@ -37,6 +39,7 @@ from lsprotocol import types
 from lsprotocol.types import ResponseError
 from pygls.exceptions import (
     JsonRpcException,
+    JsonRpcInternalError,
     JsonRpcInvalidParams,
     JsonRpcInvalidRequest,
     JsonRpcParseError,
@@ -50,6 +53,7 @@ from pygls.protocol.json_rpc import (
 from pygls.protocol.language_server import lsp_method
 
 from osc2lsp.framing import FrameReader, Garbled
+from osc2lsp.state import foreground, taking_turns
 
 if TYPE_CHECKING:
     from cattrs import Converter
@@ -179,6 +183,34 @@ class Osc2Protocol(LanguageServerProtocol):
         if "not JSON" in event.reason:
             self._send_error(None, JsonRpcParseError("a frame whose body is not JSON"))
 
+    def _send_data(self, data: Any) -> None:
+        """Serialise without the analysis thread's turns; write taking turns as usual (a
+        thread waiting for the lock during a long switch interval would wait long)."""
+        if not data:
+            return
+        if self.writer is None:
+            log.error("no transport to send data to")
+            return
+        with foreground():
+            body = json.dumps(data, default=self._serialize_message)
+            if self._include_headers:
+                body = (
+                    f"Content-Length: {len(body)}\r\n"
+                    f"Content-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n" + body
+                )
+            payload = body.encode(self.CHARSET)
+        try:
+            with taking_turns():
+                result = self.writer.write(payload)
+            if inspect.isawaitable(result):
+                asyncio.ensure_future(result)
+        except BrokenPipeError:
+            log.error("the client closed the connection")
+            raise
+        except Exception as error:
+            log.exception("sending data failed")
+            self._server._report_server_error(error, JsonRpcInternalError)
+
     def _send_error(self, msg_id: Any, error: JsonRpcException) -> None:
         self._send_data(
             types.ResponseErrorMessage(
@@ -252,11 +284,14 @@ async def serve(protocol: Osc2Protocol, stdin: BinaryIO) -> None:
         if not data:
             log.info("end of input: stopping")
             return
-        for event in reader.feed(data):
+        with foreground():  # parse and dispatch without the analysis thread's turns
+            events = reader.feed(data)
+            for event in events:
+                if not isinstance(event, Garbled):
+                    protocol.dispatch(event)
+        for event in events:
             if isinstance(event, Garbled):
                 protocol.garbled(event)
-            else:
-                protocol.dispatch(event)
 
 
 __all__ = [

@@ -39,7 +39,7 @@ from osc2lsp import __version__, convert, lifeline
 from osc2lsp.features import legend
 from osc2lsp.options import SECTION, Options, from_settings
 from osc2lsp.protocol import Osc2Protocol, Refusal, converter, serve
-from osc2lsp.state import Findings, State
+from osc2lsp.state import SWITCH, Findings, State, foreground
 from osc2lsp.text import LineIndex, TextMap, key_to_uri, uri_to_key
 
 if TYPE_CHECKING:
@@ -331,6 +331,7 @@ def _warm_up() -> None:
     lark_parser()
     standard_library()
     completion.complete(None, "scenario s:\n    ", 16)  # the grammar table, the focus path
+    importlib.import_module("osc2lsp.preview")  # what the first edit needs
     gc.collect()
     gc.freeze()  # the library and the grammar live as long as the process: never scan them
 
@@ -435,10 +436,11 @@ async def complete(ls: Osc2LanguageServer, params: types.CompletionParams):
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    result = completion.complete(
-        snap, text, ls.offset(lines, params.position), ls.options.completion_limit
-    )
-    return convert.to_lsp_completion(result, lines, ls.codec)
+    with foreground():
+        result = completion.complete(
+            snap, text, ls.offset(lines, params.position), ls.options.completion_limit
+        )
+        return convert.to_lsp_completion(result, lines, ls.codec)
 
 
 @SERVER.feature(
@@ -451,8 +453,9 @@ async def signature(ls: Osc2LanguageServer, params: types.SignatureHelpParams):
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    result = signature_help.signature_help(snap, text, ls.offset(lines, params.position))
-    return convert.to_lsp_signature_help(result)
+    with foreground():
+        result = signature_help.signature_help(snap, text, ls.offset(lines, params.position))
+        return convert.to_lsp_signature_help(result)
 
 
 # ---- reading: hover, navigation, symbols (fresh snapshot) -------------------------------
@@ -500,20 +503,22 @@ async def _view_at(
 ) -> tuple[_View, int] | None:
     """The view to answer about ``position`` of the current text, and its offset there
     (``fresh``: the current version's analysis, waiting for it if need be)."""
-    text, lines = ls.current(uri)
-    offset = ls.offset(lines, position)
-    found = await ls.state.view(uri, offset) if not fresh else None
+    with foreground():
+        text, lines = ls.current(uri)
+        offset = ls.offset(lines, position)
+        found = ls.state.view_now(uri, offset) if not fresh else None
     if found is None:
         snap = await ls.state.fresh(uri)
         if snap is None:
             return None
         found = (snap, None)
     snap, change = found
-    if change is None:
-        same = snap.text is text or snap.text == text
-        return _View(ls, uri, snap, None), offset if same else ls.offset(snap.lines, position)
-    old = change.to_old(offset)
-    return _View(ls, uri, snap, change), old if old is not None else offset
+    with foreground():
+        if change is None:
+            same = snap.text is text or snap.text == text
+            return _View(ls, uri, snap, None), offset if same else ls.offset(snap.lines, position)
+        old = change.to_old(offset)
+        return _View(ls, uri, snap, change), old if old is not None else offset
 
 
 async def _located(
@@ -525,15 +530,18 @@ async def _located(
     if found is None:
         return []
     view, offset = found
-    spans = find(view.snap, offset)
-    moved = view.spans(spans)
+    with foreground():
+        spans = find(view.snap, offset)
+        moved = view.spans(spans)
     if len(moved) < len(spans):  # it points into the edited text: ask the current version
         found = await _view_at(ls, uri, position, fresh=True)
         if found is None:
             return []
         view, offset = found
-        moved = view.spans(find(view.snap, offset))
-    return convert.to_lsp_locations(moved, view.lines_of, ls.uri_of, ls.codec)
+        with foreground():
+            moved = view.spans(find(view.snap, offset))
+    with foreground():
+        return convert.to_lsp_locations(moved, view.lines_of, ls.uri_of, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_HOVER)
@@ -544,10 +552,11 @@ async def on_hover(ls: Osc2LanguageServer, params: types.HoverParams):
     if found is None:
         return None
     view, offset = found
-    result = hover.hover(view.snap, offset)
-    if result is not None and result.span is not None:
-        result = replace(result, span=view.span(result.span))
-    return convert.to_lsp_hover(result, view.lines, ls.codec)
+    with foreground():
+        result = hover.hover(view.snap, offset)
+        if result is not None and result.span is not None:
+            result = replace(result, span=view.span(result.span))
+        return convert.to_lsp_hover(result, view.lines, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_DEFINITION)
@@ -793,6 +802,8 @@ def main(argv: list[str] | None = None) -> int:
     # Analyses make many long-lived objects; collect young ones less often so that a
     # collection does not land in the middle of a keystroke's request.
     gc.set_threshold(20_000, 20, 50)
+    # The analysis thread gives way to requests quickly (see state.foreground).
+    sys.setswitchinterval(SWITCH)
     if args.tcp:
         SERVER.start_tcp(args.host, args.port)
     else:
