@@ -37,8 +37,9 @@ checker's symbols and types refer to each other), about 13 MB for a
 10,000-line document, which the interpreter's own collector reaches only
 rarely (memory grew to about 350 MB). It is collected once no analysis has run
 for a second (a pause in typing: the collection takes about 0.15 s on that
-document and holds the interpreter lock), and while edits keep coming, after
-every ``_GARBAGE_LIMIT`` analyses, so memory stays bounded.
+document and holds the interpreter lock), and while edits keep coming, as soon
+as the replaced snapshots add up to ``_GARBAGE_LIMIT`` characters of text, so
+memory stays bounded.
 """
 
 from __future__ import annotations
@@ -67,7 +68,9 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-_GARBAGE_LIMIT = 4  # analyses between forced collections while edits keep coming
+# While edits keep coming, a collection is forced once the replaced snapshots' texts add
+# up to this many characters (four times a 10,000-line document: about 50 MB of garbage).
+_GARBAGE_LIMIT = 1_200_000
 _IDLE = 1.0  # seconds without an analysis before the garbage is collected
 # The interpreter lock passes between threads every SWITCH seconds; a request keeps it
 # for up to FOREGROUND seconds (see ``foreground``).
@@ -239,7 +242,7 @@ class State:
         self._closed: dict[str, tuple[float, str, Snapshot | None]] = {}  # workspace files
         self._lock: asyncio.Lock | None = None
         self._tasks: set[asyncio.Task] = set()
-        self._garbage = 0  # snapshots replaced since the last collection
+        self._garbage = 0  # characters of the snapshots replaced since the last collection
         self._collector: asyncio.Task | None = None  # the collection after a pause
 
     # ---- documents -------------------------------------------------------------
@@ -409,7 +412,7 @@ class State:
                 if snap is None or current is not d:
                     continue
                 if d.snapshot is None or not _newer(d.snapshot.version, snap.version):
-                    self._garbage += d.snapshot is not None
+                    self._garbage += len(d.snapshot.text) + 1 if d.snapshot is not None else 0
                     d.snapshot = snap
                 if snap.version == d.version:
                     published.append(findings_of(snap))
