@@ -82,9 +82,7 @@ def test_a_neovim_session(tmp_path):
         at = text.index(needle)
         edit, text = _edit(text, at, at + len(needle), new)
         edits.append(edit)
-    env = {
-        "PYTHONPATH": os.pathsep.join(p for p in (str(REPO), os.environ.get("PYTHONPATH")) if p)
-    }
+    env = {"PYTHONPATH": os.pathsep.join(p for p in (str(REPO), os.environ.get("PYTHONPATH")) if p)}
     spec = {
         "cmd": [sys.executable, "-m", "osc2lsp"],
         "env": env,
