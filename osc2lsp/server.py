@@ -375,8 +375,9 @@ def did_change(ls: Osc2LanguageServer, params: types.DidChangeTextDocumentParams
 def did_close(ls: Osc2LanguageServer, params: types.DidCloseTextDocumentParams):
     """Forget the document and clear its pushed diagnostics."""
     uri = params.text_document.uri
+    library = ls.library(uri)
     ls.state.close(uri)
-    if not ls.pull:
+    if not ls.pull and not library:
         ls.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=[])
         )
@@ -651,7 +652,11 @@ async def document_symbol(ls: Osc2LanguageServer, params: types.DocumentSymbolPa
 @guarded(list)
 def workspace_symbol(ls: Osc2LanguageServer, params: types.WorkspaceSymbolParams):
     """Declarations of the open documents and of the library matching the query."""
-    snaps = [d.snapshot for d in ls.state.documents.values() if d.snapshot is not None]
+    snaps = [
+        d.snapshot
+        for d in ls.state.documents.values()
+        if d.snapshot is not None and not d.library  # the library's symbols come anyway
+    ]
     found = symbols.workspace_symbols(snaps, params.query)
     return convert.to_lsp_workspace_symbols(found, _lines_of(None, snaps), ls.uri_of, ls.codec)
 
