@@ -119,3 +119,32 @@ def test_hover_and_definition_answer_from_the_last_analysis_while_one_waits(
     definition = ask("textDocument/definition", use)
     assert definition[0]["range"]["start"] == lsp_position(v2, v2.index("x: float"))
     assert "float" in ask("textDocument/hover", use)["contents"]["value"]
+
+
+def test_a_pulling_client_gets_the_preview_then_a_refresh_for_the_analysis(tmp_path):
+    settings = {"verify": False, "diagnostics": {"previewAfter": 0, "debounce": 60_000}}
+    client = RawClient(tmp_path / "stderr.log", settings=settings)
+    client.initialize(
+        {
+            "textDocument": {"diagnostic": {"dynamicRegistration": False}},
+            "workspace": {"diagnostics": {"refreshSupport": True}},
+        }
+    )
+    uri = _uri(tmp_path, "pulled.osc")
+    text = CLEAN + "\nscenario other:\n    hero: vehicle\n"
+    client.open(uri, text)
+    pulled = client.call("textDocument/diagnostic", {"textDocument": {"uri": uri}})["result"]
+    assert pulled["items"] == []
+    typo = Edit(text.index("vehicle"), text.index("vehicle") + len("vehicle"), "vehcle")
+    client.change(uri, 2, [typo.change(text)])
+    # The analysis would wait a minute for the debounce: the pull gets the preview now
+    # (the typo is in the edited text, so the name's finding waits for the analysis)...
+    preview = client.call("textDocument/diagnostic", {"textDocument": {"uri": uri}})["result"]
+    assert preview["items"] == []
+    # ...and once the analysis is done (a request that needs it asks for it), the
+    # client is asked to pull again, and gets its findings.
+    client.call("textDocument/documentSymbol", {"textDocument": {"uri": uri}})
+    client.wait_for(lambda m: m.get("method") == "workspace/diagnostic/refresh")
+    final = client.call("textDocument/diagnostic", {"textDocument": {"uri": uri}})["result"]
+    assert [d["code"] for d in final["items"]] == ["N101"]
+    client.close()
