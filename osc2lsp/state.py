@@ -345,6 +345,17 @@ class State:
         snap = await self.fresh(uri)
         return findings_of(snap) if snap is not None else None
 
+    async def quiet(self) -> None:
+        """Wait until the scheduled analyses, and the collection that follows a pause in
+        them, are done (for tests and benchmarks)."""
+        while True:
+            pending = [d.timer for d in self.documents.values() if d.timer and not d.timer.done()]
+            if self._collector is not None and not self._collector.done():
+                pending.append(self._collector)
+            if not pending:
+                return
+            await asyncio.wait(pending)
+
     def delivered(self, uri: str, findings: Findings) -> None:
         """Note that the client has received ``findings`` (pulled them)."""
         from osc2lsp.features.diagnostics import result_id
@@ -420,6 +431,8 @@ class State:
             self._publish(uri, published)
             if self.options.verify and published and not doc.library:
                 self._schedule_solver(uri)
+            if snapshots:
+                await loop.run_in_executor(self._executor, _settle, list(snapshots.values()))
             await self._collect_garbage()
 
     def _analyse(self, batch: list[Document]) -> dict[str, Snapshot]:
@@ -428,18 +441,9 @@ class State:
 
         doc = batch[0]
         if doc.library:
-            return {doc.uri: library_snapshot(doc.uri, doc.key, doc.text, doc.version).prepare()}
+            return {doc.uri: library_snapshot(doc.uri, doc.key, doc.text, doc.version)}
         config = self.configs.for_file(doc.key, self.options, self.root)
-        snapshots = analyse([(d.uri, d.text, d.version) for d in batch], config, False)
-        for snap in snapshots.values():
-            snap.prepare()
-            _warm_features(snap)
-        # The analysis made its objects with collection off: collect its own garbage
-        # now, on this thread, and freeze the rest (no later young collection will scan
-        # it, maybe in a request's thread); the snapshots it replaces wait for _collect.
-        gc.collect(0)
-        gc.freeze()
-        return snapshots
+        return analyse([(d.uri, d.text, d.version) for d in batch], config, False)
 
     async def _collect_garbage(self) -> None:
         """Free the snapshots replaced so far: after a pause, or now when many were."""
@@ -652,6 +656,18 @@ class State:
     def kill(self) -> None:
         """Stop the solver worker now (the server is leaving without a shutdown)."""
         self._solver.kill()
+
+
+def _settle(snapshots: list[Snapshot]) -> None:
+    """After an analysis, on its thread: what requests will need, built now."""
+    for snap in snapshots:
+        snap.prepare()
+        _warm_features(snap)
+    # The analysis made its objects with collection off: collect its own garbage now,
+    # on this thread, and freeze the rest, so that no later young collection scans it
+    # (maybe in a request's thread); the snapshots it replaced wait for ``_collect``.
+    gc.collect(0)
+    gc.freeze()
 
 
 def _warm_features(snap: Snapshot) -> None:

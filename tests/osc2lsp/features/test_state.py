@@ -184,11 +184,7 @@ def test_replaced_snapshots_are_freed_once_the_documents_are_quiet():
         for version in range(2, 5):
             state.change(uri, f"scenario s:\n    x: int = {version}\n", version)
             models.append(weakref.ref((await state.fresh(uri)).model))
-        # The collection follows a pause, on the analysis thread: a job queued behind it
-        # has run once the collection has.
-        collector = state._collector
-        assert collector is not None
-        await collector
+        await state.quiet()  # the collection follows a pause in the analyses
         freed = [m() is None for m in models]
         await state.shutdown()
         return freed
