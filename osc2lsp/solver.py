@@ -155,6 +155,8 @@ def main(argv: list[str] | None = None) -> int:
     args = sys.argv[1:] if argv is None else argv
     parent = int(args[0]) if args else os.getppid()
     die_with_parent(parent)
+    if hasattr(os, "nice"):
+        os.nice(10)  # background work: the server answering the editor comes first
     logging.basicConfig(level=logging.WARNING, stream=sys.stderr)
     out = os.fdopen(os.dup(sys.stdout.fileno()), "wb")
     os.dup2(sys.stderr.fileno(), sys.stdout.fileno())  # a stray print must not corrupt replies

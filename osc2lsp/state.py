@@ -35,11 +35,12 @@ and the current text.
 Every analysis leaves the previous snapshot behind as cyclic garbage (the
 checker's symbols and types refer to each other), about 13 MB for a
 10,000-line document, which the interpreter's own collector reaches only
-rarely (memory grew to about 350 MB). It is collected once no analysis has run
-for a second (a pause in typing: the collection takes about 0.15 s on that
-document and holds the interpreter lock), and while edits keep coming, as soon
-as the replaced snapshots add up to ``_GARBAGE_LIMIT`` characters of text, so
-memory stays bounded.
+rarely (memory grew to about 350 MB). It is collected once neither an edit nor
+an analysis has happened for ``_IDLE`` seconds (a pause in typing: the
+collection takes about 0.15 s per replaced snapshot of that document and holds
+the interpreter lock), and while edits keep coming, as soon as the replaced
+snapshots add up to ``_GARBAGE_LIMIT`` characters of text, so memory stays
+bounded.
 """
 
 from __future__ import annotations
@@ -71,7 +72,7 @@ log = logging.getLogger(__name__)
 # While edits keep coming, a collection is forced once the replaced snapshots' texts add
 # up to this many characters (four times a 10,000-line document: about 50 MB of garbage).
 _GARBAGE_LIMIT = 1_200_000
-_IDLE = 1.0  # seconds without an analysis before the garbage is collected
+_IDLE = 1.0  # seconds without edits or analyses before the garbage is collected
 # The interpreter lock passes between threads every SWITCH seconds; a request keeps it
 # for up to FOREGROUND seconds (see ``foreground``).
 SWITCH = 0.001
@@ -244,6 +245,7 @@ class State:
         self._tasks: set[asyncio.Task] = set()
         self._garbage = 0  # characters of the snapshots replaced since the last collection
         self._collector: asyncio.Task | None = None  # the collection after a pause
+        self._active = time.monotonic()  # the last edit or analysis
 
     # ---- documents -------------------------------------------------------------
 
@@ -260,6 +262,7 @@ class State:
             self.open(uri, text, version)
             return
         doc.set_text(text, version, lines)
+        self._active = time.monotonic()
         if doc.verify_timer is not None:
             doc.verify_timer.cancel()
         for other in self.documents.values():
@@ -416,6 +419,7 @@ class State:
                 log.exception("analysis of %s failed", uri)
                 snapshots = {}
             doc.analysis_seconds = time.perf_counter() - began
+            self._active = time.monotonic()
             published: list[Findings] = []
             for d in batch:
                 snap = snapshots.get(d.uri)
@@ -461,8 +465,12 @@ class State:
         task.add_done_callback(self._tasks.discard)
 
     async def _collect(self, after: float = 0) -> None:
-        if after:
-            await asyncio.sleep(after)
+        """Collect now, or once ``after`` seconds have passed without edits or analyses."""
+        while after:
+            await asyncio.sleep(max(self._active + after - time.monotonic(), 0.01))
+            busy = any(d.timer is not None and not d.timer.done() for d in self.documents.values())
+            if not busy and time.monotonic() - self._active >= after:
+                break
         self._garbage = 0
         await asyncio.get_running_loop().run_in_executor(self._executor, _collect_all)
 
