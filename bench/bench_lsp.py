@@ -2,16 +2,19 @@
 
 ``python bench/bench_lsp.py`` (the default) compares documents of 60, 2,000 and
 10,000 lines through the real protocol (the server runs as a subprocess,
-driven by pygls' client), one keystroke at a time, each followed by a pause
-until its analysis is done:
+driven by pygls' client, with its default settings), typing words into names:
+``OSC2LSP_BENCH_WORDS`` (10) words of 4 keystrokes 150 ms apart, a pause of
+1.5 s after each word:
 
 * first diagnostics after a keystroke: ``didChange`` sent → the first
   ``publishDiagnostics`` of that version (the server's default 100 ms
   debounce included; on slow documents it is the syntax-first preview);
 * hover, definition and completion p95 while the re-analysis runs: asked
   right after that first push, at names away from the edit;
-* memory: the server's resident set after the first and after the last of
-  the keystrokes' analyses.
+* the analysis of a word's last keystroke done (a request that needs the
+  current version answered);
+* memory: the server's resident set after each word's pause (first, last and
+  highest).
 
 ``python bench/bench_lsp.py LINES`` prints the detailed report for one size
 (what follows), unless marked "in process":
