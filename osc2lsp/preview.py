@@ -22,13 +22,13 @@ from dataclasses import replace
 
 from osc2check.codes import UNKNOWN_SUPPRESSION_CODE, UNUSED_SUPPRESSION
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
-from osc2check.source import Span
 from osc2check.suppress import apply_suppressions, find_suppressions
 from osc2check.syntax.incremental import Edit, Region, reparse
 from osc2check.syntax.lexer import Comment
 from osc2check.syntax.parser import ParseResult
 from osc2lsp.snapshot import Snapshot
 from osc2lsp.text import LineIndex, TextMap
+from osc2lsp.view import moved
 
 _OWN = (UNUSED_SUPPRESSION, UNKNOWN_SUPPRESSION_CODE)
 _DIRECTIVES = ("noqa", "osc2check")
@@ -92,27 +92,14 @@ def _directive(comment: Comment) -> bool:
 def _moved(d: Diagnostic, key: str, change: TextMap, lines: LineIndex) -> Diagnostic:
     """``d`` with its locations in this document moved to the new text (related notes
     and fixes the edit went through are dropped)."""
-
-    def move(span: Span) -> Span | None:
-        if span.uri != key:
-            return span
-        if change.touches(span.start, span.end):
-            return None
-        start, end = change.to_new(span.start), change.to_new(span.end)
-        if start is None or end is None:
-            return None
-        line, column = lines.position(start)
-        end_line, end_column = lines.position(end)
-        return Span(key, line + 1, column + 1, end_line + 1, end_column + 1, start, end)
-
-    span = move(d.span)
+    span = moved(d.span, key, change, lines)
     assert span is not None  # the caller dropped the findings the edit went through
     related = tuple(
-        Related(moved, r.message) for r in d.related if (moved := move(r.span)) is not None
+        Related(m, r.message) for r in d.related if (m := moved(r.span, key, change, lines))
     )
     fix = d.fix
     if fix is not None:
-        edits = [(move(e.span), e.new_text) for e in fix.edits]
+        edits = [(moved(e.span, key, change, lines), e.new_text) for e in fix.edits]
         fix = (
             Fix(fix.message, tuple(TextEdit(s, t) for s, t in edits if s is not None), fix.safe)
             if all(s is not None for s, _ in edits)

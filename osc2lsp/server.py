@@ -40,10 +40,10 @@ from osc2lsp.features import legend
 from osc2lsp.options import SECTION, Options, from_settings
 from osc2lsp.protocol import Osc2Protocol, Refusal, converter, serve
 from osc2lsp.state import SWITCH, Findings, State, foreground
-from osc2lsp.text import LineIndex, TextMap, key_to_uri, uri_to_key
+from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
+from osc2lsp.view import View
 
 if TYPE_CHECKING:
-    from osc2check.source import Span
     from osc2lsp.snapshot import Snapshot
 
 
@@ -462,46 +462,9 @@ async def signature(ls: Osc2LanguageServer, params: types.SignatureHelpParams):
 # ---- reading: hover, navigation, symbols (fresh snapshot) -------------------------------
 
 
-class _View:
-    """A snapshot answering for the current text: positions in the unchanged parts of
-    the text map between the two (``State.view``)."""
-
-    def __init__(self, ls: Osc2LanguageServer, uri: str, snap: Snapshot, change: TextMap | None):
-        self.snap, self.change = snap, change
-        doc = ls.state.documents.get(uri)
-        self.lines = doc.lines if doc is not None and change is not None else snap.lines
-
-    def span(self, span: Span) -> Span | None:
-        """``span`` of the snapshot, moved to the current text (None: it was edited)."""
-        if self.change is None or span.uri != self.snap.key:
-            return span
-        if self.change.touches(span.start, span.end):
-            return None
-        start, end = self.change.to_new(span.start), self.change.to_new(span.end)
-        if start is None or end is None:
-            return None
-        line, column = self.lines.position(start)
-        end_line, end_column = self.lines.position(end)
-        return replace(
-            span,
-            line=line + 1,
-            column=column + 1,
-            end_line=end_line + 1,
-            end_column=end_column + 1,
-            start=start,
-            end=end,
-        )
-
-    def spans(self, spans: list[Span]) -> list[Span]:
-        return [moved for s in spans if (moved := self.span(s)) is not None]
-
-    def lines_of(self, key: str) -> LineIndex | None:
-        return self.lines if key == self.snap.key else self.snap.lines_of(key)
-
-
 async def _view_at(
     ls: Osc2LanguageServer, uri: str, position: types.Position, fresh: bool = False
-) -> tuple[_View, int] | None:
+) -> tuple[View, int] | None:
     """The view to answer about ``position`` of the current text, and its offset there
     (``fresh``: the current version's analysis, waiting for it if need be)."""
     with foreground():
@@ -517,9 +480,9 @@ async def _view_at(
     with foreground():
         if change is None:
             same = snap.text is text or snap.text == text
-            return _View(ls, uri, snap, None), offset if same else ls.offset(snap.lines, position)
+            return View(snap, None, snap.lines), offset if same else ls.offset(snap.lines, position)
         old = change.to_old(offset)
-        return _View(ls, uri, snap, change), old if old is not None else offset
+        return View(snap, change, lines), old if old is not None else offset
 
 
 async def _located(
