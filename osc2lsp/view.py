@@ -11,10 +11,13 @@ the current version's analysis has to answer instead.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
-from osc2check.source import Span
-from osc2lsp.snapshot import Snapshot
 from osc2lsp.text import LineIndex, TextMap
+
+if TYPE_CHECKING:  # the analysis is imported on first use, not to answer `initialize`
+    from osc2check.source import Span
+    from osc2lsp.snapshot import Snapshot
 
 
 def moved(span: Span, key: str, change: TextMap, lines: LineIndex) -> Span | None:

@@ -87,3 +87,13 @@ def test_common_prefix_and_suffix():
     assert common_suffix("abc xyz", "abd xyz", 7) == 4
     assert common_suffix("aaa", "aaa", 1) == 1
     assert lsp_position("a\r\nb", 3) == {"line": 1, "character": 0}
+
+
+def test_the_server_starts_without_importing_the_analysis():
+    """`initialize` is answered before the checker (lark, z3) is loaded."""
+    import subprocess
+    import sys
+
+    probe = "import sys, osc2lsp.server; print('osc2check.analysis' in sys.modules)"
+    found = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    assert found.stdout.strip() == "False", found.stderr
