@@ -91,9 +91,13 @@ def test_common_prefix_and_suffix():
 
 def test_the_server_starts_without_importing_the_analysis():
     """`initialize` is answered before the checker (lark, z3) is loaded."""
+    import os
     import subprocess
     import sys
 
+    from tests.osc2lsp.lsp_helpers import REPO
+
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]))
     probe = "import sys, osc2lsp.server; print('osc2check.analysis' in sys.modules)"
-    found = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True)
+    found = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
     assert found.stdout.strip() == "False", found.stderr
