@@ -97,7 +97,8 @@ def test_the_server_starts_without_importing_the_analysis():
 
     from tests.osc2lsp.lsp_helpers import REPO
 
-    env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")]))
+    path = os.pathsep.join([str(REPO), os.environ.get("PYTHONPATH", "")])
+    env = dict(os.environ, PYTHONPATH=path)
     probe = "import sys, osc2lsp.server; print('osc2check.analysis' in sys.modules)"
     found = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
     assert found.stdout.strip() == "False", found.stderr
