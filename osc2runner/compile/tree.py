@@ -494,7 +494,9 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 inv.name,
             )
-        inner = scope.child(actor=constant(actor))
+        # the arguments, modifiers and `until` of an action are written in the scenario's
+        # scope: `actor` there is the scenario's actor, not the action's
+        inner = scope
         arguments, duration = self._arguments(sym, inv.arguments, inner, inv, allow_duration=True)
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
