@@ -106,7 +106,7 @@ class Serial(_Fast, py_trees.composites.Sequence):
 
 
 #: ``parallel(overlap: ...)`` kinds whose other members end no later than the first
-#: one (§7.3.9: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
+#: one (§7.6.2: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
 #: ``inside`` within it): the composition ends when its first member ends.
 ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
 
@@ -206,7 +206,7 @@ class Parallel(_Fast, py_trees.composites.Parallel):
 
 
 class OneOf(_Fast, py_trees.composites.Parallel):
-    """``one_of``: exactly one member's behaviour happens (§7.3.9).
+    """``one_of``: exactly one member's behaviour happens (§7.6.2).
 
     Members that only wait (they invoke no action or scenario: ``wait``, ``emit``,
     ``call``) command nothing and run alongside; among the members that act, one
