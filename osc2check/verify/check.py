@@ -221,6 +221,8 @@ def verify_program(
             for c, person in _running_persons(problem, active, outcome, rlimit):
                 report(messages.person_faster_than_walking(c.span, c.text, person, WALKING_SPEED))
         for default, by in outcome.overridden:
+            if by is not None and by.kind == "argument":
+                continue  # an invocation's argument: what a parameter's default is for
             if _user_written(default, program) and (by is None or _user_written(by, program)):
                 report(messages.default_overridden(default, by))
         for later, earlier in outcome.conflicting_defaults:
