@@ -50,10 +50,10 @@ from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for
 from osc2runner.execution.initializer import start_specs
-from osc2runner.instance.lights import traffic_lights
 from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts
 from osc2runner.instance import ScenarioInstance, instantiate
+from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
 from osc2runner.output.coverage import write_coverage

@@ -32,7 +32,6 @@ from osc2check.verify import flow, ir, quick
 from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
 from osc2check.verify.placement import Gap
 from osc2check.verify.witness import Witness, build_witness
-from osc2check.world.catalogue import WALKING_SPEED
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
@@ -45,6 +44,7 @@ from osc2check.verify.z3_backend import (
     never_holds,
     solve,
 )
+from osc2check.world.catalogue import WALKING_SPEED
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -263,9 +263,7 @@ def _unsafe_gaps(
 
 
 # a speed asked of an actor: a `speed` modifier's or a `change_speed` action's argument
-_ASKED_SPEED = re.compile(
-    r"^(?P<actor>[^.@]+)\.[^.@]+@\d+\.(?:speed@\d+\.speed|target)$"
-)
+_ASKED_SPEED = re.compile(r"^(?P<actor>[^.@]+)\.[^.@]+@\d+\.(?:speed@\d+\.speed|target)$")
 
 
 def _running_persons(

@@ -476,7 +476,6 @@ class Lowerer:
                 # left open, an angle or a height is 0 (level, on the road), not a draw
                 self.problem.preferred.setdefault(var.name, (Fraction(0), Fraction(0)))
 
-
     def _scalar_var(self, path: str, sym: Symbol) -> ir.Var | None:
         existing = self.problem.variables.get(path)
         if existing is not None:

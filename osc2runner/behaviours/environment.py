@@ -155,8 +155,6 @@ class Recorded(InstantAction):
         self.ctx.record("environment", self.use.symbol.name, detail)
 
 
-
-
 @action("environment", "air", note=_RECORDED)
 class RecordedAir(Recorded):
     """``air``: recorded in the event log only."""

@@ -196,7 +196,9 @@ def local_to_unix_time(
     """Seconds since 1970-01-01 00:00 UTC of a local date and time ``time_zone`` hours
     ahead of UTC (proleptic Gregorian calendar, no leap seconds)."""
     try:
-        local = datetime.datetime(int(year), int(month), int(day), int(hour), int(minute), int(second))
+        local = datetime.datetime(
+            int(year), int(month), int(day), int(hour), int(minute), int(second)
+        )
     except ValueError as exc:
         raise RunFault(f"local_to_unix_time: {exc}") from None
     epoch = datetime.datetime(1970, 1, 1)

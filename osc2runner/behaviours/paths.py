@@ -82,9 +82,7 @@ def path_points(value: Any) -> list[tuple[float, float]]:
     return [_xy(p) for p in points]
 
 
-def _frame(
-    action: ActionBehaviour, reference: Any, transform: str
-) -> tuple[float, float, float]:
+def _frame(action: ActionBehaviour, reference: Any, transform: str) -> tuple[float, float, float]:
     """Origin and heading of the frame relative points are given in."""
     ref = reference if isinstance(reference, Actor) else action.actor
     st = action.ctx.states[ref.name]
@@ -121,9 +119,7 @@ class PathMotion:
         self.begin = max(0.0, start_offset)
         self.end = path.length - max(0.0, end_offset)
         if self.end <= self.begin:
-            raise ActionError(
-                f"the offsets leave nothing of the path ({path.length:.2f} m long)"
-            )
+            raise ActionError(f"the offsets leave nothing of the path ({path.length:.2f} m long)")
         ctrl = action.controller
         if ctrl is None:
             raise ActionError("this actor has no driver (it cannot move)")
@@ -204,7 +200,9 @@ class _PathAction(ActionBehaviour):
         value = absolute if absolute is not None else relative
         points = path_points(value)
         if relative is not None:
-            frame = _frame(self, args.get("reference"), str(args.get("transform", "object_relative")))
+            frame = _frame(
+                self, args.get("reference"), str(args.get("transform", "object_relative"))
+            )
             points = _to_world(points, frame)
         try:
             path = Polyline(points, str(getattr(value, "interpolation", "straight_line")))

@@ -81,7 +81,6 @@ class AssignPosition(InstantAction):
             if getattr(ctrl, "lateral", None) is not None:
                 ctrl.lateral.keep_offset(ctx.states[name].t)
 
-
     def _world_position(self, position: object) -> None:
         """``assign_position(position: p)``: the actor's centre at world ``(p.x, p.y)``
         (``z`` is not used: the world is flat); heading and speed are kept, or come from

@@ -107,8 +107,8 @@ class SetBulbState(InstantAction):
     def start(self) -> None:
         args = self.args
         given = args.get("traffic_light")
-        lights = list(_lights(self).values()) if given is None else _with_sync(
-            self, _light(self, given)
+        lights = (
+            list(_lights(self).values()) if given is None else _with_sync(self, _light(self, given))
         )
         change = _bulb(str(args["bulb_color"]), str(args["bulb_kind"]), str(args["bulb_state"]))
         switch(self, lights, change)
@@ -242,9 +242,7 @@ def group_state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
 def semantic_state_to_state(ctx: RunContext, subject: Any, state: str) -> tuple[Any, ...]:
     """The light's bulbs as the semantic state sets them (new values, the light unchanged)."""
     change = _semantic(str(state))
-    return tuple(
-        SimpleNamespace(**{**vars(b), "state": change(b)}) for b in subject.bulbs
-    )
+    return tuple(SimpleNamespace(**{**vars(b), "state": change(b)}) for b in subject.bulbs)
 
 
 @method("traffic_light", "state_to_semantic_state")

@@ -21,9 +21,9 @@ from __future__ import annotations
 
 import logging
 import math
-from types import SimpleNamespace
 from collections.abc import Callable
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -99,7 +99,6 @@ def initial_weather() -> SimpleNamespace:
         fog=SimpleNamespace(visual_range=math.inf),
         clouds=SimpleNamespace(cloudiness=0),
     )
-
 
 
 class RunFault(Exception):

@@ -152,9 +152,21 @@ class PedestrianController:
         self.yaw: float | None = None
         self.path: Polyline | None = None
         self.heading_for: Callable[[ActorState], float] | None = None
+        self._last: PedestrianInput | None = None
 
     def step(self, state: ActorState) -> PedestrianInput:
         s = self.speed
+        last = self._last
+        if (
+            last is not None
+            and s.accel_goal is None
+            and s.target == state.speed == last.speed
+            and self.heading_for is None
+            and self.path is None
+            and self.lateral.path is None
+            and self.yaw == last.yaw
+        ):
+            return last  # standing or walking straight on as told: the same input
         if s.target is None:
             v = state.speed
         else:
@@ -167,7 +179,8 @@ class PedestrianController:
             yaw = self.lateral.heading(state, v)
         else:
             yaw = self.road.heading if self.yaw is None else self.yaw
-        return PedestrianInput(v, yaw)
+        self._last = PedestrianInput(v, yaw)
+        return self._last
 
 
 def controllers_for(world: World, road: Road) -> dict[str, Any]:

@@ -38,8 +38,10 @@ def object_locations(
         pose = _pose(model, values, value)
         if pose is None:
             problems.append(
-                RunProblem("`location(pose: ...)` needs a pose_3d parameter of the scenario",
-                           value.span if value is not None else member.span)
+                RunProblem(
+                    "`location(pose: ...)` needs a pose_3d parameter of the scenario",
+                    value.span if value is not None else member.span,
+                )
             )
             continue
         found[member.actor.name.name.text] = pose

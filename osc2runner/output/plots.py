@@ -208,10 +208,17 @@ def _plot_world(result: Any, out: Path, title: str) -> Path:
         ax.plot(ch["x"][:1], ch["y"][:1], "o", color=line.get_color(), ms=4)
     for name, where in lights.items():
         last = changes[name][-1][1] if changes[name] else "off"
-        ax.plot(where["x"], where["y"], "s", ms=9, color=_LIGHT_COLOURS.get(last, "0.3"),
-                markeredgecolor="black")
-        ax.annotate(name, (where["x"], where["y"]), fontsize=7, xytext=(4, 4),
-                    textcoords="offset points")
+        ax.plot(
+            where["x"],
+            where["y"],
+            "s",
+            ms=9,
+            color=_LIGHT_COLOURS.get(last, "0.3"),
+            markeredgecolor="black",
+        )
+        ax.annotate(
+            name, (where["x"], where["y"]), fontsize=7, xytext=(4, 4), textcoords="offset points"
+        )
     ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: paths")
     ax.set_aspect("equal", adjustable="datalim")
     ax.grid(alpha=0.3)

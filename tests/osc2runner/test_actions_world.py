@@ -85,7 +85,7 @@ def test_follow_path_keeps_the_cross_track_error_small(tmp_path):
             lane(1, at: start)
             position(distance: 30m, at: start)
             speed(30kph, at: start)
-        car.follow_path(absolute: m.create_path(points: [p1, p2, p3, p4], interpolation: straight_line)) with:
+        car.follow_path(m.create_path([p1, p2, p3, p4], straight_line)) with:
             speed(30kph)
 """,
     )
@@ -248,7 +248,10 @@ def test_acceleration_actions_within_the_vehicle_limits(tmp_path):
     assert _at(v, t, 4.0) - _at(v, t, 1.0) == pytest.approx(6.0, abs=0.3)
     # change_acceleration: from +2 to -2 at 4 m/s³ takes 1 s
     ticks = result.event_ticks
-    start, end = ticks("start", "car.change_acceleration")[0], ticks("end", "car.change_acceleration")[0]
+    start, end = (
+        ticks("start", "car.change_acceleration")[0],
+        ticks("end", "car.change_acceleration")[0],
+    )
     assert (end - start) * 0.05 == pytest.approx(1.0, abs=0.1)
     # keep_acceleration holds -2 m/s²
     k0, k1 = ticks("start", "car.keep_acceleration")[0], ticks("end", "car.keep_acceleration")[0]
@@ -287,9 +290,7 @@ def test_a_pedestrian_crosses_at_a_heading_and_speed(tmp_path):
     # 1.5 m/s² up to 5 kph (0.93 s), then 5 kph: y gained in closed form
     v = 5 / 3.6
     ramp = v / 1.5
-    assert ped["y"][-1] - ped["y"][0] == pytest.approx(
-        0.5 * v * ramp + v * (6.0 - ramp), abs=0.1
-    )
+    assert ped["y"][-1] - ped["y"][0] == pytest.approx(0.5 * v * ramp + v * (6.0 - ramp), abs=0.1)
 
 
 def test_a_pedestrian_walks_to_a_lateral_position(tmp_path):
@@ -346,9 +347,7 @@ def test_hitting_a_pedestrian_fails_the_run_unless_allowed(tmp_path):
     hit = run_text(tmp_path, body.format(allow=""))
     assert hit.outcome.status == "failure"
     assert "collision: car and ped" in hit.outcome.reason
-    allowed = run_text(
-        tmp_path, body.format(allow="\n            avoid_collisions(false)")
-    )
+    allowed = run_text(tmp_path, body.format(allow="\n            avoid_collisions(false)"))
     assert allowed.outcome.status == "success", allowed.outcome.reason
 
 
@@ -421,17 +420,25 @@ def test_traffic_light_states_in_sequence_and_readable(tmp_path):
             wait elapsed(3s)
             ctrl.set_state(traffic_light: tl, state: [is_off, is_on, is_off])
             wait elapsed(1.5s)
-            ctrl.set_bulb_state(traffic_light: tl, bulb_color: yellow, bulb_kind: circle, bulb_state: is_off)
-            ctrl.set_bulb_state(traffic_light: tl, bulb_color: red, bulb_kind: circle, bulb_state: is_on)
+            ctrl.set_bulb_state(tl, yellow, circle, is_off)
+            ctrl.set_bulb_state(tl, red, circle, is_on)
 """,
     )
     assert result.outcome.status == "success", result.outcome.reason
-    assert _light_changes(result, "tl") == [(0.0, "go"), (3.0, "attention"), (4.5, "off"), (4.5, "stop")]
+    assert _light_changes(result, "tl") == [
+        (0.0, "go"),
+        (3.0, "attention"),
+        (4.5, "off"),
+        (4.5, "stop"),
+    ]
     assert _light_changes(result, "tl2") == [(0.0, "go")]  # sync: the same group
     # the drive ended in the tick the red bulb came on
     assert result.event_ticks("stop", "car.drive")[0] * 0.05 == pytest.approx(4.5, abs=0.051)
     assert result.metadata["traffic_lights"]["tl"] == {
-        "x": 120.0, "y": -1.0, "yaw": 0.0, "group": "north"
+        "x": 120.0,
+        "y": -1.0,
+        "yaw": 0.0,
+        "group": "north",
     }
 
 
@@ -465,7 +472,12 @@ def test_play_cycles_switches_phases_on_time(tmp_path):
     )
     assert result.outcome.status == "success", result.outcome.reason
     assert _light_changes(result, "tl") == [
-        (0.0, "stop"), (4.0, "go"), (10.0, "stop"), (14.0, "go"), (20.0, "stop"), (24.0, "go")
+        (0.0, "stop"),
+        (4.0, "go"),
+        (10.0, "stop"),
+        (14.0, "go"),
+        (20.0, "stop"),
+        (24.0, "go"),
     ]
 
 
@@ -521,25 +533,19 @@ def test_shapes_reach_their_target_at_their_duration():
     assert shape_compute(None, smooth, 2 * d) == 10.0
 
 
-def test_distance_to_an_xyz_point(tmp_path):
-    result = run_text(
-        tmp_path,
-        """\
-    car: vehicle
-    m: map
-    var ahead: length = sample(car.distance_to_xyz_point(m.create_xyz_point(50m, 5.25m, 0m), longitudinal), @car_done)
-    var aside: length = sample(car.distance_to_xyz_point(m.create_xyz_point(50m, 5.25m, 0m), lateral), @car_done)
-    event car_done
-    do serial:
-        car.assign_position() with:
-            lane(1, at: start)
-            position(distance: 20m, at: start)
-        emit car_done
-        car.drive(duration: 0.1s)
-""",
-    )
-    assert result.outcome.status == "success", result.outcome.reason
-    values = result.metadata.get("variables") or {}
-    if values:
-        assert values["ahead"] == pytest.approx(30.0, abs=1e-6)
-        assert values["aside"] == pytest.approx(3.5, abs=1e-6)
+def test_distance_to_an_xyz_point():
+    from types import SimpleNamespace
+
+    from osc2runner.behaviours.methods import distance_to_xyz_point
+    from osc2runner.behaviours.paths import create_xyz_point
+
+    car = SimpleNamespace(name="car")
+    state = SimpleNamespace(x=20.0, y=1.75, yaw=0.0, length=4.5, width=1.8)
+    ctx = SimpleNamespace(states={"car": state})
+    point = create_xyz_point(ctx, None, 50.0, 5.25, 0.0)
+    assert distance_to_xyz_point(ctx, car, point, "longitudinal") == 30.0
+    assert distance_to_xyz_point(ctx, car, point, "lateral") == 3.5
+    assert distance_to_xyz_point(ctx, car, point, "longitudinal", "bounding_boxes") == 27.75
+    assert distance_to_xyz_point(ctx, car, point, "euclidean") == math.hypot(30.0, 3.5)
+    state.yaw = math.pi / 2  # turned left: the point is now to its right, 30 m
+    assert distance_to_xyz_point(ctx, car, point, "lateral") == pytest.approx(-30.0)
