@@ -391,9 +391,8 @@ class World:
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
         self._ped_input: list[PedestrianInput | None] = [None] * len(self._pedestrians)
-        self._ped_place: list[tuple[float, float, float, float, int | None] | None] = [
-            None
-        ] * len(self._pedestrians)
+        n_ped = len(self._pedestrians)
+        self._ped_place: list[tuple[float, float, float, float, int | None] | None] = [None] * n_ped
         self._accel = np.zeros(nv)
         for spec in self.specs:
             if spec.kind != "obstacle":  # obstacles stay where the model put them
