@@ -244,13 +244,19 @@ UNSAFE_GAP = Code(
 )
 UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
 UNREADABLE_MAP = Code(
-    "L515", "unreadable-map", E, "a map file is named that is missing or cannot be read"
+    "L516", "unreadable-map", E, "a map file is named that is missing or cannot be read"
 )
 ROAD_TOO_SHORT_FOR_MOTION = Code(
     "L514",
     "road-too-short-for-motion",
     E,
     "constant speeds and durations take an actor past the road's end from every start",
+)
+PERSON_FASTER_THAN_WALKING = Code(
+    "L515",
+    "person-faster-than-walking",
+    W,
+    "a person is asked to move faster than an adult walks",
 )
 
 # --- B: behaviour flow -----------------------------------------------------------

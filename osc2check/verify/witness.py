@@ -125,6 +125,8 @@ class Witness:
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
     unused_map: str | None = None  # a map the scenario names that placement could not use
+    # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
+    lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
     map_source: str | None = None  # the OpenDRIVE file of the map (absolute), if it is one
     elements: tuple[tuple[str, ElementValue], ...] = ()  # road/route/lane/junction fields
 
@@ -149,6 +151,10 @@ class Witness:
             "parameters": [p.to_json() for p in self.parameters],
             "map_elements": {path: v.to_json() for path, v in self.elements},
             "notes": list(self.notes),
+            "lists": {
+                k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
+                for k, items in self.lists.items()
+            },
         }
 
     def table(self) -> str:
@@ -307,6 +313,7 @@ def build_witness(
         tuple(actors),
         tuple(notes),
         unused,
+        dict(problem.lists),
         source,
         tuple(elements),
     )

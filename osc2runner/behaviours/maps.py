@@ -18,9 +18,10 @@ Values the map methods make (ASAM OpenSCENARIO DSL 2.1 §8.12.2):
 * :class:`XyzPoint` ``(position)``: world coordinates (``position.x``, ``.y``, ``.z``);
 * :class:`CompoundRoute` ``(route_elements)``: routes one after the other.
 
-``along(route: r)`` makes the actor's lane following pass the roads of ``r`` (its
-route through the forks ahead is re-planned when the phase starts); at time 0
-the witness placed the actor on ``r`` already.
+``along(route: r)`` with a map route makes the actor's lane following pass the
+roads of ``r`` (its route through the forks ahead is re-planned when the phase
+starts; at time 0 the witness placed the actor on ``r`` already): the `along`
+modifier (``behaviours.paths``) calls :func:`follow_route` for such a route.
 """
 
 from __future__ import annotations
@@ -41,11 +42,13 @@ from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 
 __all__ = [
-    "Along",
     "CompoundRoute",
     "OdrPoint",
     "RoutePoint",
     "XyzPoint",
+    "follow_route",
+    "is_map_route",
+    "route_holds",
 ]
 
 
@@ -149,45 +152,37 @@ def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
 # ---------------------------------------------------------------------- along
 
 
-@modifier("along", note="lane following passes the route's roads; start: the witness's")
-class Along(Modifier):
-    """``along(route: r)``: the actor's lane following passes the roads of ``r`` (a road,
-    a route, a lane, a compound route or a route point's route).
+def is_map_route(value: object) -> bool:
+    """Whether an `along` route is the map's (a road, route, lane, compound route or route
+    point) rather than a world path."""
+    return bool(roads_of(value)) and not hasattr(value, "points")
 
-    ``start``: the witness placed the actor on ``r`` (checked at a later phase's
-    start); ``all``, ``end``: the route ahead is planned through ``r`` when the phase
-    starts, and at ``end`` the actor is on one of its roads when the phase ends.
-    ``end_offset`` is not supported.
-    """
 
-    def _roads(self) -> tuple[str, ...]:
-        roads = roads_of(self.args.get("route"))
-        if not roads:
-            raise ActionError("along() needs a route on the map (a road, route or lane field)")
-        return roads
+def follow_route(modifier: Modifier, action: ActionBehaviour) -> None:
+    """``along(route: r)`` with a map route: the actor's lane following passes the roads of
+    ``r`` (the route through the forks ahead is re-planned when the phase starts).
+    ``end_offset`` is not supported."""
+    if float(modifier.args.get("end_offset", 0.0) or 0.0) != 0.0:
+        raise ActionError("along(end_offset: ...) on a map route is not supported")
+    roads = roads_of(modifier.args.get("route"))
+    lateral = getattr(action.controller, "lateral", None)
+    if lateral is None or not hasattr(lateral, "set_route"):
+        return  # a walker: along is checked, not steered
+    lateral.set_route(roads)
+    state = action.state
+    ref = state.lane_ref
+    if ref is not None and action.ctx.network.lane(ref).drivable and state.road not in roads[1:]:
+        offset = lateral.path.at(0.0)[0] if lateral.path is not None else state.offset
+        lateral.keep_lane(ref, offset if math.isfinite(offset) else 0.0)
 
-    def realise(self, action: ActionBehaviour) -> None:
-        if float(self.args.get("end_offset", 0.0) or 0.0) != 0.0:
-            raise ActionError("along(end_offset: ...) is not supported")
-        roads = self._roads()
-        ctrl = action.controller
-        lateral = getattr(ctrl, "lateral", None)
-        if lateral is None:
-            return  # a walker: along is checked, not steered
-        lateral.set_route(roads)
-        state = action.state
-        if lateral.path is None or state.road not in roads:
-            offset = lateral.path.at(0.0)[0] if lateral.path is not None else 0.0
-            ref = state.lane_ref
-            if ref is not None and action.ctx.network.lane(ref).drivable:
-                lateral.keep_lane(ref, offset if lateral.path is not None else state.offset)
 
-    def holds(self, action: ActionBehaviour) -> str | None:
-        roads = self._roads()
-        road = action.state.road
-        if road in roads:
-            return None
-        return f"it is on road `{road}`, not on {', '.join(f'`{r}`' for r in roads)}"
+def route_holds(modifier: Modifier, action: ActionBehaviour) -> str | None:
+    """Whether the actor is on one of the roads of an `along` map route now."""
+    roads = roads_of(modifier.args.get("route"))
+    road = action.state.road
+    if road in roads:
+        return None
+    return f"it is on road `{road}`, not on {', '.join(f'`{r}`' for r in roads)}"
 
 
 # ---------------------------------------------------------------------- map modifiers
@@ -263,11 +258,6 @@ def create_odr_point(
     point = OdrPoint(str(road_id), str(lane_id), float(s), float(t))
     _odr_coordinates(ctx, point)  # a road or lane the map lacks is a fault here
     return point
-
-
-@method("map", "create_xyz_point")
-def create_xyz_point(ctx: RunContext, subject: object, x: float, y: float, z: float) -> XyzPoint:
-    return XyzPoint(SimpleNamespace(x=float(x), y=float(y), z=float(z)))
 
 
 @method("map", "odr_to_route_point")

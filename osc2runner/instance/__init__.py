@@ -17,6 +17,7 @@ from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import RoadNetwork
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.instance.actors import Actor, scenario_actors
+from osc2runner.instance.locations import object_locations
 from osc2runner.instance.roads import network_for
 from osc2runner.instance.values import ScenarioValues
 
@@ -69,6 +70,11 @@ def instantiate(analysis: Analysis, uri: str, scenario: Symbol, seed: int) -> Sc
         )
     values = ScenarioValues(model, scenario, witness)
     actors = scenario_actors(model, scenario, values, witness)
+    locations, problems = object_locations(model, scenario, values)
+    if problems:
+        raise ScenarioError(problems)
+    for actor in actors:
+        actor.location = locations.get(actor.name)
     try:
         network = network_for(witness)
     except (MapError, UnknownMapError) as exc:

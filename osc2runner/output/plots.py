@@ -6,10 +6,11 @@
   onset (when the run has hard or comfortable stops);
 * ``gap_steering.png``: the longitudinal gap from the first vehicle to each
   other actor (projected on its heading), and the steering inputs;
-* ``map.png``: a bird's-eye view of the map's lanes (driving lanes grey, other
-  lane types paler, junction roads darker) with every actor's path, its start
-  (a circle) and its end (a square); the view is the actors' paths with a
-  margin, or the whole map when that is smaller.
+* ``world.png``: a bird's-eye view: the map's lanes (driving lanes grey, junction
+  roads darker, sidewalks and other lane types paler) under every actor's path
+  (its start a circle, its end a square) and the traffic lights in their last
+  state; the view is the paths with a margin (or the whole map, when smaller);
+  below, each light's semantic state over time.
 
 Emitted events are marked on the time axes. Figures are drawn with
 matplotlib's Agg canvas directly (no pyplot state, no display needed), each
@@ -28,9 +29,10 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
 from osc2check.world.network import RoadNetwork
+
 from osc2runner.output.files import atomic_open
 
-__all__ = ["brake_onsets", "plot_map", "plot_run"]
+__all__ = ["brake_onsets", "plot_run"]
 
 KPH = 3.6
 
@@ -97,13 +99,11 @@ def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[in
 
 
 def plot_run(result: Any, out: Path, network: RoadNetwork | None = None) -> list[Path]:
-    """Write the plots of ``result`` into ``out`` (with ``network``, the map view too);
-    returns the files written."""
+    """Write the plots of ``result`` into ``out`` (``world.png`` draws the lanes of
+    ``network`` when given); returns the files written."""
     out.mkdir(parents=True, exist_ok=True)
     actors = _moving(result)
     written: list[Path] = []
-    if network is not None and result.telemetry:
-        written.append(plot_map(result, network, out / "map.png"))
     if not actors:
         return written
     title = f"{result.metadata['scenario']}: {result.outcome.status}"
@@ -182,21 +182,30 @@ def plot_run(result: Any, out: Path, network: RoadNetwork | None = None) -> list
             ax.grid(alpha=0.3)
             ax.legend(fontsize=8, loc="lower right")
         written.append(_save(fig, out / "gap_steering.png"))
+    written.append(_plot_world(result, out, title, network))
     return written
 
 
-def _save(fig: Figure, path: Path) -> Path:
-    with atomic_open(path, "wb") as f:
-        fig.savefig(f, format="png")
-    return path
+#: colours of the semantic traffic-light states in the plots
+_LIGHT_COLOURS = {
+    "off": "0.6",
+    "stop": "red",
+    "stop_attention": "darkorange",
+    "attention": "gold",
+    "caution": "khaki",
+    "go": "green",
+    "go_exclusive": "darkgreen",
+    "non_functional": "purple",
+}
+_SEMANTIC_ORDER = list(_LIGHT_COLOURS)
 
 
 _LANE_COLOURS = {"driving": "0.80", "junction": "0.70", "walking": "#efe2cf", "other": "0.92"}
-MAP_MARGIN = 40.0  # m around the actors' paths
+MAP_MARGIN = 40.0  # m of map around the actors' paths
 
 
 def _lane_polygons(network: RoadNetwork) -> dict[str, list[np.ndarray]]:
-    """Every lane as a polygon in the world, grouped by how it is drawn."""
+    """Every lane of the map as a polygon in the world, grouped by how it is drawn."""
     groups: dict[str, list[np.ndarray]] = {key: [] for key in _LANE_COLOURS}
     for road in network.roads.values():
         for section in road.sections:
@@ -223,11 +232,8 @@ def _lane_polygons(network: RoadNetwork) -> dict[str, list[np.ndarray]]:
     return groups
 
 
-def plot_map(result: Any, network: RoadNetwork, path: Path) -> Path:
-    """``map.png``: the map's lanes seen from above and every actor's path on them."""
-    fig = Figure(figsize=(9, 9), dpi=100, layout="constrained")
-    FigureCanvasAgg(fig)
-    ax = fig.add_subplot(1, 1, 1)
+def _draw_map(ax: Any, network: RoadNetwork, result: Any) -> None:
+    """The map's lanes under the paths, the view set to the paths with a margin."""
     for key, polygons in _lane_polygons(network).items():
         if polygons:
             ax.add_collection(
@@ -235,31 +241,73 @@ def plot_map(result: Any, network: RoadNetwork, path: Path) -> Path:
                     polygons, facecolors=_LANE_COLOURS[key], edgecolors="0.55", linewidths=0.3
                 )
             )
-    xs: list[np.ndarray] = []
-    ys: list[np.ndarray] = []
-    for name, ch in result.telemetry.items():
-        x, y = ch["x"], ch["y"]
-        ok = np.isfinite(x) & np.isfinite(y)
-        if not ok.any():
-            continue
-        x, y = x[ok], y[ok]
-        (line,) = ax.plot(x, y, lw=1.6, label=name)
-        ax.plot(x[0], y[0], "o", color=line.get_color(), ms=6)
-        ax.plot(x[-1], y[-1], "s", color=line.get_color(), ms=6)
-        xs.append(x)
-        ys.append(y)
     x0, x1, y0, y1 = network.bounds()
-    if xs:
-        ax0 = min(float(a.min()) for a in xs) - MAP_MARGIN
-        ax1 = max(float(a.max()) for a in xs) + MAP_MARGIN
-        ay0 = min(float(a.min()) for a in ys) - MAP_MARGIN
-        ay1 = max(float(a.max()) for a in ys) + MAP_MARGIN
-        x0, x1, y0, y1 = max(x0, ax0), min(x1, ax1), max(y0, ay0), min(y1, ay1)
+    xs = [ch["x"][np.isfinite(ch["x"])] for ch in result.telemetry.values()]
+    ys = [ch["y"][np.isfinite(ch["y"])] for ch in result.telemetry.values()]
+    if any(len(a) for a in xs):
+        x0 = max(x0, min(float(a.min()) for a in xs if len(a)) - MAP_MARGIN)
+        x1 = min(x1, max(float(a.max()) for a in xs if len(a)) + MAP_MARGIN)
+        y0 = max(y0, min(float(a.min()) for a in ys if len(a)) - MAP_MARGIN)
+        y1 = min(y1, max(float(a.max()) for a in ys if len(a)) + MAP_MARGIN)
     ax.set_xlim(x0, x1)
     ax.set_ylim(y0, y1)
-    ax.set_aspect("equal", adjustable="datalim")
-    title = f"{result.metadata['scenario']}: {result.outcome.status}"
-    ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: map `{network.name}`")
-    ax.grid(alpha=0.2)
-    ax.legend(fontsize=8, loc="best")
-    return _save(fig, path)
+
+
+def _plot_world(result: Any, out: Path, title: str, network: RoadNetwork | None = None) -> Path:
+    """``world.png``: every actor's path in world x-y (start and end marked) over the map's
+    lanes, with the traffic lights at their places in their last state; below, each
+    light's state over time."""
+    lights = result.metadata.get("traffic_lights") or {}
+    changes: dict[str, list[tuple[float, str]]] = {name: [] for name in lights}
+    for e in result.events:
+        if e.kind == "traffic_light" and e.name in changes:
+            changes[e.name].append((e.time, e.detail.split(" ")[0]))
+    rows = 2 if lights else 1
+    fig = Figure(figsize=(10, 8 + 3.2 * (rows - 1)), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    grid = fig.add_gridspec(rows, 1, height_ratios=[8, 3.2][:rows])
+    axes = [fig.add_subplot(grid[i, 0]) for i in range(rows)]
+    ax = axes[0]
+    if network is not None:
+        _draw_map(ax, network, result)
+    for name, ch in result.telemetry.items():
+        (line,) = ax.plot(ch["x"], ch["y"], label=name, lw=1.4)
+        ax.plot(ch["x"][:1], ch["y"][:1], "o", color=line.get_color(), ms=5)
+        ax.plot(ch["x"][-1:], ch["y"][-1:], "s", color=line.get_color(), ms=5)
+    for name, where in lights.items():
+        last = changes[name][-1][1] if changes[name] else "off"
+        ax.plot(
+            where["x"],
+            where["y"],
+            "s",
+            ms=9,
+            color=_LIGHT_COLOURS.get(last, "0.3"),
+            markeredgecolor="black",
+        )
+        ax.annotate(
+            name, (where["x"], where["y"]), fontsize=7, xytext=(4, 4), textcoords="offset points"
+        )
+    where = f" on map `{network.name}`" if network is not None else ""
+    ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: paths{where}")
+    ax.set_aspect("equal", adjustable="box" if network is not None else "datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    if lights:
+        ax2 = axes[1]
+        end = max((float(ch["time"][-1]) for ch in result.telemetry.values()), default=0.0)
+        for name, seq in changes.items():
+            times = [t for t, _ in seq] + [end]
+            states = [_SEMANTIC_ORDER.index(s) for _, s in seq]
+            if states:
+                ax2.step(times, [*states, states[-1]], where="post", label=name)
+        ax2.set_yticks(range(len(_SEMANTIC_ORDER)), _SEMANTIC_ORDER, fontsize=7)
+        ax2.set(xlabel="time (s)", title="traffic lights")
+        ax2.grid(alpha=0.3)
+        ax2.legend(fontsize=8, loc="lower right")
+    return _save(fig, out / "world.png")
+
+
+def _save(fig: Figure, path: Path) -> Path:
+    with atomic_open(path, "wb") as f:
+        fig.savefig(f, format="png")
+    return path

@@ -394,6 +394,7 @@ class World:
             self._locators[i].locate(*spec.pose(self.network)) for i, spec in enumerate(self.specs)
         ]
         self._moving_rows = [i for i in range(n) if not self._is_static[i]]
+        self._located: list[tuple[float, float] | None] = [None] * n
         self._pedestrian_rows = set(self._ped_pos.tolist())
         self._centre = np.zeros((n, 2))
         self._yaw_all = np.zeros(n)
@@ -430,6 +431,8 @@ class World:
         self._ped_speed = np.zeros(len(self._pedestrians))
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
+        self._ped_input: list[PedestrianInput | None] = [None] * len(self._pedestrians)
+        self._located = [None] * len(self.specs)
         self._accel = np.zeros(nv)
         self._distance = np.zeros(len(self.specs))
         self._read()
@@ -453,6 +456,7 @@ class World:
         kind = self._kinds[self._index[name]]
         m, d = self.model, self.data
         self._locators[self._index[name]].reset()
+        self._located[self._index[name]] = None
         if kind == "vehicle":
             row = self._vrow[name]
             q = self._qadr[row]
@@ -476,6 +480,7 @@ class World:
             self._ped_speed[row] = speed
             self._ped_yaw[row] = yaw
             self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
+            self._ped_input[row] = None
         else:
             raise ValueError(f"obstacle `{name}` is static and cannot be placed after start")
         self._locate()
@@ -511,6 +516,10 @@ class World:
             self.actuators.set_command(self._vrow[name], value.throttle, value.brake, value.steer)
         elif kind == "pedestrian" and isinstance(value, PedestrianInput):
             row = self._prow[name]
+            held = self._ped_input[row]
+            if (held is value or held == value) and self._ped_accel[row] == 0.0:
+                return  # the same input as held: nothing changes (idle walkers cost nothing)
+            self._ped_input[row] = value
             yaw = value.yaw
             speed = value.speed
             self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
@@ -571,9 +580,12 @@ class World:
         centre, yaw = self._poses()
         points = centre.tolist()
         angles = yaw.tolist()
-        positions, locators = self._positions, self._locators
+        positions, locators, last = self._positions, self._locators, self._located
         for i in self._moving_rows:
             x, y = points[i]
+            if last[i] == (x, y):
+                continue  # a walker standing still: where it was
+            last[i] = (x, y)
             positions[i] = locators[i].locate(x, y, angles[i])
 
     def follow(self, name: str, path: LanePath | None) -> None:
@@ -759,12 +771,58 @@ class World:
                     p.drivable,
                     distance[i],
                 )
-        for spec in self._pedestrians:
-            out[spec.name] = self.state(spec.name)
+        if len(self._pedestrians):
+            self._read_pedestrians(out, tick, time)
         if static or any(spec.name not in out for spec in self.specs if spec.kind == "obstacle"):
             for i in self._obs_pos:
                 name = self._names[i]
                 out[name] = self.state(name)
+
+    def _read_pedestrians(self, out: dict[str, ActorState], tick: int, time: float) -> None:
+        """The walkers' states, as :meth:`state` gives them (their road coordinates are
+        located again only when they moved: :meth:`_locate`)."""
+        pos = self.data.mocap_pos[self._mocap, :2].tolist()
+        speed = self._ped_speed.tolist()
+        yaw = self._ped_yaw.tolist()
+        accel = self._ped_accel.tolist()
+        rows = self._ped_pos.tolist()
+        positions = self._positions
+        distance = self._distance
+        nan = math.nan
+        for row, spec in enumerate(self._pedestrians):
+            x, y = pos[row]
+            i = rows[row]
+            p = positions[i]
+            params = spec.params
+            out[spec.name] = ActorState(
+                spec.name,
+                "pedestrian",
+                tick,
+                time,
+                x,
+                y,
+                yaw[row],
+                speed[row],
+                0.0,
+                0.0,
+                accel[row],
+                p.number if p.inside else None,
+                p.s,
+                p.t,
+                nan,
+                nan,
+                nan,
+                nan,
+                params.length,
+                params.width,
+                p.road,
+                p.section,
+                p.lane,
+                p.offset,
+                p.direction,
+                p.drivable,
+                float(distance[i]),
+            )
 
     # ------------------------------------------------------------------ divergence
 

@@ -83,7 +83,7 @@ def _turn_across_path(tmp_path: Path, map_path: Path, arm: float, seed: int) -> 
     ego_enters = int(np.argmax(ego_roads != ego_in))
     tgt_leaves = int(np.argmax(tgt_roads == tgt_out))
     assert tgt_leaves < ego_enters
-    assert (tmp_path / "out" / "map.png").is_file()
+    assert (tmp_path / "out" / "world.png").is_file()
 
 
 def _turns(network):  # noqa: ANN001, ANN202
