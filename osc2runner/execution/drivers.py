@@ -24,7 +24,6 @@ import numpy as np
 from osc2check.world.carriageways import carriageways, lane_at
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
-
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.vehicle import VehicleParams

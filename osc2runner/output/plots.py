@@ -29,7 +29,6 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
 from osc2check.world.network import RoadNetwork
-
 from osc2runner.output.files import atomic_open
 
 __all__ = ["brake_onsets", "plot_run"]
