@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.network import Lane, LaneRef, RoadNetwork
 from osc2check.world.paths import LanePath
 
 __all__ = ["PathCursor", "PathPoint", "RoadLocator", "RoadPosition"]
@@ -183,6 +183,7 @@ class RoadLocator:
         samples = network.cache.setdefault("road_samples", {})
         assert isinstance(samples, dict)
         self._samples: dict[str, _RoadSamples] = samples
+        self._lanes: dict[LaneRef, Lane] = {}
 
     def follow(self, path: LanePath | None) -> None:
         """Prefer ``path`` (the lanes the actor drives) from now on (None: no path)."""
@@ -232,9 +233,9 @@ class RoadLocator:
             k = i if a < 0.5 else i + 1
             ref = cursor.path.lanes[lane_of[k]]
             along = point.distance - float(cursor.path.distance[k])
-            s = ss[k] + along * self.network.lane(ref).direction
+            s = ss[k] + along * self._lane(ref).direction
             centre = ts[k]
-        lane = self.network.lane(ref)
+        lane = self._lane(ref)
         self._road = ref.road
         self._segment = -1  # found from s when the road is needed
         self._s_hint = s
@@ -358,6 +359,12 @@ class RoadLocator:
             drivable,
             self._number(point.lane),
         )
+
+    def _lane(self, ref: LaneRef) -> Lane:
+        found = self._lanes.get(ref)
+        if found is None:
+            found = self._lanes[ref] = self.network.lane(ref)
+        return found
 
     def _number(self, ref: LaneRef) -> int | None:
         if ref in self._numbers:

@@ -564,8 +564,8 @@ class World:
             self._distance[self._veh_pos] += np.abs(self._speed) * self.dt_control
         if len(self._pedestrians):
             self._distance[self._ped_pos] += np.abs(self._ped_speed) * self.dt_control
-        self._locate()
         centre, yaw = self._poses()
+        self._locate(centre, yaw)
         positions = self._positions
         off = [
             not (positions[i].inside if i in self._pedestrian_rows else positions[i].drivable)
@@ -575,9 +575,10 @@ class World:
         self.events.extend(events)
         return events
 
-    def _locate(self) -> None:
+    def _locate(self, centre: np.ndarray | None = None, yaw: np.ndarray | None = None) -> None:
         """The road coordinates of every moving actor, from their new poses."""
-        centre, yaw = self._poses()
+        if centre is None or yaw is None:
+            centre, yaw = self._poses()
         points = centre.tolist()
         angles = yaw.tolist()
         positions, locators, last = self._positions, self._locators, self._located
