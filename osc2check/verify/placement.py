@@ -382,10 +382,15 @@ class PlacementLowerer:
         """The map the scenario names (``map_file`` or ``set_map_file``), read; the default
         map when it names none, or one that cannot be used (the finding says why)."""
         name, span = self._map_name()
-        if name is None:
-            return MapChoice(self.default_map, builtin_network(self.default_map))
         folder = scenario_folder(span.uri if span is not None else self.problem.span.uri)
-        fallback = builtin_network(self.default_map)
+        try:  # the configured default map (`[tool.osc2check.road] map`), a name or a file
+            fallback = load_map(self.default_map, folder)
+        except (MapError, UnknownMapError):
+            fallback = builtin_network("default")
+        if name is None:
+            path = map_path(self.default_map, folder)
+            source = str(path.resolve()) if path is not None and path.is_file() else None
+            return MapChoice(self.default_map if source else fallback.name, fallback, source)
         try:
             network = load_map(name, folder)
         except UnknownMapError as err:
