@@ -164,16 +164,20 @@ class Witness:
             f"lanes numbered {self.lane_numbering.replace('_', ' ')})"
         ]
         if self.actors:
+            on_map = self.map_source is not None  # an OpenDRIVE map: where on it, too
             lines.append(
                 f"  {'actor':<14}{'kind':<20}{'lane':>5}{'s (m)':>10}{'t (m)':>8}"
                 f"{'speed (kph)':>13}"
+                + (f"  {'road':>6}{'lane_id':>8}{'road s':>9}" if on_map else "")
             )
             for a in self.actors:
                 kind = a.kind if a.kind == a.category else f"{a.kind}/{a.category}"
+                where = f"  {a.road:>6}{a.lane_id:>8}{a.road_s:>9.2f}" if on_map else ""
                 lines.append(
                     f"  {a.name:<14}{kind:<20}{a.lane:>5}"
                     f"{float(a.s):>10.2f}{float(a.t):>8.2f}"
                     f"{float(a.speed * Fraction(18, 5)):>13.2f}"
+                    + where
                     + ("" if a.placed else "   (not placed by the scenario)")
                 )
         shown = [p for p in self.parameters if p.constrained and "@" not in p.name]

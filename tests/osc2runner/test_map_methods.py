@@ -65,7 +65,12 @@ def test_odr_points_measure_t_from_the_lane_centre_when_a_lane_is_given(rural) -
 
 
 def test_the_actor_s_route_point_and_distances(rural) -> None:  # noqa: ANN001
+    from osc2runner.behaviours.methods import get_s_coord, get_t_coord
+
     state = rural.states["car"]
+    # the car starts 50 m along the right lane (lane -1, along s): its road coordinates
+    assert get_s_coord(rural, rural.actors["car"]) == pytest.approx(50.0)
+    assert get_t_coord(rural, rural.actors["car"]) == pytest.approx(-1.75)
     here = maps.get_route_point(rural, rural.actors["car"])
     assert (here.s, here.route.road) == (pytest.approx(state.s), "1")
     ahead = maps.create_route_point(rural, None, ElementValue("road", road="1"), state.s + 25, 0.0)
