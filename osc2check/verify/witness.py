@@ -2,7 +2,9 @@
 
 Values are exact (SI rationals) and are also shown in a readable unit. The
 runner executes exactly this: parameter values and every actor's start lane,
-position, heading and speed.
+position, heading and speed. Constraints the solver could not take
+(``ConstraintProblem.skipped``, C411) are listed in ``unverified``: the witness
+is not claimed to satisfy them.
 """
 
 from __future__ import annotations
@@ -96,6 +98,8 @@ class Witness:
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
     unused_map: str | None = None  # a map the scenario names that placement could not use
+    #: constraints left out of the problem (C411): the values need not satisfy them
+    unverified: tuple[ir.Skipped, ...] = ()
 
     def parameter(self, name: str) -> Value | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -113,6 +117,16 @@ class Witness:
             "actors": [a.to_json() for a in self.actors],
             "parameters": [p.to_json() for p in self.parameters],
             "notes": list(self.notes),
+            "unverified": [
+                {
+                    "path": s.span.uri,
+                    "line": s.span.line,
+                    "column": s.span.column,
+                    "text": s.text,
+                    "reason": s.reason,
+                }
+                for s in self.unverified
+            ],
         }
 
     def table(self) -> str:
@@ -142,6 +156,11 @@ class Witness:
                 lines.append(f"    {p.name:<{width}}  {p.text}")
         for note in self.notes:
             lines.append(f"  note: {note}")
+        for s in self.unverified:
+            lines.append(
+                f"  not verified (these values need not satisfy it): `{s.text}` at line "
+                f"{s.span.line}: {s.reason}"
+            )
         return "\n".join(lines)
 
 
@@ -259,4 +278,5 @@ def build_witness(
         tuple(actors),
         tuple(notes),
         unused,
+        tuple(problem.skipped),
     )

@@ -26,7 +26,7 @@ from osc2check.verify import ir, quick
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
 MAX_CONFLICTS = 10
-_USER_KINDS = ("keep", "default", "argument", "modifier", "declaration")
+_USER_KINDS = ("keep", "default", "argument", "modifier", "declaration", "condition")
 
 # z3 has no type stubs: the module, its contexts, solvers and expressions are Any.
 Z3Context = Any
@@ -158,6 +158,10 @@ class _Encoder:
                 return args[0] - args[1]
             case "*":
                 return args[0] * args[1]
+            case "/":
+                return self._real(args[0]) / self._real(args[1])
+            case "%":
+                return self._remainder(args[0], args[1], t.args[1])
             case "neg":
                 return -args[0]
             case "==":
@@ -183,6 +187,22 @@ class _Encoder:
             case "ite":
                 return z3.If(args[0], args[1], args[2])
         raise ValueError(f"unknown operator {t.op}")
+
+    def _real(self, e: Z3Expr) -> Z3Expr:
+        return self.z3.ToReal(e) if e.is_int() else e
+
+    def _remainder(self, a: Z3Expr, b: Z3Expr, divisor: ir.Term) -> Z3Expr:
+        """``a % b`` floored (the sign of ``b``): z3's own ``mod`` where it agrees (an
+        integer by a positive constant), else ``a - b * floor(a / b)``."""
+        if (
+            a.is_int()
+            and isinstance(divisor, ir.Const)
+            and not isinstance(divisor.value, bool)
+            and divisor.value > 0
+            and divisor.value.denominator == 1
+        ):
+            return a % b
+        return a - b * self.z3.ToInt(self._real(a) / self._real(b))
 
 
 def _value(expr: Z3Expr) -> Fraction | bool:
