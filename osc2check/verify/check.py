@@ -96,7 +96,23 @@ class ScenarioResult:
                 )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
-        return build_witness(self.problem, values, active, seed)
+        return build_witness(self.problem, values, active, seed, _rounded(active, values))
+
+
+def _rounded(active: list[ir.Constraint], values: dict[str, Fraction | bool]) -> list[str]:
+    """Notes for the constraints that the witness's values break only by rounding: a model
+    of non-linear constraints may be irrational (``x * x == 2``), and shows rounded."""
+    notes = []
+    for c in active:
+        try:
+            holds = quick.evaluate(c.term, values) is True
+        except (KeyError, TypeError, ZeroDivisionError):
+            holds = False
+        if not holds:
+            notes.append(
+                f"`{c.text}` holds for irrational values, which the witness shows rounded"
+            )
+    return notes
 
 
 @dataclass

@@ -209,8 +209,10 @@ def build_witness(
     values: dict[str, Fraction | bool],
     active: Iterable[ir.Constraint],
     seed: int | None,
+    rounded: Iterable[str] = (),
 ) -> Witness:
-    """Assemble the witness of ``problem`` from a solver model's ``values``."""
+    """Assemble the witness of ``problem`` from a solver model's ``values``; notes
+    go with it (``rounded``: constraints the values hold only up to rounding)."""
     mentioned: set[str] = set()
     for c in active:
         if c.kind not in ("domain", "placement"):
@@ -224,7 +226,7 @@ def build_witness(
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))
     actors = []
-    notes: list[str] = []
+    notes: list[str] = list(rounded)
     if placement is not None:
         road = placement.road
         for a in placement.actors.values():
