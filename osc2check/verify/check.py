@@ -238,6 +238,8 @@ def verify_program(
                     messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader, MIN_TIME_GAP)
                 )
         for default, by in outcome.overridden:
+            if by is not None and by.kind == "argument":
+                continue  # an invocation's argument: what a parameter's default is for
             if _user_written(default, program) and (by is None or _user_written(by, program)):
                 report(messages.default_overridden(default, by))
         for later, earlier in outcome.conflicting_defaults:

@@ -80,11 +80,14 @@ def _join(prefix: str, name: str) -> str:
 def invocation_path(
     prefix: str, actor_path: str | None, label: ast.Name | None, name: str, inv: ast.Invocation
 ) -> str:
-    """The instance path of an invocation: under the enclosing instance and its actor,
-    named by its label, else ``name@line`` (``hero.cut_in@12``; inside that instance,
-    ``hero.cut_in@12.npc.drive@8``). The witness names an invoked scenario's parameters
-    under it; the runner reads them there."""
-    own = label.text if label is not None else f"{name}@{inv.span.line}"
+    """The instance path of an invocation: under the enclosing instance, its label (a
+    label is unique in its scenario: ``tight``, ``tight.passing``), else its actor and
+    ``name@line`` (``hero.cut_in@12``; inside that instance, ``hero.cut_in@12.npc.drive@8``).
+    The witness names an invoked scenario's parameters under it; the runner reads them
+    there, and names the instance's events after it."""
+    if label is not None:
+        return _join(prefix, label.text)
+    own = f"{name}@{inv.span.line}"
     return _join(_join(prefix, actor_path) if actor_path else prefix, own)
 
 
