@@ -8,8 +8,10 @@ for (``ScenarioResult.witness``, ``z3_backend.Sampler``), so an analysis that
 prints no witness never pays for one.
 
 A conflict is reported at its last user-written constraint in the scenario's
-own file, with the other members as related locations; when every member is in
-another file, at the scenario's name, so the file being checked shows it.
+own file, with the other members as related locations (and the constraints that
+made its implicit members apply, ``Constraint.because``); when every member is in
+another file, at the scenario's name, so the file being checked shows it. Every
+constraint that lowering could not encode is reported once (C411).
 """
 
 from __future__ import annotations
@@ -109,9 +111,7 @@ def _rounded(active: list[ir.Constraint], values: dict[str, Fraction | bool]) ->
         except (KeyError, TypeError, ZeroDivisionError):
             holds = False
         if not holds:
-            notes.append(
-                f"`{c.text}` holds for irrational values, which the witness shows rounded"
-            )
+            notes.append(f"`{c.text}` holds for irrational values, which the witness shows rounded")
     return notes
 
 

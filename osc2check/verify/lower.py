@@ -19,6 +19,14 @@ Values are exact: physical literals become SI rationals through the unit's
 factor and offset; strings and enum members become integers. A constant given
 to an integer parameter loses its fraction (``lane(1.5)`` is lane 1, with the
 T204 warning), and a range's bounds may come in either order.
+
+Everything written is encoded or recorded in ``ConstraintProblem.skipped``
+(reported as C411, listed with the witness), never dropped: quotients and
+remainders (``ir.guarded`` keeps divisors off 0), calls of `is expression`
+methods (inlined), conversions that keep the value, the condition of a
+conditional inheritance (a hard constraint on every instance of the type). A
+`var` is its initialiser at the start when that can be encoded, and otherwise
+has no value here (``Lowerer._variable``).
 """
 
 from __future__ import annotations
