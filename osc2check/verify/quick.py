@@ -283,7 +283,8 @@ class Prepared:
         for t in terms:
             _conjuncts(t, self.conjuncts)
         self.atoms = [_atom(t) for t in self.conjuncts]
-        if any(a.kind == "other" and a.names for a in self.atoms):
+        pairs = zip(self.conjuncts, self.atoms, strict=True)
+        if any(a.kind == "other" and _has_ite(c) for c, a in pairs):
             self.atoms = _folded(self.conjuncts, self.atoms)
         self.by_var: dict[str, list[_Atom]] = {}
         self.order: list[str] = []
@@ -473,19 +474,31 @@ def _choose(
 def _folded(conjuncts: list[ir.Term], atoms: list[_Atom]) -> list[_Atom]:
     """``atoms`` with each non-linear one replaced by the atoms of its conjunct folded with
     the values that equations fix (``determined``)."""
-    fixing = [c for c, a in zip(conjuncts, atoms, strict=True) if a.kind in ("eq", "bool")]
-    known = _propagated([_atom(c) for c in fixing])
+    known = _propagated([a for a in atoms if a.kind in ("eq", "bool")])
+    for a in atoms:
+        a.unknown = len(a.names)  # as propagation found them
     if not known:
         return atoms
     result: list[_Atom] = []
     for c, a in zip(conjuncts, atoms, strict=True):
-        if a.kind != "other" or not any(n in known for n in a.names):
+        if a.kind != "other" or not any(n in known for n in a.names) or not _has_ite(c):
             result.append(a)
             continue
         parts: list[ir.Term] = []
         _conjuncts(fold(c, known), parts)
         result.extend(_atom(p) for p in parts if not (isinstance(p, ir.Const) and p.value is True))
     return result
+
+
+def _has_ite(term: ir.Term) -> bool:
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, ir.Op):
+            if t.op == "ite":
+                return True
+            stack.extend(t.args)
+    return False
 
 
 def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
