@@ -100,6 +100,8 @@ class Witness:
     unused_map: str | None = None  # a map the scenario names that placement could not use
     #: constraints left out of the problem (C411): the values need not satisfy them
     unverified: tuple[ir.Skipped, ...] = ()
+    # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
+    lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
 
     def parameter(self, name: str) -> Value | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -127,6 +129,10 @@ class Witness:
                 }
                 for s in self.unverified
             ],
+            "lists": {
+                k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
+                for k, items in self.lists.items()
+            },
         }
 
     def table(self) -> str:
@@ -281,4 +287,5 @@ def build_witness(
         tuple(notes),
         unused,
         tuple(problem.skipped),
+        dict(problem.lists),
     )

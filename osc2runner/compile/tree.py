@@ -333,9 +333,9 @@ class TreeCompiler:
             and sym.kind is SymbolKind.MODIFIER
             and self.env.registry.find_modifier(self.model, sym) is not None
             and sym.actor is not None
-            and sym.actor.name == "map"
+            and sym.actor.name in ("map", "stationary_object")
         ):
-            return  # the road is chosen from it before compiling
+            return  # the road, an object's location: chosen before compiling (instance)
         self._problem(
             CompileProblem(
                 f"`{self._text(member)}`: modifiers applied to the whole scenario are not "
