@@ -266,7 +266,7 @@ class MapFields:
         require(self._table(given, rows), inv)
 
     def _skip(self, span: Span, why: str) -> None:
-        self.problem.skipped.append((span, why))
+        self.problem.skip(span, self.lw.text_of(span), why)
 
     def _arguments(
         self, modifier: Symbol, args: dict[str, ast.Node], scope: InstanceScope, inv: ast.Invocation

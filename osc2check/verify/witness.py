@@ -6,6 +6,8 @@ runner executes exactly this: parameter values, the map, every actor's start
 its offset ``t``; where that is on the map: road, OpenDRIVE lane, road ``s``, world
 pose), heading and speed, the route it takes through the junctions ahead, and
 the map element each road, route, lane and junction field stands for.
+Constraints the solver could not take (``ConstraintProblem.skipped``, C411) are
+listed in ``unverified``: the witness is not claimed to satisfy them.
 
 An actor's route is the roads it drives through from its start: towards the
 routes its `along` modifiers name, in order, and at the other forks chosen with
@@ -125,6 +127,8 @@ class Witness:
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
     unused_map: str | None = None  # a map the scenario names that placement could not use
+    #: constraints left out of the problem (C411): the values need not satisfy them
+    unverified: tuple[ir.Skipped, ...] = ()
     # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
     lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
     map_source: str | None = None  # the OpenDRIVE file of the map (absolute), if it is one
@@ -151,6 +155,16 @@ class Witness:
             "parameters": [p.to_json() for p in self.parameters],
             "map_elements": {path: v.to_json() for path, v in self.elements},
             "notes": list(self.notes),
+            "unverified": [
+                {
+                    "path": s.span.uri,
+                    "line": s.span.line,
+                    "column": s.span.column,
+                    "text": s.text,
+                    "reason": s.reason,
+                }
+                for s in self.unverified
+            ],
             "lists": {
                 k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
                 for k, items in self.lists.items()
@@ -188,6 +202,11 @@ class Witness:
                 lines.append(f"    {p.name:<{width}}  {p.text}")
         for note in self.notes:
             lines.append(f"  note: {note}")
+        for s in self.unverified:
+            lines.append(
+                f"  not verified (these values need not satisfy it): `{s.text}` at line "
+                f"{s.span.line}: {s.reason}"
+            )
         return "\n".join(lines)
 
 
@@ -236,8 +255,10 @@ def build_witness(
     values: dict[str, Fraction | bool],
     active: Iterable[ir.Constraint],
     seed: int | None,
+    rounded: Iterable[str] = (),
 ) -> Witness:
-    """Assemble the witness of ``problem`` from a solver model's ``values``."""
+    """Assemble the witness of ``problem`` from a solver model's ``values``; notes
+    go with it (``rounded``: constraints the values hold only up to rounding)."""
     mentioned: set[str] = set()
     for c in active:
         if c.kind not in ("domain", "placement"):
@@ -251,7 +272,7 @@ def build_witness(
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))
     actors = []
-    notes: list[str] = []
+    notes: list[str] = list(rounded)
     elements: list[tuple[str, ElementValue]] = []
     map_name, numbering, source, unused = "", "from_right", None, None
     if placement is not None:
@@ -317,6 +338,7 @@ def build_witness(
         tuple(actors),
         tuple(notes),
         unused,
+        tuple(problem.skipped),
         dict(problem.lists),
         source,
         tuple(elements),
