@@ -61,10 +61,11 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
     if path is None:
         return builtin_network(name)
     if path.is_file():
-        key = (str(path.resolve()), path.stat().st_mtime_ns)
+        resolved = path.resolve()
+        key = (str(resolved), path.stat().st_mtime_ns)
         network = _CACHE.get(key)
         if network is None:
-            network = load_opendrive(path)
+            network = load_opendrive(resolved)  # its source is the file's absolute path
             if len(_CACHE) >= _CACHE_SIZE:
                 _CACHE.pop(next(iter(_CACHE)))
             _CACHE[key] = network
