@@ -277,8 +277,12 @@ def endless(phase: Phase, t: Time, pre: bool) -> ir.Term:
     match phase:
         case Leaf():
             return running(phase, t, pre) if phase.endless else FALSE
-        case Bounded():
-            return all_of(no_later(after(phase.start, phase.low), t), endless(phase.child, t, pre))
+        case Bounded():  # its child may run on after the bound ends the phase: both run
+            return all_of(
+                running(phase, t, pre),
+                no_later(after(phase.start, phase.low), t),
+                endless(phase.child, t, pre),
+            )
         case UntilEvent():
             return FALSE
         case Sequence():
