@@ -278,6 +278,12 @@ WAIT_BLOCKS_EMITTER = Code(
 NEGATIVE_DURATION = Code("B604", "negative-duration", E, "a duration is negative")
 EMPTY_ONE_OF = Code("B605", "empty-one-of", E, "a `one_of` has no members")
 EMPTY_COMPOSITION = Code("B606", "empty-composition", W, "a `serial` or `parallel` has no members")
+INFEASIBLE_TIMING = Code(
+    "B608",
+    "infeasible-timing",
+    E,
+    "no run can keep the durations and overlaps that the behaviour asks for",
+)
 CONSTANT_CONDITION = Code(
     "B609", "constant-condition", W, "a condition is always true or always false"
 )

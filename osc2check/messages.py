@@ -791,6 +791,7 @@ def unsatisfiable(
         "L507": "this puts an actor of scenario `{s}` off the road",
         "L508": "this speed in scenario `{s}` is above what the vehicle can reach",
         "L514": "the road is too short for what scenario `{s}` makes an actor do",
+        "B608": "no run of scenario `{s}` can keep these durations",
     }[code.code].format(s=scenario)
     texts = [
         f"`{c.text}`" if c.kind not in ("domain", "placement") else (c.explanation or c.text)

@@ -12,7 +12,7 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
-__all__ = ["declaration_bodies"]
+__all__ = ["declaration_bodies", "scenario_do"]
 
 MemberList = tuple[ast.Member, ...]
 
@@ -33,3 +33,18 @@ def declaration_bodies(model: Model) -> dict[Symbol, list[MemberList]]:
             elif isinstance(node, ast.ExtendDecl):
                 result.setdefault(sym, []).append(node.members)
     return result
+
+
+def scenario_do(
+    model: Model, bodies: dict[Symbol, list[MemberList]], scenario: Symbol
+) -> ast.DoDirective | None:
+    """The ``do`` that ``scenario`` runs: the last one written in its ancestors' member
+    lists and its own, in that order (a subtype's or an extension's replaces an earlier
+    one, as the runner compiles it); None when it has none."""
+    found = None
+    for sym in reversed(list(model.ancestors(scenario))):
+        for members in bodies.get(sym, ()):
+            for member in members:
+                if isinstance(member, ast.DoDirective):
+                    found = member
+    return found

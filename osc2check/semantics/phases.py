@@ -11,6 +11,20 @@
 * **Modifier timing** (§8.9, the ``at`` argument of movement modifiers):
   ``start`` constrains the start of the phase only, ``end`` its end (reached
   when the phase ends), ``all`` (the default) the whole phase.
+* **Endless actions** never end on their own (``drive``, ``keep_speed``, ...):
+  a ``duration``, an ``until`` or the composition around them ends them, and
+  ending them then is their planned end. A modifier may still end their phase
+  when it is reached (an ``at: end`` modifier, ``distance``, ``along``). Every
+  other action that is not instant ends when its goal is reached.
+* **Ending with the first member**: ``parallel(overlap: equal|end|final|initial|
+  inside)`` ends when its first member ends (the others end no later);
+  ``start``, ``any`` and ``full`` end when every member has.
+* **Acting and waiting members** of a ``one_of``: a member acts when it invokes
+  an action or a scenario; one that only waits (``wait``, ``emit``, ``call``)
+  runs alongside the chosen one and may end the composition.
+
+The checker's timing model (``verify.timing``) and the runner's compiler read
+these from here.
 """
 
 from __future__ import annotations
@@ -21,9 +35,13 @@ from dataclasses import dataclass, field
 from osc2check.syntax import ast
 
 __all__ = [
+    "ENDLESS_ACTIONS",
+    "ENDS_WITH_FIRST",
     "INSTANT_ACTIONS",
+    "PHASE_ENDING_MODIFIERS",
     "MODIFIER_TIMINGS",
     "TimeZero",
+    "is_acting",
     "is_instant",
     "modifier_timing",
     "time_zero",
@@ -38,6 +56,20 @@ INSTANT_ACTIONS = frozenset(
         "set_group_state", "set_group_semantic_state",
     }
 )  # fmt: skip
+ENDLESS_ACTIONS = frozenset(
+    {
+        "drive", "move", "walk", "keep_speed", "remain_stationary", "follow_lane",
+        "keep_acceleration", "keep_space_gap", "keep_time_gap", "keep_space_headway",
+        "keep_time_headway", "play_cycles",
+    }
+)  # fmt: skip
+#: modifiers that end an action's phase when they are reached, whatever their ``at``
+#: (an ``at: end`` modifier does too)
+PHASE_ENDING_MODIFIERS = frozenset({"distance", "along", "along_trajectory"})
+#: ``parallel(overlap: ...)`` kinds whose other members end no later than the first one
+#: (§7.6.2: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
+#: ``inside`` within it): the composition ends when its first member ends.
+ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
 MODIFIER_TIMINGS = ("start", "end", "all")
 
 
@@ -48,6 +80,17 @@ def _has_duration(arguments: tuple[ast.Argument, ...]) -> bool:
 def is_instant(inv: ast.Invocation) -> bool:
     """Whether the invocation takes no time: an instant action without a ``duration``."""
     return inv.name.text in INSTANT_ACTIONS and not _has_duration(inv.arguments)
+
+
+def is_acting(body: ast.Node) -> bool:
+    """Whether a ``one_of`` member acts (invokes an action or a scenario) rather than
+    only waiting (``wait``, ``emit``, ``call``)."""
+    match body:
+        case ast.Composition():
+            return any(is_acting(m.body) for m in body.members)
+        case ast.Invocation():
+            return True
+    return False
 
 
 def modifier_timing(arguments: Mapping[str, ast.Node]) -> str:

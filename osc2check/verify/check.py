@@ -348,7 +348,9 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
             code = _PLACEMENT_CODES[rule]
             break
     else:
-        if any("@start." in v.name for c in members for v in ir.variables(c.term)):
+        if any(c.kind == "timing" for c in members):
+            code = codes.INFEASIBLE_TIMING
+        elif any("@start." in v.name for c in members for v in ir.variables(c.term)):
             code = codes.INFEASIBLE_PLACEMENT
     found = messages.unsatisfiable(code, conflict.primary, members[1:], scenario.name)
     home = scenario.name_span

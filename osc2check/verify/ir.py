@@ -175,9 +175,12 @@ class Constraint:
 
     ``kind`` is "keep", "default", "argument", "modifier", "declaration" (a field's
     `= value`), "domain" or "placement" (implicit constraints of the road and the
-    vehicles). A constraint on a parameter alone (``p == v`` or ``p in [a..b]``, and
-    every argument) records that parameter in ``subject``: a hard one replaces the
-    parameter's defaults. ``origin`` names the declaration body the constraint is
+    vehicles), "timing" (a written duration, overlap or event time, with the rules
+    of the runner it must keep: ``verify.timing``) or "definition" (a rule that only
+    defines a variable of the timing model: never part of a conflict). A constraint
+    on a parameter alone (``p == v`` or ``p in [a..b]``, and every argument) records
+    that parameter in ``subject``: a hard one replaces the parameter's defaults.
+    ``origin`` names the declaration body the constraint is
     written in; two defaults of one parameter in one body conflict (C404).
     """
 

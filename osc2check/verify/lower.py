@@ -769,6 +769,11 @@ class Lowerer:
 
     # ---- expressions ---------------------------------------------------------------------
 
+    def term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
+        """``expr`` as a solver term in the instance ``scope`` (parameters become the
+        variables of their paths); raises NotEncodable when it cannot be one."""
+        return self._term(expr, scope)
+
     def _term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
         match expr:
             case ast.IntLiteral() | ast.FloatLiteral() | ast.PhysicalLiteral():
@@ -1034,6 +1039,7 @@ def lower_scenario(
     scenarios of one model.
     """
     from osc2check.verify.placement import lower_placement
+    from osc2check.verify.timing import lower_timing
 
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.ConstraintProblem(scenario.name, span)
@@ -1041,6 +1047,7 @@ def lower_scenario(
     lowerer.scenario(scenario)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     problem.placement = lower_placement(lowerer, scenario, default_map)
+    lower_timing(lowerer, scenario)
     lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     return problem

@@ -24,6 +24,7 @@ from fractions import Fraction
 from osc2check.verify import ir, quick
 from osc2check.verify.map_modifiers import ElementValue
 from osc2check.verify.placement import ActorBody, PlacedActor, StartPlacement
+from osc2check.verify.timing import is_timing_variable
 from osc2check.world.carriageways import Carriageway, lane_at
 from osc2check.world.catalogue import CATEGORIES, ActorRow
 from osc2check.world.network import LaneRef, RoadNetwork
@@ -266,8 +267,8 @@ def build_witness(
     params = []
     placement: StartPlacement | None = problem.placement
     for name in sorted(problem.variables):
-        if "@start." in name:
-            continue
+        if "@start." in name or is_timing_variable(name):
+            continue  # the start state is shown as actors; phase times are the runner's
         var = problem.variables[name]
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))

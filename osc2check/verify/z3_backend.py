@@ -26,8 +26,11 @@ from osc2check.verify import ir, quick
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
 MAX_CONFLICTS = 10
-_USER_KINDS = ("keep", "default", "argument", "modifier", "declaration", "condition")
+_USER_KINDS = ("keep", "default", "argument", "modifier", "declaration", "condition", "timing")
 _IMPLICIT_KINDS = ("domain", "placement")
+#: constraints that only define a variable (the timing model's starts and ends): always
+#: asserted, never part of a conflict
+DEFINITION = "definition"
 FALLBACK = "fallback"  # the rule of an implicit constraint that only holds unmentioned
 
 # z3 has no type stubs: the module, its contexts, solvers and expressions are Any.
@@ -307,16 +310,20 @@ def _solve(
     solver.set("rlimit", rlimit)
     solver.set("timeout", timeout_ms)
     exprs = [enc.term(c.term) for c in active]
-    literals = [z3.Bool(f"c{i}", ctx) for i in range(len(active))]
-    constraint_of = {lit.get_id(): c for lit, c in zip(literals, active, strict=True)}
-    for lit, expr in zip(literals, exprs, strict=True):
+    tracked = [(c, e) for c, e in zip(active, exprs, strict=True) if c.kind != DEFINITION]
+    for c, expr in zip(active, exprs, strict=True):
+        if c.kind == DEFINITION:
+            solver.add(expr)
+    literals = [z3.Bool(f"c{i}", ctx) for i in range(len(tracked))]
+    constraint_of = {lit.get_id(): c for lit, (c, _) in zip(literals, tracked, strict=True)}
+    for lit, (_, expr) in zip(literals, tracked, strict=True):
         solver.add(z3.Implies(lit, expr))
     for fallback in fallbacks(problem, active):
         assert fallback.subject is not None  # a fallback names its variable
         name = fallback.subject.name
         mentions = [
             lit
-            for lit, c in zip(literals, active, strict=True)
+            for lit, (c, _) in zip(literals, tracked, strict=True)
             if c.kind not in _IMPLICIT_KINDS and name in ir.names(c.term)
         ]
         solver.add(z3.Or(*mentions, enc.term(fallback.term)))

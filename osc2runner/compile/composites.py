@@ -34,6 +34,8 @@ from typing import Any
 import py_trees
 from py_trees.common import ParallelPolicy, Status
 
+from osc2check.semantics.phases import ENDS_WITH_FIRST
+
 __all__ = [
     "DurationBound",
     "InvokedScenario",
@@ -103,12 +105,6 @@ class Serial(_Fast, py_trees.composites.Sequence):
                 return status
         self.stop(SUCCESS)
         return SUCCESS
-
-
-#: ``parallel(overlap: ...)`` kinds whose other members end no later than the first
-#: one (§7.6.2: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
-#: ``inside`` within it): the composition ends when its first member ends.
-ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
 
 
 class Parallel(_Fast, py_trees.composites.Parallel):
@@ -327,10 +323,11 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
 
     ``bounds()`` is evaluated when the phase starts and returns ``(low, high)``
     (either may be None). A child that succeeds before ``low`` is held (not
-    re-ticked) until ``low``. At ``high`` the phase ends: a child that is still
-    running is stopped — the end it was planned for when everything still
-    running is open-ended (``drive()``; an action's ``at: end`` modifiers are then
-    checked), a failure otherwise (a goal not reached in time: the phase
+    re-ticked) until ``low``. At ``high`` the phase ends: a child that completes in
+    that tick ends on time (§7.6.2: a phase of duration ``d`` may end at ``d``); one
+    still running after it is stopped — the end it was planned for when everything
+    still running is open-ended (``drive()``; an action's ``at: end`` modifiers are
+    then checked), a failure otherwise (a goal not reached in time: the phase
     "exceeds its duration bound"). A failing child fails the phase.
     """
 
@@ -373,6 +370,13 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
         eps = 1e-9
         child = self.decorated
         if self.high is not None and elapsed >= self.high - eps:
+            if child.status == RUNNING and not running_endless(child):
+                # the child gets this tick: a phase that completes in it (one planned to
+                # end with the bound, a `wait elapsed(...)` as long) ends on time
+                status = tick_child(child)
+                if status == FAILURE:
+                    self.stop(FAILURE)
+                    return FAILURE
             if child.status == RUNNING and not running_endless(child):
                 reason = (
                     f"{self.where}: `{child.name}` did not complete within its duration "

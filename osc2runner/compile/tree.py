@@ -23,7 +23,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies
-from osc2check.semantics.phases import time_zero
+from osc2check.semantics.phases import is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -399,7 +399,7 @@ class TreeCompiler:
             span = comp.span
             node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}")
         elif comp.op == "one_of":
-            node = OneOf(name, children, [_acts(m.body) for m in comp.members])
+            node = OneOf(name, children, [is_acting(m.body) for m in comp.members])
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
         untils = self._untils(comp.with_members, "a composition")
@@ -861,16 +861,6 @@ def _overlap_kind(node: ast.Node) -> str:
     if word not in OVERLAP_KINDS:
         raise CompileProblem(f"`{word}` is not an overlap kind ({', '.join(OVERLAP_KINDS)})", node)
     return word
-
-
-def _acts(body: ast.Node) -> bool:
-    """Whether a ``one_of`` member invokes an action or scenario (else it only waits)."""
-    match body:
-        case ast.Composition():
-            return any(_acts(m.body) for m in body.members)
-        case ast.Invocation():
-            return True
-    return False
 
 
 def _last_do(members: list[ast.Member]) -> ast.DoDirective | None:

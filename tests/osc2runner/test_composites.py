@@ -208,6 +208,16 @@ def test_a_goal_not_reached_within_the_duration_fails_the_phase():
     assert ctx.failed == ("f.osc:3:5: `change_speed` did not complete within its duration (1 s)")
 
 
+def test_a_goal_reached_in_the_tick_the_duration_ends_ends_on_time():
+    # §7.6.2: a phase of duration d may end at d; a change planned over the whole phase
+    # (or `wait elapsed(d)`) completes in the tick its bound is reached
+    ctx = FakeContext()
+    child = script("change_speed", R, R, S, then=F)
+    root = DurationBound("change_speed, duration: 1s", child, lambda: (1.0, 1.0), "f.osc:3:5")
+    assert table(root, [child], 3, ctx) == ["R R", "R R", "S S"]
+    assert ctx.failed is None
+
+
 def test_duration_holds_an_early_success_until_the_lower_bound():
     ctx = FakeContext()
     child = script("change", R, S, then=F)  # must not be ticked again once done
