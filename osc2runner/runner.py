@@ -42,6 +42,7 @@ from osc2check.diagnostics import Severity
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
+from osc2runner.behaviours.towing import hitches_at_start
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
@@ -214,7 +215,9 @@ def prepare(
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
     c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
     ctx = c.ctx
-    specs, problems = start_specs(c.instance.actors, ctx.lanes)
+    specs, problems = start_specs(
+        c.instance.actors, ctx.lanes, hitches_at_start(c.compiled.start_uses)
+    )
     if problems:
         raise ScenarioError(problems, texts=c.analysis.texts)
     world = World(ctx.road, specs, dt_control=dt_control, dt_physics=dt_physics)

@@ -35,11 +35,23 @@ def _teleport(
     ctx.refresh()
 
 
+def _not_hitched(action: InstantAction) -> None:
+    """A hitched trailer moves with its tow vehicle: it cannot be put elsewhere."""
+    world = action.ctx.world
+    tow = world.hitched.get(action.actor.name) if world is not None else None
+    if tow is not None:
+        raise ActionError(
+            f"`{action.actor.name}` is hitched to `{tow}` and moves with it "
+            f"(`{tow}.disconnect_trailer()` first)"
+        )
+
+
 @action("movable_object", "assign_position")
 class AssignPosition(InstantAction):
     """``assign_position() with: lane(...); position(...); lateral(...)``: put the actor there."""
 
     modifiers_realised = True
+    for_trailers = True
 
     def start(self) -> None:
         given = [k for k in ("position", "route_point", "odr_point") if k in self.args]
@@ -50,6 +62,7 @@ class AssignPosition(InstantAction):
             return
         if self.at_scenario_start:
             return
+        _not_hitched(self)
         for key in given:
             raise ActionError(
                 f"assign_position({key}: ...) needs a road network (maps); place the "
@@ -90,6 +103,7 @@ class AssignPosition(InstantAction):
             x, y = float(position.x), float(position.y)  # type: ignore[attr-defined]
         except AttributeError:
             raise ActionError("`position` is not a position_3d") from None
+        _not_hitched(self)
         state = self.state
         if self.ctx.world.kind(self.actor.name) == "obstacle":  # type: ignore[union-attr]
             raise ActionError("a stationary object is placed with its `location` modifier")
@@ -129,7 +143,10 @@ class AssignOrientation(InstantAction):
     ``orientation_3d`` (roll and pitch are not used: the world is flat). Walkers walk on
     in the new heading; vehicles keep their lateral position on the road."""
 
+    for_trailers = True
+
     def start(self) -> None:
+        _not_hitched(self)
         orientation = self.args.get("orientation")
         yaw = getattr(orientation, "yaw", None)
         if yaw is None:

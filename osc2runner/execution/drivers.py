@@ -1,9 +1,10 @@
 """The driver of each actor: the controller that turns behaviour targets into world inputs.
 
 Vehicles get a :class:`~osc2runner.sim.VehicleController` (speed PID with rate
-profiles, Stanley lateral control). Pedestrians get a
-:class:`PedestrianController`: a speed with an acceleration limit along a
-heading, no dynamics. Obstacles and the environment have no driver.
+profiles, Stanley lateral control); a vehicle that starts with a trailer
+hitched knows its load. Pedestrians get a :class:`PedestrianController`: a
+speed with an acceleration limit along a heading, no dynamics. Trailers,
+obstacles and the environment have no driver.
 
 Behaviours set targets (``ctrl.speed.set_target``, ``ctrl.lateral.change_lane``);
 targets persist when the behaviour that set them ends, so an actor keeps
@@ -19,6 +20,7 @@ from typing import Any
 from osc2check.road import Road
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.tracking import Polyline, walker_heading
+from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
 
 __all__ = ["PedestrianController", "PedestrianSpeed", "WalkerLateral", "controllers_for"]
@@ -195,6 +197,10 @@ def controllers_for(world: World, road: Road) -> dict[str, Any]:
             ctrl = VehicleController(params, road, world.dt_control)
             ctrl.speed.set_target(max(0.0, state.speed), "none")
             ctrl.lateral.keep_offset(state.t)
+            trailer = world.towing(name)
+            if trailer is not None:
+                towed = world.params(trailer)
+                ctrl.speed.towed = towed if isinstance(towed, TrailerParams) else None
             controllers[name] = ctrl
         elif kind == "pedestrian":
             top = getattr(world.params(name), "max_speed", math.inf)

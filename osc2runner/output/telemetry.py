@@ -8,7 +8,9 @@ averaged over the last second, i.e. ``(accel(t) - accel(t - 1 s)) / 1 s``
 lane (1 = rightmost, NaN off the road); ``throttle``/``brake``/``steer``
 (NaN for actors without them) are the applied inputs; ``lateral_error`` is
 the lateral controller's cross-track error of the front axle from its path
-(m, positive: left of the path; NaN without one).
+(m, positive: left of the path; NaN without one); ``articulation`` a
+hitched trailer's articulation angle (its tow vehicle's heading less its own,
+rad; NaN for other actors and unhitched trailers).
 
 Files (``write_data``, then ``write_metadata``; ``write`` does both), each
 written whole or not at all (:mod:`osc2runner.output.files`):
@@ -53,6 +55,7 @@ CHANNELS = (
     "lane",
     "friction",
     "lateral_error",
+    "articulation",
 )
 JERK_WINDOW = 1.0  # s
 
@@ -117,6 +120,7 @@ class Recorder:
                     lane,
                     s.friction,
                     error,
+                    s.articulation,
                 )
             )
 

@@ -4,7 +4,10 @@ Checked once per control tick on the actors' bounding boxes (oriented
 rectangles in the ground plane): a circle broad phase over the candidate
 pairs, then a separating-axis test. A pair is reported once when its boxes
 start to overlap and again only after they have separated. Obstacle pairs
-are never checked (they do not move).
+are never checked (they do not move). A pair can be ignored for a while (a
+trailer and its tow vehicle while hitched): its overlap is tracked but not
+reported, and once it is noticed again it is reported only when its boxes
+start to overlap after that.
 """
 
 from __future__ import annotations
@@ -84,11 +87,20 @@ class EventDetector:
         """Forget ongoing contacts (the next overlap is reported again)."""
         self._overlaps: set[tuple[int, int]] = set()
         self._off_road: set[int] = set()
+        self._ignored: set[tuple[int, int]] = set()
+
+    def ignore(self, a: int, b: int, ignored: bool = True) -> None:
+        """Stop (or, with ``ignored=False``, resume) reporting the pair of actors ``a``, ``b``."""
+        pair = (min(a, b), max(a, b))
+        if ignored:
+            self._ignored.add(pair)
+        else:
+            self._ignored.discard(pair)
 
     @property
     def collisions(self) -> frozenset[tuple[str, str]]:
-        """Pairs of actors whose boxes overlap now."""
-        return frozenset((self.names[i], self.names[j]) for i, j in self._overlaps)
+        """Pairs of actors whose boxes overlap now (ignored pairs excepted)."""
+        return frozenset((self.names[i], self.names[j]) for i, j in self._overlaps - self._ignored)
 
     def detect(self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray) -> list[Event]:
         """Events at this tick, given every actor's box centre (n, 2) and yaw (n,)."""
@@ -123,7 +135,7 @@ class EventDetector:
                 self.margin,
             ):
                 now.add((a, b))
-                if (a, b) not in self._overlaps:
+                if (a, b) not in self._overlaps and (a, b) not in self._ignored:
                     events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
         self._overlaps = now
         return events
@@ -152,7 +164,7 @@ class EventDetector:
                 continue
             if boxes_overlap(ca, yaw[a], half[a], cb, yaw[b], half[b], self.margin):
                 now.add((a, b))
-                if (a, b) not in self._overlaps:
+                if (a, b) not in self._overlaps and (a, b) not in self._ignored:
                     events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
         self._overlaps = now
         return events

@@ -22,6 +22,7 @@ def _state(accel: float) -> SimpleNamespace:
         steer=0.0,
         lane=1,
         friction=1.0,
+        articulation=float("nan"),
     )
 
 
