@@ -4,7 +4,9 @@ Checked once per control tick on the actors' bounding boxes (oriented
 rectangles in the ground plane): a circle broad phase over the candidate
 pairs, then a separating-axis test. A pair is reported once when its boxes
 start to overlap and again only after they have separated. Obstacle pairs
-are never checked (they do not move). A pair can be ignored for a while (a
+are never checked (they do not move), nor pairs of actors that stand still for a
+while (:meth:`EventDetector.hold`: idle walkers), whose overlaps and road
+departures cannot change until one of them moves again. A pair can be ignored for a while (a
 trailer and its tow vehicle while hitched): its overlap is tracked but not
 reported, and once it is noticed again it is reported only when its boxes
 start to overlap after that.
@@ -63,18 +65,9 @@ class EventDetector:
         x0, x1, y0, y1 = bounds
         self._mid = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1)])
         self._half_road = np.array([0.5 * (x1 - x0), 0.5 * (y1 - y0)])
-        radius = np.hypot(self.half[:, 0], self.half[:, 1])
-        pi, pj = np.triu_indices(n, k=1)
-        keep = ~(self.static[pi] & self.static[pj])
-        self._pi, self._pj = pi[keep], pj[keep]
-        reach = radius[self._pi] + radius[self._pj] + margin
-        self._reach2 = reach * reach
-        # few actors: plain Python loops beat numpy's per-call overhead
-        self._small = len(self._pi) <= SMALL_PAIRS
-        self._pairs = list(
-            zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(), strict=True)
-        )
-        self._moving_list = np.flatnonzero(self.moving).tolist()
+        self._radius = np.hypot(self.half[:, 0], self.half[:, 1])
+        self._held = np.zeros(n, dtype=bool)
+        self._pairs_of_held()
         self._bounds = (
             float(self._mid[0]),
             float(self._mid[1]),
@@ -83,8 +76,53 @@ class EventDetector:
         )
         self.reset()
 
+    def _pairs_of_held(self) -> None:
+        """The pairs to check (at least one actor moving) and the actors to check for road
+        departures, after a change of what is static or held."""
+        n = len(self.names)
+        still = self.static | self._held
+        pi, pj = np.triu_indices(n, k=1)
+        keep = ~(still[pi] & still[pj])
+        self._pi, self._pj = pi[keep], pj[keep]
+        reach = self._radius[self._pi] + self._radius[self._pj] + self.margin
+        self._reach2 = reach * reach
+        # few actors: plain Python loops beat numpy's per-call overhead
+        self._small = len(self._pi) <= SMALL_PAIRS
+        self._pairs = list(
+            zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(), strict=True)
+        )
+        self.moving = ~still
+        self._moving_list = np.flatnonzero(self.moving).tolist()
+        self._held_list = set(np.flatnonzero(self._held & ~self.static).tolist())
+        self._still_pairs = {
+            (int(a), int(b)) for a, b in zip(pi[~keep].tolist(), pj[~keep].tolist(), strict=True)
+        }
+
+    def hold(self, i: int, held: bool = True) -> None:
+        """Actor ``i`` stands still from now on (``held=False``: it may move again): its
+        pairs with other still actors and its road departure are not checked meanwhile,
+        once they have been checked with its pose at the next :meth:`detect`."""
+        if held:
+            if not self._held[i]:
+                self._to_hold.add(i)
+            return
+        self._to_hold.discard(i)
+        if self._held[i]:
+            self._held[i] = False
+            self._pairs_of_held()
+
+    def _hold_now(self) -> None:
+        for i in self._to_hold:
+            self._held[i] = True
+        self._to_hold.clear()
+        self._pairs_of_held()
+
     def reset(self) -> None:
-        """Forget ongoing contacts (the next overlap is reported again)."""
+        """Forget ongoing contacts (the next overlap is reported again) and who was held."""
+        self._to_hold: set[int] = set()
+        if self._held.any():
+            self._held[:] = False
+            self._pairs_of_held()
         self._overlaps: set[tuple[int, int]] = set()
         self._off_road: set[int] = set()
         self._ignored: set[tuple[int, int]] = set()
@@ -105,13 +143,23 @@ class EventDetector:
     def detect(self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray) -> list[Event]:
         """Events at this tick, given every actor's box centre (n, 2) and yaw (n,)."""
         if self._small:
-            return self._detect_small(tick, time, centre.tolist(), yaw.tolist())
+            events = self._detect_small(tick, time, centre.tolist(), yaw.tolist())
+        else:
+            events = self._detect_many(tick, time, centre, yaw)
+        if self._to_hold:
+            self._hold_now()
+        return events
+
+    def _detect_many(
+        self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray
+    ) -> list[Event]:
+        """:meth:`detect` with numpy over the pairs."""
         events: list[Event] = []
         # off-road: an actor's reference point leaves the road surface
         away = np.abs(centre - self._mid) > self._half_road
         outside = (away[:, 0] | away[:, 1]) & self.moving
         if self._off_road or outside.any():
-            now_out = set(np.flatnonzero(outside).tolist())
+            now_out = set(np.flatnonzero(outside).tolist()) | (self._off_road & self._held_list)
             for i in sorted(now_out - self._off_road):
                 events.append(Event(tick, time, "off_road", (self.names[i],)))
             self._off_road = now_out
@@ -121,7 +169,7 @@ class EventDetector:
         near = np.flatnonzero(diff[:, 0] ** 2 + diff[:, 1] ** 2 <= self._reach2)
         if not near.size and not self._overlaps:
             return events
-        now: set[tuple[int, int]] = set()
+        now = self._overlaps & self._still_pairs
         half = self._half_list
         for k in near.tolist():
             a, b = int(self._pi[k]), int(self._pj[k])
@@ -150,12 +198,13 @@ class EventDetector:
             if abs(centre[i][0] - mx) > hx or abs(centre[i][1] - my) > hy
         }
         if now_out or self._off_road:
+            now_out |= self._off_road & self._held_list
             for i in sorted(now_out - self._off_road):
                 events.append(Event(tick, time, "off_road", (self.names[i],)))
             self._off_road = now_out
         if not self._pairs:
             return events
-        now: set[tuple[int, int]] = set()
+        now = self._overlaps & self._still_pairs if self._overlaps else set()
         half = self._half_list
         for a, b, reach2 in self._pairs:
             ca, cb = centre[a], centre[b]

@@ -418,6 +418,7 @@ class World:
         self._trl_pos = np.array([self._index[a.name] for a in self._trailers], dtype=int)
         self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
         self._obs_pos = np.flatnonzero(self._is_static)
+        self._obs_names = tuple(self._names[i] for i in self._obs_pos)
         self._obs_pose = np.array(
             [self.specs[i].pose(self.road) for i in self._obs_pos], dtype=float
         ).reshape(-1, 3)
@@ -474,6 +475,14 @@ class World:
         self._ped_input: list[PedestrianInput | None] = [None] * len(self._pedestrians)
         n_ped = len(self._pedestrians)
         self._ped_place: list[tuple[float, float, float, float, int | None] | None] = [None] * n_ped
+        # walkers that stand still (no speed, no acceleration) keep their pose and their
+        # state: nothing is moved, read, or checked for them until they move again
+        self._ped_still = [False] * n_ped
+        self._ped_moving = n_ped
+        self._ped_state: list[ActorState | None] = [None] * n_ped
+        self._ped_all_kept = False  # every walker stands still and has its state kept
+        self._ped_dirty = True  # a walker's pose changed: its row of the pose arrays too
+        self._ped_unchecked = True  # ... and its position is not known to be finite
         self._accel = np.zeros(nv)
         for spec in self.specs:
             if spec.kind != "obstacle" and spec.name not in self.hitched:
@@ -524,6 +533,7 @@ class World:
             self._ped_yaw[row] = yaw
             self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
             self._ped_input[row] = None
+            self._walker_moves(row, speed != 0.0 or self._ped_accel[row] != 0.0)
         else:
             raise ValueError(f"obstacle `{name}` is static and cannot be placed after start")
 
@@ -661,8 +671,20 @@ class World:
             self._ped_accel[row] = (speed - self._ped_speed[row]) / self.dt_control
             self._ped_speed[row] = speed
             self.data.mocap_quat[self._mocap[row]] = _yaw_quat(yaw)
+            self._walker_moves(row, speed != 0.0 or self._ped_accel[row] != 0.0)
         else:
             raise TypeError(f"{type(value).__name__} is not an input for {kind} `{name}`")
+
+    def _walker_moves(self, row: int, moves: bool) -> None:
+        """Walker ``row``'s input or pose changed: whether it moves now (a walker that
+        stands still costs nothing per tick until it moves again)."""
+        self._ped_state[row] = None
+        self._ped_all_kept = False
+        self._ped_dirty = self._ped_unchecked = True
+        if self._ped_still[row] == moves:
+            self._ped_still[row] = not moves
+            self._ped_moving += 1 if moves else -1
+            self._events.hold(int(self._ped_pos[row]), not moves)
 
     def step_control(
         self, inputs: Mapping[str, VehicleInput | PedestrianInput] | None = None
@@ -687,7 +709,7 @@ class World:
             )
         if self._trailers:
             self._brake_trailers()
-        if len(self._pedestrians):
+        if self._ped_moving:
             d.mocap_pos[self._mocap] += self._ped_vel * self.dt_control
         mujoco.mj_step(m, d, nstep=self.substeps)
         self.tick += 1
@@ -762,9 +784,10 @@ class World:
         if self._trailers:
             centre[self._trl_pos] = self.trailers.pos
             yaw[self._trl_pos] = self.trailers.yaw
-        if len(self._pedestrians):
+        if self._ped_moving or self._ped_dirty:
             centre[self._ped_pos] = self.data.mocap_pos[self._mocap, :2]
             yaw[self._ped_pos] = self._ped_yaw
+            self._ped_dirty = False
         if len(self._obs_pos):
             centre[self._obs_pos] = self._obs_pose[:, :2]
             yaw[self._obs_pos] = self._obs_pose[:, 2]
@@ -910,28 +933,38 @@ class World:
             out[spec.name] = self._trailer_state(spec.name, tick, time)
         if len(self._pedestrians):
             self._read_pedestrians(out, tick, time)
-        if static or any(spec.name not in out for spec in self.specs if spec.kind == "obstacle"):
+        if static or any(name not in out for name in self._obs_names):
             for i in self._obs_pos:
                 name = self._names[i]
                 out[name] = self.state(name)
 
     def _read_pedestrians(self, out: dict[str, ActorState], tick: int, time: float) -> None:
         """The walkers' states, as :meth:`state` gives them; road coordinates are computed
-        again only for a walker that moved."""
+        again only for a walker that moved, and a walker that stands still keeps its state
+        (whose ``tick`` and ``time`` are those of when it stopped, as an obstacle's are
+        those of the start)."""
         road = self.road
+        still, kept = self._ped_still, self._ped_state
+        if self._ped_all_kept:
+            for spec, state in zip(self._pedestrians, kept, strict=True):
+                out[spec.name] = state  # type: ignore[assignment]
+            return
         pos = self.data.mocap_pos[self._mocap, :2].tolist()
         speed = self._ped_speed.tolist()
         yaw = self._ped_yaw.tolist()
         accel = self._ped_accel.tolist()
         nan = math.nan
         for row, spec in enumerate(self._pedestrians):
+            if still[row] and kept[row] is not None:
+                out[spec.name] = kept[row]  # type: ignore[assignment]
+                continue
             x, y = pos[row]
             place = self._ped_place[row]
             if place is None or place[0] != x or place[1] != y:
                 s, t = road.to_st(x, y)
                 place = self._ped_place[row] = (x, y, s, t, road.lane_of(y))
             params = spec.params
-            out[spec.name] = ActorState(
+            state = out[spec.name] = ActorState(
                 spec.name,
                 "pedestrian",
                 tick,
@@ -953,6 +986,9 @@ class World:
                 params.length,
                 params.width,
             )
+            if still[row]:
+                kept[row] = state
+        self._ped_all_kept = not self._ped_moving
 
     # ------------------------------------------------------------------ divergence
 
@@ -981,12 +1017,15 @@ class World:
             (x, y), speed = self.trailers.pos[row].tolist(), float(self.trailers.speed[row])
             if not all(math.isfinite(v) for v in (x, y, speed)):
                 return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
-        if len(self._pedestrians) and not np.isfinite(self.data.mocap_pos[self._mocap]).all():
+        if (self._ped_moving or self._ped_unchecked) and not np.isfinite(
+            self.data.mocap_pos[self._mocap]
+        ).all():
             for row, spec in enumerate(self._pedestrians):
                 x, y = self.data.mocap_pos[self._mocap[row], :2].tolist()
                 speed = float(self._ped_speed[row])
                 if not all(math.isfinite(v) for v in (x, y, speed)):
                     return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
+        self._ped_unchecked = False
         return None
 
     def _mujoco_divergence(self) -> tuple[str, str]:
