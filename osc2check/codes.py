@@ -204,7 +204,13 @@ NONLINEAR_CONSTRAINT = Code(
     "C410",
     "nonlinear-constraint",
     I,
-    "a constraint multiplies two unknowns; it is solved with a budget",
+    "a constraint multiplies or divides unknowns; it is solved with a budget",
+)
+UNVERIFIED_CONSTRAINT = Code(
+    "C411",
+    "unverified-constraint",
+    W,
+    "a constraint the solver cannot take is left out of the verdict and the witness",
 )
 
 # --- L: initial placement ------------------------------------------------------
