@@ -249,6 +249,9 @@ UNSAFE_GAP = Code(
     "a start gap is shorter than one second at the follower's speed",
 )
 UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
+UNREADABLE_MAP = Code(
+    "L516", "unreadable-map", E, "a map file is named that is missing or cannot be read"
+)
 ROAD_TOO_SHORT_FOR_MOTION = Code(
     "L514",
     "road-too-short-for-motion",

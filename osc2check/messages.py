@@ -927,6 +927,16 @@ def unplaced_actor(span: Span, actor: str) -> Diagnostic:
     )
 
 
+def unreadable_map(span: Span, name: str, problem: str, where: str | None) -> Diagnostic:
+    at = f" (at {where})" if where else ""
+    return _diag(
+        codes.UNREADABLE_MAP,
+        f"map `{name}` cannot be read: {problem}{at}; the actors are placed on the default "
+        "road instead",
+        span,
+    )
+
+
 def unknown_map(span: Span, name: str, known: Sequence[str]) -> Diagnostic:
     return _diag(
         codes.UNKNOWN_MAP,

@@ -5,7 +5,7 @@ The stages, in order (each one package):
 1. ``osc2check.analysis.analyze``: error diagnostics stop here
    (:class:`~osc2runner.errors.ScenarioError`, exit status 2);
 2. ``instance``: the checker's witness for the seed (parameter values, every
-   actor's catalogue row, size and start), the actors and the road;
+   actor's catalogue row, size and start), the actors and the map;
 3. ``compile``: the behaviour tree, against a compile environment;
 4. ``execution``: the world built at the witness's starts, then the one tick
    loop — nothing reads the wall clock;
@@ -196,7 +196,7 @@ def compile_file(
     instance = instantiate(analysis, uri, sym, seed)
     model = analysis.programs[uri].model
     fresh_blackboard()
-    run_ctx = RunContext(instance.road, instance.actors, dt=dt_control, seed=seed)
+    run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
     run_ctx.traffic_lights = {
         light.name: light for light in traffic_lights(model, instance.scenario, instance.values)
     }
@@ -219,13 +219,12 @@ def prepare(
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
     c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
     ctx = c.ctx
-    specs, problems = start_specs(
-        c.instance.actors, ctx.lanes, hitches_at_start(c.compiled.start_uses)
-    )
+    specs, problems = start_specs(c.instance.actors, hitches_at_start(c.compiled.start_uses))
     if problems:
         raise ScenarioError(problems, texts=c.analysis.texts)
-    world = World(ctx.road, specs, dt_control=dt_control, dt_physics=dt_physics)
-    ctx.attach(world, controllers_for(world, ctx.road))
+    world = World(ctx.network, specs, dt_control=dt_control, dt_physics=dt_physics)
+    routes = {a.name: a.route for a in c.instance.witness.actors}
+    ctx.attach(world, controllers_for(world, routes, seed))
     for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
     return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world)
@@ -373,7 +372,8 @@ def _finish(
         if plot:
             from osc2runner.output.plots import plot_run
 
-            result.outputs.extend(plot_run(result, folder))
+            network = prepared.world.network if prepared.world is not None else None
+            result.outputs.extend(plot_run(result, folder, network))
         result.outputs.append(write_metadata(folder, metadata, result.events))
     return result
 
@@ -396,12 +396,18 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
             }
         if name in world.names:
             spec = world.specs[world.names.index(name)]
+            start = actor.start
             entry["start"] = {
+                "road": start.road if start is not None else None,
+                "lane_id": start.lane_id if start is not None else None,
+                "lane": start.lane if start is not None else None,
                 "s": spec.s,
-                "lane": spec.lane,
-                "offset": spec.offset,
+                "t": spec.offset,
+                "x": spec.x,
+                "y": spec.y,
                 "yaw": spec.yaw,
                 "speed": spec.speed,
+                "route": list(start.route) if start is not None else [],
             }
         actors[name] = entry
     return {
@@ -418,12 +424,13 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "wall_seconds": wall,
         "real_time_factor": world.time / wall if wall > 0 else None,
         "map": {
-            "name": world.road.name,
-            "lanes": world.road.lane_count,
-            "lane_width": world.road.lane_width,
-            "length": world.road.length,
-            "scenario_lanes_counted_from": LaneNumbers(world.road).default_side,
-            "telemetry_lanes": "1 = rightmost lane in the driving direction",
+            "name": prepared.instance.witness.map or world.network.name,
+            "source": world.network.source,
+            "roads": len(world.network.roads),
+            "junctions": len(world.network.junctions),
+            "scenario_lanes_counted_from": LaneNumbers(world.network).default_side,
+            "telemetry_lanes": "lane: 1 = rightmost driving lane in its direction of travel; "
+            "lane_id: OpenDRIVE id; s, t: road coordinates on `road`",
         },
         "parameter_values": {
             "source": prepared.instance.values.source,

@@ -363,9 +363,16 @@ def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic
     placement = problem.placement
     if placement is None:
         return
-    if placement.unknown_map is not None:
-        span, name, known = placement.unknown_map
-        report(messages.unknown_map(span, name, known))
+    choice = placement.map
+    span = choice.span or problem.span
+    if choice.unknown is not None and choice.asked is not None:
+        report(messages.unknown_map(span, choice.asked, choice.unknown))
+    if choice.unreadable is not None and choice.asked is not None:
+        error = choice.unreadable
+        where = None
+        if error.line is not None:
+            where = f"line {error.line}" + (f", column {error.column}" if error.column else "")
+        report(messages.unreadable_map(span, choice.asked, error.problem, where))
     for span, name, reference in placement.unplaced_references:
         report(messages.reference_not_placed(span, name, reference))
     for cycle, span in _cycles(placement.edges):

@@ -113,6 +113,7 @@ class Lowerer:
         self.problem = problem
         self.text_of = text_of
         self.strings: dict[str, int] = {}
+        self.string_spans: dict[str, list[Span]] = {}  # where each string constant is written
         self.instances: dict[str, Symbol] = {}  # path -> type of the compound instance there
         # (path, field, declaration, scope, where its default goes in the constraint list,
         # the body it is written in)
@@ -783,6 +784,7 @@ class Lowerer:
             case ast.BoolLiteral():
                 return ir.const(expr.value)
             case ast.StringLiteral():
+                self.string_spans.setdefault(expr.value, []).append(expr.span)
                 return ir.const(self.strings.setdefault(expr.value, len(self.strings)))
             case ast.EnumRef():
                 member = self.model.references.get(expr.member)

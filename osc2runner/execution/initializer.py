@@ -1,9 +1,9 @@
 """The start of a run: every body actor where, and as fast as, the checker's witness says.
 
 The checker placed every actor (``osc2check.verify.placement``) and drew the
-witness for the seed: its lane (as the scenario numbers lanes on the map), the
-position ``s`` of its centre along the road, its offset ``t`` from the lane
-centre, its heading and speed. :func:`start_specs` turns that into the world's
+witness for the seed: its lane and road, where that is in the world (``x``,
+``y``, ``heading``: the pose on the lane's centre moved by its offset ``t``) and
+its speed. :func:`start_specs` turns that into the world's
 :class:`~osc2runner.sim.ActorSpec` list; the bodies come from the actors'
 catalogue rows (``instance.bodies``). Nothing is placed twice. A trailer that a
 ``connect_trailer`` beginning at time 0 hitches starts hitched, on its tow
@@ -14,14 +14,13 @@ from __future__ import annotations
 
 from osc2runner.errors import RunProblem
 from osc2runner.instance.actors import Actor
-from osc2runner.instance.roads import LaneNumbers
 from osc2runner.sim import ActorSpec
 
 __all__ = ["start_specs"]
 
 
 def start_specs(
-    actors: list[Actor], lanes: LaneNumbers, hitches: dict[str, str] | None = None
+    actors: list[Actor], hitches: dict[str, str] | None = None
 ) -> tuple[list[ActorSpec], list[RunProblem]]:
     """The world specs of the body actors, in declaration order, and any that lack a start;
     ``hitches`` are the trailers hitched at the start and their tow vehicles."""
@@ -60,9 +59,11 @@ def start_specs(
             ActorSpec(
                 actor.name,
                 params,
-                s=float(start.s),
-                lane=lanes.to_road(start.lane),
+                s=start.road_s,
+                lane=start.lane_ref if start.road else None,
                 offset=float(start.t),
+                x=start.x,
+                y=start.y,
                 yaw=start.heading,
                 speed=float(start.speed),
                 towed_by=hitches.get(actor.name),

@@ -34,10 +34,15 @@ takes only `assign_position` and `assign_orientation`, and a vehicle tows it
 """
 
 
-_MAPS = "needs a road network: comes with OpenDRIVE maps (issue 12)"
+_MAPS = (
+    "paths and trajectories through route or OpenDRIVE points, and relative ones, are not "
+    "built (world-coordinate paths are)"
+)
+_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
 
 #: why each unsupported action, modifier or method is absent (``owner.name``)
 ABSENT: dict[str, str] = {
+    "map.crossing_connects": _CROSSINGS,
     "map.set_traffic_lights_control_file": (
         "control files are not read: give the cycles with `play_cycles`"
     ),

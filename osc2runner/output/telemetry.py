@@ -4,13 +4,17 @@ Per actor per tick (SI units, world frame): ``tick, time, x, y, yaw, speed,
 accel, jerk, throttle, brake, steer, lane, friction``. ``accel`` is the
 change of speed over the last tick (50 ms by default); ``jerk`` is the jerk
 averaged over the last second, i.e. ``(accel(t) - accel(t - 1 s)) / 1 s``
-(over the time since the start during the first second). ``lane`` is the road
-lane (1 = rightmost, NaN off the road); ``throttle``/``brake``/``steer``
-(NaN for actors without them) are the applied inputs; ``lateral_error`` is
-the lateral controller's cross-track error of the front axle from its path
-(m, positive: left of the path; NaN without one); ``articulation`` a
-hitched trailer's articulation angle (its tow vehicle's heading less its own,
-rad; NaN for other actors and unhitched trailers).
+(over the time since the start during the first second). ``lane`` is the
+number of the driving lane the actor is in, counted from the right in its
+direction of travel (1 = rightmost; NaN outside driving lanes);
+``throttle``/``brake``/``steer`` (NaN for actors without them) are the applied
+inputs; ``lateral_error`` is the lateral controller's cross-track error of the
+front axle from its path (m, positive: left of the path; NaN without one).
+``road`` (the road id, empty off every road), ``lane_id`` (the OpenDRIVE id of
+the lane it is in, 0 off the roads), ``s`` and ``t`` (road coordinates on that
+road, NaN off the roads) say where the actor is on the map; ``articulation``
+is a hitched trailer's articulation angle (its tow vehicle's heading less its
+own, rad; NaN for other actors and unhitched trailers).
 
 Files (``write_data``, then ``write_metadata``; ``write`` does both), each
 written whole or not at all (:mod:`osc2runner.output.files`):
@@ -55,8 +59,13 @@ CHANNELS = (
     "lane",
     "friction",
     "lateral_error",
+    "road",
+    "lane_id",
+    "s",
+    "t",
     "articulation",
 )
+TEXT_CHANNELS = frozenset({"road"})
 JERK_WINDOW = 1.0  # s
 
 
@@ -79,7 +88,7 @@ class Recorder:
         self.dt = dt
         self.window = max(1, round(jerk_window / dt))
         self.clock: list[tuple[int, float]] = []
-        self.rows: dict[str, list[tuple[float, ...]]] = {n: [] for n in self.names}
+        self.rows: dict[str, list[tuple[float | str, ...]]] = {n: [] for n in self.names}
         self._accel: dict[str, list[float]] = {n: [] for n in self.names}
         self._last: dict[str, tuple[object, float, int]] = {}  # state, error, ticks unchanged
 
@@ -137,6 +146,10 @@ class Recorder:
                     lane,
                     s.friction,
                     error,
+                    s.road if s.road is not None else "",
+                    s.lane_id,
+                    s.s,
+                    s.t,
                     s.articulation,
                 )
             )
@@ -150,15 +163,24 @@ class Recorder:
         result: dict[str, dict[str, np.ndarray]] = {}
         ticks = np.array([c[0] for c in self.clock], dtype=np.int64)
         times = np.array([c[1] for c in self.clock], dtype=float)
+        channels = CHANNELS[2:]  # after tick and time
+        road = channels.index("road")
+        numeric = [i for i, c in enumerate(channels) if c not in TEXT_CHANNELS]
         for name, rows in self.rows.items():
-            table = np.array(rows, dtype=float).reshape(-1, len(CHANNELS) - 2)
-            channels = {"tick": ticks.copy(), "time": times.copy()}
-            channels.update({c: table[:, i].copy() for i, c in enumerate(CHANNELS[2:])})
-            result[name] = channels
+            table = np.array([[row[i] for i in numeric] for row in rows], dtype=float).reshape(
+                -1, len(numeric)
+            )
+            columns = {channels[i]: table[:, k].copy() for k, i in enumerate(numeric)}
+            columns["road"] = np.array([str(row[road]) for row in rows], dtype=str)
+            columns["tick"], columns["time"] = ticks.copy(), times.copy()
+            columns["lane_id"] = columns["lane_id"].astype(np.int64)
+            result[name] = {c: columns[c] for c in CHANNELS}
         return result
 
 
-def _number(value: float) -> str:
+def _number(value: float | str) -> str:
+    if isinstance(value, str):
+        return value
     if isinstance(value, (int, np.integer)):
         return str(int(value))
     if math.isnan(value):

@@ -1,15 +1,17 @@
 """Events the world reports: collisions between actors and leaving the road.
 
-Checked once per control tick on the actors' bounding boxes (oriented
-rectangles in the ground plane): a circle broad phase over the candidate
-pairs, then a separating-axis test. A pair is reported once when its boxes
+Collisions are checked once per control tick on the actors' bounding boxes
+(oriented rectangles in the ground plane): a circle broad phase over the
+candidate pairs, then a separating-axis test. Leaving the road is the world's
+verdict on each moving actor's position (:class:`~osc2runner.sim.world.World`
+asks the map), reported here when it changes. A pair is reported once when its boxes
 start to overlap and again only after they have separated. Obstacle pairs
 are never checked (they do not move), nor pairs of actors that stand still for a
-while (:meth:`EventDetector.hold`: idle walkers), whose overlaps and road
-departures cannot change until one of them moves again. A pair can be ignored for a while (a
-trailer and its tow vehicle while hitched): its overlap is tracked but not
-reported, and once it is noticed again it is reported only when its boxes
-start to overlap after that.
+while (:meth:`EventDetector.hold`: idle walkers), whose overlaps cannot change
+until one of them moves again. A pair can be ignored for a while (a trailer and
+its tow vehicle while hitched): its overlap is tracked but not reported, and
+once it is noticed again it is reported only when its boxes start to overlap
+after that.
 """
 
 from __future__ import annotations
@@ -43,7 +45,6 @@ class EventDetector:
         names: actor names, in the order of the pose arrays passed to :meth:`detect`.
         half_extents: half length and half width of each actor's box, shape (n, 2).
         static: which actors never move (obstacles).
-        bounds: the road surface ``(x_min, x_max, y_min, y_max)``.
         margin: boxes closer than this count as touching (m).
     """
 
@@ -52,7 +53,6 @@ class EventDetector:
         names: Sequence[str],
         half_extents: np.ndarray,
         static: np.ndarray,
-        bounds: tuple[float, float, float, float],
         margin: float = 0.0,
     ) -> None:
         n = len(names)
@@ -62,23 +62,15 @@ class EventDetector:
         self.static = np.asarray(static, dtype=bool)
         self.moving = ~self.static
         self.margin = margin
-        x0, x1, y0, y1 = bounds
-        self._mid = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1)])
-        self._half_road = np.array([0.5 * (x1 - x0), 0.5 * (y1 - y0)])
         self._radius = np.hypot(self.half[:, 0], self.half[:, 1])
+        self._moving_list = np.flatnonzero(self.moving).tolist()
         self._held = np.zeros(n, dtype=bool)
         self._pairs_of_held()
-        self._bounds = (
-            float(self._mid[0]),
-            float(self._mid[1]),
-            float(self._half_road[0]),
-            float(self._half_road[1]),
-        )
         self.reset()
 
     def _pairs_of_held(self) -> None:
-        """The pairs to check (at least one actor moving) and the actors to check for road
-        departures, after a change of what is static or held."""
+        """The pairs to check (at least one actor that may move), after a change of what
+        is held."""
         n = len(self.names)
         still = self.static | self._held
         pi, pj = np.triu_indices(n, k=1)
@@ -91,17 +83,14 @@ class EventDetector:
         self._pairs = list(
             zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(), strict=True)
         )
-        self.moving = ~still
-        self._moving_list = np.flatnonzero(self.moving).tolist()
-        self._held_list = set(np.flatnonzero(self._held & ~self.static).tolist())
         self._still_pairs = {
             (int(a), int(b)) for a, b in zip(pi[~keep].tolist(), pj[~keep].tolist(), strict=True)
         }
 
     def hold(self, i: int, held: bool = True) -> None:
         """Actor ``i`` stands still from now on (``held=False``: it may move again): its
-        pairs with other still actors and its road departure are not checked meanwhile,
-        once they have been checked with its pose at the next :meth:`detect`."""
+        pairs with other still actors are not checked meanwhile, once they have been
+        checked with its pose at the next :meth:`detect`."""
         if held:
             if not self._held[i]:
                 self._to_hold.add(i)
@@ -140,35 +129,35 @@ class EventDetector:
         """Pairs of actors whose boxes overlap now (ignored pairs excepted)."""
         return frozenset((self.names[i], self.names[j]) for i, j in self._overlaps - self._ignored)
 
-    def detect(self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray) -> list[Event]:
-        """Events at this tick, given every actor's box centre (n, 2) and yaw (n,)."""
+    def detect(
+        self,
+        tick: int,
+        time: float,
+        centre: np.ndarray,
+        yaw: np.ndarray,
+        off_road: Sequence[bool] = (),
+    ) -> list[Event]:
+        """Events at this tick, given every actor's box centre (n, 2) and yaw (n,), and for
+        each moving actor (in order) whether it is off the road now."""
+        events = self._leaving(tick, time, off_road)
         if self._small:
-            events = self._detect_small(tick, time, centre.tolist(), yaw.tolist())
+            self._detect_small(tick, time, centre.tolist(), yaw.tolist(), events)
         else:
-            events = self._detect_many(tick, time, centre, yaw)
+            self._detect_many(tick, time, centre, yaw, events)
         if self._to_hold:
             self._hold_now()
         return events
 
     def _detect_many(
-        self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray
-    ) -> list[Event]:
-        """:meth:`detect` with numpy over the pairs."""
-        events: list[Event] = []
-        # off-road: an actor's reference point leaves the road surface
-        away = np.abs(centre - self._mid) > self._half_road
-        outside = (away[:, 0] | away[:, 1]) & self.moving
-        if self._off_road or outside.any():
-            now_out = set(np.flatnonzero(outside).tolist()) | (self._off_road & self._held_list)
-            for i in sorted(now_out - self._off_road):
-                events.append(Event(tick, time, "off_road", (self.names[i],)))
-            self._off_road = now_out
+        self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray, events: list[Event]
+    ) -> None:
+        """:meth:`detect`'s collisions with numpy over the pairs."""
         if not len(self._pi):
-            return events
+            return
         diff = centre[self._pi] - centre[self._pj]
         near = np.flatnonzero(diff[:, 0] ** 2 + diff[:, 1] ** 2 <= self._reach2)
         if not near.size and not self._overlaps:
-            return events
+            return
         now = self._overlaps & self._still_pairs
         half = self._half_list
         for k in near.tolist():
@@ -186,24 +175,24 @@ class EventDetector:
                 if (a, b) not in self._overlaps and (a, b) not in self._ignored:
                     events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
         self._overlaps = now
+
+    def _leaving(self, tick: int, time: float, off_road: Sequence[bool]) -> list[Event]:
+        """``off_road`` events of the moving actors that are off the road now and were not."""
+        events: list[Event] = []
+        if not (self._off_road or any(off_road)):
+            return events
+        now_out = {i for i, off in zip(self._moving_list, off_road, strict=False) if off}
+        for i in sorted(now_out - self._off_road):
+            events.append(Event(tick, time, "off_road", (self.names[i],)))
+        self._off_road = now_out
         return events
 
-    def _detect_small(self, tick: int, time: float, centre: list, yaw: list) -> list[Event]:
-        """:meth:`detect` for a few actors, in plain Python (the same results)."""
-        events: list[Event] = []
-        mx, my, hx, hy = self._bounds
-        now_out = {
-            i
-            for i in self._moving_list
-            if abs(centre[i][0] - mx) > hx or abs(centre[i][1] - my) > hy
-        }
-        if now_out or self._off_road:
-            now_out |= self._off_road & self._held_list
-            for i in sorted(now_out - self._off_road):
-                events.append(Event(tick, time, "off_road", (self.names[i],)))
-            self._off_road = now_out
+    def _detect_small(
+        self, tick: int, time: float, centre: list, yaw: list, events: list[Event]
+    ) -> None:
+        """:meth:`detect`'s collisions for a few pairs, in plain Python (the same results)."""
         if not self._pairs:
-            return events
+            return
         now = self._overlaps & self._still_pairs if self._overlaps else set()
         half = self._half_list
         for a, b, reach2 in self._pairs:
@@ -216,7 +205,6 @@ class EventDetector:
                 if (a, b) not in self._overlaps and (a, b) not in self._ignored:
                     events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
         self._overlaps = now
-        return events
 
 
 def boxes_overlap(

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from osc2check.road import get_map
+from osc2check.world.builtin import builtin_network
 from osc2runner import run
 from osc2runner import runner as runner_module
 from osc2runner.cli import main
@@ -174,7 +174,7 @@ def test_a_non_finite_read_out_ends_the_run_as_error(tmp_path, monkeypatch):
 
 def test_the_world_names_a_pedestrian_with_a_non_finite_state():
     world = World(
-        get_map("default"),
+        builtin_network("default"),
         [
             ActorSpec("car", sedan(), s=40.0, lane=1, speed=10.0),
             ActorSpec("walker", PedestrianParams(), x=120.0, y=-1.0, yaw=math.pi / 2),

@@ -16,7 +16,7 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from osc2check.road import get_map
+from osc2check.world.builtin import builtin_network
 from osc2check.world.catalogue import MODELS, receiver
 from osc2runner.execution.loop import TickLoop
 from osc2runner.instance.bodies import body_params
@@ -24,7 +24,8 @@ from osc2runner.sim import ActorSpec, ObstacleParams, VehicleController, Vehicle
 from osc2runner.sim.trailer import TrailerParams, articulation
 from osc2runner.sim.vehicle import GRAVITY
 
-ROAD = get_map("default")
+ROAD = builtin_network("default")
+LANE_WIDTH = 3.5  # the built-in maps' lanes; lane k's centre is at y = 3.5 (k - 1/2)
 CAR = sedan()
 
 
@@ -125,7 +126,7 @@ def test_on_a_lane_change_the_trailer_follows_its_hitch_within_the_off_tracking(
     bound = trailer.wheelbase**2 * curvature.max() / 2.0
     deviation = np.abs(a[:, 1] - np.interp(a[:, 0], h[:, 0], h[:, 1]))
     assert 0.0 < deviation.max() <= bound + 0.005
-    assert a[-1, 1] == pytest.approx(ROAD.lane_center_y(2), abs=0.005)
+    assert a[-1, 1] == pytest.approx(LANE_WIDTH * 1.5, abs=0.005)
     assert abs(world.state("tr").articulation) < 1e-3
     assert _hitch_gap(world) < 0.005
 
@@ -183,7 +184,7 @@ def test_a_braked_trailer_brakes_its_own_mass():
 def test_the_trailer_is_checked_for_collisions_and_its_tow_vehicle_is_not_one():
     """A box just right of the car's path: the 1.8 m car clears it, the 2.3 m caravan
     behind it hits it. The car and its own trailer never count as a collision."""
-    lane = ROAD.lane_center_y(2)
+    lane = LANE_WIDTH * 1.5
     edge = lane - 0.5 * CAR.width
     box = ObstacleParams(width=1.0)
     world = World(
