@@ -519,6 +519,7 @@ class World:
         # state: nothing is moved, read, or checked for them until they move again
         self._ped_still = [False] * n_ped
         self._ped_moving = n_ped
+        self._moving_now = list(self._moving_rows)  # the moving rows, still walkers left out
         self._ped_state: list[ActorState | None] = [None] * n_ped
         self._ped_all_kept = False  # every walker stands still and has its state kept
         self._ped_dirty = True  # a walker's pose changed: its row of the pose arrays too
@@ -736,6 +737,8 @@ class World:
             self._ped_still[row] = not moves
             self._ped_moving += 1 if moves else -1
             self._events.hold(int(self._ped_pos[row]), not moves)
+            still = {int(self._ped_pos[r]) for r, s in enumerate(self._ped_still) if s}
+            self._moving_now = [i for i in self._moving_rows if i not in still]
 
     def step_control(
         self, inputs: Mapping[str, VehicleInput | PedestrianInput] | None = None
@@ -797,13 +800,18 @@ class World:
         bank.apply(self.model, self.data, self._tmu)
 
     def _locate(self, centre: np.ndarray | None = None, yaw: np.ndarray | None = None) -> None:
-        """The road coordinates of every moving actor, from their new poses."""
+        """The road coordinates of every moving actor, from their new poses (a step's
+        ``centre`` and ``yaw`` given: of those that may have moved, not the walkers that
+        stand still)."""
+        rows = self._moving_rows
         if centre is None or yaw is None:
             centre, yaw = self._poses()
+        elif self._ped_moving < len(self._pedestrians):
+            rows = self._moving_now
         points = centre.tolist()
         angles = yaw.tolist()
         positions, locators, last = self._positions, self._locators, self._located
-        for i in self._moving_rows:
+        for i in rows:
             x, y = points[i]
             if last[i] == (x, y):
                 continue  # a walker standing still: where it was
