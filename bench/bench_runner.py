@@ -1,6 +1,11 @@
 """Throughput of the whole runner: real-time factor and the share of wall time outside MuJoCo.
 
-Usage: ``python bench/bench_runner.py [--repeat 2] [--dt 0.002]``
+Usage: ``python bench/bench_runner.py [--repeat 2] [--dt 0.002]``, or
+``python bench/bench_runner.py --pairs 20`` for the cost of idle pedestrians and
+lights: the cut-in and the cut-in+idle scene run in turn (A B A B ...) and each
+pair's ratio is taken, so that the load of the shared machine, which drifts
+during a measurement, does not decide the figure; the median ratio is printed
+(of wall time and of CPU time, the latter less moved by other work).
 
 Scenes, each run through ``osc2runner`` end to end (behaviour tree, controllers,
 world, telemetry; the compile and the world's construction are not timed):
@@ -31,8 +36,11 @@ never fails on a slow machine. Other work on shared cores moves them by ±30%.
 from __future__ import annotations
 
 import argparse
+import gc
+import statistics
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -149,6 +157,33 @@ def measure(name: str, path: Path, dt: float, repeat: int) -> None:
     )
 
 
+def idle_pairs(cut_in: Path, idle: Path, pairs: int, dt: float) -> None:
+    """Interleaved A/B: the cut-in alone and with idle walkers and lights, ``pairs`` times;
+    the median of each pair's ratio of tick-loop times (wall and CPU)."""
+    wall_ratio, cpu_ratio, extra = [], [], []
+    for _ in range(pairs):
+        measured = []
+        for path in (cut_in, idle):
+            prepared = prepare(path, dt_physics=dt)
+            gc.collect()
+            cpu = time.process_time()
+            result = execute(prepared, duration=120.0)
+            cpu = time.process_time() - cpu
+            measured.append((result.metadata["wall_seconds"], cpu, result.metadata["steps"]))
+        (wall_a, cpu_a, ticks_a), (wall_b, cpu_b, ticks_b) = measured
+        wall_ratio.append((wall_b / ticks_b) / (wall_a / ticks_a))
+        cpu_ratio.append((cpu_b / ticks_b) / (cpu_a / ticks_a))
+        extra.append(1e6 * (cpu_b / ticks_b - cpu_a / ticks_a))
+    med = statistics.median
+    print(
+        f"cut-in+idle / cut-in, {pairs} interleaved pairs, dt={dt * 1e3:.1f} ms: time per tick "
+        f"x{med(wall_ratio):.3f} wall (range {min(wall_ratio):.3f}-{max(wall_ratio):.3f}), "
+        f"x{med(cpu_ratio):.3f} CPU (range {min(cpu_ratio):.3f}-{max(cpu_ratio):.3f}); "
+        f"real-time factor {100 * (1 - 1 / med(cpu_ratio)):.1f}% lower (CPU), "
+        f"{med(extra):+.1f} us/tick"
+    )
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=2, help="runs per scene (best is shown)")
@@ -158,6 +193,9 @@ def main() -> None:
         nargs="+",
         default=["cut-in", "cut-in+idle", "20 vehicles", "straight road", "curved road"],
         help="scenes to run (cut-in, cut-in+idle, 20 vehicles, straight road, curved road)",
+    )
+    parser.add_argument(
+        "--pairs", type=int, default=0, help="interleaved cut-in / cut-in+idle pairs instead"
     )
     args = parser.parse_args()
     print(f"versions: {versions()}")
@@ -179,6 +217,10 @@ def main() -> None:
             "straight road": straight,
             "curved road": curved,
         }
+        if args.pairs:
+            for dt in args.dt:
+                idle_pairs(cut_in, idle, args.pairs, dt)
+            return
         for dt in args.dt:
             for name in args.scene:
                 measure(name, scenes[name], dt, args.repeat)

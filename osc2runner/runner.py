@@ -42,6 +42,7 @@ from osc2check.diagnostics import Severity
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
+from osc2runner.behaviours.towing import hitches_at_start
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
@@ -57,6 +58,7 @@ from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
 from osc2runner.output.coverage import write_coverage
+from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, write_data, write_metadata
 from osc2runner.sim import World, versions
 
@@ -82,7 +84,9 @@ class RunResult:
     """A finished (or stopped) run.
 
     ``telemetry[actor][channel]`` is a numpy array over the ticks (channels:
-    :data:`osc2runner.output.telemetry.CHANNELS`); ``events`` the event log;
+    :data:`osc2runner.output.telemetry.CHANNELS`); ``lights[light][column]`` the
+    same for traffic lights (:data:`osc2runner.output.lights.LIGHT_COLUMNS`:
+    ``semantic`` and ``bulbs`` per tick); ``events`` the event log;
     ``coverage`` every ``cover``/``record`` item with its samples (what
     ``coverage.json`` holds); ``outputs`` the files written.
     """
@@ -93,6 +97,7 @@ class RunResult:
     metadata: dict[str, Any]
     outputs: list[Path] = field(default_factory=list)
     coverage: RunCoverage = field(default_factory=RunCoverage)
+    lights: dict[str, dict[str, np.ndarray]] = field(default_factory=dict)
 
     @property
     def success(self) -> bool:
@@ -214,7 +219,7 @@ def prepare(
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
     c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
     ctx = c.ctx
-    specs, problems = start_specs(c.instance.actors)
+    specs, problems = start_specs(c.instance.actors, hitches_at_start(c.compiled.start_uses))
     if problems:
         raise ScenarioError(problems, texts=c.analysis.texts)
     world = World(ctx.network, specs, dt_control=dt_control, dt_physics=dt_physics)
@@ -350,10 +355,19 @@ def _finish(
     coverage = ctx.coverage
     coverage.scenario, coverage.source = prepared.scenario.name, prepared.uri
     result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata, coverage=coverage)
+    lights = list(ctx.traffic_lights.values())
+    world = prepared.world
+    assert world is not None
+    ticks = recorder.ticks if recorder.names else world.tick + 1
+    result.lights = light_arrays(lights, ticks, world.dt_control)
     if out is not None:
         folder = Path(out)
         folder.mkdir(parents=True, exist_ok=True)
         result.outputs = write_data(folder, recorder, result.events)
+        if lights:
+            result.outputs.append(
+                write_lights(folder / "lights.csv", lights, ticks, world.dt_control)
+            )
         result.outputs.append(write_coverage(folder, coverage))
         if plot:
             from osc2runner.output.plots import plot_run

@@ -54,6 +54,7 @@ INSTANT_ACTIONS = frozenset(
         "air", "rain", "snow", "wind", "fog", "clouds", "assign_celestial_position",
         "set_bulb_state", "set_state", "set_semantic_state", "set_group_bulb_state",
         "set_group_state", "set_group_semantic_state",
+        "connect_trailer", "disconnect_trailer",
     }
 )  # fmt: skip
 ENDLESS_ACTIONS = frozenset(

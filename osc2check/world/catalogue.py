@@ -20,6 +20,14 @@ rounded); a scenario's declared ``bounding_box`` overrides the row's box.
 Limits: ``max_speed`` is the top speed; ``max_acceleration`` the tractive
 limit at low speed on dry asphalt; ``max_deceleration`` full braking on dry
 asphalt.
+
+Hitches: a trailer row says where its coupler is (``hitch``, behind the front
+of its box; negative on a drawbar ahead of it) and how high (``hitch_height``);
+its ``front_overhang`` is the front of its box to its axle (group), so its
+``wheelbase`` is the coupler to that axle. Tow vehicles carry a receiver behind
+their rear bumper, as :func:`receiver` says by construction (two-wheelers and
+trailers tow nothing). Trailers heavier than :data:`UNBRAKED_TRAILER_MASS` have
+brakes of their own.
 """
 
 from __future__ import annotations
@@ -29,13 +37,16 @@ from fractions import Fraction
 
 __all__ = [
     "ACTOR_KINDS",
-    "WALKING_SPEED",
     "CATEGORIES",
-    "ActorRow",
     "MODELS",
+    "UNBRAKED_TRAILER_MASS",
+    "WALKING_SPEED",
+    "ActorRow",
+    "Receiver",
     "category_row",
     "kind_row",
     "model_row",
+    "receiver",
     "row_for",
 ]
 
@@ -70,13 +81,29 @@ class ActorRow:
     max_speed: Fraction
     max_acceleration: Fraction
     max_deceleration: Fraction
-    wheelbase: Fraction = Fraction(0)  # 0 for actors without wheels
-    front_overhang: Fraction = Fraction(0)  # front of the box to the front axle
+    wheelbase: Fraction = Fraction(0)  # 0 for actors without wheels; a trailer's: coupler to axle
+    front_overhang: Fraction = Fraction(0)  # front of the box to the front (a trailer's only) axle
+    hitch: Fraction = Fraction(0)  # a trailer's coupler behind the front of its box (< 0: ahead)
+    hitch_height: Fraction = Fraction(0)  # a trailer's coupler above the ground
 
     @property
     def is_model(self) -> bool:
         """Whether the row is a named simulator model (not a generic category)."""
         return "." in self.key
+
+    @property
+    def is_trailer(self) -> bool:
+        """Whether the row is a towed body: no engine, a coupler, one axle (group)."""
+        return self.body == "trailer"
+
+
+@dataclass(frozen=True, slots=True)
+class Receiver:
+    """A tow vehicle's hitch receiver: its distance behind the front of the vehicle's box
+    and its height above the ground (m)."""
+
+    behind_front: Fraction
+    height: Fraction
 
 
 def _f(text: str) -> Fraction:
@@ -114,15 +141,50 @@ def _vehicle(
 
 
 # Generic rows per vehicle category (the 2.1 list of `vehicle_category`).
+def _trailer(
+    key: str,
+    size: tuple[str, str, str],
+    hitch: str,
+    axle: str,
+    hitch_height: str,
+    mass: str,
+    top_kph: int,
+) -> ActorRow:
+    """A central-axle trailer: its coupler ``hitch`` behind the front of its box (negative
+    on a drawbar), its axle (group) ``axle`` behind the front; no engine, braking at 6 m/s²
+    when braked."""
+    length, width, height = (_f(v) for v in size)
+    return ActorRow(
+        key,
+        "vehicle",
+        "trailer",
+        "trailer",
+        length,
+        width,
+        height,
+        _f(mass),
+        top_kph * KPH,
+        Fraction(0),
+        Fraction(6),
+        _f(axle) - _f(hitch),
+        _f(axle),
+        _f(hitch),
+        _f(hitch_height),
+    )
+
+
+#: trailers up to this mass (kg) need no brakes of their own (EU category O1); heavier ones
+#: brake with their tow vehicle (O2 to O4)
+UNBRAKED_TRAILER_MASS = Fraction(750)
+
 _CATEGORY_ROWS = (
     _vehicle("car", "car", "car", ("4.5", "1.8", "1.45"), "2.7", "0.85", "1600", 250, "3", "9"),
     _vehicle("bus", "bus", "bus", ("12", "2.55", "3.2"), "6", "2.7", "13000", 100, "1.5", "6"),
     _vehicle(
         "truck", "truck", "truck", ("12", "2.5", "3.6"), "5.5", "1.5", "12000", 90, "1.6", "6"
     ),
-    _vehicle(
-        "trailer", "trailer", "trailer", ("10", "2.5", "3.5"), "6", "2", "8000", 90, "1.5", "6"
-    ),
+    # a tandem central-axle trailer as trucks tow it, on a 1.5 m drawbar at pintle height
+    _trailer("trailer", ("10", "2.5", "3.5"), "-1.5", "5.6", "0.9", "8000", 90),
     _vehicle(
         "vru_vehicle",
         "vru_vehicle",
@@ -211,6 +273,10 @@ _MODEL_ROWS = (
              "0.35", "270", 250, "6", "9"),
     _vehicle("vehicle.vespa.zx125", "vru_vehicle", "two_wheeler", ("1.86", "0.72", "1.4"), "1.35",
              "0.3", "210", 95, "2.5", "6.5"),
+    # trailers a car tows (ball coupling at 0.45 m): a touring caravan (braked) and a light
+    # box trailer at the unbraked limit, loaded
+    _trailer("trailer.caravan", ("6.5", "2.3", "2.6"), "-1.2", "4", "0.45", "1400", 100),
+    _trailer("trailer.box", ("3", "1.6", "1.1"), "-1.3", "1.6", "0.45", "750", 100),
 )  # fmt: skip
 
 _KIND_ROWS = (
@@ -233,6 +299,25 @@ _MODEL_HINTS = (
     ("scooter", "vru_vehicle"), ("motorcycle", "vru_vehicle"),
 )  # fmt: skip
 _WALKER_PREFIX = "walker."
+
+
+#: hitch receivers by construction: reach behind the rear bumper and height (m), a ball
+#: coupling on cars and a pintle on trucks and buses (ISO 1103, ISO 8755 heights)
+_RECEIVERS = {
+    "car": (Fraction(1, 10), Fraction(45, 100)),
+    "truck": (Fraction(1, 4), Fraction(9, 10)),
+    "bus": (Fraction(1, 4), Fraction(9, 10)),
+}
+
+
+def receiver(row: ActorRow, length: Fraction | None = None) -> Receiver | None:
+    """The hitch receiver of a vehicle of ``row`` (``length`` when its box is resized), or
+    None for what tows nothing (two-wheelers, trailers, persons, objects)."""
+    found = _RECEIVERS.get(row.body) if row.kind == "vehicle" else None
+    if found is None:
+        return None
+    reach, height = found
+    return Receiver((row.length if length is None else length) + reach, height)
 
 
 def category_row(category: str) -> ActorRow:

@@ -222,6 +222,8 @@ class ActionBehaviour(ScenarioBehaviour):
     finite = True
     #: the action realises its modifiers itself (assign_position): they are not begun
     modifiers_realised = False
+    #: a trailer (no engine, no driver) may be its actor
+    for_trailers = False
 
     def __init__(self, name: str, use: ActionUse) -> None:
         super().__init__(name)

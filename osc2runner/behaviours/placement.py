@@ -40,6 +40,17 @@ def _teleport(
     ctx.refresh()
 
 
+def _not_hitched(action: InstantAction) -> None:
+    """A hitched trailer moves with its tow vehicle: it cannot be put elsewhere."""
+    world = action.ctx.world
+    tow = world.hitched.get(action.actor.name) if world is not None else None
+    if tow is not None:
+        raise ActionError(
+            f"`{action.actor.name}` is hitched to `{tow}` and moves with it "
+            f"(`{tow}.disconnect_trailer()` first)"
+        )
+
+
 @action("movable_object", "assign_position")
 class AssignPosition(InstantAction):
     """``assign_position() with: lane(...); position(...); lateral(...)``: put the actor there;
@@ -47,6 +58,7 @@ class AssignPosition(InstantAction):
     world or the map (at time 0 too: the checker places actors by their modifiers)."""
 
     modifiers_realised = True
+    for_trailers = True
 
     def start(self) -> None:
         given = [k for k in ("position", "route_point", "odr_point") if k in self.args]
@@ -61,6 +73,7 @@ class AssignPosition(InstantAction):
             return
         if self.at_scenario_start:
             return
+        _not_hitched(self)
         ctx = self.ctx
         name = self.actor.name
         state = self.state
@@ -109,6 +122,7 @@ class AssignPosition(InstantAction):
             x, y = float(position.x), float(position.y)  # type: ignore[attr-defined]
         except AttributeError:
             raise ActionError("`position` is not a position_3d") from None
+        _not_hitched(self)
         state = self.state
         if self.ctx.world.kind(self.actor.name) == "obstacle":  # type: ignore[union-attr]
             raise ActionError("a stationary object is placed with its `location` modifier")
@@ -164,7 +178,10 @@ class AssignOrientation(InstantAction):
     ``orientation_3d`` (roll and pitch are not used: the world is flat). Walkers walk on
     in the new heading; vehicles keep their lateral position on the road."""
 
+    for_trailers = True
+
     def start(self) -> None:
+        _not_hitched(self)
         orientation = self.args.get("orientation")
         yaw = getattr(orientation, "yaw", None)
         if yaw is None:

@@ -10,7 +10,8 @@ the phases of each cycle in order, each for its ``duration``, from the cycle's
 lists set the bulbs of the phase's group, matched by colour and icon.
 
 Every change is written to the event log (kind ``traffic_light``) with the
-light's semantic state and bulbs.
+light's semantic state and bulbs, and noted in the light's history (the
+telemetry's ``lights.csv``).
 """
 
 from __future__ import annotations
@@ -70,6 +71,7 @@ def switch(action: ActionBehaviour, lights: Iterable[TrafficLight], change: Any)
                 bulb.state = state
                 changed = True
         if changed:
+            light.changed(action.ctx.tick)
             action.ctx.record("traffic_light", light.name, light.describe())
 
 

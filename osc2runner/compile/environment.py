@@ -27,10 +27,11 @@ from osc2runner.compile.expressions import (
 )
 from osc2runner.compile.registry import MethodRegistry
 from osc2runner.errors import CompileProblem
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import ScenarioValues
-from osc2runner.sim import ActorState
+from osc2runner.sim import ActorState, VehicleParams
+from osc2runner.sim.trailer import TrailerParams
 
 __all__ = ["CompileEnvironment"]
 
@@ -91,6 +92,9 @@ class CompileEnvironment:
                         center=namespace(x=0.0, y=0.0, z=0.0),
                     )
                 )
+            hitch = self._hitch_member(actor, member, node)
+            if hitch is not None:
+                return hitch
         if actor.kind == "environment" and member == "weather":
             run = self.run
             return lambda: run.weather
@@ -101,6 +105,41 @@ class CompileEnvironment:
         if member == "model" and actor.blueprint is not None:
             return constant(actor.blueprint)
         raise CompileProblem(f"the runner cannot read `{actor.name}.{member}`", node)
+
+    def _hitch_member(self, actor: Actor, member: str, node: ast.Node) -> Closure | None:
+        """``v.trailer_receiver`` (a vehicle's: ``is_towing``, its place from the rear axle),
+        ``t.coupler`` (a trailer's: ``is_towed``, its place from its axle) and
+        ``t.tow_vehicle``, live."""
+        run, n, p = self.run, actor.name, actor.params
+
+        def tow() -> str | None:
+            world = run.world
+            assert world is not None
+            return world.hitched.get(n)
+
+        def towing() -> bool:
+            world = run.world
+            assert world is not None
+            return world.towing(n) is not None
+
+        if member == "trailer_receiver" and isinstance(p, VehicleParams):
+            if p.receiver_x is None:
+                raise CompileProblem(f"`{n}` has no hitch receiver: it tows nothing", node)
+            x, z = p.receiver_x - p.rear_axle_x, p.hitch_height
+            return lambda: namespace(position_x=x, position_z=z, is_towing=towing())
+        if member == "coupler" and isinstance(p, TrailerParams):
+            x, z = p.wheelbase, p.coupler_height
+            return lambda: namespace(position_x=x, position_z=z, is_towed=tow() is not None)
+        if member == "tow_vehicle" and isinstance(p, TrailerParams):
+
+            def tow_vehicle() -> Actor:
+                name = tow()
+                if name is None:
+                    raise RunFault(f"`{n}.tow_vehicle` has no value: `{n}` is not towed", node)
+                return run.actors[name]
+
+            return tow_vehicle
+        return None
 
 
 def _velocity(s: ActorState) -> Any:

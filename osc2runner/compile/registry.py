@@ -57,6 +57,7 @@ BEHAVIOUR_MODULES = (
     "osc2runner.behaviours.environment",
     "osc2runner.behaviours.lights",
     "osc2runner.behaviours.traffic",
+    "osc2runner.behaviours.towing",
     "osc2runner.behaviours.methods",
     "osc2runner.behaviours.maps",
 )

@@ -500,6 +500,12 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 inv.name,
             )
+        if actor.kind == "trailer" and not getattr(entry.target, "for_trailers", False):
+            raise CompileProblem(
+                f"`{actor.name}` is a trailer: it has no engine or driver and moves only when "
+                f"a vehicle tows it (`connect_trailer`), so `{sym.name}` cannot act on it",
+                inv.name,
+            )
         # the arguments, modifiers and `until` of an action are written in the scenario's
         # scope: `actor` there is the scenario's actor, not the action's
         inner = scope

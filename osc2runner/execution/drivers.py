@@ -2,10 +2,10 @@
 
 Vehicles get a :class:`~osc2runner.sim.VehicleController` (speed PID with rate
 profiles, Stanley lateral control along their lane's route: the roads of the
-witness's route for the actor, the other forks chosen with the run's seed).
-Pedestrians get a
+witness's route for the actor, the other forks chosen with the run's seed); a
+vehicle that starts with a trailer hitched knows its load. Pedestrians get a
 :class:`PedestrianController`: a speed with an acceleration limit along a
-heading, no dynamics. Obstacles and the environment have no driver.
+heading, no dynamics. Trailers, obstacles and the environment have no driver.
 
 Behaviours set targets (``ctrl.speed.set_target``, ``ctrl.lateral.change_lane``);
 targets persist when the behaviour that set them ends, so an actor keeps
@@ -26,6 +26,7 @@ from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.tracking import Polyline, walker_heading
+from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
 
 __all__ = ["PedestrianController", "PedestrianSpeed", "WalkerLateral", "controllers_for"]
@@ -249,6 +250,10 @@ def controllers_for(
             ctrl.lateral.set_route(routes.get(name, ()))
             ctrl.speed.set_target(max(0.0, state.speed), "none")
             ctrl.lateral.hold(state)
+            trailer = world.towing(name)
+            if trailer is not None:
+                towed = world.params(trailer)
+                ctrl.speed.towed = towed if isinstance(towed, TrailerParams) else None
             controllers[name] = ctrl
         elif kind == "pedestrian":
             top = getattr(world.params(name), "max_speed", math.inf)

@@ -5,7 +5,9 @@ witness for the seed: its lane and road, where that is in the world (``x``,
 ``y``, ``heading``: the pose on the lane's centre moved by its offset ``t``) and
 its speed. :func:`start_specs` turns that into the world's
 :class:`~osc2runner.sim.ActorSpec` list; the bodies come from the actors'
-catalogue rows (``instance.bodies``). Nothing is placed twice.
+catalogue rows (``instance.bodies``). Nothing is placed twice. A trailer that a
+``connect_trailer`` beginning at time 0 hitches starts hitched, on its tow
+vehicle's hitch (where the checker placed it).
 """
 
 from __future__ import annotations
@@ -17,8 +19,12 @@ from osc2runner.sim import ActorSpec
 __all__ = ["start_specs"]
 
 
-def start_specs(actors: list[Actor]) -> tuple[list[ActorSpec], list[RunProblem]]:
-    """The world specs of the body actors, in declaration order, and any that lack a start."""
+def start_specs(
+    actors: list[Actor], hitches: dict[str, str] | None = None
+) -> tuple[list[ActorSpec], list[RunProblem]]:
+    """The world specs of the body actors, in declaration order, and any that lack a start;
+    ``hitches`` are the trailers hitched at the start and their tow vehicles."""
+    hitches = hitches or {}
     specs: list[ActorSpec] = []
     problems: list[RunProblem] = []
     for actor in actors:
@@ -29,6 +35,18 @@ def start_specs(actors: list[Actor]) -> tuple[list[ActorSpec], list[RunProblem]]
             problems.append(
                 RunProblem(
                     f"the checker's witness has no start for `{actor.name}`",
+                    actor.symbol.name_span,
+                )
+            )
+            continue
+        category = actor.attributes.get("trailer_category")
+        member = getattr(category, "member", None)
+        if actor.kind == "trailer" and member not in (None, "central_axle_trailer"):
+            problems.append(
+                RunProblem(
+                    f"`{actor.name}` is a {member}: the runner builds central-axle trailers "
+                    "only (a semi-trailer rests on a tractor's fifth wheel, a full trailer "
+                    "steers its front axle with its drawbar; neither is modelled)",
                     actor.symbol.name_span,
                 )
             )
@@ -48,6 +66,7 @@ def start_specs(actors: list[Actor]) -> tuple[list[ActorSpec], list[RunProblem]]
                 y=start.y,
                 yaw=start.heading,
                 speed=float(start.speed),
+                towed_by=hitches.get(actor.name),
             )
         )
     return specs, problems

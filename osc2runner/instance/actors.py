@@ -7,6 +7,8 @@ says how the world represents it:
 OSC2 type (or subtype)    kind         in the world
 ========================= ============ ==========================================
 ``vehicle``               vehicle      MuJoCo multibody vehicle of its catalogue row
+``trailer`` (a row of     trailer      towed body (``sim/trailer.py``): no engine, no
+trailer construction)                  driver; it moves when a vehicle tows it
 ``person``, ``animal``    pedestrian   kinematic walker
 ``stationary_object``     obstacle     static box
 ``environment``           environment  weather and road friction (no body)
@@ -67,7 +69,7 @@ class Actor:
 
     @property
     def has_body(self) -> bool:
-        return self.kind in ("vehicle", "pedestrian", "obstacle")
+        return self.kind in ("vehicle", "trailer", "pedestrian", "obstacle")
 
     @property
     def blueprint(self) -> str | None:
@@ -79,7 +81,8 @@ class Actor:
 
 
 def actor_kind(model: Model, type_symbol: Symbol) -> str:
-    """``vehicle``, ``pedestrian``, ``obstacle``, ``environment``, ``map`` or ``other``."""
+    """``vehicle``, ``pedestrian``, ``obstacle``, ``environment``, ``map`` or ``other`` (a
+    vehicle whose catalogue row is a trailer becomes ``trailer`` once it has its row)."""
     names = [s.name for s in model.ancestors(type_symbol)]
     for base, kind in _KINDS:
         if base in names:
@@ -113,5 +116,7 @@ def scenario_actors(
             actor.row = _row(start)
             actor.start = start
             actor.params = body_params(actor.row, float(start.length), float(start.width))
+            if actor.row.is_trailer:  # a towed body: what its row is decides it, not its type
+                actor.kind = "trailer"
         actors.append(actor)
     return actors

@@ -14,6 +14,12 @@ parameters, so the MuJoCo body has exactly the footprint the checker placed:
   A two-wheeler is built as a narrow four-wheeled body with its centre of
   gravity kept low enough not to roll over (its footprint, mass and limits are
   the two-wheeler's; lean dynamics are not modelled);
+* trailers (rows of ``trailer`` construction): a towed body
+  (``sim/trailer.py``) with the row's box, mass, coupler and axle; its centre of
+  gravity ahead of the axle by :data:`NOSE_LOAD_SHARE` of the wheelbase (the
+  coupler carries that share of its weight), its height
+  :data:`TRAILER_COG_HEIGHT` of the box's; brakes when it is heavier than the
+  catalogue's unbraked limit;
 * persons and animals: kinematic walkers with the row's box and top speed;
 * stationary objects: static boxes.
 """
@@ -21,15 +27,24 @@ parameters, so the MuJoCo body has exactly the footprint the checker placed:
 from __future__ import annotations
 
 from dataclasses import replace
+from fractions import Fraction
 
-from osc2check.world.catalogue import ActorRow
+from osc2check.world.catalogue import UNBRAKED_TRAILER_MASS, ActorRow, receiver
+from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import GRAVITY, ObstacleParams, PedestrianParams, VehicleParams, hgv
 
-__all__ = ["ActorParams", "body_params"]
+__all__ = ["ActorParams", "body_params", "trailer_params", "vehicle_params"]
 
-ActorParams = VehicleParams | PedestrianParams | ObstacleParams
+ActorParams = VehicleParams | PedestrianParams | ObstacleParams | TrailerParams
 
 _HEAVY = ("truck", "bus", "trailer")
+#: a trailer's nose load: the share of its weight its coupler carries (caravan makers ask
+#: for 4-7 %; central-axle truck trailers up to 10 %)
+NOSE_LOAD_SHARE = 0.05
+#: a trailer's centre of gravity, as a share of its height
+TRAILER_COG_HEIGHT = 0.4
+#: a trailer's drag area per square metre of its front (it runs in its tow vehicle's wake)
+TRAILER_DRAG = 0.3
 
 
 def body_params(row: ActorRow, length: float, width: float) -> ActorParams:
@@ -52,7 +67,51 @@ def body_params(row: ActorRow, length: float, width: float) -> ActorParams:
             width=width,
             height=float(row.height),
         )
+    if row.is_trailer:
+        return trailer_params(row, length, width)
     return vehicle_params(row, length, width)
+
+
+def trailer_params(row: ActorRow, length: float, width: float) -> TrailerParams:
+    """A central-axle trailer with the row's box, mass, coupler and axle (scaled to
+    ``length``), braked when it is heavier than the unbraked limit."""
+    scale = length / float(row.length)
+    height = float(row.height)
+    mass = float(row.mass)
+    front = 0.5 * length
+    coupler = front - float(row.hitch) * scale
+    axle = front - float(row.front_overhang) * scale
+    heavy = mass > 3500.0
+    radius = 0.5 if heavy else 0.33
+    wheel_mass = 100.0 if heavy else 15.0
+    h_cog = TRAILER_COG_HEIGHT * height
+    inertia = tuple(
+        mass * (a * a + b * b) / 12.0
+        for a, b in ((width, height), (length, height), (length, width))
+    )
+    braked = mass > float(UNBRAKED_TRAILER_MASS)
+    return TrailerParams(
+        model=row.key,
+        category=row.category,
+        length=length,
+        width=width,
+        height=height,
+        ground_clearance=min(0.3, 0.5 * h_cog),
+        coupler=coupler,
+        coupler_height=float(row.hitch_height),
+        axle=axle,
+        cog=axle + NOSE_LOAD_SHARE * (coupler - axle),
+        h_cog=h_cog,
+        mass=mass,
+        wheel_mass=wheel_mass,
+        knuckle_mass=wheel_mass / 4.0,
+        inertia=(inertia[0], inertia[1], inertia[2]),
+        track=max(0.4 * width, width - 0.3),
+        wheel_radius=radius,
+        max_brake_torque=mass * float(row.max_deceleration) * radius * 1.15 if braked else 0.0,
+        drag_area=TRAILER_DRAG * width * height,
+        max_speed=float(row.max_speed),
+    )
 
 
 def vehicle_params(row: ActorRow, length: float, width: float) -> VehicleParams:
@@ -80,6 +139,7 @@ def vehicle_params(row: ActorRow, length: float, width: float) -> VehicleParams:
     inertia = _box_inertia(mass, length, width, height, template)
     unsprung = 4.0 * (template.wheel_mass + template.knuckle_mass)
     wheel_mass, knuckle_mass = template.wheel_mass, template.knuckle_mass
+    hitch = receiver(row, Fraction(length))
     if unsprung > 0.3 * mass:  # light vehicles: keep the chassis the heaviest part
         shrink = 0.3 * mass / unsprung
         wheel_mass, knuckle_mass = wheel_mass * shrink, knuckle_mass * shrink
@@ -106,6 +166,8 @@ def vehicle_params(row: ActorRow, length: float, width: float) -> VehicleParams:
         max_brake_torque=mass * float(row.max_deceleration) * radius * 1.15,
         drag_area=drag_area,
         max_speed=top,
+        hitch_reach=None if hitch is None else float(hitch.behind_front) - length,
+        hitch_height=template.hitch_height if hitch is None else float(hitch.height),
     )
 
 

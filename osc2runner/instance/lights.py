@@ -11,7 +11,10 @@ and green circles. Every bulb starts ``is_off`` (the light's semantic state is
 
 The light's value is one object for the whole run: an expression that reads
 ``tl.bulbs[0].state`` reads the state of the moment. Lights of the same group
-are those whose ``group.map_id`` is equal.
+are those whose ``group.map_id`` is equal. Each light keeps the ticks at which
+its state changed (:attr:`TrafficLight.history`), from which the telemetry's
+``lights.csv`` is written: nothing is done per tick for a light that does not
+change.
 
 Semantic states and the bulbs they light (the European three-bulb head; the
 standard names the states, not the bulbs):
@@ -30,6 +33,7 @@ standard names the states, not the bulbs):
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from types import SimpleNamespace
 
@@ -38,7 +42,7 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2runner.instance.values import ScenarioValues, scenario_fields
 
-__all__ = ["SEMANTIC_BULBS", "TrafficLight", "semantic_of", "traffic_lights"]
+__all__ = ["SEMANTIC_BULBS", "LightState", "TrafficLight", "semantic_of", "traffic_lights"]
 
 #: the bulbs (colour -> state) each semantic state lights; the others are off
 SEMANTIC_BULBS: dict[str, dict[str, str]] = {
@@ -54,15 +58,43 @@ SEMANTIC_BULBS: dict[str, dict[str, str]] = {
 _DEFAULT_HEAD = ("red", "yellow", "green")
 
 
+@dataclass(frozen=True, slots=True)
+class LightState:
+    """What a light shows from ``tick`` on: its semantic state and each bulb's
+    ``(colour, icon, state)``."""
+
+    tick: int
+    semantic: str
+    bulbs: tuple[tuple[str, str, str], ...]
+
+
 @dataclass
 class TrafficLight:
-    """One light in the world: its name (the parameter's), pose and value (live bulbs)."""
+    """One light in the world: its name (the parameter's), pose and value (live bulbs),
+    and its states since the start (one entry per change, the first at tick 0)."""
 
     name: str
     x: float
     y: float
     yaw: float
     value: SimpleNamespace
+    history: list[LightState] = dataclasses.field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        if not self.history:
+            self.changed(0)
+
+    def changed(self, tick: int) -> None:
+        """Note the state it shows from ``tick`` on (the last change in a tick wins)."""
+        state = LightState(
+            tick,
+            self.semantic(),
+            tuple((str(b.color), str(b.icon), str(b.state)) for b in self.bulbs),
+        )
+        if self.history and self.history[-1].tick == tick:
+            self.history[-1] = state
+        else:
+            self.history.append(state)
 
     @property
     def bulbs(self) -> tuple[SimpleNamespace, ...]:

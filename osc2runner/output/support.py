@@ -26,7 +26,10 @@ the bundled library (ASAM OpenSCENARIO DSL 2.1 `std` plus the toolkit's
 `osc2toolkit` extensions). Generated from the runner's method registry by
 `python -m osc2runner.output.support > docs/coverage.md`; a test checks that this
 file is up to date. Invoking anything marked "no" is an error before the run
-starts, with its location: nothing is skipped silently.
+starts, with its location: nothing is skipped silently. A trailer (an actor
+whose catalogue row is a trailer) has no engine or driver: of the actions it
+takes only `assign_position` and `assign_orientation`, and a vehicle tows it
+(`connect_trailer`).
 
 """
 
@@ -36,15 +39,9 @@ _MAPS = (
     "built (world-coordinate paths are)"
 )
 _CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
-_TRAILER = (
-    "a hitched trailer (an articulated joint between two vehicle bodies, its coupler "
-    "loads in the tire model) is not built: a `trailer` actor is a vehicle of its own"
-)
 
 #: why each unsupported action, modifier or method is absent (``owner.name``)
 ABSENT: dict[str, str] = {
-    "vehicle.connect_trailer": _TRAILER,
-    "vehicle.disconnect_trailer": _TRAILER,
     "map.crossing_connects": _CROSSINGS,
     "map.set_traffic_lights_control_file": (
         "control files are not read: give the cycles with `play_cycles`"

@@ -12,7 +12,9 @@ inputs; ``lateral_error`` is the lateral controller's cross-track error of the
 front axle from its path (m, positive: left of the path; NaN without one).
 ``road`` (the road id, empty off every road), ``lane_id`` (the OpenDRIVE id of
 the lane it is in, 0 off the roads), ``s`` and ``t`` (road coordinates on that
-road, NaN off the roads) say where the actor is on the map.
+road, NaN off the roads) say where the actor is on the map; ``articulation``
+is a hitched trailer's articulation angle (its tow vehicle's heading less its
+own, rad; NaN for other actors and unhitched trailers).
 
 Files (``write_data``, then ``write_metadata``; ``write`` does both), each
 written whole or not at all (:mod:`osc2runner.output.files`):
@@ -61,6 +63,7 @@ CHANNELS = (
     "lane_id",
     "s",
     "t",
+    "articulation",
 )
 TEXT_CHANNELS = frozenset({"road"})
 JERK_WINDOW = 1.0  # s
@@ -72,14 +75,22 @@ class Recorder:
     Parameters:
         names: the actors to record, in order.
         dt: control period in seconds (for the jerk window).
+
+    ``clock`` holds each recorded tick and its time; ``rows[actor]`` the actor's
+    channels after them, one tuple per tick. An actor whose state is the very same
+    object as at the tick before (a walker standing still keeps its state), with
+    the same path error and a settled jerk, gets the same row again: nothing is
+    computed for it.
     """
 
     def __init__(self, names: Iterable[str], dt: float, jerk_window: float = JERK_WINDOW) -> None:
         self.names = list(names)
         self.dt = dt
         self.window = max(1, round(jerk_window / dt))
+        self.clock: list[tuple[int, float]] = []
         self.rows: dict[str, list[tuple[float | str, ...]]] = {n: [] for n in self.names}
         self._accel: dict[str, list[float]] = {n: [] for n in self.names}
+        self._last: dict[str, tuple[object, float, int]] = {}  # state, error, ticks unchanged
 
     def record(
         self,
@@ -91,8 +102,25 @@ class Recorder:
         """Add this tick's row of every actor (``controllers`` give the path errors)."""
         window = self.window
         controllers = controllers or {}
+        self.clock.append((tick, time))
+        last = self._last
         for name in self.names:
             s = states[name]
+            ctrl = controllers.get(name)
+            lateral = getattr(ctrl, "lateral", None)
+            error = lateral.error if lateral is not None and lateral.path is not None else math.nan
+            tracker = getattr(ctrl, "path", None)  # a world path followed (follow_path)
+            if tracker is not None and hasattr(tracker, "error"):
+                error = tracker.error
+            rows = self.rows[name]
+            before = last.get(name)
+            if before is not None and before[0] is s and before[1] is error:
+                if before[2] > window:  # the jerk window holds this state only: the same row
+                    rows.append(rows[-1])
+                    continue
+                last[name] = (s, error, before[2] + 1)
+            else:
+                last[name] = (s, error, 0)
             history = self._accel[name]
             history.append(s.accel)
             n = len(history)
@@ -104,16 +132,8 @@ class Recorder:
             if n > window + 1:
                 del history[0]
             lane = float(s.lane) if s.lane is not None else math.nan
-            ctrl = controllers.get(name)
-            lateral = getattr(ctrl, "lateral", None)
-            error = lateral.error if lateral is not None and lateral.path is not None else math.nan
-            tracker = getattr(ctrl, "path", None)  # a world path followed (follow_path)
-            if tracker is not None and hasattr(tracker, "error"):
-                error = tracker.error
-            self.rows[name].append(
+            rows.append(
                 (
-                    tick,
-                    time,
                     s.x,
                     s.y,
                     s.yaw,
@@ -130,26 +150,29 @@ class Recorder:
                     s.lane_id,
                     s.s,
                     s.t,
+                    s.articulation,
                 )
             )
 
     @property
     def ticks(self) -> int:
-        rows = next(iter(self.rows.values()), [])
-        return len(rows)
+        return len(self.clock)
 
     def arrays(self) -> dict[str, dict[str, np.ndarray]]:
         """Per actor, per channel: a numpy array over the recorded ticks."""
         result: dict[str, dict[str, np.ndarray]] = {}
-        road = CHANNELS.index("road")
-        numeric = [i for i, c in enumerate(CHANNELS) if c not in TEXT_CHANNELS]
+        ticks = np.array([c[0] for c in self.clock], dtype=np.int64)
+        times = np.array([c[1] for c in self.clock], dtype=float)
+        channels = CHANNELS[2:]  # after tick and time
+        road = channels.index("road")
+        numeric = [i for i, c in enumerate(channels) if c not in TEXT_CHANNELS]
         for name, rows in self.rows.items():
             table = np.array([[row[i] for i in numeric] for row in rows], dtype=float).reshape(
                 -1, len(numeric)
             )
-            columns = {CHANNELS[i]: table[:, k].copy() for k, i in enumerate(numeric)}
+            columns = {channels[i]: table[:, k].copy() for k, i in enumerate(numeric)}
             columns["road"] = np.array([str(row[road]) for row in rows], dtype=str)
-            columns["tick"] = columns["tick"].astype(np.int64)
+            columns["tick"], columns["time"] = ticks.copy(), times.copy()
             columns["lane_id"] = columns["lane_id"].astype(np.int64)
             result[name] = {c: columns[c] for c in CHANNELS}
         return result
@@ -168,16 +191,10 @@ def _number(value: float | str) -> str:
 def write_telemetry(path: Path, recorder: Recorder) -> None:
     with atomic_open(path, "w", newline="", encoding="utf-8") as f:
         f.write("actor," + ",".join(CHANNELS) + "\n")
+        clock = [f"{tick},{_number(time)}," for tick, time in recorder.clock]
         for name, rows in recorder.rows.items():
-            for row in rows:
-                f.write(
-                    name
-                    + ","
-                    + str(int(row[0]))
-                    + ","
-                    + ",".join(_number(v) for v in row[1:])
-                    + "\n"
-                )
+            for when, row in zip(clock, rows, strict=True):
+                f.write(name + "," + when + ",".join(_number(v) for v in row) + "\n")
 
 
 def write_events(path: Path, records: Iterable[LogRecord]) -> None:

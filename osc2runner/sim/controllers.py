@@ -52,6 +52,7 @@ from osc2check.world.projection import lane_centre
 from osc2check.world.topology import side_neighbour
 from osc2check.world.tracking import PathCursor
 from osc2runner.sim.tracking import PathTracker
+from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sim.world import ActorState, VehicleInput
 
@@ -171,6 +172,8 @@ class SpeedController:
         self.accel_goal: float | None = None
         self.accel_jerk = math.inf
         self.speed_bounds = (0.0, math.inf)
+        #: the trailer the vehicle tows: the inverse model adds its mass and resistance
+        self.towed: TrailerParams | None = None
 
     def set_target(self, speed: float, profile: RateProfile | str = "none") -> None:
         """Drive towards ``speed`` (m/s, >= 0) shaped by ``profile``."""
@@ -286,9 +289,17 @@ class SpeedController:
         self.v_ref = v
 
     def pedals_for(self, accel: float, speed: float) -> tuple[float, float]:
-        """Inverse vehicle model: the ``(throttle, brake)`` giving ``accel`` at ``speed``."""
+        """Inverse vehicle model: the ``(throttle, brake)`` giving ``accel`` at ``speed``
+        (with the trailer it tows, whose brakes, if any, add to its own)."""
         p = self.params
         force = p.mass * accel + p.resistance_force(speed)
+        towed = self.towed
+        if towed is not None:
+            force += towed.mass * accel + towed.resistance_force(speed)
+            if force < 0.0 and towed.braked:  # the trailer's brakes follow the pedal
+                full = p.max_brake_torque / p.wheel_radius
+                full += towed.max_brake_torque / towed.wheel_radius
+                return (0.0, min(-force / full, 1.0))
         if force >= 0.0:
             return (min(force / p.drive_force_available(speed), 1.0), 0.0)
         return (0.0, min(-force * p.wheel_radius / p.max_brake_torque, 1.0))

@@ -6,7 +6,12 @@ candidate pairs, then a separating-axis test. Leaving the road is the world's
 verdict on each moving actor's position (:class:`~osc2runner.sim.world.World`
 asks the map), reported here when it changes. A pair is reported once when its boxes
 start to overlap and again only after they have separated. Obstacle pairs
-are never checked (they do not move).
+are never checked (they do not move), nor pairs of actors that stand still for a
+while (:meth:`EventDetector.hold`: idle walkers), whose overlaps cannot change
+until one of them moves again. A pair can be ignored for a while (a trailer and
+its tow vehicle while hitched): its overlap is tracked but not reported, and
+once it is noticed again it is reported only when its boxes start to overlap
+after that.
 """
 
 from __future__ import annotations
@@ -57,29 +62,72 @@ class EventDetector:
         self.static = np.asarray(static, dtype=bool)
         self.moving = ~self.static
         self.margin = margin
-        radius = np.hypot(self.half[:, 0], self.half[:, 1])
+        self._radius = np.hypot(self.half[:, 0], self.half[:, 1])
+        self._moving_list = np.flatnonzero(self.moving).tolist()
+        self._held = np.zeros(n, dtype=bool)
+        self._pairs_of_held()
+        self.reset()
+
+    def _pairs_of_held(self) -> None:
+        """The pairs to check (at least one actor that may move), after a change of what
+        is held."""
+        n = len(self.names)
+        still = self.static | self._held
         pi, pj = np.triu_indices(n, k=1)
-        keep = ~(self.static[pi] & self.static[pj])
+        keep = ~(still[pi] & still[pj])
         self._pi, self._pj = pi[keep], pj[keep]
-        reach = radius[self._pi] + radius[self._pj] + margin
+        reach = self._radius[self._pi] + self._radius[self._pj] + self.margin
         self._reach2 = reach * reach
         # few actors: plain Python loops beat numpy's per-call overhead
         self._small = len(self._pi) <= SMALL_PAIRS
         self._pairs = list(
             zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(), strict=True)
         )
-        self._moving_list = np.flatnonzero(self.moving).tolist()
-        self.reset()
+        self._still_pairs = {
+            (int(a), int(b)) for a, b in zip(pi[~keep].tolist(), pj[~keep].tolist(), strict=True)
+        }
+
+    def hold(self, i: int, held: bool = True) -> None:
+        """Actor ``i`` stands still from now on (``held=False``: it may move again): its
+        pairs with other still actors are not checked meanwhile, once they have been
+        checked with its pose at the next :meth:`detect`."""
+        if held:
+            if not self._held[i]:
+                self._to_hold.add(i)
+            return
+        self._to_hold.discard(i)
+        if self._held[i]:
+            self._held[i] = False
+            self._pairs_of_held()
+
+    def _hold_now(self) -> None:
+        for i in self._to_hold:
+            self._held[i] = True
+        self._to_hold.clear()
+        self._pairs_of_held()
 
     def reset(self) -> None:
-        """Forget ongoing contacts (the next overlap is reported again)."""
+        """Forget ongoing contacts (the next overlap is reported again) and who was held."""
+        self._to_hold: set[int] = set()
+        if self._held.any():
+            self._held[:] = False
+            self._pairs_of_held()
         self._overlaps: set[tuple[int, int]] = set()
         self._off_road: set[int] = set()
+        self._ignored: set[tuple[int, int]] = set()
+
+    def ignore(self, a: int, b: int, ignored: bool = True) -> None:
+        """Stop (or, with ``ignored=False``, resume) reporting the pair of actors ``a``, ``b``."""
+        pair = (min(a, b), max(a, b))
+        if ignored:
+            self._ignored.add(pair)
+        else:
+            self._ignored.discard(pair)
 
     @property
     def collisions(self) -> frozenset[tuple[str, str]]:
-        """Pairs of actors whose boxes overlap now."""
-        return frozenset((self.names[i], self.names[j]) for i, j in self._overlaps)
+        """Pairs of actors whose boxes overlap now (ignored pairs excepted)."""
+        return frozenset((self.names[i], self.names[j]) for i, j in self._overlaps - self._ignored)
 
     def detect(
         self,
@@ -93,14 +141,24 @@ class EventDetector:
         each moving actor (in order) whether it is off the road now."""
         events = self._leaving(tick, time, off_road)
         if self._small:
-            return self._detect_small(tick, time, centre.tolist(), yaw.tolist(), events)
+            self._detect_small(tick, time, centre.tolist(), yaw.tolist(), events)
+        else:
+            self._detect_many(tick, time, centre, yaw, events)
+        if self._to_hold:
+            self._hold_now()
+        return events
+
+    def _detect_many(
+        self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray, events: list[Event]
+    ) -> None:
+        """:meth:`detect`'s collisions with numpy over the pairs."""
         if not len(self._pi):
-            return events
+            return
         diff = centre[self._pi] - centre[self._pj]
         near = np.flatnonzero(diff[:, 0] ** 2 + diff[:, 1] ** 2 <= self._reach2)
         if not near.size and not self._overlaps:
-            return events
-        now: set[tuple[int, int]] = set()
+            return
+        now = self._overlaps & self._still_pairs
         half = self._half_list
         for k in near.tolist():
             a, b = int(self._pi[k]), int(self._pj[k])
@@ -114,10 +172,9 @@ class EventDetector:
                 self.margin,
             ):
                 now.add((a, b))
-                if (a, b) not in self._overlaps:
+                if (a, b) not in self._overlaps and (a, b) not in self._ignored:
                     events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
         self._overlaps = now
-        return events
 
     def _leaving(self, tick: int, time: float, off_road: Sequence[bool]) -> list[Event]:
         """``off_road`` events of the moving actors that are off the road now and were not."""
@@ -132,11 +189,11 @@ class EventDetector:
 
     def _detect_small(
         self, tick: int, time: float, centre: list, yaw: list, events: list[Event]
-    ) -> list[Event]:
-        """:meth:`detect` for a few actors, in plain Python (the same results)."""
+    ) -> None:
+        """:meth:`detect`'s collisions for a few pairs, in plain Python (the same results)."""
         if not self._pairs:
-            return events
-        now: set[tuple[int, int]] = set()
+            return
+        now = self._overlaps & self._still_pairs if self._overlaps else set()
         half = self._half_list
         for a, b, reach2 in self._pairs:
             ca, cb = centre[a], centre[b]
@@ -145,10 +202,9 @@ class EventDetector:
                 continue
             if boxes_overlap(ca, yaw[a], half[a], cb, yaw[b], half[b], self.margin):
                 now.add((a, b))
-                if (a, b) not in self._overlaps:
+                if (a, b) not in self._overlaps and (a, b) not in self._ignored:
                     events.append(Event(tick, time, "collision", (self.names[a], self.names[b])))
         self._overlaps = now
-        return events
 
 
 def boxes_overlap(

@@ -106,6 +106,9 @@ class VehicleParams:
     abs_margin: float = 0.9  # brake torque cap = margin * mu * N * r
     tcs_margin: float = 0.9
     max_speed: float = 250.0 / 3.6
+    # hitch receiver: how far behind the rear of the box (None: tows nothing), how high
+    hitch_reach: float | None = 0.1
+    hitch_height: float = 0.45
 
     def __post_init__(self) -> None:
         if self.drive not in ("rwd", "fwd", "awd"):
@@ -137,6 +140,11 @@ class VehicleParams:
     def rear_axle_x(self) -> float:
         """Rear axle relative to the bounding-box centre."""
         return self.cog_x - self.lr
+
+    @property
+    def receiver_x(self) -> float | None:
+        """The hitch receiver relative to the bounding-box centre (None: tows nothing)."""
+        return None if self.hitch_reach is None else -0.5 * self.length - self.hitch_reach
 
     @property
     def driven(self) -> tuple[bool, bool, bool, bool]:
@@ -208,6 +216,8 @@ def hgv(**changes: object) -> VehicleParams:
         drag_area=6.0,
         rolling_resistance=0.008,
         max_speed=90.0 / 3.6,
+        hitch_reach=0.25,
+        hitch_height=0.9,
     )
     base.update(changes)
     return VehicleParams(**base)  # type: ignore[arg-type]
@@ -285,6 +295,11 @@ def vehicle_body_xml(
         f'pos="{_vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
         f'group="1" mass="0"/>',
     ]
+    if p.receiver_x is not None:
+        lines.append(
+            f'  <site name="{prefix}_receiver" '
+            f'pos="{_vec(p.receiver_x, 0, p.hitch_height - p.h_cog)}"/>'
+        )
     for wheel, (cx, cy), steer, load in zip(WHEELS, corners, steered, loads, strict=True):
         # sprung load of this corner: the wheel's static load minus unsprung masses
         sprung = load - (p.wheel_mass + p.knuckle_mass) * GRAVITY

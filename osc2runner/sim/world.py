@@ -7,7 +7,8 @@ pose and speed). It advances in fixed control steps (50 ms by default), each
 made of a whole number of physics steps (2 ms by default):
 
 1. the inputs of this tick go through the actuator layer (rate limits, ABS,
-   TCS, Ackermann) and are written into the model;
+   TCS, Ackermann) and are written into the model; trailers brake with their
+   tow vehicles (``sim/trailer.py``);
 2. pedestrians move along their commanded velocity (kinematic);
 3. ``mj_step`` runs the physics sub-steps;
 4. the state of every actor is read out, with its road coordinates (road,
@@ -26,6 +27,10 @@ finds NaN, infinite or huge values, warns and resets its state to the initial
 one. :meth:`World.diverged` reports that, or a non-finite read-out, after a
 step, naming the actor, so that the runner ends the run as an error instead of
 carrying on from a teleported or NaN state.
+
+Trailers are bodies of their own, hitched to a tow vehicle by a ball joint
+(:meth:`World.connect`, :meth:`World.disconnect`); a hitched pair is not a
+collision.
 
 Friction is a property of the tires (they override the road's geom friction
 by priority): :meth:`World.set_road_friction` writes every tire,
@@ -48,6 +53,13 @@ from osc2check.world.paths import LanePath
 from osc2check.world.tracking import RoadLocator, RoadPosition
 from osc2runner.sim.actuators import ActuatorBank
 from osc2runner.sim.events import Event, EventDetector
+from osc2runner.sim.trailer import (
+    TrailerBank,
+    TrailerParams,
+    articulation,
+    hitch_equality_xml,
+    trailer_body_xml,
+)
 from osc2runner.sim.vehicle import (
     WHEELS,
     ObstacleParams,
@@ -70,7 +82,7 @@ __all__ = [
     "weather_friction",
 ]
 
-ActorParams = VehicleParams | PedestrianParams | ObstacleParams
+ActorParams = VehicleParams | PedestrianParams | ObstacleParams | TrailerParams
 
 DRY_FRICTION = 1.0
 
@@ -96,7 +108,9 @@ class ActorSpec:
     (the road of a built-in map) with ``s`` along it; ``offset`` is to the left of the
     lane centre; ``lane=None`` takes ``offset`` as the ``t`` of that carriageway's first
     road. ``yaw`` is the world heading in radians (default: the lane's direction of
-    travel) and ``speed`` the initial speed along it in m/s.
+    travel) and ``speed`` the initial speed along it in m/s. A trailer ``towed_by`` a
+    vehicle starts hitched to it: on its hitch, with its heading and speed (its own
+    position, heading and speed are not used).
     """
 
     name: str
@@ -108,12 +122,15 @@ class ActorSpec:
     y: float | None = None
     yaw: float | None = None
     speed: float = 0.0
+    towed_by: str | None = None
 
     @property
     def kind(self) -> str:
-        """``vehicle``, ``pedestrian`` or ``obstacle``."""
+        """``vehicle``, ``trailer``, ``pedestrian`` or ``obstacle``."""
         if isinstance(self.params, VehicleParams):
             return "vehicle"
+        if isinstance(self.params, TrailerParams):
+            return "trailer"
         if isinstance(self.params, PedestrianParams):
             return "pedestrian"
         return "obstacle"
@@ -173,8 +190,10 @@ class ActorState:
 
     ``x``/``y`` are the bounding-box centre, ``speed`` the signed speed along
     the heading, ``accel`` its change over the last control step,
-    ``friction`` the mean tire friction (NaN for non-vehicles), and
-    ``throttle``/``brake``/``steer`` the applied (rate-limited) inputs.
+    ``friction`` the mean tire friction (NaN for actors without tires),
+    ``throttle``/``brake``/``steer`` the applied (rate-limited) inputs, and
+    ``articulation`` a hitched trailer's articulation angle (its tow vehicle's
+    heading less its own; NaN otherwise).
 
     Road coordinates of the centre: ``road`` (None off every road), ``s`` and ``t``
     on it, ``section`` and ``lane_id`` (OpenDRIVE) of the lane it is in, ``offset``
@@ -211,6 +230,7 @@ class ActorState:
     direction: int = 0
     on_road: bool = False
     distance: float = 0.0
+    articulation: float = math.nan
 
     @property
     def lane_ref(self) -> LaneRef | None:
@@ -272,9 +292,12 @@ class World:
         self._index = {a.name: i for i, a in enumerate(self.specs)}
         self._vehicles = [a for a in self.specs if a.kind == "vehicle"]
         self._pedestrians = [a for a in self.specs if a.kind == "pedestrian"]
+        self._trailers = [a for a in self.specs if a.kind == "trailer"]
         self._vparams = [a.params for a in self._vehicles if isinstance(a.params, VehicleParams)]
         self._vrow = {a.name: i for i, a in enumerate(self._vehicles)}
         self._prow = {a.name: i for i, a in enumerate(self._pedestrians)}
+        self._trow = {a.name: i for i, a in enumerate(self._trailers)}
+        self._check_hitches()
         self.xml = self._build_xml()
         self.model = mujoco.MjModel.from_xml_string(self.xml)
         self.data = mujoco.MjData(self.model)
@@ -287,6 +310,24 @@ class World:
     def _prefix(self, name: str) -> str:
         return f"a{self._index[name]}"
 
+    def _check_hitches(self) -> None:
+        towing: set[str] = set()
+        for spec in self._trailers:
+            tow = spec.towed_by
+            if tow is None:
+                continue
+            if not self.can_tow(tow):
+                raise ValueError(f"`{spec.name}` is towed by `{tow}`, which has no hitch receiver")
+            if tow in towing:
+                raise ValueError(f"`{tow}` tows two trailers")
+            towing.add(tow)
+
+    def can_tow(self, name: str) -> bool:
+        """Whether actor ``name`` is a vehicle with a hitch receiver."""
+        i = self._index.get(name)
+        params = self.specs[i].params if i is not None else None
+        return isinstance(params, VehicleParams) and params.receiver_x is not None
+
     def _build_xml(self) -> str:
         bodies: list[str] = []
         actuators: list[str] = []
@@ -298,10 +339,22 @@ class World:
             if isinstance(p, VehicleParams):
                 bodies.append(vehicle_body_xml(prefix, p, x, y, yaw, collide=collide))
                 actuators.append(vehicle_actuator_xml(prefix, p))
+            elif isinstance(p, TrailerParams):
+                if spec.towed_by is not None:
+                    x, y, yaw = self._hitch_pose(spec.name, spec.towed_by, initial=True)
+                bodies.append(trailer_body_xml(prefix, p, x, y, yaw, collide=collide))
             elif isinstance(p, PedestrianParams):
                 bodies.append(pedestrian_xml(prefix, p, x, y, yaw))
             else:
                 bodies.append(obstacle_xml(prefix, p, x, y, yaw, collide=collide))
+        hitches = [
+            hitch_equality_xml(
+                self._prefix(tow.name), self._prefix(t.name), active=t.towed_by == tow.name
+            )
+            for t in self._trailers
+            for tow in self._vehicles
+            if self.can_tow(tow.name)
+        ]
         x0, x1, y0, y1 = self.network.bounds()
         return "\n".join(
             [
@@ -317,6 +370,9 @@ class World:
                 "  <actuator>",
                 *actuators,
                 "  </actuator>",
+                "  <equality>",
+                *hitches,
+                "  </equality>",
                 "</mujoco>",
             ]
         )
@@ -369,6 +425,22 @@ class World:
         )
         self._mu = np.ones((nv, 4))
         self._mu_mean = [1.0] * nv
+        self.trailers = TrailerBank(
+            m,
+            [self._prefix(a.name) for a in self._trailers],
+            [a.params for a in self._trailers if isinstance(a.params, TrailerParams)],
+        )
+        self._tmu = np.ones((len(self._trailers), 2))
+        self._hitch_eq = {
+            (tow.name, t.name): mujoco.mj_name2id(
+                m,
+                mujoco.mjtObj.mjOBJ_EQUALITY,
+                f"{self._prefix(tow.name)}_tows_{self._prefix(t.name)}",
+            )
+            for t in self._trailers
+            for tow in self._vehicles
+            if self.can_tow(tow.name)
+        }
         self._q7 = self._qadr[:, None] + np.arange(7)
         self._v6 = self._vadr[:, None] + np.arange(6)
 
@@ -378,8 +450,10 @@ class World:
         self._kinds = tuple(a.kind for a in self.specs)
         self._names = tuple(a.name for a in self.specs)
         self._veh_pos = np.array([self._index[a.name] for a in self._vehicles], dtype=int)
+        self._trl_pos = np.array([self._index[a.name] for a in self._trailers], dtype=int)
         self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
         self._obs_pos = np.flatnonzero(self._is_static)
+        self._obs_names = tuple(self._names[i] for i in self._obs_pos)
         self._obs_pose = np.array(
             [self.specs[i].pose(self.network) for i in self._obs_pos], dtype=float
         ).reshape(-1, 3)
@@ -418,9 +492,17 @@ class World:
             self._apply_road_friction(weather_friction(self.weather))
 
         nv = len(self._vehicles)
+        self.trailers.reset()
+        self.hitched: dict[str, str] = {}  # trailer -> its tow vehicle
+        for spec in self._trailers:
+            if spec.towed_by is not None:
+                self._hitch(spec.towed_by, spec.name)
         # settle at rest with the brakes on and the steering centred
-        if nv and self.settle_time > 0.0:
+        if (nv or self._trailers) and self.settle_time > 0.0:
             m.dof_frictionloss[self._spin_dof.ravel()] = self.actuators.brake_max.ravel()
+            m.dof_frictionloss[self.trailers.spin_dof.ravel()] = np.repeat(
+                [p.mass * p.wheel_radius * 5.0 for p in self.trailers.params], 2
+            )
             d.ctrl[:] = 0.0
             mujoco.mj_step(m, d, nstep=max(1, round(self.settle_time / self.dt_physics)))
             d.qvel[:] = 0.0
@@ -432,16 +514,29 @@ class World:
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
         self._ped_input: list[PedestrianInput | None] = [None] * len(self._pedestrians)
+        n_ped = len(self._pedestrians)
+        # walkers that stand still (no speed, no acceleration) keep their pose and their
+        # state: nothing is moved, read, or checked for them until they move again
+        self._ped_still = [False] * n_ped
+        self._ped_moving = n_ped
+        self._moving_now = list(self._moving_rows)  # the moving rows, still walkers left out
+        self._ped_state: list[ActorState | None] = [None] * n_ped
+        self._ped_all_kept = False  # every walker stands still and has its state kept
+        self._ped_dirty = True  # a walker's pose changed: its row of the pose arrays too
+        self._ped_unchecked = True  # ... and its position is not known to be finite
         self._located = [None] * len(self.specs)
         self._accel = np.zeros(nv)
         self._distance = np.zeros(len(self.specs))
         self._read()
+        self.trailers.read(d)
         for spec in self.specs:
-            if spec.kind != "obstacle":  # obstacles stay where the model put them
+            if spec.kind != "obstacle" and spec.name not in self.hitched:
+                # obstacles stay where the model put them; hitched trailers come with their tow
                 x, y, yaw = spec.pose(self.network)
                 self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
+        self.trailers.read(d)
         self._locate()
         self._bad_seen = self._bad_counts()
         self._bad_total = sum(self._bad_seen)
@@ -472,6 +567,11 @@ class World:
             d.qvel[self._spin_dof[row]] = speed / radius
             self._read()
             self._accel[row] = 0.0
+            trailer = self.towing(name)
+            if trailer is not None:  # the trailer comes along, on the hitch
+                self._place_trailer(trailer, *self._hitch_pose(trailer, name), speed)
+        elif kind == "trailer":
+            self._place_trailer(name, x, y, yaw, speed)
         elif kind == "pedestrian":
             row = self._prow[name]
             mid = self._mocap[row]
@@ -481,9 +581,105 @@ class World:
             self._ped_yaw[row] = yaw
             self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
             self._ped_input[row] = None
+            self._walker_moves(row, speed != 0.0 or self._ped_accel[row] != 0.0)
         else:
             raise ValueError(f"obstacle `{name}` is static and cannot be placed after start")
         self._locate()
+
+    def _place_trailer(self, name: str, x: float, y: float, yaw: float, speed: float) -> None:
+        m, d = self.model, self.data
+        bank = self.trailers
+        row = self._trow[name]
+        self._locators[self._index[name]].reset()
+        self._located[self._index[name]] = None
+        q, v = bank.qadr[row], bank.vadr[row]
+        old = d.qpos[q + 3 : q + 7].copy()
+        tilt = _quat_mul(_yaw_quat(-_quat_yaw(old)), old)
+        d.qpos[q : q + 2] = (x, y)
+        d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
+        d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
+        mujoco.mj_kinematics(m, d)
+        d.qvel[bank.spin_dof[row]] = speed / d.xpos[bank.wheel_body[row], 2]
+        bank.read(d)
+        bank.accel[row] = 0.0
+
+    # ------------------------------------------------------------------ hitches
+
+    def _hitch_pose(
+        self, trailer: str, tow: str, initial: bool = False
+    ) -> tuple[float, float, float]:
+        """Where ``trailer`` stands on ``tow``'s hitch, aligned with it: its world
+        ``(x, y, yaw)`` from the tow vehicle's current pose (``initial``: its spec's)."""
+        tow_spec = self.specs[self._index[tow]]
+        tp, vp = self.specs[self._index[trailer]].params, tow_spec.params
+        assert isinstance(tp, TrailerParams) and isinstance(vp, VehicleParams)
+        assert vp.receiver_x is not None
+        if initial:
+            x, y, yaw = tow_spec.pose(self.network)
+        else:
+            row = self._vrow[tow]
+            x, y, yaw = float(self._pos[row, 0]), float(self._pos[row, 1]), float(self._yaw[row])
+        back = -vp.receiver_x + tp.coupler  # tow centre to trailer centre, along the heading
+        return (x - back * math.cos(yaw), y - back * math.sin(yaw), yaw)
+
+    def _hitch(self, tow: str, trailer: str) -> None:
+        self.hitched[trailer] = tow
+        self.data.eq_active[self._hitch_eq[(tow, trailer)]] = 1
+        self._events.ignore(self._index[tow], self._index[trailer])
+
+    def towing(self, name: str) -> str | None:
+        """The trailer vehicle ``name`` tows, or None."""
+        return next((t for t, tow in self.hitched.items() if tow == name), None)
+
+    def connect(self, tow: str, trailer: str) -> float:
+        """Hitch ``trailer`` to ``tow``'s receiver; returns how far the trailer was moved (m).
+
+        A trailer whose coupler is not on the receiver (within 5 cm, its heading within
+        0.01 rad of the tow vehicle's) is first put there, aligned, at the tow vehicle's
+        speed. Raises ValueError when the pair cannot be hitched.
+        """
+        if not self.can_tow(tow):
+            raise ValueError(f"`{tow}` has no hitch receiver")
+        if self.kind(trailer) != "trailer":
+            raise ValueError(f"`{trailer}` is not a trailer")
+        if trailer in self.hitched:
+            raise ValueError(f"`{trailer}` is already towed by `{self.hitched[trailer]}`")
+        if self.towing(tow) is not None:
+            raise ValueError(f"`{tow}` already tows `{self.towing(tow)}`")
+        x, y, yaw = self._hitch_pose(trailer, tow)
+        row = self._trow[trailer]
+        bank = self.trailers
+        here = bank.pos[row].tolist()
+        moved = math.hypot(x - here[0], y - here[1])
+        turned = abs(articulation(yaw, float(bank.yaw[row])))
+        if moved > 0.05 or turned > 0.01:
+            self._place_trailer(trailer, x, y, yaw, float(self._speed[self._vrow[tow]]))
+        else:
+            moved = 0.0
+        self._hitch(tow, trailer)
+        mujoco.mj_forward(self.model, self.data)
+        self._locate()
+        return moved
+
+    def disconnect(self, tow: str) -> str:
+        """Unhitch the trailer ``tow`` tows; returns its name. Raises ValueError when it
+        tows none. The trailer stays where it is, its brakes applied when it has any."""
+        trailer = self.towing(tow)
+        if trailer is None:
+            raise ValueError(f"`{tow}` tows no trailer")
+        del self.hitched[trailer]
+        self.data.eq_active[self._hitch_eq[(tow, trailer)]] = 0
+        self._events.ignore(self._index[tow], self._index[trailer], False)
+        return trailer
+
+    def articulation(self, trailer: str) -> float:
+        """A hitched trailer's articulation angle (rad; NaN when it is not hitched)."""
+        tow = self.hitched.get(trailer)
+        if tow is None:
+            return math.nan
+        return articulation(
+            float(self._yaw[self._vrow[tow]]), float(self.trailers.yaw[self._trow[trailer]])
+        )
 
     # ------------------------------------------------------------------ time
 
@@ -498,7 +694,7 @@ class World:
         return self._names
 
     def kind(self, name: str) -> str:
-        """``vehicle``, ``pedestrian`` or ``obstacle``."""
+        """``vehicle``, ``trailer``, ``pedestrian`` or ``obstacle``."""
         return self._kinds[self._index[name]]
 
     def params(self, name: str) -> ActorParams:
@@ -527,8 +723,22 @@ class World:
             self._ped_accel[row] = (speed - self._ped_speed[row]) / self.dt_control
             self._ped_speed[row] = speed
             self.data.mocap_quat[self._mocap[row]] = _yaw_quat(yaw)
+            self._walker_moves(row, speed != 0.0 or self._ped_accel[row] != 0.0)
         else:
             raise TypeError(f"{type(value).__name__} is not an input for {kind} `{name}`")
+
+    def _walker_moves(self, row: int, moves: bool) -> None:
+        """Walker ``row``'s input or pose changed: whether it moves now (a walker that
+        stands still costs nothing per tick until it moves again)."""
+        self._ped_state[row] = None
+        self._ped_all_kept = False
+        self._ped_dirty = self._ped_unchecked = True
+        if self._ped_still[row] == moves:
+            self._ped_still[row] = not moves
+            self._ped_moving += 1 if moves else -1
+            self._events.hold(int(self._ped_pos[row]), not moves)
+            still = {int(self._ped_pos[r]) for r, s in enumerate(self._ped_still) if s}
+            self._moving_now = [i for i in self._moving_rows if i not in still]
 
     def step_control(
         self, inputs: Mapping[str, VehicleInput | PedestrianInput] | None = None
@@ -551,7 +761,9 @@ class World:
             d.xfrc_applied[self._body, :2] = (
                 -(bank.drag_coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
             )
-        if len(self._pedestrians):
+        if self._trailers:
+            self._brake_trailers()
+        if self._ped_moving:
             d.mocap_pos[self._mocap] += self._ped_vel * self.dt_control
         mujoco.mj_step(m, d, nstep=self.substeps)
         self.tick += 1
@@ -562,7 +774,10 @@ class World:
             dv = (self._vel - prev) / self.dt_control
             self._accel = dv[:, 0] * c + dv[:, 1] * s
             self._distance[self._veh_pos] += np.abs(self._speed) * self.dt_control
-        if len(self._pedestrians):
+        if self._trailers:
+            self.trailers.read(d, self.dt_control)
+            self._distance[self._trl_pos] += np.abs(self.trailers.speed) * self.dt_control
+        if self._ped_moving:
             self._distance[self._ped_pos] += np.abs(self._ped_speed) * self.dt_control
         centre, yaw = self._poses()
         self._locate(centre, yaw)
@@ -575,14 +790,28 @@ class World:
         self.events.extend(events)
         return events
 
+    def _brake_trailers(self) -> None:
+        """A hitched trailer brakes as its tow vehicle does; an unhitched one is parked."""
+        bank = self.trailers
+        applied = self.actuators.brake
+        for row, spec in enumerate(self._trailers):
+            tow = self.hitched.get(spec.name)
+            bank.brake[row] = applied[self._vrow[tow]] if tow is not None else 1.0
+        bank.apply(self.model, self.data, self._tmu)
+
     def _locate(self, centre: np.ndarray | None = None, yaw: np.ndarray | None = None) -> None:
-        """The road coordinates of every moving actor, from their new poses."""
+        """The road coordinates of every moving actor, from their new poses (a step's
+        ``centre`` and ``yaw`` given: of those that may have moved, not the walkers that
+        stand still)."""
+        rows = self._moving_rows
         if centre is None or yaw is None:
             centre, yaw = self._poses()
+        elif self._ped_moving < len(self._pedestrians):
+            rows = self._moving_now
         points = centre.tolist()
         angles = yaw.tolist()
         positions, locators, last = self._positions, self._locators, self._located
-        for i in self._moving_rows:
+        for i in rows:
             x, y = points[i]
             if last[i] == (x, y):
                 continue  # a walker standing still: where it was
@@ -644,9 +873,13 @@ class World:
         if len(self._vehicles):
             centre[self._veh_pos] = self._pos
             yaw[self._veh_pos] = self._yaw
-        if len(self._pedestrians):
+        if self._trailers:
+            centre[self._trl_pos] = self.trailers.pos
+            yaw[self._trl_pos] = self.trailers.yaw
+        if self._ped_moving or self._ped_dirty:
             centre[self._ped_pos] = self.data.mocap_pos[self._mocap, :2]
             yaw[self._ped_pos] = self._ped_yaw
+            self._ped_dirty = False
         if len(self._obs_pos):
             centre[self._obs_pos] = self._obs_pose[:, :2]
             yaw[self._obs_pos] = self._obs_pose[:, 2]
@@ -668,6 +901,8 @@ class World:
             friction = self._mu_mean[r]
             throttle, brake = float(bank.throttle[r]), float(bank.brake[r])
             steer = float(bank.delta[r] / bank.max_steer[r])
+        elif kind == "trailer":
+            return self._trailer_state(name, self.tick, self.time)
         elif kind == "pedestrian":
             r = self._prow[name]
             pos = self.data.mocap_pos[self._mocap[r]]
@@ -709,6 +944,44 @@ class World:
             p.direction,
             p.drivable,
             float(self._distance[i]),
+        )
+
+    def _trailer_state(self, name: str, tick: int, time: float) -> ActorState:
+        r = self._trow[name]
+        i = self._index[name]
+        bank = self.trailers
+        x, y = (float(v) for v in bank.pos[r])
+        params = bank.params[r]
+        p = self._positions[i]
+        return ActorState(
+            name,
+            "trailer",
+            tick,
+            time,
+            x,
+            y,
+            float(bank.yaw[r]),
+            float(bank.speed[r]),
+            float(bank.lat_speed[r]),
+            float(bank.yaw_rate[r]),
+            float(bank.accel[r]),
+            p.number if p.inside else None,
+            p.s,
+            p.t,
+            float(self._tmu[r].mean()),
+            math.nan,
+            float(bank.brake[r]) if params.braked else 0.0,
+            math.nan,
+            params.length,
+            params.width,
+            p.road,
+            p.section,
+            p.lane,
+            p.offset,
+            p.direction,
+            p.drivable,
+            float(self._distance[i]),
+            self.articulation(name),
         )
 
     def states(self) -> dict[str, ActorState]:
@@ -772,16 +1045,25 @@ class World:
                     p.drivable,
                     distance[i],
                 )
+        for spec in self._trailers:
+            out[spec.name] = self._trailer_state(spec.name, tick, time)
         if len(self._pedestrians):
             self._read_pedestrians(out, tick, time)
-        if static or any(spec.name not in out for spec in self.specs if spec.kind == "obstacle"):
+        if static or any(name not in out for name in self._obs_names):
             for i in self._obs_pos:
                 name = self._names[i]
                 out[name] = self.state(name)
 
     def _read_pedestrians(self, out: dict[str, ActorState], tick: int, time: float) -> None:
         """The walkers' states, as :meth:`state` gives them (their road coordinates are
-        located again only when they moved: :meth:`_locate`)."""
+        located again only when they moved: :meth:`_locate`); a walker that stands still
+        keeps its state (whose ``tick`` and ``time`` are those of when it stopped, as an
+        obstacle's are those of the start)."""
+        still, kept = self._ped_still, self._ped_state
+        if self._ped_all_kept:
+            for spec, state in zip(self._pedestrians, kept, strict=True):
+                out[spec.name] = state  # type: ignore[assignment]
+            return
         pos = self.data.mocap_pos[self._mocap, :2].tolist()
         speed = self._ped_speed.tolist()
         yaw = self._ped_yaw.tolist()
@@ -791,11 +1073,14 @@ class World:
         distance = self._distance
         nan = math.nan
         for row, spec in enumerate(self._pedestrians):
+            if still[row] and kept[row] is not None:
+                out[spec.name] = kept[row]  # type: ignore[assignment]
+                continue
             x, y = pos[row]
             i = rows[row]
             p = positions[i]
             params = spec.params
-            out[spec.name] = ActorState(
+            state = out[spec.name] = ActorState(
                 spec.name,
                 "pedestrian",
                 tick,
@@ -824,6 +1109,9 @@ class World:
                 p.drivable,
                 float(distance[i]),
             )
+            if still[row]:
+                kept[row] = state
+        self._ped_all_kept = not self._ped_moving
 
     # ------------------------------------------------------------------ divergence
 
@@ -848,12 +1136,19 @@ class World:
                 (x, y), speed = self._pos[row].tolist(), float(self._speed[row])
                 if not all(math.isfinite(v) for v in (x, y, speed)):
                     return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
-        if len(self._pedestrians) and not np.isfinite(self.data.mocap_pos[self._mocap]).all():
+        for row, spec in enumerate(self._trailers):
+            (x, y), speed = self.trailers.pos[row].tolist(), float(self.trailers.speed[row])
+            if not all(math.isfinite(v) for v in (x, y, speed)):
+                return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
+        if (self._ped_moving or self._ped_unchecked) and not np.isfinite(
+            self.data.mocap_pos[self._mocap]
+        ).all():
             for row, spec in enumerate(self._pedestrians):
                 x, y = self.data.mocap_pos[self._mocap[row], :2].tolist()
                 speed = float(self._ped_speed[row])
                 if not all(math.isfinite(v) for v in (x, y, speed)):
                     return spec.name, f"non-finite state: x {x}, y {y}, speed {speed}"
+        self._ped_unchecked = False
         return None
 
     def _mujoco_divergence(self) -> tuple[str, str]:
@@ -926,11 +1221,13 @@ class World:
             raise ValueError(f"friction must be > 0, got {mu}")
         self.road_friction = float(mu)
         self._mu[:] = mu
+        self._tmu[:] = mu
         self._write_friction()
 
     def _write_friction(self) -> None:
         """Copy the per-wheel friction table into the model (effective at the next step)."""
         self.model.geom_friction[self._tire, 0] = self._mu
+        self.model.geom_friction[self.trailers.tire, 0] = self._tmu
         self._mu_mean = [float(v) for v in self._mu.mean(axis=1)]
 
     def set_road_friction(self, mu: float) -> None:

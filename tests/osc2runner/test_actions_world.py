@@ -432,6 +432,10 @@ def test_traffic_light_states_in_sequence_and_readable(tmp_path):
         (4.5, "stop"),
     ]
     assert _light_changes(result, "tl2") == [(0.0, "go")]  # sync: the same group
+    # per tick (lights.csv): the state of the tick's time; of two changes in a tick the last
+    semantic = list(result.lights["tl"]["semantic"])
+    assert semantic[:61] == ["go"] * 60 + ["attention"]
+    assert semantic[89:91] == ["attention", "stop"]
     # the drive ended in the tick the red bulb came on
     assert result.event_ticks("stop", "car.drive")[0] * 0.05 == pytest.approx(4.5, abs=0.051)
     assert result.metadata["traffic_lights"]["tl"] == {
@@ -479,6 +483,65 @@ def test_play_cycles_switches_phases_on_time(tmp_path):
         (20.0, "stop"),
         (24.0, "go"),
     ]
+
+
+def test_light_states_are_in_the_telemetry_every_tick(tmp_path):
+    """``lights.csv`` (and ``result.lights``): one row per light per tick, the state a
+    two-phase cycle (red 4 s, green 6 s) shows at that tick's time; ``telemetry.csv``
+    keeps one row per actor per tick."""
+    result = run_text(
+        tmp_path,
+        "    car: vehicle\n"
+        + LIGHT
+        + """\
+    red_bulb: traffic_light_bulb with:
+        keep(it.color == red)
+        keep(it.icon == circle)
+        keep(it.state == is_on)
+    green_bulb: traffic_light_bulb with:
+        keep(it.color == green)
+        keep(it.icon == circle)
+    stop_phase: traffic_light_phase with:
+        keep(it.bulbs_state == [red_bulb])
+        keep(it.duration == 4s)
+        keep(it.group.map_id == "north")
+    go_phase: traffic_light_phase with:
+        keep(it.bulbs_state == [green_bulb])
+        keep(it.duration == 6s)
+        keep(it.group.map_id == "north")
+    cycle: traffic_light_cycle with:
+        keep(it.phases == [stop_phase, go_phase])
+        keep(it.start_offset == 0s)
+    do parallel:
+        ctrl.play_cycles(cycles: [cycle], duration: 25s)
+        car.drive(duration: 25s)
+""",
+        out=tmp_path / "out",
+    )
+    assert result.outcome.status == "success", result.outcome.reason
+    ticks = len(result.telemetry["car"]["tick"])
+    assert ticks == 501
+    for name in ("tl", "tl2"):
+        lights = result.lights[name]
+        assert list(lights["tick"]) == list(range(ticks))
+        assert np.array_equal(lights["time"], result.telemetry["car"]["time"])
+        red = (lights["tick"] % 200) < 80  # 4 s of every 10 s at 20 Hz
+        assert set(lights["semantic"][red]) == {"stop"}
+        assert set(lights["bulbs"][red]) == {
+            "red/circle/is_on yellow/circle/is_off green/circle/is_off"
+        }
+        assert set(lights["semantic"][~red]) == {"go"}
+        assert set(lights["bulbs"][~red]) == {
+            "red/circle/is_off yellow/circle/is_off green/circle/is_on"
+        }
+    rows = (tmp_path / "out" / "lights.csv").read_text().splitlines()
+    assert rows[0] == "light,tick,time,semantic,bulbs"
+    assert len(rows) == 1 + 2 * ticks
+    assert rows[1 + 80] == (
+        "tl,80,4.0,go,red/circle/is_off yellow/circle/is_off green/circle/is_on"
+    )
+    telemetry = (tmp_path / "out" / "telemetry.csv").read_text().splitlines()
+    assert len(telemetry) == 1 + ticks  # the car's rows only
 
 
 # ---------------------------------------------------------------------- weather and methods

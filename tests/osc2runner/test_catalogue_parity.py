@@ -128,7 +128,8 @@ def _column() -> str:
             f"                lane(2, at: start)\n"
             f"                {where}\n"
         )
-    drives = "".join(f"            a_{c}.drive()\n" for c in names)
+    # a trailer has no engine: it stands where it was placed (only a tow vehicle moves it)
+    drives = "".join(f"            a_{c}.drive()\n" for c in names if not CATEGORIES[c].is_trailer)
     return (
         "import osc.standard\n\nscenario column:\n"
         + fields

@@ -26,6 +26,7 @@ def _state(accel: float) -> SimpleNamespace:
         lane_id=-2,
         s=12.5,
         t=-5.25,
+        articulation=float("nan"),
     )
 
 
