@@ -173,8 +173,9 @@ def test_the_latest_snapshot_answers_outside_the_edited_text():
     assert inside is not None and inside[0].version == 2 and inside[1] is None
 
 
-def test_replaced_snapshots_are_freed_once_the_documents_are_quiet():
-    """With automatic collection off, only the server's own collection frees them."""
+def test_replaced_snapshots_are_freed_without_the_cyclic_collector():
+    """With automatic collection off, reference counting alone frees each replaced
+    snapshot once the next analysis is done."""
 
     async def scenario():
         state = State(Options(debounce=0, verify=False))
@@ -184,7 +185,7 @@ def test_replaced_snapshots_are_freed_once_the_documents_are_quiet():
         for version in range(2, 5):
             state.change(uri, f"scenario s:\n    x: int = {version}\n", version)
             models.append(weakref.ref((await state.fresh(uri)).model))
-        await state.quiet()  # the collection follows a pause in the analyses
+        await state.quiet()
         freed = [m() is None for m in models]
         await state.shutdown()
         return freed
