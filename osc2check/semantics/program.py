@@ -209,8 +209,10 @@ def build_program(
         units.append(Unit(uri, result.ast, ctx, comments=comment_lines(result)))
 
     root_result = read(root)
-    if root_result is None:
-        return program
-    visit(root, root_result, implicit_imports)
-    program.diagnostics.extend(resolve(model, units))
+    if root_result is not None:
+        visit(root, root_result, implicit_imports)
+        program.diagnostics.extend(resolve(model, units))
+    # `visit` refers to itself (it recurses): emptied, it leaves no reference cycle
+    # that would keep the model alive after its analysis.
+    del visit
     return program
