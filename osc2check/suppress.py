@@ -10,7 +10,8 @@
 
 A finding is matched at its primary span's first line only, never at its
 related locations. Lines are the lexer's (``source.LINE_BREAK``), and only
-spaces, tabs and form feeds count as blank before a comment, as in the lexer. A suppression that matches nothing is reported as S001
+spaces, tabs and form feeds count as blank before a comment, as in the lexer.
+A suppression that matches nothing is reported as S001
 ``unused-suppression``; a code that does not exist as S002
 ``unknown-suppression-code``. Those two can only be suppressed file-wide.
 """

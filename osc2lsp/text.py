@@ -21,7 +21,6 @@ from urllib.parse import quote, unquote, urlparse
 
 from osc2check.source import LINE_BREAK  # what a line is: one home for the checker and us
 
-
 # ---- file names ---------------------------------------------------------------
 
 
