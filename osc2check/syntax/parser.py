@@ -160,6 +160,17 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
         return assemble(uri, text, segments, tuple(lexed.comments))
 
 
+def parse_part(text: str, uri: str, start: int, end: int, line: int) -> ParseResult:
+    """Parse ``text[start:end]`` as a file of its own, with the positions it has in
+    ``text`` (``start`` begins line ``line``): one declaration of a large file, say,
+    without lexing the rest."""
+    with gc_paused():
+        lexed = tokenize(text, start, end, line)
+        tokens, layout = indent(lexed.tokens, text)
+        segments = parse_segments(uri, text, tokens, lexed.errors, layout, start, line)
+        return assemble(uri, text, segments, tuple(lexed.comments))
+
+
 def assemble(
     uri: str, text: str, segments: tuple[Segment, ...], comments: tuple[Comment, ...]
 ) -> ParseResult:
