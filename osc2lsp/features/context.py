@@ -32,6 +32,7 @@ from osc2check.semantics.scope import Scope
 from osc2check.semantics.visibility import node_path, scope_at
 from osc2check.source import LINE_BREAK, decode_source, line_of
 from osc2check.syntax import ParseResult, ast, expected, parse
+from osc2check.syntax.ast import Name, Node  # the class body's `ast` is the field
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
 from osc2check.syntax.parser import parse_part
@@ -180,8 +181,8 @@ def cursor_at(text: str, offset: int) -> Cursor:
 # ---- the focus: the chunk resolved against a skeleton of the program ---------
 
 
-def _skeleton_members(members) -> tuple:
-    kept = []
+def _skeleton_members(members: tuple[ast.Member, ...]) -> tuple[ast.Member, ...]:
+    kept: list[ast.Member] = []
     for m in members:
         if isinstance(m, ast.FieldDecl):
             kept.append(
@@ -194,7 +195,7 @@ def _skeleton_members(members) -> tuple:
     return tuple(kept)
 
 
-def skeleton(decl: ast.Node) -> ast.Node:
+def skeleton(decl: ast.Declaration) -> ast.Declaration:
     """A declaration without the parts that only matter inside it (bodies, constraints)."""
     if isinstance(decl, (ast.StructuredDecl, ast.ExtendDecl)):
         return dataclasses.replace(decl, members=_skeleton_members(decl.members))
@@ -249,14 +250,14 @@ class Focus:
     placeholder: bool
 
     @cached_property
-    def path(self) -> list[ast.Node]:
+    def path(self) -> list[Node]:
         return node_path(self.ast, self.cursor.word[0])
 
     @cached_property
     def scope(self) -> Scope:
         return scope_at(self.model, self.path)
 
-    def name_at_cursor(self) -> ast.Name | None:
+    def name_at_cursor(self) -> Name | None:
         """The Name node written (or inserted) at the cursor."""
         for node in reversed(self.path):
             if isinstance(node, ast.Name) and node.span.start == self.cursor.word[0]:
