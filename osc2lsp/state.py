@@ -40,6 +40,9 @@ A replaced snapshot is freed by reference counting (the checker's analyses hold
 no reference cycles), on the analysis thread after the next analysis is
 published (``_settle``): freeing a 10,000-line document's analysis takes a few
 tens of milliseconds, which requests should not wait for on the event loop.
+The collector is paused while an analysis runs and what it made is frozen
+without a scan (``_freeze``); every generation is collected once the documents
+have been quiet for ``QUIET_COLLECTION`` seconds.
 """
 
 from __future__ import annotations
@@ -58,6 +61,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from osc2check.gc_pause import gc_paused
 from osc2lsp.options import CheckerConfigs, Options
 from osc2lsp.solver import SolverWorker
 from osc2lsp.text import LineIndex, TextMap, uri_to_key
@@ -73,6 +77,7 @@ log = logging.getLogger(__name__)
 # for up to FOREGROUND seconds (see ``foreground``).
 SWITCH = 0.001
 FOREGROUND = 0.05
+QUIET_COLLECTION = 30.0  # seconds without analyses before a full collection
 
 LinesOf = Callable[[str], "LineIndex | None"]
 
@@ -283,6 +288,7 @@ class State:
         self._closed: dict[str, tuple[float, str, Snapshot | None]] = {}  # workspace files
         self._lock: asyncio.Lock | None = None
         self._tasks: set[asyncio.Task] = set()
+        self._collector: asyncio.Task | None = None  # the collection once all is quiet
 
     # ---- documents -------------------------------------------------------------
 
@@ -444,6 +450,8 @@ class State:
             batch = [doc] if doc.library else self._batch(doc)
             for member in batch:
                 member.stale = False
+            if self._collector is not None:
+                self._collector.cancel()  # not quiet
             loop = asyncio.get_running_loop()
             began = time.perf_counter()
             revisions = [Revision.of(d) for d in batch]
@@ -475,6 +483,21 @@ class State:
                 await loop.run_in_executor(
                     self._executor, _settle, list(snapshots.values()), replaced
                 )
+            self._collect_when_quiet()
+
+    def _collect_when_quiet(self) -> None:
+        """(Re)start the wait for ``QUIET_COLLECTION`` seconds without analyses, after
+        which every generation is collected once."""
+        if self._collector is not None:
+            self._collector.cancel()
+
+        async def collect() -> None:
+            await asyncio.sleep(QUIET_COLLECTION)
+            await asyncio.get_running_loop().run_in_executor(self._executor, _collect_all)
+
+        self._collector = task = asyncio.get_running_loop().create_task(collect())
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
 
     def _analyse(self, batch: list[Revision]) -> dict[str, Snapshot]:
         """Snapshots of the batch's texts (on the analysis thread)."""
@@ -484,8 +507,11 @@ class State:
         if doc.library:
             return {doc.uri: library_snapshot(doc.uri, doc.key, doc.text, doc.version)}
         config = self.configs.for_file(doc.key, self.options, self.root)
-        parses = {r.uri: p for r in batch if (p := r.parse()) is not None}
-        return analyse([(r.uri, r.text, r.version) for r in batch], config, False, parses)
+        with gc_paused():
+            parses = {r.uri: p for r in batch if (p := r.parse()) is not None}
+            found = analyse([(r.uri, r.text, r.version) for r in batch], config, False, parses)
+            _freeze()
+        return found
 
     def _publish(self, trigger: str, findings: list[Findings]) -> None:
         """Hand findings the client does not have yet to the publisher."""
@@ -683,14 +709,32 @@ def _settle(snapshots: list[Snapshot], replaced: list[Snapshot]) -> None:
     """After an analysis, on its thread: the snapshots it replaced freed (``replaced``
     holds their last references) and what requests will need built now."""
     replaced.clear()
-    for snap in snapshots:
-        snap.prepare()
-        _warm_features(snap)
-    # The analysis made its objects with collection off: collect the young garbage now,
-    # on this thread, and freeze the rest, so that no later collection scans it (maybe
-    # in a request's thread). Frozen objects are still freed when their last reference
-    # goes, as analyses are.
-    gc.collect(0)
+    with gc_paused():
+        for snap in snapshots:
+            snap.prepare()
+            _warm_features(snap)
+        _freeze()
+
+
+def _freeze() -> None:
+    """Exempt every object made so far from the collector's scans, without a scan.
+
+    An analysis makes its objects with the collector paused; when the pause ended,
+    the first allocation would start a collection that scans them all at once (tenths
+    of a second on a 10,000-line document, holding the interpreter lock while a
+    request waits). Analyses hold no reference cycles, so nothing is lost by not
+    scanning them: a frozen object is still freed when its last reference goes.
+    What cycles other code left meanwhile are collected when the documents are
+    quiet (``_collect_all``).
+    """
+    gc.freeze()
+
+
+def _collect_all() -> None:
+    """Collect every generation, the frozen objects included, then freeze the survivors
+    (after a quiet period: it holds the interpreter lock for tenths of a second)."""
+    gc.unfreeze()
+    gc.collect()
     gc.freeze()
 
 
