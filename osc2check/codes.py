@@ -204,7 +204,13 @@ NONLINEAR_CONSTRAINT = Code(
     "C410",
     "nonlinear-constraint",
     I,
-    "a constraint multiplies two unknowns; it is solved with a budget",
+    "a constraint multiplies or divides unknowns; it is solved with a budget",
+)
+UNVERIFIED_CONSTRAINT = Code(
+    "C411",
+    "unverified-constraint",
+    W,
+    "a constraint the solver cannot take is left out of the verdict and the witness",
 )
 
 # --- L: initial placement ------------------------------------------------------
@@ -248,6 +254,12 @@ ROAD_TOO_SHORT_FOR_MOTION = Code(
     "road-too-short-for-motion",
     E,
     "constant speeds and durations take an actor past the road's end from every start",
+)
+PERSON_FASTER_THAN_WALKING = Code(
+    "L515",
+    "person-faster-than-walking",
+    W,
+    "a person is asked to move faster than an adult walks",
 )
 
 # --- B: behaviour flow -----------------------------------------------------------

@@ -860,9 +860,23 @@ def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
 def nonlinear_constraint(constraint: Constraint) -> Diagnostic:
     return _diag(
         codes.NONLINEAR_CONSTRAINT,
-        f"`{constraint.text}` multiplies two unknowns; it is solved within the "
+        f"`{constraint.text}` multiplies or divides unknowns; it is solved within the "
         "solver's budget and may be inconclusive",
         constraint.span,
+    )
+
+
+def unverified_constraint(
+    span: Span, text: str, reason: str, written_at: Span | None = None
+) -> Diagnostic:
+    """C411 at ``span``; ``written_at`` is where the constraint is when that is elsewhere
+    (another file: the finding is then at the scenario that uses it)."""
+    related = [Related(written_at, f"`{text}` is written here")] if written_at else []
+    return _diag(
+        codes.UNVERIFIED_CONSTRAINT,
+        f"`{text}` is not verified: {reason}; the verdict and the witness leave it out",
+        span,
+        related,
     )
 
 
@@ -890,6 +904,16 @@ def unsafe_gap(span: Span, text: str, follower: str, leader: str, min_gap: Fract
         codes.UNSAFE_GAP,
         f"`{text}` leaves `{follower}` less than {float(min_gap):g} s behind `{leader}` "
         f"at its start speed, whatever values the other constraints allow",
+        span,
+    )
+
+
+def person_faster_than_walking(span: Span, text: str, person: str, limit: Fraction) -> Diagnostic:
+    return _diag(
+        codes.PERSON_FASTER_THAN_WALKING,
+        f"`{text}` asks `{person}` to move faster than {float(limit):g} m/s "
+        f"({float(limit) * 3.6:g} kph), faster than an adult walks, whatever values the "
+        "other constraints allow",
         span,
     )
 

@@ -75,13 +75,16 @@ PREFERRED_START_SHARE = Fraction(3, 10)
 class ActorBody:
     """What an actor is for placement: its catalogue row and its size and top speed as terms.
 
-    ``row`` is the catalogue row the actor is placed with; when the scenario leaves a
-    vehicle's category open among several (``keep(it.vehicle_category in [car,
-    truck])``), ``row`` is None and the terms depend on the category variable, so the
-    solver chooses a category and a footprint that agree. A declared
+    ``row`` is the catalogue row the actor is placed with; when a constraint of the
+    scenario mentions a vehicle's category (``keep(it.vehicle_category in [car,
+    truck])``, ``keep(it.vehicle_category == truck)``, a conditional inheritance),
+    ``row`` is None and the terms depend on the category variable, so the solver
+    chooses a category and a footprint that agree, and a conflict that the category
+    takes part in names the constraint that chose it (and no other). ``shown`` is the
+    row a constraint fixes the category to, for the texts. A declared
     ``bounding_box.length`` or ``.width`` replaces the row's. ``because`` holds the
-    constraints that chose the row (the keep that makes an actor a truck), which a
-    conflict involving the row's size or speed names too.
+    constraints that chose a constant row (the keep that names a simulator model),
+    which a conflict involving the row's size or speed names too.
     """
 
     kind: str
@@ -92,6 +95,7 @@ class ActorBody:
     category: ir.Var | None = None  # the vehicle_category variable, for vehicles
     because: tuple[ir.Constraint, ...] = ()
     notes: tuple[str, ...] = ()
+    shown: ActorRow | None = None
 
     def widest(self) -> Fraction:
         """The largest width the actor may have (its width when known)."""
@@ -103,6 +107,9 @@ class ActorBody:
             return f"{float(term.value):g} m {what}"
         if isinstance(term, ir.Ref):
             return f"`{term.var.name}` {what}"
+        if self.shown is not None:
+            size = self.shown.length if what == "long" else self.shown.width
+            return f"{what} as its vehicle_category: a {self.shown.category}, {float(size):g} m"
         return f"{what} as its vehicle_category"
 
 
@@ -395,12 +402,11 @@ class PlacementLowerer:
                     f"model `{model_name}` of `{name}` is not in the catalogue: its "
                     "vehicle_category decides its size"
                 )
+        shown = None
         fixed = self.constants.get(f"{name}.vehicle_category")
         if row is None and fixed is not None and category is not None:
             member = next((n for n, v in category.enum if v == fixed[0]), None)
-            if member is not None:
-                row = CATEGORIES[member]
-                because.append(fixed[1])
+            shown = CATEGORIES.get(member) if member is not None else None
         type_symbol = param.type.symbol if param.type is not None else None
         if row is None and _is_trailer(self.model, type_symbol):
             row = CATEGORIES["trailer"]
@@ -421,7 +427,21 @@ class PlacementLowerer:
             length = _by_category(category, lambda r: r.length)
             width = _by_category(category, lambda r: r.width)
             top = _by_category(category, lambda r: r.max_speed)
-            body = ActorBody(kind, None, length, width, top, category)
+            body = ActorBody(kind, None, length, width, top, category, shown=shown)
+            # without the constraints that mention it, the vehicle would be a car: the
+            # solver holds this while it looks for the lines a conflict cannot do without
+            self.problem.add(
+                ir.Constraint(
+                    ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
+                    param.name_span or self.problem.span,
+                    "placement",
+                    f"`{name}` is a car when nothing says otherwise",
+                    "hard",
+                    category,
+                    f"`{name}` is a car when nothing says otherwise",
+                    "fallback",
+                )
+            )
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
             body = ActorBody(kind, car, *self._row_terms(car))
@@ -532,6 +552,9 @@ class PlacementLowerer:
             text = f"{what} goes at most {top:g} kph"
         else:
             text = f"`{actor.name}` goes at most the top speed of its vehicle_category"
+            if body.shown is not None:
+                top = float(body.shown.max_speed) * 3.6
+                text += f" (a {body.shown.category}: {top:g} kph)"
         self._implicit(
             ir.op("and", ir.op(">=", v, ir.const(0)), ir.op("<=", v, body.max_speed)),
             actor.span,
@@ -746,7 +769,7 @@ class PlacementLowerer:
         try:
             return self.lw._term(node, self.scope)
         except NotEncodable as reason:
-            self.problem.skipped.append((node.span, str(reason)))
+            self.problem.skip(node.span, self.lw.text_of(node.span), str(reason))
             return None
 
     def _reference(

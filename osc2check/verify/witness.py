@@ -2,7 +2,9 @@
 
 Values are exact (SI rationals) and are also shown in a readable unit. The
 runner executes exactly this: parameter values and every actor's start lane,
-position, heading and speed.
+position, heading and speed. Constraints the solver could not take
+(``ConstraintProblem.skipped``, C411) are listed in ``unverified``: the witness
+is not claimed to satisfy them.
 """
 
 from __future__ import annotations
@@ -96,6 +98,10 @@ class Witness:
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
     unused_map: str | None = None  # a map the scenario names that placement could not use
+    #: constraints left out of the problem (C411): the values need not satisfy them
+    unverified: tuple[ir.Skipped, ...] = ()
+    # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
+    lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
 
     def parameter(self, name: str) -> Value | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -113,6 +119,20 @@ class Witness:
             "actors": [a.to_json() for a in self.actors],
             "parameters": [p.to_json() for p in self.parameters],
             "notes": list(self.notes),
+            "unverified": [
+                {
+                    "path": s.span.uri,
+                    "line": s.span.line,
+                    "column": s.span.column,
+                    "text": s.text,
+                    "reason": s.reason,
+                }
+                for s in self.unverified
+            ],
+            "lists": {
+                k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
+                for k, items in self.lists.items()
+            },
         }
 
     def table(self) -> str:
@@ -142,6 +162,11 @@ class Witness:
                 lines.append(f"    {p.name:<{width}}  {p.text}")
         for note in self.notes:
             lines.append(f"  note: {note}")
+        for s in self.unverified:
+            lines.append(
+                f"  not verified (these values need not satisfy it): `{s.text}` at line "
+                f"{s.span.line}: {s.reason}"
+            )
         return "\n".join(lines)
 
 
@@ -190,8 +215,10 @@ def build_witness(
     values: dict[str, Fraction | bool],
     active: Iterable[ir.Constraint],
     seed: int | None,
+    rounded: Iterable[str] = (),
 ) -> Witness:
-    """Assemble the witness of ``problem`` from a solver model's ``values``."""
+    """Assemble the witness of ``problem`` from a solver model's ``values``; notes
+    go with it (``rounded``: constraints the values hold only up to rounding)."""
     mentioned: set[str] = set()
     for c in active:
         if c.kind not in ("domain", "placement"):
@@ -205,7 +232,7 @@ def build_witness(
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))
     actors = []
-    notes: list[str] = []
+    notes: list[str] = list(rounded)
     if placement is not None:
         road = placement.road
         for a in placement.actors.values():
@@ -259,4 +286,6 @@ def build_witness(
         tuple(actors),
         tuple(notes),
         unused,
+        tuple(problem.skipped),
+        dict(problem.lists),
     )

@@ -8,15 +8,16 @@ clouds and the sun's position are recorded in the event log only.
 A friction outside :data:`FRICTION_RANGE` (0, 2], or a rain intensity that is
 negative or not finite, is an input error at its argument when the argument
 is constant (a literal, a parameter); otherwise the phase fails when the value
-turns out bad at run time.
+turns out bad at run time. The ranges are ``osc2check.world.limits``'s, which
+the checker verifies too.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 from osc2check.syntax import ast
+from osc2check.world.limits import FRICTION_RANGE, MPS_TO_MMPH, friction_problem, rain_problem
 from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
 from osc2runner.compile.expressions import is_constant
 from osc2runner.compile.registry import action
@@ -24,33 +25,11 @@ from osc2runner.errors import CompileProblem
 
 __all__ = ["FRICTION_RANGE", "Fog", "Rain", "Recorded", "SetRoadFriction", "friction_problem"]
 
-#: road friction coefficients the world takes: above the first, at most the second
-FRICTION_RANGE = (0.0, 2.0)
-
 #: rain intensity (mm/h) taken as the heaviest rain of the friction model
 HEAVY_RAIN_MMPH = 50.0
 #: visual range (m) below which it is foggy at all
 FOG_RANGE = 1000.0
-_MPS_TO_MMPH = 3.6e6
-
-
-def friction_problem(value: object) -> str | None:
-    """Why ``value`` is not a road friction coefficient (None when it is one)."""
-    low, high = FRICTION_RANGE
-    if isinstance(value, (int, float)) and math.isfinite(value) and low < value <= high:
-        return None
-    return f"road friction must be in ({low:g}, {high:g}], got {_number(value)}"
-
-
-def _rain_problem(value: object) -> str | None:
-    if isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0:
-        return None
-    given = f"{value * _MPS_TO_MMPH:.6g} mm/h" if isinstance(value, (int, float)) else repr(value)
-    return f"rain intensity must be finite and not negative, got {given}"
-
-
-def _number(value: object) -> str:
-    return f"{value:.6g}" if isinstance(value, (int, float)) else repr(value)
+_RECORDED = "recorded, readable in env.weather; no effect on dynamics"
 
 
 def _check_constant(use: ActionUse, name: str, problem: Callable[[object], str | None]) -> None:
@@ -74,21 +53,31 @@ def _argument(use: ActionUse, name: str) -> ast.Node:
     return positional[0].value if len(positional) == 1 else node
 
 
+def update_weather(action: InstantAction, part: str) -> None:
+    """Write the action's arguments into ``env.weather.<part>`` (what expressions read);
+    parameters not given leave that part unchanged."""
+    target = getattr(action.ctx.weather, part)
+    for key, value in action.args.items():
+        if hasattr(target, key):
+            setattr(target, key, value)
+
+
 @action("environment", "rain")
 class Rain(InstantAction):
     """``rain(intensity)``: rain level = intensity / 50 mm/h (capped at 1)."""
 
     def __init__(self, name: str, use: ActionUse) -> None:
         super().__init__(name, use)
-        _check_constant(use, "intensity", _rain_problem)
+        _check_constant(use, "intensity", rain_problem)
 
     def start(self) -> None:
         if "intensity" not in self.args:
             return
-        why = _rain_problem(self.args["intensity"])
+        why = rain_problem(self.args["intensity"])
         if why is not None:
             raise ActionError(why)
-        mmph = float(self.args["intensity"]) * _MPS_TO_MMPH
+        update_weather(self, "rain")
+        mmph = float(self.args["intensity"]) * MPS_TO_MMPH
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.world
         world.set_weather(rain=level)
@@ -99,13 +88,14 @@ class Rain(InstantAction):
         )
 
 
-@action("environment", "fog", note="recorded; no effect on dynamics")
+@action("environment", "fog", note=_RECORDED)
 class Fog(InstantAction):
     """``fog(visual_range)``: fog level = 1 - range / 1000 m (recorded)."""
 
     def start(self) -> None:
         if "visual_range" not in self.args:
             return
+        update_weather(self, "fog")
         visual = float(self.args["visual_range"])
         level = min(max(1.0 - visual / FOG_RANGE, 0.0), 1.0)
         self.ctx.world.set_weather(fog=level)
@@ -132,34 +122,43 @@ class SetRoadFriction(InstantAction):
 class Recorded(InstantAction):
     """An environment action with no physical effect here: its arguments go to the event log."""
 
+    part: str | None = None  # the part of ``env.weather`` it sets
+
     def start(self) -> None:
+        if self.part is not None:
+            update_weather(self, self.part)
         detail = ", ".join(
             f"{k}: {v:.6g}" if isinstance(v, float) else f"{k}: {v}" for k, v in self.args.items()
         )
         self.ctx.record("environment", self.use.symbol.name, detail)
 
 
-_RECORDED = "recorded; no effect on dynamics"
-
-
 @action("environment", "air", note=_RECORDED)
 class RecordedAir(Recorded):
     """``air``: recorded in the event log only."""
+
+    part = "air"
 
 
 @action("environment", "snow", note=_RECORDED)
 class RecordedSnow(Recorded):
     """``snow``: recorded in the event log only."""
 
+    part = "snow"
+
 
 @action("environment", "wind", note=_RECORDED)
 class RecordedWind(Recorded):
     """``wind``: recorded in the event log only."""
 
+    part = "wind"
+
 
 @action("environment", "clouds", note=_RECORDED)
 class RecordedClouds(Recorded):
     """``clouds``: recorded in the event log only."""
+
+    part = "clouds"
 
 
 @action("environment", "assign_celestial_position", note=_RECORDED)

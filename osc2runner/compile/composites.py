@@ -106,7 +106,7 @@ class Serial(_Fast, py_trees.composites.Sequence):
 
 
 #: ``parallel(overlap: ...)`` kinds whose other members end no later than the first
-#: one (§7.3.9: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
+#: one (§7.6.2: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
 #: ``inside`` within it): the composition ends when its first member ends.
 ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
 
@@ -206,7 +206,7 @@ class Parallel(_Fast, py_trees.composites.Parallel):
 
 
 class OneOf(_Fast, py_trees.composites.Parallel):
-    """``one_of``: exactly one member's behaviour happens (§7.3.9).
+    """``one_of``: exactly one member's behaviour happens (§7.6.2).
 
     Members that only wait (they invoke no action or scenario: ``wait``, ``emit``,
     ``call``) command nothing and run alongside; among the members that act, one
@@ -359,6 +359,13 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
     def elapsed(self) -> float:
         return (self.ctx.tick - self.start_tick) * self.ctx.dt
 
+    def may_end_now(self) -> bool:
+        """Whether ending the phase now keeps its duration: its lower bound has passed
+        and what runs under it cannot end on its own."""
+        if self.status != RUNNING or self.low is None:
+            return False
+        return self.elapsed() >= self.low - 1e-9 and running_endless(self.decorated)
+
     def tick_status(self) -> Status:
         if self.status != RUNNING:
             self.initialise()
@@ -403,11 +410,17 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
 def running_endless(node: Behaviour) -> bool:
     """True when ``node`` runs and everything running under it is an action that cannot
     end on its own (``drive()``, ``keep_speed()``: their ``endless`` is set), so that
-    a duration bound ending them is their planned end, not a goal missed."""
+    a duration bound ending them is their planned end, not a goal missed. A phase with
+    its own ``duration`` is endless only once its lower bound has passed; one with an
+    ``until`` ends on its event, never before."""
     if node.status != RUNNING:
         return False
     if getattr(node, "endless", False):
         return True
+    if isinstance(node, DurationBound):
+        return node.may_end_now()
+    if getattr(node, "ends_on_event", False):
+        return False
     running = [c for c in _behaviour_of(node) if c.status == RUNNING]
     return bool(running) and all(running_endless(c) for c in running)
 

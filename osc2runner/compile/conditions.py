@@ -416,6 +416,9 @@ class Until(py_trees.decorators.Decorator):
     the next member starts at once.
     """
 
+    #: its phase ends when its event occurs: stopping it earlier is not its planned end
+    ends_on_event = True
+
     def __init__(self, name: str, child: py_trees.behaviour.Behaviour, watch: Watch) -> None:
         super().__init__(name=name, child=child)
         self.watch = watch

@@ -333,9 +333,9 @@ class TreeCompiler:
             and sym.kind is SymbolKind.MODIFIER
             and self.env.registry.find_modifier(self.model, sym) is not None
             and sym.actor is not None
-            and sym.actor.name == "map"
+            and sym.actor.name in ("map", "stationary_object")
         ):
-            return  # the road is chosen from it before compiling
+            return  # the road, an object's location: chosen before compiling (instance)
         self._problem(
             CompileProblem(
                 f"`{self._text(member)}`: modifiers applied to the whole scenario are not "
@@ -402,21 +402,27 @@ class TreeCompiler:
             node = OneOf(name, children, [_acts(m.body) for m in comp.members])
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
-        untils = []
-        for wm in comp.with_members:
+        untils = self._untils(comp.with_members, "a composition")
+        return self._wrap(node, comp, args.get("duration"), untils, scope)
+
+    def _untils(self, with_members: tuple[ast.WithMember, ...], what: str) -> list[ast.Until]:
+        """The ``until``s of the ``with:`` block of ``what`` (a composition, a scenario
+        invocation), which takes no modifiers in the runner; its ``keep``s are the
+        solver's."""
+        untils: list[ast.Until] = []
+        for wm in with_members:
             if isinstance(wm, ast.Until):
                 untils.append(wm)
             elif isinstance(wm, ast.Invocation):
                 raise CompileProblem(
-                    f"`{self._text(wm)}`: modifiers on a composition are not "
-                    "supported by the runner",
+                    f"`{self._text(wm)}`: modifiers on {what} are not supported by the runner",
                     wm,
                 )
             else:
                 self.notes.append(
-                    f"line {wm.span.line}: constraint on a composition is left to the solver"
+                    f"line {wm.span.line}: a constraint on {what} is left to the solver"
                 )
-        return self._wrap(node, comp, args.get("duration"), untils, scope)
+        return untils
 
     def _named(
         self, arguments: tuple[ast.Argument, ...], allowed: tuple[str, ...], owner: ast.Node
@@ -625,16 +631,7 @@ class TreeCompiler:
             initialisers,
             emits_events=labelled_as != path,
         )
-        untils: list[ast.Until] = []
-        for wm in inv.with_members:
-            if isinstance(wm, ast.Until):
-                untils.append(wm)
-            elif isinstance(wm, ast.Invocation):
-                raise CompileProblem(
-                    f"`{self._text(wm)}`: modifiers of a scenario invocation are not supported "
-                    "by the runner",
-                    wm,
-                )
+        untils = self._untils(inv.with_members, "a scenario invocation")
         return self._wrap(node, inv, duration, untils, scope)
 
     def _scenario_arguments(
