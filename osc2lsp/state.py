@@ -37,12 +37,15 @@ touched are parsed again and spliced into it (``Revision.parse``,
 ``osc2check.syntax.incremental``), the rest is reused or moved.
 
 A replaced snapshot is freed by reference counting (the checker's analyses hold
-no reference cycles), on the analysis thread after the next analysis is
-published (``_settle``): freeing a 10,000-line document's analysis takes a few
-tens of milliseconds, which requests should not wait for on the event loop.
-The collector is paused while an analysis runs and what it made is frozen
-without a scan (``_freeze``); every generation is collected once the documents
-have been quiet for ``QUIET_COLLECTION`` seconds.
+no reference cycles), on the analysis thread: freeing a 10,000-line document's
+analysis holds the interpreter lock for a few tens of milliseconds, which a
+request would wait for. So replaced snapshots are kept until the documents have
+been quiet (no edit, no analysis) for ``QUIET_FREE`` seconds, a pause in
+typing, and at most ``MAX_REPLACED`` of them: beyond that the oldest are freed
+after the next analysis (``_settle``). The collector is paused while an
+analysis runs and what it made is frozen without a scan (``_freeze``); every
+generation is collected once the documents have been quiet for
+``QUIET_COLLECTION`` seconds.
 """
 
 from __future__ import annotations
@@ -77,7 +80,9 @@ log = logging.getLogger(__name__)
 # for up to FOREGROUND seconds (see ``foreground``).
 SWITCH = 0.001
 FOREGROUND = 0.05
-QUIET_COLLECTION = 30.0  # seconds without analyses before a full collection
+QUIET_FREE = 0.5  # seconds without edits or analyses before replaced snapshots are freed
+MAX_REPLACED = 3  # replaced snapshots kept until then, at most (about 13 MB each at 10,000 lines)
+QUIET_COLLECTION = 30.0  # seconds without edits or analyses before a full collection
 
 LinesOf = Callable[[str], "LineIndex | None"]
 
@@ -288,7 +293,8 @@ class State:
         self._closed: dict[str, tuple[float, str, Snapshot | None]] = {}  # workspace files
         self._lock: asyncio.Lock | None = None
         self._tasks: set[asyncio.Task] = set()
-        self._collector: asyncio.Task | None = None  # the collection once all is quiet
+        self._replaced: list[Snapshot] = []  # replaced snapshots, freed once all is quiet
+        self._quiet: asyncio.Task | None = None  # what is done once all is quiet
 
     # ---- documents -------------------------------------------------------------
 
@@ -305,6 +311,7 @@ class State:
             self.open(uri, text, version)
             return
         doc.set_text(text, version, lines)
+        self._when_quiet()
         if doc.verify_timer is not None:
             doc.verify_timer.cancel()
         for other in self.documents.values():
@@ -390,13 +397,21 @@ class State:
         snap = await self.fresh(uri)
         return findings_of(snap) if snap is not None else None
 
-    async def quiet(self) -> None:
+    async def analysed(self) -> None:
         """Wait until the scheduled analyses are done (for tests and benchmarks)."""
         while True:
             pending = [d.timer for d in self.documents.values() if d.timer and not d.timer.done()]
             if not pending:
                 return
             await asyncio.wait(pending)
+
+    async def quiet(self) -> None:
+        """``analysed``, then free the replaced snapshots at once, as a quiet spell
+        does (for tests and benchmarks)."""
+        await self.analysed()
+        if self._replaced:
+            freed, self._replaced = self._replaced, []
+            await asyncio.get_running_loop().run_in_executor(self._executor, freed.clear)
 
     def delivered(self, uri: str, findings: Findings) -> None:
         """Note that the client has received ``findings`` (pulled them)."""
@@ -450,8 +465,8 @@ class State:
             batch = [doc] if doc.library else self._batch(doc)
             for member in batch:
                 member.stale = False
-            if self._collector is not None:
-                self._collector.cancel()  # not quiet
+            if self._quiet is not None:
+                self._quiet.cancel()  # not quiet
             loop = asyncio.get_running_loop()
             began = time.perf_counter()
             revisions = [Revision.of(d) for d in batch]
@@ -463,7 +478,7 @@ class State:
             doc.analysis_seconds = time.perf_counter() - began
             del revisions  # they hold the replaced snapshots
             published: list[Findings] = []
-            replaced: list[Snapshot] = []
+            replaced = self._replaced
             for d in batch:
                 snap = snapshots.get(d.uri)
                 current = self.documents.get(d.uri)
@@ -479,23 +494,34 @@ class State:
             self._publish(uri, published)
             if self.options.verify and published and not doc.library:
                 self._schedule_solver(uri)
-            if snapshots or replaced:
+            oldest = replaced[: max(len(replaced) - MAX_REPLACED, 0)]
+            del replaced[: len(oldest)]
+            if snapshots or oldest:
                 await loop.run_in_executor(
-                    self._executor, _settle, list(snapshots.values()), replaced
+                    self._executor, _settle, list(snapshots.values()), oldest
                 )
-            self._collect_when_quiet()
+            self._when_quiet()
 
-    def _collect_when_quiet(self) -> None:
-        """(Re)start the wait for ``QUIET_COLLECTION`` seconds without analyses, after
-        which every generation is collected once."""
-        if self._collector is not None:
-            self._collector.cancel()
+    def _when_quiet(self) -> None:
+        """(Re)start the wait for a quiet spell: after ``QUIET_FREE`` seconds without
+        edits or analyses the replaced snapshots are freed, after ``QUIET_COLLECTION``
+        every generation is collected once."""
+        if self._quiet is not None:
+            self._quiet.cancel()
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            return
 
-        async def collect() -> None:
-            await asyncio.sleep(QUIET_COLLECTION)
-            await asyncio.get_running_loop().run_in_executor(self._executor, _collect_all)
+        async def after_quiet() -> None:
+            await asyncio.sleep(QUIET_FREE)
+            if self._replaced:
+                freed, self._replaced = self._replaced, []
+                await loop.run_in_executor(self._executor, freed.clear)
+            await asyncio.sleep(QUIET_COLLECTION - QUIET_FREE)
+            await loop.run_in_executor(self._executor, _collect_all)
 
-        self._collector = task = asyncio.get_running_loop().create_task(collect())
+        self._quiet = task = loop.create_task(after_quiet())
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
 
@@ -706,8 +732,8 @@ class State:
 
 
 def _settle(snapshots: list[Snapshot], replaced: list[Snapshot]) -> None:
-    """After an analysis, on its thread: the snapshots it replaced freed (``replaced``
-    holds their last references) and what requests will need built now."""
+    """After an analysis, on its thread: ``replaced`` freed (it holds their last
+    references) and what requests will need of ``snapshots`` built now."""
     replaced.clear()
     with gc_paused():
         for snap in snapshots:

@@ -153,18 +153,14 @@ def parse(text: str, uri: str = "<string>") -> ParseResult:
     segment, so ``incremental.splice`` re-parses only the segments an edit
     touched and gets what a whole parse gets.
     """
-    with gc_paused():  # the parse makes many objects and frees none: collecting is wasted
-        lexed = tokenize(text)
-        tokens, layout = indent(lexed.tokens, text)
-        segments = parse_segments(uri, text, tokens, lexed.errors, layout, 0, 1)
-        return assemble(uri, text, segments, tuple(lexed.comments))
+    return parse_part(text, uri, 0, len(text), 1)
 
 
 def parse_part(text: str, uri: str, start: int, end: int, line: int) -> ParseResult:
     """Parse ``text[start:end]`` as a file of its own, with the positions it has in
     ``text`` (``start`` begins line ``line``): one declaration of a large file, say,
     without lexing the rest."""
-    with gc_paused():
+    with gc_paused():  # the parse makes many objects and frees none: collecting is wasted
         lexed = tokenize(text, start, end, line)
         tokens, layout = indent(lexed.tokens, text)
         segments = parse_segments(uri, text, tokens, lexed.errors, layout, start, line)
