@@ -8,9 +8,9 @@ and parsed again (``reparse``); ``splice`` puts them between the unchanged
 segments before (as they are) and after (moved by the edit's change in length
 and lines) and gives what ``parse`` of the new text gives, node for node and
 finding for finding (``tests/osc2check/test_incremental.py`` checks it on
-random edits). On a 10,000-line file a keystroke's segments parse in
-milliseconds; moving the segments after them costs about a third of parsing
-them.
+random edits). On a 10,000-line file a keystroke's segments parse in about a
+millisecond; moving the segments after them costs about a fifth of parsing
+them (all of them, for an edit at the top).
 
 The region is re-read exactly as a whole parse reads it: from a segment start
 (the layout of the outermost level begins there afresh) up to the first token
