@@ -37,6 +37,7 @@ from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
 from osc2check.syntax.parser import parse_part
 from osc2lsp.snapshot import Snapshot
+from osc2lsp.text import TextMap
 
 PLACEHOLDER = "__cursor__"
 _WORD = re.compile(r"[^\W\d]\w*$")
@@ -209,35 +210,12 @@ def _skeleton_parse(result: ParseResult) -> ParseResult:
     )
 
 
-def _diff_bounds(old: str, new: str) -> tuple[int, int]:
-    """Lengths of the common prefix and suffix of two texts."""
-    limit = min(len(old), len(new))
-    lo, hi = 0, limit
-    while lo < hi:  # binary search on slice equality runs at C speed
-        mid = (lo + hi + 1) // 2
-        if old[:mid] == new[:mid]:
-            lo = mid
-        else:
-            hi = mid - 1
-    prefix = lo
-    lo, hi = 0, limit - prefix
-    while lo < hi:
-        mid = (lo + hi + 1) // 2
-        if old[len(old) - mid :] == new[len(new) - mid :]:
-            lo = mid
-        else:
-            hi = mid - 1
-    return prefix, lo
-
-
-def map_offset(old: str, new: str, offset: int, bounds: tuple[int, int] | None = None) -> int:
-    """Where ``offset`` of ``new`` was in ``old`` (edits between them are one region)."""
-    prefix, suffix = bounds if bounds is not None else _diff_bounds(old, new)
-    if offset <= prefix:
-        return offset
-    if offset >= len(new) - suffix:
-        return offset - (len(new) - len(old))
-    return prefix
+def map_offset(old: str, new: str, offset: int, change: TextMap | None = None) -> int:
+    """Where ``offset`` of ``new`` was in ``old`` (edits between them are one region;
+    an offset inside it maps to the region's start)."""
+    change = change if change is not None else TextMap(old, new)
+    mapped = change.to_old(offset)
+    return change.prefix if mapped is None else mapped
 
 
 @dataclass
@@ -356,9 +334,9 @@ def _splice(snapshot: Snapshot, text: str, start: int, end: int, chunk_decls) ->
     if skeletons is None:
         skeletons = cache["root"] = [(d, skeleton(d)) for d in snapshot.ast.declarations]
     old = snapshot.text
-    bounds = _diff_bounds(old, text) if old != text else (len(old), 0)
-    old_start = map_offset(old, text, start, bounds)
-    old_end = map_offset(old, text, end, bounds)
+    change = TextMap(old, text)
+    old_start = map_offset(old, text, start, change)
+    old_end = map_offset(old, text, end, change)
     kept = _relevant(skeletons, text[start:end], old_start, old_end)
     result = []
     inserted = False
