@@ -265,6 +265,7 @@ def in_process(text: str) -> None:
         analyse([(URI, text, 1)], None, verify=False)
         quick.append(time.perf_counter() - t)
     report("analysis without the solver (first phase)", quick)
+    report("  after a keystroke (incremental parse)", _after_keystroke(snap, text))
     comp, hov, dfn = [], [], []
     for offset in completion_points(text):
         t = time.perf_counter()
@@ -280,6 +281,23 @@ def in_process(text: str) -> None:
     report("completion", comp)
     report("hover", hov)
     report("definition", dfn)
+
+
+def _after_keystroke(snap, text: str) -> list[float]:
+    """The first phase after one letter typed into names across the document, the parse
+    made from the snapshot's as the server makes it (``Revision.parse``)."""
+    from osc2lsp.state import Revision, analyse
+
+    times = []
+    for m in list(re.finditer(r"keep\(top_", text))[::7][:10]:
+        at = m.end() - 1
+        new = text[:at] + "x" + text[at:]
+        t = time.perf_counter()
+        revision = Revision(URI, snap.key, new, 2, False, snap)
+        parsed = revision.parse()
+        analyse([(URI, new, 2)], None, False, {URI: parsed} if parsed is not None else None)
+        times.append(time.perf_counter() - t)
+    return times
 
 
 def rss_mb(pid: int) -> float:

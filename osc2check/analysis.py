@@ -7,13 +7,13 @@ which other files were given. Parsed files are shared between programs.
 
 from __future__ import annotations
 
-import gc
 import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic, Severity
+from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span
@@ -26,11 +26,18 @@ log = logging.getLogger(__name__)
 
 @dataclass(frozen=True, slots=True)
 class SourceInput:
-    """A file to check: its name as reported, and its text."""
+    """A file to check: its name as reported, and its text.
+
+    ``parse`` is the parse of ``text`` when the caller has one (the language server
+    splices the re-parsed segments of an edit into its last parse,
+    ``syntax.incremental.splice``); it is used instead of parsing again when its
+    name and text are the input's.
+    """
 
     uri: str
     text: str
     problem: str | None = None  # why the file's bytes were not clean UTF-8 (P004)
+    parse: ParseResult | None = None
 
 
 @dataclass
@@ -45,9 +52,9 @@ class Analysis:
 class FileCache:
     """Parse results by path; sources given in memory win over the disk."""
 
-    def __init__(self, sources: dict[str, str]):
+    def __init__(self, sources: dict[str, str], parses: Mapping[str, ParseResult] | None = None):
         self.sources = sources
-        self.parses: dict[str, ParseResult] = {}
+        self.parses: dict[str, ParseResult] = dict(parses or {})
 
     def read(self, uri: str) -> ParseResult | None:
         if uri in self.parses:
@@ -94,19 +101,18 @@ class AnalysisOptions:
 def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) -> Analysis:
     """Check every source; returns the diagnostics (options' policy applied) and the texts."""
     options = options if options is not None else AnalysisOptions()
-    collecting = gc.isenabled()
-    if collecting:  # analysis builds long-lived tables; cyclic GC passes only cost time
-        gc.disable()
-    try:
+    with gc_paused():  # analysis builds long-lived tables; collections only cost time
         return _analyze(sources, options)
-    finally:
-        if collecting:
-            gc.enable()
 
 
 def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     texts = {s.uri: s.text for s in sources}
-    cache = FileCache(texts)
+    given = {
+        s.uri: s.parse
+        for s in sources
+        if s.parse is not None and s.parse.uri == s.uri and s.parse.text == s.text
+    }
+    cache = FileCache(texts, given)
     modules = dict(options.modules)
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}

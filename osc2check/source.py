@@ -3,11 +3,25 @@
 Lines and columns are 1-based and count Unicode code points, as the CLI prints
 them; ``start``/``end`` are 0-based offsets into the decoded text. The language
 server converts to LSP's 0-based UTF-16 positions in one place (``osc2lsp``).
+
+A line ends at ``\r\n``, ``\r`` or ``\n`` (``LINE_BREAK``), in the lexer, in
+suppression comments and in the language server alike (LSP's own rule): never at
+a form feed, ``\x0b``, ``\x1c``-``\x1e``, U+0085, U+2028 or U+2029, where
+``str.splitlines()`` also breaks.
 """
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
+
+LINE_BREAK = re.compile(r"\r\n|\r|\n")
+
+
+def split_lines(text: str) -> list[str]:
+    """The lines of ``text`` without their line breaks (a text ending with a line
+    break has an empty last line)."""
+    return LINE_BREAK.split(text)
 
 
 @dataclass(frozen=True, slots=True)
@@ -44,14 +58,19 @@ class Span:
 def point_span(uri: str, text: str, offset: int) -> Span:
     """A zero-width span at ``offset`` of ``text``."""
     offset = max(0, min(offset, len(text)))
-    line = (
+    line = line_of(text, offset)
+    column = offset - (max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1) + 1
+    return Span(uri, line, column, line, column, offset, offset)
+
+
+def line_of(text: str, offset: int) -> int:
+    """The 1-based line of ``offset`` in ``text`` (see ``LINE_BREAK``)."""
+    return (
         text.count("\n", 0, offset)
         + text.count("\r", 0, offset)
         - text.count("\r\n", 0, offset)
         + 1
     )
-    column = offset - (max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1) + 1
-    return Span(uri, line, column, line, column, offset, offset)
 
 
 def strip_comment(line: str) -> str:

@@ -9,7 +9,9 @@
   whole file (without codes: every code).
 
 A finding is matched at its primary span's first line only, never at its
-related locations. A suppression that matches nothing is reported as S001
+related locations. Lines are the lexer's (``source.LINE_BREAK``), and only
+spaces, tabs and form feeds count as blank before a comment, as in the lexer.
+A suppression that matches nothing is reported as S001
 ``unused-suppression``; a code that does not exist as S002
 ``unknown-suppression-code``. Those two can only be suppressed file-wide.
 """
@@ -24,7 +26,7 @@ from dataclasses import dataclass, replace
 from osc2check import codes
 from osc2check.codes import UNKNOWN_SUPPRESSION_CODE, UNUSED_SUPPRESSION, Code
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
-from osc2check.source import Span
+from osc2check.source import Span, split_lines
 
 __all__ = ["SuppressedCode", "Suppression", "apply_suppressions", "find_suppressions"]
 
@@ -39,6 +41,7 @@ _NOQA = re.compile(
     re.IGNORECASE,
 )
 _TOKEN = re.compile(r"[^\s,]+")
+_BLANK = " \t\f"  # the lexer's whitespace between tokens
 
 
 @dataclass(frozen=True, slots=True)
@@ -113,10 +116,10 @@ def _covered_lines(comment: Span, lines: Sequence[str] | None) -> tuple[int, ...
         own = (comment.line + 1,)
         return own if comment.column == 1 else (comment.line, comment.line + 1)
     before = lines[comment.line - 1][: comment.column - 1] if comment.line <= len(lines) else ""
-    if before.strip():
+    if before.strip(_BLANK):
         return (comment.line,)
     target = comment.line + 1
-    while target <= len(lines) and lines[target - 1].lstrip().startswith("#"):
+    while target <= len(lines) and lines[target - 1].lstrip(_BLANK).startswith("#"):
         target += 1
     return (target,)
 
@@ -147,7 +150,7 @@ def find_suppressions(
     one on its own line; without it a comment after column 1 covers both its
     own line and the next.
     """
-    lines = text.splitlines() if text is not None else None
+    lines = split_lines(text) if text is not None else None
     found = []
     for span, comment in comments:
         if span.uri != uri:

@@ -176,7 +176,7 @@ class CheckerConfigs:
     """``[tool.osc2check]`` for each folder (re-read when its file changes), with the
     client's settings applied on top."""
 
-    def __init__(self):
+    def __init__(self) -> None:
         self._found: dict[str, tuple[Path | None, float, Config]] = {}
         self.problems: list[str] = []
 

@@ -4,7 +4,7 @@ A full analysis of a 10,000-line document takes most of a second. While it
 runs, the editor gets a preview made in milliseconds from the last analysis
 (``Snapshot``) and the new text:
 
-* the declarations the edit touched are parsed again
+* the segments the edit touched are parsed again
   (``osc2check.syntax.incremental.reparse``) and their syntax findings, after
   the document's suppression comments and configuration, replace the old
   syntax findings of those declarations;
@@ -45,11 +45,15 @@ def preview(snapshot: Snapshot, lines: LineIndex) -> list[Diagnostic] | None:
     if region is None:
         return None
     key = snapshot.key
-    syntax = {(d.code, d.span.start, d.span.end) for d in snapshot.parse.diagnostics}
+    replaced = {
+        (d.code, d.span.start, d.span.end, d.message)
+        for segment in snapshot.parse.segments[region.first : region.after]
+        for d in segment.diagnostics
+    }
     kept: list[Diagnostic] = []
     for d in snapshot.diagnostics:
         span = d.span
-        if region.start <= span.start < region.old_end and (d.code, span.start, span.end) in syntax:
+        if span.uri == key and (d.code, span.start, span.end, d.message) in replaced:
             continue  # the region's parse says again what is wrong there
         if span.uri == key and change.touches(span.start, span.end):
             continue

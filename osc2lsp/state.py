@@ -32,15 +32,20 @@ hover and definition use ``latest(uri)`` when the position lies outside what
 changed since (``view``); completion and signature help use ``latest(uri)``
 and the current text.
 
-Every analysis leaves the previous snapshot behind as cyclic garbage (the
-checker's symbols and types refer to each other), about 13 MB for a
-10,000-line document, which the interpreter's own collector reaches only
-rarely (memory grew to about 350 MB). It is collected once neither an edit nor
-an analysis has happened for ``_IDLE`` seconds (a pause in typing: the
-collection takes about 0.15 s per replaced snapshot of that document and holds
-the interpreter lock), and while edits keep coming, as soon as the replaced
-snapshots add up to ``_GARBAGE_LIMIT`` characters of text, so memory stays
-bounded.
+An analysis starts from the latest snapshot's parse: the segments the edits
+touched are parsed again and spliced into it (``Revision.parse``,
+``osc2check.syntax.incremental``), the rest is reused or moved.
+
+A replaced snapshot is freed by reference counting (the checker's analyses hold
+no reference cycles), on the analysis thread: freeing a 10,000-line document's
+analysis holds the interpreter lock for a few tens of milliseconds, which a
+request would wait for. So replaced snapshots are kept until the documents have
+been quiet (no edit, no analysis) for ``QUIET_FREE`` seconds, a pause in
+typing, and at most ``MAX_REPLACED`` of them: beyond that the oldest are freed
+after the next analysis (``_settle``). The collector is paused while an
+analysis runs and what it made is frozen without a scan (``_freeze``); every
+generation is collected once the documents have been quiet for
+``QUIET_COLLECTION`` seconds.
 """
 
 from __future__ import annotations
@@ -52,31 +57,32 @@ import os
 import re
 import sys
 import time
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from concurrent.futures import ThreadPoolExecutor
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from osc2check.gc_pause import gc_paused
 from osc2lsp.options import CheckerConfigs, Options
 from osc2lsp.solver import SolverWorker
 from osc2lsp.text import LineIndex, TextMap, uri_to_key
 
 if TYPE_CHECKING:
     from osc2check.diagnostics import Diagnostic
+    from osc2check.syntax import ParseResult
     from osc2lsp.snapshot import Snapshot
 
 log = logging.getLogger(__name__)
 
-# While edits keep coming, a collection is forced once the replaced snapshots' texts add
-# up to this many characters (four times a 10,000-line document: about 50 MB of garbage).
-_GARBAGE_LIMIT = 1_200_000
-_IDLE = 1.0  # seconds without edits or analyses before the garbage is collected
 # The interpreter lock passes between threads every SWITCH seconds; a request keeps it
 # for up to FOREGROUND seconds (see ``foreground``).
 SWITCH = 0.001
 FOREGROUND = 0.05
+QUIET_FREE = 0.5  # seconds without edits or analyses before replaced snapshots are freed
+MAX_REPLACED = 3  # replaced snapshots kept until then, at most (about 13 MB each at 10,000 lines)
+QUIET_COLLECTION = 30.0  # seconds without edits or analyses before a full collection
 
 LinesOf = Callable[[str], "LineIndex | None"]
 
@@ -112,18 +118,23 @@ def taking_turns() -> Iterator[None]:
 
 
 def analyse(
-    documents: list[tuple[str, str, int | None]], config=None, verify: bool = True
+    documents: list[tuple[str, str, int | None]],
+    config=None,
+    verify: bool = True,
+    parses: Mapping[str, ParseResult] | None = None,
 ) -> dict[str, Snapshot]:
     """Analyse documents given as ``(uri, text, version)``; a snapshot for each.
 
     Without ``verify`` the solver's checks (C, L and B codes) are left out.
+    ``parses`` has parses of documents' texts by uri, to use instead of parsing.
     """
     from osc2check.analysis import SourceInput, analyze  # heavy: imported on first use
     from osc2check.config import Config
     from osc2lsp.snapshot import Snapshot
 
     keys = {uri: uri_to_key(uri) for uri, _, _ in documents}
-    inputs = [SourceInput(keys[uri], text) for uri, text, _ in documents]
+    given = parses or {}
+    inputs = [SourceInput(keys[uri], text, parse=given.get(uri)) for uri, text, _ in documents]
     config = config if config is not None else Config()
     analysis = analyze(inputs, config.analysis_options(verify=verify))
     return {
@@ -198,6 +209,13 @@ class Document:
             self._lines = LineIndex(self.text)
         return self._lines
 
+    def replace_snapshot(self, snapshot: Snapshot) -> None:
+        """Make ``snapshot`` the latest, and forget what referred to the one before."""
+        self.snapshot = snapshot
+        self._map = None
+        if self.preview is not None and self.preview.version == snapshot.version:
+            self.preview = None  # the analysis of its version replaces it
+
     def set_text(self, text: str, version: int | None, lines: LineIndex | None = None) -> None:
         self.text, self.version = text, version
         self._lines = lines if lines is not None and lines.text is text else None
@@ -218,6 +236,38 @@ class Document:
         if self._map is None or self._map[0] is not snap or self._map[1] is not self.text:
             self._map = (snap, self.text, TextMap(snap.text, self.text))
         return self._map[2]
+
+
+@dataclass(frozen=True)
+class Revision:
+    """What the analysis of one document reads, taken on the event loop (the
+    document changes there meanwhile)."""
+
+    uri: str
+    key: str
+    text: str
+    version: int | None
+    library: bool
+    previous: Snapshot | None  # the latest snapshot, maybe of an older text
+
+    @classmethod
+    def of(cls, doc: Document) -> Revision:
+        return cls(doc.uri, doc.key, doc.text, doc.version, doc.library, doc.snapshot)
+
+    def parse(self) -> ParseResult | None:
+        """The parse of ``text`` made from the previous snapshot's: that parse when the
+        text is the same, else with the segments the edits touched parsed again (None:
+        parse it whole)."""
+        from osc2check.syntax.incremental import Edit, splice
+
+        previous = self.previous
+        if previous is None or previous.key != self.key:
+            return None
+        parsed = previous.parse
+        if previous.text == self.text:
+            return parsed
+        change = TextMap(previous.text, self.text)
+        return splice(parsed, self.text, Edit(change.prefix, change.old_end, change.new_end))
 
 
 Publisher = Callable[[str, list[Findings]], None]
@@ -243,9 +293,8 @@ class State:
         self._closed: dict[str, tuple[float, str, Snapshot | None]] = {}  # workspace files
         self._lock: asyncio.Lock | None = None
         self._tasks: set[asyncio.Task] = set()
-        self._garbage = 0  # characters of the snapshots replaced since the last collection
-        self._collector: asyncio.Task | None = None  # the collection after a pause
-        self._active = time.monotonic()  # the last edit or analysis
+        self._replaced: list[Snapshot] = []  # replaced snapshots, freed once all is quiet
+        self._quiet: asyncio.Task | None = None  # what is done once all is quiet
 
     # ---- documents -------------------------------------------------------------
 
@@ -262,7 +311,7 @@ class State:
             self.open(uri, text, version)
             return
         doc.set_text(text, version, lines)
-        self._active = time.monotonic()
+        self._when_quiet()
         if doc.verify_timer is not None:
             doc.verify_timer.cancel()
         for other in self.documents.values():
@@ -348,16 +397,21 @@ class State:
         snap = await self.fresh(uri)
         return findings_of(snap) if snap is not None else None
 
-    async def quiet(self) -> None:
-        """Wait until the scheduled analyses, and the collection that follows a pause in
-        them, are done (for tests and benchmarks)."""
+    async def analysed(self) -> None:
+        """Wait until the scheduled analyses are done (for tests and benchmarks)."""
         while True:
             pending = [d.timer for d in self.documents.values() if d.timer and not d.timer.done()]
-            if self._collector is not None and not self._collector.done():
-                pending.append(self._collector)
             if not pending:
                 return
             await asyncio.wait(pending)
+
+    async def quiet(self) -> None:
+        """``analysed``, then free the replaced snapshots at once, as a quiet spell
+        does (for tests and benchmarks)."""
+        await self.analysed()
+        if self._replaced:
+            freed, self._replaced = self._replaced, []
+            await asyncio.get_running_loop().run_in_executor(self._executor, freed.clear)
 
     def delivered(self, uri: str, findings: Findings) -> None:
         """Note that the client has received ``findings`` (pulled them)."""
@@ -411,68 +465,79 @@ class State:
             batch = [doc] if doc.library else self._batch(doc)
             for member in batch:
                 member.stale = False
+            if self._quiet is not None:
+                self._quiet.cancel()  # not quiet
             loop = asyncio.get_running_loop()
             began = time.perf_counter()
+            revisions = [Revision.of(d) for d in batch]
             try:
-                snapshots = await loop.run_in_executor(self._executor, self._analyse, batch)
+                snapshots = await loop.run_in_executor(self._executor, self._analyse, revisions)
             except Exception:  # an internal error of the checker: keep serving
                 log.exception("analysis of %s failed", uri)
                 snapshots = {}
             doc.analysis_seconds = time.perf_counter() - began
-            self._active = time.monotonic()
+            del revisions  # they hold the replaced snapshots
             published: list[Findings] = []
+            replaced = self._replaced
             for d in batch:
                 snap = snapshots.get(d.uri)
                 current = self.documents.get(d.uri)
                 if snap is None or current is not d:
                     continue
                 if d.snapshot is None or not _newer(d.snapshot.version, snap.version):
-                    self._garbage += len(d.snapshot.text) + 1 if d.snapshot is not None else 0
-                    d.snapshot = snap
+                    if d.snapshot is not None:
+                        replaced.append(d.snapshot)
+                    d.replace_snapshot(snap)
                 if snap.version == d.version:
                     published.append(findings_of(snap))
                 self._wake(d)
             self._publish(uri, published)
             if self.options.verify and published and not doc.library:
                 self._schedule_solver(uri)
-            if snapshots:
-                await loop.run_in_executor(self._executor, _settle, list(snapshots.values()))
-            await self._collect_garbage()
+            oldest = replaced[: max(len(replaced) - MAX_REPLACED, 0)]
+            del replaced[: len(oldest)]
+            if snapshots or oldest:
+                await loop.run_in_executor(
+                    self._executor, _settle, list(snapshots.values()), oldest
+                )
+            self._when_quiet()
 
-    def _analyse(self, batch: list[Document]) -> dict[str, Snapshot]:
-        """Snapshots of the batch's current texts (on the analysis thread)."""
+    def _when_quiet(self) -> None:
+        """(Re)start the wait for a quiet spell: after ``QUIET_FREE`` seconds without
+        edits or analyses the replaced snapshots are freed, after ``QUIET_COLLECTION``
+        every generation is collected once."""
+        if self._quiet is not None:
+            self._quiet.cancel()
+        try:
+            loop = asyncio.get_running_loop()
+        except RuntimeError:
+            return
+
+        async def after_quiet() -> None:
+            await asyncio.sleep(QUIET_FREE)
+            if self._replaced:
+                freed, self._replaced = self._replaced, []
+                await loop.run_in_executor(self._executor, freed.clear)
+            await asyncio.sleep(QUIET_COLLECTION - QUIET_FREE)
+            await loop.run_in_executor(self._executor, _collect_all)
+
+        self._quiet = task = loop.create_task(after_quiet())
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    def _analyse(self, batch: list[Revision]) -> dict[str, Snapshot]:
+        """Snapshots of the batch's texts (on the analysis thread)."""
         from osc2lsp.snapshot import library_snapshot
 
         doc = batch[0]
         if doc.library:
             return {doc.uri: library_snapshot(doc.uri, doc.key, doc.text, doc.version)}
         config = self.configs.for_file(doc.key, self.options, self.root)
-        return analyse([(d.uri, d.text, d.version) for d in batch], config, False)
-
-    async def _collect_garbage(self) -> None:
-        """Free the snapshots replaced so far: after a pause, or now when many were."""
-        if self._collector is not None:
-            self._collector.cancel()
-            self._collector = None
-        if not self._garbage:
-            return
-        if self._garbage >= _GARBAGE_LIMIT:
-            await self._collect()
-            return
-        task = asyncio.get_running_loop().create_task(self._collect(_IDLE))
-        self._collector = task
-        self._tasks.add(task)
-        task.add_done_callback(self._tasks.discard)
-
-    async def _collect(self, after: float = 0) -> None:
-        """Collect now, or once ``after`` seconds have passed without edits or analyses."""
-        while after:
-            await asyncio.sleep(max(self._active + after - time.monotonic(), 0.01))
-            busy = any(d.timer is not None and not d.timer.done() for d in self.documents.values())
-            if not busy and time.monotonic() - self._active >= after:
-                break
-        self._garbage = 0
-        await asyncio.get_running_loop().run_in_executor(self._executor, _collect_all)
+        with gc_paused():
+            parses = {r.uri: p for r in batch if (p := r.parse()) is not None}
+            found = analyse([(r.uri, r.text, r.version) for r in batch], config, False, parses)
+            _freeze()
+        return found
 
     def _publish(self, trigger: str, findings: list[Findings]) -> None:
         """Hand findings the client does not have yet to the publisher."""
@@ -666,15 +731,36 @@ class State:
         self._solver.kill()
 
 
-def _settle(snapshots: list[Snapshot]) -> None:
-    """After an analysis, on its thread: what requests will need, built now."""
-    for snap in snapshots:
-        snap.prepare()
-        _warm_features(snap)
-    # The analysis made its objects with collection off: collect its own garbage now,
-    # on this thread, and freeze the rest, so that no later young collection scans it
-    # (maybe in a request's thread); the snapshots it replaced wait for ``_collect``.
-    gc.collect(0)
+def _settle(snapshots: list[Snapshot], replaced: list[Snapshot]) -> None:
+    """After an analysis, on its thread: ``replaced`` freed (it holds their last
+    references) and what requests will need of ``snapshots`` built now."""
+    replaced.clear()
+    with gc_paused():
+        for snap in snapshots:
+            snap.prepare()
+            _warm_features(snap)
+        _freeze()
+
+
+def _freeze() -> None:
+    """Exempt every object made so far from the collector's scans, without a scan.
+
+    An analysis makes its objects with the collector paused; when the pause ended,
+    the first allocation would start a collection that scans them all at once (tenths
+    of a second on a 10,000-line document, holding the interpreter lock while a
+    request waits). Analyses hold no reference cycles, so nothing is lost by not
+    scanning them: a frozen object is still freed when its last reference goes.
+    What cycles other code left meanwhile are collected when the documents are
+    quiet (``_collect_all``).
+    """
+    gc.freeze()
+
+
+def _collect_all() -> None:
+    """Collect every generation, the frozen objects included, then freeze the survivors
+    (after a quiet period: it holds the interpreter lock for tenths of a second)."""
+    gc.unfreeze()
+    gc.collect()
     gc.freeze()
 
 
@@ -691,13 +777,6 @@ def _warm_features(snap: Snapshot) -> None:
             hover(snap, names[len(names) // 2].start)
     except Exception:  # the request itself will report it
         log.debug("warming the features failed", exc_info=True)
-
-
-def _collect_all() -> None:
-    """Collect every generation, the frozen objects included, then freeze the survivors."""
-    gc.unfreeze()
-    gc.collect()
-    gc.freeze()
 
 
 def _osc_files(root: Path, limit: int):

@@ -19,8 +19,7 @@ import re
 from pathlib import Path
 from urllib.parse import quote, unquote, urlparse
 
-_NEWLINE = re.compile(r"\r\n|\r|\n")
-
+from osc2check.source import LINE_BREAK  # what a line is: one home for the checker and us
 
 # ---- file names ---------------------------------------------------------------
 
@@ -51,7 +50,7 @@ def key_to_uri(key: str) -> str:
 
 def _breaks(text: str, low: int, high: int) -> list[int]:
     """Offsets just after each line break inside ``text[low:high]``."""
-    return [m.end() for m in _NEWLINE.finditer(text, low, high)]
+    return [m.end() for m in LINE_BREAK.finditer(text, low, high)]
 
 
 class LineIndex:

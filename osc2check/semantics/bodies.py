@@ -55,19 +55,25 @@ class BodyChecker:
     # ---- declarations ------------------------------------------------------------
 
     def check(self, pending: list[Pending], extensions: list[Pending]) -> None:
-        for p in pending:
-            decl = p.decl
-            if isinstance(decl, ast.StructuredDecl) and p.symbol is not None:
-                self._structured(p.symbol, decl, p.context)
-            elif isinstance(decl, ast.GlobalDecl):
-                self._field(decl.field, Scope(p.context), None)
-            elif isinstance(decl, ast.EnumDecl):
-                self._enum_values(decl, p.context)
-        for p in extensions:
-            if isinstance(p.decl, ast.ExtendDecl):
-                target = self.model.declarations.get(p.decl)
-                if target is not None:
-                    self._members(target, p.decl.members, declaration_scope(target, p.context))
+        try:
+            for p in pending:
+                decl = p.decl
+                if isinstance(decl, ast.StructuredDecl) and p.symbol is not None:
+                    self._structured(p.symbol, decl, p.context)
+                elif isinstance(decl, ast.GlobalDecl):
+                    self._field(decl.field, Scope(p.context), None)
+                elif isinstance(decl, ast.EnumDecl):
+                    self._enum_values(decl, p.context)
+            for p in extensions:
+                if isinstance(p.decl, ast.ExtendDecl):
+                    target = self.model.declarations.get(p.decl)
+                    if target is not None:
+                        scope = declaration_scope(target, p.context)
+                        self._members(target, p.decl.members, scope)
+        finally:
+            # The expression checker calls back into this one: unlinked, they leave no
+            # reference cycle that would keep the model alive after its analysis.
+            self.expr.check_call = None
 
     def _enum_values(self, decl: ast.EnumDecl, ctx: Context) -> None:
         for member in decl.members:

@@ -121,96 +121,117 @@ def build_program(
     ``search_paths`` in order; a relative search path is taken from the current
     directory, as any relative path a program is given.
     """
-    modules = modules or {}
-    library = standard_library()
-    model = Model(base=library.model)
-    program = Program(root, model)
-    units: list[Unit] = []
-    visiting: list[str] = []  # normalised paths of the files being read, root first
-    leads: list[Span] = []  # span of the import in visiting[i] that leads to visiting[i + 1]
-    done: set[str] = set()
+    state = _Reading(
+        program=Program(root, Model(base=standard_library().model)),
+        read=read,
+        modules=modules or {},
+        search_paths=search_paths,
+    )
+    root_result = read(root)
+    if root_result is not None:
+        _visit(state, root, root_result, implicit_imports)
+        state.program.diagnostics.extend(resolve(state.program.model, state.units))
+    return state.program
 
-    def visit(uri: str, result: ParseResult, extra_modules: tuple[str, ...] = ()) -> None:
-        visiting.append(os.path.normpath(uri))
-        uses: list[str] = []
-        imported: list[str] = []
-        for module in extra_modules:  # implicit imports also put their namespaces in use
-            namespaces, _ = STANDARD_MODULES[module]
-            model.library_namespaces.update(namespaces)
-            uses.extend(namespaces)
-        for decl in result.ast.declarations:
-            if not isinstance(decl, ast.ImportDecl):
-                continue
-            target = decl.target
-            found: ParseResult | None = None
-            if decl.kind == "module" and target in modules:
-                path = _resolve_path(uri, modules[target])
-            elif decl.kind == "module":
-                if target in STANDARD_MODULES:
-                    namespaces, auto = STANDARD_MODULES[target]
-                    model.library_namespaces.update(namespaces)
-                    if auto:
-                        uses.extend(AUTO_USE)
-                    continue
-                if target == "osc" or target.startswith("osc."):
-                    program.diagnostics.append(
-                        messages.unresolved_import(
-                            decl.target_span,
-                            target,
-                            "no such module of the standard library "
-                            "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)",
-                        )
-                    )
-                    continue
-                path, found = _module_path(uri, target, search_paths, read)
-                carla = None if found is not None else _carla_file(uri, target, search_paths, read)
-                if carla is not None:
-                    path, found, beside = carla
-                    program.diagnostics.append(
-                        messages.unquoted_file_import(decl.target_span, target, beside)
-                    )
-            else:
-                path = _resolve_path(uri, target)
-            key = str(path)
-            imported_result = found
-            if imported_result is None and _not_a_source(path) is None:
-                imported_result = read(key)
-            if imported_result is None:
-                if decl.kind == "file" and Path(target).name in STANDARD_FILE_NAMES:
-                    program.diagnostics.append(messages.standard_file_import(decl.span, target))
-                    model.library_namespaces.update(STANDARD_MODULES["osc.standard"][0])
+
+@dataclass
+class _Reading:
+    """What ``build_program`` keeps while it follows the imports depth first."""
+
+    program: Program
+    read: Reader
+    modules: dict[str, str]
+    search_paths: tuple[str, ...]
+    units: list[Unit] = field(default_factory=list)
+    visiting: list[str] = field(default_factory=list)  # normalised paths being read, root first
+    leads: list[Span] = field(default_factory=list)  # import in visiting[i] to visiting[i + 1]
+    done: set[str] = field(default_factory=set)
+
+    @property
+    def model(self) -> Model:
+        return self.program.model
+
+
+def _visit(
+    state: _Reading, uri: str, result: ParseResult, extra_modules: tuple[str, ...] = ()
+) -> None:
+    state.visiting.append(os.path.normpath(uri))
+    uses: list[str] = []
+    imported: list[str] = []
+    for module in extra_modules:  # implicit imports also put their namespaces in use
+        namespaces, _ = STANDARD_MODULES[module]
+        state.model.library_namespaces.update(namespaces)
+        uses.extend(namespaces)
+    for decl in result.ast.declarations:
+        if not isinstance(decl, ast.ImportDecl):
+            continue
+        target = decl.target
+        found: ParseResult | None = None
+        if decl.kind == "module" and target in state.modules:
+            path = _resolve_path(uri, state.modules[target])
+        elif decl.kind == "module":
+            if target in STANDARD_MODULES:
+                namespaces, auto = STANDARD_MODULES[target]
+                state.model.library_namespaces.update(namespaces)
+                if auto:
                     uses.extend(AUTO_USE)
-                    continue
-                tried = [path]
-                if decl.kind == "module" and target.endswith(".osc"):
-                    tried.append(_resolve_path(uri, target))
-                program.diagnostics.append(
-                    messages.unresolved_import(decl.target_span, target, _not_found(tried))
+                continue
+            if target == "osc" or target.startswith("osc."):
+                state.program.diagnostics.append(
+                    messages.unresolved_import(
+                        decl.target_span,
+                        target,
+                        "no such module of the standard library "
+                        "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)",
+                    )
                 )
                 continue
-            imported.append(key)
-            norm = os.path.normpath(key)
-            if norm in visiting:
-                # Said at the root's own import that leads into the cycle: the root's
-                # findings are the ones reported for it.
-                chain = visiting[visiting.index(norm) :] + [norm]
-                span = leads[0] if leads else decl.target_span
-                program.diagnostics.append(messages.import_cycle(span, chain))
+            path, found = _module_path(uri, target, state.search_paths, state.read)
+            carla = (
+                None
+                if found is not None
+                else _carla_file(uri, target, state.search_paths, state.read)
+            )
+            if carla is not None:
+                path, found, beside = carla
+                state.program.diagnostics.append(
+                    messages.unquoted_file_import(decl.target_span, target, beside)
+                )
+        else:
+            path = _resolve_path(uri, target)
+        key = str(path)
+        imported_result = found
+        if imported_result is None and _not_a_source(path) is None:
+            imported_result = state.read(key)
+        if imported_result is None:
+            if decl.kind == "file" and Path(target).name in STANDARD_FILE_NAMES:
+                state.program.diagnostics.append(messages.standard_file_import(decl.span, target))
+                state.model.library_namespaces.update(STANDARD_MODULES["osc.standard"][0])
+                uses.extend(AUTO_USE)
                 continue
-            if norm not in done:
-                leads.append(decl.target_span)
-                visit(key, imported_result)
-                leads.pop()
-        visiting.pop()
-        done.add(os.path.normpath(uri))
-        program.files[uri] = result
-        program.imports[uri] = imported
-        ctx = Context("", tuple(dict.fromkeys(uses)))
-        units.append(Unit(uri, result.ast, ctx, comments=comment_lines(result)))
-
-    root_result = read(root)
-    if root_result is None:
-        return program
-    visit(root, root_result, implicit_imports)
-    program.diagnostics.extend(resolve(model, units))
-    return program
+            tried = [path]
+            if decl.kind == "module" and target.endswith(".osc"):
+                tried.append(_resolve_path(uri, target))
+            state.program.diagnostics.append(
+                messages.unresolved_import(decl.target_span, target, _not_found(tried))
+            )
+            continue
+        imported.append(key)
+        norm = os.path.normpath(key)
+        if norm in state.visiting:
+            # Said at the root's own import that leads into the cycle: the root's
+            # findings are the ones reported for it.
+            chain = state.visiting[state.visiting.index(norm) :] + [norm]
+            span = state.leads[0] if state.leads else decl.target_span
+            state.program.diagnostics.append(messages.import_cycle(span, chain))
+            continue
+        if norm not in state.done:
+            state.leads.append(decl.target_span)
+            _visit(state, key, imported_result)
+            state.leads.pop()
+    state.visiting.pop()
+    state.done.add(os.path.normpath(uri))
+    state.program.files[uri] = result
+    state.program.imports[uri] = imported
+    ctx = Context("", tuple(dict.fromkeys(uses)))
+    state.units.append(Unit(uri, result.ast, ctx, comments=comment_lines(result)))

@@ -173,20 +173,20 @@ def _group_chain(c: Children) -> ast.Expr:
     """Group ``operand (op operand)*`` by precedence, left-associative."""
     operands = c[0::2]
     ops = [str(t) or "+" for t in c[1::2]]
-    pos = 0
+    return _climb(operands, ops, [0], 0)
 
-    def parse(min_prec: int) -> ast.Expr:
-        nonlocal pos
-        left: ast.Expr = operands[pos]
-        while pos < len(ops) and _PRECEDENCE.get(ops[pos], 6) >= min_prec:
-            op = ops[pos]
-            prec = _PRECEDENCE.get(op, 6)
-            pos += 1
-            right = parse(prec + 1)
-            left = ast.Binary(_cover([left, right]), op, left, right)
-        return left
 
-    return parse(0)
+def _climb(operands: Children, ops: list[str], pos: list[int], min_prec: int) -> ast.Expr:
+    """Precedence climbing from ``operands[pos[0]]`` (a module function, not a nested
+    recursive one: that would be a reference cycle holding the operands)."""
+    left: ast.Expr = operands[pos[0]]
+    while pos[0] < len(ops) and _PRECEDENCE.get(ops[pos[0]], 6) >= min_prec:
+        op = ops[pos[0]]
+        prec = _PRECEDENCE.get(op, 6)
+        pos[0] += 1
+        right = _climb(operands, ops, pos, prec + 1)
+        left = ast.Binary(_cover([left, right]), op, left, right)
+    return left
 
 
 class Builder(Transformer[Token, ast.File]):

@@ -15,6 +15,7 @@ from functools import cache
 
 from lark.lexer import PatternStr
 
+from osc2check.source import LINE_BREAK
 from osc2check.syntax.grammar import lark_parser
 
 NEWLINE = "NEWLINE"
@@ -117,9 +118,9 @@ def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
         for alternative in inner.split("|"):
             punctuation[re.sub(r"\\(.)", r"\1", alternative)] = op
     parts = [
-        r"(?P<NEWLINE>\r\n|\r|\n)",
+        rf"(?P<NEWLINE>{LINE_BREAK.pattern})",
         r"(?P<WS>[ \t\f]+)",
-        r"(?P<CONT>\\[ \t\f]*(?:\r\n|\r|\n))",
+        rf"(?P<CONT>\\[ \t\f]*(?:{LINE_BREAK.pattern}))",
         r"(?P<COMMENT>#[^\r\n]*)",
     ]
     for name in _REGEX_ORDER:
@@ -131,15 +132,19 @@ def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
     return re.compile("|".join(parts), re.DOTALL), {**keywords, **punctuation}
 
 
-def tokenize(text: str) -> LexResult:
-    """Tokens with 1-based line/column positions, comments and lexical errors."""
+def tokenize(text: str, pos: int = 0, endpos: int | None = None, line: int = 1) -> LexResult:
+    """Tokens with 1-based line/column positions, comments and lexical errors.
+
+    ``pos`` and ``endpos`` lex only that part of ``text`` (``pos`` begins line
+    ``line``); positions are those in the whole text.
+    """
     pattern, fixed = _tables()
     tokens: list[Token] = []
     comments: list[Comment] = []
     errors: list[LexError] = []
-    line, line_start = 1, 0
+    line_start = pos
     append = tokens.append
-    for match in pattern.finditer(text):
+    for match in pattern.finditer(text, pos, len(text) if endpos is None else endpos):
         kind = match.lastgroup
         assert kind is not None  # the last alternative, ERROR, matches any character
         start, end = match.span()
@@ -167,14 +172,15 @@ def tokenize(text: str) -> LexResult:
             kind = STRING
         elif kind == "PUNCT" or kind == NAME:
             kind = fixed.get(value, kind)
-        newlines = value.count("\n") if kind == STRING else 0
-        if newlines:
-            end_line = line + newlines
-            end_column = len(value) - value.rfind("\n")
+        multiline = kind == STRING and ("\n" in value or "\r" in value)
+        breaks = list(LINE_BREAK.finditer(value)) if multiline else None
+        if breaks:  # a triple-quoted string over several lines
+            end_line = line + len(breaks)
+            end_column = len(value) - breaks[-1].end() + 1
         else:
             end_line, end_column = line, column + len(value)
         append(Token(kind, value, start, line, column, end_line, end_column, end))
-        if newlines:
+        if breaks:
             line = end_line
-            line_start = start + value.rfind("\n") + 1
+            line_start = start + breaks[-1].end()
     return LexResult(tokens, comments, errors)

@@ -2,21 +2,22 @@
 
 from __future__ import annotations
 
-import gc
+import bisect
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache
 
 from lark import Lark
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
-from osc2check.source import Span
+from osc2check.gc_pause import gc_paused
+from osc2check.source import Span, point_span
 from osc2check.syntax import ast
 from osc2check.syntax.build import _PROBLEMS, _URI, Builder, BuildProblem
 from osc2check.syntax.grammar import grammar_text, lark_parser
-from osc2check.syntax.indent import indent
-from osc2check.syntax.lexer import Comment, Token, tokenize
+from osc2check.syntax.indent import IndentError, indent
+from osc2check.syntax.lexer import Comment, LexError, Token, tokenize
 from osc2check.syntax.recover import parse_tokens
 
 # How terminals read in messages.
@@ -38,6 +39,21 @@ _DESCRIPTIONS = {
 
 
 @dataclass(frozen=True, slots=True)
+class Segment:
+    """One top-level line with its indented block, parsed alone (see ``parse``).
+
+    ``start`` and ``line`` are where its first token is; the findings about the
+    text before a file's first token (comments, blank lines) go to the first.
+    """
+
+    start: int
+    line: int
+    declarations: tuple[ast.Declaration, ...]
+    diagnostics: tuple[Diagnostic, ...]
+    error_lines: frozenset[int]
+
+
+@dataclass(frozen=True, slots=True)
 class ParseResult:
     uri: str
     text: str
@@ -45,6 +61,7 @@ class ParseResult:
     diagnostics: tuple[Diagnostic, ...]
     comments: tuple[Comment, ...]
     error_lines: frozenset[int] = frozenset()  # lines of statements that did not parse
+    segments: tuple[Segment, ...] = ()  # what the file was parsed as, in order
 
     def comment_spans(self) -> list[tuple[Span, str]]:
         """Comments as (span, text) pairs, the form suppressions read."""
@@ -106,19 +123,8 @@ def _tok_span(uri: str, tok: Token) -> Span:
 
 
 def _offset_span(uri: str, text: str, start: int, length: int) -> Span:
-    line = _line_of(text, start)
-    col = start - (max(text.rfind("\n", 0, start), text.rfind("\r", 0, start)) + 1) + 1
-    return Span(uri, line, col, line, col + length, start, start + length)
-
-
-def _line_of(text: str, offset: int) -> int:
-    """1-based line of ``offset``; CRLF, LF and lone CR each end a line."""
-    return (
-        text.count("\n", 0, offset)
-        + text.count("\r", 0, offset)
-        - text.count("\r\n", 0, offset)
-        + 1
-    )
+    point = point_span(uri, text, start)
+    return replace(point, end_column=point.column + length, end=start + length)
 
 
 def _previous_tokens(tokens: list[Token]) -> dict[int, Token]:
@@ -138,33 +144,123 @@ def _number_before_unit(text: str, tok: Token, prev: Token | None) -> Token | No
 
 
 def parse(text: str, uri: str = "<string>") -> ParseResult:
-    """Parse OSC2 source text into an AST and syntax diagnostics."""
-    collecting = gc.isenabled()
-    if collecting:  # the parse makes many objects and frees none: collecting is wasted work
-        gc.disable()
+    """Parse OSC2 source text into an AST and syntax diagnostics.
+
+    The text is lexed and laid out (``_NL``, ``_INDENT``, ``_DEDENT``) as a whole,
+    then parsed one *segment* at a time: a logical line at the outermost level
+    with everything up to the next one (its indented block, comments and blank
+    lines). A segment's errors, recovery and findings never depend on another
+    segment, so ``incremental.splice`` re-parses only the segments an edit
+    touched and gets what a whole parse gets.
+    """
+    return parse_part(text, uri, 0, len(text), 1)
+
+
+def parse_part(text: str, uri: str, start: int, end: int, line: int) -> ParseResult:
+    """Parse ``text[start:end]`` as a file of its own, with the positions it has in
+    ``text`` (``start`` begins line ``line``): one declaration of a large file, say,
+    without lexing the rest."""
+    with gc_paused():  # the parse makes many objects and frees none: collecting is wasted
+        lexed = tokenize(text, start, end, line)
+        tokens, layout = indent(lexed.tokens, text)
+        segments = parse_segments(uri, text, tokens, lexed.errors, layout, start, line)
+        return assemble(uri, text, segments, tuple(lexed.comments))
+
+
+def assemble(
+    uri: str, text: str, segments: tuple[Segment, ...], comments: tuple[Comment, ...]
+) -> ParseResult:
+    """The parse of a whole file from its segments, in order."""
+    declarations = tuple(d for s in segments for d in s.declarations)
+    diagnostics = sorted((d for s in segments for d in s.diagnostics), key=lambda d: d.sort_key)
+    error_lines = frozenset().union(*(s.error_lines for s in segments))
+    if declarations:
+        first, last = declarations[0].span, declarations[-1].span
+        span = Span(
+            uri, first.line, first.column, last.end_line, last.end_column, first.start, last.end
+        )
+    else:
+        span = Span(uri, 1, 1, 1, 1, 0, 0)
+    return ParseResult(
+        uri, text, ast.File(span, declarations), tuple(diagnostics), comments, error_lines, segments
+    )
+
+
+_LAYOUT_BEFORE_LINE = frozenset({"_NL", "_DEDENT"})
+
+
+def segment_starts(tokens: list[Token]) -> list[int]:
+    """Indexes of the laid-out ``tokens`` that begin a logical line at the outermost
+    level (the first token included)."""
+    starts = [0] if tokens else []
+    depth = 0
+    previous = ""
+    for i, tok in enumerate(tokens):
+        kind = tok.type
+        if kind == "_INDENT":
+            depth += 1
+        elif kind == "_DEDENT":
+            depth -= 1
+        elif kind != "_NL" and i and depth == 0 and previous in _LAYOUT_BEFORE_LINE:
+            starts.append(i)
+        previous = kind
+    return starts
+
+
+def parse_segments(
+    uri: str,
+    text: str,
+    tokens: list[Token],
+    lex_errors: list[LexError],
+    layout: list[IndentError],
+    start: int,
+    line: int,
+) -> tuple[Segment, ...]:
+    """Parse laid-out ``tokens`` of ``text`` (from offset ``start``, line ``line``)
+    segment by segment; lexical and layout errors go to the segment they are in."""
+    starts = segment_starts(tokens) or [0]  # no tokens: one empty segment
+    offsets = [tokens[i].start_pos if tokens else start for i in starts]
+    lines = [tokens[i].line if tokens else line for i in starts]
+    # What lies before the first token (comments, blank lines) belongs to the first.
+    lexical: list[list[LexError]] = [[] for _ in starts]
+    for err in lex_errors:
+        lexical[max(bisect.bisect_right(offsets, err.offset) - 1, 0)].append(err)
+    laid: list[list[IndentError]] = [[] for _ in starts]
+    for problem in layout:
+        laid[max(bisect.bisect_right(offsets, problem.token.start_pos) - 1, 0)].append(problem)
+    ends = [*starts[1:], len(tokens)]
+    uri_token = _URI.set(uri)
     try:
-        return _parse(text, uri)
+        return tuple(
+            _segment(
+                uri, text, tokens[starts[k] : ends[k]], lexical[k], laid[k], offsets[k], lines[k]
+            )
+            for k in range(len(starts))
+        )
     finally:
-        if collecting:
-            gc.enable()
+        _URI.reset(uri_token)
 
 
-def _parse(text: str, uri: str) -> ParseResult:
+def _segment(
+    uri: str,
+    text: str,
+    tokens: list[Token],
+    lex_errors: list[LexError],
+    layout_errors: list[IndentError],
+    start: int,
+    line: int,
+) -> Segment:
     diagnostics: list[Diagnostic] = []
-    lexed = tokenize(text)
-    for err in lexed.errors:
+    for err in lex_errors:
         span = _offset_span(uri, text, err.offset, err.length if err.kind == "character" else 1)
         if err.kind == "string":
             diagnostics.append(messages.unterminated_string(span))
         else:
             diagnostics.append(messages.unexpected_character(span, err.text))
-    tokens, layout_errors = indent(lexed.tokens, text)
-    unclosed_lines = set()
     error_lines: set[int] = set()
     for layout in layout_errors:
         span = _tok_span(uri, layout.token)
         if layout.kind == "unclosed":
-            unclosed_lines.add(layout.token.line)
             error_lines.update(
                 range(layout.token.line, max(layout.end_line, layout.token.line + 1))
             )
@@ -176,12 +272,10 @@ def _parse(text: str, uri: str) -> ParseResult:
                 messages.inconsistent_dedent(span, layout.token.column - 1, layout.expected)
             )
     problems: list[BuildProblem] = []
-    uri_token = _URI.set(uri)
     problems_token = _PROBLEMS.set(problems)
     try:
-        tree, syntax = parse_tokens(_builder_parser(), tokens)
+        tree, syntax = parse_tokens(_builder_parser(), tokens) if tokens else (None, [])
     finally:
-        _URI.reset(uri_token)
         _PROBLEMS.reset(problems_token)
     reported_lines = {d.span.line for d in diagnostics}
     bracket_lines = set(error_lines)  # statements an unclosed bracket ran into
@@ -216,12 +310,8 @@ def _parse(text: str, uri: str) -> ParseResult:
         if built.span.line not in error_lines:
             diagnostics.append(messages.not_an_invocation(built.span))
             error_lines.add(built.span.line)
-    if not isinstance(tree, ast.File):
-        tree = ast.File(Span(uri, 1, 1, 1, 1, 0, 0), ())
-    diagnostics.sort(key=lambda d: d.sort_key)
-    return ParseResult(
-        uri, text, tree, tuple(diagnostics), tuple(lexed.comments), frozenset(error_lines)
-    )
+    declarations = tree.declarations if isinstance(tree, ast.File) else ()
+    return Segment(start, line, declarations, tuple(diagnostics), frozenset(error_lines))
 
 
 def grammar_version() -> str:

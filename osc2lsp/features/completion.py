@@ -395,7 +395,7 @@ def _types(out: _Collector, f: Focus, after: str) -> None:
 
 def _arguments(out: _Collector, f: Focus, cursor: Cursor) -> None:
     """Named arguments of the invocation or call whose argument list holds the cursor."""
-    call = _enclosing_call(f)
+    call = enclosing_call(f)
     if call is None:
         return
     node, callee = call
@@ -438,7 +438,7 @@ def _arguments_of(node: ast.Node) -> tuple:
     return getattr(node, "arguments", ())
 
 
-def _enclosing_call(f: Focus) -> tuple[ast.Node, Symbol] | None:
+def enclosing_call(f: Focus) -> tuple[ast.Invocation | ast.Call, Symbol] | None:
     """The innermost invocation or call whose arguments contain the cursor, and its callee."""
     model = f.model
     path = f.path
@@ -450,8 +450,8 @@ def _enclosing_call(f: Focus) -> tuple[ast.Node, Symbol] | None:
             and isinstance(node, (ast.Invocation, ast.Call))
             and f.cursor.argument_index() is not None
         ):
-            name = node.name if isinstance(node, ast.Invocation) else node.callee
-            if name.span.end < f.cursor.offset:
+            head = node.name if isinstance(node, ast.Invocation) else node.callee
+            if head.span.end < f.cursor.offset:
                 child = next(iter(node.arguments), None) or node
                 if child is node:
                     sym = _callee_of(model, node)

@@ -20,26 +20,28 @@ snapshot (which may be a version or two behind):
 from __future__ import annotations
 
 import dataclasses
-import gc
 import re
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 
+from osc2check.gc_pause import gc_paused
 from osc2check.semantics.model import Model
 from osc2check.semantics.program import build_program
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.visibility import node_path, scope_at
-from osc2check.source import decode_source
+from osc2check.source import LINE_BREAK, decode_source, line_of
 from osc2check.syntax import ParseResult, ast, expected, parse
+from osc2check.syntax.ast import Name, Node  # the class body's `ast` is the field
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
+from osc2check.syntax.parser import parse_part
 from osc2lsp.snapshot import Snapshot
+from osc2lsp.text import TextMap
 
 PLACEHOLDER = "__cursor__"
 _WORD = re.compile(r"[^\W\d]\w*$")
 _WORD_AFTER = re.compile(r"\w*")
-_NOT_NEWLINE = re.compile(r"[^\r\n]")
 _KEEP_MEMBERS = (ast.FieldDecl, ast.EventDecl, ast.MethodDecl)
 _LAYOUT = frozenset({"_NL", "_INDENT", "_DEDENT", "NEWLINE"})
 
@@ -52,26 +54,35 @@ def _starts_declaration(text: str, line_start: int) -> bool:
     return bool(ch) and ch not in " \t\f\r\n#"
 
 
+def _line_start(text: str, offset: int) -> int:
+    """The offset of the start of the line holding ``offset`` (see ``LINE_BREAK``)."""
+    return max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1
+
+
+def _previous_line_start(text: str, line_start: int) -> int:
+    """The start of the line before the one that starts at ``line_start`` (> 0)."""
+    return _line_start(text, line_start - (2 if text[line_start - 2 : line_start] == "\r\n" else 1))
+
+
 def chunk_bounds(text: str, offset: int) -> tuple[int, int]:
     """The top-level declaration around ``offset``: from the nearest line at or above
     the cursor that starts at column 0, to the next such line below."""
-    line_start = text.rfind("\n", 0, offset) + 1
+    line_start = _line_start(text, offset)
     start = line_start
     if not (_starts_declaration(text, line_start) and offset > line_start):
         start = 0
         probe = line_start
         while probe > 0:
-            probe = text.rfind("\n", 0, probe - 1) + 1
+            probe = _previous_line_start(text, probe)
             if _starts_declaration(text, probe) and not _continued(text, probe):
                 start = probe
                 break
     end = len(text)
-    probe = text.find("\n", offset)
-    while probe != -1:
-        if _starts_declaration(text, probe + 1) and not _continued(text, probe + 1):
-            end = probe + 1
+    for line_break in LINE_BREAK.finditer(text, offset):
+        below = line_break.end()
+        if _starts_declaration(text, below) and not _continued(text, below):
+            end = below
             break
-        probe = text.find("\n", probe + 1)
     return start, end
 
 
@@ -143,7 +154,7 @@ def cursor_at(text: str, offset: int) -> Cursor:
     lexed = tokenize(text[start:word_start])
     rel_word = word_start - start
     cursor = Cursor(text, offset, (start, end), (word_start, word_end), [], None)
-    line_start = text.rfind("\n", 0, offset) + 1
+    line_start = _line_start(text, offset)
     for comment in lexed.comments:
         if start + comment.offset < offset and start + comment.offset >= line_start:
             cursor.in_comment = True
@@ -156,8 +167,8 @@ def cursor_at(text: str, offset: int) -> Cursor:
         # `0.5|` or `10k|`: a unit is (being) written right after a number
         cursor.number = tokens[-1]
         cursor.unit_prefix = match.group() if match else ""
-    line = before.count("\n") + 1
-    column = rel_word - (before.rfind("\n", 0, rel_word) + 1) + 1
+    line = line_of(before, rel_word)
+    column = rel_word - _line_start(before, rel_word) + 1
     sentinel = Token("NAME", "", rel_word, line, column, line, column, rel_word)
     laid_out, _ = indent([*tokens, sentinel], text[start:word_start])
     cut = next((i for i, t in enumerate(laid_out) if t is sentinel), len(laid_out))
@@ -171,8 +182,8 @@ def cursor_at(text: str, offset: int) -> Cursor:
 # ---- the focus: the chunk resolved against a skeleton of the program ---------
 
 
-def _skeleton_members(members) -> tuple:
-    kept = []
+def _skeleton_members(members: tuple[ast.Member, ...]) -> tuple[ast.Member, ...]:
+    kept: list[ast.Member] = []
     for m in members:
         if isinstance(m, ast.FieldDecl):
             kept.append(
@@ -185,7 +196,7 @@ def _skeleton_members(members) -> tuple:
     return tuple(kept)
 
 
-def skeleton(decl: ast.Node) -> ast.Node:
+def skeleton(decl: ast.Declaration) -> ast.Declaration:
     """A declaration without the parts that only matter inside it (bodies, constraints)."""
     if isinstance(decl, (ast.StructuredDecl, ast.ExtendDecl)):
         return dataclasses.replace(decl, members=_skeleton_members(decl.members))
@@ -199,35 +210,12 @@ def _skeleton_parse(result: ParseResult) -> ParseResult:
     )
 
 
-def _diff_bounds(old: str, new: str) -> tuple[int, int]:
-    """Lengths of the common prefix and suffix of two texts."""
-    limit = min(len(old), len(new))
-    lo, hi = 0, limit
-    while lo < hi:  # binary search on slice equality runs at C speed
-        mid = (lo + hi + 1) // 2
-        if old[:mid] == new[:mid]:
-            lo = mid
-        else:
-            hi = mid - 1
-    prefix = lo
-    lo, hi = 0, limit - prefix
-    while lo < hi:
-        mid = (lo + hi + 1) // 2
-        if old[len(old) - mid :] == new[len(new) - mid :]:
-            lo = mid
-        else:
-            hi = mid - 1
-    return prefix, lo
-
-
-def map_offset(old: str, new: str, offset: int, bounds: tuple[int, int] | None = None) -> int:
-    """Where ``offset`` of ``new`` was in ``old`` (edits between them are one region)."""
-    prefix, suffix = bounds if bounds is not None else _diff_bounds(old, new)
-    if offset <= prefix:
-        return offset
-    if offset >= len(new) - suffix:
-        return offset - (len(new) - len(old))
-    return prefix
+def map_offset(old: str, new: str, offset: int, change: TextMap | None = None) -> int:
+    """Where ``offset`` of ``new`` was in ``old`` (edits between them are one region;
+    an offset inside it maps to the region's start)."""
+    change = change if change is not None else TextMap(old, new)
+    mapped = change.to_old(offset)
+    return change.prefix if mapped is None else mapped
 
 
 @dataclass
@@ -240,14 +228,14 @@ class Focus:
     placeholder: bool
 
     @cached_property
-    def path(self) -> list[ast.Node]:
+    def path(self) -> list[Node]:
         return node_path(self.ast, self.cursor.word[0])
 
     @cached_property
     def scope(self) -> Scope:
         return scope_at(self.model, self.path)
 
-    def name_at_cursor(self) -> ast.Name | None:
+    def name_at_cursor(self) -> Name | None:
         """The Name node written (or inserted) at the cursor."""
         for node in reversed(self.path):
             if isinstance(node, ast.Name) and node.span.start == self.cursor.word[0]:
@@ -317,19 +305,16 @@ def _focus(snapshot: Snapshot | None, text: str, offset: int, cursor: Cursor) ->
     start, end = cursor.chunk
     insert = _placeholder_text(cursor)
     at = cursor.word[0] if not insert else cursor.offset
-    chunk_text = text[start:at] + insert + text[at:end]
-    padded = _NOT_NEWLINE.sub(" ", text[:start]) + chunk_text
+    edited = text[:at] + insert + text[at:] if insert else text
     key = snapshot.key if snapshot is not None else "<focus>"
-    result = parse(padded, key)
+    # Only the chunk is lexed and parsed, at its own place in the text.
+    result = parse_part(edited, key, start, end + len(insert), line_of(text, start))
     chunk_decls = result.ast.declarations
     decls = list(chunk_decls)
     if snapshot is not None:
         decls = _splice(snapshot, text, start, end, chunk_decls)
-    spliced = ParseResult(key, padded, ast.File(result.ast.span, tuple(decls)), (), result.comments)
-    collecting = gc.isenabled()
-    if collecting:
-        gc.disable()
-    try:
+    spliced = ParseResult(key, edited, ast.File(result.ast.span, tuple(decls)), (), result.comments)
+    with gc_paused():
         config = snapshot.config if snapshot is not None else None
         program = build_program(
             key,
@@ -338,9 +323,6 @@ def _focus(snapshot: Snapshot | None, text: str, offset: int, cursor: Cursor) ->
             dict(getattr(config, "modules", {}) or {}),
             tuple(str(p) for p in getattr(config, "search_paths", ()) or ()),
         )
-    finally:
-        if collecting:
-            gc.enable()
     return Focus(cursor, ast.File(result.ast.span, chunk_decls), program.model, bool(insert))
 
 
@@ -352,9 +334,9 @@ def _splice(snapshot: Snapshot, text: str, start: int, end: int, chunk_decls) ->
     if skeletons is None:
         skeletons = cache["root"] = [(d, skeleton(d)) for d in snapshot.ast.declarations]
     old = snapshot.text
-    bounds = _diff_bounds(old, text) if old != text else (len(old), 0)
-    old_start = map_offset(old, text, start, bounds)
-    old_end = map_offset(old, text, end, bounds)
+    change = TextMap(old, text)
+    old_start = map_offset(old, text, start, change)
+    old_end = map_offset(old, text, end, change)
     kept = _relevant(skeletons, text[start:end], old_start, old_end)
     result = []
     inserted = False

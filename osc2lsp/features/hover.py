@@ -8,12 +8,12 @@ from dataclasses import dataclass
 
 from osc2check import codes, rules
 from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.semantics.visibility import node_path
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import load_map, scenario_folder
 from osc2lsp.features import describe
+from osc2lsp.features.lookup import path_at
 from osc2lsp.features.values import Quantity, evaluate, value_of
 from osc2lsp.features.values import describe as describe_value
 from osc2lsp.snapshot import Snapshot
@@ -49,7 +49,7 @@ def hover(snapshot: Snapshot, offset: int) -> HoverResult | None:
     in_comment = _code_in_comment(snapshot, offset)
     if in_comment is not None:
         return in_comment
-    path = node_path(snapshot.ast, offset)
+    path = path_at(snapshot, offset)
     literal = next((n for n in reversed(path) if isinstance(n, ast.PhysicalLiteral)), None)
     if literal is not None:
         return _literal(snapshot, literal)

@@ -14,9 +14,9 @@ from osc2check.resources import stdlib_dir
 from osc2check.semantics.stdlib import LIBRARY_FILES, STANDARD_FILE_NAMES, STANDARD_MODULES
 from osc2check.semantics.symbols import Symbol
 from osc2check.semantics.types import Kind, Type
-from osc2check.semantics.visibility import node_path
 from osc2check.source import Span
 from osc2check.syntax import ast
+from osc2lsp.features.lookup import path_at
 from osc2lsp.snapshot import Snapshot, symbol_key
 
 _EXPRESSIONS = (
@@ -70,7 +70,7 @@ def type_definition(snapshot: Snapshot, offset: int) -> list[Span]:
         else:
             t = sym.type
     if t is None:
-        path = node_path(snapshot.ast, offset)
+        path = path_at(snapshot, offset)
         expr = next((n for n in reversed(path) if isinstance(n, _EXPRESSIONS)), None)
         t = snapshot.model.expr_types.get(expr) if expr is not None else None
     while t is not None and t.kind in (Kind.LIST, Kind.RANGE) and t.element is not None:

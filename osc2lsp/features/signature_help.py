@@ -8,8 +8,8 @@ from osc2check.semantics.builtins import EVENT_FUNCTIONS
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2lsp.features import describe
-from osc2lsp.features.completion import _enclosing_call
-from osc2lsp.features.context import cursor_at, focus
+from osc2lsp.features.completion import enclosing_call
+from osc2lsp.features.context import Focus, cursor_at, focus
 from osc2lsp.snapshot import Snapshot
 
 
@@ -26,7 +26,7 @@ def signature_help(snapshot: Snapshot | None, text: str, offset: int) -> Signatu
     if cursor.in_comment or cursor.in_string:
         return None
     f = focus(snapshot, text, offset, cursor)
-    call = _enclosing_call(f)
+    call = enclosing_call(f)
     if call is None:
         return _builtin(f)
     node, callee = call
@@ -45,18 +45,18 @@ def signature_help(snapshot: Snapshot | None, text: str, offset: int) -> Signatu
     return SignatureResult(label, spans, _active(f, node, params), describe.markdown_doc(callee))
 
 
-def _active(f, node: ast.Node, params: list[Symbol]) -> int | None:
+def _active(f: Focus, node: ast.Invocation | ast.Call, params: list[Symbol]) -> int | None:
     path = f.path
-    arg = next((n for n in path if any(n is a for a in getattr(node, "arguments", ()))), None)
+    arg = next((n for n in path if any(n is a for a in node.arguments)), None)
     if arg is None:
         index = f.cursor.argument_index()
-        args = list(getattr(node, "arguments", ()))
+        args = list(node.arguments)
         if index is not None and index < len(args):
             arg = args[index]
         elif index is not None:
-            positional = sum(isinstance(a, ast.PositionalArgument) for a in args)
+            written = sum(isinstance(a, ast.PositionalArgument) for a in args)
             named = any(isinstance(a, ast.NamedArgument) for a in args)
-            return None if named else (positional if positional < len(params) else None)
+            return None if named else (written if written < len(params) else None)
         else:
             return 0 if params else None
     if isinstance(arg, ast.NamedArgument):
@@ -67,7 +67,7 @@ def _active(f, node: ast.Node, params: list[Symbol]) -> int | None:
     return index if index < len(params) else None
 
 
-def _builtin(f) -> SignatureResult | None:
+def _builtin(f: Focus) -> SignatureResult | None:
     for node in reversed(f.path):
         if isinstance(node, ast.Call) and isinstance(node.callee, ast.NameRef):
             name = node.callee.name.name.text

@@ -83,9 +83,9 @@ def _declaration(decl: ast.Node) -> DocSymbol | None:
             sym.children = _members(decl.members)
             return sym
         case ast.EnumDecl() | ast.EnumExtension():
-            name = decl.name if isinstance(decl, ast.EnumDecl) else decl.target.name
-            label = name.text if isinstance(decl, ast.EnumDecl) else f"extend {decl.target}"
-            sym = DocSymbol(label, "enum", decl.span, name.span)
+            enum_name = decl.name if isinstance(decl, ast.EnumDecl) else decl.target.name
+            label = enum_name.text if isinstance(decl, ast.EnumDecl) else f"extend {decl.target}"
+            sym = DocSymbol(label, "enum", decl.span, enum_name.span)
             sym.children = [
                 DocSymbol(m.name.text, "enum_member", m.span, m.name.span)
                 for m in decl.members
@@ -137,8 +137,9 @@ def _members(members) -> list[DocSymbol]:
 
 def _do_member(member: ast.DoMember, prefix: str = "") -> DocSymbol | None:
     body = member.body
-    label = member.label.text if member.label is not None and member.label.text else None
-    selection = member.label.span if label else member.span
+    named = member.label if member.label is not None and member.label.text else None
+    label = named.text if named is not None else None
+    selection = named.span if named is not None else member.span
     if isinstance(body, ast.Composition):
         name = f"{label}: {body.op}" if label else f"{prefix}{body.op}"
         sym = DocSymbol(name, "label" if label else "do", member.span, selection)
@@ -187,14 +188,14 @@ def workspace_symbols(
             if matches(query, sym.name):
                 found.setdefault((sym.span.uri, sym.span.start), sym)
     if library and query:
-        for sym in standard_library().model.symbols:
-            kind = _SYMBOL_KINDS.get(sym.kind)
-            if kind is None or sym.name_span is None or not matches(query, sym.name):
+        for declared in standard_library().model.symbols:
+            kind = _SYMBOL_KINDS.get(declared.kind)
+            span = declared.name_span
+            if kind is None or span is None or not matches(query, declared.name):
                 continue
-            container = sym.actor.name if sym.actor is not None else sym.namespace
+            container = declared.actor.name if declared.actor is not None else declared.namespace
             found.setdefault(
-                (sym.name_span.uri, sym.name_span.start),
-                WorkspaceSymbol(sym.name, kind, container, sym.name_span),
+                (span.uri, span.start), WorkspaceSymbol(declared.name, kind, container, span)
             )
     ranked = sorted(
         found.values(),

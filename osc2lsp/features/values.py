@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
-from osc2check.semantics.constants import NotConstant, Quantity, initial_value
+from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.constants import evaluate as fold
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
@@ -34,7 +34,7 @@ def evaluate(model: Model, expr: ast.Node | None) -> Quantity | None:
     if expr is None:
         return None
 
-    def lookup(sym: Symbol, node: ast.Node) -> object:
+    def lookup(sym: Symbol, node: ast.Node) -> Value:
         return initial_value(model, sym)
 
     try:

@@ -186,3 +186,28 @@ def test_result_is_sorted():
     text = SCENARIO.format(trailing="  # osc2check: ignore[T202]")
     kept = run(text, [at(5), at(2)])
     assert codes_of(kept) == [("N101", 2), ("S001", 4), ("N101", 5)]
+
+
+def test_lines_are_the_lexers_after_a_form_feed_or_a_line_separator():
+    """Only CR LF, LF and CR end a line (as in the lexer and LSP): the form feed, the
+    vertical tab and U+2028 in a comment before it do not move a suppression's lines."""
+    for separator in ("\f", "\x0b", "\x1c", "\x85", "\u2028", "\u2029"):
+        text = (
+            "scenario s:\n"
+            f"    hero: vehicle  # a{separator}b\n"
+            "    do serial:\n"
+            "        # osc2check: ignore[N101]\n"
+            "        hreo.drive()\n"
+        )
+        assert run(text, [at(5)]) == [], repr(separator)
+        trailing = text.replace("        # osc2check: ignore[N101]\n", "").replace(
+            "hreo.drive()", "hreo.drive()  # osc2check: ignore[N101]"
+        )
+        assert run(trailing, [at(4)]) == [], repr(separator)
+
+
+def test_a_form_feed_before_a_comment_is_blank_as_in_the_lexer():
+    text = SCENARIO.format(trailing="").replace(
+        "        hreo.drive()", "\f       # osc2check: ignore[N101]\n        hreo.drive()"
+    )
+    assert run(text, [at(5)]) == []

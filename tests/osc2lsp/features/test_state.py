@@ -7,7 +7,7 @@ import gc
 import weakref
 
 from osc2lsp.options import Options
-from osc2lsp.state import State
+from osc2lsp.state import MAX_REPLACED, State
 
 
 def _run(coro):
@@ -173,24 +173,31 @@ def test_the_latest_snapshot_answers_outside_the_edited_text():
     assert inside is not None and inside[0].version == 2 and inside[1] is None
 
 
-def test_replaced_snapshots_are_freed_once_the_documents_are_quiet():
-    """With automatic collection off, only the server's own collection frees them."""
+def test_replaced_snapshots_are_freed_without_the_cyclic_collector():
+    """With automatic collection off, reference counting alone frees the replaced
+    snapshots: at most ``MAX_REPLACED`` are kept while edits keep coming, none once
+    the documents are quiet."""
 
     async def scenario():
         state = State(Options(debounce=0, verify=False))
         uri = "file:///tmp/garbage.osc"
         state.open(uri, "scenario s:\n    x: int = 1\n", 1)
         models = [weakref.ref((await state.fresh(uri)).model)]
-        for version in range(2, 5):
+        alive = []
+        for version in range(2, 7):
             state.change(uri, f"scenario s:\n    x: int = {version}\n", version)
             models.append(weakref.ref((await state.fresh(uri)).model))
-        await state.quiet()  # the collection follows a pause in the analyses
+            await state.analysed()
+            alive.append(sum(m() is not None for m in models))
+        await state.quiet()
         freed = [m() is None for m in models]
         await state.shutdown()
-        return freed
+        return alive, freed
 
     gc.disable()
     try:
-        assert _run(scenario()) == [True, True, True, False]
+        alive, freed = _run(scenario())
     finally:
         gc.enable()
+    assert max(alive) == MAX_REPLACED + 1 and alive[-1] == MAX_REPLACED + 1
+    assert freed == [True] * 5 + [False]
