@@ -564,6 +564,11 @@ class Lowerer:
 
     # ---- expressions ---------------------------------------------------------------------
 
+    def term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
+        """The term of an expression seen from ``scope`` (NotEncodable when the solver
+        cannot take it); variables it names are created in the problem."""
+        return self._term(expr, scope)
+
     def _term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
         match expr:
             case ast.IntLiteral() | ast.FloatLiteral() | ast.PhysicalLiteral():
@@ -599,6 +604,10 @@ class Lowerer:
                 inner = self._term(expr.operand, scope)
                 if expr.op == "not":
                     return ir.op("not", inner)
+                if expr.op == "-" and isinstance(inner, ir.Const) and not isinstance(
+                    inner.value, bool
+                ):
+                    return ir.const(-inner.value)  # `-75` is a constant (a set's member)
                 return ir.op("neg", inner) if expr.op == "-" else inner
             case ast.Binary():
                 return self._binary(expr, scope)

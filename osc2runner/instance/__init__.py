@@ -33,10 +33,17 @@ class ScenarioInstance:
     road: Road
 
 
-def instantiate(analysis: Analysis, uri: str, scenario: Symbol, seed: int) -> ScenarioInstance:
-    """The instance of ``scenario`` for ``seed``; ScenarioError when it has none."""
+def instantiate(
+    analysis: Analysis, uri: str, scenario: Symbol, seed: int, witness: Witness | None = None
+) -> ScenarioInstance:
+    """The instance of ``scenario`` for ``seed``; ScenarioError when it has none.
+
+    ``witness`` is the one to run instead of the seed's own (a campaign's witness
+    drawn inside a coverage bin); None draws the seed's.
+    """
     model = analysis.programs[uri].model
-    witness = solve(analysis, scenario=scenario.name, seed=seed, uri=uri)
+    if witness is None:
+        witness = solve(analysis, scenario=scenario.name, seed=seed, uri=uri)
     if isinstance(witness, Unsolvable):
         span = scenario.name_span
         if witness.status == "unsat":
