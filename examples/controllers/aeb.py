@@ -32,7 +32,8 @@ class Aeb:
     ttc_partial = 1.4  # s
     ttc_full = 0.8  # s
     partial_decel = 4.0  # m/s²
-    latency = 0.1  # s from sensing to braking
+    escalate = 2.0  # full braking once stopping needs this many times partial_decel
+    latency = 0.2  # s from sensing to braking
 
     def reset(self, info: SutInfo) -> None:
         self.info = info
@@ -50,7 +51,7 @@ class Aeb:
         gap = max(target.gap, 0.01)
         ttc = gap / closing
         needed = closing * closing / (2.0 * gap)  # m/s² to stop closing in within the gap
-        if ttc < self.ttc_full or needed > self.partial_decel:
+        if ttc < self.ttc_full or needed > self.escalate * self.partial_decel:
             return "full"
         if ttc < self.ttc_partial:
             return "partial"

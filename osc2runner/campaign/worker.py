@@ -62,7 +62,7 @@ class CampaignSetup:
     dt_control: float = 0.05
     dt_physics: float = 0.002
     sut: SutSpec | None = None
-    plot: bool = False
+    plot: bool = False  # plots of every run (else of the runs that did not pass)
     out: str = "."
     ship_files: bool = False
 
@@ -203,6 +203,8 @@ class Worker:
                 result = execute(prepared, out=folder, duration=setup.duration, plot=setup.plot)
             except RunInterrupted as exc:
                 result = exc.result
+            if not setup.plot and result.outcome.status in ("failure", "timeout", "error"):
+                _plot_after(result, folder)
             describe(record, result, self.checked, prepared.sut)
             record.files = sorted(p.name for p in result.outputs)
         except ScenarioError as exc:
@@ -225,6 +227,16 @@ class Worker:
         if entry is None or not 0 <= ref.index < len(entry.item.buckets):
             return ref
         return BinRef(ref.item, ref.index, entry.item.buckets[ref.index].label)
+
+
+def _plot_after(result: RunResult, folder: Path) -> None:
+    """Plots of a run that did not pass, and its ``run.json`` again (written last)."""
+    from osc2runner.output.plots import plot_run
+    from osc2runner.output.telemetry import write_metadata
+
+    plots = plot_run(result, folder)
+    result.outputs.extend(plots)
+    write_metadata(folder, result.metadata, result.events)
 
 
 def _read_files(folder: Path) -> dict[str, bytes]:
