@@ -212,6 +212,34 @@ def _scatter(records: Sequence[RunRecord], params: list[str]) -> str:
     return _png(fig)
 
 
+def _histograms(records: Sequence[RunRecord]) -> str:
+    """The distribution of each KPI over the runs, coloured by outcome."""
+    kpis = [
+        k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)
+    ]
+    if not kpis:
+        return ""
+    cols = min(3, len(kpis))
+    rows = math.ceil(len(kpis) / cols)
+    fig = _figure(3.6 * cols + 0.5, 2.3 * rows)
+    for i, kpi in enumerate(kpis):
+        ax = fig.add_subplot(rows, cols, i + 1)
+        groups, colours, labels = [], [], []
+        for status, colour in COLOURS.items():
+            values = [float(r.kpis[kpi]) for r in records
+                      if r.status == status and _number(r.kpis.get(kpi)) is not None]  # fmt: skip
+            if values:
+                groups.append(values)
+                colours.append(colour)
+                labels.append(status)
+        ax.hist(groups, bins=12, stacked=True, color=colours, label=labels)
+        ax.set_xlabel(kpi, fontsize=8)
+        ax.set_ylabel("runs", fontsize=8)
+        if i == 0:
+            ax.legend(fontsize=7)
+    return _png(fig)
+
+
 def _links(r: RunRecord, folder: Path) -> str:
     run_dir = folder / r.folder
     names = [n for n in PLOT_NAMES if (run_dir / n).is_file()]
@@ -303,6 +331,7 @@ impact; all of it when there was none) are in every run's KPIs.</p>
 {_grid(done, params)}
 <h2>Coverage</h2>{_coverage(document)}
 <h2>KPIs over the parameters</h2>{_scatter(done, params)}
+<h3>Distributions</h3>{_histograms(done)}
 <table><tr><th>KPI</th><th>unit</th><th>min</th><th>median</th><th>mean</th><th>max</th>
 <th>runs</th></tr>{kpi_rows}</table>
 <p class="note">KPIs are of the subject: the system under test's actor, else the field named
