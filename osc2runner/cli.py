@@ -122,19 +122,39 @@ def build_parser() -> argparse.ArgumentParser:
     c = p.add_argument_group("campaigns (docs/campaigns.md)")
     c.add_argument("--runs", metavar="N", help="run N concrete tests of the scenario: a campaign")
     c.add_argument(
-        "--jobs", metavar="J", help="workers (default: one per processor; with --engine ray, "
-        "the number of Ray actors)"
+        "--jobs",
+        metavar="J",
+        help="workers (default: one per processor; with --engine ray, the number of Ray actors)",
     )
-    c.add_argument("--engine", choices=("local", "ray"), default="local", help="local process "
-                   "pool (default) or a Ray cluster")  # fmt: skip
-    c.add_argument("--address", metavar="auto|HOST:PORT", help="the Ray cluster (default: a "
-                   "local Ray instance)")  # fmt: skip
-    c.add_argument("--strategy", choices=("random", "cover"), default="random",
-                   help="random: seeds S..S+N-1; cover: fill the scenario's cover bins")  # fmt: skip
-    c.add_argument("--run-timeout", metavar="S", help="wall-clock limit of one run in seconds "
-                   "(default 600): a run over it is recorded as error")  # fmt: skip
-    c.add_argument("--resume", metavar="DIR", help="finish the campaign in DIR: its finished "
-                   "runs are kept (FILE and options default to the campaign's)")  # fmt: skip
+    c.add_argument(
+        "--engine",
+        choices=("local", "ray"),
+        default="local",
+        help="local process pool (default) or a Ray cluster",
+    )
+    c.add_argument(
+        "--address",
+        metavar="auto|HOST:PORT",
+        help="the Ray cluster (default: a local Ray instance)",
+    )
+    c.add_argument(
+        "--strategy",
+        choices=("random", "cover"),
+        default="random",
+        help="random: seeds S..S+N-1; cover: fill the scenario's cover bins",
+    )
+    c.add_argument(
+        "--run-timeout",
+        metavar="S",
+        help="wall-clock limit of one run in seconds "
+        "(default 600): a run over it is recorded as error",
+    )
+    c.add_argument(
+        "--resume",
+        metavar="DIR",
+        help="finish the campaign in DIR: its finished "
+        "runs are kept (FILE and options default to the campaign's)",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -185,6 +205,7 @@ def _sut(args: argparse.Namespace) -> Any:
     importing it (a usage error when it cannot be used)."""
     from osc2runner.sut.loading import SutError, SutSpec, configured_sut
 
+    spec: SutSpec | None
     try:
         if args.sut is not None:
             spec = SutSpec(args.sut, args.sut_actor).resolved()

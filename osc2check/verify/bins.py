@@ -217,4 +217,4 @@ def term_value(
         value = quick.evaluate(term, values)
     except (KeyError, TypeError, ZeroDivisionError):
         return None
-    return value
+    return value if isinstance(value, (bool, Fraction)) else Fraction(value)

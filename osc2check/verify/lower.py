@@ -604,8 +604,10 @@ class Lowerer:
                 inner = self._term(expr.operand, scope)
                 if expr.op == "not":
                     return ir.op("not", inner)
-                if expr.op == "-" and isinstance(inner, ir.Const) and not isinstance(
-                    inner.value, bool
+                if (
+                    expr.op == "-"
+                    and isinstance(inner, ir.Const)
+                    and not isinstance(inner.value, bool)
                 ):
                     return ir.const(-inner.value)  # `-75` is a constant (a set's member)
                 return ir.op("neg", inner) if expr.op == "-" else inner

@@ -317,7 +317,6 @@ def _resumable(folder: Path, options: CampaignOptions, digest: str) -> dict[int,
 
 def _tool() -> dict[str, Any]:
     from osc2check.output import tool
-
     from osc2runner.sim import versions
 
     return {"name": "osc2run", "version": tool.version(), "versions": versions()}

@@ -22,7 +22,6 @@ from osc2runner.options import OptionError, check_out, check_time
 __all__ = ["campaign_arguments", "run_command"]
 
 
-
 def _usage(message: str) -> Exception:
     from osc2runner.cli import UsageError
 
@@ -213,7 +212,11 @@ def _summary(result: Any, out: TextIO) -> None:
     )
     out.write(
         f"  {doc['wall_seconds']:.1f} s wall"
-        + (f", {per_minute:.1f} runs per minute" if per_minute and math.isfinite(per_minute) else "")
+        + (
+            f", {per_minute:.1f} runs per minute"
+            if per_minute and math.isfinite(per_minute)
+            else ""
+        )
         + "\n"
     )
     for item in doc.get("coverage", []):

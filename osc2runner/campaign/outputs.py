@@ -167,8 +167,8 @@ def write_junit(
         if r.status in ("failure", "timeout"):
             ET.SubElement(case, "failure", message=message, type=r.status).text = detail
         elif r.status == "error":
-            ET.SubElement(case, "error", message=message, type="error").text = (
-                detail + (f"\n{r.error}" if r.error else "")
+            ET.SubElement(case, "error", message=message, type="error").text = detail + (
+                f"\n{r.error}" if r.error else ""
             )
         elif r.status == "interrupted":
             ET.SubElement(case, "skipped", message=message)

@@ -126,6 +126,7 @@ def plan_cover(
 
     def take(filling: bool) -> bool:
         """Take the candidate that fills the least-filled bins; False when none helps."""
+
         def score(c: tuple[int, set[tuple[str, int]]]) -> tuple[float, int]:
             hits = c[1] & wanted
             if filling:
@@ -172,4 +173,3 @@ def plan_cover(
 def _result(checked: Checked) -> Any:
     verified = checked.analysis.verified[checked.uri]
     return next(r for r in verified.scenarios if r.scenario is checked.scenario)
-

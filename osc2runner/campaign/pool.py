@@ -118,9 +118,7 @@ class LocalPool:
         self.started_workers += 1
         return _Slot(process, parent)
 
-    def run(
-        self, tasks: Iterable[RunTask], on_record: Callable[[RunRecord], None]
-    ) -> None:
+    def run(self, tasks: Iterable[RunTask], on_record: Callable[[RunRecord], None]) -> None:
         """Run ``tasks``, calling ``on_record`` with each record as it arrives, until all
         are done or :meth:`stop` was called and the busy workers have answered."""
         pending = deque(tasks)
@@ -136,13 +134,13 @@ class LocalPool:
                 waitables: list[Any] = [s.conn for s in self.slots]
                 waitables += [s.process.sentinel for s in self.slots]
                 for ready in wait(waitables, timeout=0.2):
-                    slot = self._slot_of(ready)
-                    if slot is None:
+                    found = self._slot_of(ready)
+                    if found is None:
                         continue
-                    if ready is slot.conn:
-                        self._receive(slot, on_record, failures)
-                    elif not slot.process.is_alive():
-                        self._died(slot, on_record)
+                    if ready is found.conn:
+                        self._receive(found, on_record, failures)
+                    elif not found.process.is_alive():
+                        self._died(found, on_record)
                 self._enforce_limits()
                 if len(failures) >= MAX_STARTUP_FAILURES or (
                     failures and not any(s.ready for s in self.slots)

@@ -119,8 +119,9 @@ def _grid(records: Sequence[RunRecord], params: list[str]) -> str:
     ax = fig.add_subplot()
     from matplotlib.colors import LinearSegmentedColormap
 
-    cmap = LinearSegmentedColormap.from_list("pass", ["#c62828", "#fdd835", "#2e7d32"])
-    cmap.set_bad("#eeeeee")
+    cmap = LinearSegmentedColormap.from_list(
+        "pass", ["#c62828", "#fdd835", "#2e7d32"]
+    ).with_extremes(bad="#eeeeee")
     image = ax.imshow(rate, cmap=cmap, vmin=0, vmax=1, aspect="auto", origin="lower")
     for j in range(len(ys)):
         for i in range(len(xs)):
@@ -151,7 +152,9 @@ def _coverage(document: dict[str, Any]) -> str:
         ax = fig.add_subplot()
         hits = [b["hits"] for b in buckets]
         colours = [
-            "#bdbdbd" if b["state"] == "unreachable" else ("#ef9a9a" if not b["hits"] else "#1565c0")
+            "#bdbdbd"
+            if b["state"] == "unreachable"
+            else ("#ef9a9a" if not b["hits"] else "#1565c0")
             for b in buckets
         ]
         ax.bar(range(len(buckets)), hits, color=colours)
@@ -180,9 +183,7 @@ def _coverage(document: dict[str, Any]) -> str:
 def _scatter(records: Sequence[RunRecord], params: list[str]) -> str:
     numeric = [p for p in params if all(
         _number(v) is not None for v in _axis_values(records, p) if v is not None)][:3]  # fmt: skip
-    kpis = [
-        k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)
-    ]
+    kpis = [k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)]
     if not numeric or not kpis:
         return "<p>No numeric parameter varies between the runs.</p>"
     fig = _figure(3.6 * len(numeric) + 0.5, 2.3 * len(kpis))
@@ -214,9 +215,7 @@ def _scatter(records: Sequence[RunRecord], params: list[str]) -> str:
 
 def _histograms(records: Sequence[RunRecord]) -> str:
     """The distribution of each KPI over the runs, coloured by outcome."""
-    kpis = [
-        k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)
-    ]
+    kpis = [k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)]
     if not kpis:
         return ""
     cols = min(3, len(kpis))
@@ -311,15 +310,19 @@ def write_report(folder: Path, document: dict[str, Any], records: Sequence[RunRe
         f"(<code>osc2run --resume {_e(folder)}</code> does them).</p>"
     )  # fmt: skip
     body = f"""
-<h1>Campaign: <code>{_e(document['scenario'])}</code></h1>
-<p class="sub">{_e(document['source'])} · strategy <b>{_e(options['strategy'])}</b> from seed
-{options['seed']} · engine {_e(options['engine'])}, {options['jobs']} workers ·
-system under test: {_e(sut['target'] + ' driving ' + (sut['actor'] or 'sut/ego')) if sut else
-'none (the scenario drives every actor)'} · {_e(document.get('started'))},
-{document.get('wall_seconds')} s</p>
+<h1>Campaign: <code>{_e(document["scenario"])}</code></h1>
+<p class="sub">{_e(document["source"])} · strategy <b>{_e(options["strategy"])}</b> from seed
+{options["seed"]} · engine {_e(options["engine"])}, {options["jobs"]} workers ·
+system under test: {
+        _e(sut["target"] + " driving " + (sut["actor"] or "sut/ego"))
+        if sut
+        else "none (the scenario drives every actor)"
+    } · {_e(document.get("started"))},
+{document.get("wall_seconds")} s</p>
 {status_note}
-<div class="cards">{''.join(f'<div class="card"><b>{_e(v)}</b><span>{_e(k)}</span></div>'
-                            for k, v in cards)}</div>
+<div class="cards">{
+        "".join(f'<div class="card"><b>{_e(v)}</b><span>{_e(k)}</span></div>' for k, v in cards)
+    }</div>
 <h2>Pass criterion</h2>
 <p>A run passes when its outcome is <span class="success">success</span>: the scenario's
 behaviour ended, with no collision (unless <code>avoid_collisions(false)</code> allows it), no
@@ -346,5 +349,3 @@ impact; all of it when there was none) are in every run's KPIs.</p>
         f"<style>{_CSS}</style></head><body>{body}</body></html>\n"
     )
     return write_atomically(folder / REPORT_FILE, page)
-
-

@@ -63,7 +63,9 @@ class SteerableItem:
         item = self.item
         bucket = item.buckets[index]
         if bucket.low is not None and bucket.high is not None:
-            unit = checked.analysis.programs[checked.uri].model.unit(item.unit) if item.unit else None
+            unit = (
+                checked.analysis.programs[checked.uri].model.unit(item.unit) if item.unit else None
+            )
             factor = Fraction(unit.factor) if unit is not None else Fraction(1)
             offset = Fraction(unit.offset) if unit is not None else Fraction(0)
             low = Fraction(repr(bucket.low)) * factor + offset
@@ -114,7 +116,6 @@ def cover_items(checked: Checked, items: list[CoverageItem]) -> list[SteerableIt
     return found
 
 
-
 def bin_ref(text: str) -> BinRef:
     """``item=index`` as a BinRef (ValueError when it is not that)."""
     name, sep, index = text.partition("=")
@@ -132,7 +133,9 @@ def directed_witness(
     entry = next((e for e in items if e.item.name == ref.item), None)
     if entry is None:
         known = ", ".join(e.item.name for e in items) or "none"
-        raise ScenarioError([RunProblem(f"--bin: no cover item `{ref.item}` (items: {known})", span)])
+        raise ScenarioError(
+            [RunProblem(f"--bin: no cover item `{ref.item}` (items: {known})", span)]
+        )
     if not entry.steerable:
         raise ScenarioError(
             [RunProblem(f"--bin: `{ref.item}` cannot be steered: {entry.reason}", span)]

@@ -258,9 +258,7 @@ def describe(
     meta = result.metadata
     record.parameters = parameters(meta.get("witness"), checked)
     actors = meta.get("actors", {})
-    sizes = {
-        n: (a["size"]["length"], a["size"]["width"]) for n, a in actors.items() if "size" in a
-    }
+    sizes = {n: (a["size"]["length"], a["size"]["width"]) for n, a in actors.items() if "size" in a}
     subject = subject_actor(actors, sut["actor"] if sut else None)
     start = actors.get(subject, {}).get("start", {}) if subject else {}
     collisions = [(r.tick, r.actors) for r in result.events if r.kind == "collision"]
@@ -285,7 +283,9 @@ def parameters(witness: dict[str, Any] | None, checked: Checked) -> dict[str, di
     if not witness:
         return {}
     result = next(
-        r for r in checked.analysis.verified[checked.uri].scenarios if r.scenario is checked.scenario
+        r
+        for r in checked.analysis.verified[checked.uri].scenarios
+        if r.scenario is checked.scenario
     )
     variables: dict[str, ir.Var] = result.problem.variables
     found: dict[str, dict[str, Any]] = {}

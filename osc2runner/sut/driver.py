@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from typing import Any
 
 from osc2check.road import Road
 from osc2runner.sim import ActorState, VehicleController, VehicleInput
@@ -46,9 +45,7 @@ class SutFault(Exception):
     """The system under test failed (raised, or answered something that is not an input)."""
 
 
-def sut_info(
-    name: str, params: VehicleParams, dt: float, seed: int, scenario: str
-) -> SutInfo:
+def sut_info(name: str, params: VehicleParams, dt: float, seed: int, scenario: str) -> SutInfo:
     """What the SUT is told about its vehicle before a run."""
     return SutInfo(
         actor=name,
@@ -133,9 +130,7 @@ class SutDriver:
 
     def observe(self, state: ActorState, driver: VehicleInput) -> Observation:
         """The observation of this tick."""
-        others = tuple(
-            _view(s, state) for n, s in self.states.items() if n != self.name
-        )
+        others = tuple(_view(s, state) for n, s in self.states.items() if n != self.name)
         return Observation(
             tick=state.tick,
             time=state.time,
@@ -216,5 +211,3 @@ class SutDriver:
             f"{who}.step returned {type(answer).__name__}, not a Command or a Demand "
             f"(tick {state.tick})"
         )
-
-

@@ -78,9 +78,7 @@ class SutSpec:
         except SutError:
             raise
         except Exception as exc:  # an import that fails, whatever the module raised
-            raise SutError(
-                f"cannot import `{module_name}`: {type(exc).__name__}: {exc}"
-            ) from None
+            raise SutError(f"cannot import `{module_name}`: {type(exc).__name__}: {exc}") from None
         cls = getattr(module, name, None)
         if not isinstance(cls, type):
             raise SutError(f"`{module_name}` has no class `{name}`")
@@ -157,7 +155,9 @@ def configured_sut(scenario_file: str | Path) -> tuple[SutSpec | None, Path | No
             continue
         unknown = sorted(set(table) - {"sut", "sut-actor"})
         if unknown:
-            raise SutError(f"{path}: [tool.osc2run] has no key `{unknown[0]}` (keys: sut, sut-actor)")
+            raise SutError(
+                f"{path}: [tool.osc2run] has no key `{unknown[0]}` (keys: sut, sut-actor)"
+            )
         target, actor = table.get("sut"), table.get("sut-actor")
         if target is None:
             return None, path

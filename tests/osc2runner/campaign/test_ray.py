@@ -35,7 +35,12 @@ def test_six_runs_on_ray_equal_the_local_pool(tmp_path: Path) -> None:
     assert ray.document["workers"]["engine"] == "ray"
     assert [r.seed for r in ray.records] == [r.seed for r in local.records] == list(range(40, 46))
     for a, b in zip(local.records, ray.records, strict=True):
-        assert (a.status, a.reason, a.parameters, a.kpis) == (b.status, b.reason, b.parameters, b.kpis)
+        assert (a.status, a.reason, a.parameters, a.kpis) == (
+            b.status,
+            b.reason,
+            b.parameters,
+            b.kpis,
+        )
         for name in ("telemetry.csv", "events.csv", "coverage.json"):
             assert (tmp_path / "local" / a.folder / name).read_bytes() == (
                 tmp_path / "ray" / b.folder / name
