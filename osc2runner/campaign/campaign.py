@@ -196,54 +196,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     previous: dict[int, RunRecord] = {}
     if options.resume:
         previous = _resumable(folder, options, digest)
-    plan, labels = plan_runs(options, checked)
-    planned = {t.seed: t for t in plan.tasks}
-    kept = {
-        s: r
-        for s, r in previous.items()
-        if s in planned and r.finished and _bin_text(r) == _bin_text(planned[s])
-    }
-    todo = [t for t in plan.tasks if t.seed not in kept]
-    sut = (options.sut.target, options.sut.actor) if options.sut is not None else None
-    replay = {
-        t.seed: replay_command(
-            options.file,
-            t.seed,
-            scenario=options.scenario,
-            duration=options.duration,
-            dt_control=options.dt_control,
-            dt_physics=options.dt_physics,
-            sut=sut,
-            bin_text=t.bin.text if t.bin else None,
-        )
-        for t in plan.tasks
-    }
     jobs = options.jobs or os.cpu_count() or 1
-    document: dict[str, Any] = {
-        "format": 1,
-        "tool": _tool(),
-        "source": options.file,
-        "source_sha256": digest,
-        "scenario": checked.scenario.name,
-        "options": {
-            **options.run_options(),
-            "runs": options.runs,
-            "jobs": jobs,
-            "engine": options.engine,
-            "address": options.address,
-            "run_timeout": options.run_timeout,
-            "plot": options.plot,
-        },
-        "status": "running",
-        "started": started_at,
-        "plan": {
-            "seeds": [t.seed for t in plan.tasks],
-            "directed": [{"seed": t.seed, "bin": t.bin.text} for t in plan.tasks if t.bin],
-            "cover": [p.to_json() for p in plan.items],
-            "resumed": sorted(kept),
-        },
-    }
-    write_campaign(folder, document)
     setup = CampaignSetup(
         options.file,
         text,
@@ -256,33 +209,83 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         str(folder),
         ship_files=options.engine == "ray",
     )
-    records: dict[int, RunRecord] = dict(kept)
-    if progress is not None:
-        progress("plan", {"total": len(plan.tasks), "done": list(kept.values())})
-
-    def on_record(record: RunRecord) -> None:
-        write_record(folder, record)
-        record.shipped = {}
-        records[record.seed] = record
-        if progress is not None:
-            progress("record", record)
-
-    engine = _engine(options, setup, min(jobs, max(1, len(todo))))
-    stop_signal: list[int] = []
-
-    def on_signal(signum: int, frame: Any) -> None:
-        if not stop_signal:
-            stop_signal.append(signum)
-            log.info("campaign interrupted by %s: stopping", signal_name(signum))
-            engine.stop()
-
-    previous_handlers = {s: signal.signal(s, on_signal) for s in SIGNALS}
+    engine = _engine(options, setup, min(jobs, options.runs))
+    engine.start(options.runs - len(previous))  # the workers start while the runs are planned
     try:
-        if todo:
+        plan, labels = plan_runs(options, checked)
+        planned = {t.seed: t for t in plan.tasks}
+        kept = {
+            s: r
+            for s, r in previous.items()
+            if s in planned and r.finished and _bin_text(r) == _bin_text(planned[s])
+        }
+        todo = [t for t in plan.tasks if t.seed not in kept]
+        sut = (options.sut.target, options.sut.actor) if options.sut is not None else None
+        replay = {
+            t.seed: replay_command(
+                options.file,
+                t.seed,
+                scenario=options.scenario,
+                duration=options.duration,
+                dt_control=options.dt_control,
+                dt_physics=options.dt_physics,
+                sut=sut,
+                bin_text=t.bin.text if t.bin else None,
+            )
+            for t in plan.tasks
+        }
+        document: dict[str, Any] = {
+            "format": 1,
+            "tool": _tool(),
+            "source": options.file,
+            "source_sha256": digest,
+            "scenario": checked.scenario.name,
+            "options": {
+                **options.run_options(),
+                "runs": options.runs,
+                "jobs": jobs,
+                "engine": options.engine,
+                "address": options.address,
+                "run_timeout": options.run_timeout,
+                "plot": options.plot,
+            },
+            "status": "running",
+            "started": started_at,
+            "plan": {
+                "seeds": [t.seed for t in plan.tasks],
+                "directed": [{"seed": t.seed, "bin": t.bin.text} for t in plan.tasks if t.bin],
+                "cover": [p.to_json() for p in plan.items],
+                "resumed": sorted(kept),
+            },
+        }
+        write_campaign(folder, document)
+        records: dict[int, RunRecord] = dict(kept)
+        if progress is not None:
+            progress("plan", {"total": len(plan.tasks), "done": list(kept.values())})
+
+        def on_record(record: RunRecord) -> None:
+            write_record(folder, record)
+            record.shipped = {}
+            records[record.seed] = record
+            if progress is not None:
+                progress("record", record)
+
+        stop_signal: list[int] = []
+
+        def on_signal(signum: int, frame: Any) -> None:
+            if not stop_signal:
+                stop_signal.append(signum)
+                log.info("campaign interrupted by %s: stopping", signal_name(signum))
+                engine.stop()
+
+        previous_handlers = {s: signal.signal(s, on_signal) for s in SIGNALS}
+        try:
             engine.run(todo, on_record)
+        finally:
+            for s, handler in previous_handlers.items():
+                signal.signal(s, handler if handler is not None else signal.SIG_DFL)
     finally:
-        for s, handler in previous_handlers.items():
-            signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+        engine.close()
     wall = time.perf_counter() - started
     status = "interrupted" if stop_signal else "complete"
     result = finish(

@@ -113,6 +113,12 @@ class RayEngine:
                 ) from None
         return ray, started
 
+    def start(self, count: int) -> None:
+        """Nothing to do ahead: Ray starts its actors in :meth:`run`."""
+
+    def close(self) -> None:
+        """Nothing to do: :meth:`run` removes its actors (and the instance it started)."""
+
     def _actor(self, ray: Any) -> Any:
         remote = ray.remote(num_cpus=1, max_restarts=0)(_RayWorker)
         self.started_workers += 1

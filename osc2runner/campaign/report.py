@@ -20,7 +20,7 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from osc2runner.campaign.summary import varying, worst_runs
+from osc2runner.campaign.summary import axes, worst_runs
 from osc2runner.campaign.worker import RunRecord
 from osc2runner.output.files import write_atomically
 
@@ -99,7 +99,7 @@ def _ordered(values: list[Any]) -> list[Any]:
 
 def _grid(records: Sequence[RunRecord], params: list[str]) -> str:
     """Pass rate over two parameters (the first two with few distinct values)."""
-    few = [p for p in params if 1 < len(set(map(str, _axis_values(records, p)))) <= 24]
+    few = [p for p in params if 1 < len(set(map(str, _axis_values(records, p)))) <= 24][:2]
     if len(few) < 2:
         return ""
     x_name, y_name = few[0], few[1]
@@ -281,7 +281,7 @@ def write_report(folder: Path, document: dict[str, Any], records: Sequence[RunRe
     summary = document["summary"]
     options = document["options"]
     done = [r for r in records if r.finished]
-    params = varying(done)
+    params = axes(done, [item["name"] for item in document.get("coverage", [])])
     replay = {run["seed"]: run.get("replay", "") for run in document.get("runs", [])}
     rate = summary["pass_rate"]
     sut = options.get("sut")

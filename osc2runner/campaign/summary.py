@@ -23,7 +23,15 @@ from osc2runner.campaign.kpis import KPI_UNITS
 from osc2runner.campaign.plan import ItemPlan
 from osc2runner.campaign.worker import RunRecord
 
-__all__ = ["SEVERITY", "coverage_table", "kpi_figures", "summarize", "varying", "worst_runs"]
+__all__ = [
+    "SEVERITY",
+    "axes",
+    "coverage_table",
+    "kpi_figures",
+    "summarize",
+    "varying",
+    "worst_runs",
+]
 
 #: outcomes from worst to best (the order of the worst runs)
 SEVERITY = {"error": 0, "failure": 1, "timeout": 2, "interrupted": 3, "success": 4}
@@ -135,3 +143,29 @@ def varying(records: Sequence[RunRecord]) -> list[str]:
         for name, p in r.parameters.items():
             seen.setdefault(name, set()).add(str(p.get("value")))
     return sorted(n for n, values in seen.items() if len(values) > 1)
+
+
+def axes(records: Sequence[RunRecord], preferred: Sequence[str] = ()) -> list[str]:
+    """The varying parameters to plot over, most telling first: those ``preferred`` (the
+    cover items' names), then by how many values they take; a parameter whose value
+    follows from one already chosen (``speed_step`` beside ``test_speed``) is left out."""
+    done = finished(records)
+    values = {
+        name: [str(r.parameters.get(name, {}).get("value")) for r in done]
+        for name in varying(records)
+    }
+    order = sorted(values, key=lambda n: (n not in preferred, -len(set(values[n])), n))
+    chosen: list[str] = []
+    for name in order:
+        if not any(_follows(values[c], values[name]) for c in chosen):
+            chosen.append(name)
+    return chosen
+
+
+def _follows(given: list[str], other: list[str]) -> bool:
+    """Whether ``other``'s value is the same wherever ``given``'s is (a function of it)."""
+    seen: dict[str, str] = {}
+    for a, b in zip(given, other, strict=True):
+        if seen.setdefault(a, b) != b:
+            return False
+    return True
