@@ -90,7 +90,9 @@ def plan_cover(
         assert entry.problem is not None
         bucket_terms = [entry.bucket_term(checked, i) for i in range(len(labels))]
         terms[plan.name] = bucket_terms
-        plan.status = [bins.bin_status(entry.problem, t) for t in bucket_terms]
+        plan.status = [
+            _status(entry, i, t, {p.name: p for p in plans}) for i, t in enumerate(bucket_terms)
+        ]
         plan.planned = [0] * len(labels)
     wanted = {
         (p.name, i)
@@ -168,6 +170,15 @@ def plan_cover(
         seed += 1
     tasks.sort(key=lambda t: t.seed)
     return CoverPlan(tasks, plans)
+
+
+def _status(entry: SteerableItem, index: int, term: Any, plans: dict[str, ItemPlan]) -> str:
+    """A bucket's solver status; a combination with an unreachable part is unreachable."""
+    for part, i in entry.combination(index) if entry.components else ():
+        if plans[part.item.name].status[i] == "unreachable":
+            return "unreachable"
+    assert entry.problem is not None
+    return bins.bin_status(entry.problem, term)
 
 
 def _result(checked: Checked) -> Any:

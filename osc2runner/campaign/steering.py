@@ -6,6 +6,12 @@ the witness with it. An item is *steerable* when its expression is over the
 scenario's parameters (the solver chooses its value before the run); one over
 run-time state (``hero.speed`` at the end) is only observed, and says why.
 
+Cross coverage (``cover(grid, items: [a, b])``, §7.5), which the runner does
+not collect, is the campaign's: its buckets are the combinations of the
+buckets of ``a`` and ``b`` (``[7.5..12.5) × [87.5..112.5]``), steered by the
+conjunction of their constraints, and a run hits a combination when it hits
+both buckets.
+
 A run drawn inside a bin is named by a :class:`BinRef` (``test_speed=3``: the
 item's name and the bucket's index); ``osc2run FILE --seed k --bin test_speed=3``
 replays it alone.
@@ -17,15 +23,18 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics.symbols import SymbolKind
+from osc2check.syntax import ast
 from osc2check.syntax.ast import NameRef as _NameRef
 from osc2check.verify import bins, ir
 from osc2check.verify.check import ScenarioResult, source_text
 from osc2check.verify.witness import Witness
 from osc2runner.errors import RunProblem, ScenarioError
-from osc2runner.execution.coverage import CoverageItem
+from osc2runner.execution.coverage import CoverageBucket, CoverageItem
 from osc2runner.runner import Checked
 
 __all__ = ["BinRef", "SteerableItem", "bin_ref", "cover_items", "directed_witness"]
+
+MAX_CROSS_BUCKETS = 10_000
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,14 +61,34 @@ class SteerableItem:
     term: ir.Term | None = None
     reason: str = ""
     status: list[str] = field(default_factory=list)  # per bucket: reachable, unreachable, ...
+    components: list[SteerableItem] = field(default_factory=list)  # of a cross item
 
     @property
     def steerable(self) -> bool:
         return self.term is not None
 
+    def combination(self, index: int) -> list[tuple[SteerableItem, int]]:
+        """The component buckets of bucket ``index`` of a cross item."""
+        found = []
+        for part in reversed(self.components):
+            count = len(part.item.buckets)
+            found.append((part, index % count))
+            index //= count
+        return found[::-1]
+
+    def hits(self, coverage: dict[str, list[int]]) -> list[int]:
+        """The buckets of this cross item a run hit, from its hits of the components."""
+        result = [0]
+        for part in self.components:
+            count = len(part.item.buckets)
+            result = [r * count + i for r in result for i in coverage.get(part.item.name, [])]
+        return sorted(result)
+
     def bucket_term(self, checked: Checked, index: int) -> ir.Term:
         """The constraint of bucket ``index``."""
         assert self.term is not None
+        if self.components:
+            return ir.op("and", *(p.bucket_term(checked, i) for p, i in self.combination(index)))
         item = self.item
         bucket = item.buckets[index]
         if bucket.low is not None and bucket.high is not None:
@@ -97,11 +126,15 @@ def cover_items(checked: Checked, items: list[CoverageItem]) -> list[SteerableIt
             continue
         entry = SteerableItem(item)
         found.append(entry)
+        loc = item.location
+        decl = bins.cover_declaration(model, checked.scenario, loc.line, loc.column)
+        crossed = _crossed(decl) if decl is not None else None
+        if crossed is not None:
+            _cross(entry, crossed, found)
+            continue
         if not item.buckets:
             entry.reason = "it has no buckets (give it a range, or make it an enum or boolean)"
             continue
-        loc = item.location
-        decl = bins.cover_declaration(model, checked.scenario, loc.line, loc.column)
         expr = bins.cover_expression(decl) if decl is not None else None
         owner = model.references.get(expr.name.name) if isinstance(expr, _NameRef) else None
         if expr is None or (owner is not None and owner.kind is SymbolKind.EVENT):
@@ -114,6 +147,46 @@ def cover_items(checked: Checked, items: list[CoverageItem]) -> list[SteerableIt
         except bins.NotSteerable as exc:
             entry.reason = str(exc)
     return found
+
+
+def _crossed(decl: ast.CoverageDecl) -> list[str] | None:
+    """The item names of ``items: [a, b]``, or None when the item is not a cross."""
+    for arg in decl.arguments:
+        if isinstance(arg, ast.NamedArgument) and arg.name.text == "items":
+            value = arg.value
+            if isinstance(value, ast.ListLiteral):
+                return [v.name.name.text if isinstance(v, ast.NameRef) else "" for v in value.items]
+            return []
+    return None
+
+
+def _cross(entry: SteerableItem, names: list[str], found: list[SteerableItem]) -> None:
+    """Make ``entry`` the cross of the items ``names`` declared before it."""
+    parts = [next((e for e in found if e.item.name == n and not e.components), None) for n in names]
+    missing = [n for n, p in zip(names, parts, strict=True) if p is None or not p.item.buckets]
+    if len(names) < 2 or missing:
+        entry.reason = (
+            f"its items {', '.join(f'`{n}`' for n in missing)} are not cover items with buckets "
+            "declared before it"
+            if missing
+            else "cross coverage needs two items or more"
+        )
+        return
+    components = [p for p in parts if p is not None]
+    entry.components = components
+    labels = [""]
+    for part in components:
+        labels = [f"{a} × {b.label}" if a else b.label for a in labels for b in part.item.buckets]
+    entry.item.buckets = [CoverageBucket(label) for label in labels]
+    if len(labels) > MAX_CROSS_BUCKETS:
+        entry.reason = f"it has {len(labels)} combinations (at most {MAX_CROSS_BUCKETS})"
+        return
+    unsteered = [p for p in components if not p.steerable]
+    if unsteered:
+        entry.reason = f"`{unsteered[0].item.name}` cannot be steered: {unsteered[0].reason}"
+        return
+    entry.problem = components[0].problem
+    entry.term = ir.const(True)
 
 
 def bin_ref(text: str) -> BinRef:

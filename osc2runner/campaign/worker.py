@@ -206,6 +206,9 @@ class Worker:
             if not setup.plot and result.outcome.status in ("failure", "timeout", "error"):
                 _plot_after(result, folder)
             describe(record, result, self.checked, prepared.sut)
+            for entry in self.items():
+                if entry.components:  # cross coverage: the campaign's, from its parts
+                    record.coverage[entry.item.name] = entry.hits(record.coverage)
             record.files = sorted(p.name for p in result.outputs)
         except ScenarioError as exc:
             record.reason = _problem_text(exc)
