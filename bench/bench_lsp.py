@@ -1,7 +1,23 @@
-"""Latency of the language server on a generated 2,000-line document.
+"""Latency and memory of the language server on generated documents.
 
-Prints p50/p95 latencies, measured through the real protocol (the server runs
-as a subprocess, driven by pygls' client) unless marked "in process":
+``python bench/bench_lsp.py`` (the default) compares documents of 60, 2,000 and
+10,000 lines through the real protocol (the server runs as a subprocess,
+driven by pygls' client, with its default settings), typing words into names:
+``OSC2LSP_BENCH_WORDS`` (10) words of 4 keystrokes 150 ms apart, a pause of
+1.5 s after each word:
+
+* first diagnostics after a keystroke: ``didChange`` sent → the first
+  ``publishDiagnostics`` of that version (the server's default 100 ms
+  debounce included; on slow documents it is the syntax-first preview);
+* hover, definition and completion p95 while the re-analysis runs: asked
+  right after that first push, at names away from the edit;
+* the analysis of a word's last keystroke done (a request that needs the
+  current version answered);
+* memory: the server's resident set after each word's pause (first, last and
+  highest).
+
+``python bench/bench_lsp.py LINES`` prints the detailed report for one size
+(what follows), unless marked "in process":
 
 * start-up: process start → `initialize` answered, and → first diagnostics of
   the document (grammar, library and analysis included);
@@ -24,6 +40,7 @@ import os
 import re
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -63,12 +80,12 @@ class Client(BaseLanguageClient):
 
     def __init__(self):
         super().__init__("osc2lsp-bench", "1")
-        self.arrived: dict[int | None, float] = {}
+        self.arrived: dict[int | None, float] = {}  # the first push of each version
         self.event = asyncio.Event()
 
         @self.feature(types.TEXT_DOCUMENT_PUBLISH_DIAGNOSTICS)
         def _diagnostics(params: types.PublishDiagnosticsParams):
-            self.arrived[params.version] = time.perf_counter()
+            self.arrived.setdefault(params.version, time.perf_counter())
             self.event.set()
 
     async def wait_version(self, version: int, timeout: float = 30) -> float:
@@ -265,16 +282,146 @@ def in_process(text: str) -> None:
     report("definition", dfn)
 
 
-def main() -> None:
-    lines = int(sys.argv[1]) if len(sys.argv) > 1 else 2000
-    text = generate(lines)
-    print(
-        f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
-        f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
+def rss_mb(pid: int) -> float:
+    """Resident set of process ``pid`` in MB (Linux; 0 elsewhere)."""
+    try:
+        with open(f"/proc/{pid}/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("VmRSS:"):
+                    return int(line.split()[1]) / 1024
+    except OSError:
+        pass
+    return 0.0
+
+
+@dataclass
+class Keystrokes:
+    lines: int
+    first: list[float]  # keystroke -> first diagnostics of its version
+    analysed: list[float]  # a word's last keystroke -> its analysis done
+    hover: list[float]
+    definition: list[float]
+    completion: list[float]
+    memory: list[float]  # server RSS after each word (and its pause)
+
+
+async def keystrokes(
+    text: str, words: int, per_word: int = 4, interval: float = 0.15, pause: float = 1.5
+) -> Keystrokes:
+    """Typing into names of the document: ``words`` words of ``per_word`` keystrokes,
+    ``interval`` seconds apart (letters typed, then deleted by the next word), with a
+    ``pause`` after each word. After each keystroke's first diagnostics, the questions
+    an editor asks while the re-analysis runs."""
+    client, _, _ = await start(text)
+    doc = _doc(URI)
+    lines = text.split("\n")
+    targets = [i for i, line in enumerate(lines) if line.startswith("    keep(top_")]
+    names = [i for i, line in enumerate(lines) if line.startswith("    hero: vehicle")]
+    result = Keystrokes(text.count("\n"), [], [], [], [], [], [])
+    pid = client._server.pid if client._server is not None else 0
+    version, n = 1, 0
+    for word in range(words):
+        line = targets[(word // 2 * 7) % len(targets)]
+        column = len("    keep(top")
+        for k in range(per_word):
+            version, n = version + 1, n + 1
+            sent = time.perf_counter()
+            if word % 2 == 0:  # type "xxxx" into `top_5`, one letter at a time
+                _insert(client, version, types.Position(line=line, character=column + k), "x")
+            else:  # and delete it again, backwards
+                at = types.Position(line=line, character=column + per_word - 1 - k)
+                _delete(client, version, at)
+            result.first.append(await client.wait_version(version) - sent)
+            # While the analysis runs: questions about other lines.
+            other = names[(n * 13 + len(names) // 2) % len(names)]
+            name = types.Position(line=other, character=5)
+            t = time.perf_counter()
+            await client.text_document_hover_async(
+                types.HoverParams(text_document=doc, position=name)
+            )
+            result.hover.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            await client.text_document_definition_async(
+                types.DefinitionParams(text_document=doc, position=name)
+            )
+            result.definition.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            await client.text_document_completion_async(
+                types.CompletionParams(
+                    text_document=doc, position=types.Position(line=other + 1, character=4)
+                )
+            )
+            result.completion.append(time.perf_counter() - t)
+            await asyncio.sleep(max(0.0, sent + interval - time.perf_counter()))
+        # documentSymbol answers from the current version's analysis: it is done then.
+        await client.text_document_document_symbol_async(
+            types.DocumentSymbolParams(text_document=doc)
+        )
+        result.analysed.append(time.perf_counter() - sent)
+        await asyncio.sleep(pause)
+        result.memory.append(rss_mb(pid))
+    await stop(client)
+    return result
+
+
+def _delete(client: Client, version: int, at: types.Position) -> None:
+    end = types.Position(line=at.line, character=at.character + 1)
+    client.text_document_did_change(
+        types.DidChangeTextDocumentParams(
+            text_document=types.VersionedTextDocumentIdentifier(uri=URI, version=version),
+            content_changes=[
+                types.TextDocumentContentChangePartial(
+                    range=types.Range(start=at, end=end), text=""
+                )
+            ],
+        )
     )
-    asyncio.run(startup())
-    asyncio.run(protocol(text, "server default debounce 100 ms"))
-    in_process(text)
+
+
+def compare(sizes: list[int], words: int) -> None:
+    """The keystroke figures of documents of each size, side by side."""
+    print(
+        f"osc2lsp typing: {words} words of 4 keystrokes 150 ms apart, a 1.5 s pause after "
+        f"each (letters typed into a name, then deleted); server defaults (debounce 100 ms, "
+        f"preview after 50 ms); {os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
+    )
+    runs = [asyncio.run(keystrokes(generate(size), words)) for size in sizes]
+    header = "".join(f"{r.lines:>14,} lines" for r in runs)
+    print(f"\n  {'':<46}{header}")
+
+    def row(name: str, pick, q: float = 0.95, unit: str = "ms") -> None:
+        cells = "".join(f"{pct([v * 1000 for v in pick(r)], q):>17.1f} {unit}" for r in runs)
+        print(f"  {name:<46}{cells}")
+
+    row("first diagnostics after a keystroke, p50", lambda r: r.first, 0.5)
+    row("first diagnostics after a keystroke, p95", lambda r: r.first)
+    row("analysis done after a word's last keystroke, p50", lambda r: r.analysed, 0.5)
+    row("hover while re-analysis runs, p95", lambda r: r.hover)
+    row("definition while re-analysis runs, p95", lambda r: r.definition)
+    row("completion while re-analysis runs, p95", lambda r: r.completion)
+    memory = "".join(
+        f"{r.memory[0]:>6.0f} -> {r.memory[-1]:>4.0f} ({max(r.memory):.0f}) MB" for r in runs
+    )
+    print(f"  {'server memory, word 1 -> ' + str(words) + ' (highest)':<46}{memory}")
+    base = pct([v * 1000 for v in runs[0].first], 0.95)
+    for r in runs[1:]:
+        ratio = pct([v * 1000 for v in r.first], 0.95) / base
+        print(f"  first diagnostics p95, {r.lines:,} lines / {runs[0].lines:,} lines: {ratio:.1f}x")
+
+
+def main() -> None:
+    if len(sys.argv) > 1:
+        lines = int(sys.argv[1])
+        text = generate(lines)
+        print(
+            f"osc2lsp latency, generated document of {text.count(chr(10))} lines, "
+            f"{os.cpu_count()} CPUs, load average {os.getloadavg()[0]:.1f}"
+        )
+        asyncio.run(startup())
+        asyncio.run(protocol(text, "server default debounce 100 ms"))
+        in_process(text)
+        return
+    compare([60, 2000, 10_000], int(os.environ.get("OSC2LSP_BENCH_WORDS", "10")))
 
 
 if __name__ == "__main__":

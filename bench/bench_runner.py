@@ -8,6 +8,9 @@ world, telemetry; the compile and the world's construction are not timed):
 * ``cut-in``: the design paper's cut-in scenario
   (``../shared/conformance/seed/cut_in_and_stop.osc`` when present, else
   ``examples/cut_in_and_stop.osc``);
+* ``cut-in+idle``: the cut-in with four pedestrians standing far down the road and
+  two traffic lights nothing switches (present but idle: target within 5 % of the
+  cut-in's real-time factor);
 * ``20 vehicles``: a generated scenario: 20 vehicles (2 HGVs) in three
   lanes of a 4-lane road for 30 s; those in the third lane move to the
   fourth after 2 s.
@@ -74,6 +77,39 @@ def many_vehicles(count: int = 20) -> str:
     return "\n".join(lines) + "\n"
 
 
+def with_idle_vrus_and_lights(source: str, persons: int = 4, lights: int = 2) -> str:
+    """The cut-in with ``persons`` pedestrians standing far down the road and ``lights``
+    traffic lights that nothing switches: what being present but idle costs."""
+    lines = source.splitlines()
+    head = next(i for i, line in enumerate(lines) if line.startswith("scenario "))
+    first = lines[head + 1]
+    unit = " " * (len(first) - len(first.lstrip()))
+
+    def at(level: int, text: str) -> str:
+        return unit * level + text
+
+    fields = [at(1, f"p{i}: person") for i in range(persons)]
+    for i in range(lights):
+        fields += [
+            at(1, f"tl{i}: traffic_light with:"),
+            at(2, f"keep(it.pose.position.x == {900 + 20 * i}m)"),
+            at(2, "keep(it.pose.position.y == -1m)"),
+        ]
+    lines[head + 1 : head + 1] = fields
+    do = next(i for i, line in enumerate(lines) if line.strip() == "do parallel:")
+    members = []
+    for i in range(persons):
+        members += [
+            at(2, "serial:"),
+            at(3, f"p{i}.assign_position() with:"),
+            at(4, f"lane({1 + i % 2}, at: start)"),
+            at(4, f"position(distance: {880 + 5 * i}m, at: start)"),
+            at(4, "speed(0kph, at: start)"),
+        ]
+    lines[do + 1 : do + 1] = members
+    return "\n".join(lines) + "\n"
+
+
 def measure(name: str, path: Path, dt: float, repeat: int) -> None:
     best = None
     for _ in range(repeat):
@@ -100,15 +136,24 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=2, help="runs per scene (best is shown)")
     parser.add_argument("--dt", type=float, nargs="+", default=[0.002], help="physics steps")
+    parser.add_argument(
+        "--scene",
+        nargs="+",
+        default=["cut-in", "cut-in+idle", "20 vehicles"],
+        help="scenes to run (cut-in, cut-in+idle, 20 vehicles)",
+    )
     args = parser.parse_args()
     print(f"versions: {versions()}")
     cut_in = SEED_CUT_IN if SEED_CUT_IN.exists() else ROOT / "examples" / "cut_in_and_stop.osc"
     with tempfile.TemporaryDirectory() as tmp:
         many = Path(tmp) / "many.osc"
         many.write_text(many_vehicles(), encoding="utf-8")
+        idle = Path(tmp) / "cut_in_idle.osc"
+        idle.write_text(with_idle_vrus_and_lights(cut_in.read_text()), encoding="utf-8")
+        scenes = {"cut-in": cut_in, "cut-in+idle": idle, "20 vehicles": many}
         for dt in args.dt:
-            measure("cut-in", cut_in, dt, args.repeat)
-            measure("20 vehicles", many, dt, args.repeat)
+            for name in args.scene:
+                measure(name, scenes[name], dt, args.repeat)
 
 
 if __name__ == "__main__":

@@ -249,6 +249,12 @@ ROAD_TOO_SHORT_FOR_MOTION = Code(
     E,
     "constant speeds and durations take an actor past the road's end from every start",
 )
+PERSON_FASTER_THAN_WALKING = Code(
+    "L515",
+    "person-faster-than-walking",
+    W,
+    "a person is asked to move faster than an adult walks",
+)
 
 # --- B: behaviour flow -----------------------------------------------------------
 WAIT_WITHOUT_EMITTER = Code(

@@ -894,6 +894,16 @@ def unsafe_gap(span: Span, text: str, follower: str, leader: str, min_gap: Fract
     )
 
 
+def person_faster_than_walking(span: Span, text: str, person: str, limit: Fraction) -> Diagnostic:
+    return _diag(
+        codes.PERSON_FASTER_THAN_WALKING,
+        f"`{text}` asks `{person}` to move faster than {float(limit):g} m/s "
+        f"({float(limit) * 3.6:g} kph), faster than an adult walks, whatever values the "
+        "other constraints allow",
+        span,
+    )
+
+
 def unplaced_actor(span: Span, actor: str) -> Diagnostic:
     return _diag(
         codes.UNPLACED_ACTOR,

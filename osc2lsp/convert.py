@@ -12,13 +12,13 @@ from __future__ import annotations
 
 import difflib
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from functools import cache
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 from lsprotocol import types
-from pygls.workspace.position_codec import PositionCodec, ServerTextPosition
+from pygls.workspace.position_codec import PositionCodec
 
 import osc2check
 from osc2check import rules
@@ -89,23 +89,43 @@ _SYMBOL_KINDS = {
 # ---- positions ------------------------------------------------------------------
 
 
+def client_units(text: str, codec: PositionCodec) -> int:
+    """How many of the client's units (UTF-8 bytes, UTF-16 code units or code points)
+    ``text`` takes."""
+    encoding = codec.encoding
+    if encoding == types.PositionEncodingKind.Utf32 or text.isascii():
+        return len(text)
+    if encoding == types.PositionEncodingKind.Utf8:
+        return len(text.encode("utf-8", "surrogatepass"))
+    return len(text.encode("utf-16-le", "surrogatepass")) // 2
+
+
+def _column(content: str, units: int, codec: PositionCodec) -> int:
+    """The code-point column ``units`` client units into ``content``; past the end of the
+    line it is the line's length (LSP's rule), inside a character its end."""
+    if codec.encoding == types.PositionEncodingKind.Utf32 or content.isascii():
+        return max(0, min(units, len(content)))
+    count = 0
+    for column, ch in enumerate(content):
+        if count >= units:
+            return column
+        count += client_units(ch, codec)
+    return len(content)
+
+
 def from_lsp_position(lines: LineIndex, position: types.Position, codec: PositionCodec) -> int:
     """The code-point offset in ``lines``' text of a client position."""
     line = position.line
     if line >= len(lines):
         return len(lines.text)
     content = lines.line_content(line)
-    server = codec.position_from_client_units(
-        [content], types.Position(line=0, character=position.character)
-    )
-    return lines.offset(line, server.character)
+    return lines.offset(line, _column(content, position.character, codec))
 
 
 def to_lsp_position(lines: LineIndex, offset: int, codec: PositionCodec) -> types.Position:
     line, column = lines.position(offset)
     content = lines.line_content(line)
-    client = codec.position_to_client_units([content], ServerTextPosition(0, column))
-    return types.Position(line=line, character=client.character)
+    return types.Position(line=line, character=client_units(content[:column], codec))
 
 
 def to_lsp_range(span: Span, lines: LineIndex | None, codec: PositionCodec) -> types.Range:
@@ -128,10 +148,8 @@ def _line_column(lines: LineIndex, line: int, column: int, codec: PositionCodec)
     if line0 >= len(lines):
         return types.Position(line=len(lines), character=0)
     content = lines.line_content(line0)
-    client = codec.position_to_client_units(
-        [content], ServerTextPosition(0, min(max(column - 1, 0), len(content)))
-    )
-    return types.Position(line=line0, character=client.character)
+    column0 = min(max(column - 1, 0), len(content))
+    return types.Position(line=line0, character=client_units(content[:column0], codec))
 
 
 def offsets_to_lsp_range(
@@ -194,13 +212,15 @@ def to_lsp_diagnostic(
 
 
 def to_lsp_diagnostics(
-    snapshot: Snapshot,
-    diagnostics: list[Diagnostic],
+    lines_of: LinesOf,
+    diagnostics: Iterable[Diagnostic],
     uri_of: UriOf,
     codec: PositionCodec,
     docs_url: str = "",
 ) -> list[types.Diagnostic]:
-    return [to_lsp_diagnostic(d, snapshot.lines_of, uri_of, codec, docs_url) for d in diagnostics]
+    """Diagnostics as the client wants them; ``lines_of`` gives the text of each file
+    they point into (``Snapshot.lines_of``, or a preview's)."""
+    return [to_lsp_diagnostic(d, lines_of, uri_of, codec, docs_url) for d in diagnostics]
 
 
 # ---- feature results ------------------------------------------------------------
@@ -325,8 +345,8 @@ def to_lsp_semantic_tokens(
     prev_line = prev_char = 0
     for tok in tokens:
         content = lines.line_content(tok.line)
-        start = codec.client_num_units(content[: tok.column])
-        length = codec.client_num_units(content[tok.column : tok.column + tok.length])
+        start = client_units(content[: tok.column], codec)
+        length = client_units(content[tok.column : tok.column + tok.length], codec)
         delta_line = tok.line - prev_line
         delta_char = start - prev_char if delta_line == 0 else start
         data.extend((delta_line, delta_char, length, tok.type, tok.modifiers))
@@ -408,7 +428,9 @@ def to_lsp_code_actions(
             types.CodeAction(
                 title=a.title,
                 kind=types.CodeActionKind.QuickFix,
-                diagnostics=to_lsp_diagnostics(snapshot, a.diagnostics, uri_of, codec, docs_url),
+                diagnostics=to_lsp_diagnostics(
+                    snapshot.lines_of, a.diagnostics, uri_of, codec, docs_url
+                ),
                 is_preferred=a.preferred or None,
                 edit=to_lsp_workspace_edit(a.edits, snapshot.lines_of, uri_of, codec),
             )

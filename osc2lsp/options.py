@@ -7,7 +7,8 @@ dotted::
 
     {"osc2": {"strict": true, "select": ["N", "T"], "ignore": ["D803"],
               "inlayHints": {"enabled": true, "values": true, "parameterNames": true},
-              "diagnostics": {"debounce": 100, "verifyDelay": 500}, "verify": true}}
+              "diagnostics": {"debounce": 100, "verifyDelay": 500, "previewAfter": 50},
+              "verify": true}}
 
 A bad value is reported (``from_settings`` returns the problems) and the
 default is kept. The checker's own configuration (``[tool.osc2check]`` in
@@ -46,6 +47,9 @@ class Options:
     debounce: int = 100  # milliseconds between the last edit and the analysis
     verify: bool = True  # run the solver's checks (constraints, placement, flow)
     verify_delay: int = 500  # milliseconds of quiet before the solver runs
+    # Publish a syntax-first preview of each edit of a document whose last analysis
+    # took at least this many milliseconds (0: always; the analysis follows).
+    preview_after: int = 50
     completion_limit: int = 200
     docs_url: str = ""  # where docs/checks.md is published; default: the local file
 
@@ -148,6 +152,13 @@ def from_settings(settings: Any, base: Options | None = None) -> tuple[Options, 
             lambda v: None if 0 <= v <= 60000 else "out of range",
             source=diagnostics,
             name="diagnostics.verifyDelay",
+        )
+        take(
+            "preview_after",
+            int,
+            lambda v: None if v >= 0 else "out of range",
+            source=diagnostics,
+            name="diagnostics.previewAfter",
         )
     hints = data.get("inlay_hints")
     if isinstance(hints, dict):

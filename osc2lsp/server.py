@@ -3,7 +3,13 @@
 Every handler is an adapter: find the snapshot (and the current text), turn
 the client's position into an offset, call the feature, convert the result.
 One guard (``guarded``) keeps any exception from escaping: it logs the error,
-reports it to the client's log, and answers with an empty result.
+reports it to the client's log, and answers with an empty result. Expected
+refusals (``Refusal``) and invalid params go back to the client as errors.
+
+Documents are kept by ``State`` with LSP's line semantics (``text.py``); the
+JSON-RPC side (frames, params, shutdown) is ``protocol.py``. Whatever way the
+server ends (``exit``, end of input, its editor gone, a signal), the solver
+worker ends with it (``lifeline.py`` covers SIGKILL).
 
 stdout carries JSON-RPC: nothing here may print; logging goes to stderr.
 """
@@ -17,19 +23,25 @@ import gc
 import importlib
 import logging
 import os
+import signal
 import sys
+import threading
+from dataclasses import replace
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, BinaryIO
 
 from lsprotocol import types
 from pygls.exceptions import JsonRpcException
+from pygls.io_ import StdoutWriter
 from pygls.lsp.server import LanguageServer
 
-from osc2lsp import __version__, convert
+from osc2lsp import __version__, convert, lifeline
 from osc2lsp.features import legend
 from osc2lsp.options import SECTION, Options, from_settings
-from osc2lsp.state import State
+from osc2lsp.protocol import Osc2Protocol, Refusal, converter, serve
+from osc2lsp.state import SWITCH, Findings, State, foreground
 from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
+from osc2lsp.view import View
 
 if TYPE_CHECKING:
     from osc2lsp.snapshot import Snapshot
@@ -61,7 +73,6 @@ symbols = _Feature("symbols")
 
 log = logging.getLogger(__name__)
 
-REQUEST_FAILED = -32803
 COMPLETION_TRIGGERS = [".", "@", "(", ","]
 SIGNATURE_TRIGGERS = ["(", ","]
 
@@ -69,12 +80,16 @@ SIGNATURE_TRIGGERS = ["(", ","]
 class Osc2LanguageServer(LanguageServer):
     """pygls server holding the open documents' state and the client's abilities."""
 
-    def __init__(self):
-        super().__init__("osc2lsp", __version__)
+    def __init__(self) -> None:
+        super().__init__(
+            "osc2lsp", __version__, protocol_cls=Osc2Protocol, converter_factory=converter
+        )
         self.state = State(Options(), self.publish)
         self.pull = False  # the client pulls diagnostics (textDocument/diagnostic)
         self.refresh = False  # ... and accepts workspace/diagnostic/refresh
         self.configuration = False  # the client answers workspace/configuration
+        self._stop: asyncio.Event | None = None
+        self._loop: asyncio.AbstractEventLoop | None = None
 
     # ---- helpers used by the handlers ----------------------------------------------
 
@@ -85,6 +100,11 @@ class Osc2LanguageServer(LanguageServer):
     @property
     def options(self) -> Options:
         return self.state.options
+
+    def library(self, uri: str) -> bool:
+        """Whether ``uri`` is an open file of the bundled library (read-only here)."""
+        doc = self.state.documents.get(uri)
+        return doc is not None and doc.library
 
     def uri_of(self, key: str) -> str:
         for doc in self.state.documents.values():
@@ -98,6 +118,8 @@ class Osc2LanguageServer(LanguageServer):
         doc = self.state.documents.get(uri)
         if doc is not None:
             return doc.text, doc.lines
+        if not uri.startswith("file:"):
+            return "", LineIndex("")
         try:
             text = Path(uri_to_key(uri)).read_text(encoding="utf-8", errors="replace")
         except OSError:
@@ -107,22 +129,34 @@ class Osc2LanguageServer(LanguageServer):
     def offset(self, lines: LineIndex, position: types.Position) -> int:
         return convert.from_lsp_position(lines, position, self.codec)
 
-    def publish(self, trigger: str, snapshots: list[Snapshot]) -> None:
-        """Send fresh findings: pushed, or a refresh request to a pulling client."""
+    def publish(self, trigger: str, found: list[Findings]) -> None:
+        """Send findings the client does not have: pushed, or a refresh request to a
+        pulling client that holds older ones (its own document's next version it pulls
+        by itself)."""
         if self.pull:
-            solver_phase = self.options.verify and any(s.verified for s in snapshots)
-            if self.refresh and (solver_phase or any(s.uri != trigger for s in snapshots)):
+            if self.refresh and any(self._outdated(f, trigger) for f in found):
                 self.workspace_diagnostic_refresh(None)
             return
-        for snap in snapshots:
+        for f in found:
             items = convert.to_lsp_diagnostics(
-                snap, diagnostics.diagnostics(snap), self.uri_of, self.codec, self.options.docs_url
+                f.lines_of, f.diagnostics, self.uri_of, self.codec, self.options.docs_url
             )
             self.text_document_publish_diagnostics(
-                types.PublishDiagnosticsParams(
-                    uri=snap.uri, diagnostics=items, version=snap.version
-                )
+                types.PublishDiagnosticsParams(uri=f.uri, diagnostics=items, version=f.version)
             )
+            self.state.pushed(f)
+
+    def _outdated(self, found: Findings, trigger: str) -> bool:
+        """Whether a pulling client holds other findings for ``found``'s version."""
+        if not found.final:
+            return False
+        doc = self.state.documents.get(found.uri)
+        pulled = doc.delivered if doc is not None else None
+        return (
+            found.uri != trigger
+            or found.verified
+            or (pulled is not None and pulled[0] == found.version)
+        )
 
     def configure(self, settings, refresh: bool = True) -> None:
         """Apply the client's `osc2` settings; re-check every document (and ask the
@@ -149,6 +183,53 @@ class Osc2LanguageServer(LanguageServer):
 
     def report_server_error(self, error: Exception, source) -> None:
         log.error("server error (%s): %s", getattr(source, "__name__", source), error)
+
+    # ---- running ---------------------------------------------------------------------
+
+    def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
+        """Serve over stdio until ``exit``, end of input, or the editor's end."""
+        self._stop_event = threading.Event()
+        self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
+        code = 0
+        try:
+            asyncio.run(self._serve(stdin or sys.stdin.buffer))
+        except SystemExit as exc:  # `exit`: pygls answers it with sys.exit
+            code = exc.code if isinstance(exc.code, int) else 0
+        except KeyboardInterrupt:
+            code = 130
+        finally:
+            self.state.kill()  # if `shutdown` never came
+        sys.exit(code)
+
+    async def _serve(self, stdin: BinaryIO) -> None:
+        self._stop = asyncio.Event()
+        assert isinstance(self.protocol, Osc2Protocol)
+        reading = asyncio.ensure_future(serve(self.protocol, stdin))
+        stopping = asyncio.ensure_future(self._stop.wait())
+        loop = asyncio.get_running_loop()
+        for sig in (signal.SIGTERM, signal.SIGHUP) if sys.platform != "win32" else ():
+            loop.add_signal_handler(sig, self._stop.set)
+        try:
+            await asyncio.wait({reading, stopping}, return_when=asyncio.FIRST_COMPLETED)
+            if reading.done():
+                reading.result()  # SystemExit from `exit` surfaces here
+        finally:
+            for task in (reading, stopping):
+                task.cancel()
+            await self.state.shutdown()
+
+    def stop(self) -> None:
+        """Stop serving (from any thread): the editor is gone."""
+        loop, stop = self._loop, self._stop
+        if loop is not None and stop is not None:
+            loop.call_soon_threadsafe(stop.set)
+
+    def watch_editor(self, pid: int | None) -> None:
+        """Stop when process ``pid`` (the editor, from ``initialize``) ends."""
+        if pid is None or pid == os.getpid() or not lifeline.alive(pid):
+            return
+        self._loop = asyncio.get_running_loop()
+        lifeline.watch(lambda: not lifeline.alive(pid), self.stop, 2.0, "osc2lsp-editor-watch")
 
 
 SERVER = Osc2LanguageServer()
@@ -220,6 +301,7 @@ def initialize(ls: Osc2LanguageServer, params: types.InitializeParams):
     ls.state.root = uri_to_key(root) if root else None
     if params.initialization_options:
         ls.configure(params.initialization_options, refresh=False)
+    ls.watch_editor(params.process_id)
 
 
 @SERVER.feature(types.INITIALIZED)
@@ -227,7 +309,7 @@ def initialize(ls: Osc2LanguageServer, params: types.InitializeParams):
 async def initialized(ls: Osc2LanguageServer, params: types.InitializedParams):
     """Load the grammar and library in the background; ask for the `osc2` settings."""
     loop = asyncio.get_running_loop()
-    loop.run_in_executor(None, _warm_up)
+    loop.run_in_executor(ls.state.executor, _warm_up)  # before any analysis: see _warm_up
     if ls.configuration:
         result = await ls.workspace_configuration_async(
             types.ConfigurationParams(items=[types.ConfigurationItem(section=SECTION)])
@@ -237,12 +319,19 @@ async def initialized(ls: Osc2LanguageServer, params: types.InitializedParams):
 
 
 def _warm_up() -> None:
+    """Load the grammar and the library, then exempt them from garbage collection.
+
+    It runs on the analysis thread, ahead of the first analysis: ``gc.freeze``
+    keeps whatever exists at that moment forever, and a document's analysis
+    frozen by mistake would never be freed.
+    """
     from osc2check.semantics.stdlib import standard_library
     from osc2check.syntax.grammar import lark_parser
 
     lark_parser()
     standard_library()
     completion.complete(None, "scenario s:\n    ", 16)  # the grammar table, the focus path
+    importlib.import_module("osc2lsp.preview")  # what the first edit needs
     gc.collect()
     gc.freeze()  # the library and the grammar live as long as the process: never scan them
 
@@ -265,9 +354,20 @@ def did_open(ls: Osc2LanguageServer, params: types.DidOpenTextDocumentParams):
 @SERVER.feature(types.TEXT_DOCUMENT_DID_CHANGE)
 @guarded()
 def did_change(ls: Osc2LanguageServer, params: types.DidChangeTextDocumentParams):
-    """Re-analyse after the debounce (pygls has applied the edits already)."""
-    doc = ls.workspace.get_text_document(params.text_document.uri)
-    ls.state.change(doc.uri, doc.source, params.text_document.version)
+    """Apply the edits (lines end only at CR LF, LF and CR); re-analyse after the debounce."""
+    uri = params.text_document.uri
+    doc = ls.state.documents.get(uri)
+    text, lines = (doc.text, doc.lines) if doc is not None else ls.current(uri)
+    for change in params.content_changes:
+        if isinstance(change, types.TextDocumentContentChangePartial):
+            start = ls.offset(lines, change.range.start)
+            end = max(start, ls.offset(lines, change.range.end))
+            lines = lines.edited(start, end, change.text)
+        else:
+            lines = LineIndex(change.text)
+    if doc is not None and doc.library and lines.text != doc.text:
+        log.info("%s is a file of the bundled library: its edits are not analysed", uri)
+    ls.state.change(uri, lines.text, params.text_document.version, lines)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_DID_CLOSE)
@@ -275,8 +375,9 @@ def did_change(ls: Osc2LanguageServer, params: types.DidChangeTextDocumentParams
 def did_close(ls: Osc2LanguageServer, params: types.DidCloseTextDocumentParams):
     """Forget the document and clear its pushed diagnostics."""
     uri = params.text_document.uri
+    library = ls.library(uri)
     ls.state.close(uri)
-    if not ls.pull:
+    if not ls.pull and not library:
         ls.text_document_publish_diagnostics(
             types.PublishDiagnosticsParams(uri=uri, diagnostics=[])
         )
@@ -310,14 +411,16 @@ async def did_change_configuration(
 @guarded()
 async def document_diagnostic(ls: Osc2LanguageServer, params: types.DocumentDiagnosticParams):
     """Pulled diagnostics of the current version."""
-    snap = await ls.state.fresh(params.text_document.uri)
-    if snap is None:
+    uri = params.text_document.uri
+    found = await ls.state.findings_now(uri, preview=ls.refresh)
+    if found is None:
         return types.RelatedFullDocumentDiagnosticReport(items=[])
-    result_id = diagnostics.result_id(snap)
+    ls.state.delivered(uri, found)
+    result_id = diagnostics.result_id(found.diagnostics)
     if params.previous_result_id == result_id:
         return types.RelatedUnchangedDocumentDiagnosticReport(result_id=result_id)
     items = convert.to_lsp_diagnostics(
-        snap, diagnostics.diagnostics(snap), ls.uri_of, ls.codec, ls.options.docs_url
+        found.lines_of, found.diagnostics, ls.uri_of, ls.codec, ls.options.docs_url
     )
     return types.RelatedFullDocumentDiagnosticReport(items=items, result_id=result_id)
 
@@ -334,10 +437,11 @@ async def complete(ls: Osc2LanguageServer, params: types.CompletionParams):
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    result = completion.complete(
-        snap, text, ls.offset(lines, params.position), ls.options.completion_limit
-    )
-    return convert.to_lsp_completion(result, lines, ls.codec)
+    with foreground():
+        result = completion.complete(
+            snap, text, ls.offset(lines, params.position), ls.options.completion_limit
+        )
+        return convert.to_lsp_completion(result, lines, ls.codec)
 
 
 @SERVER.feature(
@@ -350,44 +454,89 @@ async def signature(ls: Osc2LanguageServer, params: types.SignatureHelpParams):
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    result = signature_help.signature_help(snap, text, ls.offset(lines, params.position))
-    return convert.to_lsp_signature_help(result)
+    with foreground():
+        result = signature_help.signature_help(snap, text, ls.offset(lines, params.position))
+        return convert.to_lsp_signature_help(result)
 
 
 # ---- reading: hover, navigation, symbols (fresh snapshot) -------------------------------
+
+
+async def _view_at(
+    ls: Osc2LanguageServer, uri: str, position: types.Position, fresh: bool = False
+) -> tuple[View, int] | None:
+    """The view to answer about ``position`` of the current text, and its offset there
+    (``fresh``: the current version's analysis, waiting for it if need be)."""
+    with foreground():
+        text, lines = ls.current(uri)
+        offset = ls.offset(lines, position)
+        found = ls.state.view_now(uri, offset) if not fresh else None
+    if found is None:
+        snap = await ls.state.fresh(uri)
+        if snap is None:
+            return None
+        found = (snap, None)
+    snap, change = found
+    with foreground():
+        if change is None:
+            same = snap.text is text or snap.text == text
+            return View(snap, None, snap.lines), offset if same else ls.offset(snap.lines, position)
+        old = change.to_old(offset)
+        return View(snap, change, lines), old if old is not None else offset
+
+
+async def _located(
+    ls: Osc2LanguageServer, uri: str, position: types.Position, find
+) -> list[types.Location]:
+    """Locations ``find(snapshot, offset)`` gives, from the latest analysis when they lie
+    outside the text edited since, else from the current version's."""
+    found = await _view_at(ls, uri, position)
+    if found is None:
+        return []
+    view, offset = found
+    with foreground():
+        spans = find(view.snap, offset)
+        moved = view.spans(spans)
+    if len(moved) < len(spans):  # it points into the edited text: ask the current version
+        found = await _view_at(ls, uri, position, fresh=True)
+        if found is None:
+            return []
+        view, offset = found
+        with foreground():
+            moved = view.spans(find(view.snap, offset))
+    with foreground():
+        return convert.to_lsp_locations(moved, view.lines_of, ls.uri_of, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_HOVER)
 @guarded()
 async def on_hover(ls: Osc2LanguageServer, params: types.HoverParams):
     """Declaration, type, value or code documentation under the cursor."""
-    snap = await ls.state.fresh(params.text_document.uri)
-    if snap is None:
+    found = await _view_at(ls, params.text_document.uri, params.position)
+    if found is None:
         return None
-    result = hover.hover(snap, ls.offset(snap.lines, params.position))
-    return convert.to_lsp_hover(result, snap.lines, ls.codec)
+    view, offset = found
+    with foreground():
+        result = hover.hover(view.snap, offset)
+        if result is not None and result.span is not None:
+            result = replace(result, span=view.span(result.span))
+        return convert.to_lsp_hover(result, view.lines, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_DEFINITION)
 @guarded(list)
 async def definition(ls: Osc2LanguageServer, params: types.DefinitionParams):
     """Where the name under the cursor is declared (also in the bundled library)."""
-    snap = await ls.state.fresh(params.text_document.uri)
-    if snap is None:
-        return []
-    spans = navigation.definition(snap, ls.offset(snap.lines, params.position))
-    return convert.to_lsp_locations(spans, snap.lines_of, ls.uri_of, ls.codec)
+    uri = params.text_document.uri
+    return await _located(ls, uri, params.position, navigation.definition)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_TYPE_DEFINITION)
 @guarded(list)
 async def type_definition(ls: Osc2LanguageServer, params: types.TypeDefinitionParams):
     """Where the type of the name or expression under the cursor is declared."""
-    snap = await ls.state.fresh(params.text_document.uri)
-    if snap is None:
-        return []
-    spans = navigation.type_definition(snap, ls.offset(snap.lines, params.position))
-    return convert.to_lsp_locations(spans, snap.lines_of, ls.uri_of, ls.codec)
+    uri = params.text_document.uri
+    return await _located(ls, uri, params.position, navigation.type_definition)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_REFERENCES)
@@ -422,10 +571,12 @@ async def prepare_rename(ls: Osc2LanguageServer, params: types.PrepareRenamePara
     snap = await ls.state.fresh(params.text_document.uri)
     if snap is None:
         return None
+    if ls.library(params.text_document.uri):
+        raise Refusal("the bundled library is read-only")
     try:
         span, text = rename.prepare_rename(snap, ls.offset(snap.lines, params.position))
     except rename.RenameError as exc:
-        raise JsonRpcException(str(exc), code=REQUEST_FAILED) from None
+        raise Refusal(str(exc)) from None
     return types.PrepareRenamePlaceholder(
         range=convert.to_lsp_range(span, snap.lines, ls.codec), placeholder=text
     )
@@ -439,12 +590,14 @@ async def on_rename(ls: Osc2LanguageServer, params: types.RenameParams):
     snap = await ls.state.fresh(uri)
     if snap is None:
         return None
+    if ls.library(uri):
+        raise Refusal("the bundled library is read-only")
     offset = ls.offset(snap.lines, params.position)
     others = await _other_snapshots(ls, snap, offset)
     try:
         edits = rename.rename(snap, offset, params.new_name, others)
     except rename.RenameError as exc:
-        raise JsonRpcException(str(exc), code=REQUEST_FAILED) from None
+        raise Refusal(str(exc)) from None
     return convert.to_lsp_workspace_edit(edits, _lines_of(snap, others), ls.uri_of, ls.codec)
 
 
@@ -462,7 +615,11 @@ async def document_symbol(ls: Osc2LanguageServer, params: types.DocumentSymbolPa
 @guarded(list)
 def workspace_symbol(ls: Osc2LanguageServer, params: types.WorkspaceSymbolParams):
     """Declarations of the open documents and of the library matching the query."""
-    snaps = [d.snapshot for d in ls.state.documents.values() if d.snapshot is not None]
+    snaps = [
+        d.snapshot
+        for d in ls.state.documents.values()
+        if d.snapshot is not None and not d.library  # the library's symbols come anyway
+    ]
     found = symbols.workspace_symbols(snaps, params.query)
     return convert.to_lsp_workspace_symbols(found, _lines_of(None, snaps), ls.uri_of, ls.codec)
 
@@ -535,7 +692,7 @@ async def inlay_hint(ls: Osc2LanguageServer, params: types.InlayHintParams):
 async def code_action(ls: Osc2LanguageServer, params: types.CodeActionParams):
     """Quick fixes: the checker's suggestions, a missing import, a suppression."""
     snap = await ls.state.fresh(params.text_document.uri)
-    if snap is None:
+    if snap is None or ls.library(params.text_document.uri):
         return []
     start = ls.offset(snap.lines, params.range.start)
     end = ls.offset(snap.lines, params.range.end)
@@ -546,11 +703,13 @@ async def code_action(ls: Osc2LanguageServer, params: types.CodeActionParams):
 @SERVER.feature(types.TEXT_DOCUMENT_FORMATTING)
 @guarded(list)
 def format_document(ls: Osc2LanguageServer, params: types.DocumentFormattingParams):
-    """Indentation and spacing; nothing when the file has syntax errors."""
-    text, lines = ls.current(params.text_document.uri)
-    opts = formatting.FormatOptions(
-        indent_width=params.options.tab_size, use_tabs=not params.options.insert_spaces
-    )
+    """Indentation (the file's own unit, whatever the client's options) and spacing;
+    nothing when the file has syntax errors or belongs to the bundled library."""
+    uri = params.text_document.uri
+    text, lines = ls.current(uri)
+    if ls.library(uri):
+        return []
+    opts = formatting.indent_style(text) or formatting.FormatOptions()
     formatted = formatting.format_text(text, opts)
     if formatted is None or formatted == text:
         return []
@@ -611,6 +770,8 @@ def main(argv: list[str] | None = None) -> int:
     # Analyses make many long-lived objects; collect young ones less often so that a
     # collection does not land in the middle of a keystroke's request.
     gc.set_threshold(20_000, 20, 50)
+    # The analysis thread gives way to requests quickly (see state.foreground).
+    sys.setswitchinterval(SWITCH)
     if args.tcp:
         SERVER.start_tcp(args.host, args.port)
     else:

@@ -15,9 +15,11 @@ from __future__ import annotations
 import bisect
 from dataclasses import dataclass, field, replace
 from functools import cached_property
+from pathlib import Path
 
 from osc2check.analysis import Analysis
 from osc2check.diagnostics import Diagnostic
+from osc2check.resources import stdlib_dir
 from osc2check.semantics.model import Model
 from osc2check.semantics.program import Program
 from osc2check.semantics.stdlib import standard_library
@@ -25,7 +27,16 @@ from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ParseResult, ast, parse
 from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
 
-__all__ = ["LineIndex", "NameEntry", "Snapshot", "key_to_uri", "symbol_key", "uri_to_key"]
+__all__ = [
+    "LineIndex",
+    "NameEntry",
+    "Snapshot",
+    "key_to_uri",
+    "library_key",
+    "library_snapshot",
+    "symbol_key",
+    "uri_to_key",
+]
 
 # ---- the snapshot -------------------------------------------------------------
 
@@ -94,6 +105,13 @@ class Snapshot:
         if self.findings is not None:
             return list(self.findings)
         return [d for d in self.analysis.diagnostics if d.span.uri == self.key]
+
+    def prepare(self) -> Snapshot:
+        """Build the indexes requests use (line starts, names by position) now, on the
+        analysis thread, rather than in the first request that needs them (on a
+        10,000-line document that takes a tenth of a second)."""
+        _ = self.lines, self._name_starts
+        return self
 
     def with_findings(self, findings: list[Diagnostic]) -> Snapshot:
         """This snapshot with the complete findings (the solver's checks included)."""
@@ -175,3 +193,38 @@ class Snapshot:
 
     def offset(self, line: int, column: int) -> int:
         return self.lines.offset(line, column)
+
+
+# ---- files of the bundled library --------------------------------------------------
+
+
+def library_key(key: str) -> str | None:
+    """The library's own name of ``key`` when it is a file of the bundled library
+    (opened from a definition, say), else None."""
+    if "://" in key or not key.endswith(".osc"):
+        return None
+    path = Path(key)
+    try:
+        folder = path.parent.resolve()
+    except OSError:
+        return None
+    library = stdlib_dir()
+    return str(library / path.name) if folder == library.resolve() else None
+
+
+def library_snapshot(uri: str, key: str, text: str, version: int | None) -> Snapshot:
+    """A library file as the library was analysed: its names resolve to the library's
+    declarations and it has no findings of its own (the library is not user code).
+
+    When the text differs from the shipped file (edited in the editor), it is read
+    as text only: outline and folding, no names.
+    """
+    library = standard_library()
+    parsed = library.parses.get(key)
+    programs: dict[str, Program] = {}
+    if parsed is not None and parsed.text == text:
+        programs[key] = Program(key, library.model, {key: parsed})
+    else:
+        parsed = parse(text, key)
+    analysis = Analysis([], {key: text}, programs, {key: parsed})
+    return Snapshot(uri, key, version, text, analysis, None, True, ())

@@ -9,73 +9,106 @@ best ones available while typing) but only the current version's findings
 are published. Analyses run one at a time on a worker thread, so the event
 loop keeps answering requests meanwhile.
 
-Analysis has two phases. The first (syntax, names, types, units, arguments)
-is fast and runs after every edit. The second adds the solver's checks
-(constraints, placement, behaviour flow: z3 for every scenario), which can
-take seconds on a large file; it runs on its own worker once the document
-has been quiet for ``verify_delay`` milliseconds, and its findings replace
-the first phase's when no newer edit came meanwhile. It runs in a separate
-process (the first one, once per server), so the solver never competes with
-the analysis of the next keystroke for the interpreter lock, and it only
-sends back the findings.
+Findings come in up to three steps:
 
-Requests that must see the current text (hover, definition, rename, pulled
-diagnostics...) await ``fresh(uri)``, which skips the rest of the debounce.
-Completion and signature help use ``latest(uri)`` and the current text.
+* **Preview** (documents whose last analysis was slow, ``preview_after``): the
+  declarations the edit touched are parsed again and their syntax findings
+  published at once with the other findings of the last analysis, moved to
+  their new place (``preview.py``). On a 10,000-line document this takes
+  milliseconds where the analysis takes most of a second.
+* **Analysis** without the solver: syntax, names, types, units, arguments.
+* **Solver** (constraints, placement, behaviour flow: z3 for every scenario),
+  once the document has been quiet for ``verify_delay`` milliseconds, in a
+  worker process (``solver.py``); its findings replace the others when no
+  newer edit came meanwhile.
+
+A push that would repeat what the client already has (same version, same
+findings) is not sent. Files of the bundled library (opened from a
+definition) are analysed as the library and never get findings.
+
+Requests that must see the current text (references, rename, pulled
+diagnostics...) await ``fresh(uri)``, which skips the rest of the debounce;
+hover and definition use ``latest(uri)`` when the position lies outside what
+changed since (``view``); completion and signature help use ``latest(uri)``
+and the current text.
+
+Every analysis leaves the previous snapshot behind as cyclic garbage (the
+checker's symbols and types refer to each other), about 13 MB for a
+10,000-line document, which the interpreter's own collector reaches only
+rarely (memory grew to about 350 MB). It is collected once neither an edit nor
+an analysis has happened for ``_IDLE`` seconds (a pause in typing: the
+collection takes about 0.15 s per replaced snapshot of that document and holds
+the interpreter lock), and while edits keep coming, as soon as the replaced
+snapshots add up to ``_GARBAGE_LIMIT`` characters of text, so memory stays
+bounded.
 """
 
 from __future__ import annotations
 
 import asyncio
+import gc
 import logging
-import multiprocessing
 import os
 import re
-from collections.abc import Callable
-from concurrent.futures import ProcessPoolExecutor, ThreadPoolExecutor
+import sys
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
-from types import MappingProxyType
 from typing import TYPE_CHECKING
 
 from osc2lsp.options import CheckerConfigs, Options
-from osc2lsp.text import LineIndex, uri_to_key
+from osc2lsp.solver import SolverWorker
+from osc2lsp.text import LineIndex, TextMap, uri_to_key
 
 if TYPE_CHECKING:
+    from osc2check.diagnostics import Diagnostic
     from osc2lsp.snapshot import Snapshot
 
 log = logging.getLogger(__name__)
 
+# While edits keep coming, a collection is forced once the replaced snapshots' texts add
+# up to this many characters (four times a 10,000-line document: about 50 MB of garbage).
+_GARBAGE_LIMIT = 1_200_000
+_IDLE = 1.0  # seconds without edits or analyses before the garbage is collected
+# The interpreter lock passes between threads every SWITCH seconds; a request keeps it
+# for up to FOREGROUND seconds (see ``foreground``).
+SWITCH = 0.001
+FOREGROUND = 0.05
 
-def solver_findings(documents: list[tuple[str, str]], config=None) -> dict[str, list]:
-    """The full findings, solver included, of documents given as ``(key, text)``.
+LinesOf = Callable[[str], "LineIndex | None"]
 
-    Runs in the solver process: only the findings (plain, picklable data) come back.
+
+@contextmanager
+def foreground() -> Iterator[None]:
+    """Answer a request without the analysis thread taking turns.
+
+    Both threads run Python, so they share the interpreter lock: the one waiting
+    for it takes it after the switch interval. While a request computes its answer
+    (no waiting for I/O inside), the interval is long, so the analysis waits
+    instead of halving the request's speed; it is short again before the answer
+    is written.
     """
-    from osc2check.analysis import SourceInput, analyze
-    from osc2check.config import Config
-
-    options = (config if config is not None else Config()).analysis_options()
-    analysis = analyze([SourceInput(key, text) for key, text in documents], options)
-    found: dict[str, list] = {key: [] for key, _ in documents}
-    for d in analysis.diagnostics:
-        if d.span.uri in found:
-            found[d.span.uri].append(d)
-    return found
+    previous = sys.getswitchinterval()
+    sys.setswitchinterval(max(previous, FOREGROUND))
+    try:
+        yield
+    finally:
+        sys.setswitchinterval(previous)
 
 
-def _portable(config):
-    """The configuration with plain dicts, so that it can be sent to another process."""
-    if config is None:
-        return None
-    from dataclasses import fields, replace
-
-    changes = {
-        f.name: dict(getattr(config, f.name))
-        for f in fields(config)
-        if isinstance(getattr(config, f.name), MappingProxyType)
-    }
-    return replace(config, **changes) if changes else config
+@contextmanager
+def taking_turns() -> Iterator[None]:
+    """Around blocking I/O inside ``foreground``: the usual short switch interval (the
+    lock is released while blocked, and taking it back must not wait long)."""
+    previous = sys.getswitchinterval()
+    sys.setswitchinterval(min(previous, SWITCH))
+    try:
+        yield
+    finally:
+        sys.setswitchinterval(previous)
 
 
 def analyse(
@@ -106,21 +139,57 @@ def snapshot_of(
     return analyse([(uri, text, version)], config)[uri]
 
 
+@dataclass(frozen=True, eq=False)
+class Findings:
+    """The diagnostics to show for one version of one document."""
+
+    uri: str
+    key: str
+    version: int | None
+    diagnostics: tuple[Diagnostic, ...]
+    lines_of: LinesOf  # the text of each file the findings point into
+    final: bool = True  # False: a preview; the analysis follows
+    verified: bool = False  # the solver's checks are included
+
+
+def findings_of(snapshot: Snapshot) -> Findings:
+    return Findings(
+        snapshot.uri,
+        snapshot.key,
+        snapshot.version,
+        tuple(snapshot.diagnostics),
+        snapshot.lines_of,
+        True,
+        snapshot.verified,
+    )
+
+
 @dataclass(eq=False)
 class Document:
     uri: str
     text: str
     version: int | None
     key: str = ""
+    library: bool = False  # a file of the bundled library: analysed as the library
     snapshot: Snapshot | None = None  # the latest analysis, maybe of an older version
     timer: asyncio.Task | None = None  # the debounce, until the analysis starts
+    waiting: bool = False  # the timer has not started its analysis yet (may be cancelled)
     verify_timer: asyncio.Task | None = None  # the quiet period before the solver runs
     waiters: list[tuple[int | None, asyncio.Future]] = field(default_factory=list)
     stale: bool = False  # a file it imports changed since its snapshot was made
+    preview: Findings | None = None  # the preview of the current version, if one was made
+    delivered: tuple[int | None, str] | None = None  # (version, result id) the client has
+    analysis_seconds: float = 0.0  # how long its last analysis took
     _lines: LineIndex | None = field(default=None, repr=False)
+    _map: tuple[Snapshot, str, TextMap] | None = field(default=None, repr=False)
 
     def __post_init__(self):
-        self.key = self.key or uri_to_key(self.uri)
+        if not self.key:
+            from osc2lsp.snapshot import library_key
+
+            key = uri_to_key(self.uri)
+            library = library_key(key)
+            self.key, self.library = (library, True) if library else (key, False)
 
     @property
     def lines(self) -> LineIndex:
@@ -129,14 +198,29 @@ class Document:
             self._lines = LineIndex(self.text)
         return self._lines
 
+    def set_text(self, text: str, version: int | None, lines: LineIndex | None = None) -> None:
+        self.text, self.version = text, version
+        self._lines = lines if lines is not None and lines.text is text else None
+        if self.preview is not None and self.preview.version != version:
+            self.preview = None
+
     @property
     def current(self) -> bool:
         return (
             self.snapshot is not None and self.snapshot.version == self.version and not self.stale
         )
 
+    def changes(self) -> TextMap | None:
+        """How the current text differs from the latest snapshot's (None: no snapshot)."""
+        snap = self.snapshot
+        if snap is None:
+            return None
+        if self._map is None or self._map[0] is not snap or self._map[1] is not self.text:
+            self._map = (snap, self.text, TextMap(snap.text, self.text))
+        return self._map[2]
 
-Publisher = Callable[[str, list["Snapshot"]], None]
+
+Publisher = Callable[[str, list[Findings]], None]
 
 
 class State:
@@ -149,28 +233,36 @@ class State:
         root: str | None = None,
     ):
         self.options = options or Options()
-        self.publish = publish or (lambda trigger, snapshots: None)
+        self.publish = publish or (lambda trigger, findings: None)
         self.root = root
         self.documents: dict[str, Document] = {}
         self.configs = CheckerConfigs()
         self._executor = ThreadPoolExecutor(max_workers=1, thread_name_prefix="osc2-analysis")
-        self._solver: ProcessPoolExecutor | None = None
+        self._previews = ThreadPoolExecutor(max_workers=1, thread_name_prefix="osc2-preview")
+        self._solver = SolverWorker()
         self._closed: dict[str, tuple[float, str, Snapshot | None]] = {}  # workspace files
         self._lock: asyncio.Lock | None = None
         self._tasks: set[asyncio.Task] = set()
+        self._garbage = 0  # characters of the snapshots replaced since the last collection
+        self._collector: asyncio.Task | None = None  # the collection after a pause
+        self._active = time.monotonic()  # the last edit or analysis
 
     # ---- documents -------------------------------------------------------------
 
-    def open(self, uri: str, text: str, version: int | None) -> None:
-        self.documents[uri] = Document(uri, text, version)
+    def open(self, uri: str, text: str, version: int | None) -> Document:
+        doc = self.documents[uri] = Document(uri, text, version)
         self.schedule(uri, 0)
+        return doc
 
-    def change(self, uri: str, text: str, version: int | None) -> None:
+    def change(
+        self, uri: str, text: str, version: int | None, lines: LineIndex | None = None
+    ) -> None:
         doc = self.documents.get(uri)
         if doc is None:
             self.open(uri, text, version)
             return
-        doc.text, doc.version = text, version
+        doc.set_text(text, version, lines)
+        self._active = time.monotonic()
         if doc.verify_timer is not None:
             doc.verify_timer.cancel()
         for other in self.documents.values():
@@ -210,14 +302,70 @@ class State:
         future = asyncio.get_running_loop().create_future()
         doc.waiters.append((doc.version, future))
         timer = doc.timer
-        if timer is None or timer.done() or getattr(timer, "sleeping", False):
+        if timer is None or timer.done() or doc.waiting:
             self.schedule(uri, 0)  # skip the rest of the debounce (a running one will do)
         return await future
+
+    async def view(self, uri: str, offset: int) -> tuple[Snapshot, TextMap | None] | None:
+        """A snapshot to answer about ``offset`` of the current text, and how its text
+        differs from the current one (None: it is the current text).
+
+        While an analysis runs, the latest snapshot answers for every offset outside
+        the text changed since it was made; otherwise the current version's does.
+        """
+        found = self.view_now(uri, offset)
+        if found is not None:
+            return found
+        snap = await self.fresh(uri)
+        return (snap, None) if snap is not None else None
+
+    def view_now(self, uri: str, offset: int) -> tuple[Snapshot, TextMap | None] | None:
+        """``view`` if the latest snapshot can answer, else None (without waiting)."""
+        doc = self.documents.get(uri)
+        if doc is None or doc.snapshot is None:
+            return None
+        changes = doc.changes()
+        if changes is not None and (changes.unchanged or changes.clear_of(offset)):
+            return doc.snapshot, None if changes.unchanged else changes
+        return None
 
     async def fresh_all(self) -> list[Snapshot]:
         """The snapshots of the current versions of every open document."""
         snapshots = [await self.fresh(uri) for uri in list(self.documents)]
         return [s for s in snapshots if s is not None]
+
+    async def findings_now(self, uri: str, preview: bool) -> Findings | None:
+        """The findings of the current version for a client that asks for them: the
+        preview when ``preview`` and the analysis is slow, else the analysis'."""
+        doc = self.documents.get(uri)
+        if doc is None:
+            return None
+        if preview and not doc.current and self._preview_due(doc):
+            if doc.preview is None or doc.preview.version != doc.version:
+                await self._preview(doc)
+            if doc.preview is not None and doc.preview.version == doc.version:
+                return doc.preview
+        snap = await self.fresh(uri)
+        return findings_of(snap) if snap is not None else None
+
+    async def quiet(self) -> None:
+        """Wait until the scheduled analyses, and the collection that follows a pause in
+        them, are done (for tests and benchmarks)."""
+        while True:
+            pending = [d.timer for d in self.documents.values() if d.timer and not d.timer.done()]
+            if self._collector is not None and not self._collector.done():
+                pending.append(self._collector)
+            if not pending:
+                return
+            await asyncio.wait(pending)
+
+    def delivered(self, uri: str, findings: Findings) -> None:
+        """Note that the client has received ``findings`` (pulled them)."""
+        from osc2lsp.features.diagnostics import result_id
+
+        doc = self.documents.get(uri)
+        if doc is not None:
+            doc.delivered = (findings.version, result_id(findings.diagnostics))
 
     def reconfigure(self, options: Options) -> None:
         self.options = options
@@ -232,7 +380,7 @@ class State:
         doc = self.documents.get(uri)
         if doc is None:
             return
-        if doc.timer is not None and not doc.timer.done() and getattr(doc.timer, "sleeping", False):
+        if doc.timer is not None and not doc.timer.done() and doc.waiting:
             doc.timer.cancel()
         delay = self.options.debounce if delay_ms is None else delay_ms
         try:
@@ -240,8 +388,7 @@ class State:
         except RuntimeError:
             return
         task = loop.create_task(self._run(uri, delay / 1000))
-        task.sleeping = True  # type: ignore[attr-defined]
-        doc.timer = task
+        doc.timer, doc.waiting = task, True
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
 
@@ -249,50 +396,141 @@ class State:
         task = asyncio.current_task()
         if delay > 0:
             await asyncio.sleep(delay)
+            doc = self.documents.get(uri)
+            if doc is not None and self._preview_due(doc):
+                await self._preview(doc)
         if self._lock is None:
             self._lock = asyncio.Lock()
         async with self._lock:
-            task.sleeping = False  # type: ignore[attr-defined]
             doc = self.documents.get(uri)
+            if doc is not None and doc.timer is task:
+                doc.waiting = False
             if doc is None or doc.current:
                 self._wake(doc)
                 return
-            batch = self._batch(doc)
+            batch = [doc] if doc.library else self._batch(doc)
             for member in batch:
                 member.stale = False
-            config = self.configs.for_file(doc.key, self.options, self.root)
-            inputs = [(d.uri, d.text, d.version) for d in batch]
             loop = asyncio.get_running_loop()
-            verify = self.options.verify
+            began = time.perf_counter()
             try:
-                snapshots = await loop.run_in_executor(
-                    self._executor, analyse, inputs, config, False
-                )
+                snapshots = await loop.run_in_executor(self._executor, self._analyse, batch)
             except Exception:  # an internal error of the checker: keep serving
                 log.exception("analysis of %s failed", uri)
                 snapshots = {}
-            published: list[Snapshot] = []
+            doc.analysis_seconds = time.perf_counter() - began
+            self._active = time.monotonic()
+            published: list[Findings] = []
             for d in batch:
                 snap = snapshots.get(d.uri)
                 current = self.documents.get(d.uri)
                 if snap is None or current is not d:
                     continue
                 if d.snapshot is None or not _newer(d.snapshot.version, snap.version):
+                    self._garbage += len(d.snapshot.text) + 1 if d.snapshot is not None else 0
                     d.snapshot = snap
                 if snap.version == d.version:
-                    published.append(snap)
+                    published.append(findings_of(snap))
                 self._wake(d)
             self._publish(uri, published)
-            if verify and published:
+            if self.options.verify and published and not doc.library:
                 self._schedule_solver(uri)
+            if snapshots:
+                await loop.run_in_executor(self._executor, _settle, list(snapshots.values()))
+            await self._collect_garbage()
 
-    def _publish(self, trigger: str, snapshots: list[Snapshot]) -> None:
-        if not snapshots:
+    def _analyse(self, batch: list[Document]) -> dict[str, Snapshot]:
+        """Snapshots of the batch's current texts (on the analysis thread)."""
+        from osc2lsp.snapshot import library_snapshot
+
+        doc = batch[0]
+        if doc.library:
+            return {doc.uri: library_snapshot(doc.uri, doc.key, doc.text, doc.version)}
+        config = self.configs.for_file(doc.key, self.options, self.root)
+        return analyse([(d.uri, d.text, d.version) for d in batch], config, False)
+
+    async def _collect_garbage(self) -> None:
+        """Free the snapshots replaced so far: after a pause, or now when many were."""
+        if self._collector is not None:
+            self._collector.cancel()
+            self._collector = None
+        if not self._garbage:
+            return
+        if self._garbage >= _GARBAGE_LIMIT:
+            await self._collect()
+            return
+        task = asyncio.get_running_loop().create_task(self._collect(_IDLE))
+        self._collector = task
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    async def _collect(self, after: float = 0) -> None:
+        """Collect now, or once ``after`` seconds have passed without edits or analyses."""
+        while after:
+            await asyncio.sleep(max(self._active + after - time.monotonic(), 0.01))
+            busy = any(d.timer is not None and not d.timer.done() for d in self.documents.values())
+            if not busy and time.monotonic() - self._active >= after:
+                break
+        self._garbage = 0
+        await asyncio.get_running_loop().run_in_executor(self._executor, _collect_all)
+
+    def _publish(self, trigger: str, findings: list[Findings]) -> None:
+        """Hand findings the client does not have yet to the publisher."""
+        from osc2lsp.features.diagnostics import result_id
+
+        news = []
+        for f in findings:
+            doc = self.documents.get(f.uri)
+            if doc is None or doc.library:
+                continue
+            seen = (f.version, result_id(f.diagnostics))
+            if doc.delivered == seen:
+                continue
+            news.append(f)
+        if not news:
             return
         try:
-            self.publish(trigger, snapshots)
+            self.publish(trigger, news)
         except Exception:
             log.exception("publishing diagnostics failed")
+
+    def pushed(self, findings: Findings) -> None:
+        """Note that ``findings`` were pushed to the client."""
+        self.delivered(findings.uri, findings)
+
+    # ---- the preview -------------------------------------------------------------------
+
+    def _preview_due(self, doc: Document) -> bool:
+        snap = doc.snapshot
+        return (
+            not doc.library
+            and snap is not None
+            and snap.version != doc.version
+            and doc.analysis_seconds * 1000 >= self.options.preview_after
+        )
+
+    async def _preview(self, doc: Document) -> None:
+        from osc2lsp.preview import preview
+
+        snap, lines, version = doc.snapshot, doc.lines, doc.version
+        assert snap is not None
+        loop = asyncio.get_running_loop()
+        try:
+            found = await loop.run_in_executor(self._previews, preview, snap, lines)
+        except Exception:
+            log.exception("preview of %s failed", doc.uri)
+            return
+        if found is None or self.documents.get(doc.uri) is not doc or doc.version != version:
+            return
+        if doc.snapshot is not None and doc.snapshot.version == version:
+            return  # the analysis was quicker
+        key = doc.key
+
+        def lines_of(k: str) -> LineIndex | None:
+            return lines if k == key else snap.lines_of(k)
+
+        doc.preview = Findings(doc.uri, key, version, tuple(found), lines_of, final=False)
+        self._publish(doc.uri, [doc.preview])
 
     # ---- the solver's phase ------------------------------------------------------------
 
@@ -309,14 +547,14 @@ class State:
         self._tasks.add(task)
         task.add_done_callback(self._tasks.discard)
 
-    def solver(self) -> ProcessPoolExecutor:
-        """The solver process (started on first use; `spawn`, since this process has
-        threads)."""
-        if self._solver is None:
-            self._solver = ProcessPoolExecutor(
-                max_workers=1, mp_context=multiprocessing.get_context("spawn")
-            )
+    @property
+    def solver(self) -> SolverWorker:
         return self._solver
+
+    @property
+    def executor(self) -> ThreadPoolExecutor:
+        """The analysis thread (one job at a time)."""
+        return self._executor
 
     async def _solve(self, uri: str, delay: float) -> None:
         """The findings of the solver's checks for a document that has been quiet."""
@@ -327,24 +565,20 @@ class State:
             return  # a newer edit is on its way; its analysis schedules this again
         batch = self._batch(doc)
         versions = {d.uri: (d.version, d.text) for d in batch}
-        config = _portable(self.configs.for_file(doc.key, self.options, self.root))
+        config = self.configs.for_file(doc.key, self.options, self.root)
         inputs = [(d.key, d.text) for d in batch]
-        loop = asyncio.get_running_loop()
         try:
-            found = await loop.run_in_executor(self.solver(), solver_findings, inputs, config)
+            found = await self._solver.findings(inputs, config)
         except Exception:
             log.exception("solver checks of %s failed", uri)
-            if self._solver is not None:
-                self._solver.shutdown(wait=False, cancel_futures=True)
-                self._solver = None
             return
         published = []
         for d in batch:
             if self.documents.get(d.uri) is not d or d.stale or not d.current:
                 continue
-            if (d.version, d.text) == versions[d.uri] and d.key in found:
+            if (d.version, d.text) == versions[d.uri] and d.key in found and d.snapshot:
                 d.snapshot = d.snapshot.with_findings(found[d.key])
-                published.append(d.snapshot)
+                published.append(findings_of(d.snapshot))
         self._publish(uri, published)
 
     def _wake(self, doc: Document | None) -> None:
@@ -365,11 +599,12 @@ class State:
     def _batch(self, doc: Document) -> list[Document]:
         """The document, the open documents that import it, and those it imports."""
         batch = {doc.uri: doc}
-        by_key = {d.key: d for d in self.documents.values()}
+        by_key = {d.key: d for d in self.documents.values() if not d.library}
         for other in self.documents.values():
             snap = other.snapshot
             if (
                 other is not doc
+                and not other.library
                 and snap is not None
                 and snap.program is not None
                 and doc.key in snap.program.files
@@ -409,11 +644,11 @@ class State:
             if snap is None:
                 config = self.configs.for_file(key, self.options, self.root)
                 uri = path.as_uri()
-                snap = (
-                    await loop.run_in_executor(
-                        self._executor, analyse, [(uri, text, None)], config, False
-                    )
-                )[uri]
+                inputs: list[tuple[str, str, int | None]] = [(uri, text, None)]
+                analysed = await loop.run_in_executor(
+                    self._executor, analyse, inputs, config, False
+                )
+                snap = analysed[uri]
                 self._closed[key] = (mtime, text, snap)
             found.append(snap)
         return found
@@ -423,12 +658,46 @@ class State:
         for task in list(self._tasks):
             task.cancel()
         self._executor.shutdown(wait=False, cancel_futures=True)
-        if self._solver is not None:
-            processes = list(getattr(self._solver, "_processes", {}).values())
-            self._solver.shutdown(wait=False, cancel_futures=True)
-            for process in processes:
-                process.terminate()
-            self._solver = None
+        self._previews.shutdown(wait=False, cancel_futures=True)
+        await self._solver.stop()
+
+    def kill(self) -> None:
+        """Stop the solver worker now (the server is leaving without a shutdown)."""
+        self._solver.kill()
+
+
+def _settle(snapshots: list[Snapshot]) -> None:
+    """After an analysis, on its thread: what requests will need, built now."""
+    for snap in snapshots:
+        snap.prepare()
+        _warm_features(snap)
+    # The analysis made its objects with collection off: collect its own garbage now,
+    # on this thread, and freeze the rest, so that no later young collection scans it
+    # (maybe in a request's thread); the snapshots it replaced wait for ``_collect``.
+    gc.collect(0)
+    gc.freeze()
+
+
+def _warm_features(snap: Snapshot) -> None:
+    """Ask for a completion and a hover once, on the analysis thread: what they keep
+    per snapshot (or load on first use) is then ready for the requests that follow."""
+    from osc2lsp.features.completion import complete
+    from osc2lsp.features.hover import hover
+
+    try:
+        complete(snap, snap.text, 0)
+        names = snap.names
+        if names:
+            hover(snap, names[len(names) // 2].start)
+    except Exception:  # the request itself will report it
+        log.debug("warming the features failed", exc_info=True)
+
+
+def _collect_all() -> None:
+    """Collect every generation, the frozen objects included, then freeze the survivors."""
+    gc.unfreeze()
+    gc.collect()
+    gc.freeze()
 
 
 def _osc_files(root: Path, limit: int):

@@ -54,6 +54,7 @@ from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts
 from osc2runner.instance import ScenarioInstance, instantiate
+from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
 from osc2runner.output.coverage import write_coverage
@@ -217,6 +218,9 @@ def compile_checked(
     model = analysis.programs[uri].model
     fresh_blackboard()
     run_ctx = RunContext(instance.road, instance.actors, dt=dt_control, seed=seed)
+    run_ctx.traffic_lights = {
+        light.name: light for light in traffic_lights(model, instance.scenario, instance.values)
+    }
     env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
@@ -508,6 +512,10 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "witness": prepared.instance.witness.to_json(),
         "actors": actors,
         "lights": dict(ctx.lights),
+        "traffic_lights": {
+            name: {"x": light.x, "y": light.y, "yaw": light.yaw, "group": light.group}
+            for name, light in ctx.traffic_lights.items()
+        },
         "coverage": {
             "file": "coverage.json",
             "items": {

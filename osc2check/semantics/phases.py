@@ -8,7 +8,7 @@
   a ``parallel`` that begins at time 0, or the first member of a ``serial`` that
   does. The members of a ``one_of`` are alternatives: none of them is known to
   run at time 0 (:attr:`TimeZero.alternatives` lists them).
-* **Modifier timing** (§7.3.5, the ``at`` argument of movement modifiers):
+* **Modifier timing** (§8.9, the ``at`` argument of movement modifiers):
   ``start`` constrains the start of the phase only, ``end`` its end (reached
   when the phase ends), ``all`` (the default) the whole phase.
 """

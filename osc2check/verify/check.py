@@ -14,6 +14,7 @@ another file, at the scenario's name, so the file being checked shows it.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
@@ -43,6 +44,7 @@ from osc2check.verify.z3_backend import (
     never_holds,
     solve,
 )
+from osc2check.world.catalogue import WALKING_SPEED
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -216,7 +218,11 @@ def verify_program(
                 report(
                     messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader, MIN_TIME_GAP)
                 )
+            for c, person in _running_persons(problem, active, outcome, rlimit):
+                report(messages.person_faster_than_walking(c.span, c.text, person, WALKING_SPEED))
         for default, by in outcome.overridden:
+            if by is not None and by.kind == "argument":
+                continue  # an invocation's argument: what a parameter's default is for
             if _user_written(default, program) and (by is None or _user_written(by, program)):
                 report(messages.default_overridden(default, by))
         for later, earlier in outcome.conflicting_defaults:
@@ -254,6 +260,39 @@ def _unsafe_gaps(
             pass
         if never_holds(problem, active, safe, rlimit):
             yield gap
+
+
+# a speed asked of an actor: a `speed` modifier's or a `change_speed` action's argument
+_ASKED_SPEED = re.compile(r"^(?P<actor>[^.@]+)\.[^.@]+@\d+\.(?:speed@\d+\.speed|target)$")
+
+
+def _running_persons(
+    problem: ir.ConstraintProblem,
+    active: list[ir.Constraint],
+    outcome: SolverOutcome,
+    rlimit: int,
+) -> Iterator[tuple[ir.Constraint, str]]:
+    """Speeds asked of a person above WALKING_SPEED in every model (L515)."""
+    placement = problem.placement
+    if placement is None:
+        return
+    for c in active:
+        if c.kind not in ("modifier", "argument") or c.subject is None:
+            continue
+        match = _ASKED_SPEED.match(c.subject.name)
+        if match is None or c.subject.unit != "kph":
+            continue
+        actor = placement.actors.get(match["actor"])
+        if actor is None or actor.kind != "person":
+            continue
+        walking = ir.op("<=", ir.Ref(c.subject), ir.const(WALKING_SPEED))
+        try:
+            if quick.evaluate(walking, outcome.values) is True:
+                continue
+        except (KeyError, TypeError, ZeroDivisionError):
+            pass
+        if never_holds(problem, active, walking, rlimit):
+            yield c, actor.name
 
 
 def _user_written(c: ir.Constraint, program: Program) -> bool:

@@ -50,6 +50,11 @@ class Const:
     value: Fraction | bool
 
 
+# One item of a list literal bound to a list member: ("ref", path of a struct parameter)
+# or ("value", an exact constant; an enum member by name)
+ListItem = tuple[str, "Fraction | bool | str"]
+
+
 @dataclass(frozen=True, slots=True)
 class Ref:
     var: Var
@@ -160,6 +165,10 @@ class ConstraintProblem:
     # plausible values where the constraints leave a choice: the witness draws there
     # when it can (``placement._preferences``); never a constraint
     preferred: dict[str, tuple[Fraction, Fraction]] = field(default_factory=dict)
+    # list members of struct parameters given by a list literal (``keep(it.points ==
+    # [p1, p2])``): their items, each a struct parameter's path or a constant
+    # (``osc2check.verify.structs``)
+    lists: dict[str, tuple[ListItem, ...]] = field(default_factory=dict)
 
     def var(self, name: str, sort: str, span: Span | None = None, **kw: Unpack[VarDetails]) -> Var:
         existing = self.variables.get(name)

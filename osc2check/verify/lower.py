@@ -37,6 +37,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.structs import is_struct, struct_leaves
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
 _DISPLAY_UNITS: dict[tuple[int, ...], str] = {  # dimension -> unit the witness shows
@@ -79,11 +80,14 @@ def _join(prefix: str, name: str) -> str:
 def invocation_path(
     prefix: str, actor_path: str | None, label: ast.Name | None, name: str, inv: ast.Invocation
 ) -> str:
-    """The instance path of an invocation: under the enclosing instance and its actor,
-    named by its label, else ``name@line`` (``hero.cut_in@12``; inside that instance,
-    ``hero.cut_in@12.npc.drive@8``). The witness names an invoked scenario's parameters
-    under it; the runner reads them there."""
-    own = label.text if label is not None else f"{name}@{inv.span.line}"
+    """The instance path of an invocation: under the enclosing instance, its label (a
+    label is unique in its scenario: ``tight``, ``tight.passing``), else its actor and
+    ``name@line`` (``hero.cut_in@12``; inside that instance, ``hero.cut_in@12.npc.drive@8``).
+    The witness names an invoked scenario's parameters under it; the runner reads them
+    there, and names the instance's events after it."""
+    if label is not None:
+        return _join(prefix, label.text)
+    own = f"{name}@{inv.span.line}"
     return _join(_join(prefix, actor_path) if actor_path else prefix, own)
 
 
@@ -187,6 +191,8 @@ class Lowerer:
                 # the type's own constraints come first: the instance's `with:` block is
                 # more specific, so its defaults override the type's (see attach_defaults)
                 self._compound(path, type_symbol)
+            if scope.owner is not None and scope.owner.kind is SymbolKind.SCENARIO:
+                self.struct_variables(path, sym)
             if decl.default is not None:
                 self.pending_defaults.append(
                     (path, sym, decl, scope, len(self.problem.constraints), self._origin(scope))
@@ -255,6 +261,8 @@ class Lowerer:
         return f"{scope.prefix}|{self.body}"
 
     def _keep(self, keep: ast.KeepConstraint, scope: InstanceScope, kind: str) -> None:
+        if keep.strength != "default" and self._list_binding(keep.expr, scope):
+            return
         try:
             term = self._term(keep.expr, scope)
         except NotEncodable as reason:
@@ -409,6 +417,64 @@ class Lowerer:
         return ir.op("==", ir.Ref(var), coerce(var, self._term(value, scope)))
 
     # ---- paths and variables ------------------------------------------------------------
+
+    def _list_binding(self, expr: ast.Node, scope: InstanceScope) -> bool:
+        """``keep(s.points == [p1, p2])`` on a list member of a struct parameter: the
+        list's items recorded in ``problem.lists`` (each item's own constraints are its
+        leaves'); False when ``expr`` is not of that form."""
+        if not (
+            isinstance(expr, ast.Binary)
+            and expr.op == "=="
+            and isinstance(expr.left, ast.MemberAccess)
+            and isinstance(expr.right, ast.ListLiteral)
+        ):
+            return False
+        member = self.model.references.get(expr.left.member)
+        if member is None or member.type is None or member.type.kind is not T.Kind.LIST:
+            return False
+        path = self._path(expr.left, scope)
+        if path is None:
+            return False
+        element = member.type.element
+        items: list[ir.ListItem] = []
+        for item in expr.right.items:
+            if is_struct(element):
+                ref = self._path(item, scope)
+                if ref is None:
+                    return False
+                items.append(("ref", ref))
+                continue
+            if element is not None and element.kind is T.Kind.ENUM:
+                name = item.member.text if isinstance(item, ast.EnumRef) else None
+                if isinstance(item, ast.NameRef):
+                    name = item.name.name.text
+                if name is None:
+                    return False
+                items.append(("value", name))
+                continue
+            try:
+                term = self._term(item, scope)
+            except NotEncodable:
+                return False
+            if not isinstance(term, ir.Const):
+                return False
+            items.append(("value", term.value))
+        self.problem.lists[path] = tuple(items)
+        return True
+
+    def struct_variables(self, path: str, sym: Symbol) -> None:
+        """A variable for every scalar leaf of a struct-typed scenario parameter
+        (:mod:`osc2check.verify.structs`), so the witness gives the whole struct a value."""
+        if sym.kind is not SymbolKind.FIELD or not is_struct(sym.type):
+            return
+        struct = _type_symbol(sym)
+        assert struct is not None
+        self._compound(path, struct)
+        for leaf, leaf_sym in struct_leaves(self.model, struct):
+            var = self._scalar_var(_join(path, leaf), leaf_sym)
+            if var is not None and (var.unit == "deg" or leaf == "z" or leaf.endswith(".z")):
+                # left open, an angle or a height is 0 (level, on the road), not a draw
+                self.problem.preferred.setdefault(var.name, (Fraction(0), Fraction(0)))
 
     def _scalar_var(self, path: str, sym: Symbol) -> ir.Var | None:
         existing = self.problem.variables.get(path)

@@ -96,6 +96,8 @@ class Witness:
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
     unused_map: str | None = None  # a map the scenario names that placement could not use
+    # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
+    lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
 
     def parameter(self, name: str) -> Value | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -113,6 +115,10 @@ class Witness:
             "actors": [a.to_json() for a in self.actors],
             "parameters": [p.to_json() for p in self.parameters],
             "notes": list(self.notes),
+            "lists": {
+                k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
+                for k, items in self.lists.items()
+            },
         }
 
     def table(self) -> str:
@@ -259,4 +265,5 @@ def build_witness(
         tuple(actors),
         tuple(notes),
         unused,
+        dict(problem.lists),
     )

@@ -29,6 +29,7 @@ from fractions import Fraction
 
 __all__ = [
     "ACTOR_KINDS",
+    "WALKING_SPEED",
     "CATEGORIES",
     "ActorRow",
     "MODELS",
@@ -39,6 +40,10 @@ __all__ = [
 ]
 
 KPH = Fraction(5, 18)  # m/s per kph
+
+#: how fast an adult walks at most (m/s); faster is running, which a scenario must mean
+#: (the checker's L515; a person's top speed is its row's ``max_speed``)
+WALKING_SPEED = Fraction(3)
 
 #: The library actor types the catalogue describes, most specific first.
 ACTOR_KINDS = ("vehicle", "person", "animal", "stationary_object")

@@ -11,7 +11,13 @@ a multi-line string) move with their statement's first line but keep their
 own layout.
 
 It changes whitespace only: a file whose token sequence would change, or that
-has syntax errors, is returned as None (not formatted). The module imports
+has syntax errors, is returned as None (not formatted).
+
+OSC2 is indentation-sensitive, so the indent unit is the file's own
+(``indent_style``: tabs or the width its first-level blocks use), not what an
+editor's formatting options say: Neovim, for one, asks for tabs of width 8
+unless told otherwise, and a file indented with spaces must not be re-indented
+with tabs because of that. The module imports
 neither pygls nor lsprotocol, so ``osc2check`` could expose it as
 ``osc2check format``.
 """
@@ -119,6 +125,35 @@ class FormatOptions:
     @property
     def unit(self) -> str:
         return "\t" if self.use_tabs else " " * self.indent_width
+
+
+def indent_style(text: str) -> FormatOptions | None:
+    """The indent unit the file uses: tabs when most first-level lines start with a tab,
+    else spaces as wide as most of them; None when no line is indented."""
+    lexed = tokenize(text)
+    laid_out, _ = indent(lexed.tokens, text)
+    lines = _NEWLINE.split(text)
+    counts: dict[str, int] = {}
+    depth, at_start = 0, True
+    for tok in laid_out:
+        if tok.type == "_INDENT":
+            depth, at_start = depth + 1, True
+        elif tok.type == "_DEDENT":
+            depth, at_start = depth - 1, True
+        elif tok.type == "_NL":
+            at_start = True
+        elif at_start:
+            at_start = False
+            if depth == 1 and tok.line <= len(lines):
+                line = lines[tok.line - 1]
+                lead = line[: len(line) - len(line.lstrip(" \t"))]
+                unit = "\t" if lead.startswith("\t") else lead
+                if unit:
+                    counts[unit] = counts.get(unit, 0) + 1
+    if not counts:
+        return None
+    unit = max(counts, key=lambda u: (counts[u], u == "\t", -len(u)))
+    return FormatOptions(use_tabs=True) if unit == "\t" else FormatOptions(indent_width=len(unit))
 
 
 def format_text(text: str, options: FormatOptions | None = None) -> str | None:

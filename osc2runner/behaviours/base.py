@@ -130,7 +130,7 @@ class ScenarioBehaviour(FastLeaf, py_trees.behaviour.Behaviour):
 class Modifier:
     """A constraint of one modifier application on its action's actor (see the module docs).
 
-    The standard's timing (``at``, §7.3.7 "movement modifiers"):
+    The standard's timing (``at``, §8.9 "movement modifiers"):
 
     * ``start``: the constraint holds when the phase starts. For a phase that
       begins at time 0 the checker's witness placed the actor so; for a later

@@ -32,6 +32,7 @@ HEAVY_RAIN_MMPH = 50.0
 #: visual range (m) below which it is foggy at all
 FOG_RANGE = 1000.0
 _MPS_TO_MMPH = 3.6e6
+_RECORDED = "recorded, readable in env.weather; no effect on dynamics"
 
 
 def friction_problem(value: object) -> str | None:
@@ -74,6 +75,15 @@ def _argument(use: ActionUse, name: str) -> ast.Node:
     return positional[0].value if len(positional) == 1 else node
 
 
+def update_weather(action: InstantAction, part: str) -> None:
+    """Write the action's arguments into ``env.weather.<part>`` (what expressions read);
+    parameters not given leave that part unchanged."""
+    target = getattr(action.ctx.weather, part)
+    for key, value in action.args.items():
+        if hasattr(target, key):
+            setattr(target, key, value)
+
+
 @action("environment", "rain")
 class Rain(InstantAction):
     """``rain(intensity)``: rain level = intensity / 50 mm/h (capped at 1)."""
@@ -88,6 +98,7 @@ class Rain(InstantAction):
         why = _rain_problem(self.args["intensity"])
         if why is not None:
             raise ActionError(why)
+        update_weather(self, "rain")
         mmph = float(self.args["intensity"]) * _MPS_TO_MMPH
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.world
@@ -99,13 +110,14 @@ class Rain(InstantAction):
         )
 
 
-@action("environment", "fog", note="recorded; no effect on dynamics")
+@action("environment", "fog", note=_RECORDED)
 class Fog(InstantAction):
     """``fog(visual_range)``: fog level = 1 - range / 1000 m (recorded)."""
 
     def start(self) -> None:
         if "visual_range" not in self.args:
             return
+        update_weather(self, "fog")
         visual = float(self.args["visual_range"])
         level = min(max(1.0 - visual / FOG_RANGE, 0.0), 1.0)
         self.ctx.world.set_weather(fog=level)
@@ -132,34 +144,43 @@ class SetRoadFriction(InstantAction):
 class Recorded(InstantAction):
     """An environment action with no physical effect here: its arguments go to the event log."""
 
+    part: str | None = None  # the part of ``env.weather`` it sets
+
     def start(self) -> None:
+        if self.part is not None:
+            update_weather(self, self.part)
         detail = ", ".join(
             f"{k}: {v:.6g}" if isinstance(v, float) else f"{k}: {v}" for k, v in self.args.items()
         )
         self.ctx.record("environment", self.use.symbol.name, detail)
 
 
-_RECORDED = "recorded; no effect on dynamics"
-
-
 @action("environment", "air", note=_RECORDED)
 class RecordedAir(Recorded):
     """``air``: recorded in the event log only."""
+
+    part = "air"
 
 
 @action("environment", "snow", note=_RECORDED)
 class RecordedSnow(Recorded):
     """``snow``: recorded in the event log only."""
 
+    part = "snow"
+
 
 @action("environment", "wind", note=_RECORDED)
 class RecordedWind(Recorded):
     """``wind``: recorded in the event log only."""
 
+    part = "wind"
+
 
 @action("environment", "clouds", note=_RECORDED)
 class RecordedClouds(Recorded):
     """``clouds``: recorded in the event log only."""
+
+    part = "clouds"
 
 
 @action("environment", "assign_celestial_position", note=_RECORDED)

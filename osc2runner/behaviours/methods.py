@@ -8,11 +8,12 @@ mode measures between the boxes along the asked axis.
 
 from __future__ import annotations
 
+import datetime
 import math
 
 from osc2runner.compile.expressions import PositionOf
 from osc2runner.compile.registry import method
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 
 __all__ = [
@@ -150,3 +151,93 @@ def time_to_collision(ctx: RunContext, subject: Actor, reference: Actor) -> floa
     if closing <= 1e-9:
         return math.inf
     return abs(gap) / closing
+
+
+@method("physical_object", "distance_to_xyz_point")
+def distance_to_xyz_point(
+    ctx: RunContext,
+    subject: Actor,
+    point: object,
+    direction: str,
+    mode: str = "reference_points",
+) -> float:
+    """Distance from the subject to a world point, in the subject's frame as
+    ``object_distance`` (``bounding_boxes``: from the subject's box)."""
+    me = ctx.states[subject.name]
+    position = getattr(point, "position", point)
+    dx = float(position.x) - me.x  # type: ignore[attr-defined]
+    dy = float(position.y) - me.y  # type: ignore[attr-defined]
+    c, s = math.cos(me.yaw), math.sin(me.yaw)
+    lon, lat = dx * c + dy * s, -dx * s + dy * c
+    boxes = mode == "bounding_boxes"
+    if direction == "longitudinal":
+        return _shrink(lon, 0.5 * me.length) if boxes else lon
+    if direction == "lateral":
+        return _shrink(lat, 0.5 * me.width) if boxes else lat
+    if direction == "vertical":
+        return 0.0
+    if boxes:
+        return math.hypot(_shrink(lon, 0.5 * me.length), _shrink(lat, 0.5 * me.width))
+    return math.hypot(lon, lat)
+
+
+@method("environment", "local_to_unix_time")
+def local_to_unix_time(
+    ctx: RunContext,
+    subject: object,
+    year: int,
+    month: int,
+    day: int,
+    hour: int,
+    minute: int,
+    second: int,
+    time_zone: float,
+) -> float:
+    """Seconds since 1970-01-01 00:00 UTC of a local date and time ``time_zone`` hours
+    ahead of UTC (proleptic Gregorian calendar, no leap seconds)."""
+    try:
+        local = datetime.datetime(
+            int(year), int(month), int(day), int(hour), int(minute), int(second)
+        )
+    except ValueError as exc:
+        raise RunFault(f"local_to_unix_time: {exc}") from None
+    epoch = datetime.datetime(1970, 1, 1)
+    return (local - epoch).total_seconds() - float(time_zone) * 3600.0
+
+
+# ---------------------------------------------------------------------- shapes
+
+
+def _shape_args(subject: object) -> tuple[str, float | None, float]:
+    profile = str(getattr(subject, "rate_profile", "none"))
+    peak = getattr(subject, "rate_peak", None)
+    return profile, (float(peak) if peak is not None else None), float(subject.target)  # type: ignore[attr-defined]
+
+
+@method("any_shape", "duration")
+def shape_duration(ctx: RunContext, subject: object) -> float:
+    """Time a ``common_*_shape`` takes from 0 to its ``target`` at its ``rate_peak``
+    (``constant``, ``none``: at the peak throughout; ``smooth``: a half-sine rate, whose
+    mean is 2/pi of the peak); infinite without a peak."""
+    profile, peak, target = _shape_args(subject)
+    if peak is None or peak <= 0.0:
+        return math.inf
+    base = abs(target) / peak
+    return base * (math.pi / 2.0) if profile == "smooth" else base
+
+
+@method("any_acceleration_shape", "compute")
+@method("any_speed_shape", "compute")
+@method("any_position_shape", "compute")
+@method("any_lateral_shape", "compute")
+def shape_compute(ctx: RunContext, subject: object, time: float) -> float:
+    """The shape's value ``time`` after the phase start, from 0 towards ``target`` (see
+    :func:`shape_duration`); the target once its duration has passed."""
+    profile, _peak, target = _shape_args(subject)
+    duration = shape_duration(ctx, subject)
+    if not math.isfinite(duration) or duration <= 0.0 or time >= duration:
+        return target
+    u = max(time, 0.0) / duration
+    if profile == "smooth":
+        return target * 0.5 * (1.0 - math.cos(math.pi * u))
+    return target * u

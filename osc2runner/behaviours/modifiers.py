@@ -62,6 +62,8 @@ def _lateral(action: ActionBehaviour) -> Any:
     ctrl = action.controller
     if ctrl is None or getattr(ctrl, "lateral", None) is None:
         raise ActionError("this actor has no lateral control (only vehicles change lanes)")
+    if getattr(ctrl, "yaw", None) is not None:  # a walker: heads for the lateral target
+        ctrl.yaw = None
     return ctrl.lateral
 
 
@@ -553,9 +555,14 @@ class _Heading(Modifier):
         raise NotImplementedError
 
     def realise(self, action: ActionBehaviour) -> None:
+        ctrl = action.controller
+        if ctrl is not None and hasattr(ctrl, "yaw"):  # a walker turns at once
+            ctrl.yaw = action.ctx.road.heading + self.wanted(action)
+            ctrl.lateral.release()
+            return
         raise ActionError(
-            f"{self.use.name}() with `at: {self.at}` is not supported: the runner steers "
-            "along the lanes; give the heading `at: start`"
+            f"{self.use.name}() with `at: {self.at}` is not supported for vehicles: the "
+            "runner steers them along the lanes or a path; give the heading `at: start`"
         )
 
     def holds(self, action: ActionBehaviour) -> str | None:
@@ -566,7 +573,7 @@ class _Heading(Modifier):
         return f"the heading differs by {math.degrees(diff):+.1f} deg"
 
 
-@modifier("yaw", note="at: start (the witness's heading), else checked")
+@modifier("yaw", note="vehicles: at: start (the witness's heading), else checked; walkers turn")
 class Yaw(_Heading):
     """``yaw(angle, at: start)``: the heading relative to the road when the phase starts."""
 
@@ -579,7 +586,7 @@ class Yaw(_Heading):
         pose.yaw = self.wanted(action)
 
 
-@modifier("orientation", note="at: start (yaw), else checked")
+@modifier("orientation", note="yaw; vehicles: at: start, else checked; walkers turn")
 class Orientation(_Heading):
     """``orientation(yaw: a, at: start)``: the heading relative to the road at the phase start."""
 
@@ -613,6 +620,15 @@ class AvoidCollisions(Modifier):
 @modifier("physical_movement", note="always physical; accepted, no effect")
 class PhysicalMovement(Modifier):
     """``physical_movement(...)``: every movement in this runner is physical; nothing to do."""
+
+
+@modifier(
+    "location",
+    actor="stationary_object",
+    note="scenario member: the object's world pose (instance.locations)",
+)
+class Location(Modifier):
+    """``box.location(pose: p)``: the object is built at ``p`` (before compiling)."""
 
 
 @modifier(

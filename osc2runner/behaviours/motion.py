@@ -10,9 +10,11 @@ at the end of the lateral path; ``change_*_gap``: the gap held).
 
 from __future__ import annotations
 
+import math
+
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction
 from osc2runner.behaviours.driving import (
     gap_between,
     lane_change_duration,
@@ -26,6 +28,11 @@ from osc2runner.compile.registry import action
 from osc2runner.instance.actors import Actor
 
 __all__ = [
+    "AssignAcceleration",
+    "ChangeAcceleration",
+    "KeepAcceleration",
+    "acceleration_limits",
+    "command_acceleration",
     "ChangeLane",
     "ChangeSpeed",
     "Drive",
@@ -274,3 +281,84 @@ ChangeSpaceHeadway = _gap("change_space_headway", bumpers=False, timed=False, ke
 KeepSpaceHeadway = _gap("keep_space_headway", bumpers=False, timed=False, keep=True)
 ChangeTimeHeadway = _gap("change_time_headway", bumpers=False, timed=True, keep=False)
 KeepTimeHeadway = _gap("keep_time_headway", bumpers=False, timed=True, keep=True)
+
+
+# ---------------------------------------------------------------------- acceleration
+
+
+def acceleration_limits(actor: Actor) -> tuple[float, float]:
+    """``(max acceleration, max deceleration)`` of an actor's catalogue row (m/s², both > 0)."""
+    row = actor.row
+    if row is None:
+        return (math.inf, math.inf)
+    return (float(row.max_acceleration), float(row.max_deceleration))
+
+
+def command_acceleration(action: ActionBehaviour, accel: float, jerk: float = math.inf) -> float:
+    """Command ``accel`` (clamped to the actor's limits; the clamp is logged) from now on;
+    returns the acceleration commanded."""
+    ctrl = action.controller
+    if ctrl is None:
+        raise ActionError("this actor has no driver (it cannot move)")
+    up, down = acceleration_limits(action.actor)
+    commanded = min(max(accel, -down), up)
+    if commanded != accel:
+        action.ctx.record(
+            "limit",
+            action.use.label,
+            f"acceleration {accel:.3g} m/s² limited to {commanded:.3g} m/s² "
+            f"(the {action.actor.blueprint}'s limits: +{up:.3g} / -{down:.3g} m/s²)",
+            actors=(action.actor.name,),
+        )
+    top = float(getattr(action.actor.params, "max_speed", math.inf))
+    ctrl.speed.set_acceleration(commanded, jerk, (0.0, top))
+    return commanded
+
+
+@action("movable_object", "assign_acceleration")
+class AssignAcceleration(InstantAction):
+    """``assign_acceleration(acceleration)``: accelerate at that rate from now on (at once),
+    until standstill or the top speed, or until another action sets the speed."""
+
+    def start(self) -> None:
+        command_acceleration(self, float(self.args["acceleration"]))
+
+
+@action("movable_object", "change_acceleration")
+class ChangeAcceleration(ActionBehaviour):
+    """``change_acceleration(target, rate_profile, rate_peak)``: the acceleration moves to
+    ``target`` at the jerk ``rate_peak`` (``none``: at once; ``smooth``/``constant``
+    without a peak: 10 m/s³; ``asap``: 50 m/s³); ends when the commanded acceleration has
+    reached it (or the speed a bound); the acceleration then persists."""
+
+    def start(self) -> None:
+        peak = self.args.get("rate_peak")
+        kind = str(self.args.get("rate_profile", "none"))
+        if peak is not None:
+            jerk = float(peak)
+        else:
+            jerk = JERK_BY_PROFILE.get(kind, math.inf)
+        if self.phase and kind in ("none", "constant") and peak is None:
+            # spread over the phase: the change takes the planned duration
+            change = float(self.args["target"]) - self.controller.speed.a_ref
+            jerk = max(abs(change) / self.phase, 1e-3) if abs(change) > 1e-9 else math.inf
+        self.target = command_acceleration(self, float(self.args["target"]), jerk)
+
+    def step(self) -> Status:
+        if self.controller.speed.accel_reached():
+            return Status.SUCCESS
+        return Status.RUNNING
+
+
+@action("movable_object", "keep_acceleration")
+class KeepAcceleration(ActionBehaviour):
+    """``keep_acceleration()``: hold the acceleration the actor has when the phase starts."""
+
+    finite = False
+
+    def start(self) -> None:
+        command_acceleration(self, self.state.accel)
+
+
+#: jerk of change_acceleration by rate profile when no rate_peak is given (m/s³)
+JERK_BY_PROFILE = {"none": math.inf, "constant": 10.0, "smooth": 10.0, "asap": 50.0}

@@ -42,14 +42,20 @@ class AssignPosition(InstantAction):
     modifiers_realised = True
 
     def start(self) -> None:
+        given = [k for k in ("position", "route_point", "odr_point") if k in self.args]
+        if len(given) > 1:
+            raise ActionError(f"give one of {', '.join(given)}, not several")
+        if given == ["position"]:
+            self._world_position(self.args["position"])
+            return
         if self.at_scenario_start:
             return
-        for key in ("position", "route_point", "odr_point"):
-            if key in self.args:
-                raise ActionError(
-                    f"assign_position({key}: ...) needs a road network; place the "
-                    "actor with the lane() and position() modifiers"
-                )
+        for key in given:
+            raise ActionError(
+                f"assign_position({key}: ...) needs a road network (maps); place the "
+                "actor with `position:` in world coordinates or the lane() and "
+                "position() modifiers"
+            )
         ctx = self.ctx
         name = self.actor.name
         state = self.state
@@ -75,6 +81,35 @@ class AssignPosition(InstantAction):
             if getattr(ctrl, "lateral", None) is not None:
                 ctrl.lateral.keep_offset(ctx.states[name].t)
 
+    def _world_position(self, position: object) -> None:
+        """``assign_position(position: p)``: the actor's centre at world ``(p.x, p.y)``
+        (``z`` is not used: the world is flat); heading and speed are kept, or come from
+        the ``yaw``/``orientation`` and ``speed`` modifiers. At time 0 too: the checker
+        places actors by road coordinates only."""
+        try:
+            x, y = float(position.x), float(position.y)  # type: ignore[attr-defined]
+        except AttributeError:
+            raise ActionError("`position` is not a position_3d") from None
+        state = self.state
+        if self.ctx.world.kind(self.actor.name) == "obstacle":  # type: ignore[union-attr]
+            raise ActionError("a stationary object is placed with its `location` modifier")
+        pose = AssignedPose()
+        for modifier in self.use.modifiers:
+            if modifier.use.name in ("speed", "yaw", "orientation"):
+                modifier.evaluate()
+                modifier.assign(pose, self)
+        yaw = state.yaw if pose.yaw is None else self.ctx.road.heading + pose.yaw
+        speed = state.speed if pose.speed is None else pose.speed
+        self.ctx.world.place(self.actor.name, x, y, yaw, speed)  # type: ignore[union-attr]
+        self.ctx.refresh()
+        ctrl = self.controller
+        if ctrl is not None:
+            set_speed(ctrl, speed, "none")
+            if hasattr(ctrl, "yaw"):
+                ctrl.yaw = yaw
+            elif ctrl.lateral is not None:
+                ctrl.lateral.keep_offset(self.ctx.states[self.actor.name].t)
+
 
 @action("movable_object", "assign_speed")
 class AssignSpeed(InstantAction):
@@ -88,14 +123,18 @@ class AssignSpeed(InstantAction):
             set_speed(self.controller, speed, "none")
 
 
-@action("movable_object", "assign_orientation", note="yaw only")
+@action("movable_object", "assign_orientation", note="yaw (the world is flat: roll, pitch 0)")
 class AssignOrientation(InstantAction):
-    """``assign_orientation(orientation)``: the heading at once (yaw relative to the road)."""
+    """``assign_orientation(orientation)``: the heading at once, the world yaw of the
+    ``orientation_3d`` (roll and pitch are not used: the world is flat). Walkers walk on
+    in the new heading; vehicles keep their lateral position on the road."""
 
     def start(self) -> None:
         orientation = self.args.get("orientation")
         yaw = getattr(orientation, "yaw", None)
         if yaw is None:
-            raise ActionError("assign_orientation needs an orientation with a yaw")
-        if not self.at_scenario_start:
-            _teleport(self, yaw=self.ctx.road.heading + float(yaw))
+            raise ActionError("assign_orientation needs an orientation_3d with a yaw")
+        _teleport(self, yaw=float(yaw))
+        ctrl = self.controller
+        if ctrl is not None and hasattr(ctrl, "yaw"):
+            ctrl.yaw = float(yaw)

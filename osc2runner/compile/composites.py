@@ -42,6 +42,7 @@ __all__ = [
     "Parallel",
     "ScenarioRoot",
     "Serial",
+    "end_instances",
     "running_endless",
     "running_open",
     "tick_child",
@@ -105,7 +106,7 @@ class Serial(_Fast, py_trees.composites.Sequence):
 
 
 #: ``parallel(overlap: ...)`` kinds whose other members end no later than the first
-#: one (§7.3.9: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
+#: one (§7.6.2: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
 #: ``inside`` within it): the composition ends when its first member ends.
 ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
 
@@ -205,7 +206,7 @@ class Parallel(_Fast, py_trees.composites.Parallel):
 
 
 class OneOf(_Fast, py_trees.composites.Parallel):
-    """``one_of``: exactly one member's behaviour happens (§7.3.9).
+    """``one_of``: exactly one member's behaviour happens (§7.6.2).
 
     Members that only wait (they invoke no action or scenario: ``wait``, ``emit``,
     ``call``) command nothing and run alongside; among the members that act, one
@@ -358,6 +359,13 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
     def elapsed(self) -> float:
         return (self.ctx.tick - self.start_tick) * self.ctx.dt
 
+    def may_end_now(self) -> bool:
+        """Whether ending the phase now keeps its duration: its lower bound has passed
+        and what runs under it cannot end on its own."""
+        if self.status != RUNNING or self.low is None:
+            return False
+        return self.elapsed() >= self.low - 1e-9 and running_endless(self.decorated)
+
     def tick_status(self) -> Status:
         if self.status != RUNNING:
             self.initialise()
@@ -377,6 +385,7 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
                 return FAILURE
             if child.status == RUNNING:
                 mark_ended_on_time(child)
+                end_instances(child)
                 child.stop(INVALID)
             self.feedback_message = f"ended at {elapsed:.3f} s"
             self.stop(SUCCESS)
@@ -401,11 +410,17 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
 def running_endless(node: Behaviour) -> bool:
     """True when ``node`` runs and everything running under it is an action that cannot
     end on its own (``drive()``, ``keep_speed()``: their ``endless`` is set), so that
-    a duration bound ending them is their planned end, not a goal missed."""
+    a duration bound ending them is their planned end, not a goal missed. A phase with
+    its own ``duration`` is endless only once its lower bound has passed; one with an
+    ``until`` ends on its event, never before."""
     if node.status != RUNNING:
         return False
     if getattr(node, "endless", False):
         return True
+    if isinstance(node, DurationBound):
+        return node.may_end_now()
+    if getattr(node, "ends_on_event", False):
+        return False
     running = [c for c in _behaviour_of(node) if c.status == RUNNING]
     return bool(running) and all(running_endless(c) for c in running)
 
@@ -453,17 +468,26 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
 
     Handlers run for as long as the ``do`` runs and are ticked first, so they
     see this tick's edges; the root's status is the ``do``'s. The scenario's
-    predefined events ``start`` and ``end`` (or ``fail``) are emitted here.
+    predefined events ``start`` and ``end`` (or ``fail``) are emitted here; the
+    handlers are ticked once more after ``end``/``fail``, so ``on @end:`` runs.
     """
 
     def __init__(
-        self, name: str, do: Behaviour, handlers: Sequence[Behaviour] = (), path: str = ""
+        self,
+        name: str,
+        do: Behaviour,
+        handlers: Sequence[Behaviour] = (),
+        path: str = "",
+        initialisers: Sequence[Callable[[], None]] = (),
+        emits_events: bool = True,
     ) -> None:
         super().__init__(
             name, policy=ParallelPolicy.SuccessOnSelected(children=[do]), children=[do, *handlers]
         )
         self.do = do
         self.path = path  # the instance's path: its events are `<path>.start` ...
+        self.initialisers = list(initialisers)  # run when the instance starts (its `var`s)
+        self.emits_events = emits_events  # False when a label of the same name emits them
         self.ctx: Any = None
 
     def _event(self, name: str) -> str:
@@ -472,22 +496,49 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
     def setup(self, **kwargs: Any) -> None:
         self.ctx = kwargs.get("context", self.ctx)
 
+    def _emit(self, name: str) -> None:
+        if self.ctx is not None and self.emits_events:
+            self.ctx.emit(self._event(name), kind=name)
+
     def tick_status(self) -> Status:
         if self.status != RUNNING:
             _reset(self.children)
-            if self.ctx is not None:
-                self.ctx.emit(self._event("start"), kind="start")
+            for initialise in self.initialisers:
+                initialise()
+            self._emit("start")
         for child in self.children[1:]:
             tick_child(child)
         status = tick_child(self.do)
         if status == RUNNING:
             self.status = RUNNING
             return RUNNING
-        if self.ctx is not None:
-            end = status == SUCCESS
-            self.ctx.emit(self._event("end" if end else "fail"), kind="end" if end else "fail")
+        self._end("end" if status == SUCCESS else "fail")
         self.stop(status)
         return status
+
+    def _end(self, event: str) -> None:
+        """Emit ``end`` (or ``fail``) and let the handlers see it."""
+        self._emit(event)
+        for child in self.children[1:]:
+            tick_child(child)
+
+    def end_now(self) -> None:
+        """The instance is ended from outside as planned (its invocation's ``until``
+        occurred, or its ``duration`` is up): its ``end`` occurs now."""
+        if self.status == RUNNING:
+            end_instances(self.do)
+            self._end("end")
+
+
+def end_instances(node: Behaviour) -> None:
+    """Emit ``end`` for every running scenario instance under ``node``, which is ended as
+    planned (by ``until`` or ``duration``), innermost last to first."""
+    if isinstance(node, ScenarioRoot):
+        node.end_now()
+        return
+    for child in _behaviour_of(node):
+        if child.status == RUNNING:
+            end_instances(child)
 
 
 class InvokedScenario(ScenarioRoot):

@@ -35,7 +35,7 @@ from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS
 from osc2check.semantics.symbols import SymbolKind
 from osc2check.syntax import ast
 from osc2runner.behaviours.base import FastLeaf
-from osc2runner.compile.composites import tick_child
+from osc2runner.compile.composites import end_instances, tick_child
 from osc2runner.compile.expressions import Bindings, Closure, is_constant
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import (
@@ -222,7 +222,7 @@ def compile_watch(env: CompileEnvironment, spec: ast.Node, scope: Bindings) -> W
     run = env.run
     match spec:
         case ast.EventReference():
-            name = event_name(tuple(p.text for p in spec.path))
+            name = scope.event(tuple(p.text for p in spec.path))
             condition = None
             cell: list[Any] | None = None
             inner = scope
@@ -233,12 +233,12 @@ def compile_watch(env: CompileEnvironment, spec: ast.Node, scope: Bindings) -> W
                 condition = env.compile(spec.condition, inner)
             return NamedEventWatch(run, name, condition, cell)
         case ast.EventArgument():
-            return NamedEventWatch(run, event_name(tuple(p.text for p in spec.path)))
+            return NamedEventWatch(run, scope.event(tuple(p.text for p in spec.path)))
         case ast.EventCondition():
             return compile_watch(env, spec.expr, scope)
     path = event_path(env, spec)
     if path is not None:
-        return NamedEventWatch(run, path)
+        return NamedEventWatch(run, scope.event(tuple(path.split("."))))
     if (
         isinstance(spec, ast.Call)
         and isinstance(spec.callee, ast.NameRef)
@@ -416,6 +416,9 @@ class Until(py_trees.decorators.Decorator):
     the next member starts at once.
     """
 
+    #: its phase ends when its event occurs: stopping it earlier is not its planned end
+    ends_on_event = True
+
     def __init__(self, name: str, child: py_trees.behaviour.Behaviour, watch: Watch) -> None:
         super().__init__(name=name, child=child)
         self.watch = watch
@@ -432,6 +435,7 @@ class Until(py_trees.decorators.Decorator):
             self.initialise()
         if self.watch.occurred():
             self.feedback_message = "until: event occurred"
+            end_instances(self.decorated)
             self.stop(Status.SUCCESS)
             return Status.SUCCESS
         status = tick_child(self.decorated)

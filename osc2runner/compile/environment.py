@@ -91,6 +91,9 @@ class CompileEnvironment:
                         center=namespace(x=0.0, y=0.0, z=0.0),
                     )
                 )
+        if actor.kind == "environment" and member == "weather":
+            run = self.run
+            return lambda: run.weather
         if member in actor.attributes:
             return constant(to_runtime(actor.attributes[member]))
         if member == "name":

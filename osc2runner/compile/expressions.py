@@ -21,7 +21,7 @@ from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import EVENT_FUNCTIONS, VALUE_FUNCTIONS
+from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS, VALUE_FUNCTIONS
 from osc2check.semantics.constants import NotConstant, physical_literal, to_runtime
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
@@ -33,7 +33,15 @@ from osc2runner.instance.actors import Actor
 if TYPE_CHECKING:
     from osc2runner.compile.environment import CompileEnvironment
 
-__all__ = ["Bindings", "Closure", "ExpressionCompiler", "Frame", "PositionOf", "constant"]
+__all__ = [
+    "Bindings",
+    "Closure",
+    "ExpressionCompiler",
+    "Frame",
+    "PositionOf",
+    "constant",
+    "read_variable",
+]
 
 Closure = Callable[[], Any]
 
@@ -55,10 +63,22 @@ class Frame:
     actor: Closure | None = None
     at_start: frozenset[ast.Node] = frozenset()
     parent: Frame | None = None
+    events: frozenset[str] = frozenset()  # the events the scenario declares
+    labels: frozenset[str] = frozenset()  # the labels of its behaviour's members
 
     def qualified(self, name: str) -> str:
         """A name of this instance (a variable's, an event's) unique among instances."""
         return f"{self.path}.{name}" if self.path else name
+
+    def event(self, path: tuple[str, ...]) -> str:
+        """The run's name of the event ``path`` written in this instance: its own events
+        (its ``start``/``end``/``fail``, the events it declares, its labels' events) are
+        qualified by the instance's path; others (an actor's, the root's) are not."""
+        name = ".".join(path)
+        own = (len(path) == 1 and (path[0] in PREDEFINED_EVENTS or path[0] in self.events)) or (
+            len(path) == 2 and path[0] in self.labels and path[1] in PREDEFINED_EVENTS
+        )
+        return self.qualified(name) if own else name
 
 
 class Bindings:
@@ -82,6 +102,10 @@ class Bindings:
 
     def child(self, **bindings: Closure) -> Bindings:
         return Bindings(self, **bindings)
+
+    def event(self, path: tuple[str, ...]) -> str:
+        """The run's name of the event ``path`` written here (:meth:`Frame.event`)."""
+        return self.frame.event(path) if self.frame is not None else ".".join(path)
 
 
 class _Constant:
@@ -253,7 +277,7 @@ class ExpressionCompiler:
                         if sym.kind is SymbolKind.FIELD
                         else (lambda: store[key])
                     )
-                return lambda: _variable(store, key, node)
+                return lambda: read_variable(store, key, node)
             if sym.kind is SymbolKind.VARIABLE:  # never from the witness: not a parameter
                 raise CompileProblem(f"the variable `{sym.name}` has no value here", node)
             try:
@@ -474,7 +498,8 @@ class ExpressionCompiler:
         return found.closure(positional, keywords, convert, call)
 
 
-def _variable(store: dict[str, Any], key: str, node: ast.Node) -> Any:
+def read_variable(store: dict[str, Any], key: str, node: ast.Node) -> Any:
+    """The value of the variable ``key``; reading one that has none fails the run."""
     try:
         return store[key]
     except KeyError:

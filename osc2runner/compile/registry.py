@@ -53,8 +53,10 @@ BEHAVIOUR_MODULES = (
     "osc2runner.behaviours.motion",
     "osc2runner.behaviours.modifiers",
     "osc2runner.behaviours.placement",
+    "osc2runner.behaviours.paths",
     "osc2runner.behaviours.environment",
     "osc2runner.behaviours.lights",
+    "osc2runner.behaviours.traffic",
     "osc2runner.behaviours.methods",
 )
 _MARK = "__osc2_entries__"

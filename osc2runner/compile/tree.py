@@ -51,7 +51,14 @@ from osc2runner.compile.conditions import (
 )
 from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.expressions import Bindings, Closure, Frame, constant, is_constant
+from osc2runner.compile.expressions import (
+    Bindings,
+    Closure,
+    Frame,
+    constant,
+    is_constant,
+    read_variable,
+)
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.instance.actors import Actor
@@ -155,6 +162,7 @@ class TreeCompiler:
         self.uses: dict[ast.Invocation, tuple[ActionUse, type]] = {}
         self.labels: dict[int, ast.Name] = {}  # the label of an invocation, by node id
         self.invoking: list[Symbol] = []  # the scenarios being compiled, outermost first
+        self.bodies = declaration_bodies(self.model)
         self._argument_scope: dict[int, Bindings] = {}
 
     # ---- helpers
@@ -184,47 +192,57 @@ class TreeCompiler:
         run = self.run
         for name in PREDEFINED_EVENTS:
             run.declare_event(name)
-        for member in self.model.all_members(scenario):
-            if member.kind is SymbolKind.EVENT:
-                run.declare_event(member.name)
+        events = self._event_names(scenario)
+        for name in events:
+            run.declare_event(name)
         self._variables(scenario)
         self._declared_events(scenario)
-        do: ast.DoDirective | None = None
-        handlers: list[py_trees.behaviour.Behaviour] = []
-        for sym in reversed(list(self.model.ancestors(scenario))):
-            decl = sym.decl
-            if not isinstance(decl, ast.StructuredDecl):
-                continue
-            for member in decl.members:
-                match member:
-                    case ast.DoDirective():
-                        do = member
-                    case ast.OnDirective():
-                        handler = self._guard(lambda m=member: self.on(m), member)
-                        if handler is not None:
-                            handlers.append(handler)
-                    case ast.Invocation():
-                        self._scenario_modifier(member)
-                    case ast.CoverageDecl():
-                        self._guard(lambda m=member: self.coverage(m), member)
+        members = self._members(scenario)
+        do = _last_do(members)
         frame = Frame(
             "",
             scenario,
             at_start=frozenset(time_zero(do.member.body).starts) if do else frozenset(),
+            events=events,
+            labels=_labels(do),
         )
+        scope = Bindings(frame=frame)
+        handlers: list[py_trees.behaviour.Behaviour] = []
+        for member in members:
+            match member:
+                case ast.OnDirective():
+                    handler = self._guard(lambda m=member: self.on(m, scope), member)
+                    if handler is not None:
+                        handlers.append(handler)
+                case ast.Invocation():
+                    self._scenario_modifier(member)
+                case ast.CoverageDecl():
+                    self._guard(lambda m=member: self.coverage(m), member)
         self.invoking.append(scenario)
         if do is None:
             main: py_trees.behaviour.Behaviour = Serial("do (empty)")
         else:
-            main = self._guard(
-                lambda: self.do_member(do.member, Bindings(frame=frame)), do
-            ) or self._failed("do")
+            main = self._guard(lambda: self.do_member(do.member, scope), do) or self._failed("do")
         root = ScenarioRoot(
             node_name(f"scenario {scenario.name}", scenario.decl or do or ast.Missing(_no_span())),
             main,
             handlers,
         )
         return CompiledScenario(root, self._start_uses(do), self.problems, self.notes)
+
+    def _members(self, scenario: Symbol) -> list[ast.Member]:
+        """The members of ``scenario`` as written: its ancestors' first, each type's
+        declaration then its ``extend``s (a later ``do`` replaces an earlier one)."""
+        found: list[ast.Member] = []
+        for sym in reversed(list(self.model.ancestors(scenario))):
+            for members in self.bodies.get(sym, ()):
+                found.extend(members)
+        return found
+
+    def _event_names(self, scenario: Symbol) -> frozenset[str]:
+        return frozenset(
+            m.name for m in self.model.all_members(scenario) if m.kind is SymbolKind.EVENT
+        )
 
     def _guard(self, build: Callable[[], Any], node: ast.Node) -> Any:
         try:
@@ -284,6 +302,30 @@ class TreeCompiler:
                 continue
             on_occurrence(run, watch, lambda n=sym.name: run.emit(n, kind="event"))
 
+    def _declared_event_handlers(
+        self, scenario: Symbol, scope: Bindings
+    ) -> list[py_trees.behaviour.Behaviour]:
+        """``event e is <spec>`` of an invoked scenario: ``e`` of the instance occurs
+        whenever its spec does while the instance runs (its event context)."""
+        run = self.run
+        handlers: list[py_trees.behaviour.Behaviour] = []
+        for sym in self.model.all_members(scenario):
+            decl = sym.decl
+            if sym.kind is not SymbolKind.EVENT or not isinstance(decl, ast.EventDecl):
+                continue
+            if decl.spec is None:
+                continue
+            name = scope.event((sym.name,))
+            watch = self.watch(decl.spec, scope)
+            handlers.append(
+                OnHandler(
+                    node_name(f"event {sym.name}", decl),
+                    watch,
+                    [lambda h, n=name: run.emit(n, kind="event")],
+                )
+            )
+        return handlers
+
     def _scenario_modifier(self, member: ast.Invocation) -> None:
         sym = self.model.references.get(member.name)
         if (
@@ -291,9 +333,9 @@ class TreeCompiler:
             and sym.kind is SymbolKind.MODIFIER
             and self.env.registry.find_modifier(self.model, sym) is not None
             and sym.actor is not None
-            and sym.actor.name == "map"
+            and sym.actor.name in ("map", "stationary_object")
         ):
-            return  # the road is chosen from it before compiling
+            return  # the road, an object's location: chosen before compiling (instance)
         self._problem(
             CompileProblem(
                 f"`{self._text(member)}`: modifiers applied to the whole scenario are not "
@@ -328,9 +370,10 @@ class TreeCompiler:
             node = self._failed(node_name(self._text(body), body))
         if member.label is not None and not member.label.missing:
             label = member.label.text
+            qualified = scope.frame.qualified(label) if scope.frame is not None else label
             for suffix in PREDEFINED_EVENTS:
-                self.run.declare_event(f"{label}.{suffix}")
-            node = Labelled(node_name(f"{label}:", member), node, label)
+                self.run.declare_event(f"{qualified}.{suffix}")
+            node = Labelled(node_name(f"{label}:", member), node, qualified)
         return node
 
     def composition(self, comp: ast.Composition, scope: Bindings) -> py_trees.behaviour.Behaviour:
@@ -359,21 +402,27 @@ class TreeCompiler:
             node = OneOf(name, children, [_acts(m.body) for m in comp.members])
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
-        untils = []
-        for wm in comp.with_members:
+        untils = self._untils(comp.with_members, "a composition")
+        return self._wrap(node, comp, args.get("duration"), untils, scope)
+
+    def _untils(self, with_members: tuple[ast.WithMember, ...], what: str) -> list[ast.Until]:
+        """The ``until``s of the ``with:`` block of ``what`` (a composition, a scenario
+        invocation), which takes no modifiers in the runner; its ``keep``s are the
+        solver's."""
+        untils: list[ast.Until] = []
+        for wm in with_members:
             if isinstance(wm, ast.Until):
                 untils.append(wm)
             elif isinstance(wm, ast.Invocation):
                 raise CompileProblem(
-                    f"`{self._text(wm)}`: modifiers on a composition are not "
-                    "supported by the runner",
+                    f"`{self._text(wm)}`: modifiers on {what} are not supported by the runner",
                     wm,
                 )
             else:
                 self.notes.append(
-                    f"line {wm.span.line}: constraint on a composition is left to the solver"
+                    f"line {wm.span.line}: a constraint on {what} is left to the solver"
                 )
-        return self._wrap(node, comp, args.get("duration"), untils, scope)
+        return untils
 
     def _named(
         self, arguments: tuple[ast.Argument, ...], allowed: tuple[str, ...], owner: ast.Node
@@ -401,9 +450,8 @@ class TreeCompiler:
         untils: list[ast.Until],
         scope: Bindings,
     ) -> py_trees.behaviour.Behaviour:
-        for until in untils:
-            watch = self.watch(until.event, scope)
-            node = Until(node_name(f"until {self._text(until.event)}", until), node, watch)
+        # `until` ends the phase whenever its event occurs, also before a `duration`'s
+        # lower bound: it wraps the duration's bound
         if duration is not None:
             bounds = self._bounds(self.env.compile(duration, scope))
             span = owner.span
@@ -413,6 +461,9 @@ class TreeCompiler:
                 bounds,
                 f"{span.uri}:{span.line}:{span.column}",
             )
+        for until in untils:
+            watch = self.watch(until.event, scope)
+            node = Until(node_name(f"until {self._text(until.event)}", until), node, watch)
         return node
 
     @staticmethod
@@ -449,7 +500,9 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 inv.name,
             )
-        inner = scope.child(actor=constant(actor))
+        # the arguments, modifiers and `until` of an action are written in the scenario's
+        # scope: `actor` there is the scenario's actor, not the action's
+        inner = scope
         arguments, duration = self._arguments(sym, inv.arguments, inner, inv, allow_duration=True)
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
@@ -505,8 +558,10 @@ class TreeCompiler:
 
         Its parameters take the witness's values at the instance's path; its actor
         parameters are the actors its arguments pass; ``actor`` is the invoking actor
-        of an actor-associated scenario. ``duration``, ``until`` and the invocation's
-        label apply as to any invocation; recursion is refused with its cycle.
+        of an actor-associated scenario; its events, labels and variables are the
+        instance's own (qualified by its path); its ``var``s are initialised when it
+        starts. ``duration``, ``until`` and the invocation's label apply as to any
+        invocation; recursion is refused with its cycle.
         """
         if sym in self.invoking:
             cycle = " -> ".join(s.name for s in [*self.invoking[self.invoking.index(sym) :], sym])
@@ -520,24 +575,34 @@ class TreeCompiler:
             implicit = scope.lookup("actor")
             value = implicit() if implicit is not None and is_constant(implicit) else None
             actor = value if isinstance(value, Actor) else None
-        path = invocation_path(
-            outer.path, actor.name if actor else None, self.labels.get(id(inv)), sym.name, inv
-        )
+        label = self.labels.get(id(inv))
+        path = invocation_path(outer.path, actor.name if actor else None, label, sym.name, inv)
         given, duration = self._scenario_arguments(sym, inv, scope)
-        fields: dict[Symbol, Closure] = {}
-        for param in self.model.all_members(sym):
-            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE):
-                continue
-            fields[param] = self._instance_field(param, path, given, inv)
-        bodies = declaration_bodies(self.model).get(sym, [])
-        do = next(
-            (m for members in bodies for m in members if isinstance(m, ast.DoDirective)), None
-        )
+        members = self._members(sym)
+        do = _last_do(members)
         at_start: frozenset[ast.Node] = frozenset()
-        if do is not None and outer is not None and inv in outer.at_start:
+        if do is not None and inv in outer.at_start:
             at_start = frozenset(time_zero(do.member.body).starts)
-        frame = Frame(path, sym, fields, constant(actor) if actor else None, at_start, parent=outer)
+        events = self._event_names(sym)
+        frame = Frame(
+            path,
+            sym,
+            {},
+            constant(actor) if actor else None,
+            at_start,
+            parent=outer,
+            events=events,
+            labels=_labels(do),
+        )
         inner = Bindings(frame=frame, **({"actor": constant(actor)} if actor else {}))
+        initialisers: list[Callable[[], None]] = []
+        for param in self.model.all_members(sym):
+            if param.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
+                frame.fields[param] = self._instance_field(
+                    param, frame, given, inv, inner, initialisers
+                )
+        for event in (*PREDEFINED_EVENTS, *events):
+            self.run.declare_event(frame.qualified(event))
         self.invoking.append(sym)
         try:
             main = (
@@ -546,28 +611,27 @@ class TreeCompiler:
                 else Serial(node_name(f"{sym.name} (empty)", inv))
             )
             handlers = [
-                self.on(m) for members in bodies for m in members if isinstance(m, ast.OnDirective)
-            ]
+                self.on(m, inner) for m in members if isinstance(m, ast.OnDirective)
+            ] + self._declared_event_handlers(sym, inner)
         finally:
             self.invoking.pop()
-        for event in ("start", "end", "fail"):
-            self.run.declare_event(frame.qualified(event))
+        for m in members:
+            if isinstance(m, ast.CoverageDecl):
+                raise CompileProblem(
+                    f"`{sym.name}` is invoked: the runner collects `{m.kind}` items of the root "
+                    "scenario only",
+                    m,
+                )
+        labelled_as = outer.qualified(label.text) if label is not None else None
         node: py_trees.behaviour.Behaviour = InvokedScenario(
             node_name(f"{actor.name + '.' if actor else ''}{sym.name}()", inv),
             main,
             handlers,
             path,
+            initialisers,
+            emits_events=labelled_as != path,
         )
-        untils: list[ast.Until] = []
-        for wm in inv.with_members:
-            if isinstance(wm, ast.Until):
-                untils.append(wm)
-            elif isinstance(wm, ast.Invocation):
-                raise CompileProblem(
-                    f"`{self._text(wm)}`: modifiers of a scenario invocation are not supported "
-                    "by the runner",
-                    wm,
-                )
+        untils = self._untils(inv.with_members, "a scenario invocation")
         return self._wrap(node, inv, duration, untils, scope)
 
     def _scenario_arguments(
@@ -591,9 +655,17 @@ class TreeCompiler:
         return given, duration
 
     def _instance_field(
-        self, param: Symbol, path: str, given: dict[str, ast.Node], inv: ast.Invocation
+        self,
+        param: Symbol,
+        frame: Frame,
+        given: dict[str, ast.Node],
+        inv: ast.Invocation,
+        inner: Bindings,
+        initialisers: list[Callable[[], None]],
     ) -> Closure:
-        """The closure of one field of an invoked scenario's instance."""
+        """The closure of one field of an invoked scenario's instance; a ``var`` with an
+        initialiser adds its initialisation to ``initialisers`` (run when the instance
+        starts), unless it holds a ``sample`` (then it is live)."""
         scope = self._argument_scope[id(inv)]
         t = param.type
         if t is not None and t.kind is T.Kind.COMPOUND and t.symbol is not None:
@@ -610,12 +682,21 @@ class TreeCompiler:
                     raise CompileProblem(f"`{param.name}` must be given an actor", inv)
                 return constant(value)
         if param.kind is SymbolKind.VARIABLE:
-            store, key = self.run.variables, f"{path}.{param.name}"
-            if param.default is not None:
-                self.env.variable_inits.append((key, self.env.compile(param.default, Bindings())))
-            return lambda: store[key]
+            default = param.default
+            if default is not None and any(_is_sample(node) for node in walk(default)):
+                return self.env.compile(default, inner)
+            store, key = self.run.variables, frame.qualified(param.name)
+            if default is not None:
+                init = self.env.compile(default, inner)
+
+                def initialise(init: Closure = init, key: str = key) -> None:
+                    store[key] = init()
+
+                initialisers.append(initialise)
+            where: ast.Node = param.decl or inv
+            return lambda: read_variable(store, key, where)
         try:
-            return constant(to_runtime(self.env.values.value_at(path, param)))
+            return constant(to_runtime(self.env.values.value_at(frame.path, param)))
         except NotConstant:
             if param.name in given:
                 return self.env.compile(given[param.name], scope)
@@ -685,7 +766,7 @@ class TreeCompiler:
         """The event, its blackboard key and its argument closures, by parameter name in
         declaration order: positional arguments in order, then named ones; a parameter
         not given takes its default (an input error when it has none)."""
-        name = emit.event.text
+        name = scope.event((emit.event.text,))
         key = self.run.declare_event(name)
         sym = self.model.references.get(emit.event)
         params = list(sym.parameters) if sym is not None else []
@@ -722,10 +803,9 @@ class TreeCompiler:
             node_name(f"call {self._text(call.call)}", call), self.env.compile(call.call, scope)
         )
 
-    def on(self, on: ast.OnDirective) -> py_trees.behaviour.Behaviour:
-        """``on <event>: emit ... / call ...``: the event context is the scenario; an
-        ``as`` alias of the event is visible in the members."""
-        scope = Bindings()
+    def on(self, on: ast.OnDirective, scope: Bindings) -> py_trees.behaviour.Behaviour:
+        """``on <event>: emit ... / call ...``: the event context is the scenario (its
+        instance, ``scope``); an ``as`` alias of the event is visible in the members."""
         watch = self.watch(on.event, scope)
         event = on.event
         if isinstance(event, ast.EventReference) and event.alias is not None:
@@ -791,6 +871,31 @@ def _acts(body: ast.Node) -> bool:
         case ast.Invocation():
             return True
     return False
+
+
+def _last_do(members: list[ast.Member]) -> ast.DoDirective | None:
+    """The scenario's ``do``: the last one written (a subtype's or an extension's replaces
+    its supertype's)."""
+    found = None
+    for member in members:
+        if isinstance(member, ast.DoDirective):
+            found = member
+    return found
+
+
+def _labels(do: ast.DoDirective | None) -> frozenset[str]:
+    """The labels of the members of a ``do`` tree."""
+    if do is None:
+        return frozenset()
+    found: set[str] = set()
+    stack = [do.member]
+    while stack:
+        member = stack.pop()
+        if member.label is not None and not member.label.missing:
+            found.add(member.label.text)
+        if isinstance(member.body, ast.Composition):
+            stack.extend(member.body.members)
+    return frozenset(found)
 
 
 def _parameter(values: Any, field: Symbol) -> Any:

@@ -23,6 +23,7 @@ import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
+from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -47,6 +48,7 @@ __all__ = [
     "RunFault",
     "event_key",
     "fresh_blackboard",
+    "initial_weather",
 ]
 
 log = logging.getLogger(__name__)
@@ -84,6 +86,19 @@ class LogRecord:
     name: str
     detail: str = ""
     actors: tuple[str, ...] = ()
+
+
+def initial_weather() -> SimpleNamespace:
+    """The weather before any environment action: dry, clear, calm, no fog; the ISA
+    standard atmosphere at sea level (15 °C, 1013.25 hPa), 50 % relative humidity."""
+    return SimpleNamespace(
+        air=SimpleNamespace(temperature=288.15, pressure=101325.0, relative_humidity=0.5),
+        rain=SimpleNamespace(intensity=0.0),
+        snow=SimpleNamespace(intensity=0.0),
+        wind=SimpleNamespace(speed=0.0, direction=0.0),
+        fog=SimpleNamespace(visual_range=math.inf),
+        clouds=SimpleNamespace(cloudiness=0),
+    )
 
 
 class RunFault(Exception):
@@ -215,6 +230,10 @@ class RunContext:
         self.coverage = RunCoverage(seed=seed)  # the cover/record items and their samples
         self.records: list[LogRecord] = []
         self.lights: dict[str, str] = {}
+        #: the scenario's traffic lights by parameter name (``instance.lights``)
+        self.traffic_lights: dict[str, Any] = {}
+        #: ``env.weather`` as the environment actions set it
+        self.weather: Any = initial_weather()
         self.collisions_allowed: dict[str, int] = {}
         self.failed: str | None = None
         self.event_names: set[str] = set()

@@ -13,55 +13,180 @@ driving as it was told until another behaviour changes it.
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 from osc2check.road import Road
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
+from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.vehicle import VehicleParams
 
-__all__ = ["PedestrianController", "PedestrianSpeed", "controllers_for", "drive_with_sut"]
+__all__ = [
+    "PedestrianController",
+    "PedestrianSpeed",
+    "WalkerLateral",
+    "controllers_for",
+    "drive_with_sut",
+]
 
 
 class PedestrianSpeed:
-    """Target speed of a pedestrian, approached at a fixed acceleration."""
+    """Target speed of a pedestrian, approached at a fixed acceleration; or, in the
+    acceleration mode (:meth:`set_acceleration`), a commanded acceleration."""
 
-    def __init__(self, dt: float, accel: float = 1.5) -> None:
+    def __init__(self, dt: float, accel: float = 1.5, top: float = math.inf) -> None:
         self.dt = dt
         self.accel = accel
+        self.top = top
         self.target: float | None = None
         self.command = 0.0
         self.profile = RateProfile()
+        self.accel_goal: float | None = None
+        self.accel_jerk = math.inf
+        self.a_ref = 0.0
+        self.speed_bounds = (0.0, top)
 
     def set_target(self, speed: float, profile: RateProfile | str = "none") -> None:
-        self.target = max(0.0, float(speed))
+        self.target = min(max(0.0, float(speed)), self.top)
         self.profile = RateProfile(profile) if isinstance(profile, str) else profile
+        self.accel_goal = None
+
+    def set_acceleration(
+        self, accel: float, jerk: float = math.inf, bounds: tuple[float, float] = (0.0, math.inf)
+    ) -> None:
+        """Accelerate at ``accel`` (reached at ``jerk``) within the speed ``bounds``."""
+        self.accel_goal = float(accel)
+        self.accel_jerk = float(jerk)
+        self.speed_bounds = (bounds[0], min(bounds[1], self.top))
+        self.target = self.speed_bounds[1] if accel > 0.0 else self.speed_bounds[0]
+
+    def accel_reached(self, tolerance: float = 1e-6) -> bool:
+        if self.accel_goal is None:
+            return False
+        return abs(self.a_ref - self.accel_goal) <= tolerance
+
+    def next_speed(self, speed: float) -> float:
+        """The speed at the end of this tick."""
+        if self.accel_goal is not None:
+            step = self.accel_jerk * self.dt
+            self.a_ref += min(max(self.accel_goal - self.a_ref, -step), step)
+            low, high = self.speed_bounds
+            v = speed + self.a_ref * self.dt
+            if v <= low or v >= high:
+                v, self.a_ref = min(max(v, low), high), 0.0
+            return v
+        assert self.target is not None
+        limit = self.accel * self.dt
+        if self.profile.kind == "asap":
+            limit *= 2.0
+        return speed + max(-limit, min(limit, self.target - speed))
 
     def reached(self, state: ActorState, tolerance: float = 0.1) -> bool:
         return self.target is not None and abs(state.speed - self.target) <= tolerance
 
     def release(self) -> None:
         self.target = None
+        self.accel_goal = None
+
+
+class WalkerLateral:
+    """Lateral position of a walker on the road: a target ``t`` that it heads for.
+
+    The heading is the road's turned towards the target, ``atan2(k (t* - t), v)``
+    (``k`` = :data:`WALKER_LATERAL_GAIN`), at most 90 degrees: a walker moves
+    across the road as fast as it walks. Same calls as the vehicles' lateral
+    controller (``keep_lane``, ``keep_offset``, ``move_to``, ``done``).
+    """
+
+    def __init__(self, road: Road) -> None:
+        self.road = road
+        self.path: float | None = None  # the target t (None: no lateral control)
+        self.error = 0.0  # last lateral error (m, positive: left of the target)
+
+    def keep_lane(self, lane: int, offset: float = 0.0) -> None:
+        self.path = self.road.lane_center_t(lane) + offset
+
+    def keep_offset(self, t: float) -> None:
+        self.path = t
+
+    def move_to(
+        self,
+        state: ActorState,
+        t: float,
+        *,
+        distance: float | None = None,
+        duration: float | None = None,
+        shape: str = "smooth",
+    ) -> float:
+        self.path = t
+        return t
+
+    def change_lane(self, state: ActorState, lane: int, **kwargs: Any) -> float:
+        return self.move_to(state, self.road.lane_center_t(lane) + kwargs.get("offset", 0.0))
+
+    def done(self, state: ActorState) -> bool:
+        return self.path is None or abs(state.t - self.path) <= WALKER_LATERAL_DONE
+
+    def release(self) -> None:
+        self.path = None
+
+    def heading(self, state: ActorState, speed: float) -> float:
+        assert self.path is not None
+        self.error = state.t - self.path
+        turn = math.atan2(WALKER_LATERAL_GAIN * (self.path - state.t), max(speed, 0.1))
+        return self.road.heading + turn
+
+
+#: how fast a walker's lateral error closes relative to its speed (1/s per m/s)
+WALKER_LATERAL_GAIN = 1.0
+#: a walker is at its lateral target within this (m)
+WALKER_LATERAL_DONE = 0.05
 
 
 class PedestrianController:
-    """Speed along the road heading for a kinematic pedestrian."""
+    """A kinematic walker: a speed (or an acceleration) along a heading.
 
-    def __init__(self, road: Road, dt: float) -> None:
+    The heading is, in this order: a world path's (``follow_path``), an explicit
+    heading (``yaw``: set by ``orientation``/``yaw`` modifiers and at the start),
+    the heading towards a lateral target (``lateral``), the road's.
+    """
+
+    def __init__(self, road: Road, dt: float, top: float = math.inf) -> None:
         self.road = road
-        self.speed = PedestrianSpeed(dt)
-        self.lateral = None
+        self.speed = PedestrianSpeed(dt, top=top)
+        self.lateral = WalkerLateral(road)
         self.yaw: float | None = None
+        self.path: Polyline | None = None
+        self.heading_for: Callable[[ActorState], float] | None = None
+        self._last: PedestrianInput | None = None
 
     def step(self, state: ActorState) -> PedestrianInput:
         s = self.speed
+        last = self._last
+        if (
+            last is not None
+            and s.accel_goal is None
+            and s.target == state.speed == last.speed
+            and self.heading_for is None
+            and self.path is None
+            and self.lateral.path is None
+            and self.yaw == last.yaw
+        ):
+            return last  # standing or walking straight on as told: the same input
         if s.target is None:
-            return PedestrianInput(state.speed, state.yaw if self.yaw is None else self.yaw)
-        limit = s.accel * s.dt
-        if s.profile.kind == "asap":
-            limit *= 2.0
-        v = state.speed + max(-limit, min(limit, s.target - state.speed))
-        yaw = self.road.heading if self.yaw is None else self.yaw
-        return PedestrianInput(v, yaw)
+            v = state.speed
+        else:
+            v = s.next_speed(state.speed)
+        if self.heading_for is not None:
+            yaw = self.heading_for(state)
+        elif self.path is not None:
+            yaw = walker_heading(self.path, state.x, state.y)
+        elif self.lateral.path is not None and self.yaw is None:
+            yaw = self.lateral.heading(state, v)
+        else:
+            yaw = self.road.heading if self.yaw is None else self.yaw
+        self._last = PedestrianInput(v, yaw)
+        return self._last
 
 
 def controllers_for(world: World, road: Road) -> dict[str, Any]:
@@ -78,7 +203,8 @@ def controllers_for(world: World, road: Road) -> dict[str, Any]:
             ctrl.lateral.keep_offset(state.t)
             controllers[name] = ctrl
         elif kind == "pedestrian":
-            ped = PedestrianController(road, world.dt_control)
+            top = getattr(world.params(name), "max_speed", math.inf)
+            ped = PedestrianController(road, world.dt_control, top=top)
             ped.speed.set_target(max(0.0, state.speed))
             ped.yaw = state.yaw if not math.isnan(state.yaw) else None
             controllers[name] = ped

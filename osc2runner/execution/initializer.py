@@ -36,6 +36,10 @@ def start_specs(
                 )
             )
             continue
+        if actor.location is not None:
+            x, y, yaw = actor.location
+            specs.append(ActorSpec(actor.name, params, x=x, y=y, yaw=yaw))
+            continue
         specs.append(
             ActorSpec(
                 actor.name,

@@ -16,6 +16,7 @@ from osc2check.verify.api import Unsolvable, solve
 from osc2check.verify.witness import Witness
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.instance.actors import Actor, scenario_actors
+from osc2runner.instance.locations import object_locations
 from osc2runner.instance.roads import road_for
 from osc2runner.instance.values import ScenarioValues
 
@@ -75,6 +76,11 @@ def instantiate(
         )
     values = ScenarioValues(model, scenario, witness)
     actors = scenario_actors(model, scenario, values, witness)
+    locations, problems = object_locations(model, scenario, values)
+    if problems:
+        raise ScenarioError(problems)
+    for actor in actors:
+        actor.location = locations.get(actor.name)
     try:
         road = road_for(witness.map or None)
     except UnknownMapError as exc:

@@ -62,6 +62,8 @@ class Actor:
     attributes: dict[str, Value] = field(default_factory=dict)
     row: ActorRow | None = None
     start: ActorStart | None = None
+    #: world (x, y, yaw) of a stationary object's ``location`` (instance.locations)
+    location: tuple[float, float, float] | None = None
 
     @property
     def has_body(self) -> bool:

@@ -15,14 +15,24 @@ live state).
 from __future__ import annotations
 
 from fractions import Fraction
+from types import SimpleNamespace
 
 from osc2check.semantics import types as T
-from osc2check.semantics.constants import EnumValue, NotConstant, Quantity, Value, to_json
+from osc2check.semantics.constants import (
+    EnumValue,
+    NotConstant,
+    Quantity,
+    Value,
+    to_json,
+    to_runtime,
+)
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.verify.ir import ListItem
+from osc2check.verify.structs import MAX_STRUCT_DEPTH, is_struct, struct_leaves
 from osc2check.verify.witness import Witness
 
-__all__ = ["ScenarioValues", "scenario_fields"]
+__all__ = ["ScenarioValues", "scenario_fields", "struct_json"]
 
 
 def scenario_fields(model: Model, scenario: Symbol) -> list[Symbol]:
@@ -57,9 +67,17 @@ class ScenarioValues:
         self.witness = witness
         self.fields = scenario_fields(model, scenario)
         self._by_name = {p.name: p for p in witness.parameters}
+        #: struct values by path, built once: a struct read twice is the same object
+        self._structs: dict[str, SimpleNamespace] = {}
 
     def value(self, field: Symbol) -> Value:
-        """The value of a scenario parameter; NotConstant when the witness has none."""
+        """The value of a scenario parameter; NotConstant when the witness has none.
+
+        A struct parameter (``position_3d``, ``pose_3d``, ...) is built from the
+        witness's values of its scalar leaves (``p.position.x``): a namespace of
+        run-time values (:meth:`struct`)."""
+        if is_struct(field.type):
+            return self.struct(field.name, field)  # type: ignore[return-value]
         p = self._by_name.get(field.name)
         if p is None:
             raise NotConstant(
@@ -71,12 +89,66 @@ class ScenarioValues:
 
     def value_at(self, path: str, field: Symbol) -> Value:
         """The value of a parameter of an invoked scenario's instance (``hero.cut_in@12.gap``)."""
+        if is_struct(field.type):
+            where = f"{path}.{field.name}" if path else field.name
+            return self.struct(where, field)  # type: ignore[return-value]
         p = self._by_name.get(f"{path}.{field.name}" if path else field.name)
         if p is None:
             raise NotConstant(
                 f"the checker's witness gives `{field.name}` of `{path}` no value", field.decl
             )
         return exact(p.value, field.type, self.model)
+
+    def struct(self, path: str, field: Symbol) -> SimpleNamespace:
+        """The struct value of the parameter at ``path``: nested namespaces of run-time
+        values (SI floats, enum members by name), one per struct member."""
+        struct = field.type.symbol if field.type is not None else None
+        assert struct is not None
+        return self._struct(path, struct, field, 0)
+
+    def _struct(self, path: str, struct: Symbol, field: Symbol, depth: int) -> SimpleNamespace:
+        cached = self._structs.get(path)
+        if cached is not None:
+            return cached
+        root = SimpleNamespace()
+        for member in self.model.parameters(struct):
+            t = member.type
+            if t is None or t.kind is not T.Kind.LIST:
+                continue
+            items = self.witness.lists.get(f"{path}.{member.name}")
+            if items is not None and depth < MAX_STRUCT_DEPTH:
+                setattr(root, member.name, self._items(items, t.element, field, depth))
+        for leaf, sym in struct_leaves(self.model, struct):
+            p = self._by_name.get(f"{path}.{leaf}")
+            if p is None:
+                raise NotConstant(
+                    f"the checker's witness gives `{path}.{leaf}` no value", field.decl
+                )
+            *parents, name = leaf.split(".")
+            node = root
+            for part in parents:
+                child = getattr(node, part, None)
+                if child is None:
+                    child = SimpleNamespace()
+                    setattr(node, part, child)
+                node = child
+            setattr(node, name, to_runtime(exact(p.value, sym.type, self.model)))
+        self._structs[path] = root
+        return root
+
+    def _items(
+        self, items: tuple[ListItem, ...], element: T.Type | None, field: Symbol, depth: int
+    ) -> tuple[object, ...]:
+        values: list[object] = []
+        for kind, item in items:
+            if kind == "ref" and is_struct(element):
+                assert element is not None and element.symbol is not None
+                values.append(self._struct(str(item), element.symbol, field, depth + 1))
+            elif element is not None and element.kind is T.Kind.ENUM:
+                values.append(item)
+            else:
+                values.append(to_runtime(exact(item, element, self.model)))  # type: ignore[arg-type]
+        return tuple(values)
 
     def attribute(self, actor: Symbol, member: str) -> Value | None:
         """An actor field's attribute that a constraint decides (``keep(it.model ==
@@ -106,6 +178,9 @@ class ScenarioValues:
         for field in self.fields:
             if field.kind is not SymbolKind.FIELD:
                 continue
+            if is_struct(field.type):
+                result[field.name] = struct_json(self.struct(field.name, field))
+                continue
             if field.type is not None and field.type.kind is T.Kind.COMPOUND:
                 attrs = self.attributes(field)
                 if attrs:
@@ -120,3 +195,12 @@ class ScenarioValues:
     @property
     def source(self) -> str:
         return f"witness (seed {self.witness.seed})"
+
+
+def struct_json(value: object) -> object:
+    """A struct value (nested namespaces) as JSON-ready nested dicts."""
+    if isinstance(value, SimpleNamespace):
+        return {k: struct_json(v) for k, v in vars(value).items()}
+    if isinstance(value, tuple):
+        return [struct_json(v) for v in value]
+    return value

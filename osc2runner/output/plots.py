@@ -5,7 +5,9 @@
 * ``braking.png``: speed against the distance travelled since each brake
   onset (when the run has hard or comfortable stops);
 * ``gap_steering.png``: the longitudinal gap from the first vehicle to each
-  other actor (projected on its heading), and the steering inputs.
+  other actor (projected on its heading), and the steering inputs;
+* ``world.png``: every actor's path in world x-y with the traffic lights in their
+  last state, and each light's semantic state over time.
 
 Emitted events are marked on the time axes. Figures are drawn with
 matplotlib's Agg canvas directly (no pyplot state, no display needed), each
@@ -173,7 +175,67 @@ def plot_run(result: Any, out: Path) -> list[Path]:
             ax.grid(alpha=0.3)
             ax.legend(fontsize=8, loc="lower right")
         written.append(_save(fig, out / "gap_steering.png"))
+    written.append(_plot_world(result, out, title))
     return written
+
+
+#: colours of the semantic traffic-light states in the plots
+_LIGHT_COLOURS = {
+    "off": "0.6",
+    "stop": "red",
+    "stop_attention": "darkorange",
+    "attention": "gold",
+    "caution": "khaki",
+    "go": "green",
+    "go_exclusive": "darkgreen",
+    "non_functional": "purple",
+}
+_SEMANTIC_ORDER = list(_LIGHT_COLOURS)
+
+
+def _plot_world(result: Any, out: Path, title: str) -> Path:
+    """``world.png``: every actor's path in world x-y (the start marked) with the traffic
+    lights at their places in their last state; below, each light's state over time."""
+    lights = result.metadata.get("traffic_lights") or {}
+    changes: dict[str, list[tuple[float, str]]] = {name: [] for name in lights}
+    for e in result.events:
+        if e.kind == "traffic_light" and e.name in changes:
+            changes[e.name].append((e.time, e.detail.split(" ")[0]))
+    fig, axes = _figure(2 if lights else 1)
+    ax = axes[0]
+    for name, ch in result.telemetry.items():
+        (line,) = ax.plot(ch["x"], ch["y"], label=name, lw=1.2)
+        ax.plot(ch["x"][:1], ch["y"][:1], "o", color=line.get_color(), ms=4)
+    for name, where in lights.items():
+        last = changes[name][-1][1] if changes[name] else "off"
+        ax.plot(
+            where["x"],
+            where["y"],
+            "s",
+            ms=9,
+            color=_LIGHT_COLOURS.get(last, "0.3"),
+            markeredgecolor="black",
+        )
+        ax.annotate(
+            name, (where["x"], where["y"]), fontsize=7, xytext=(4, 4), textcoords="offset points"
+        )
+    ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: paths")
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    if lights:
+        ax2 = axes[1]
+        end = max((float(ch["time"][-1]) for ch in result.telemetry.values()), default=0.0)
+        for name, seq in changes.items():
+            times = [t for t, _ in seq] + [end]
+            states = [_SEMANTIC_ORDER.index(s) for _, s in seq]
+            if states:
+                ax2.step(times, [*states, states[-1]], where="post", label=name)
+        ax2.set_yticks(range(len(_SEMANTIC_ORDER)), _SEMANTIC_ORDER, fontsize=7)
+        ax2.set(xlabel="time (s)", title="traffic lights")
+        ax2.grid(alpha=0.3)
+        ax2.legend(fontsize=8, loc="lower right")
+    return _save(fig, out / "world.png")
 
 
 def _save(fig: Figure, path: Path) -> Path:

@@ -16,7 +16,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.compile.registry import MethodRegistry, standard_registry
 
-__all__ = ["coverage_markdown"]
+__all__ = ["ABSENT", "absent_reason", "coverage_markdown"]
 
 _HEADER = """\
 # Runner coverage
@@ -29,6 +29,37 @@ file is up to date. Invoking anything marked "no" is an error before the run
 starts, with its location: nothing is skipped silently.
 
 """
+
+
+_MAPS = "needs a road network: comes with OpenDRIVE maps (issue 12)"
+_TRAILER = (
+    "a hitched trailer (an articulated joint between two vehicle bodies, its coupler "
+    "loads in the tire model) is not built: a `trailer` actor is a vehicle of its own"
+)
+
+#: why each unsupported action, modifier or method is absent (``owner.name``)
+ABSENT: dict[str, str] = {
+    "vehicle.connect_trailer": _TRAILER,
+    "vehicle.disconnect_trailer": _TRAILER,
+    "map.set_traffic_lights_control_file": (
+        "control files are not read: give the cycles with `play_cycles`"
+    ),
+    "physical_object.set_bm": (
+        "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
+        "kind has one driver model"
+    ),
+}
+
+
+def absent_reason(label: str, owner: str) -> str:
+    """Why ``label`` (``owner.name``) is not supported."""
+    if label in ABSENT:
+        return ABSENT[label]
+    if owner in ("map", "route") or label.endswith(
+        ("route_point", "odr_point", "distance_along_route")
+    ):
+        return _MAPS
+    return ""
 
 
 def _library_symbols(model: Model, kind: SymbolKind) -> list[Symbol]:
@@ -79,7 +110,9 @@ def _actions(model: Model, reg: MethodRegistry) -> list[str]:
                 runs_for.append(actor.name)
                 entries[entry.label] = entry
         if not runs_for:
-            rows.append(f"| {label} | {action.namespace} | **no** | | |")
+            owner = action.actor.name if action.actor else ""
+            why = _escape(absent_reason(f"{owner}.{action.name}", owner))
+            rows.append(f"| {label} | {action.namespace} | **no** | | {why} |")
             continue
         shown = _compact(model, action.actor, runs_for)
         entry = next(iter(entries.values()))
@@ -119,7 +152,9 @@ def _modifiers(model: Model, reg: MethodRegistry) -> list[str]:
         )
         entry = reg.find_modifier(model, mod)
         if entry is None:
-            rows.append(f"| `{mod.qualified_name}` | {where} | **no** | | |")
+            owner = mod.actor.name if mod.actor else ""
+            why = _escape(absent_reason(f"{owner}.{mod.name}", owner))
+            rows.append(f"| `{mod.qualified_name}` | {where} | **no** | | {why} |")
         else:
             rows.append(
                 f"| `{mod.qualified_name}` | {where} | yes | `{entry.target.__name__}` "
@@ -135,8 +170,8 @@ def _methods(model: Model, reg: MethodRegistry) -> list[str]:
         "Methods the library declares `is undefined`; methods `is expression` are "
         "evaluated from their body.",
         "",
-        "| method | supported |",
-        "|---|---|",
+        "| method | supported | why not |",
+        "|---|---|---|",
     ]
     found = []
     for sym in model.symbols:
@@ -148,7 +183,8 @@ def _methods(model: Model, reg: MethodRegistry) -> list[str]:
         owner = sym.owner.name if sym.owner is not None else ""
         found.append((owner, sym.name, reg.find_method(model, sym) is not None))
     for owner, name, ok in sorted(found):
-        rows.append(f"| `{owner}.{name}` | {'yes' if ok else '**no**'} |")
+        why = "" if ok else _escape(absent_reason(f"{owner}.{name}", owner))
+        rows.append(f"| `{owner}.{name}` | {'yes' if ok else '**no**'} | {why} |")
     return rows
 
 

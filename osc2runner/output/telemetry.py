@@ -95,8 +95,12 @@ class Recorder:
             if n > window + 1:
                 del history[0]
             lane = float(s.lane) if s.lane is not None else math.nan
-            lateral = getattr(controllers.get(name), "lateral", None)
+            ctrl = controllers.get(name)
+            lateral = getattr(ctrl, "lateral", None)
             error = lateral.error if lateral is not None and lateral.path is not None else math.nan
+            tracker = getattr(ctrl, "path", None)  # a world path followed (follow_path)
+            if tracker is not None and hasattr(tracker, "error"):
+                error = tracker.error
             self.rows[name].append(
                 (
                     tick,

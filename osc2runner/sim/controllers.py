@@ -35,6 +35,7 @@ import math
 from dataclasses import dataclass
 
 from osc2check.road import Road
+from osc2runner.sim.tracking import PathTracker
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sim.world import ActorState, VehicleInput
 
@@ -149,6 +150,11 @@ class SpeedController:
         self.accel_command = 0.0
         self._asap_phase: str | None = None
         self._fresh = False
+        #: acceleration mode (``set_acceleration``): the reference's acceleration goal
+        #: (m/s²), the jerk it is approached with and the speed bounds it stops at
+        self.accel_goal: float | None = None
+        self.accel_jerk = math.inf
+        self.speed_bounds = (0.0, math.inf)
 
     def set_target(self, speed: float, profile: RateProfile | str = "none") -> None:
         """Drive towards ``speed`` (m/s, >= 0) shaped by ``profile``."""
@@ -158,12 +164,38 @@ class SpeedController:
         self.profile = RateProfile(profile) if isinstance(profile, str) else profile
         self._asap_phase = "start" if self.profile.kind == "asap" else None
         self._fresh = True
+        self.accel_goal = None
+
+    def set_acceleration(
+        self,
+        accel: float,
+        jerk: float = math.inf,
+        bounds: tuple[float, float] = (0.0, math.inf),
+    ) -> None:
+        """Accelerate at ``accel`` (m/s²) from now on, reached from the current reference
+        acceleration at ``jerk`` (m/s³); the speed stays within ``bounds`` (standstill
+        and the top speed by default), where the acceleration ends."""
+        if self.target is None or self.accel_goal is None:
+            self._fresh = True
+        self.accel_goal = float(accel)
+        self.accel_jerk = float(jerk)
+        self.speed_bounds = bounds
+        self.profile = RateProfile()
+        self._asap_phase = None
+        self.target = bounds[1] if accel > 0.0 else bounds[0]
+
+    def accel_reached(self, tolerance: float = 1e-6) -> bool:
+        """True when the acceleration mode's reference has its goal (or is at a bound)."""
+        if self.accel_goal is None:
+            return False
+        return abs(self.a_ref - self.accel_goal) <= tolerance or self.v_ref in self.speed_bounds
 
     def release(self) -> None:
         """Stop controlling: the next steps return no pedal input."""
         self.target = None
         self.v_ref = None
         self.integral = 0.0
+        self.accel_goal = None
 
     def reached(self, state: ActorState, tolerance: float = 0.3) -> bool:
         """True when the reference is at the target and the speed within ``tolerance``."""
@@ -189,7 +221,9 @@ class SpeedController:
             # otherwise (first target, car placed or released meanwhile) from the car
             self.v_ref, self.a_ref, self.integral = v, 0.0, 0.0
         self._fresh = False
-        if self.profile.kind == "none":
+        if self.accel_goal is not None:
+            self._advance_acceleration()
+        elif self.profile.kind == "none":
             self.v_ref, self.a_ref = target, 0.0
         else:
             a_max, j_max = self.profile.limits()
@@ -215,12 +249,25 @@ class SpeedController:
         )
         # anti-windup: integrate only on a steady reference (integral separation in
         # time), close to it (in speed), and when the output is not saturated
-        if self.a_ref == 0.0 and abs(err) < g.integral_band and not saturated:
+        steady = self.a_ref == 0.0 or self.accel_goal is not None
+        if steady and abs(err) < g.integral_band and not saturated:
             self.integral += err * self.dt
             unclamped = self.a_ref + g.kp * err + g.ki * self.integral
         accel = min(max(unclamped, -g.decel_max), g.accel_max)
         self.accel_command = accel
         return self.pedals_for(accel, v)
+
+    def _advance_acceleration(self) -> None:
+        """One step of the acceleration mode: the reference acceleration moves to the goal
+        at the jerk limit, the reference speed integrates it within the bounds."""
+        assert self.accel_goal is not None and self.v_ref is not None
+        step = self.accel_jerk * self.dt
+        self.a_ref += min(max(self.accel_goal - self.a_ref, -step), step)
+        low, high = self.speed_bounds
+        v = self.v_ref + self.a_ref * self.dt
+        if v <= low or v >= high:
+            v, self.a_ref = min(max(v, low), high), 0.0
+        self.v_ref = v
 
     def pedals_for(self, accel: float, speed: float) -> tuple[float, float]:
         """Inverse vehicle model: the ``(throttle, brake)`` giving ``accel`` at ``speed``."""
@@ -395,10 +442,17 @@ class VehicleController:
     """A speed controller and a Stanley controller driving one vehicle."""
 
     def __init__(self, params: VehicleParams, road: Road, dt: float) -> None:
+        self.params = params
         self.speed = SpeedController(params, dt)
         self.lateral = StanleyController(params, road)
+        #: a world path being followed (``follow_path``...): steers instead of ``lateral``
+        self.path: PathTracker | None = None
 
     def step(self, state: ActorState) -> VehicleInput:
         """One control tick: the vehicle's inputs."""
         throttle, brake = self.speed.step(state)
-        return VehicleInput(throttle, brake, self.lateral.step(state))
+        if self.path is not None:
+            steer = self.path.step(state.x, state.y, state.yaw, state.speed)
+        else:
+            steer = self.lateral.step(state)
+        return VehicleInput(throttle, brake, steer)

@@ -390,6 +390,9 @@ class World:
         self._ped_speed = np.zeros(len(self._pedestrians))
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
+        self._ped_input: list[PedestrianInput | None] = [None] * len(self._pedestrians)
+        n_ped = len(self._pedestrians)
+        self._ped_place: list[tuple[float, float, float, float, int | None] | None] = [None] * n_ped
         self._accel = np.zeros(nv)
         for spec in self.specs:
             if spec.kind != "obstacle":  # obstacles stay where the model put them
@@ -432,6 +435,7 @@ class World:
             self._ped_speed[row] = speed
             self._ped_yaw[row] = yaw
             self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
+            self._ped_input[row] = None
         else:
             raise ValueError(f"obstacle `{name}` is static and cannot be placed after start")
 
@@ -466,6 +470,10 @@ class World:
             self.actuators.set_command(self._vrow[name], value.throttle, value.brake, value.steer)
         elif kind == "pedestrian" and isinstance(value, PedestrianInput):
             row = self._prow[name]
+            held = self._ped_input[row]
+            if (held is value or held == value) and self._ped_accel[row] == 0.0:
+                return  # the same input as held: nothing changes (idle walkers cost nothing)
+            self._ped_input[row] = value
             yaw = value.yaw
             speed = value.speed
             self._ped_vel[row] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0)
@@ -670,12 +678,51 @@ class World:
                     params.length,
                     params.width,
                 )
-        for spec in self._pedestrians:
-            out[spec.name] = self.state(spec.name)
+        if len(self._pedestrians):
+            self._read_pedestrians(out, tick, time)
         if static or any(spec.name not in out for spec in self.specs if spec.kind == "obstacle"):
             for i in self._obs_pos:
                 name = self._names[i]
                 out[name] = self.state(name)
+
+    def _read_pedestrians(self, out: dict[str, ActorState], tick: int, time: float) -> None:
+        """The walkers' states, as :meth:`state` gives them; road coordinates are computed
+        again only for a walker that moved."""
+        road = self.road
+        pos = self.data.mocap_pos[self._mocap, :2].tolist()
+        speed = self._ped_speed.tolist()
+        yaw = self._ped_yaw.tolist()
+        accel = self._ped_accel.tolist()
+        nan = math.nan
+        for row, spec in enumerate(self._pedestrians):
+            x, y = pos[row]
+            place = self._ped_place[row]
+            if place is None or place[0] != x or place[1] != y:
+                s, t = road.to_st(x, y)
+                place = self._ped_place[row] = (x, y, s, t, road.lane_of(y))
+            params = spec.params
+            out[spec.name] = ActorState(
+                spec.name,
+                "pedestrian",
+                tick,
+                time,
+                x,
+                y,
+                yaw[row],
+                speed[row],
+                0.0,
+                0.0,
+                accel[row],
+                place[4],
+                place[2],
+                place[3],
+                nan,
+                nan,
+                nan,
+                nan,
+                params.length,
+                params.width,
+            )
 
     # ------------------------------------------------------------------ divergence
 

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from typing import Any
 
 from osc2check.road import Road
 from osc2runner.sim import ActorState, VehicleController, VehicleInput
@@ -127,6 +128,19 @@ class SutDriver:
         params = inner.speed.params
         self.params = params
         self.last: Command | Demand | None = None
+
+    @property
+    def path(self) -> Any:
+        """The world path the driver model follows (``follow_path``...), set by behaviours."""
+        return self.inner.path
+
+    @path.setter
+    def path(self, value: Any) -> None:
+        self.inner.path = value
+
+    def __getattr__(self, name: str) -> Any:
+        # everything else behaviours ask of the actor's controller is the driver model's
+        return getattr(self.inner, name)
 
     def observe(self, state: ActorState, driver: VehicleInput) -> Observation:
         """The observation of this tick."""

@@ -73,7 +73,7 @@ def test_plots_are_written(tmp_path, capsys):
     out = tmp_path / "out"
     assert main([str(EVENTS), "--out", str(out), "--plot"]) == 0
     pngs = sorted(p.name for p in out.glob("*.png"))
-    assert pngs == ["accel_jerk.png", "braking.png", "speed_throttle.png"]
+    assert pngs == ["accel_jerk.png", "braking.png", "speed_throttle.png", "world.png"]
     assert (out / "speed_throttle.png").read_bytes()[:4] == b"\x89PNG"
 
 

@@ -4,7 +4,7 @@ import * as cp from "child_process";
 import * as fs from "fs";
 import * as path from "path";
 import * as vscode from "vscode";
-import { OPEN_SETTINGS, SHOW_OUTPUT } from "./server";
+import { OPEN_SETTINGS, SHOW_OUTPUT, openServerSettings, readServerSettings } from "./server";
 import {
   ProcessResult,
   checkerFailedMessage,
@@ -19,7 +19,7 @@ export const RUN_TERMINAL_NAME = "OSC2: run";
 const CHECKER_TIMEOUT_MS = 5 * 60 * 1000;
 
 function pythonPath(): string {
-  return vscode.workspace.getConfiguration("osc2.server").get<string>("pythonPath", "");
+  return readServerSettings().settings.pythonPath;
 }
 
 /** The saved .osc file of the active editor, or undefined after telling the user why not. */
@@ -114,7 +114,7 @@ export async function showWitness(output: vscode.OutputChannel): Promise<void> {
       const message = checkerNotFoundMessage(command);
       output.appendLine(`[osc2check] ${message}`);
       const choice = await vscode.window.showErrorMessage(message, OPEN_SETTINGS);
-      if (choice === OPEN_SETTINGS) await vscode.commands.executeCommand("workbench.action.openSettings", "osc2.server");
+      if (choice === OPEN_SETTINGS) await openServerSettings();
       return;
     }
     case "failed": {

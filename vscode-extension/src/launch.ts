@@ -109,13 +109,48 @@ export function didChangeConfigurationParams(payload: ServerOptionsPayload): { s
   return { settings: { osc2: payload } };
 }
 
+/** What `WorkspaceConfiguration.inspect` reports for one setting. */
+export interface InspectedSetting<T> {
+  defaultValue?: T;
+  globalValue?: T;
+  workspaceValue?: T;
+  workspaceFolderValue?: T;
+}
+
+/**
+ * Which settings a value of `osc2.server.*` came from, for the log and the
+ * error messages. These are machine settings (`machine-overridable`): in a
+ * remote window VS Code reads the user-level value from the Remote settings
+ * only, never from the local User settings; folder and workspace settings
+ * override both.
+ */
+export function settingOrigin<T>(inspected: InspectedSetting<T> | undefined, remoteName: string | undefined): string {
+  if (inspected?.workspaceFolderValue !== undefined) return "folder settings";
+  if (inspected?.workspaceValue !== undefined) return "workspace settings";
+  if (inspected?.globalValue !== undefined) return remoteName ? `Remote settings (${remoteName})` : "User settings";
+  return "the default";
+}
+
+/** The advice a start failure ends with in a remote window (`vscode.env.remoteName`). */
+export function remoteHint(remoteName: string | undefined): string {
+  if (!remoteName) return "";
+  return (
+    ` This is a remote window (${remoteName}): \`osc2.server.command\` and \`osc2.server.pythonPath\` are read ` +
+    `from the Remote settings or the workspace's settings here, not from your local User settings.`
+  );
+}
+
 export type StartFailure =
   | { kind: "not-found" }
   | { kind: "spawn-failed"; detail: string }
   | { kind: "exited-during-startup"; lastError?: string | undefined };
 
 /** The message shown when the server cannot be started; it always says how to fix it. */
-export function startFailureMessage(spec: LaunchSpec, failure: StartFailure): string {
+export function startFailureMessage(spec: LaunchSpec, failure: StartFailure, remoteName?: string): string {
+  return describeFailure(spec, failure) + (failure.kind === "exited-during-startup" ? "" : remoteHint(remoteName));
+}
+
+function describeFailure(spec: LaunchSpec, failure: StartFailure): string {
   const fix = spec.viaPython
     ? `Install the server into that interpreter (\`${spec.command} -m ${INSTALL_HINT}\`) or point \`osc2.server.pythonPath\` at one that has it.`
     : `Install it with \`${INSTALL_HINT}\`, or set \`osc2.server.pythonPath\` to a Python interpreter that has it.`;

@@ -20,11 +20,13 @@ import {
 import {
   LaunchSpec,
   ServerOptionsPayload,
+  ServerSettings,
   StartFailure,
   didChangeConfigurationParams,
   findExecutable,
   launchSpec,
   optionsPayload,
+  settingOrigin,
   startFailureMessage,
 } from "./launch";
 
@@ -81,6 +83,31 @@ function workspaceFolderPath(): string | undefined {
   return vscode.workspace.workspaceFolders?.[0]?.uri.fsPath;
 }
 
+/**
+ * `osc2.server.command` and `osc2.server.pythonPath`, read for the first workspace
+ * folder (so that folder settings apply too), and where each came from.
+ */
+export function readServerSettings(): { settings: ServerSettings; origins: string[] } {
+  const scope = vscode.workspace.workspaceFolders?.[0]?.uri;
+  const config = vscode.workspace.getConfiguration("osc2.server", scope);
+  const remote = vscode.env.remoteName;
+  const settings = {
+    command: config.get<string[]>("command", ["osc2lsp"]),
+    pythonPath: config.get<string>("pythonPath", ""),
+  };
+  const origins = [
+    `osc2.server.command ${JSON.stringify(settings.command)} from ${settingOrigin(config.inspect("command"), remote)}`,
+    `osc2.server.pythonPath ${JSON.stringify(settings.pythonPath)} from ${settingOrigin(config.inspect("pythonPath"), remote)}`,
+  ];
+  return { settings, origins };
+}
+
+/** Open the settings where `osc2.server.*` apply in this window. */
+export function openServerSettings(): Thenable<unknown> {
+  const command = vscode.env.remoteName ? "workbench.action.openRemoteSettings" : "workbench.action.openSettings";
+  return vscode.commands.executeCommand(command, vscode.env.remoteName ? { query: "osc2.server" } : "osc2.server");
+}
+
 export class ServerController implements vscode.Disposable {
   private client: Osc2LanguageClient | undefined;
   private process: cp.ChildProcess | undefined;
@@ -129,15 +156,10 @@ export class ServerController implements vscode.Disposable {
 
   private async doStart(): Promise<void> {
     if (this.client) return;
-    const config = vscode.workspace.getConfiguration("osc2.server");
     const cwd = workspaceFolderPath();
-    const spec = launchSpec(
-      {
-        command: config.get<string[]>("command", ["osc2lsp"]),
-        pythonPath: config.get<string>("pythonPath", ""),
-      },
-      cwd,
-    );
+    const { settings, origins } = readServerSettings();
+    for (const origin of origins) this.output.appendLine(`[osc2] ${origin}`);
+    const spec = launchSpec(settings, cwd);
     const executable = findExecutable(spec.command, cwd);
     if (executable === undefined) {
       this.reportStartFailure(spec, { kind: "not-found" });
@@ -248,6 +270,7 @@ export class ServerController implements vscode.Disposable {
     const child = this.process;
     this.client = undefined;
     this.process = undefined;
+    const ended = child ? exited(child) : Promise.resolve();
     if (client) {
       try {
         await client.dispose(2000);
@@ -255,16 +278,25 @@ export class ServerController implements vscode.Disposable {
         this.output.appendLine(`[osc2] stopping the server: ${error instanceof Error ? error.message : String(error)}`);
       }
     }
-    // A server that ignored shutdown/exit is not left behind.
-    if (child && child.exitCode === null && child.signalCode === null) child.kill();
+    if (!child) return;
+    // After `exit` the server stops its solver worker and ends by itself: give it the
+    // time to (killing it at once used to cut that short). One that does not is not
+    // left behind.
+    const done = await Promise.race([ended.then(() => true), delay(EXIT_WAIT_MS).then(() => false)]);
+    if (done) {
+      this.output.appendLine(`[osc2] the server exited (code ${child.exitCode ?? child.signalCode})`);
+    } else {
+      this.output.appendLine("[osc2] the server did not exit: stopping it");
+      child.kill();
+    }
   }
 
   private reportStartFailure(spec: LaunchSpec, failure: StartFailure): void {
-    const message = startFailureMessage(spec, failure);
+    const message = startFailureMessage(spec, failure, vscode.env.remoteName);
     this.output.appendLine(`[osc2] ${message}`);
     void vscode.window.showErrorMessage(message, OPEN_SETTINGS, SHOW_OUTPUT).then((choice) => {
       if (choice === OPEN_SETTINGS) {
-        void vscode.commands.executeCommand("workbench.action.openSettings", "osc2.server");
+        void openServerSettings();
       } else if (choice === SHOW_OUTPUT) {
         this.output.show(true);
       }
@@ -278,6 +310,12 @@ function lastLine(text: string): string | undefined {
     .map((l) => l.trim())
     .filter((l) => l !== "")
     .pop();
+}
+
+/** Resolves when the process has exited (at once if it already has). */
+function exited(child: cp.ChildProcess): Promise<void> {
+  if (child.exitCode !== null || child.signalCode !== null) return Promise.resolve();
+  return new Promise((done) => child.once("exit", () => done()));
 }
 
 /** A writer to the server's stdin that silently drops data once the process has exited. */

@@ -8,7 +8,7 @@ import sys
 import pytest
 
 from osc2check.syntax.lexer import tokenize
-from osc2lsp.features.formatting import FormatOptions, format_text
+from osc2lsp.features.formatting import FormatOptions, format_text, indent_style
 from tests.osc2lsp.lsp_helpers import REPO, seed_path
 
 sys.path.insert(0, str(REPO / "bench"))
@@ -90,3 +90,21 @@ def test_formatting_generated_files_is_idempotent():
     text = generate(400)
     once = format_text(text)
     assert once is not None and format_text(once) == once
+
+
+@pytest.mark.parametrize(
+    "text, unit",
+    [
+        ("scenario s:\n    x: int\n    do serial:\n        wait elapsed(1s)\n", "    "),
+        ("scenario s:\n  x: int\n  y: int\n", "  "),
+        ("scenario s:\n\tx: int\n\tdo serial:\n\t\twait elapsed(1s)\n", "\t"),
+        ("scenario s:\n\tx: int\n\ty: int\n  z: int\n", "\t"),  # most first-level lines
+    ],
+)
+def test_the_indent_unit_is_the_files_own(text, unit):
+    style = indent_style(text)
+    assert style is not None and style.unit == unit
+
+
+def test_a_file_without_indentation_has_no_indent_style():
+    assert indent_style("import osc.standard\nenum c: [a, b]\n") is None

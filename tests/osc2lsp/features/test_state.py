@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import asyncio
+import gc
+import weakref
 
 from osc2lsp.options import Options
 from osc2lsp.state import State
@@ -120,3 +122,75 @@ def test_the_solver_phase_adds_its_findings_after_the_first():
     batches = _run(scenario())
     assert batches[0] == [(False, [])]
     assert batches[-1][0][0] is True and "C401" in batches[-1][0][1]
+
+
+def test_a_slow_documents_edit_is_previewed_before_it_is_analysed():
+    text = "scenario a:\n    x: int = 1\n\nscenario b:\n    hreo: vehicle\n"
+
+    async def scenario():
+        published: list[tuple[int | None, bool, list[str]]] = []
+        analysed = asyncio.Event()
+
+        def publish(trigger, found):
+            for f in found:
+                published.append((f.version, f.final, sorted(d.code.code for d in f.diagnostics)))
+                if f.version == 2 and f.final:
+                    analysed.set()
+
+        state = State(Options(debounce=1, verify=False, preview_after=0), publish)
+        uri = "file:///tmp/preview.osc"
+        state.open(uri, text, 1)
+        await state.fresh(uri)
+        state.change(uri, text.replace("x: int = 1", "x: int = (1"), 2)
+        await asyncio.wait_for(analysed.wait(), 60)
+        await state.shutdown()
+        return [p for p in published if p[0] == 2]
+
+    second = _run(scenario())
+    preview, analysis = second[0], second[-1]
+    assert preview[1] is False and analysis[1] is True
+    assert "N101" in preview[2] and any(code.startswith("P") for code in preview[2])
+    assert analysis[2] == sorted(analysis[2])
+
+
+def test_the_latest_snapshot_answers_outside_the_edited_text():
+    v1 = "scenario s:\n    x: int = 1\n    keep(x > 0)\n"
+    v2 = v1.replace("int = 1", "float = 1.5")
+
+    async def scenario():
+        state = State(Options(debounce=60_000, verify=False))
+        uri = "file:///tmp/view.osc"
+        state.open(uri, v1, 1)
+        first = await state.fresh(uri)
+        state.change(uri, v2, 2)
+        outside = await state.view(uri, v2.index("x > 0"))
+        inside = await state.view(uri, v2.index("float"))
+        await state.shutdown()
+        return first, outside, inside
+
+    first, outside, inside = _run(scenario())
+    assert outside is not None and outside[0] is first and outside[1] is not None
+    assert inside is not None and inside[0].version == 2 and inside[1] is None
+
+
+def test_replaced_snapshots_are_freed_once_the_documents_are_quiet():
+    """With automatic collection off, only the server's own collection frees them."""
+
+    async def scenario():
+        state = State(Options(debounce=0, verify=False))
+        uri = "file:///tmp/garbage.osc"
+        state.open(uri, "scenario s:\n    x: int = 1\n", 1)
+        models = [weakref.ref((await state.fresh(uri)).model)]
+        for version in range(2, 5):
+            state.change(uri, f"scenario s:\n    x: int = {version}\n", version)
+            models.append(weakref.ref((await state.fresh(uri)).model))
+        await state.quiet()  # the collection follows a pause in the analyses
+        freed = [m() is None for m in models]
+        await state.shutdown()
+        return freed
+
+    gc.disable()
+    try:
+        assert _run(scenario()) == [True, True, True, False]
+    finally:
+        gc.enable()

@@ -150,6 +150,34 @@ describe("language client", () => {
     assert.deepEqual(mock.executed.find((e) => e.command === "workbench.action.openSettings")?.args, ["osc2.server"]);
   });
 
+  it("in a remote window, says where machine settings are read and opens the Remote settings", async () => {
+    mock.remoteName = "ssh-remote";
+    mock.answers = [{ pattern: /was not found/, item: "Open Settings" }];
+    await activate({ "osc2.server.command": ["osc2lsp-that-does-not-exist"] });
+    assert.equal(mock.messages.length, 1);
+    assert.match(mock.messages[0].text, /remote window \(ssh-remote\)/);
+    assert.match(mock.messages[0].text, /Remote settings or the workspace's settings/);
+    await waitFor("open remote settings", () =>
+      mock.executed.some((e) => e.command === "workbench.action.openRemoteSettings"),
+    );
+    const opened = mock.executed.find((e) => e.command === "workbench.action.openRemoteSettings");
+    assert.deepEqual(opened?.args, [{ query: "osc2.server" }]);
+    assert.ok(mock.output.some((l) => l.includes("osc2.server.command") && l.includes("Remote settings (ssh-remote)")));
+  });
+
+  it("logs which settings the server command came from", async () => {
+    await activate({ "osc2.server.command": [process.execPath, fakeServer] });
+    assert.ok(mock.output.some((l) => l.startsWith("[osc2] osc2.server.command") && l.endsWith("from User settings")));
+    assert.ok(mock.output.some((l) => l.startsWith("[osc2] osc2.server.pythonPath") && l.endsWith("from the default")));
+  });
+
+  it("lets a stopped server exit by itself instead of killing it", async () => {
+    await activate({ "osc2.server.command": [process.execPath, fakeServer] });
+    await extension.deactivate();
+    assert.ok(mock.output.some((l) => l.includes("the server exited (code 0)")), mock.output.join("\n"));
+    assert.ok(!mock.output.some((l) => l.includes("did not exit")));
+  });
+
   it("reports a python path that does not exist", async () => {
     await activate({ "osc2.server.pythonPath": path.join(tmp, "no", "python3") });
     assert.equal(mock.messages.length, 1);

@@ -8,6 +8,8 @@ import {
   findExecutable,
   launchSpec,
   optionsPayload,
+  remoteHint,
+  settingOrigin,
   startFailureMessage,
   substituteVariables,
 } from "../../src/launch";
@@ -106,5 +108,25 @@ describe("startFailureMessage", () => {
       startFailureMessage(python, { kind: "exited-during-startup", lastError: "No module named osc2lsp" }),
       /\/usr\/bin\/python3 -m osc2lsp.*No module named osc2lsp.*\/usr\/bin\/python3 -m pip install osc2-toolkit/,
     );
+  });
+});
+
+describe("settings of the server in remote windows", () => {
+  it("names the settings a value came from; a user-level value is the Remote settings' in a remote window", () => {
+    assert.equal(settingOrigin({ defaultValue: 1, workspaceFolderValue: 2, workspaceValue: 3 }, undefined), "folder settings");
+    assert.equal(settingOrigin({ workspaceValue: 3, globalValue: 4 }, "wsl"), "workspace settings");
+    assert.equal(settingOrigin({ globalValue: 4 }, undefined), "User settings");
+    assert.equal(settingOrigin({ globalValue: 4 }, "ssh-remote"), "Remote settings (ssh-remote)");
+    assert.equal(settingOrigin({ defaultValue: 1 }, "ssh-remote"), "the default");
+    assert.equal(settingOrigin(undefined, undefined), "the default");
+  });
+
+  it("tells a remote window's user where to set the server", () => {
+    const spec = launchSpec({ command: ["osc2lsp"], pythonPath: "" });
+    assert.equal(remoteHint(undefined), "");
+    const remote = startFailureMessage(spec, { kind: "not-found" }, "ssh-remote");
+    assert.ok(remote.startsWith(startFailureMessage(spec, { kind: "not-found" })));
+    assert.match(remote, /remote window \(ssh-remote\).*Remote settings or the workspace's settings/);
+    assert.doesNotMatch(startFailureMessage(spec, { kind: "exited-during-startup" }, "wsl"), /remote window/);
   });
 });

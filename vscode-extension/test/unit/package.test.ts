@@ -47,6 +47,21 @@ describe("package.json", () => {
     assert.equal(grammar.scopeName, entry.scopeName);
   });
 
+  it("makes the server command and Python path machine settings (Remote or workspace in a remote window)", () => {
+    const p = manifest.contributes.configuration.properties;
+    for (const key of ["osc2.server.command", "osc2.server.pythonPath"]) {
+      assert.equal(p[key].scope, "machine-overridable", key);
+      assert.match(p[key].markdownDescription, /remote window/, key);
+    }
+  });
+
+  it("shows “Run scenario” with an icon in the editor title", () => {
+    const run = manifest.contributes.commands.find((c: { command: string }) => c.command === "osc2.runScenario");
+    assert.equal(run.icon, "$(play)");
+    const title = manifest.contributes.menus["editor/title/run"];
+    assert.ok(title.some((m: { command: string; when: string }) => m.command === "osc2.runScenario" && m.when === "editorLangId == osc2"));
+  });
+
   it("declares the settings with their defaults", () => {
     const p = manifest.contributes.configuration.properties;
     assert.deepEqual(p["osc2.server.command"].default, ["osc2lsp"]);

@@ -69,6 +69,8 @@ export class VscodeMock {
   settings: Record<string, unknown> = {};
   activeDocument: FakeDocument | undefined;
   workspaceFolder: string | undefined;
+  /** `vscode.env.remoteName`: set for a remote window ("ssh-remote", "wsl", ...) */
+  remoteName: string | undefined;
   shell = "/bin/bash";
   private configEmitter = new Emitter<{ affectsConfiguration(section: string): boolean }>();
   readonly module: Record<string, unknown>;
@@ -92,7 +94,16 @@ export class VscodeMock {
     });
     const base: Record<string, unknown> = {
       version: "1.82.0",
-      env: { appName: "mock", language: "en", get shell() { return mock.shell; } },
+      env: {
+        appName: "mock",
+        language: "en",
+        get shell() {
+          return mock.shell;
+        },
+        get remoteName() {
+          return mock.remoteName;
+        },
+      },
       ProgressLocation: { SourceControl: 1, Window: 10, Notification: 15 },
       window: {
         createOutputChannel: outputChannel,
@@ -215,6 +226,7 @@ export class VscodeMock {
     this.settings = {};
     this.activeDocument = undefined;
     this.workspaceFolder = undefined;
+    this.remoteName = undefined;
   }
 
   /** Fire onDidChangeConfiguration for the given setting keys. */

@@ -1,0 +1,251 @@
+"""Actions of the ``traffic_light_controller``: bulb and semantic states, groups, cycles.
+
+The lights are the scenario's ``traffic_light`` parameters
+(:mod:`osc2runner.instance.lights`). Every ``set_*`` action takes effect at once
+and succeeds; ``sync: true`` also sets the other lights of the light's group
+(lights whose ``group.map_id`` is equal) the same way. ``play_cycles`` runs
+the phases of each cycle in order, each for its ``duration``, from the cycle's
+``start_offset`` into it, round and round until its phase is ended by a
+``duration``, an ``until`` or its parallel's end; the phases' ``bulbs_state``
+lists set the bulbs of the phase's group, matched by colour and icon.
+
+Every change is written to the event log (kind ``traffic_light``) with the
+light's semantic state and bulbs.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+from types import SimpleNamespace
+from typing import Any
+
+from py_trees.common import Status
+
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction
+from osc2runner.compile.registry import action, method
+from osc2runner.execution.context import RunContext
+from osc2runner.instance.lights import SEMANTIC_BULBS, TrafficLight, semantic_of
+
+__all__ = [
+    "PlayCycles",
+    "SetBulbState",
+    "SetGroupBulbState",
+    "SetGroupSemanticState",
+    "SetGroupState",
+    "SetSemanticState",
+    "SetState",
+    "switch",
+]
+
+
+def _lights(action: ActionBehaviour) -> dict[str, TrafficLight]:
+    return action.ctx.traffic_lights
+
+
+def _light(action: ActionBehaviour, value: Any) -> TrafficLight:
+    for light in _lights(action).values():
+        if light.value is value:
+            return light
+    raise ActionError("the `traffic_light` is not a traffic light of the scenario")
+
+
+def _group(action: ActionBehaviour, group_id: str) -> list[TrafficLight]:
+    return [light for light in _lights(action).values() if light.group == group_id]
+
+
+def _with_sync(action: ActionBehaviour, light: TrafficLight) -> list[TrafficLight]:
+    if action.args.get("sync") and light.group:
+        return _group(action, light.group)
+    return [light]
+
+
+def switch(action: ActionBehaviour, lights: Iterable[TrafficLight], change: Any) -> None:
+    """Apply ``change(bulb) -> new state or None`` to every bulb of ``lights`` and log
+    each light whose bulbs changed."""
+    for light in lights:
+        changed = False
+        for bulb in light.bulbs:
+            state = change(bulb)
+            if state is not None and state != bulb.state:
+                bulb.state = state
+                changed = True
+        if changed:
+            action.ctx.record("traffic_light", light.name, light.describe())
+
+
+def _semantic(state: str) -> Any:
+    wanted = SEMANTIC_BULBS.get(state)
+    if wanted is None:
+        raise ActionError(f"unknown semantic state `{state}`")
+    return lambda bulb: wanted.get(str(bulb.color), "is_off")
+
+
+def _bulb(color: str, icon: str, state: str) -> Any:
+    return lambda bulb: state if bulb.color == color and bulb.icon == icon else None
+
+
+def _by_position(action: ActionBehaviour, lights: list[TrafficLight], states: Any) -> None:
+    states = tuple(states or ())
+    for light in lights:
+        if len(states) != len(light.bulbs):
+            raise ActionError(
+                f"`{light.name}` has {len(light.bulbs)} bulbs; {len(states)} states were given"
+            )
+        by_bulb = {id(b): s for b, s in zip(light.bulbs, states, strict=True)}
+        switch(action, [light], lambda bulb, m=by_bulb: m[id(bulb)])
+
+
+def _group_id(value: Any) -> str:
+    return str(getattr(value, "map_id", ""))
+
+
+@action("traffic_light_controller", "set_bulb_state")
+class SetBulbState(InstantAction):
+    """``set_bulb_state(traffic_light, bulb_color, bulb_kind, bulb_state, sync)``: one bulb
+    (of every light that has it when no light is given)."""
+
+    def start(self) -> None:
+        args = self.args
+        given = args.get("traffic_light")
+        lights = (
+            list(_lights(self).values()) if given is None else _with_sync(self, _light(self, given))
+        )
+        change = _bulb(str(args["bulb_color"]), str(args["bulb_kind"]), str(args["bulb_state"]))
+        switch(self, lights, change)
+
+
+@action("traffic_light_controller", "set_state")
+class SetState(InstantAction):
+    """``set_state(traffic_light, state: list of bulb_state, sync)``: every bulb, in order."""
+
+    def start(self) -> None:
+        light = _light(self, self.args["traffic_light"])
+        _by_position(self, _with_sync(self, light), self.args["state"])
+
+
+@action("traffic_light_controller", "set_semantic_state")
+class SetSemanticState(InstantAction):
+    """``set_semantic_state(traffic_light, state, sync)``: the bulbs of that meaning."""
+
+    def start(self) -> None:
+        light = _light(self, self.args["traffic_light"])
+        switch(self, _with_sync(self, light), _semantic(str(self.args["state"])))
+
+
+@action("traffic_light_controller", "set_group_bulb_state")
+class SetGroupBulbState(InstantAction):
+    """``set_group_bulb_state(traffic_light, ...)``: one bulb of every light of the light's
+    group (the standard types the parameter as a light)."""
+
+    def start(self) -> None:
+        args = self.args
+        light = _light(self, args["traffic_light"])
+        lights = _group(self, light.group) if light.group else [light]
+        change = _bulb(str(args["bulb_color"]), str(args["bulb_kind"]), str(args["bulb_state"]))
+        switch(self, lights, change)
+
+
+@action("traffic_light_controller", "set_group_state")
+class SetGroupState(InstantAction):
+    """``set_group_state(group, state: list of bulb_state)``: every light of the group."""
+
+    def start(self) -> None:
+        lights = _group(self, _group_id(self.args["group"]))
+        if not lights:
+            raise ActionError("no traffic light of the scenario is in this group")
+        _by_position(self, lights, self.args["state"])
+
+
+@action("traffic_light_controller", "set_group_semantic_state")
+class SetGroupSemanticState(InstantAction):
+    """``set_group_semantic_state(traffic_light_group, state)``: every light of the group."""
+
+    def start(self) -> None:
+        lights = _group(self, _group_id(self.args["traffic_light_group"]))
+        if not lights:
+            raise ActionError("no traffic light of the scenario is in this group")
+        switch(self, lights, _semantic(str(self.args["state"])))
+
+
+@action("traffic_light_controller", "play_cycles")
+class PlayCycles(ActionBehaviour):
+    """``play_cycles(cycles)``: each cycle's phases, round and round (see the module)."""
+
+    finite = False
+
+    def start(self) -> None:
+        self.cycles = []
+        for cycle in tuple(self.args.get("cycles") or ()):
+            phases = tuple(getattr(cycle, "phases", ()) or ())
+            if not phases:
+                raise ActionError("a cycle without phases cannot be played")
+            period = sum(float(p.duration) for p in phases)
+            if period <= 0.0:
+                raise ActionError("the phases of a cycle must last longer than 0 s")
+            self.cycles.append((phases, period, float(getattr(cycle, "start_offset", 0.0))))
+        self.current: list[int] = [-1] * len(self.cycles)
+        self._apply()
+
+    def _apply(self) -> None:
+        for n, (phases, period, offset) in enumerate(self.cycles):
+            t = (self.elapsed + offset) % period
+            index = 0
+            while t >= float(phases[index].duration) and index < len(phases) - 1:
+                t -= float(phases[index].duration)
+                index += 1
+            if index == self.current[n]:
+                continue
+            self.current[n] = index
+            phase = phases[index]
+            lights = _group(self, _group_id(getattr(phase, "group", None)))
+            wanted = {
+                (str(b.color), str(b.icon)): str(getattr(b, "state", "is_on"))
+                for b in tuple(getattr(phase, "bulbs_state", ()) or ())
+            }
+            switch(
+                self,
+                lights,
+                lambda bulb, w=wanted: w.get((str(bulb.color), str(bulb.icon)), "is_off"),
+            )
+
+    def step(self) -> Status:
+        self._apply()
+        return Status.RUNNING
+
+
+# ---------------------------------------------------------------------- methods
+
+
+def _bulb_states(bulbs: Any) -> dict[tuple[str, str], str]:
+    return {(str(b.color), str(b.icon)): str(getattr(b, "state", "is_on")) for b in bulbs or ()}
+
+
+@method("traffic_light", "state_equal")
+def state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
+    """True when the light's bulbs are in the given bulbs' states (matched by colour and
+    icon; bulbs not given must be off)."""
+    wanted = _bulb_states(bulbs)
+    return all(
+        wanted.get((str(b.color), str(b.icon)), "is_off") == str(b.state) for b in subject.bulbs
+    )
+
+
+@method("traffic_light_group", "state_equal")
+def group_state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
+    """True when every light of the group is in the given bulbs' states."""
+    group = _group_id(subject)
+    lights = [light for light in ctx.traffic_lights.values() if light.group == group]
+    return bool(lights) and all(state_equal(ctx, light.value, bulbs) for light in lights)
+
+
+@method("traffic_light", "semantic_state_to_state")
+def semantic_state_to_state(ctx: RunContext, subject: Any, state: str) -> tuple[Any, ...]:
+    """The light's bulbs as the semantic state sets them (new values, the light unchanged)."""
+    change = _semantic(str(state))
+    return tuple(SimpleNamespace(**{**vars(b), "state": change(b)}) for b in subject.bulbs)
+
+
+@method("traffic_light", "state_to_semantic_state")
+def state_to_semantic_state(ctx: RunContext, subject: Any, bulbs: Any) -> str:
+    """The semantic state that the bulbs express (``tl.state_to_semantic_state(tl.bulbs)``)."""
+    return semantic_of(tuple(bulbs or ()))

@@ -1,0 +1,94 @@
+"""JSON-RPC robustness through raw pipes (what a well-behaved client cannot send):
+wrong frame lengths, params of the wrong type, requests after ``shutdown``,
+refusals logged quietly, the way the server ends."""
+
+from __future__ import annotations
+
+import pytest
+
+from tests.osc2lsp.protocol.raw_client import RawClient
+
+URI = "file:///tmp/osc2lsp-tests/jsonrpc.osc"
+TEXT = "import osc.standard\nscenario s:\n    hero: vehicle\n    x: int = 1\n"
+HOVER = {"textDocument": {"uri": URI}, "position": {"line": 3, "character": 5}}
+
+
+@pytest.fixture
+def server(tmp_path):
+    client = RawClient(tmp_path / "stderr.log", "--log-level", "INFO", settings={"verify": False})
+    client.initialize()
+    client.open(URI, TEXT)
+    client.diagnostics(URI, 1)
+    yield client
+    client.close()
+
+
+@pytest.mark.parametrize("length_error", [-12, -1, 1, 30])
+def test_a_frame_with_a_wrong_length_does_not_silence_the_server(server, length_error):
+    server.request("textDocument/hover", HOVER, length_error=length_error)
+    after = server.call("textDocument/hover", HOVER)
+    assert "x" in after["result"]["contents"]["value"]
+    assert "reading on from the next frame" in server.stderr()
+
+
+def test_a_last_frame_claiming_too_many_bytes_is_answered(server):
+    asked = server.request("textDocument/hover", HOVER, length_error=50)
+    assert "result" in server.response(asked)
+
+
+def test_bytes_that_are_no_frame_are_skipped(server):
+    server.send_bytes(b"\r\nhello world\r\n")
+    assert "result" in server.call("textDocument/hover", HOVER)
+
+
+def test_invalid_params_are_answered_with_invalid_params(server):
+    bad_line = dict(HOVER, position={"line": "3", "character": 5})
+    answer = server.call("textDocument/hover", bad_line)
+    assert answer["error"]["code"] == -32602
+    assert "params.position.line" in answer["error"]["message"]
+    missing = server.call("textDocument/definition", {"textDocument": {"uri": URI}})
+    assert missing["error"]["code"] == -32602
+
+
+def test_a_rename_to_null_is_invalid_params_not_a_rename_to_none(server):
+    answer = server.call("textDocument/rename", dict(HOVER, newName=None))
+    assert answer["error"]["code"] == -32602
+    assert "newName" in answer["error"]["message"]
+
+
+def test_a_notification_with_invalid_params_is_dropped_and_serving_goes_on(server):
+    server.notify("textDocument/didChange", {"textDocument": {"uri": URI}, "contentChanges": 5})
+    assert "result" in server.call("textDocument/hover", HOVER)
+    assert "a notification: not answered" in server.stderr()
+
+
+def test_a_refused_rename_is_an_error_answer_logged_without_traceback(server):
+    vehicle = {"textDocument": {"uri": URI}, "position": {"line": 2, "character": 12}}
+    answer = server.call("textDocument/rename", dict(vehicle, newName="car"))
+    assert answer["error"]["code"] == -32803
+    assert "standard library" in answer["error"]["message"]
+    keyword = server.call("textDocument/rename", dict(HOVER, newName="keep"))
+    assert "keyword" in keyword["error"]["message"]
+    log = server.stderr()
+    assert "refused" in log
+    assert "Traceback" not in log and " ERROR " not in log
+
+
+def test_requests_after_shutdown_are_refused_and_exit_ends_the_server(server):
+    assert server.call("shutdown")["result"] is None
+    late = server.call("textDocument/hover", HOVER)
+    assert late["error"]["code"] == -32600
+    server.notify("textDocument/didChange", {})  # ignored
+    server.notify("exit")
+    assert server.wait_exit() == 0
+
+
+def test_exit_without_shutdown_ends_with_code_1(server):
+    server.notify("exit")
+    assert server.wait_exit() == 1
+
+
+def test_the_end_of_input_ends_the_server(server):
+    assert server.process.stdin is not None
+    server.process.stdin.close()
+    assert server.wait_exit() in (0, 1)
