@@ -4,8 +4,9 @@ It drives as the scenario asks (it passes the driver model's pedals and
 steering through) until an actor in its path comes close in time, then brakes
 on its own, as a simple production AEB does:
 
-* time to collision ``TTC = gap / closing speed`` to the nearest actor ahead
-  whose width overlaps the car's (``Observation.ahead()``);
+* time to collision ``TTC = gap / closing speed`` to the actors ahead that it
+  closes in on and that overlap the car's width, now or when the car reaches
+  them at their lateral speed (a pedestrian walking into its path);
 * below ``ttc_partial`` (1.4 s) it brakes with ``partial_decel`` (4 m/s²);
 * below ``ttc_full`` (0.8 s), or when stopping needs more than ``partial_decel``
   (the closing speed squared over twice the gap), it brakes fully;
@@ -42,14 +43,26 @@ class Aeb:
         self.pending: list[bool | str] = []  # decisions not yet acted on (latency)
         self.interventions = 0
 
+    def threats(self, obs: Observation) -> list[tuple[float, float]]:
+        """``(TTC, closing speed)`` of every actor ahead the car will hit if nothing changes."""
+        found = []
+        for o in obs.others:
+            if o.rel_x <= 0.0 or o.rel_vx >= 0.0:
+                continue
+            closing = -o.rel_vx
+            ttc = max(o.gap, 0.0) / closing
+            half_widths = abs(o.rel_y) - o.lateral_gap  # the two half widths, side by side
+            if abs(o.rel_y + o.rel_vy * ttc) < half_widths:  # in the path when reached
+                found.append((ttc, closing))
+        return found
+
     def decide(self, obs: Observation) -> bool | str:
         """False (no braking), "partial" or "full", from what is seen now."""
-        target = obs.ahead()
-        if target is None or target.rel_vx >= 0.0:
+        threats = self.threats(obs)
+        if not threats:
             return False
-        closing = -target.rel_vx
-        gap = max(target.gap, 0.01)
-        ttc = gap / closing
+        ttc, closing = min(threats)
+        gap = max(ttc * closing, 0.01)
         needed = closing * closing / (2.0 * gap)  # m/s² to stop closing in within the gap
         if ttc < self.ttc_full or needed > self.escalate * self.partial_decel:
             return "full"
@@ -60,11 +73,8 @@ class Aeb:
     def step(self, obs: Observation) -> Command | Demand:
         self.pending.append(self.decide(obs))
         decision = self.pending.pop(0) if len(self.pending) > self.delay else False
-        if self.braking:
-            target = obs.ahead()
-            closing = target is not None and target.rel_vx < -0.1
-            if not closing or obs.ego.speed < 0.1:
-                self.braking = False
+        if self.braking and (not self.threats(obs) or obs.ego.speed < 0.1):
+            self.braking = False  # nothing ahead to hit any more: hand back to the driver
         if decision:
             if not self.braking:
                 self.interventions += 1

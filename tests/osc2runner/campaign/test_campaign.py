@@ -225,3 +225,43 @@ def test_campaign_usage_errors(tmp_path: Path) -> None:
         done = osc2run(str(path), *args)
         assert done.returncode == 2 and message in done.stderr, (args, done.stderr)
         assert done.stderr.count("\n") == 1
+
+
+GRID = """\
+import osc.standard
+
+scenario grid:
+    ego: vehicle with:
+        keep(it.vehicle_category == car)
+    step: uint with:
+        keep(it in [1..3])
+    v: speed with:
+        keep(it == step * 10kph)
+    side: int with:
+        keep(it in [-1, 1])
+    cover(v, unit: kph, range: [5..35], every: 10, event: start)
+    cover(side, range: [-1.5..1.5], every: 1, event: start)
+    cover(cells, items: [v, side])
+    do serial:
+        ego.assign_position() with:
+            lane(2, at: start)
+            speed(v, at: start)
+        ego.drive(duration: 1s) with:
+            speed(v)
+"""
+
+
+def test_cross_coverage_fills_every_combination(tmp_path: Path) -> None:
+    path = tmp_path / "grid.osc"
+    path.write_text(GRID, encoding="utf-8")
+    result = run_campaign(
+        CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2, strategy="cover")
+    )
+    cells = next(i for i in result.document["coverage"] if i["name"] == "cells")
+    # 3 speeds x 3 side buckets, of which side 0 is unreachable: 6 reachable cells, 6 runs
+    assert cells["reachable"] == 6 and cells["unreachable"] == 3
+    assert cells["filled"] == 6 and not cells["holes"]
+    labels = [b["label"] for b in cells["buckets"] if b["state"] == "filled"]
+    assert "[5..15) × [-1.5..-0.5)" in labels and "[25..35] × [0.5..1.5]" in labels
+    combos = {(r.parameters["v"]["value"], r.parameters["side"]["value"]) for r in result.records}
+    assert combos == {(v, s) for v in (10.0, 20.0, 30.0) for s in (-1, 1)}
