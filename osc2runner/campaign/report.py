@@ -148,6 +148,10 @@ def _coverage(document: dict[str, Any]) -> str:
     parts = []
     for item in items:
         buckets = item["buckets"]
+        split = [b["label"].split(" × ") for b in buckets]
+        if buckets and all(len(p) == 2 for p in split):
+            parts.append(_cross_map(item, split))
+            continue
         fig = _figure(min(11.0, 1.5 + 0.55 * len(buckets)), 1.6)
         ax = fig.add_subplot()
         hits = [b["hits"] for b in buckets]
@@ -178,6 +182,39 @@ def _coverage(document: dict[str, Any]) -> str:
             + _png(fig)
         )
     return "".join(parts)
+
+
+def _cross_map(item: dict[str, Any], split: list[list[str]]) -> str:
+    """A cross item of two: runs per combination, as a grid (grey: unreachable)."""
+    import numpy as np
+
+    xs = list(dict.fromkeys(p[0] for p in split))
+    ys = list(dict.fromkeys(p[1] for p in split))
+    hits = np.full((len(ys), len(xs)), np.nan)
+    for (x, y), b in zip(split, item["buckets"], strict=True):
+        if b["state"] != "unreachable":
+            hits[ys.index(y), xs.index(x)] = b["hits"]
+    fig = _figure(min(11.0, 1.5 + 0.75 * len(xs)), 1.2 + 0.4 * len(ys))
+    ax = fig.add_subplot()
+    from matplotlib.colors import LinearSegmentedColormap
+
+    cmap = LinearSegmentedColormap.from_list("hits", ["#ffcdd2", "#1565c0"]).with_extremes(
+        bad="#eeeeee"
+    )
+    ax.imshow(hits, cmap=cmap, vmin=0, vmax=max(1.0, float(np.nanmax(hits, initial=1.0))),
+              aspect="auto", origin="lower")  # fmt: skip
+    for j in range(len(ys)):
+        for i in range(len(xs)):
+            if not np.isnan(hits[j, i]):
+                ax.text(i, j, f"{int(hits[j, i])}", ha="center", va="center", fontsize=8)
+    ax.set_xticks(range(len(xs)), xs, rotation=30, ha="right", fontsize=7)
+    ax.set_yticks(range(len(ys)), ys, fontsize=7)
+    holes = ", ".join(item["holes"]) or "none"
+    return (
+        f"<h3><code>{_e(item['name'])}</code> (cross): {item['filled']} of {item['reachable']} "
+        f"reachable combinations filled</h3><p class='note'>runs per combination; grey: "
+        f"unreachable ({item['unreachable']}); holes: {_e(holes)}</p>" + _png(fig)
+    )
 
 
 def _scatter(records: Sequence[RunRecord], params: list[str]) -> str:
@@ -276,6 +313,15 @@ def _runs_table(records: Sequence[RunRecord], params: list[str], folder: Path,
     )
 
 
+def _shown(target: str) -> str:
+    """A SUT's file path relative to the current folder when it lies below it."""
+    module, _, name = target.rpartition(":")
+    try:
+        return f"{Path(module).relative_to(Path.cwd())}:{name}"
+    except ValueError:
+        return target
+
+
 def write_report(folder: Path, document: dict[str, Any], records: Sequence[RunRecord]) -> Path:
     """Write ``report.html`` for the campaign ``document`` (campaign.json's content)."""
     summary = document["summary"]
@@ -314,7 +360,7 @@ def write_report(folder: Path, document: dict[str, Any], records: Sequence[RunRe
 <p class="sub">{_e(document["source"])} · strategy <b>{_e(options["strategy"])}</b> from seed
 {options["seed"]} · engine {_e(options["engine"])}, {options["jobs"]} workers ·
 system under test: {
-        _e(sut["target"] + " driving " + (sut["actor"] or "sut/ego"))
+        _e(_shown(sut["target"]) + " driving " + (sut["actor"] or "sut/ego"))
         if sut
         else "none (the scenario drives every actor)"
     } · {_e(document.get("started"))},
