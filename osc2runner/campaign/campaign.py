@@ -192,7 +192,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     text, _ = decode_source(data)
     checked = check_file(options.file, scenario=options.scenario, source=text)
     digest = hashlib.sha256(data).hexdigest()
-    folder = output_folder(options.out)
+    folder = output_folder(options.out, create=False)  # made once the runs are planned
     previous: dict[int, RunRecord] = {}
     if options.resume:
         previous = _resumable(folder, options, digest)
@@ -258,6 +258,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 "resumed": sorted(kept),
             },
         }
+        folder = output_folder(options.out)
         write_campaign(folder, document)
         records: dict[int, RunRecord] = dict(kept)
         if progress is not None:
