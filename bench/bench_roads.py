@@ -24,7 +24,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
-from osc2check.world.builtin import builtin_network  # noqa: E402
+from osc2check.world.builtin import builtin_map, straight_network  # noqa: E402
 from osc2check.world.network import RoadNetwork  # noqa: E402
 from osc2check.world.opendrive import load_opendrive  # noqa: E402
 
@@ -105,7 +105,8 @@ def main() -> None:
         print(f"({SHARED} absent: shared maps skipped)")
     for path in sorted((ROOT / "examples" / "maps").glob("*.xodr")):
         maps.append((path.name, lambda path=path: load_opendrive(path)))
-    maps.append(("built-in Town06", lambda: builtin_network("Town06")))
+    # built fresh each time (builtin_network shares one network per name)
+    maps.append(("built-in Town06", lambda: straight_network(builtin_map("Town06"))))
     for name, load in maps:
         report(name, load)
 

@@ -13,7 +13,11 @@ world, telemetry; the compile and the world's construction are not timed):
   cut-in's real-time factor);
 * ``20 vehicles``: a generated scenario: 20 vehicles (2 HGVs) in three
   lanes of a 4-lane road for 30 s; those in the third lane move to the
-  fourth after 2 s.
+  fourth after 2 s;
+* ``straight road`` / ``curved road``: one car 20 s at 50 kph in a lane of the
+  built-in straight road, and of ``examples/maps/rural_curves.xodr``
+  (clothoids and arcs of 100 m and 150 m radius): the curved road's real-time
+  factor should be within 15 % of the straight road's.
 
 For each it prints the real-time factor (simulated s / wall s), the wall time
 per control tick and the share spent inside ``mj_step`` against everything
@@ -110,6 +114,19 @@ def with_idle_vrus_and_lights(source: str, persons: int = 4, lights: int = 2) ->
     return "\n".join(lines) + "\n"
 
 
+def lane_keeping(map_file: str) -> str:
+    """One car in a lane for 20 s at 50 kph on ``map_file`` (the curved-road comparison)."""
+    return (
+        "import osc.standard\n\nscenario keeping:\n"
+        f'    town: map with:\n        keep(it.map_file == "{map_file}")\n'
+        "    car: vehicle\n"
+        "    do car.drive(duration: 20s) with:\n"
+        "        lane(1, at: start)\n"
+        "        position(distance: 100m, at: start)\n"
+        "        speed(50kph)\n"
+    )
+
+
 def measure(name: str, path: Path, dt: float, repeat: int) -> None:
     best = None
     for _ in range(repeat):
@@ -125,7 +142,7 @@ def measure(name: str, path: Path, dt: float, repeat: int) -> None:
     ticks = result.metadata["steps"]
     outside = wall - inside
     print(
-        f"{name:<12} dt={dt * 1e3:4.1f} ms  {result.outcome.status:<8} sim {sim:6.2f} s  "
+        f"{name:<16} dt={dt * 1e3:4.1f} ms  {result.outcome.status:<8} sim {sim:6.2f} s  "
         f"RTF {sim / wall:7.1f}x  {1e3 * wall / max(ticks, 1):6.3f} ms/tick  "
         f"mj_step {100 * inside / wall:5.1f}%  outside {100 * outside / wall:5.1f}%  "
         f"(outside {1e6 * outside / max(ticks, 1):5.0f} us/tick)"
@@ -139,8 +156,8 @@ def main() -> None:
     parser.add_argument(
         "--scene",
         nargs="+",
-        default=["cut-in", "cut-in+idle", "20 vehicles"],
-        help="scenes to run (cut-in, cut-in+idle, 20 vehicles)",
+        default=["cut-in", "cut-in+idle", "20 vehicles", "straight road", "curved road"],
+        help="scenes to run (cut-in, cut-in+idle, 20 vehicles, straight road, curved road)",
     )
     args = parser.parse_args()
     print(f"versions: {versions()}")
@@ -150,7 +167,18 @@ def main() -> None:
         many.write_text(many_vehicles(), encoding="utf-8")
         idle = Path(tmp) / "cut_in_idle.osc"
         idle.write_text(with_idle_vrus_and_lights(cut_in.read_text()), encoding="utf-8")
-        scenes = {"cut-in": cut_in, "cut-in+idle": idle, "20 vehicles": many}
+        straight = Path(tmp) / "straight.osc"
+        straight.write_text(lane_keeping("default"), encoding="utf-8")
+        curved = Path(tmp) / "curved.osc"
+        rural = ROOT / "examples" / "maps" / "rural_curves.xodr"
+        curved.write_text(lane_keeping(str(rural)), encoding="utf-8")
+        scenes = {
+            "cut-in": cut_in,
+            "cut-in+idle": idle,
+            "20 vehicles": many,
+            "straight road": straight,
+            "curved road": curved,
+        }
         for dt in args.dt:
             for name in args.scene:
                 measure(name, scenes[name], dt, args.repeat)

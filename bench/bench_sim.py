@@ -8,6 +8,12 @@ wall time per control tick, and the share of wall time spent inside
 controllers). Scenes:
 
 * ``1 sedan``: one car holding 80 kph with lane keeping;
+* ``1 sedan curved``: one car holding 50 kph in a lane of the bundled
+  ``examples/maps/rural_curves.xodr`` (clothoids, a 100 m and a 150 m arc),
+  its road coordinates taken on the path it follows, against ``1 sedan
+  straight``: the same at 50 kph on the straight built-in road (the
+  runner's real-time factor on a curved road should be within 15 % of the
+  straight road's);
 * ``cut-in``: an ego at 80 kph and a car that cuts in front of it and brakes
   (the shape of the design paper's cut-in scenario);
 * ``20 vehicles``: 20 cars (2 HGVs) on a 4-lane road, each with its speed and
@@ -23,10 +29,13 @@ from __future__ import annotations
 import argparse
 import time
 from collections.abc import Callable
+from pathlib import Path
 
 import mujoco
 
-from osc2check.road import Road, get_map
+from osc2check.world.builtin import builtin_network
+from osc2check.world.maps import load_map
+from osc2check.world.network import LaneRef, RoadNetwork
 from osc2runner.execution.loop import TickLoop
 from osc2runner.sim import (
     ActorSpec,
@@ -62,24 +71,52 @@ class StepTimer:
         world_module.mujoco.mj_step = self._real  # type: ignore[attr-defined]
 
 
-def scene_single(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
+RURAL = Path(__file__).resolve().parents[1] / "examples" / "maps" / "rural_curves.xodr"
+
+
+def _controller(world: World, name: str, params, network: RoadNetwork) -> VehicleController:  # noqa: ANN001
+    """A driver whose route the world follows for road coordinates (as the runner does)."""
+    c = VehicleController(params, network, world.dt_control)
+    c.lateral.on_route = lambda path: world.follow(name, path)
+    return c
+
+
+def scene_single(road: RoadNetwork, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
     w = World(road, [ActorSpec("ego", sedan(), s=100, lane=2, speed=80 / 3.6)], dt_physics=dt)
-    c = VehicleController(sedan(), road, w.dt_control)
+    c = _controller(w, "ego", sedan(), road)
     c.speed.set_target(80 / 3.6, "smooth")
     c.lateral.keep_lane(2)
     return TickLoop.without_scenario(w, {"ego": c}), lambda loop: None
 
 
-def scene_cut_in(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
+def _lane_keeping(
+    network: RoadNetwork, lane: LaneRef | int, s: float, dt: float
+) -> tuple[TickLoop, Callable[[TickLoop], None]]:
+    w = World(network, [ActorSpec("ego", sedan(), s=s, lane=lane, speed=50 / 3.6)], dt_physics=dt)
+    c = _controller(w, "ego", sedan(), network)
+    c.speed.set_target(50 / 3.6, "none")
+    c.lateral.keep_lane(lane)
+    return TickLoop.without_scenario(w, {"ego": c}), lambda loop: None
+
+
+def scene_curved(road: RoadNetwork, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
+    return _lane_keeping(load_map(str(RURAL)), LaneRef("1", 0, -1), 100.0, dt)
+
+
+def scene_straight(road: RoadNetwork, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
+    return _lane_keeping(builtin_network("default"), 2, 100.0, dt)
+
+
+def scene_cut_in(road: RoadNetwork, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
     actors = [
         ActorSpec("ego", sedan(), s=100, lane=1, speed=80 / 3.6),
         ActorSpec("npc", sedan(), s=130, lane=2, speed=90 / 3.6),
     ]
     w = World(road, actors, dt_physics=dt)
-    ego = VehicleController(sedan(), road, w.dt_control)
+    ego = _controller(w, "ego", sedan(), road)
     ego.speed.set_target(80 / 3.6, "smooth")
     ego.lateral.keep_lane(1)
-    npc = VehicleController(sedan(), road, w.dt_control)
+    npc = _controller(w, "npc", sedan(), road)
     npc.speed.set_target(90 / 3.6, "smooth")
     npc.lateral.keep_lane(2)
     loop = TickLoop.without_scenario(w, {"ego": ego, "npc": npc})
@@ -94,18 +131,17 @@ def scene_cut_in(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], 
     return loop, script
 
 
-def scene_many(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
+def scene_many(road: RoadNetwork, dt: float) -> tuple[TickLoop, Callable[[TickLoop], None]]:
     actors = []
+    lanes = 4
     for i in range(20):
-        lane = 1 + i % road.lane_count
+        lane = 1 + i % lanes
         params = hgv() if i in (0, 9) else sedan()
-        actors.append(
-            ActorSpec(f"v{i}", params, s=60 + 25 * (i // road.lane_count), lane=lane, speed=25.0)
-        )
+        actors.append(ActorSpec(f"v{i}", params, s=60 + 25 * (i // lanes), lane=lane, speed=25.0))
     w = World(road, actors, dt_physics=dt)
     controllers = {}
     for spec in actors:
-        c = VehicleController(spec.params, road, w.dt_control)  # type: ignore[arg-type]
+        c = _controller(w, spec.name, spec.params, road)
         c.speed.set_target(25.0, "smooth")
         c.lateral.keep_lane(spec.lane or 1)
         controllers[spec.name] = c
@@ -115,8 +151,8 @@ def scene_many(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], No
         if loop.world.tick == 40:
             for k, spec in enumerate(actors):
                 if k % 3 == 0:
-                    lane = spec.lane or 1
-                    target = lane + 1 if lane < road.lane_count else lane - 1
+                    lane = spec.lane if isinstance(spec.lane, int) else 1
+                    target = lane + 1 if lane < lanes else lane - 1
                     controllers[spec.name].lateral.change_lane(
                         loop.world.state(spec.name), target, duration=4.0
                     )
@@ -124,11 +160,17 @@ def scene_many(road: Road, dt: float) -> tuple[TickLoop, Callable[[TickLoop], No
     return loop, script
 
 
-SCENES = {"1 sedan": scene_single, "cut-in": scene_cut_in, "20 vehicles": scene_many}
+SCENES = {
+    "1 sedan": scene_single,
+    "1 sedan straight": scene_straight,
+    "1 sedan curved": scene_curved,
+    "cut-in": scene_cut_in,
+    "20 vehicles": scene_many,
+}
 
 
 def measure(name: str, dt: float, seconds: float) -> None:
-    road = get_map("highway_4lane")
+    road = builtin_network("highway_4lane")
     t0 = time.perf_counter()
     loop, script = SCENES[name](road, dt)
     build = time.perf_counter() - t0
@@ -141,7 +183,7 @@ def measure(name: str, dt: float, seconds: float) -> None:
         wall = time.perf_counter() - t0
     inside = timer.total / wall
     print(
-        f"{name:12s} dt={dt * 1000:4.1f} ms  RTF {seconds / wall:7.1f}x  "
+        f"{name:16s} dt={dt * 1000:4.1f} ms  RTF {seconds / wall:7.1f}x  "
         f"{wall / ticks * 1e3:6.3f} ms/tick  mj_step {inside:6.1%}  outside {1 - inside:6.1%}  "
         f"(outside {(wall - timer.total) / ticks * 1e6:5.0f} us/tick, build {build * 1e3:.0f} ms)"
     )

@@ -231,9 +231,15 @@ def _check_command(argv: list[str], out: TextIO) -> int:
         from osc2check.verify.check import scenario_summary  # z3 loads only when needed
 
         summaries = [scenario_summary(r, args.witness) for r in results]
+    # constraints left out of a verdict: said in the summary line even when C411 is not shown
+    unverified = len({(s.span, s.reason) for r in results for s in r.problem.skipped})
     if args.statistics:
         text = render_statistics(
-            diagnostics, files_checked=len(sources), quiet=args.quiet, problems=problems
+            diagnostics,
+            files_checked=len(sources),
+            quiet=args.quiet,
+            problems=problems,
+            unverified=unverified,
         )
     else:
         text = render(
@@ -244,6 +250,7 @@ def _check_command(argv: list[str], out: TextIO) -> int:
             quiet=args.quiet,
             scenarios=summaries,
             problems=problems,
+            unverified=unverified,
         )
         if args.witness and config.output_format not in ("json", "sarif", "github"):
             text += _witness_tables(results)

@@ -204,7 +204,13 @@ NONLINEAR_CONSTRAINT = Code(
     "C410",
     "nonlinear-constraint",
     I,
-    "a constraint multiplies two unknowns; it is solved with a budget",
+    "a constraint multiplies or divides unknowns; it is solved with a budget",
+)
+UNVERIFIED_CONSTRAINT = Code(
+    "C411",
+    "unverified-constraint",
+    W,
+    "a constraint the solver cannot take is left out of the verdict and the witness",
 )
 
 # --- L: initial placement ------------------------------------------------------
@@ -243,6 +249,9 @@ UNSAFE_GAP = Code(
     "a start gap is shorter than one second at the follower's speed",
 )
 UNKNOWN_MAP = Code("L513", "unknown-map", E, "a map is named that the toolkit does not know")
+UNREADABLE_MAP = Code(
+    "L516", "unreadable-map", E, "a map file is named that is missing or cannot be read"
+)
 ROAD_TOO_SHORT_FOR_MOTION = Code(
     "L514",
     "road-too-short-for-motion",

@@ -860,9 +860,23 @@ def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
 def nonlinear_constraint(constraint: Constraint) -> Diagnostic:
     return _diag(
         codes.NONLINEAR_CONSTRAINT,
-        f"`{constraint.text}` multiplies two unknowns; it is solved within the "
+        f"`{constraint.text}` multiplies or divides unknowns; it is solved within the "
         "solver's budget and may be inconclusive",
         constraint.span,
+    )
+
+
+def unverified_constraint(
+    span: Span, text: str, reason: str, written_at: Span | None = None
+) -> Diagnostic:
+    """C411 at ``span``; ``written_at`` is where the constraint is when that is elsewhere
+    (another file: the finding is then at the scenario that uses it)."""
+    related = [Related(written_at, f"`{text}` is written here")] if written_at else []
+    return _diag(
+        codes.UNVERIFIED_CONSTRAINT,
+        f"`{text}` is not verified: {reason}; the verdict and the witness leave it out",
+        span,
+        related,
     )
 
 
@@ -909,6 +923,16 @@ def unplaced_actor(span: Span, actor: str) -> Diagnostic:
         codes.UNPLACED_ACTOR,
         f"nothing that begins at time 0 places `{actor}`; the solver picks its start "
         "(see `--witness`)",
+        span,
+    )
+
+
+def unreadable_map(span: Span, name: str, problem: str, where: str | None) -> Diagnostic:
+    at = f" (at {where})" if where else ""
+    return _diag(
+        codes.UNREADABLE_MAP,
+        f"map `{name}` cannot be read: {problem}{at}; the actors are placed on the default "
+        "road instead",
         span,
     )
 

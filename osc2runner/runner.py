@@ -5,7 +5,7 @@ The stages, in order (each one package):
 1. ``osc2check.analysis.analyze``: error diagnostics stop here
    (:class:`~osc2runner.errors.ScenarioError`, exit status 2);
 2. ``instance``: the checker's witness for the seed (parameter values, every
-   actor's catalogue row, size and start), the actors and the road;
+   actor's catalogue row, size and start), the actors and the map;
 3. ``compile``: the behaviour tree, against a compile environment;
 4. ``execution``: the world built at the witness's starts, then the one tick
    loop — nothing reads the wall clock;
@@ -217,7 +217,7 @@ def compile_checked(
     instance = instantiate(analysis, uri, sym, seed, witness)
     model = analysis.programs[uri].model
     fresh_blackboard()
-    run_ctx = RunContext(instance.road, instance.actors, dt=dt_control, seed=seed)
+    run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
     run_ctx.traffic_lights = {
         light.name: light for light in traffic_lights(model, instance.scenario, instance.values)
     }
@@ -249,12 +249,13 @@ def build_world(
     """The world of a compiled scenario at the witness's starts, its controllers (the
     system under test in its actor's seat when ``sut`` is given) and its variables."""
     ctx = c.ctx
-    specs, problems = start_specs(c.instance.actors, ctx.lanes)
+    specs, problems = start_specs(c.instance.actors)
     if problems:
         raise ScenarioError(problems, texts=c.analysis.texts)
     sut_actor = _sut_actor(c, sut) if sut is not None else None
-    world = World(ctx.road, specs, dt_control=dt_control, dt_physics=dt_physics)
-    controllers = controllers_for(world, ctx.road)
+    world = World(ctx.network, specs, dt_control=dt_control, dt_physics=dt_physics)
+    routes = {a.name: a.route for a in c.instance.witness.actors}
+    controllers = controllers_for(world, routes, ctx.seed)
     ctx.attach(world, controllers)
     if sut is not None and sut_actor is not None:
         params = world.params(sut_actor)
@@ -453,7 +454,8 @@ def _finish(
         if plot:
             from osc2runner.output.plots import plot_run
 
-            result.outputs.extend(plot_run(result, folder))
+            network = prepared.world.network if prepared.world is not None else None
+            result.outputs.extend(plot_run(result, folder, network))
         result.outputs.append(write_metadata(folder, metadata, result.events))
     return result
 
@@ -476,12 +478,18 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
             }
         if name in world.names:
             spec = world.specs[world.names.index(name)]
+            start = actor.start
             entry["start"] = {
+                "road": start.road if start is not None else None,
+                "lane_id": start.lane_id if start is not None else None,
+                "lane": start.lane if start is not None else None,
                 "s": spec.s,
-                "lane": spec.lane,
-                "offset": spec.offset,
+                "t": spec.offset,
+                "x": spec.x,
+                "y": spec.y,
                 "yaw": spec.yaw,
                 "speed": spec.speed,
+                "route": list(start.route) if start is not None else [],
             }
         actors[name] = entry
     return {
@@ -498,12 +506,13 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "wall_seconds": wall,
         "real_time_factor": world.time / wall if wall > 0 else None,
         "map": {
-            "name": world.road.name,
-            "lanes": world.road.lane_count,
-            "lane_width": world.road.lane_width,
-            "length": world.road.length,
-            "scenario_lanes_counted_from": LaneNumbers(world.road).default_side,
-            "telemetry_lanes": "1 = rightmost lane in the driving direction",
+            "name": prepared.instance.witness.map or world.network.name,
+            "source": world.network.source,
+            "roads": len(world.network.roads),
+            "junctions": len(world.network.junctions),
+            "scenario_lanes_counted_from": LaneNumbers(world.network).default_side,
+            "telemetry_lanes": "lane: 1 = rightmost driving lane in its direction of travel; "
+            "lane_id: OpenDRIVE id; s, t: road coordinates on `road`",
         },
         "parameter_values": {
             "source": prepared.instance.values.source,

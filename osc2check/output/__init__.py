@@ -34,13 +34,15 @@ def render(
     quiet: bool = False,
     scenarios: Sequence[dict[str, object]] = (),
     problems: Sequence[InputProblem] = (),
+    unverified: int = 0,
 ) -> str:
     """The findings in format ``fmt``, ready to write to stdout.
 
     ``texts_by_uri`` gives the source for excerpts; ``files_checked`` (default:
     the number of texts) goes into the summary line of the human formats, which
     ``quiet`` leaves out (and, with no findings, everything). ``problems`` are the
-    paths not checked, placed where each format has room for them.
+    paths not checked, placed where each format has room for them; ``unverified``
+    counts the constraints the solver could not take (the summary line says so).
     """
     if fmt == "full":
         body = full.render(diagnostics, texts_by_uri)
@@ -59,7 +61,7 @@ def render(
     checked = len(texts_by_uri) if files_checked is None else files_checked
     separator = "\n" if fmt == "full" and diagnostics else ""
     unreadable = sum(p.is_error for p in problems)
-    return body + separator + summary_line(diagnostics, checked, unreadable) + "\n"
+    return body + separator + summary_line(diagnostics, checked, unreadable, unverified) + "\n"
 
 
 def render_statistics(
@@ -68,10 +70,11 @@ def render_statistics(
     files_checked: int,
     quiet: bool = False,
     problems: Sequence[InputProblem] = (),
+    unverified: int = 0,
 ) -> str:
     """A count per code (``--statistics``), then the summary line unless ``quiet``."""
     table = statistics(diagnostics)
     if quiet:
         return table
     unreadable = sum(p.is_error for p in problems)
-    return table + summary_line(diagnostics, files_checked, unreadable) + "\n"
+    return table + summary_line(diagnostics, files_checked, unreadable, unverified) + "\n"

@@ -3,7 +3,8 @@
 One object, its keys in this order::
 
     {
-      "scenarios": [{"name", "path", "line", "status", "conflicts", "witness"?}],
+      "scenarios": [{"name", "path", "line", "status", "conflicts", "unverified",
+                     "witness"?}],
       "version": 1,
       "tool": {"name": "osc2check", "version": "..."},
       "findings": [{"code", "name", "severity", "message", "location", "related",
@@ -13,7 +14,9 @@ One object, its keys in this order::
     }
 
 ``scenarios`` come first, so that the witnesses of ``--witness`` (``"witness"``, only
-with that option) are read before the findings. ``errors`` are the paths that could
+with that option) are read before the findings. ``unverified`` lists the constraints
+the solver could not take (``{"path", "line", "column", "text", "reason"}``, C411):
+a ``"sat"`` status does not cover them. ``errors`` are the paths that could
 not be read (``"cannot read: permission denied"``; the exit status is then 2);
 ``skipped`` are special files (FIFOs, sockets, devices) left out of a folder walk.
 Locations are 1-based. Fields may be added in later versions; consumers ignore fields

@@ -15,18 +15,26 @@ def _count(n: int, singular: str, plural: str) -> str:
     return f"{n} {singular if n == 1 else plural}"
 
 
-def summary_line(diagnostics: Sequence[Diagnostic], files_checked: int, unreadable: int = 0) -> str:
+def summary_line(
+    diagnostics: Sequence[Diagnostic], files_checked: int, unreadable: int = 0, unverified: int = 0
+) -> str:
     """``Found 2 errors, 1 warning in 2 files (3 checked)``, or ``All checks passed (3 files)``.
 
-    With files that could not be read (``unreadable``), nothing "passed": ``No findings
-    in 3 files; 1 file could not be read``.
+    With files that could not be read (``unreadable``), or constraints the solver could
+    not take (``unverified``, C411, even when that code is not shown), nothing
+    "passed": ``No findings in 3 files; 1 file could not be read; 2 constraints not
+    verified``.
     """
     checked = _count(files_checked, "file", "files")
+    caveats = ""
     if unreadable:
-        not_read = f"; {_count(unreadable, 'file', 'files')} could not be read"
+        caveats += f"; {_count(unreadable, 'file', 'files')} could not be read"
+    if unverified:
+        caveats += f"; {_count(unverified, 'constraint', 'constraints')} not verified"
+    if caveats:
         if not diagnostics:
-            return f"No findings in {checked}{not_read}"
-        return _found(diagnostics, checked) + not_read
+            return f"No findings in {checked}{caveats}"
+        return _found(diagnostics, checked) + caveats
     if not diagnostics:
         return f"All checks passed ({checked})"
     return _found(diagnostics, checked)

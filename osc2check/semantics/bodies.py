@@ -218,6 +218,9 @@ class BodyChecker:
         if member.kind == "expression" and member.body is not None:
             expected = sym.type if sym is not None and sym.type is not T.NONE else None
             self.expr.check(member.body, inner, expected, "method result")
+        for arg in member.external_arguments:  # `is external pkg.fn(x, limit: 3kph)`
+            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
+                self.expr.check(arg.value, inner)
 
     def _event_declaration(self, member: ast.EventDecl, scope: Scope) -> None:
         sym = self.model.declarations.get(member)

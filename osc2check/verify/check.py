@@ -8,8 +8,10 @@ for (``ScenarioResult.witness``, ``z3_backend.Sampler``), so an analysis that
 prints no witness never pays for one.
 
 A conflict is reported at its last user-written constraint in the scenario's
-own file, with the other members as related locations; when every member is in
-another file, at the scenario's name, so the file being checked shows it.
+own file, with the other members as related locations (and the constraints that
+made its implicit members apply, ``Constraint.because``); when every member is in
+another file, at the scenario's name, so the file being checked shows it. Every
+constraint that lowering could not encode is reported once (C411).
 """
 
 from __future__ import annotations
@@ -98,7 +100,21 @@ class ScenarioResult:
                 )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
-        return build_witness(self.problem, values, active, seed)
+        return build_witness(self.problem, values, active, seed, _rounded(active, values))
+
+
+def _rounded(active: list[ir.Constraint], values: dict[str, Fraction | bool]) -> list[str]:
+    """Notes for the constraints that the witness's values break only by rounding: a model
+    of non-linear constraints may be irrational (``x * x == 2``), and shows rounded."""
+    notes = []
+    for c in active:
+        try:
+            holds = quick.evaluate(c.term, values) is True
+        except (KeyError, TypeError, ZeroDivisionError):
+            holds = False
+        if not holds:
+            notes.append(f"`{c.text}` holds for irrational values, which the witness shows rounded")
+    return notes
 
 
 @dataclass
@@ -184,6 +200,7 @@ def verify_program(
     report = result.diagnostics.append
     session = Session()
     decls = None
+    unverified: set[tuple[Span, str]] = set()  # each reported once per program
     scenarios = scenarios_of(program)
     invoked = invokers(program.model, scenarios)
     for sym in scenarios:
@@ -198,6 +215,10 @@ def verify_program(
         problem = lower_scenario(program.model, sym, text_of, default_map, decls)
         _reversed_ranges(sym, program, text_of, report)
         outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+        for skipped in problem.skipped:
+            if (skipped.span, skipped.reason) not in unverified:
+                unverified.add((skipped.span, skipped.reason))
+                report(_unverified(skipped, sym))
         if standalone:
             _placement_notes(problem, report)
         if outcome.status == "unsat":
@@ -299,8 +320,27 @@ def _user_written(c: ir.Constraint, program: Program) -> bool:
     return c.span.uri in program.files
 
 
+def _unverified(skipped: ir.Skipped, scenario: Symbol) -> Diagnostic:
+    """C411 where the constraint is written, or at the scenario when that is in another file."""
+    home = scenario.name_span
+    if home is not None and skipped.span.uri != home.uri:
+        return messages.unverified_constraint(home, skipped.text, skipped.reason, skipped.span)
+    return messages.unverified_constraint(skipped.span, skipped.text, skipped.reason)
+
+
+def with_reasons(members: list[ir.Constraint]) -> list[ir.Constraint]:
+    """A conflict's members and the written constraints that made its implicit members
+    apply (``Constraint.because``: the keep that chose a vehicle's map or model), each once."""
+    found = list(members)
+    for c in members:
+        for reason in c.because:
+            if not any(reason is f for f in found):
+                found.append(reason)
+    return found
+
+
 def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
-    members = [conflict.primary, *conflict.others]
+    members = with_reasons([conflict.primary, *conflict.others])
     code = codes.UNSATISFIABLE_CONSTRAINTS
     rules = [c.rule for c in members if c.kind == "placement"]
     for rule in ("lane-range", "max-speed", "road-room", "road-extent", "overlap"):
@@ -310,7 +350,7 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     else:
         if any("@start." in v.name for c in members for v in ir.variables(c.term)):
             code = codes.INFEASIBLE_PLACEMENT
-    found = messages.unsatisfiable(code, conflict.primary, conflict.others, scenario.name)
+    found = messages.unsatisfiable(code, conflict.primary, members[1:], scenario.name)
     home = scenario.name_span
     if home is not None and conflict.primary.span.uri != home.uri:
         # every member is in another file: report at the scenario, which is in this one
@@ -323,9 +363,16 @@ def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic
     placement = problem.placement
     if placement is None:
         return
-    if placement.unknown_map is not None:
-        span, name, known = placement.unknown_map
-        report(messages.unknown_map(span, name, known))
+    choice = placement.map
+    span = choice.span or problem.span
+    if choice.unknown is not None and choice.asked is not None:
+        report(messages.unknown_map(span, choice.asked, choice.unknown))
+    if choice.unreadable is not None and choice.asked is not None:
+        error = choice.unreadable
+        where = None
+        if error.line is not None:
+            where = f"line {error.line}" + (f", column {error.column}" if error.column else "")
+        report(messages.unreadable_map(span, choice.asked, error.problem, where))
     for span, name, reference in placement.unplaced_references:
         report(messages.reference_not_placed(span, name, reference))
     for cycle, span in _cycles(placement.edges):
@@ -503,6 +550,16 @@ def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict[
     }
     if result.invoked_by:
         data["invoked_by"] = list(result.invoked_by)
+    data["unverified"] = [
+        {
+            "path": s.span.uri,
+            "line": s.span.line,
+            "column": s.span.column,
+            "text": s.text,
+            "reason": s.reason,
+        }
+        for s in result.problem.skipped
+    ]
     if with_witness:
         data["witness"] = result.witness.to_json() if result.witness is not None else None
     return data

@@ -8,7 +8,7 @@ source lines. ``lower.py`` builds a ``ConstraintProblem`` from the model;
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import TYPE_CHECKING, TypedDict, Unpack
 
@@ -62,7 +62,13 @@ class Ref:
 
 @dataclass(frozen=True, slots=True)
 class Op:
-    """``op`` over ``args``: + - * neg, == != < <= > >=, and or not =>, ite."""
+    """``op`` over ``args``: + - * / % neg, == != < <= > >=, and or not =>, ite.
+
+    ``/`` is exact division (of integers too: ``7 / 2`` is 7/2) and ``%`` the remainder
+    of floored division (``a - b * floor(a / b)``, the sign of ``b``), as the constants
+    evaluator has them. Neither has a value when its divisor is 0: ``guarded`` makes a
+    constraint false there.
+    """
 
     op: str
     args: tuple[Term, ...]
@@ -71,6 +77,7 @@ class Op:
 Term = Const | Ref | Op
 
 TRUE = Const(True)
+_ZERO = Const(Fraction(0))
 
 
 _SMALL = {i: Const(Fraction(i)) for i in range(-8, 65)}
@@ -113,15 +120,53 @@ def names(term: Term) -> set[str]:
 
 
 def is_nonlinear(term: Term) -> bool:
-    """Whether two non-constant factors are multiplied somewhere in ``term``."""
+    """Whether two non-constant factors are multiplied somewhere in ``term``, or something
+    is divided by (or taken modulo) an unknown."""
     stack = [term]
     while stack:
         t = stack.pop()
         if isinstance(t, Op):
             if t.op == "*" and sum(bool(names(a)) for a in t.args) > 1:
                 return True
+            if t.op in ("/", "%") and names(t.args[1]):
+                return True
             stack.extend(t.args)
     return False
+
+
+def divisors(term: Term) -> list[Term]:
+    """The divisors of the ``/`` and ``%`` in ``term`` that are not non-zero constants."""
+    found: list[Term] = []
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, Op):
+            if t.op in ("/", "%"):
+                d = t.args[1]
+                if not (isinstance(d, Const) and not isinstance(d.value, bool) and d.value != 0):
+                    found.append(d)
+            stack.extend(t.args)
+    return found
+
+
+def guarded(term: Term) -> Term:
+    """``term``, false wherever one of its divisions would divide by zero.
+
+    A quotient or remainder by 0 has no value (the exact evaluator refuses it), so a
+    constraint that would need one does not hold; the solver must not give the divisor
+    the value 0 to satisfy it (z3 leaves ``x / 0`` unspecified).
+    """
+    found = divisors(term)
+    if not found:
+        return term
+    conditions: list[Term] = []
+    for d in found:
+        if isinstance(d, Const):
+            return Const(False)  # a constant zero divisor: never holds
+        condition = Op("!=", (d, _ZERO))
+        if condition not in conditions:
+            conditions.append(condition)
+    return Op("and", (*conditions, term))
 
 
 @dataclass(frozen=True, slots=True)
@@ -150,6 +195,16 @@ class Constraint:
     because: tuple[Constraint, ...] = ()
 
 
+@dataclass(frozen=True, slots=True)
+class Skipped:
+    """A constraint that lowering could not encode: where it is written, its text, and
+    why. Every one is reported (C411), and the witness says it was not verified."""
+
+    span: Span
+    text: str
+    reason: str
+
+
 @dataclass
 class ConstraintProblem:
     """Everything the solver needs for one scenario instance."""
@@ -159,7 +214,7 @@ class ConstraintProblem:
     variables: dict[str, Var] = field(default_factory=dict)
     constraints: list[Constraint] = field(default_factory=list)
     removed_defaults: set[str] = field(default_factory=set)  # parameters after remove_default
-    skipped: list[tuple[Span, str]] = field(default_factory=list)  # not encodable: why
+    skipped: list[Skipped] = field(default_factory=list)  # written, but not encoded
     strings: dict[int, str] = field(default_factory=dict)  # string constants by their number
     placement: StartPlacement | None = None  # when the scenario has actors
     # plausible values where the constraints leave a choice: the witness draws there
@@ -176,5 +231,15 @@ class ConstraintProblem:
             existing = self.variables[name] = Var(name, sort, span=span, **kw)
         return existing
 
+    def skip(self, span: Span, text: str, reason: str) -> None:
+        """Record a constraint that cannot be encoded (it is reported, never dropped);
+        once, however many passes meet it."""
+        if not any(s.span == span and s.reason == reason for s in self.skipped):
+            self.skipped.append(Skipped(span, text, reason))
+
     def add(self, constraint: Constraint) -> None:
+        """Add ``constraint``, made false where it would divide by zero (``guarded``)."""
+        term = guarded(constraint.term)
+        if term is not constraint.term:
+            constraint = replace(constraint, term=term)
         self.constraints.append(constraint)

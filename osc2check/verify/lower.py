@@ -19,6 +19,14 @@ Values are exact: physical literals become SI rationals through the unit's
 factor and offset; strings and enum members become integers. A constant given
 to an integer parameter loses its fraction (``lane(1.5)`` is lane 1, with the
 T204 warning), and a range's bounds may come in either order.
+
+Everything written is encoded or recorded in ``ConstraintProblem.skipped``
+(reported as C411, listed with the witness), never dropped: quotients and
+remainders (``ir.guarded`` keeps divisors off 0), calls of `is expression`
+methods (inlined), conversions that keep the value, the condition of a
+conditional inheritance (a hard constraint on every instance of the type). A
+`var` is its initialiser at the start when that can be encoded, and otherwise
+has no value here (``Lowerer._variable``).
 """
 
 from __future__ import annotations
@@ -30,6 +38,7 @@ from fractions import Fraction
 from typing import Literal
 
 from osc2check.semantics import types as T
+from osc2check.semantics.builtins import TYPE_TESTS
 from osc2check.semantics.constants import NotConstant, literal_number, physical_literal
 from osc2check.semantics.members import declaration_bodies
 from osc2check.semantics.model import Model
@@ -38,6 +47,7 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
 from osc2check.verify.structs import is_struct, struct_leaves
+from osc2check.world.limits import ARGUMENT_LIMITS
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
 _DISPLAY_UNITS: dict[tuple[int, ...], str] = {  # dimension -> unit the witness shows
@@ -103,6 +113,7 @@ class Lowerer:
         self.problem = problem
         self.text_of = text_of
         self.strings: dict[str, int] = {}
+        self.string_spans: dict[str, list[Span]] = {}  # where each string constant is written
         self.instances: dict[str, Symbol] = {}  # path -> type of the compound instance there
         # (path, field, declaration, scope, where its default goes in the constraint list,
         # the body it is written in)
@@ -113,6 +124,10 @@ class Lowerer:
         self.active: list[Symbol] = []
         self.body = ""  # the declaration whose members are being lowered (C404 compares)
         self.aliases: dict[str, str] = {}  # an invoked scenario's actor parameter -> the actor
+        self.runtime: dict[str, str] = {}  # `var`s with no value before the run: why
+        self.opening: set[str] = set()  # `var`s whose initialisers are being lowered
+        self.bound: dict[Symbol, ir.Term] = {}  # parameters of the methods being inlined
+        self.inlining: list[Symbol] = []
 
     # ---- instances -----------------------------------------------------------------
 
@@ -133,8 +148,13 @@ class Lowerer:
                 self._compound(param.name, t.symbol)
                 for sub in self.model.parameters(t.symbol):
                     self._scalar_var(_join(param.name, sub.name), sub)
-            else:
+            elif param.kind is SymbolKind.FIELD:
                 self._scalar_var(param.name, param)
+            elif _scalar(param.type):
+                try:  # a `var` has a value here only when its initialiser gives one
+                    self._variable(param.name, param)
+                except NotEncodable:
+                    pass  # known only at run time: not a constraint, nothing dropped
 
     def _compound(self, path: str, type_symbol: Symbol) -> None:
         if path in self.instances:
@@ -147,7 +167,10 @@ class Lowerer:
 
     def _instance(self, sym: Symbol, scope: InstanceScope) -> None:
         """Constraints of ``sym``'s declaration (and supertypes and extensions)."""
-        if sym in self.active or self.depth > MAX_DEPTH:
+        if sym in self.active:
+            return  # a recursive scenario (B611) or type: its members are being lowered
+        if self.depth > MAX_DEPTH:
+            self._too_deep(sym, scope)
             return
         self.active.append(sym)
         self.depth += 1
@@ -155,12 +178,52 @@ class Lowerer:
         try:
             for ancestor in reversed(list(self.model.ancestors(sym))):
                 self.body = ancestor.name
+                self._inheritance_condition(ancestor, scope)
                 for decl in self.member_decls.get(ancestor, ()):
                     self._members(decl, scope)
         finally:
             self.body = outer
             self.depth -= 1
             self.active.pop()
+
+    def _too_deep(self, sym: Symbol, scope: InstanceScope) -> None:
+        """Record that the constraints of an instance nested too deeply are not lowered."""
+        span = sym.name_span or self.problem.span
+        self.problem.skip(
+            span,
+            f"the members of `{scope.prefix or sym.name}`",
+            f"instances nested more than {MAX_DEPTH} deep are not lowered",
+        )
+
+    def _inheritance_condition(self, sym: Symbol, scope: InstanceScope) -> None:
+        """``actor truck inherits vehicle(vehicle_category == truck)``: every instance of
+        ``truck`` has that value, a hard constraint on the instance (its subject is the
+        field, so it replaces the field's defaults)."""
+        decl = sym.decl
+        if (
+            sym.condition is None
+            or not isinstance(decl, ast.StructuredDecl)
+            or decl.inherits is None
+        ):
+            return
+        condition = sym.condition
+        written = self.text_of(decl.inherits.span)
+        try:
+            term = self._term(condition, scope)
+        except NotEncodable as reason:
+            self.problem.skip(condition.span, written, str(reason))
+            return
+        self.problem.add(
+            ir.Constraint(
+                term,
+                condition.span,
+                "condition",
+                written,
+                "hard",
+                self._subject(condition, scope),
+                origin=self._origin(scope),
+            )
+        )
 
     def _members(self, members: tuple[ast.Member, ...], scope: InstanceScope) -> None:
         for member in members:
@@ -216,7 +279,8 @@ class Lowerer:
                             self.problem.removed_defaults.add(target)
 
     def attach_defaults(self) -> None:
-        """Add field defaults and `var` initialisers for every variable created so far.
+        """Add field defaults for every variable created so far (a `var` has none: it is
+        not a parameter, and its initialiser is its value when the run starts).
 
         Each goes where its declaration was lowered, so the order of the constraint
         list stays the order of specificity that the override rule reads: a type's
@@ -226,26 +290,25 @@ class Lowerer:
         placed: list[tuple[int, ir.Constraint]] = []
         for path, _sym, decl, scope, at, origin in self.pending_defaults:
             var = self.problem.variables.get(path)
-            if var is None:
-                continue
+            if var is None or decl.is_var:
+                continue  # a `var`'s initialiser is its value when the run starts
             assert decl.default is not None  # only fields with a value are pending
+            span = _up_to(decl.span, decl.default.span)
             try:
                 value = coerce(var, self._term(decl.default, scope))
             except NotEncodable as reason:
-                self.problem.skipped.append((decl.default.span, str(reason)))
+                self.problem.skip(span, self.text_of(span), str(reason))
                 continue
-            strength = "hard" if decl.is_var else "default"
-            span = _up_to(decl.span, decl.default.span)
             placed.append(
                 (
                     at,
                     ir.Constraint(
-                        ir.op("==", ir.Ref(var), value),
+                        ir.guarded(ir.op("==", ir.Ref(var), value)),
                         span,
                         "declaration",
                         self.text_of(span),
-                        strength,
-                        var if strength == "default" else None,
+                        "default",
+                        var,
                         origin=origin,
                     ),
                 )
@@ -266,7 +329,7 @@ class Lowerer:
         try:
             term = self._term(keep.expr, scope)
         except NotEncodable as reason:
-            self.problem.skipped.append((keep.span, str(reason)))
+            self.problem.skip(keep.span, self.text_of(keep.span), str(reason))
             return
         subject = self._subject(keep.expr, scope)
         strength = "default" if keep.strength == "default" else "hard"
@@ -398,17 +461,35 @@ class Lowerer:
             var = self._scalar_var(_join(path, param.name), param)
             if var is None:
                 continue
-            try:
-                term = self._membership(var, arg.value, scope)
-            except NotEncodable as reason:
-                self.problem.skipped.append((arg.span, str(reason)))
-                continue
+            if callee.library or callee.toolkit:
+                self._argument_limit(callee, param, var, arg)
             written = self.text_of(arg.span)
             if isinstance(arg, ast.PositionalArgument):
                 written = f"{param.name}: {written}"
+            try:
+                term = self._membership(var, arg.value, scope)
+            except NotEncodable as reason:
+                self.problem.skip(arg.span, f"{callee.name}({written})", str(reason))
+                continue
             self.problem.add(
                 ir.Constraint(term, arg.span, kind, f"{callee.name}({written})", "hard", var)
             )
+
+    def _argument_limit(
+        self, callee: Symbol, param: Symbol, var: ir.Var, arg: ast.Argument
+    ) -> None:
+        """The values the world takes for a library action's argument (``world.limits``:
+        a road friction in (0, 2]), as a rule on the argument's variable."""
+        limit = ARGUMENT_LIMITS.get((callee.qualified_name, param.name))
+        if limit is None:
+            return
+        ref = ir.Ref(var)
+        term: ir.Term = ir.op(">" if limit.low_open else ">=", ref, ir.const(limit.low))
+        if limit.high is not None:
+            term = ir.op("and", term, ir.op("<=", ref, ir.const(limit.high)))
+        self.problem.add(
+            ir.Constraint(term, arg.span, "domain", limit.text, "hard", explanation=limit.text)
+        )
 
     def _membership(self, var: ir.Var, value: ast.Node, scope: InstanceScope) -> ir.Term:
         """``var == value`` (an argument is a constraint), or ``var in value`` for a range."""
@@ -417,6 +498,62 @@ class Lowerer:
         return ir.op("==", ir.Ref(var), coerce(var, self._term(value, scope)))
 
     # ---- paths and variables ------------------------------------------------------------
+
+    def _variable(self, path: str, sym: Symbol) -> ir.Var:
+        """The variable of a `var` at time 0, fixed to its initialiser.
+
+        A `var` is not a parameter: it changes at run time (``sample``) and the solver
+        never chooses its value. At the start it is its initialiser, which the start
+        state may use (``position(distance: lag, ...)`` with ``var lag: length =
+        5m``); a `var` without an initialiser, or one whose initialiser is known only at
+        run time (``sample(...)``, actor state, a method), has no value here, and what
+        uses it raises NotEncodable. Its initialiser is never a dropped constraint.
+        """
+        existing = self.problem.variables.get(path)
+        if existing is not None:
+            return existing
+        why = self.runtime.get(path)
+        if why is None:
+            decl = sym.decl
+            default = sym.default
+            if default is None or not isinstance(decl, ast.FieldDecl) or path in self.opening:
+                why = "it has no value before the run"
+            else:
+                owner = _owner(path)
+                owner_type = self.instances.get(owner, sym.owner)
+                actor = (
+                    owner
+                    if owner_type is not None and owner_type.kind is SymbolKind.ACTOR
+                    else None
+                )
+                scope = InstanceScope(owner, owner_type, owner, owner_type, actor=actor)
+                self.opening.add(path)
+                try:
+                    value = self._term(default, scope)
+                except NotEncodable:
+                    why = "its value is known only at run time"
+                finally:
+                    self.opening.discard(path)
+                if why is None:
+                    var = self._scalar_var(path, sym)
+                    if var is None:
+                        why = "it is not a number, boolean, enum or string"
+                    else:
+                        span = _up_to(decl.span, default.span)
+                        self.problem.add(
+                            ir.Constraint(
+                                ir.op("==", ir.Ref(var), coerce(var, value)),
+                                span,
+                                "declaration",
+                                self.text_of(span),
+                                "hard",
+                                var,
+                                origin=self._origin(scope),
+                            )
+                        )
+                        return var
+            self.runtime[path] = why
+        raise NotEncodable(f"`{path}` is a run-time variable (`var`): {why}")
 
     def _list_binding(self, expr: ast.Node, scope: InstanceScope) -> bool:
         """``keep(s.points == [p1, p2])`` on a list member of a struct parameter: the
@@ -617,6 +754,8 @@ class Lowerer:
             sym = self.model.references.get(expr.name.name)
         elif isinstance(expr, ast.MemberAccess):
             sym = self.model.references.get(expr.member)
+        if sym is not None and sym.kind is SymbolKind.VARIABLE and _scalar(sym.type):
+            return self._variable(path, sym)
         if sym is None or not _scalar(sym.type):
             raise NotEncodable(f"`{path}` is not a number, boolean, enum or string")
         created = self._scalar_var(path, sym)
@@ -650,6 +789,7 @@ class Lowerer:
             case ast.BoolLiteral():
                 return ir.const(expr.value)
             case ast.StringLiteral():
+                self.string_spans.setdefault(expr.value, []).append(expr.span)
                 return ir.const(self.strings.setdefault(expr.value, len(self.strings)))
             case ast.EnumRef():
                 member = self.model.references.get(expr.member)
@@ -662,6 +802,8 @@ class Lowerer:
                 )
                 if target is not None and target.kind is SymbolKind.ENUM_MEMBER:
                     return ir.const(target.value)
+                if target is not None and target in self.bound:
+                    return self.bound[target]  # a parameter of a method being inlined
                 path = self._path(expr, scope)
                 if path is None:
                     raise NotEncodable(f"`{self.text_of(expr.span)}` is not a parameter")
@@ -679,6 +821,8 @@ class Lowerer:
                 return ir.op("neg", inner) if expr.op == "-" else inner
             case ast.Binary():
                 return self._binary(expr, scope)
+            case ast.Call():
+                return self._method_call(expr, scope)
             case ast.Ternary():
                 return ir.op(
                     "ite",
@@ -687,6 +831,80 @@ class Lowerer:
                     self._term(expr.otherwise, scope),
                 )
         raise NotEncodable(f"`{self.text_of(expr.span)}` cannot be solved for")
+
+    def _method_call(self, call: ast.Call, scope: InstanceScope) -> ir.Term:
+        """A call of an `is expression` method: its body with its parameters bound to the
+        arguments' terms (defaults where an argument is left out), lowered in the scope
+        of the instance the method belongs to."""
+        callee = call.callee
+        name = callee.name.name if isinstance(callee, ast.NameRef) else None
+        if isinstance(callee, ast.MemberAccess):
+            name = callee.member
+        if isinstance(callee, ast.MemberAccess) and callee.member.text in TYPE_TESTS:
+            return self._conversion(call, callee, scope)
+        method = self.model.references.get(name) if name is not None else None
+        decl = method.decl if method is not None else None
+        if (
+            method is None
+            or method.kind is not SymbolKind.METHOD
+            or not isinstance(decl, ast.MethodDecl)
+            or decl.kind != "expression"
+            or decl.body is None
+        ):
+            raise NotEncodable(f"`{self.text_of(call.span)}` is known only at run time")
+        if len(self.inlining) >= MAX_DEPTH:
+            raise NotEncodable(f"`{self.text_of(call.span)}` calls methods too deeply")
+        if isinstance(callee, ast.MemberAccess):
+            owner = self._path(callee.target, scope)
+            if owner is None:
+                raise NotEncodable(f"`{self.text_of(callee.target.span)}` is not an instance")
+        else:
+            owner = _owner(self._member_path(scope, method))
+        owner_type = self.instances.get(owner, method.owner)
+        inner = InstanceScope(owner, owner_type, owner, owner_type, actor=scope.actor)
+        params = method.parameters
+        given: dict[Symbol, ir.Term] = {}
+        position = 0
+        for arg in call.arguments:
+            if isinstance(arg, ast.PositionalArgument) and position < len(params):
+                given[params[position]] = self._term(arg.value, scope)
+                position += 1
+            elif isinstance(arg, ast.NamedArgument):
+                param = next((p for p in params if p.name == arg.name.text), None)
+                if param is not None:
+                    given[param] = self._term(arg.value, scope)
+        for param in params:
+            if param not in given:
+                if param.default is None:
+                    raise NotEncodable(f"`{param.name}` of `{method.name}` has no value")
+                given[param] = self._term(param.default, inner)
+        saved = dict(self.bound)
+        self.bound.update(given)
+        self.inlining.append(method)
+        try:
+            return self._term(decl.body, inner)
+        finally:
+            self.inlining.pop()
+            self.bound = saved
+
+    def _conversion(
+        self, call: ast.Call, callee: ast.MemberAccess, scope: InstanceScope
+    ) -> ir.Term:
+        """``x.as(T)`` where it keeps the value: an enum member as its number
+        (``signal_state!red.as(uint)``), an integer as a float, a value as its own type."""
+        target = self.model.expr_types.get(callee.target)
+        result = self.model.expr_types.get(call)
+        if callee.member.text == "as" and target is not None and result is not None:
+            same = target.kind is result.kind and (
+                target.kind is not T.Kind.PHYSICAL or target.dimension == result.dimension
+            )
+            numbered = target.kind is T.Kind.ENUM and result.kind in (T.Kind.INT, T.Kind.UINT)
+            widened = target.kind in (T.Kind.INT, T.Kind.UINT) and result.kind is T.Kind.FLOAT
+            if same or numbered or widened:
+                return self._term(callee.target, scope)
+        raise NotEncodable(
+            f"`{self.text_of(call.span)}`: only conversions that keep the value are encoded"
+        )
 
     def _binary(self, expr: ast.Binary, scope: InstanceScope) -> ir.Term:
         if expr.op == "in":
@@ -707,9 +925,15 @@ class Lowerer:
         if expr.op == "*":
             return ir.op("*", left, right)
         if expr.op == "/":
-            if isinstance(right, ir.Const) and right.value:
-                return ir.op("*", left, ir.const(1 / Fraction(right.value)))
-            raise NotEncodable("division by a parameter")
+            if (
+                isinstance(right, ir.Const)
+                and not isinstance(right.value, bool)
+                and right.value != 0
+            ):
+                return ir.op("*", left, ir.const(1 / right.value))
+            return ir.op("/", left, right)  # exact; `guarded` keeps the divisor off 0
+        if expr.op == "%":
+            return ir.op("%", left, right)
         raise NotEncodable(f"operator `{expr.op}`")
 
     def _in_range(self, target: ir.Term, rng: ast.RangeLiteral, scope: InstanceScope) -> ir.Term:
@@ -753,6 +977,11 @@ def call_span(inv: ast.Invocation) -> Span:
     return Span(
         span.uri, span.line, span.column, last.end_line, last.end_column, span.start, last.end
     )
+
+
+def _owner(path: str) -> str:
+    """The path of the instance that ``path`` is a member of."""
+    return path.rsplit(".", 1)[0] if "." in path else ""
 
 
 def _up_to(decl: Span, default: Span) -> Span:

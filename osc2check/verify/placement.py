@@ -41,6 +41,14 @@ Conventions (shown in the witness):
 * The road: an actor's footprint (``world.catalogue``) lies within the road's
   length, its lane within the road's lanes and, with a lateral offset, its
   sides within the road's edges; two actors in one lane do not overlap.
+* Maps: the map is the scenario's ``map_file`` (``keep(m.map_file == ...)`` or
+  ``map.set_map_file(...)``): a built-in name or an OpenDRIVE file relative to
+  the scenario file (``osc2check.world.maps``). An actor's lane, ``s`` and ``t``
+  are taken on a carriageway (``road_terms``): on a map with several, the
+  solver also chooses which (``<actor>@start.road``). Lanes are OSC2's numbers
+  on the actor's road and direction; gaps are measured along one carriageway.
+  Fields of type road, route, lane and junction, the map modifiers and `along`
+  are ``map_modifiers``'.
 """
 
 from __future__ import annotations
@@ -50,7 +58,6 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
-from osc2check.road import Road, UnknownMapError, get_map
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.model import Model
@@ -60,8 +67,14 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
 from osc2check.verify.lower import MAX_DEPTH, InstanceScope
+from osc2check.verify.map_modifiers import ElementField, MapFields
+from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.verify.room import motion_bounds
+from osc2check.world.builtin import builtin_network
 from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
+from osc2check.world.errors import MapError, UnknownMapError
+from osc2check.world.maps import load_map, map_path, scenario_folder
+from osc2check.world.network import RoadNetwork
 
 if TYPE_CHECKING:
     from osc2check.verify.lower import Lowerer
@@ -75,13 +88,16 @@ PREFERRED_START_SHARE = Fraction(3, 10)
 class ActorBody:
     """What an actor is for placement: its catalogue row and its size and top speed as terms.
 
-    ``row`` is the catalogue row the actor is placed with; when the scenario leaves a
-    vehicle's category open among several (``keep(it.vehicle_category in [car,
-    truck])``), ``row`` is None and the terms depend on the category variable, so the
-    solver chooses a category and a footprint that agree. A declared
+    ``row`` is the catalogue row the actor is placed with; when a constraint of the
+    scenario mentions a vehicle's category (``keep(it.vehicle_category in [car,
+    truck])``, ``keep(it.vehicle_category == truck)``, a conditional inheritance),
+    ``row`` is None and the terms depend on the category variable, so the solver
+    chooses a category and a footprint that agree, and a conflict that the category
+    takes part in names the constraint that chose it (and no other). ``shown`` is the
+    row a constraint fixes the category to, for the texts. A declared
     ``bounding_box.length`` or ``.width`` replaces the row's. ``because`` holds the
-    constraints that chose the row (the keep that makes an actor a truck), which a
-    conflict involving the row's size or speed names too.
+    constraints that chose a constant row (the keep that names a simulator model),
+    which a conflict involving the row's size or speed names too.
     """
 
     kind: str
@@ -92,6 +108,7 @@ class ActorBody:
     category: ir.Var | None = None  # the vehicle_category variable, for vehicles
     because: tuple[ir.Constraint, ...] = ()
     notes: tuple[str, ...] = ()
+    shown: ActorRow | None = None
 
     def widest(self) -> Fraction:
         """The largest width the actor may have (its width when known)."""
@@ -103,6 +120,9 @@ class ActorBody:
             return f"{float(term.value):g} m {what}"
         if isinstance(term, ir.Ref):
             return f"`{term.var.name}` {what}"
+        if self.shown is not None:
+            size = self.shown.length if what == "long" else self.shown.width
+            return f"{what} as its vehicle_category: a {self.shown.category}, {float(size):g} m"
         return f"{what} as its vehicle_category"
 
 
@@ -124,8 +144,10 @@ class PlacedActor:
     s: ir.Var
     t: ir.Var
     speed: ir.Var
+    road: ir.Var | None = None  # its carriageway, on a map with several
     placed: bool = False  # a start `lane` or `position` modifier places it
     acts: bool = False  # the scenario invokes an action of it
+    along: list[ElementField] = field(default_factory=list)  # routes `along` names, in order
 
 
 @dataclass(frozen=True)
@@ -141,14 +163,33 @@ class Gap:
 
 
 @dataclass
+class MapChoice:
+    """The map a scenario is placed on (``name``, ``network``), the name the scenario
+    gives (``asked``) and where (``span``, the `map_file` string), and why that one could
+    not be used when it could not (the default map is used instead)."""
+
+    name: str
+    network: RoadNetwork
+    source: str | None = None  # the file read, for an OpenDRIVE map
+    asked: str | None = None
+    span: Span | None = None
+    unknown: tuple[str, ...] | None = None  # not a map: the known built-in names
+    unreadable: MapError | None = None  # a file that cannot be read
+
+
+@dataclass
 class StartPlacement:
-    road: Road
+    map: MapChoice
+    terms: RoadTerms
     actors: dict[str, PlacedActor] = field(default_factory=dict)
     edges: list[tuple[str, str, Span]] = field(default_factory=list)  # a placed relative to b
-    unknown_map: tuple[Span, str, tuple[str, ...]] | None = None
-    unread_map: str | None = None  # an OpenDRIVE file named by the scenario (not read yet)
     unplaced_references: list[tuple[Span, str, str]] = field(default_factory=list)
     gaps: list[Gap] = field(default_factory=list)
+    fields: MapFields | None = None  # road, route, lane and junction fields
+
+    @property
+    def network(self) -> RoadNetwork:
+        return self.map.network
 
 
 def actor_kind(model: Model, sym: Symbol | None) -> str | None:
@@ -196,8 +237,6 @@ class PlacementLowerer:
         self.problem: ir.ConstraintProblem = lowerer.problem
         self.scenario = scenario
         self.default_map = default_map
-        self.unknown_map: tuple[Span, str, tuple[str, ...]] | None = None
-        self.unread_map: str | None = None
         self.lateral: set[str] = set()  # actors with a lateral offset at the start
         self.moving: set[str] = set()  # actors given a speed at the start
         self.applied: set[int] = set()  # ids of the modifiers applied at the start
@@ -212,18 +251,20 @@ class PlacementLowerer:
             if p.type is not None and p.type.kind is T.Kind.COMPOUND
         ]
         actors = [(p, k) for p, k in candidates if k is not None]
-        if not actors:
+        if not actors and not self._map_modifier_members():
             return None
         self.constants = _constants(self.problem)
         self.written: set[str] = set()  # variables the scenario's own constraints mention
         for c in self.problem.constraints:
             if c.kind not in ("domain", "placement"):
                 self.written |= ir.names(c.term)
-        placement = StartPlacement(self._road())
-        placement.unknown_map = self.unknown_map
-        placement.unread_map = self.unread_map
+        choice = self._map()
+        self.terms = terms = RoadTerms(choice.network, choice.name)
+        placement = StartPlacement(choice, terms)
+        self.fields = placement.fields = MapFields(self.lw, choice.network, terms)
         for param, kind in actors:
-            placement.actors[param.name] = self._actor(param, kind, placement.road)
+            placement.actors[param.name] = self._actor(param, kind)
+        self._map_modifiers()
         first: set[str] = set()
         starts = self._start_invocations()
         for inv, scope in starts:  # which modifier kinds each actor gets `at: start`
@@ -262,10 +303,11 @@ class PlacementLowerer:
                     "at-rest",
                     f"`{actor.name}` starts at rest (no `speed(..., at: start)`)",
                 )
-            if actor.name in self.lateral or actor.body.widest() > Fraction(
-                placement.road.lane_width
-            ):
-                self._on_road(actor, placement.road)  # else its lane keeps it on the road
+            narrowest = min(
+                (p.width for cw in terms.carriageways for p in cw.pieces if p.count), default=0.0
+            )
+            if actor.name in self.lateral or actor.body.widest() > fraction(narrowest):
+                self._on_road(actor)  # else its lane keeps it on the road
         self._no_overlap(placement)
         self._room(placement)
         self._preferences(placement)
@@ -284,23 +326,21 @@ class PlacementLowerer:
         motion = motion_bounds(self.model, bodies, self._lookup)
         if motion.duration is None or motion.duration == 0:
             return
-        road = placement.road
+        terms = placement.terms
         duration = motion.duration
         for actor in placement.actors.values():
             if actor.kind == "stationary_object" or actor.name in motion.unknown_speed:
                 continue
-            end = ir.op("-", ir.const(Fraction(road.length)), _half(actor.body.length))
             top = motion.top_speed.get(actor.name, Fraction(0))
             for speed, said in ((ir.const(top), f"{float(top) * 3.6:g} kph"),
                                 (ir.Ref(actor.speed), "its start speed")):  # fmt: skip
                 reach = ir.op("+", ir.Ref(actor.s), ir.op("*", ir.const(duration), speed))
                 self._implicit(
-                    ir.op("<=", reach, end),
+                    terms.room(actor.road, reach, _half(actor.body.length)),
                     actor.span,
                     "road-room",
                     f"`{actor.name}` drives up to {said} for the scenario's "
-                    f"{float(duration):g} s and stays on the {road.length:g} m road "
-                    f"`{road.name}`",
+                    f"{float(duration):g} s and stays on {terms.room_text()}",
                 )
 
     def _lookup(self, sym: Symbol, node: ast.Node) -> Value:
@@ -325,12 +365,14 @@ class PlacementLowerer:
         """Plausible values where the constraints leave a choice (the witness draws there
         when it can): starts near the road's entry, leaving room to drive; speeds within
         the road's limit and the vehicle's top speed."""
-        road = placement.road
+        network = placement.network
         preferred = self.problem.preferred
-        limit = Fraction(road.speed_limit).limit_denominator(1000) if road.speed_limit else None
+        limit = (
+            Fraction(network.speed_limit).limit_denominator(1000) if network.speed_limit else None
+        )
         for actor in placement.actors.values():
             half = _largest(actor.body.length) / 2
-            room = Fraction(road.length) - 2 * half
+            room = fraction(placement.terms.longest) - 2 * half
             preferred[actor.s.name] = (half, half + room * PREFERRED_START_SHARE)
             top = _largest(actor.body.max_speed)
             plausible = min(top, limit) if limit is not None else top
@@ -343,26 +385,76 @@ class PlacementLowerer:
 
     # ---- road and actors -----------------------------------------------------------
 
-    def _road(self) -> Road:
-        name = None
-        span = None
+    def _map(self) -> MapChoice:
+        """The map the scenario names (``map_file`` or ``set_map_file``), read; the default
+        map when it names none, or one that cannot be used (the finding says why)."""
+        name, span = self._map_name()
+        folder = scenario_folder(span.uri if span is not None else self.problem.span.uri)
+        try:  # the configured default map (`[tool.osc2check.road] map`), a name or a file
+            fallback = load_map(self.default_map, folder)
+        except (MapError, UnknownMapError):
+            fallback = builtin_network("default")
+        if name is None:
+            path = map_path(self.default_map, folder)
+            source = str(path.resolve()) if path is not None and path.is_file() else None
+            return MapChoice(self.default_map if source else fallback.name, fallback, source)
+        try:
+            network = load_map(name, folder)
+        except UnknownMapError as err:
+            return MapChoice(fallback.name, fallback, asked=name, span=span, unknown=err.known)
+        except MapError as err:
+            return MapChoice(fallback.name, fallback, asked=name, span=span, unreadable=err)
+        path = map_path(name, folder)
+        source = str(path.resolve()) if path is not None and path.is_file() else None
+        return MapChoice(name if source is not None else network.name, network, source, name, span)
+
+    def _map_name(self) -> tuple[str | None, Span | None]:
+        """The map name the scenario gives and the span of the string that gives it."""
+        for member in self._scenario_members():
+            if isinstance(member, ast.Invocation) and member.name.text == "set_map_file":
+                for arg in member.arguments:
+                    if isinstance(arg, ast.EventArgument):
+                        continue
+                    if isinstance(arg.value, ast.StringLiteral):
+                        return arg.value.value, arg.value.span
         for var_name in self.problem.variables:
             if var_name.endswith(".map_file"):
                 found = self.constants.get(var_name)
                 if found is not None and isinstance(found[0], Fraction):
                     name = self.problem.strings.get(int(found[0]))
-                    span = found[1].span  # the constraint that names the map
-        if name is None:
-            return get_map(self.default_map)
-        try:
-            return get_map(name)
-        except UnknownMapError as err:
-            road = get_map(self.default_map)
-            if name.lower().endswith(".xodr"):
-                self.unread_map = name  # an OpenDRIVE file: not read yet, not an error
-            else:
-                self.unknown_map = (span or self.problem.span, name, err.known)
-            return road
+                    if name is None:
+                        continue
+                    within = found[1].span
+                    spans = [
+                        sp
+                        for sp in self.lw.string_spans.get(name, ())
+                        if sp.uri == within.uri and within.start <= sp.start <= within.end
+                    ]
+                    return name, spans[0] if spans else within
+        return None, None
+
+    def _scenario_members(self) -> Iterator[ast.Member]:
+        for members in self.lw.member_decls.get(self.scenario, []):
+            yield from members
+
+    def _map_modifier_members(self) -> list[tuple[ast.Invocation, Symbol]]:
+        """The scenario's map modifiers (``m.number_of_lanes(...)``, ...) and their symbols."""
+        found = []
+        for member in self._scenario_members():
+            if not isinstance(member, ast.Invocation):
+                continue
+            modifier = self.model.references.get(member.name)
+            if modifier is None or modifier.kind is not SymbolKind.MODIFIER:
+                continue
+            if any(a.name == "map" and a.library for a in self.model.ancestors(modifier.actor)):
+                found.append((member, modifier))
+        return found
+
+    def _map_modifiers(self) -> None:
+        """Constrain the scenario's element fields as its map modifiers say."""
+        scope = self._root_scope()
+        for member, modifier in self._map_modifier_members():
+            self.fields.modifier(member, modifier, self._args(member), scope, self._require)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""
@@ -395,12 +487,11 @@ class PlacementLowerer:
                     f"model `{model_name}` of `{name}` is not in the catalogue: its "
                     "vehicle_category decides its size"
                 )
+        shown = None
         fixed = self.constants.get(f"{name}.vehicle_category")
         if row is None and fixed is not None and category is not None:
             member = next((n for n, v in category.enum if v == fixed[0]), None)
-            if member is not None:
-                row = CATEGORIES[member]
-                because.append(fixed[1])
+            shown = CATEGORIES.get(member) if member is not None else None
         type_symbol = param.type.symbol if param.type is not None else None
         if row is None and _is_trailer(self.model, type_symbol):
             row = CATEGORIES["trailer"]
@@ -421,7 +512,21 @@ class PlacementLowerer:
             length = _by_category(category, lambda r: r.length)
             width = _by_category(category, lambda r: r.width)
             top = _by_category(category, lambda r: r.max_speed)
-            body = ActorBody(kind, None, length, width, top, category)
+            body = ActorBody(kind, None, length, width, top, category, shown=shown)
+            # without the constraints that mention it, the vehicle would be a car: the
+            # solver holds this while it looks for the lines a conflict cannot do without
+            self.problem.add(
+                ir.Constraint(
+                    ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
+                    param.name_span or self.problem.span,
+                    "placement",
+                    f"`{name}` is a car when nothing says otherwise",
+                    "hard",
+                    category,
+                    f"`{name}` is a car when nothing says otherwise",
+                    "fallback",
+                )
+            )
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
             body = ActorBody(kind, car, *self._row_terms(car))
@@ -451,10 +556,11 @@ class PlacementLowerer:
         """Whether a constraint of the scenario (not a domain or placement rule) mentions it."""
         return var.name in self.written
 
-    def _actor(self, param: Symbol, kind: str, road: Road) -> PlacedActor:
+    def _actor(self, param: Symbol, kind: str) -> PlacedActor:
         body = self._body(param, kind)
         span = param.name_span or self.problem.span
         p = self.problem
+        terms = self.terms
         actor = PlacedActor(
             param.name,
             kind,
@@ -470,57 +576,41 @@ class PlacementLowerer:
                 unit_factor=Fraction(5, 18),
                 span=span,
             ),
+            terms.road_var(p, f"{param.name}@start.road", span),
         )
-        s = ir.Ref(actor.s)
         half = _half(body.length)
-        self._lane_range(actor, road)
+        self._lane_range(actor)
         self._implicit(
-            ir.op(
-                "and",
-                ir.op(">=", s, half),
-                ir.op("<=", s, _minus(ir.const(Fraction(road.length)), half)),
-            ),
+            terms.extent(actor.road, ir.Ref(actor.s), half),
             span,
             "road-extent",
-            f"`{param.name}` ({body.size_text(body.length, 'long')}) stands on the "
-            f"{road.length:g} m road `{road.name}`",
+            terms.extent_text(param.name, body.size_text(body.length, "long")),
             because=body.because,
         )
         self._speed_range(actor)
         return actor
 
-    def _on_road(self, actor: PlacedActor, road: Road) -> None:
+    def _on_road(self, actor: PlacedActor) -> None:
         """The actor's sides stay on the road (with its lateral offset)."""
-        width = Fraction(road.lane_width)
         body = actor.body
-        half = _half(body.width)
-        across = ir.op(
-            "+",
-            ir.op("*", ir.const(width), ir.op("-", ir.Ref(actor.lane), ir.const(Fraction(1, 2)))),
-            ir.Ref(actor.t),
-        )  # the centre's distance from the right edge
+        terms = self.terms
         self._implicit(
-            ir.op(
-                "and",
-                ir.op(">=", across, half),
-                ir.op("<=", across, _minus(ir.const(width * road.lane_count), half)),
+            terms.across(
+                actor.road, ir.Ref(actor.lane), ir.Ref(actor.t), ir.Ref(actor.s), _half(body.width)
             ),
             actor.span,
             "road-extent",
-            f"`{actor.name}` ({body.size_text(body.width, 'wide')}) stays on "
-            f"the road's {road.lane_count} lanes of {road.lane_width:g} m",
+            terms.across_text(actor.name, body.size_text(body.width, "wide")),
             because=body.because,
         )
 
-    def _lane_range(self, actor: PlacedActor, road: Road) -> None:
-        lane = ir.Ref(actor.lane)
+    def _lane_range(self, actor: PlacedActor, phase: bool = False) -> None:
+        terms = self.terms
         self._implicit(
-            ir.op(
-                "and", ir.op(">=", lane, ir.const(1)), ir.op("<=", lane, ir.const(road.lane_count))
-            ),
+            terms.lanes(actor.road, ir.Ref(actor.lane), ir.Ref(actor.s), phase),
             actor.span,
             "lane-range",
-            f"road `{road.name}` has lanes 1 to {road.lane_count}",
+            terms.lanes_text(phase),
         )
 
     def _speed_range(self, actor: PlacedActor) -> None:
@@ -532,6 +622,9 @@ class PlacementLowerer:
             text = f"{what} goes at most {top:g} kph"
         else:
             text = f"`{actor.name}` goes at most the top speed of its vehicle_category"
+            if body.shown is not None:
+                top = float(body.shown.max_speed) * 3.6
+                text += f" (a {body.shown.category}: {top:g} kph)"
         self._implicit(
             ir.op("and", ir.op(">=", v, ir.const(0)), ir.op("<=", v, body.max_speed)),
             actor.span,
@@ -649,6 +742,7 @@ class PlacementLowerer:
             "position": self._mod_position,
             "speed": self._mod_speed,
             "lateral": self._mod_lateral,
+            "along": self._mod_along,
         }
         for item in inv.with_members:
             if not isinstance(item, ast.Invocation):
@@ -677,12 +771,12 @@ class PlacementLowerer:
                     continue
                 actor.acts = True
                 for item in inv.with_members:
-                    if (
-                        isinstance(item, ast.Invocation)
-                        and id(item) not in self.applied
-                        and item.name.text in ("lane", "speed")
-                    ):
+                    if not isinstance(item, ast.Invocation) or id(item) in self.applied:
+                        continue
+                    if item.name.text in ("lane", "speed"):
                         self._phase_limit(actor, item, placement)
+                    elif item.name.text == "along":
+                        self._mod_along(actor, self._args(item), item, placement, at_start=False)
         self.scope = self._root_scope()
 
     def _phase_limit(
@@ -698,8 +792,8 @@ class PlacementLowerer:
             lane = self.problem.var(self._phase_name(actor, item, "lane"), "int", span=actor.span)
             saved, actor.lane = actor.lane, lane
             try:
-                self._lane_range(actor, placement.road)
-                self._mod_lane(actor, args, item, placement)
+                self._lane_range(actor, phase=True)
+                self._mod_lane(actor, args, item, placement, phase=True)
             finally:
                 actor.lane = saved
         elif (
@@ -746,7 +840,7 @@ class PlacementLowerer:
         try:
             return self.lw._term(node, self.scope)
         except NotEncodable as reason:
-            self.problem.skipped.append((node.span, str(reason)))
+            self.problem.skip(node.span, self.lw.text_of(node.span), str(reason))
             return None
 
     def _reference(
@@ -775,8 +869,10 @@ class PlacementLowerer:
         args: dict[str, ast.Node],
         item: ast.Invocation,
         placement: StartPlacement,
+        phase: bool = False,
     ) -> None:
         lane = ir.Ref(actor.lane)
+        terms = placement.terms
         from osc2check.verify.lower import coerce
 
         value = (
@@ -795,33 +891,52 @@ class PlacementLowerer:
                 sign = 1 if _word(args.get("side")) == "left" else -1
             step = count if count is not None else ir.const(1)
             offset = step if sign > 0 else ir.op("neg", step)
-            self._require(ir.op("==", lane, ir.op("+", ir.Ref(other.lane), offset)), item)
+            relation = ir.op("==", lane, ir.op("+", ir.Ref(other.lane), offset))
+            self._require(_with(relation, terms.same(actor.road, other.road)), item)
             return
         if "same_as" in args:
             other = self._reference(args["same_as"], actor, placement, item.span)
             if other is not None:
-                self._require(ir.op("==", lane, ir.Ref(other.lane)), item)
+                relation = ir.op("==", lane, ir.Ref(other.lane))
+                self._require(_with(relation, terms.same(actor.road, other.road)), item)
             return
         if "lane" not in args:
             return
-        road = placement.road
-        numbering = road.numbering
+        from_left = placement.network.numbering == "from_left"
         side = _word(args.get("from"))
         if side in ("left", "right"):
-            numbering = f"from_{side}"
+            from_left = side == "left"
         node = args["lane"]
+        road = None if phase else actor.road
+        s = ir.Ref(actor.s)
+        if phase and from_left and not terms.single:
+            return  # where a later phase is, and so how many lanes it has, is not known here
         if isinstance(node, ast.RangeLiteral):
             low, high = self._value(node.low), self._value(node.high)
             if low is None or high is None:
                 return
-            low, high = (
-                _internal_lane(coerce(actor.lane, b), road, numbering) for b in (low, high)
-            )
             from osc2check.verify.lower import in_range
 
-            self._require(in_range(lane, low, high), item)
+            low, high = coerce(actor.lane, low), coerce(actor.lane, high)
+            if not from_left:
+                self._require(in_range(lane, low, high), item)
+            elif terms.single or phase:
+                top = ir.const(terms.most_lanes + 1)
+                self._require(in_range(lane, ir.op("-", top, low), ir.op("-", top, high)), item)
+            else:  # the lane counted from the left depends on how many there are there
+                number = self.problem.var(
+                    self._phase_name(actor, item, "lane_number"), "int", span=actor.span
+                )
+                self._require(
+                    ir.op(
+                        "and",
+                        in_range(ir.Ref(number), low, high),
+                        terms.numbered(road, lane, s, ir.Ref(number), from_left),
+                    ),
+                    item,
+                )
         elif count is not None:
-            self._require(ir.op("==", lane, _internal_lane(count, road, numbering)), item)
+            self._require(terms.numbered(road, lane, s, count, from_left), item)
 
     def _mod_position(
         self,
@@ -857,7 +972,9 @@ class PlacementLowerer:
             if reference_key == "behind"
             else ir.op("+", ir.Ref(other.s), distance)
         )
-        self._require(ir.op("==", s, target), item)
+        self._require(
+            _with(ir.op("==", s, target), placement.terms.same(actor.road, other.road)), item
+        )
         follower = actor if reference_key == "behind" else other
         placement.gaps.append(
             Gap(
@@ -930,6 +1047,28 @@ class PlacementLowerer:
                 value = ir.op("neg", value)  # an offset to the right of the lane centre
             self._require(ir.op("==", ir.Ref(actor.t), value), item)
 
+    def _mod_along(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+        at_start: bool = True,
+    ) -> None:
+        """`along(route: r)`: the actor starts on ``r`` at time 0, else reaches it later."""
+        fields = placement.fields
+        assert fields is not None  # made with the placement
+        target = fields.field_of(args.get("route"), self.scope)
+        if target is None:
+            return  # a world path (``behaviours.paths``): it moves the actor, places nothing
+        offset = None
+        if at_start and "start_offset" in args:
+            offset = self._value(args["start_offset"])
+        actor.along.append(target)
+        self._require(fields.tie(actor.road, actor.s, actor.lane, target, at_start, offset), item)
+        if at_start:
+            actor.placed = True
+
     # ---- no overlap --------------------------------------------------------------------
 
     def _no_overlap(self, placement: StartPlacement) -> None:
@@ -942,8 +1081,10 @@ class PlacementLowerer:
                 a, b = placement.actors[a_name], placement.actors[b_name]
                 need = _half(_plus(a.body.length, b.body.length))
                 sa, sb = ir.Ref(a.s), ir.Ref(b.s)
+                apart = placement.terms.apart(a.road, b.road)
                 term = ir.op(
                     "or",
+                    *((apart,) if apart is not None else ()),
                     ir.op("!=", ir.Ref(a.lane), ir.Ref(b.lane)),
                     ir.op(">=", ir.op("-", sa, sb), need),
                     ir.op(">=", ir.op("-", sb, sa), need),
@@ -1012,13 +1153,8 @@ def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
             yield body
 
 
-def _internal_lane(number: ir.Term, road: Road, numbering: str) -> ir.Term:
-    """The internal lane (1 = rightmost) that a scenario's lane ``number`` names."""
-    if numbering != "from_left":
-        return number
-    if isinstance(number, ir.Const):
-        return ir.const(road.lane_count + 1 - number.value)
-    return ir.op("-", ir.const(road.lane_count + 1), number)
+def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:
+    return relation if also is None else ir.op("and", relation, also)
 
 
 def lower_placement(

@@ -102,6 +102,10 @@ def evaluate(term: ir.Term, values: Mapping[str, Fraction | bool]) -> Fraction |
             return a - b
         case "*":
             return a * b
+        case "/":
+            return Fraction(a) / b  # ZeroDivisionError for 0, as ``guarded`` has it
+        case "%":
+            return a % b  # floored, the sign of ``b`` (Python's, the evaluator's)
         case "==":
             return a == b
         case "!=":
@@ -230,14 +234,58 @@ def _spread(k: int) -> Fraction:
     return _SPREAD[k] if k < len(_SPREAD) else _van_der_corput(k)
 
 
+def fold(term: ir.Term, values: Mapping[str, Fraction | bool]) -> ir.Term:
+    """``term`` with the variables of ``values`` replaced by their values, and what that
+    makes constant computed (``ite`` on a known condition is its branch)."""
+    if isinstance(term, ir.Ref):
+        value = values.get(term.var.name)
+        return term if value is None else ir.const(value)
+    if not isinstance(term, ir.Op):
+        return term
+    if term.op == "ite":
+        condition = fold(term.args[0], values)
+        if isinstance(condition, ir.Const):
+            return fold(term.args[1] if condition.value else term.args[2], values)
+        return ir.Op("ite", (condition, fold(term.args[1], values), fold(term.args[2], values)))
+    args = tuple(fold(a, values) for a in term.args)
+    if term.op in ("and", "or"):
+        absorbing = term.op == "or"  # True absorbs `or`, False absorbs `and`
+        kept = []
+        for a in args:
+            if isinstance(a, ir.Const):
+                if bool(a.value) is absorbing:
+                    return ir.const(absorbing)
+                continue
+            kept.append(a)
+        if not kept:
+            return ir.const(not absorbing)
+        return kept[0] if len(kept) == 1 else ir.Op(term.op, tuple(kept))
+    if all(isinstance(a, ir.Const) for a in args):
+        try:
+            folded = evaluate(ir.Op(term.op, args), {})
+        except (ZeroDivisionError, TypeError):
+            return ir.Op(term.op, args)
+        return ir.const(folded if isinstance(folded, (bool, Fraction)) else Fraction(folded))
+    return ir.Op(term.op, args)
+
+
 class Prepared:
-    """A constraint set split into atoms once, for many ``find_model`` calls."""
+    """A constraint set split into atoms once, for many ``find_model`` calls.
+
+    A conjunct that is not linear (``v <= ite(category == truck, 25, ...)``) is folded
+    with the values that equations fix from constants alone first, so that a vehicle's
+    category chosen by a keep gives its speed an upper bound to draw under. The
+    original conjuncts are what a model is checked against.
+    """
 
     def __init__(self, terms: list[ir.Term]):
         self.conjuncts: list[ir.Term] = []
         for t in terms:
             _conjuncts(t, self.conjuncts)
         self.atoms = [_atom(t) for t in self.conjuncts]
+        pairs = zip(self.conjuncts, self.atoms, strict=True)
+        if any(a.kind == "other" and _has_ite(c) for c, a in pairs):
+            self.atoms = _folded(self.conjuncts, self.atoms)
         self.by_var: dict[str, list[_Atom]] = {}
         self.order: list[str] = []
         for a in self.atoms:
@@ -423,12 +471,46 @@ def _choose(
     return next((x for x in candidates if fits(x)), None)
 
 
+def _folded(conjuncts: list[ir.Term], atoms: list[_Atom]) -> list[_Atom]:
+    """``atoms`` with each non-linear one replaced by the atoms of its conjunct folded with
+    the values that equations fix (``determined``)."""
+    known = _propagated([a for a in atoms if a.kind in ("eq", "bool")])
+    for a in atoms:
+        a.unknown = len(a.names)  # as propagation found them
+    if not known:
+        return atoms
+    result: list[_Atom] = []
+    for c, a in zip(conjuncts, atoms, strict=True):
+        if a.kind != "other" or not any(n in known for n in a.names) or not _has_ite(c):
+            result.append(a)
+            continue
+        parts: list[ir.Term] = []
+        _conjuncts(fold(c, known), parts)
+        result.extend(_atom(p) for p in parts if not (isinstance(p, ir.Const) and p.value is True))
+    return result
+
+
+def _has_ite(term: ir.Term) -> bool:
+    stack = [term]
+    while stack:
+        t = stack.pop()
+        if isinstance(t, ir.Op):
+            if t.op == "ite":
+                return True
+            stack.extend(t.args)
+    return False
+
+
 def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
     """The values that equations fix by propagation from constants alone (no choices)."""
     conjuncts: list[ir.Term] = []
     for t in terms:
         _conjuncts(t, conjuncts)
-    atoms = [a for a in map(_atom, conjuncts) if a.kind in ("eq", "bool")]
+    return _propagated([a for a in map(_atom, conjuncts) if a.kind in ("eq", "bool")])
+
+
+def _propagated(atoms: list[_Atom]) -> dict[str, Fraction | bool]:
+    """The values that the equations and boolean literals ``atoms`` fix by propagation."""
     by_var: dict[str, list[_Atom]] = {}
     for a in atoms:
         for name in a.names:

@@ -1,19 +1,35 @@
 """The witness: one concrete instance of a scenario that satisfies every constraint.
 
 Values are exact (SI rationals) and are also shown in a readable unit. The
-runner executes exactly this: parameter values and every actor's start lane,
-position, heading and speed.
+runner executes exactly this: parameter values, the map, every actor's start
+(its lane as the scenario numbers it, its position ``s`` on its carriageway and
+its offset ``t``; where that is on the map: road, OpenDRIVE lane, road ``s``, world
+pose), heading and speed, the route it takes through the junctions ahead, and
+the map element each road, route, lane and junction field stands for.
+Constraints the solver could not take (``ConstraintProblem.skipped``, C411) are
+listed in ``unverified``: the witness is not claimed to satisfy them.
+
+An actor's route is the roads it drives through from its start: towards the
+routes its `along` modifiers name, in order, and at the other forks chosen with
+the witness's seed (per actor), so the same seed gives the same routes.
 """
 
 from __future__ import annotations
 
+import zlib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.verify import ir, quick
-from osc2check.verify.placement import ActorBody, StartPlacement
+from osc2check.verify.map_modifiers import ElementValue
+from osc2check.verify.placement import ActorBody, PlacedActor, StartPlacement
+from osc2check.world.carriageways import Carriageway, lane_at
 from osc2check.world.catalogue import CATEGORIES, ActorRow
+from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.projection import WorldPose
+
+ROUTE_AHEAD = 500.0  # m: how far past its carriageway an actor's route is planned
 
 
 @dataclass(frozen=True, slots=True)
@@ -52,7 +68,7 @@ class ActorStart:
     category: str
     model: str
     lane: int  # as the scenario numbers lanes on this map
-    s: Fraction  # m, centre along the road
+    s: Fraction  # m, centre along its carriageway (along the road on a straight map)
     t: Fraction  # m, lateral offset from the lane centre (left positive)
     x: float
     y: float
@@ -62,6 +78,16 @@ class ActorStart:
     width: Fraction
     height: Fraction
     placed: bool  # positioned by the scenario (otherwise chosen freely)
+    road: str = ""  # the road it starts on
+    lane_id: int = 0  # the OpenDRIVE id of its lane
+    section: int = 0  # the lane section of that lane
+    road_s: float = 0.0  # m, its road coordinate s
+    route: tuple[str, ...] = ()  # the roads it drives through, from its start
+
+    @property
+    def lane_ref(self) -> LaneRef:
+        """Its start lane on the map."""
+        return LaneRef(self.road, self.section, self.lane_id)
 
     def to_json(self) -> dict[str, object]:
         return {
@@ -83,6 +109,11 @@ class ActorStart:
             "width_m": float(self.width),
             "height_m": float(self.height),
             "placed_by_scenario": self.placed,
+            "road": self.road,
+            "lane_id": self.lane_id,
+            "section": self.section,
+            "road_s_m": self.road_s,
+            "route": list(self.route),
         }
 
 
@@ -96,8 +127,15 @@ class Witness:
     actors: tuple[ActorStart, ...] = ()
     notes: tuple[str, ...] = field(default_factory=tuple)
     unused_map: str | None = None  # a map the scenario names that placement could not use
+    #: constraints left out of the problem (C411): the values need not satisfy them
+    unverified: tuple[ir.Skipped, ...] = ()
     # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
     lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
+    map_source: str | None = None  # the OpenDRIVE file of the map (absolute), if it is one
+    elements: tuple[tuple[str, ElementValue], ...] = ()  # road/route/lane/junction fields
+
+    def element(self, path: str) -> ElementValue | None:
+        return next((v for p, v in self.elements if p == path), None)
 
     def parameter(self, name: str) -> Value | None:
         return next((p for p in self.parameters if p.name == name), None)
@@ -110,11 +148,23 @@ class Witness:
             "scenario": self.scenario,
             "seed": self.seed,
             "map": self.map,
+            "map_source": self.map_source,
             "lane_numbering": self.lane_numbering,
             "gap_convention": "bumper to bumper",
             "actors": [a.to_json() for a in self.actors],
             "parameters": [p.to_json() for p in self.parameters],
+            "map_elements": {path: v.to_json() for path, v in self.elements},
             "notes": list(self.notes),
+            "unverified": [
+                {
+                    "path": s.span.uri,
+                    "line": s.span.line,
+                    "column": s.span.column,
+                    "text": s.text,
+                    "reason": s.reason,
+                }
+                for s in self.unverified
+            ],
             "lists": {
                 k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
                 for k, items in self.lists.items()
@@ -128,16 +178,20 @@ class Witness:
             f"lanes numbered {self.lane_numbering.replace('_', ' ')})"
         ]
         if self.actors:
+            on_map = self.map_source is not None  # an OpenDRIVE map: where on it, too
             lines.append(
                 f"  {'actor':<14}{'kind':<20}{'lane':>5}{'s (m)':>10}{'t (m)':>8}"
                 f"{'speed (kph)':>13}"
+                + (f"  {'road':>6}{'lane_id':>8}{'road s':>9}" if on_map else "")
             )
             for a in self.actors:
                 kind = a.kind if a.kind == a.category else f"{a.kind}/{a.category}"
+                where = f"  {a.road:>6}{a.lane_id:>8}{a.road_s:>9.2f}" if on_map else ""
                 lines.append(
                     f"  {a.name:<14}{kind:<20}{a.lane:>5}"
                     f"{float(a.s):>10.2f}{float(a.t):>8.2f}"
                     f"{float(a.speed * Fraction(18, 5)):>13.2f}"
+                    + where
                     + ("" if a.placed else "   (not placed by the scenario)")
                 )
         shown = [p for p in self.parameters if p.constrained and "@" not in p.name]
@@ -148,6 +202,11 @@ class Witness:
                 lines.append(f"    {p.name:<{width}}  {p.text}")
         for note in self.notes:
             lines.append(f"  note: {note}")
+        for s in self.unverified:
+            lines.append(
+                f"  not verified (these values need not satisfy it): `{s.text}` at line "
+                f"{s.span.line}: {s.reason}"
+            )
         return "\n".join(lines)
 
 
@@ -196,8 +255,10 @@ def build_witness(
     values: dict[str, Fraction | bool],
     active: Iterable[ir.Constraint],
     seed: int | None,
+    rounded: Iterable[str] = (),
 ) -> Witness:
-    """Assemble the witness of ``problem`` from a solver model's ``values``."""
+    """Assemble the witness of ``problem`` from a solver model's ``values``; notes
+    go with it (``rounded``: constraints the values hold only up to rounding)."""
     mentioned: set[str] = set()
     for c in active:
         if c.kind not in ("domain", "placement"):
@@ -211,51 +272,63 @@ def build_witness(
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))
     actors = []
-    notes: list[str] = []
+    notes: list[str] = list(rounded)
+    elements: list[tuple[str, ElementValue]] = []
+    map_name, numbering, source, unused = "", "from_right", None, None
     if placement is not None:
-        road = placement.road
+        network = placement.network
+        if placement.fields is not None:
+            for path, item in sorted(placement.fields.fields.items()):
+                number = int(values.get(item.var.name, Fraction(0)))
+                elements.append((path, placement.fields.value(item, number)))
         for a in placement.actors.values():
-            lane = int(values.get(a.lane.name, Fraction(1)))
-            lane = min(max(lane, 1), road.lane_count)
+            row = _row(a.body, values)
             s = Fraction(values.get(a.s.name, Fraction(0)))
             t = Fraction(values.get(a.t.name, Fraction(0)))
-            x, y = road.to_xy(float(s), road.lane_center_t(lane) + float(t))
-            row = _row(a.body, values)
+            lane, ref, road_s, pose = _start(placement, a, values, s, t)
+            chosen = dict(elements)
+            targets = [
+                element.road
+                for item in a.along
+                if (element := chosen.get(item.path)) is not None and element.road
+            ]
+            route = _route(network, ref, road_s, placement.terms.carriageways, a, s, targets, seed)
             actors.append(
                 ActorStart(
                     a.name,
                     a.kind,
                     row.category,
                     row.key,
-                    road.to_scenario_lane(lane),
+                    network.scenario_lane(ref),
                     s,
                     t,
-                    x,
-                    y,
-                    road.heading,
+                    pose.x,
+                    pose.y,
+                    pose.yaw,
                     Fraction(values.get(a.speed.name, Fraction(0))),
                     _size(a.body.length, values),
                     _size(a.body.width, values),
                     row.height,
                     a.placed,
+                    ref.road,
+                    ref.lane,
+                    ref.section,
+                    road_s,
+                    route,
                 )
             )
             notes.extend(a.body.notes)
-        if placement.unknown_map is not None:
-            notes.append(f"unknown map `{placement.unknown_map[1]}`: placed on `{road.name}`")
-        if placement.unread_map is not None:
+        choice = placement.map
+        if choice.unknown is not None:
+            notes.append(f"unknown map `{choice.asked}`: placed on `{choice.name}`")
+            unused = choice.asked
+        if choice.unreadable is not None:
             notes.append(
-                f"OpenDRIVE maps are not read yet: placed on `{road.name}` instead "
-                f"of `{placement.unread_map}`"
+                f"map `{choice.asked}` cannot be read ({choice.unreadable.problem}): placed on "
+                f"`{choice.name}`"
             )
-        map_name, numbering = road.name, road.numbering
-    else:
-        map_name, numbering = "", "from_right"
-    unused = None
-    if placement is not None:
-        unused = placement.unread_map or (
-            placement.unknown_map[1] if placement.unknown_map is not None else None
-        )
+            unused = choice.asked
+        map_name, numbering, source = choice.name, network.numbering, choice.source
     return Witness(
         problem.scenario,
         seed,
@@ -265,5 +338,50 @@ def build_witness(
         tuple(actors),
         tuple(notes),
         unused,
+        tuple(problem.skipped),
         dict(problem.lists),
+        source,
+        tuple(elements),
     )
+
+
+def _start(
+    placement: StartPlacement,
+    actor: PlacedActor,
+    values: dict[str, Fraction | bool],
+    s: Fraction,
+    t: Fraction,
+) -> tuple[int, LaneRef, float, WorldPose]:
+    """Lane number (from the right), lane, road s and world pose of an actor's start."""
+    network = placement.network
+    cws = placement.terms.carriageways
+    index = int(values.get(actor.road.name, Fraction(0))) if actor.road is not None else 0
+    cw = cws[min(max(index, 0), len(cws) - 1)]
+    at = min(max(float(s), 0.0), cw.length)
+    count = max(cw.lane_count(at), 1)
+    lane = min(max(int(values.get(actor.lane.name, Fraction(1))), 1), count)
+    ref = lane_at(network, cw, at, lane)
+    road_s = cw.leg_at(at).road_s(at)
+    return lane, ref, road_s, network.lane_to_world(ref, road_s, float(t))
+
+
+def _route(
+    network: RoadNetwork,
+    start: LaneRef,
+    road_s: float,
+    cws: tuple[Carriageway, ...],
+    actor: PlacedActor,
+    s: Fraction,
+    targets: list[str],
+    seed: int | None,
+) -> tuple[str, ...]:
+    """The roads an actor drives through from its start (see the module docstring)."""
+    cw = next((c for c in cws if start.road in c.roads), None)
+    left = (cw.length - float(s)) if cw is not None else 0.0
+    picked = zlib.crc32(f"{seed or 0}/{actor.name}".encode())
+    route = network.route(start, seed=picked, max_length=left + ROUTE_AHEAD, towards=targets)
+    roads: list[str] = []
+    for ref in route.lanes:
+        if not roads or roads[-1] != ref.road:
+            roads.append(ref.road)
+    return tuple(roads)

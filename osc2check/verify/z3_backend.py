@@ -26,7 +26,9 @@ from osc2check.verify import ir, quick
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
 MAX_CONFLICTS = 10
-_USER_KINDS = ("keep", "default", "argument", "modifier", "declaration")
+_USER_KINDS = ("keep", "default", "argument", "modifier", "declaration", "condition")
+_IMPLICIT_KINDS = ("domain", "placement")
+FALLBACK = "fallback"  # the rule of an implicit constraint that only holds unmentioned
 
 # z3 has no type stubs: the module, its contexts, solvers and expressions are Any.
 Z3Context = Any
@@ -101,10 +103,13 @@ def active_constraints(
             if earlier is not None and earlier.term != c.term:
                 outcome.conflicting_defaults.append((c, earlier))
             in_body[(c.subject.name, c.origin)] = c
+    mentioned: set[str] = set()  # variables that written constraints that hold mention
     active = []
     for c in problem.constraints:
         if c.strength != "default":
             active.append(c)
+            if c.kind not in _IMPLICIT_KINDS:
+                mentioned |= ir.names(c.term)
             continue
         subject = c.subject.name if c.subject is not None else None
         if subject is not None and subject in problem.removed_defaults:
@@ -115,7 +120,25 @@ def active_constraints(
             pass  # a later, more specific default of the same parameter holds instead
         else:
             active.append(c)
-    return active
+            mentioned |= ir.names(c.term)
+    # a fallback holds only while nothing else that holds mentions its variable
+    return [
+        c
+        for c in active
+        if c.rule != FALLBACK or c.subject is None or c.subject.name not in mentioned
+    ]
+
+
+def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
+    """The fallbacks (``rule == "fallback"``: a vehicle is a car when nothing says
+    otherwise) that do not hold because constraints of ``active`` mention their variable.
+
+    They hold again without those constraints: a conflict's core is looked for with
+    them in the background, so a line is left out of it when the scenario without that
+    line, fallback included, still has the conflict.
+    """
+    kept = {id(c) for c in active}
+    return [c for c in problem.constraints if c.rule == FALLBACK and id(c) not in kept]
 
 
 class _Encoder:
@@ -158,6 +181,10 @@ class _Encoder:
                 return args[0] - args[1]
             case "*":
                 return args[0] * args[1]
+            case "/":
+                return self._real(args[0]) / self._real(args[1])
+            case "%":
+                return self._remainder(args[0], args[1], t.args[1])
             case "neg":
                 return -args[0]
             case "==":
@@ -183,6 +210,22 @@ class _Encoder:
             case "ite":
                 return z3.If(args[0], args[1], args[2])
         raise ValueError(f"unknown operator {t.op}")
+
+    def _real(self, e: Z3Expr) -> Z3Expr:
+        return self.z3.ToReal(e) if e.is_int() else e
+
+    def _remainder(self, a: Z3Expr, b: Z3Expr, divisor: ir.Term) -> Z3Expr:
+        """``a % b`` floored (the sign of ``b``): z3's own ``mod`` where it agrees (an
+        integer by a positive constant), else ``a - b * floor(a / b)``."""
+        if (
+            a.is_int()
+            and isinstance(divisor, ir.Const)
+            and not isinstance(divisor.value, bool)
+            and divisor.value > 0
+            and divisor.value.denominator == 1
+        ):
+            return a % b
+        return a - b * self.z3.ToInt(self._real(a) / self._real(b))
 
 
 def _value(expr: Z3Expr) -> Fraction | bool:
@@ -268,6 +311,15 @@ def _solve(
     constraint_of = {lit.get_id(): c for lit, c in zip(literals, active, strict=True)}
     for lit, expr in zip(literals, exprs, strict=True):
         solver.add(z3.Implies(lit, expr))
+    for fallback in fallbacks(problem, active):
+        assert fallback.subject is not None  # a fallback names its variable
+        name = fallback.subject.name
+        mentions = [
+            lit
+            for lit, c in zip(literals, active, strict=True)
+            if c.kind not in _IMPLICIT_KINDS and name in ir.names(c.term)
+        ]
+        solver.add(z3.Or(*mentions, enc.term(fallback.term)))
     enabled = list(literals)
 
     result = solver.check(*enabled)

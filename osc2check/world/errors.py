@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-__all__ = ["MapError", "MapWarning", "format_location"]
+__all__ = ["MapError", "MapWarning", "UnknownMapError", "format_location"]
 
 
 def format_location(file: str | None, line: int | None, column: int | None) -> str:
@@ -65,3 +65,12 @@ class MapWarning:
 
     def __str__(self) -> str:
         return f"{format_location(self.file, self.line, self.column)}: {self.problem}"
+
+
+class UnknownMapError(LookupError):
+    """A map name that is neither a readable ``.xodr`` file nor a built-in map."""
+
+    def __init__(self, name: str, known: tuple[str, ...]) -> None:
+        self.name = name
+        self.known = known
+        super().__init__(f"unknown map `{name}`; known built-in maps: {', '.join(known)}")

@@ -2,24 +2,49 @@
 
 ``map_file`` in a scenario names either a built-in map (``Town06``,
 ``highway_4lane``, ...) or an OpenDRIVE file, relative to the scenario file.
-:func:`load_map` tries the file first when the name ends in ``.xodr`` and the
-file exists, then the built-in names (so ``Town06.xodr`` without a file gives
-the Town06 stand-in, as before). Loaded files are cached by path and
-modification time, so an editor asking on every keystroke reads a map once.
+:func:`load_map` reads the file when the name ends in ``.xodr`` and the file
+exists; a name that is not a file is looked up among the built-in names (so
+``Town06.xodr`` without a file gives the Town06 stand-in, as CARLA scenarios
+expect), and an ``.xodr`` name that is neither is a :class:`MapError` ("no such
+file"). Loaded files are cached by path and modification time, so an editor
+asking on every keystroke reads a map once.
 """
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
+from urllib.parse import unquote, urlparse
 
 from osc2check.world.builtin import builtin_network
+from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import RoadNetwork
 from osc2check.world.opendrive import load_opendrive
 
-__all__ = ["load_map"]
+__all__ = ["load_map", "map_path", "scenario_folder"]
 
 _CACHE: dict[tuple[str, int], RoadNetwork] = {}
 _CACHE_SIZE = 8
+
+
+def scenario_folder(uri: str) -> Path | None:
+    """The folder of a scenario file, from its analysis name (a path or ``file:`` URI);
+    None for a name that is no file (``<stdin>``, ``untitled:1``)."""
+    if uri.startswith("file://"):
+        return Path(unquote(urlparse(uri).path)).parent
+    if not uri or uri.startswith("<") or re.match(r"[A-Za-z][A-Za-z0-9+.-]+:", uri):
+        return None
+    return Path(uri).parent
+
+
+def map_path(name: str, relative_to: str | Path | None = None) -> Path | None:
+    """The file an ``.xodr`` map name stands for (None for other names)."""
+    if not name.lower().endswith(".xodr"):
+        return None
+    path = Path(name)
+    if not path.is_absolute() and relative_to is not None:
+        path = Path(relative_to) / path
+    return path
 
 
 def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
@@ -28,20 +53,24 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
     ``relative_to`` is the folder a relative path is taken from (the scenario's).
 
     Raises:
-        MapError: the ``.xodr`` file exists but cannot be read.
-        UnknownMapError: no such file and no built-in map of that name.
+        MapError: the ``.xodr`` file cannot be read, or there is no such file and no
+            built-in map of that name.
+        UnknownMapError: a name that is not an ``.xodr`` path and no built-in map.
     """
-    if name.lower().endswith(".xodr"):
-        path = Path(name)
-        if not path.is_absolute() and relative_to is not None:
-            path = Path(relative_to) / path
-        if path.is_file():
-            key = (str(path.resolve()), path.stat().st_mtime_ns)
-            network = _CACHE.get(key)
-            if network is None:
-                network = load_opendrive(path)
-                if len(_CACHE) >= _CACHE_SIZE:
-                    _CACHE.pop(next(iter(_CACHE)))
-                _CACHE[key] = network
-            return network
-    return builtin_network(name)
+    path = map_path(name, relative_to)
+    if path is None:
+        return builtin_network(name)
+    if path.is_file():
+        resolved = path.resolve()
+        key = (str(resolved), path.stat().st_mtime_ns)
+        network = _CACHE.get(key)
+        if network is None:
+            network = load_opendrive(resolved)  # its source is the file's absolute path
+            if len(_CACHE) >= _CACHE_SIZE:
+                _CACHE.pop(next(iter(_CACHE)))
+            _CACHE[key] = network
+        return network
+    try:
+        return builtin_network(name)
+    except UnknownMapError:
+        raise MapError(f"no such file (looked for `{path}`)", name) from None

@@ -358,7 +358,8 @@ class RoadNetwork:
         description: one line for humans.
         warnings: problems that were skipped while reading.
 
-    ``path_cache`` holds the lane centre lines :mod:`.paths` has built.
+    ``path_cache`` holds the lane centre lines :mod:`.paths` has built; ``cache`` what
+    other query modules build once per network (carriageways, element tables).
     """
 
     name: str
@@ -378,6 +379,7 @@ class RoadNetwork:
     road_ids: tuple[str, ...] = field(init=False)
     _index: SpatialIndex | None = field(default=None, init=False, repr=False)
     path_cache: dict[LaneRef, LanePath] = field(default_factory=dict, init=False, repr=False)
+    cache: dict[str, object] = field(default_factory=dict, init=False, repr=False)
 
     def __post_init__(self) -> None:
         self.road_ids = tuple(self.roads)
@@ -555,11 +557,13 @@ class RoadNetwork:
         choices: Sequence[TurnChoice] = (),
         seed: int | None = None,
         max_length: float = 2000.0,
+        towards: Sequence[str] = (),
     ) -> Route:
-        """The chain of lanes from ``start``: at each fork the next of ``choices``, else seeded."""
+        """The chain of lanes from ``start``: at each fork the next of ``choices``, else the
+        way to the next road of ``towards``, else seeded."""
         from osc2check.world.routes import plan_route
 
-        return plan_route(self, start, choices, seed, max_length)
+        return plan_route(self, start, choices, seed, max_length, towards)
 
     def reachable(self, ref: LaneRef, s: float, distance: float) -> tuple[LaneSpan, ...]:
         """Stretches of lanes reachable ahead of ``s`` on ``ref`` within ``distance`` m."""

@@ -42,6 +42,9 @@ class LanePath:
         heading: direction of travel (rad, continuous along the path).
         curvature: signed curvature as driven (1/m, positive turns left).
         width: lane width at the point (m).
+        t: road coordinate ``t`` of the centre line at the point (left of the road's
+            reference line; a point ``o`` m left of the path, in its direction of travel,
+            is at ``t + o`` on a lane driven along ``s`` and ``t - o`` against it).
     """
 
     lanes: tuple[LaneRef, ...]
@@ -53,6 +56,7 @@ class LanePath:
     heading: FloatArray
     curvature: FloatArray
     width: FloatArray
+    t: FloatArray
 
     @property
     def length(self) -> float:
@@ -105,7 +109,7 @@ def lane_path(network: RoadNetwork, ref: LaneRef) -> LanePath:
     bend = np.gradient(lean, s) if len(s) > 2 else np.zeros_like(s)
     curvature = (kappa + bend) / stretch
     if lane.direction < 0:
-        s, x, y, width = s[::-1], x[::-1], y[::-1], width[::-1]
+        s, x, y, width, t = s[::-1], x[::-1], y[::-1], width[::-1], t[::-1]
         heading = heading[::-1] + math.pi
         curvature = -curvature[::-1]
     distance = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(x), np.diff(y)))))
@@ -119,6 +123,7 @@ def lane_path(network: RoadNetwork, ref: LaneRef) -> LanePath:
         heading=np.unwrap(heading),
         curvature=curvature,
         width=width.copy(),
+        t=t.copy(),
     )
     network.path_cache[ref] = path
     return path
@@ -130,7 +135,7 @@ def join_paths(paths: list[LanePath]) -> LanePath:
         raise ValueError("no path to join")
     lanes: list[LaneRef] = []
     parts: dict[str, list[FloatArray]] = {
-        k: [] for k in ("s", "x", "y", "heading", "curvature", "width", "step")
+        k: [] for k in ("s", "x", "y", "heading", "curvature", "width", "t")
     }
     lane_of: list[IntArray] = []
     last: tuple[float, float, float] | None = None
@@ -143,7 +148,7 @@ def join_paths(paths: list[LanePath]) -> LanePath:
         heading = path.heading[sl]
         if last is not None and len(heading):
             heading = heading + 2.0 * math.pi * round((last[2] - heading[0]) / (2.0 * math.pi))
-        for key in ("s", "x", "y", "curvature", "width"):
+        for key in ("s", "x", "y", "curvature", "width", "t"):
             parts[key].append(getattr(path, key)[sl])
         parts["heading"].append(heading)
         lane_of.append(path.lane_of[sl] + base)
@@ -160,4 +165,5 @@ def join_paths(paths: list[LanePath]) -> LanePath:
         heading=np.concatenate(parts["heading"]),
         curvature=np.concatenate(parts["curvature"]),
         width=np.concatenate(parts["width"]),
+        t=np.concatenate(parts["t"]),
     )

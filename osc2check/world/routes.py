@@ -6,10 +6,12 @@ junction, a lane that splits) the next choice is taken from ``choices``: an
 index into the successors, or a turn word (``straight``, ``left``, ``right``,
 ``u-turn``) matched against each successor's turn, i.e. its change of heading
 from entry to exit (within 30 degrees: straight; beyond 150: u-turn). When the
-choices run out, a seed picks uniformly among the successors (``random.Random``,
-so the same seed gives the same route); without a seed the route ends before
-the fork. A route also ends at a lane without successors or once it is
-``max_length`` long (loops, such as a roundabout, are allowed).
+choices run out, a fork on the way to the next of ``towards`` (road ids the
+route must pass, in order) takes the successor that leads there; otherwise a
+seed picks uniformly among the successors (``random.Random``, so the same seed
+gives the same route); without a seed the route ends before the fork. A route
+also ends at a lane without successors or once it is ``max_length`` long
+(loops, such as a roundabout, are allowed).
 """
 
 from __future__ import annotations
@@ -26,7 +28,16 @@ import numpy as np
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.paths import LanePath, join_paths, lane_path
 
-__all__ = ["LaneSpan", "Route", "Turn", "TurnChoice", "plan_route", "reachable_lanes", "turn_of"]
+__all__ = [
+    "LaneSpan",
+    "Route",
+    "Turn",
+    "TurnChoice",
+    "plan_route",
+    "reachable_lanes",
+    "turn_along",
+    "turn_of",
+]
 
 Turn = Literal["straight", "left", "right", "u-turn"]
 TurnChoice = Turn | int
@@ -63,7 +74,11 @@ class LaneSpan:
 
 def turn_of(network: RoadNetwork, ref: LaneRef) -> Turn:
     """How a vehicle turns driving lane ``ref`` from entry to exit."""
-    path = lane_path(network, ref)
+    return turn_along(lane_path(network, ref))
+
+
+def turn_along(path: LanePath) -> Turn:
+    """How a vehicle turns driving ``path`` from its start to its end."""
     change = float(path.heading[-1] - path.heading[0])
     change = (change + math.pi) % (2.0 * math.pi) - math.pi
     if abs(change) <= _STRAIGHT:
@@ -79,6 +94,7 @@ def plan_route(
     choices: Sequence[TurnChoice] = (),
     seed: int | None = None,
     max_length: float = 2000.0,
+    towards: Sequence[str] = (),
 ) -> Route:
     """The route from lane ``start`` (see the module docstring for the rules).
 
@@ -88,6 +104,7 @@ def plan_route(
     network.lane(start)  # KeyError for a lane that does not exist
     rng = random.Random(seed) if seed is not None else None
     pending = list(choices)
+    targets = [road for road in towards if road != start.road]
     lanes = [start]
     decisions: list[Turn] = []
     length = lane_path(network, start).length
@@ -97,10 +114,14 @@ def plan_route(
         if not options:
             end = "dead_end"
             break
+        leading = [ref for ref in options if _leads_to(network, ref, targets[0])] if targets else []
         if len(options) == 1:
             chosen = options[0]
         elif pending:
             chosen = _choose(network, lanes[-1], options, pending.pop(0))
+            decisions.append(turn_of(network, chosen))
+        elif leading:
+            chosen = leading[0] if rng is None else leading[rng.randrange(len(leading))]
             decisions.append(turn_of(network, chosen))
         elif rng is not None:
             chosen = options[rng.randrange(len(options))]
@@ -109,9 +130,26 @@ def plan_route(
             end = "fork"
             break
         lanes.append(chosen)
+        while targets and targets[0] == chosen.road:
+            targets.pop(0)
         length += lane_path(network, chosen).length
     path = join_paths([lane_path(network, ref) for ref in lanes])
     return Route(tuple(lanes), path, tuple(decisions), end)
+
+
+def _leads_to(network: RoadNetwork, ref: LaneRef, road: str, limit: int = 400) -> bool:
+    """Whether following successors from lane ``ref`` reaches road ``road``."""
+    seen = {ref}
+    frontier = [ref]
+    while frontier and len(seen) < limit:
+        current = frontier.pop(0)
+        if current.road == road:
+            return True
+        for nxt in network.successors.get(current, ()):
+            if nxt not in seen:
+                seen.add(nxt)
+                frontier.append(nxt)
+    return False
 
 
 def _choose(

@@ -1,4 +1,5 @@
-"""Hover: what a name declares, what an expression is worth, what a code means."""
+"""Hover: what a name declares, what an expression is worth, what a code means, what a
+map holds (on the string of a ``map_file``: its roads, lanes and junctions)."""
 
 from __future__ import annotations
 
@@ -10,6 +11,8 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.semantics.visibility import node_path
 from osc2check.source import Span
 from osc2check.syntax import ast
+from osc2check.world.errors import MapError, UnknownMapError
+from osc2check.world.maps import load_map, scenario_folder
 from osc2lsp.features import describe
 from osc2lsp.features.values import Quantity, evaluate, value_of
 from osc2lsp.features.values import describe as describe_value
@@ -50,6 +53,9 @@ def hover(snapshot: Snapshot, offset: int) -> HoverResult | None:
     literal = next((n for n in reversed(path) if isinstance(n, ast.PhysicalLiteral)), None)
     if literal is not None:
         return _literal(snapshot, literal)
+    found = _map_file(snapshot, path)
+    if found is not None:
+        return found
     entry = snapshot.name_at(offset)
     if entry is not None:
         return HoverResult(symbol_markdown(snapshot, entry.symbol), entry.name.span)
@@ -132,6 +138,32 @@ def _expression(snapshot: Snapshot, expr: ast.Node) -> HoverResult | None:
     if q is not None and q.physical:
         parts.append(f"value: {describe_value(q)}")
     return HoverResult("\n\n".join(parts), expr.span)
+
+
+def _map_file(snapshot: Snapshot, path: list[ast.Node]) -> HoverResult | None:
+    """On the string a ``map_file`` is given (``keep(m.map_file == "x.xodr")``,
+    ``map.set_map_file("x.xodr")``): the map's summary, or why it cannot be read."""
+    if not path or not isinstance(path[-1], ast.StringLiteral):
+        return None
+    string = path[-1]
+    parent = next(
+        (n for n in reversed(path[:-1]) if isinstance(n, (ast.Binary, ast.Invocation))), None
+    )
+    if isinstance(parent, ast.Invocation):
+        if parent.name.text != "set_map_file":
+            return None
+    elif isinstance(parent, ast.Binary):
+        other = parent.left if parent.right is string else parent.right
+        name = other.member.text if isinstance(other, ast.MemberAccess) else None
+        if parent.op != "==" or name != "map_file":
+            return None
+    else:
+        return None
+    try:
+        text = load_map(string.value, scenario_folder(snapshot.key)).summary().text()
+    except (MapError, UnknownMapError) as error:
+        text = f"**{string.value}**: cannot be read: {error}"
+    return HoverResult(text, string.span)
 
 
 def _code_in_comment(snapshot: Snapshot, offset: int) -> HoverResult | None:

@@ -5,7 +5,8 @@
 * ``environment``: rain, fog, set_road_friction and the recorded weather actions;
 * ``lights``: set_lights (toolkit);
 * ``modifiers``: the movement modifiers;
-* ``methods``: object_distance, road_distance, ahead_of, gaps and headways.
+* ``methods``: object_distance, road_distance, ahead_of, gaps and headways;
+* ``maps``: `along`, the map modifiers (realised by the witness) and the map methods.
 
 Importing a module marks its implementations and registers nothing.
 """

@@ -73,8 +73,10 @@ class FastLeaf:
 
 @dataclass
 class AssignedPose:
-    """Where ``assign_position`` puts an actor: road lane (1 = rightmost), ``s`` of its
-    centre, offset from the lane centre or lateral ``t``, yaw relative to the road, speed."""
+    """Where ``assign_position`` puts an actor: on the road of ``reference`` (an actor's
+    state; the actor's own road by default), lane number (1 = rightmost in the direction
+    of travel), road ``s`` of its centre, offset from the lane centre or road ``t``, yaw
+    relative to the lane, speed."""
 
     lane: int | None = None
     s: float | None = None
@@ -82,6 +84,7 @@ class AssignedPose:
     t: float | None = None
     yaw: float | None = None
     speed: float | None = None
+    reference: Any = None
 
 
 @dataclass

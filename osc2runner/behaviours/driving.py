@@ -1,9 +1,18 @@
-"""Small driving helpers shared by actions and modifiers: speed targets, lanes, gaps."""
+"""Small driving helpers shared by actions and modifiers: speed targets, lanes, gaps.
+
+On a map, an actor's lane is a lane of the road it is on
+(:class:`~osc2check.world.network.LaneRef`); lane numbers are counted on that road
+and in that direction (:class:`~osc2runner.instance.roads.LaneNumbers`). Gaps
+between two actors on one road are taken along its ``s``; between actors on
+different roads (through a junction) along the follower's heading.
+"""
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
+from osc2check.world.network import LaneRef
 from osc2runner.behaviours.base import ActionError
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
@@ -13,7 +22,10 @@ __all__ = [
     "LANE_CHANGE_ACCEL",
     "gap_between",
     "lane_change_duration",
+    "lane_heading",
     "lane_of",
+    "lane_width",
+    "offset_for_t",
     "profile_for",
     "retarget",
     "set_speed",
@@ -67,12 +79,35 @@ def retarget(ctrl: Any, speed: float) -> None:
         ctrl.speed.target = max(0.0, float(speed))
 
 
-def lane_of(ctx: RunContext, actor: Actor | Any) -> int:
-    """The road lane an actor is in now; an action on an actor off the road fails."""
+def lane_of(ctx: RunContext, actor: Actor | Any) -> LaneRef:
+    """The driving lane an actor is in now; an action on an actor off the lanes fails."""
     state: ActorState = ctx.states[actor.name]
-    if state.lane is None:
-        raise ActionError(f"`{actor.name}` is not on the road")
-    return state.lane
+    ref = state.lane_ref
+    if ref is None or state.lane is None:
+        raise ActionError(f"`{actor.name}` is not in a driving lane")
+    return ref
+
+
+def lane_width(ctx: RunContext, state: ActorState) -> float:
+    """The width of the lane an actor is in (3.5 m off the lanes)."""
+    ref = state.lane_ref
+    if ref is None:
+        return 3.5
+    return float(ctx.network.width(ref, state.s))
+
+
+def lane_heading(ctx: RunContext, state: ActorState) -> float:
+    """The direction of travel of the lane an actor is in (its own yaw off the lanes)."""
+    ref = state.lane_ref
+    if ref is None:
+        return state.yaw
+    return ctx.network.lane_to_world(ref, state.s).yaw
+
+
+def offset_for_t(state: ActorState, t: float) -> float:
+    """The offset from the centre of the actor's lane (left, in its direction of travel)
+    of the road coordinate ``t`` on the actor's road."""
+    return state.offset + (t - state.t) * state.direction
 
 
 def side_of(side: str) -> str:
@@ -109,11 +144,16 @@ def lane_change_duration(
 
 
 def gap_between(me: ActorState, other: ActorState, *, bumpers: bool) -> float:
-    """Longitudinal distance along the road from ``me`` to ``other`` (positive: other ahead).
+    """Longitudinal distance from ``me`` to ``other`` (positive: other ahead): along the
+    road's ``s`` in ``me``'s direction of travel when both are on one road, else along
+    ``me``'s heading.
 
     With ``bumpers`` the half lengths of both are taken off (a space gap).
     """
-    d = other.s - me.s
+    if me.road is not None and me.road == other.road and me.direction:
+        d = (other.s - me.s) * me.direction
+    else:
+        d = (other.x - me.x) * math.cos(me.yaw) + (other.y - me.y) * math.sin(me.yaw)
     if bumpers:
         half = 0.5 * (me.length + other.length)
         d = d - half if d >= 0.0 else d + half

@@ -8,15 +8,16 @@ clouds and the sun's position are recorded in the event log only.
 A friction outside :data:`FRICTION_RANGE` (0, 2], or a rain intensity that is
 negative or not finite, is an input error at its argument when the argument
 is constant (a literal, a parameter); otherwise the phase fails when the value
-turns out bad at run time.
+turns out bad at run time. The ranges are ``osc2check.world.limits``'s, which
+the checker verifies too.
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 
 from osc2check.syntax import ast
+from osc2check.world.limits import FRICTION_RANGE, MPS_TO_MMPH, friction_problem, rain_problem
 from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
 from osc2runner.compile.expressions import is_constant
 from osc2runner.compile.registry import action
@@ -24,34 +25,11 @@ from osc2runner.errors import CompileProblem
 
 __all__ = ["FRICTION_RANGE", "Fog", "Rain", "Recorded", "SetRoadFriction", "friction_problem"]
 
-#: road friction coefficients the world takes: above the first, at most the second
-FRICTION_RANGE = (0.0, 2.0)
-
 #: rain intensity (mm/h) taken as the heaviest rain of the friction model
 HEAVY_RAIN_MMPH = 50.0
 #: visual range (m) below which it is foggy at all
 FOG_RANGE = 1000.0
-_MPS_TO_MMPH = 3.6e6
 _RECORDED = "recorded, readable in env.weather; no effect on dynamics"
-
-
-def friction_problem(value: object) -> str | None:
-    """Why ``value`` is not a road friction coefficient (None when it is one)."""
-    low, high = FRICTION_RANGE
-    if isinstance(value, (int, float)) and math.isfinite(value) and low < value <= high:
-        return None
-    return f"road friction must be in ({low:g}, {high:g}], got {_number(value)}"
-
-
-def _rain_problem(value: object) -> str | None:
-    if isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0:
-        return None
-    given = f"{value * _MPS_TO_MMPH:.6g} mm/h" if isinstance(value, (int, float)) else repr(value)
-    return f"rain intensity must be finite and not negative, got {given}"
-
-
-def _number(value: object) -> str:
-    return f"{value:.6g}" if isinstance(value, (int, float)) else repr(value)
 
 
 def _check_constant(use: ActionUse, name: str, problem: Callable[[object], str | None]) -> None:
@@ -90,16 +68,16 @@ class Rain(InstantAction):
 
     def __init__(self, name: str, use: ActionUse) -> None:
         super().__init__(name, use)
-        _check_constant(use, "intensity", _rain_problem)
+        _check_constant(use, "intensity", rain_problem)
 
     def start(self) -> None:
         if "intensity" not in self.args:
             return
-        why = _rain_problem(self.args["intensity"])
+        why = rain_problem(self.args["intensity"])
         if why is not None:
             raise ActionError(why)
         update_weather(self, "rain")
-        mmph = float(self.args["intensity"]) * _MPS_TO_MMPH
+        mmph = float(self.args["intensity"]) * MPS_TO_MMPH
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.world
         world.set_weather(rain=level)

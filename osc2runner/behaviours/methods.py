@@ -11,6 +11,7 @@ from __future__ import annotations
 import datetime
 import math
 
+from osc2runner.behaviours.driving import gap_between
 from osc2runner.compile.expressions import PositionOf
 from osc2runner.compile.registry import method
 from osc2runner.execution.context import RunContext, RunFault
@@ -75,23 +76,33 @@ def road_distance(
     mode: str = "reference_points",
     route_type: str = "on_road",
 ) -> float:
-    """Distance to ``reference`` along the road's s (longitudinal) or t (lateral) axis."""
+    """Distance to ``reference`` in road coordinates: along ``s`` (longitudinal,
+    positive ahead in the subject's direction of travel) or ``t`` (lateral, positive to
+    the subject's left) when both are on one road; along and across the subject's
+    heading when they are on different roads (through a junction)."""
     me, other = ctx.states[subject.name], ctx.states[reference.name]
     boxes = mode == "bounding_boxes"
+    same = me.road is not None and me.road == other.road and me.direction != 0
     if direction == "lateral":
-        d = other.t - me.t
+        if same:
+            d = (other.t - me.t) * me.direction
+        else:
+            d = -(other.x - me.x) * math.sin(me.yaw) + (other.y - me.y) * math.cos(me.yaw)
         return _shrink(d, 0.5 * (me.width + other.width)) if boxes else d
-    d = other.s - me.s
+    d = gap_between(me, other, bumpers=False)
     return _shrink(d, 0.5 * (me.length + other.length)) if boxes else d
 
 
 @method("physical_object", "get_s_coord")
 def get_s_coord(ctx: RunContext, subject: Actor, route_type: str = "on_road") -> float:
+    """The ``s`` of the subject on the road it is on (NaN off the roads)."""
     return ctx.states[subject.name].s
 
 
 @method("physical_object", "get_t_coord")
 def get_t_coord(ctx: RunContext, subject: Actor, route_type: str = "on_road") -> float:
+    """The ``t`` of the subject on the road it is on, left of its reference line (NaN
+    off the roads)."""
     return ctx.states[subject.name].t
 
 

@@ -14,12 +14,16 @@ from __future__ import annotations
 import math
 from typing import Any
 
+from osc2check.world.network import LaneRef
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
 from osc2runner.behaviours.driving import (
     SPEED_PROFILE,
     gap_between,
     lane_change_duration,
+    lane_heading,
     lane_of,
+    lane_width,
+    offset_for_t,
     profile_for,
     retarget,
     set_speed,
@@ -205,14 +209,15 @@ class KeepPosition(Modifier):
 
 @modifier("distance")
 class Distance(Modifier):
-    """``distance(d)``: the phase ends when the actor has travelled ``d`` along the road."""
+    """``distance(d)``: the phase ends when the actor has travelled ``d`` (along its path,
+    across roads)."""
 
     def realise(self, action: ActionBehaviour) -> None:
-        self.s0 = action.state.s
+        self.start = action.state.distance
         self.goal = float(self.args.get("distance", 0.0))
 
     def finished(self, action: ActionBehaviour) -> bool:
-        return abs(action.state.s - self.s0) >= self.goal - 1e-9
+        return action.state.distance - self.start >= self.goal - 1e-9
 
 
 @modifier("position")
@@ -226,7 +231,8 @@ class Position(Modifier):
     :data:`MAX_CLOSING_SPEED` relative to the reference), so that it holds when
     the phase ends; without one the phase ends when it holds. ``start``: the
     gap when the phase starts. Without a reference, ``distance`` is the centre's
-    distance along the road (``start`` only).
+    distance along the road (``start`` only; the checker measures it along the
+    actor's carriageway, the runner checks it on a one-road carriageway).
     """
 
     longitudinal = True
@@ -284,9 +290,10 @@ class Position(Modifier):
         state = action.state
         if ref is None:
             want = float(self.args.get("distance", 0.0))
-            if abs(state.s - want) <= GAP_TOLERANCE:
+            along = state.s if state.direction >= 0 else _road_length(action, state) - state.s
+            if abs(along - want) <= GAP_TOLERANCE:
                 return None
-            return f"it is at {state.s:.2f} m along the road, not {want:.2f} m"
+            return f"it is at {along:.2f} m along the road, not {want:.2f} m"
         error, _, _ = self._error(action)
         if abs(error) <= GAP_TOLERANCE:
             return None
@@ -296,7 +303,9 @@ class Position(Modifier):
         ref, sign = self._reference()
         speed = pose.speed if pose.speed is not None else action.state.speed
         if ref is None:
-            pose.s = float(self.args.get("distance", 0.0))
+            state = action.state
+            d = float(self.args.get("distance", 0.0))
+            pose.s = d if state.direction >= 0 else _road_length(action, state) - d
             return
         other = action.ctx.states[ref.name]
         follower_speed = speed if sign < 0 else other.speed
@@ -308,7 +317,8 @@ class Position(Modifier):
             float(getattr(action.actor.params, "length", 0.0))
             + float(getattr(ref.params, "length", 0.0))
         )
-        pose.s = other.s + sign * (d + half)
+        pose.s = other.s + sign * (d + half) * (other.direction or 1)
+        pose.reference = other
 
 
 # ---------------------------------------------------------------------- lanes
@@ -318,52 +328,64 @@ class Position(Modifier):
 class Lane(Modifier):
     """``lane(n)``, ``lane(same_as: ref)``, ``lane(side_of: ref, side: s)``.
 
-    ``n`` counts from the ``from:`` side (default: the map's, see
-    :mod:`osc2runner.instance.roads`). ``all``: changes into the lane at once if
-    needed and keeps it (following a reference when it changes lanes). ``end``:
-    with a planned duration the lane change is timed to end when the phase ends
-    (it starts a change's length before; a shorter phase spreads it over all of
-    it); without one the change starts at once and the phase ends in the lane.
-    ``start``: the lane when the phase starts.
+    Lanes are those of the road the actor is on, travelling its way. ``n`` counts from
+    the ``from:`` side (default: the map's, see :mod:`osc2runner.instance.roads`);
+    ``same_as`` is the lane with the reference's number, ``side_of`` the one ``n``
+    lanes to a side of it. ``all``: changes into the lane at once if needed and keeps
+    it (following a reference when it changes lanes). ``end``: with a planned duration
+    the lane change is timed to end when the phase ends (it starts a change's length
+    before; a shorter phase spreads it over all of it); without one the change starts
+    at once and the phase ends in the lane. ``start``: the lane when the phase starts.
     """
 
     lateral = True
 
-    def _target(self, ctx: Any, reference_lane: Any) -> int:
+    def _number(self, action: ActionBehaviour) -> int:
+        """The lane asked for, counted from the right where the actor is."""
+        ctx = action.ctx
         args = self.args
+        here = lane_of(ctx, action.actor)
         n = args.get("lane", 1)
         if isinstance(n, tuple):
             raise ActionError("a lane range needs the solver's choice; give one lane")
         n = int(n)
+        lanes = ctx.lanes
         if isinstance(args.get("same_as"), Actor):
-            return reference_lane(args["same_as"])
+            return lanes.number(lane_of(ctx, args["same_as"]), "right")
         if isinstance(args.get("side_of"), Actor):
             side = side_of(str(args.get("side", "left")))
-            return ctx.lanes.beside(reference_lane(args["side_of"]), side, n)
+            other = lanes.number(lane_of(ctx, args["side_of"]), "right")
+            return other + n if side == "left" else other - n
         side = args.get("from")
-        return ctx.lanes.to_road(n, str(side) if side is not None else None)
+        count = lanes.count(here)
+        side_text = str(side) if side is not None else lanes.default_side
+        return n if side_text == "right" else count + 1 - n
 
-    def _lane(self, action: ActionBehaviour) -> int:
+    def _lane(self, action: ActionBehaviour) -> LaneRef:
         ctx = action.ctx
-        target = self._target(ctx, lambda a: lane_of(ctx, a))
-        if not ctx.road.has_lane(target):
+        here = lane_of(ctx, action.actor)
+        number = self._number(action)
+        target = ctx.lanes.lane(here, number, "right")
+        if target is None:
+            count = ctx.lanes.count(here)
             raise ActionError(
-                f"lane {ctx.lanes.to_scenario(target)} does not exist on map `{ctx.road.name}`"
+                f"there is no lane {_scenario(ctx, here, number)} on road `{here.road}` "
+                f"here ({count} driving lane(s) this way)"
             )
         return target
 
     def realise(self, action: ActionBehaviour) -> None:
-        self.changing_to: int | None = None
+        self.changing_to: LaneRef | None = None
         self.change_at: float | None = None
         self.relative = "same_as" in self.args or "side_of" in self.args
         if self.at == "end" and action.remaining():
             target = self._lane(action)
-            if action.state.lane == target:
+            if action.state.lane_ref == target:
                 _lateral(action).keep_lane(target)
                 self.changing_to = target
                 return
             length = lane_change_duration(
-                1, action.ctx.road.lane_width, phase=None, rate_peak=None, profile=None
+                1, lane_width(action.ctx, action.state), phase=None, rate_peak=None, profile=None
             )
             remaining = action.remaining() or 0.0
             self.change_at = action.elapsed + max(0.0, remaining - length)
@@ -385,19 +407,21 @@ class Lane(Modifier):
 
     def _apply(self, action: ActionBehaviour, first: bool) -> None:
         ctx = action.ctx
-        target = self._lane(action)
-        lateral = _lateral(action)
-        if not first and target == self.changing_to:
-            return
         state = action.state
-        if state.lane == target and self.changing_to is None:
+        number = self._number(action)
+        lateral = _lateral(action)
+        if not first and self.changing_to is not None:
+            if ctx.lanes.number(self.changing_to, "right") == number:
+                return  # on its way into (or in) that lane already
+        target = self._lane(action)
+        if state.lane_ref == target and self.changing_to is None:
             lateral.keep_lane(target)
         else:
             lateral.change_lane(
                 state,
                 target,
                 duration=lane_change_duration(
-                    1, ctx.road.lane_width, phase=None, rate_peak=None, profile=None
+                    1, lane_width(ctx, state), phase=None, rate_peak=None, profile=None
                 ),
             )
         self.changing_to = target
@@ -408,19 +432,29 @@ class Lane(Modifier):
         return self.holds(action) is None and _lateral(action).done(action.state)
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        target = self._lane(action)
-        lane = action.state.lane
-        if lane == target and abs(action.state.t - action.ctx.road.lane_center_t(target)) <= (
-            action.ctx.road.lane_width / 2
-        ):
+        state = action.state
+        ctx = action.ctx
+        here = state.lane_ref
+        if here is None or state.lane is None:
+            return "it is off the road"
+        number = self._number(action)
+        if ctx.lanes.number(here, "right") == number:
             return None
-        lanes = action.ctx.lanes
-        where = f"lane {lanes.to_scenario(lane)}" if lane is not None else "off the road"
-        return f"it is in {where}, not lane {lanes.to_scenario(target)}"
+        return f"it is in lane {ctx.lanes.number(here)}, not lane {_scenario(ctx, here, number)}"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
-        ctx = action.ctx
-        pose.lane = self._target(ctx, lambda a: lane_of(ctx, a))
+        pose.lane = self._number(action)
+
+
+def _scenario(ctx: Any, here: LaneRef, number: int) -> int:
+    """The scenario's number (the map's side) of the lane numbered ``number`` from the right."""
+    if ctx.lanes.default_side == "right":
+        return number
+    return ctx.lanes.count(here) + 1 - number
+
+
+def _road_length(action: ActionBehaviour, state: ActorState) -> float:
+    return action.ctx.network.roads[state.road].length if state.road is not None else 0.0
 
 
 @modifier("change_lane")
@@ -439,30 +473,35 @@ class ChangeLaneModifier(Modifier):
         start = lane_of(ctx, action.actor)
         side = self.args.get("side")
         if side is None:
-            sides = [
-                s for s in ("left", "right") if ctx.road.has_lane(ctx.lanes.beside(start, s, n))
-            ]
+            sides = [s for s in ("left", "right") if ctx.lanes.beside(start, s, n) is not None]
             if not sides:
                 raise ActionError(f"no lane {n} lanes away on either side")
             side = sides[int(ctx.rng.integers(len(sides)))]
         target = ctx.lanes.beside(start, side_of(str(side)), n)
-        if not ctx.road.has_lane(target):
+        if target is None:
             raise ActionError(
-                f"there is no lane {n} lane(s) to the {side} of lane {ctx.lanes.to_scenario(start)}"
+                f"there is no lane {n} lane(s) to the {side} of lane {ctx.lanes.number(start)}"
             )
-        self.target = target
+        self.target = ctx.lanes.number(target, "right")
         duration = lane_change_duration(
-            n, ctx.road.lane_width, phase=action.remaining(), rate_peak=None, profile=None
+            n,
+            lane_width(ctx, action.state),
+            phase=action.remaining(),
+            rate_peak=None,
+            profile=None,
         )
         _lateral(action).change_lane(action.state, target, duration=duration)
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        lane = action.state.lane
-        if lane == self.target:
-            return None
+        state = action.state
+        here = state.lane_ref
+        if here is None or state.lane is None:
+            return "it is off the road"
         lanes = action.ctx.lanes
-        where = f"lane {lanes.to_scenario(lane)}" if lane is not None else "off the road"
-        return f"it is in {where}, not lane {lanes.to_scenario(self.target)}"
+        if lanes.number(here, "right") == self.target:
+            return None
+        wanted = _scenario(action.ctx, here, self.target)
+        return f"it is in lane {lanes.number(here)}, not lane {wanted}"
 
 
 @modifier("keep_lane")
@@ -478,7 +517,8 @@ class KeepLane(Modifier):
 @modifier("lateral")
 class Lateral(Modifier):
     """``lateral(distance: d)``: ``d`` to the left of the lane centre; with a reference,
-    ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned).
+    ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned), on the
+    road the actor is on.
 
     ``all``: reached and tracked; ``end``: reached over the planned duration (else
     the phase ends when reached); ``start``: the offset when the phase starts.
@@ -487,29 +527,32 @@ class Lateral(Modifier):
     lateral = True
 
     def _target_t(self, action: ActionBehaviour) -> float | None:
+        """The road ``t`` a reference form asks for (None without a reference)."""
         args = self.args
         d = float(args.get("distance", 0.0))
         for key, sign in (("left_of", 1.0), ("right_of", -1.0), ("same_as", 0.0)):
             ref = args.get(key)
             if isinstance(ref, Actor):
-                return action.ctx.states[ref.name].t + sign * d
+                other = action.ctx.states[ref.name]
+                return other.t + sign * d * (other.direction or 1)
         ref = args.get("side_of")
         if isinstance(ref, Actor):
+            other = action.ctx.states[ref.name]
             sign = 1.0 if side_of(str(args.get("side", "left"))) == "left" else -1.0
-            return action.ctx.states[ref.name].t + sign * d
+            return other.t + sign * d * (other.direction or 1)
         return None
 
-    def _wanted_t(self, action: ActionBehaviour) -> float:
+    def _wanted(self, action: ActionBehaviour) -> float:
+        """The offset from the actor's lane centre asked for."""
         t = self._target_t(action)
         if t is not None:
-            return t
-        lane = lane_of(action.ctx, action.actor)
-        return action.ctx.road.lane_center_t(lane) + float(self.args.get("distance", 0.0))
+            return offset_for_t(action.state, t)
+        return float(self.args.get("distance", 0.0))
 
     def realise(self, action: ActionBehaviour) -> None:
         if self.at == "end" and action.remaining():
             lateral = _lateral(action)
-            lateral.move_to(action.state, self._wanted_t(action), duration=action.remaining())
+            lateral.move_to(action.state, self._wanted(action), duration=action.remaining())
             return
         self.step(action)
 
@@ -517,13 +560,11 @@ class Lateral(Modifier):
         if self.at == "end" and action.remaining():
             return  # the planned path arrives when the phase ends
         lateral = _lateral(action)
-        t = self._target_t(action)
-        if t is None:
-            lateral.keep_lane(
-                lane_of(action.ctx, action.actor), offset=float(self.args.get("distance", 0.0))
-            )
+        state = action.state
+        if lateral.route is None or state.lane_ref not in (lateral.route.lanes or ()):
+            lateral.keep_lane(lane_of(action.ctx, action.actor), self._wanted(action))
         else:
-            lateral.keep_offset(t)
+            lateral.keep_offset(self._wanted(action))
 
     def finished(self, action: ActionBehaviour) -> bool:
         if self.at != "end" or action.remaining():
@@ -531,11 +572,11 @@ class Lateral(Modifier):
         return self.holds(action) is None
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        want = self._wanted_t(action)
-        t = action.state.t
-        if abs(t - want) <= LATERAL_TOLERANCE:
+        want = self._wanted(action)
+        offset = action.state.offset
+        if abs(offset - want) <= LATERAL_TOLERANCE:
             return None
-        return f"it is {t - want:+.2f} m from the lateral position asked"
+        return f"it is {offset - want:+.2f} m from the lateral position asked"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         t = self._target_t(action)
@@ -557,7 +598,7 @@ class _Heading(Modifier):
     def realise(self, action: ActionBehaviour) -> None:
         ctrl = action.controller
         if ctrl is not None and hasattr(ctrl, "yaw"):  # a walker turns at once
-            ctrl.yaw = action.ctx.road.heading + self.wanted(action)
+            ctrl.yaw = lane_heading(action.ctx, action.state) + self.wanted(action)
             ctrl.lateral.release()
             return
         raise ActionError(
@@ -566,7 +607,7 @@ class _Heading(Modifier):
         )
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        want = action.ctx.road.heading + self.wanted(action)
+        want = lane_heading(action.ctx, action.state) + self.wanted(action)
         diff = (action.state.yaw - want + math.pi) % (2 * math.pi) - math.pi
         if abs(diff) <= YAW_TOLERANCE:
             return None
@@ -631,8 +672,8 @@ class Location(Modifier):
     """``box.location(pose: p)``: the object is built at ``p`` (before compiling)."""
 
 
-@modifier(
-    "set_map_file", actor="map", note="scenario member: chooses the built-in road before the run"
-)
+@modifier("set_map_file", actor="map", note="scenario member: the checker reads the map")
 class SetMapFile(Modifier):
-    """``the_map.set_map_file(file)``: the road is chosen from it before compiling (runner)."""
+    """``the_map.set_map_file(file)``: the checker read the map (a built-in name or an
+    OpenDRIVE file relative to the scenario) and placed the scenario on it; the runner
+    loads the same map before compiling."""

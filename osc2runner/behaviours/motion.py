@@ -19,6 +19,7 @@ from osc2runner.behaviours.driving import (
     gap_between,
     lane_change_duration,
     lane_of,
+    lane_width,
     profile_for,
     retarget,
     set_speed,
@@ -57,7 +58,7 @@ def _hold(action: ActionBehaviour) -> None:
         set_speed(ctrl, action.state.speed, "none")
     lateral = getattr(ctrl, "lateral", None)
     if lateral is not None and not action.drives("lateral") and lateral.path is None:
-        lateral.keep_offset(action.state.t)
+        lateral.hold(action.state)
 
 
 @action("vehicle", "drive")
@@ -134,7 +135,8 @@ class ChangeLane(ActionBehaviour):
     """``change_lane(num_of_lanes, side, reference, offset, rate_profile, rate_peak)``.
 
     The target lane is ``num_of_lanes`` lanes to ``side`` of the reference's
-    lane (the actor's own by default); ``same`` is the reference's lane.
+    lane (the actor's own by default), by number on the road the actor is on;
+    ``same`` is the reference's lane.
     The path is a minimum-jerk lateral blend over the phase duration, over
     the time a ``rate_peak`` lateral speed gives, or over 4 s (2.5 s for
     ``asap``); it ends when the front axle reaches the end of the blend.
@@ -152,18 +154,24 @@ class ChangeLane(ActionBehaviour):
         ref = reference if isinstance(reference, Actor) else self.actor
         n = int(args.get("num_of_lanes", 1))
         side = str(args.get("side", "left"))
+        here = lane_of(ctx, self.actor)
         start_lane = lane_of(ctx, ref)
-        target = start_lane if side == "same" else ctx.lanes.beside(start_lane, side_of(side), n)
-        if not ctx.road.has_lane(target):
+        found = start_lane if side == "same" else ctx.lanes.beside(start_lane, side_of(side), n)
+        target = (
+            ctx.lanes.lane(here, ctx.lanes.number(found, "right"), "right")
+            if found is not None
+            else None
+        )
+        if target is None:
             raise ActionError(
                 f"there is no lane {n} lane(s) to the {side} of lane "
-                f"{ctx.lanes.to_scenario(start_lane)} on map `{ctx.road.name}`"
+                f"{ctx.lanes.number(start_lane)} on road `{start_lane.road}`"
             )
         peak = args.get("rate_peak")
-        lanes = abs(target - lane_of(ctx, self.actor)) or 1
+        lanes = abs(ctx.lanes.number(target, "right") - ctx.lanes.number(here, "right")) or 1
         duration = lane_change_duration(
             lanes,
-            ctx.road.lane_width,
+            lane_width(ctx, self.state),
             phase=self.phase,
             rate_peak=float(peak) if peak is not None else None,
             profile=str(args.get("rate_profile", "none")),

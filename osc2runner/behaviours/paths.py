@@ -89,7 +89,9 @@ def _frame(action: ActionBehaviour, reference: Any, transform: str) -> tuple[flo
     if transform == "world_relative":
         return st.x, st.y, 0.0
     if transform in ("road_relative", "lane_relative"):
-        return st.x, st.y, action.ctx.road.heading
+        from osc2runner.behaviours.driving import lane_heading
+
+        return st.x, st.y, lane_heading(action.ctx, st)
     return st.x, st.y, st.yaw
 
 
@@ -351,7 +353,25 @@ class _AlongModifier(Modifier):
 
 @modifier("along")
 class Along(_AlongModifier):
-    """``along(route: a_path)``: the actor follows the path; the phase ends at its end."""
+    """``along(route: a_path)``: the actor follows the path; the phase ends at its end.
+    ``along(route: r)`` with a route of the map (a road, route or lane field, a compound
+    route): the actor's lane following passes its roads (``behaviours.maps``)."""
+
+    def realise(self, action: ActionBehaviour) -> None:
+        from osc2runner.behaviours.maps import follow_route, is_map_route
+
+        self.motion = None
+        if is_map_route(self.args.get("route")):
+            follow_route(self, action)
+            return
+        super().realise(action)
+
+    def holds(self, action: ActionBehaviour) -> str | None:
+        from osc2runner.behaviours.maps import is_map_route, route_holds
+
+        if is_map_route(self.args.get("route")):
+            return route_holds(self, action)
+        return super().holds(action)
 
 
 @modifier("along_trajectory")

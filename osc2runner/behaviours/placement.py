@@ -8,8 +8,13 @@ modifiers (their ``assign`` hooks), resolved against the actors' current positio
 
 from __future__ import annotations
 
+from types import SimpleNamespace
+
+import numpy as np
+
+from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
-from osc2runner.behaviours.driving import set_speed
+from osc2runner.behaviours.driving import lane_heading, set_speed
 from osc2runner.compile.registry import action
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
@@ -37,7 +42,9 @@ def _teleport(
 
 @action("movable_object", "assign_position")
 class AssignPosition(InstantAction):
-    """``assign_position() with: lane(...); position(...); lateral(...)``: put the actor there."""
+    """``assign_position() with: lane(...); position(...); lateral(...)``: put the actor there;
+    ``assign_position(position: p | route_point: r | odr_point: o)``: at that point of the
+    world or the map (at time 0 too: the checker places actors by their modifiers)."""
 
     modifiers_realised = True
 
@@ -48,14 +55,12 @@ class AssignPosition(InstantAction):
         if given == ["position"]:
             self._world_position(self.args["position"])
             return
+        for key in given:  # a route or OpenDRIVE point (at time 0 too): its world position
+            x, y = _point_in_world(self.ctx, self.args[key])
+            self._world_position(SimpleNamespace(x=x, y=y))
+            return
         if self.at_scenario_start:
             return
-        for key in given:
-            raise ActionError(
-                f"assign_position({key}: ...) needs a road network (maps); place the "
-                "actor with `position:` in world coordinates or the lane() and "
-                "position() modifiers"
-            )
         ctx = self.ctx
         name = self.actor.name
         state = self.state
@@ -63,23 +68,37 @@ class AssignPosition(InstantAction):
         for modifier in sorted(self.use.modifiers, key=lambda m: m.use.name != "speed"):
             modifier.evaluate()  # the speed first: a time gap needs it
             modifier.assign(pose, self)
-        lane = pose.lane if pose.lane is not None else state.lane
-        s = pose.s if pose.s is not None else state.s
-        if lane is None or not ctx.road.has_lane(lane):
-            raise ActionError("the assigned lane does not exist")
+        where = pose.reference if pose.reference is not None else state
+        if where.road is None or not where.direction:
+            raise ActionError("the actor is not on a road to place it on")
+        network = ctx.network
+        road = network.roads[where.road]
+        s = pose.s if pose.s is not None else where.s
+        if not 0.0 <= s <= road.length:
+            raise ActionError(
+                f"s = {s:.2f} m is off road `{where.road}` (0 .. {road.length:.2f} m)"
+            )
+        section = road.section_at(s).index
+        number = pose.lane if pose.lane is not None else (state.lane or 1)
+        lanes = ctx.lanes.lanes(where.road, section, where.direction)
+        if not 1 <= number <= len(lanes):
+            raise ActionError(f"the assigned lane {number} does not exist on road `{where.road}`")
+        ref = lanes[number - 1]
         if pose.t is not None:
-            x, y = ctx.road.to_xy(s, pose.t)
+            centre, _ = lane_centre(network, ref, np.array([s]))
+            offset = (pose.t - float(centre[0])) * where.direction
         else:
-            x, y = ctx.road.lane_to_xy(s, lane, pose.offset or 0.0)
-        yaw = ctx.road.heading + (pose.yaw or 0.0)
+            offset = pose.offset or 0.0
+        target = network.lane_to_world(ref, s, offset)
+        yaw = target.yaw + (pose.yaw or 0.0)
         speed = pose.speed if pose.speed is not None else state.speed
-        ctx.world.place(name, x, y, yaw, speed)  # type: ignore[union-attr]
+        ctx.world.place(name, target.x, target.y, yaw, speed)  # type: ignore[union-attr]
         ctx.refresh()
         ctrl = self.controller
         if ctrl is not None:
             set_speed(ctrl, speed, "none")
             if getattr(ctrl, "lateral", None) is not None:
-                ctrl.lateral.keep_offset(ctx.states[name].t)
+                ctrl.lateral.keep_lane(ref, offset)
 
     def _world_position(self, position: object) -> None:
         """``assign_position(position: p)``: the actor's centre at world ``(p.x, p.y)``
@@ -98,7 +117,7 @@ class AssignPosition(InstantAction):
             if modifier.use.name in ("speed", "yaw", "orientation"):
                 modifier.evaluate()
                 modifier.assign(pose, self)
-        yaw = state.yaw if pose.yaw is None else self.ctx.road.heading + pose.yaw
+        yaw = state.yaw if pose.yaw is None else lane_heading(self.ctx, state) + pose.yaw
         speed = state.speed if pose.speed is None else pose.speed
         self.ctx.world.place(self.actor.name, x, y, yaw, speed)  # type: ignore[union-attr]
         self.ctx.refresh()
@@ -108,7 +127,23 @@ class AssignPosition(InstantAction):
             if hasattr(ctrl, "yaw"):
                 ctrl.yaw = yaw
             elif ctrl.lateral is not None:
-                ctrl.lateral.keep_offset(self.ctx.states[self.actor.name].t)
+                ctrl.lateral.hold(self.ctx.states[self.actor.name])
+
+
+def _point_in_world(ctx: object, point: object) -> tuple[float, float]:
+    """World ``(x, y)`` of a route point or an OpenDRIVE point (``behaviours.maps``)."""
+    from osc2runner.behaviours.maps import OdrPoint, RoutePoint, route_point_to_xyz
+
+    if isinstance(point, OdrPoint):
+        from osc2runner.behaviours.maps import _odr_coordinates
+
+        road, s, t = _odr_coordinates(ctx, point)  # type: ignore[arg-type]
+        pose = ctx.network.to_world(road, s, t)  # type: ignore[attr-defined]
+        return pose.x, pose.y
+    if isinstance(point, RoutePoint):
+        xyz = route_point_to_xyz(ctx, None, point)  # type: ignore[arg-type]
+        return float(xyz.position.x), float(xyz.position.y)
+    raise ActionError("this is not a route point or an OpenDRIVE point of the map")
 
 
 @action("movable_object", "assign_speed")

@@ -58,6 +58,7 @@ BEHAVIOUR_MODULES = (
     "osc2runner.behaviours.lights",
     "osc2runner.behaviours.traffic",
     "osc2runner.behaviours.methods",
+    "osc2runner.behaviours.maps",
 )
 _MARK = "__osc2_entries__"
 

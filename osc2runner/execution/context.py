@@ -29,8 +29,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import py_trees
 
-from osc2check.road import Road
 from osc2check.syntax import ast
+from osc2check.world.network import RoadNetwork
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
@@ -198,7 +198,7 @@ class RunContext:
     """Live state and services for one run (see the module docstring).
 
     Parameters:
-        road: the road the scenario runs on.
+        network: the map the scenario runs on.
         actors: the scenario's actors.
         dt: control period in seconds.
         seed: the run's seed (random choices the scenario leaves open).
@@ -206,14 +206,14 @@ class RunContext:
 
     def __init__(
         self,
-        road: Road,
+        network: RoadNetwork,
         actors: list[Actor],
         *,
         dt: float = 0.05,
         seed: int = 0,
     ) -> None:
-        self.road = road
-        self.lanes = LaneNumbers(road)
+        self.network = network
+        self.lanes = LaneNumbers(network)
         self.actors: dict[str, Actor] = {a.name: a for a in actors}
         self.dt = float(dt)
         self.seed = seed

@@ -1,7 +1,9 @@
 """The driver of each actor: the controller that turns behaviour targets into world inputs.
 
 Vehicles get a :class:`~osc2runner.sim.VehicleController` (speed PID with rate
-profiles, Stanley lateral control). Pedestrians get a
+profiles, Stanley lateral control along their lane's route: the roads of the
+witness's route for the actor, the other forks chosen with the run's seed).
+Pedestrians get a
 :class:`PedestrianController`: a speed with an acceleration limit along a
 heading, no dynamics. Obstacles and the environment have no driver.
 
@@ -13,10 +15,15 @@ driving as it was told until another behaviour changes it.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+import zlib
+from collections.abc import Callable, Mapping, Sequence
 from typing import Any
 
-from osc2check.road import Road
+import numpy as np
+
+from osc2check.world.carriageways import carriageways, lane_at
+from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.projection import lane_centre
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.vehicle import VehicleParams
@@ -90,51 +97,88 @@ class PedestrianSpeed:
 
 
 class WalkerLateral:
-    """Lateral position of a walker on the road: a target ``t`` that it heads for.
+    """Lateral position of a walker on the map: an offset from a lane's centre that it
+    heads for (the lane it is in, unless a lane is given).
 
-    The heading is the road's turned towards the target, ``atan2(k (t* - t), v)``
-    (``k`` = :data:`WALKER_LATERAL_GAIN`), at most 90 degrees: a walker moves
-    across the road as fast as it walks. Same calls as the vehicles' lateral
-    controller (``keep_lane``, ``keep_offset``, ``move_to``, ``done``).
+    The heading is the road's (its reference line's, or the opposite, whichever is
+    nearer the walker's) turned towards the target, ``atan2(k (t* - t), v)`` (``k`` =
+    :data:`WALKER_LATERAL_GAIN`), at most 90 degrees: a walker moves across the road as
+    fast as it walks. Same calls as the vehicles' lateral controller (``keep_lane``,
+    ``keep_offset``, ``move_to``, ``change_lane``, ``hold``, ``done``).
     """
 
-    def __init__(self, road: Road) -> None:
-        self.road = road
-        self.path: float | None = None  # the target t (None: no lateral control)
+    def __init__(self, network: RoadNetwork) -> None:
+        self.network = network
+        #: the target: a lane (None: the one it is in) and the offset from its centre
+        self.path: tuple[LaneRef | None, float] | None = None
         self.error = 0.0  # last lateral error (m, positive: left of the target)
+        self.route = None  # walkers follow no route of lanes
 
-    def keep_lane(self, lane: int, offset: float = 0.0) -> None:
-        self.path = self.road.lane_center_t(lane) + offset
+    def _lane(self, lane: LaneRef | int, state: ActorState | None) -> LaneRef:
+        if isinstance(lane, LaneRef):
+            return lane
+        if state is not None and state.road is not None and state.direction:
+            return self.network.lane_from_osc2_index(state.road, state.s, lane, state.direction)
+        return lane_at(self.network, carriageways(self.network)[0], 0.0, lane)
 
-    def keep_offset(self, t: float) -> None:
-        self.path = t
+    def keep_lane(
+        self, lane: LaneRef | int, offset: float = 0.0, state: ActorState | None = None
+    ) -> None:
+        self.path = (self._lane(lane, state), offset)
+
+    def hold(self, state: ActorState) -> None:
+        if math.isfinite(state.offset):
+            self.path = (None, state.offset)
+
+    def keep_offset(self, offset: float) -> None:
+        self.path = (None, offset)
 
     def move_to(
         self,
         state: ActorState,
-        t: float,
+        offset: float,
         *,
         distance: float | None = None,
         duration: float | None = None,
         shape: str = "smooth",
     ) -> float:
-        self.path = t
-        return t
+        self.path = (None, offset)
+        return offset
 
-    def change_lane(self, state: ActorState, lane: int, **kwargs: Any) -> float:
-        return self.move_to(state, self.road.lane_center_t(lane) + kwargs.get("offset", 0.0))
+    def change_lane(self, state: ActorState, lane: LaneRef | int, **kwargs: Any) -> float:
+        offset = float(kwargs.get("offset", 0.0))
+        self.keep_lane(lane, offset, state)
+        return offset
+
+    def wanted_t(self, state: ActorState) -> float | None:
+        """The road ``t`` the walker heads for on the road it is on (None: off the map)."""
+        if self.path is None or state.road is None:
+            return None
+        ref, offset = self.path
+        ref = ref if ref is not None and ref.road == state.road else state.lane_ref
+        if ref is None:
+            return None
+        centre, _ = lane_centre(self.network, ref, np.array([state.s]))
+        return float(centre[0]) + offset * self.network.lane(ref).direction
 
     def done(self, state: ActorState) -> bool:
-        return self.path is None or abs(state.t - self.path) <= WALKER_LATERAL_DONE
+        wanted = self.wanted_t(state)
+        return wanted is None or abs(state.t - wanted) <= WALKER_LATERAL_DONE
 
     def release(self) -> None:
         self.path = None
 
     def heading(self, state: ActorState, speed: float) -> float:
-        assert self.path is not None
-        self.error = state.t - self.path
-        turn = math.atan2(WALKER_LATERAL_GAIN * (self.path - state.t), max(speed, 0.1))
-        return self.road.heading + turn
+        wanted = self.wanted_t(state)
+        if wanted is None or state.road is None:
+            return state.yaw
+        self.error = state.t - wanted
+        base = self.network.to_world(state.road, state.s).yaw
+        along = math.cos(state.yaw - base) >= 0.0
+        if not along:
+            base += math.pi
+        turn = math.atan2(WALKER_LATERAL_GAIN * (wanted - state.t), max(speed, 0.1))
+        return base + (turn if along else -turn)
 
 
 #: how fast a walker's lateral error closes relative to its speed (1/s per m/s)
@@ -148,13 +192,13 @@ class PedestrianController:
 
     The heading is, in this order: a world path's (``follow_path``), an explicit
     heading (``yaw``: set by ``orientation``/``yaw`` modifiers and at the start),
-    the heading towards a lateral target (``lateral``), the road's.
+    the heading towards a lateral target (``lateral``), its own.
     """
 
-    def __init__(self, road: Road, dt: float, top: float = math.inf) -> None:
-        self.road = road
+    def __init__(self, network: RoadNetwork, dt: float, top: float = math.inf) -> None:
+        self.network = network
         self.speed = PedestrianSpeed(dt, top=top)
-        self.lateral = WalkerLateral(road)
+        self.lateral = WalkerLateral(network)
         self.yaw: float | None = None
         self.path: Polyline | None = None
         self.heading_for: Callable[[ActorState], float] | None = None
@@ -184,27 +228,37 @@ class PedestrianController:
         elif self.lateral.path is not None and self.yaw is None:
             yaw = self.lateral.heading(state, v)
         else:
-            yaw = self.road.heading if self.yaw is None else self.yaw
+            yaw = state.yaw if self.yaw is None else self.yaw
         self._last = PedestrianInput(v, yaw)
         return self._last
 
 
-def controllers_for(world: World, road: Road) -> dict[str, Any]:
-    """One controller per vehicle and pedestrian, holding the initial speed and lane."""
+def controllers_for(
+    world: World, routes: Mapping[str, Sequence[str]] | None = None, seed: int = 0
+) -> dict[str, Any]:
+    """One controller per vehicle and pedestrian, holding the initial speed and lane.
+
+    ``routes`` gives a vehicle the roads its lane following passes (the witness's
+    route); ``seed`` (with the actor's name) picks the forks nothing decides.
+    """
     controllers: dict[str, Any] = {}
+    routes = routes or {}
     for name in world.names:
         kind = world.kind(name)
         state = world.state(name)
         if kind == "vehicle":
             params = world.params(name)
             assert isinstance(params, VehicleParams)
-            ctrl = VehicleController(params, road, world.dt_control)
+            picked = zlib.crc32(f"{seed}/{name}".encode())
+            ctrl = VehicleController(params, world.network, world.dt_control, seed=picked)
+            ctrl.lateral.on_route = lambda path, n=name: world.follow(n, path)
+            ctrl.lateral.set_route(routes.get(name, ()))
             ctrl.speed.set_target(max(0.0, state.speed), "none")
-            ctrl.lateral.keep_offset(state.t)
+            ctrl.lateral.hold(state)
             controllers[name] = ctrl
         elif kind == "pedestrian":
             top = getattr(world.params(name), "max_speed", math.inf)
-            ped = PedestrianController(road, world.dt_control, top=top)
+            ped = PedestrianController(world.network, world.dt_control, top=top)
             ped.speed.set_target(max(0.0, state.speed))
             ped.yaw = state.yaw if not math.isnan(state.yaw) else None
             controllers[name] = ped
@@ -222,4 +276,4 @@ def drive_with_sut(
 
     inner = controllers[name]
     assert isinstance(inner, VehicleController)
-    controllers[name] = SutDriver(name, sut, inner, world.road, states)
+    controllers[name] = SutDriver(name, sut, inner, world.network, states)

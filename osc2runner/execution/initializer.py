@@ -1,9 +1,9 @@
 """The start of a run: every body actor where, and as fast as, the checker's witness says.
 
 The checker placed every actor (``osc2check.verify.placement``) and drew the
-witness for the seed: its lane (as the scenario numbers lanes on the map), the
-position ``s`` of its centre along the road, its offset ``t`` from the lane
-centre, its heading and speed. :func:`start_specs` turns that into the world's
+witness for the seed: its lane and road, where that is in the world (``x``,
+``y``, ``heading``: the pose on the lane's centre moved by its offset ``t``) and
+its speed. :func:`start_specs` turns that into the world's
 :class:`~osc2runner.sim.ActorSpec` list; the bodies come from the actors'
 catalogue rows (``instance.bodies``). Nothing is placed twice.
 """
@@ -12,15 +12,12 @@ from __future__ import annotations
 
 from osc2runner.errors import RunProblem
 from osc2runner.instance.actors import Actor
-from osc2runner.instance.roads import LaneNumbers
 from osc2runner.sim import ActorSpec
 
 __all__ = ["start_specs"]
 
 
-def start_specs(
-    actors: list[Actor], lanes: LaneNumbers
-) -> tuple[list[ActorSpec], list[RunProblem]]:
+def start_specs(actors: list[Actor]) -> tuple[list[ActorSpec], list[RunProblem]]:
     """The world specs of the body actors, in declaration order, and any that lack a start."""
     specs: list[ActorSpec] = []
     problems: list[RunProblem] = []
@@ -44,9 +41,11 @@ def start_specs(
             ActorSpec(
                 actor.name,
                 params,
-                s=float(start.s),
-                lane=lanes.to_road(start.lane),
+                s=start.road_s,
+                lane=start.lane_ref if start.road else None,
                 offset=float(start.t),
+                x=start.x,
+                y=start.y,
                 yaw=start.heading,
                 speed=float(start.speed),
             )

@@ -34,6 +34,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
 import py_trees
 from py_trees.common import Status
 
@@ -109,7 +110,7 @@ class TickLoop:
     ) -> TickLoop:
         """A loop that steps ``controllers`` and ``world`` under a tree that never ends
         (physics measurements; it records no telemetry unless asked)."""
-        ctx = RunContext(world.road, [], dt=world.dt_control)
+        ctx = RunContext(world.network, [], dt=world.dt_control)
         ctx.attach(world, controllers)
         return cls(_Forever("no scenario"), ctx, world, record=record)
 
@@ -246,11 +247,14 @@ def _world_events(ctx: RunContext, events: list[Any]) -> RunOutcome | None:
 
 def _off_road(ctx: RunContext, name: str) -> str:
     state = ctx.states[name]
-    road = ctx.road
-    if state.s > road.length:
-        return f"`{name}` drove past the end of the road (s = {state.s:.1f} m of {road.length:g} m)"
-    if state.s < 0.0:
-        return f"`{name}` left the road at its start (s = {state.s:.1f} m)"
+    network = ctx.network
+    x, y = state.x, state.y
+    if bool(network.past_end(np.array([x]), np.array([y]))[0]):
+        return f"`{name}` drove past the end of the road (at x = {x:.1f} m, y = {y:.1f} m)"
+    if state.road is None:
+        return f"`{name}` left the roads of the map (at x = {x:.1f} m, y = {y:.1f} m)"
+    kind = network.lane(state.lane_ref).type if state.lane_ref is not None else "no"
     return (
-        f"`{name}` left the drivable road (lateral position {state.t:.2f} m at s = {state.s:.1f} m)"
+        f"`{name}` left the drivable road: it is on a `{kind}` lane of road `{state.road}` "
+        f"(s = {state.s:.1f} m, t = {state.t:.2f} m)"
     )

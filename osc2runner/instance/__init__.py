@@ -1,8 +1,8 @@
-"""The scenario instance a run executes: the witness's values, the actors, the road.
+"""The scenario instance a run executes: the witness's values, the actors, the map.
 
 :func:`instantiate` draws the checker's witness for the seed (``osc2check.solve``,
 the only source of values and starts), builds the actors from its catalogue
-rows and takes the road it placed them on.
+rows and loads the map it placed them on.
 """
 
 from __future__ import annotations
@@ -10,14 +10,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from osc2check.analysis import Analysis
-from osc2check.road import Road, UnknownMapError
 from osc2check.semantics.symbols import Symbol
 from osc2check.verify.api import Unsolvable, solve
 from osc2check.verify.witness import Witness
+from osc2check.world.errors import MapError, UnknownMapError
+from osc2check.world.network import RoadNetwork
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.instance.actors import Actor, scenario_actors
 from osc2runner.instance.locations import object_locations
-from osc2runner.instance.roads import road_for
+from osc2runner.instance.roads import network_for
 from osc2runner.instance.values import ScenarioValues
 
 __all__ = ["ScenarioInstance", "instantiate"]
@@ -31,7 +32,7 @@ class ScenarioInstance:
     witness: Witness
     values: ScenarioValues
     actors: list[Actor]
-    road: Road
+    network: RoadNetwork
 
 
 def instantiate(
@@ -82,7 +83,7 @@ def instantiate(
     for actor in actors:
         actor.location = locations.get(actor.name)
     try:
-        road = road_for(witness.map or None)
-    except UnknownMapError as exc:
+        network = network_for(witness)
+    except (MapError, UnknownMapError) as exc:
         raise ScenarioError([RunProblem(str(exc), scenario.name_span)]) from None
-    return ScenarioInstance(scenario, witness, values, actors, road)
+    return ScenarioInstance(scenario, witness, values, actors, network)

@@ -1,54 +1,81 @@
-"""Which road a scenario runs on, and how its lane numbers map to the road's lanes.
+"""Which map a scenario runs on, and how its lane numbers name the map's lanes.
 
-The road comes from the ``map_file`` of the scenario's ``map`` actor
-(``keep(it.map_file == "Town06")``) or its ``set_map_file`` modifier, else
-the built-in ``default`` map. Internally lanes are numbered from the right
-(:mod:`osc2check.road`: lane 1 is the rightmost in the driving direction);
-a scenario numbers them as its map says (``Road.numbering``): from the right
-on the built-in maps, from the left on the CARLA stand-in ``Town06`` (CARLA
-numbers lanes outward from the centre line), which is what puts the design
-paper's npc "one lane right of the hero" on the road. A ``lane`` modifier's
-``from:`` side overrides the map's.
+The map is the witness's: the checker read the scenario's ``map_file`` (a built-in
+name, or an OpenDRIVE file relative to the scenario file, whose absolute path the
+witness records) and placed every actor on it; the runner loads the same network
+(``osc2check.world.maps.load_map``, cached). A scenario numbers the driving lanes
+of one direction of travel on the road an actor is on, as its map says
+(``RoadNetwork.numbering``): from the right (the standard's default, 1 = the
+rightmost lane in the direction of travel), or from the left on the CARLA
+stand-in ``Town06`` (CARLA numbers lanes outward from the centre line), which is
+what puts the design paper's npc "one lane right of the hero" on the road. A
+``lane`` modifier's ``from:`` side overrides the map's.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from osc2check.road import Road, get_map
+from osc2check.verify.witness import Witness
+from osc2check.world.builtin import DEFAULT_MAP
+from osc2check.world.maps import load_map
+from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.numbering import driving_lanes_right_to_left
+from osc2check.world.topology import side_neighbour
 
-__all__ = ["LaneNumbers", "road_for"]
-
-DEFAULT_MAP = "default"
+__all__ = ["LaneNumbers", "network_for"]
 
 
-def road_for(map_file: str | None) -> Road:
-    """The built-in road for a map name (``default`` when None); raises UnknownMapError."""
-    return get_map(map_file or DEFAULT_MAP)
+def network_for(witness: Witness) -> RoadNetwork:
+    """The map the witness placed the scenario on (raises MapError, UnknownMapError)."""
+    return load_map(witness.map_source or witness.map or DEFAULT_MAP)
 
 
 @dataclass(frozen=True, slots=True)
 class LaneNumbers:
-    """Scenario lane numbers <-> road lanes (1 = rightmost) on one road."""
+    """Scenario lane numbers <-> the map's lanes, on the road where an actor is."""
 
-    road: Road
+    network: RoadNetwork
 
     @property
     def default_side(self) -> str:
         """The side the map counts a scenario's lanes from: ``right`` or ``left``."""
-        return "left" if self.road.numbering == "from_left" else "right"
+        return "left" if self.network.numbering == "from_left" else "right"
 
-    def to_road(self, number: int, side: str | None = None) -> int:
-        """The road lane of scenario lane ``number`` counted from ``side`` (default: the map's)."""
+    def lanes(self, road: str, section: int, direction: int) -> list[LaneRef]:
+        """The driving lanes of a section travelling ``direction``, rightmost first."""
+        return driving_lanes_right_to_left(self.network, road, section, direction)
+
+    def number(self, ref: LaneRef, side: str | None = None) -> int:
+        """The scenario's number of driving lane ``ref`` counted from ``side`` (the map's
+        side by default)."""
         side = side or self.default_side
-        return self.road.lane_count + 1 - number if side == "left" else number
+        order = self.lanes(ref.road, ref.section, self.network.lane(ref).direction)
+        index = order.index(ref)
+        return index + 1 if side == "right" else len(order) - index
 
-    def to_scenario(self, lane: int, side: str | None = None) -> int:
-        """The scenario number of road lane ``lane`` counted from ``side``."""
+    def lane(self, beside: LaneRef, number: int, side: str | None = None) -> LaneRef | None:
+        """The lane numbered ``number`` (from ``side``) in the section and direction of
+        lane ``beside``, or None when there is none."""
         side = side or self.default_side
-        return self.road.lane_count + 1 - lane if side == "left" else lane
+        order = self.lanes(beside.road, beside.section, self.network.lane(beside).direction)
+        if not 1 <= number <= len(order):
+            return None
+        return order[number - 1] if side == "right" else order[len(order) - number]
 
-    @staticmethod
-    def beside(lane: int, side: str, count: int = 1) -> int:
-        """The road lane ``count`` lanes to the ``side`` (left/right) of road lane ``lane``."""
-        return lane + count if side == "left" else lane - count
+    def count(self, ref: LaneRef) -> int:
+        """How many driving lanes travel ``ref``'s way in its section."""
+        return len(self.lanes(ref.road, ref.section, self.network.lane(ref).direction))
+
+    def beside(self, ref: LaneRef, side: str, count: int = 1) -> LaneRef | None:
+        """The lane ``count`` lanes to the ``side`` (left/right, in ``ref``'s direction of
+        travel) of ``ref``, when it is a driving lane travelling the same way; else None."""
+        lane = self.network.lane(ref)
+        step = lane.direction if side == "left" else -lane.direction
+        other: LaneRef | None = ref
+        for _ in range(count):
+            other = side_neighbour(self.network, other, step) if other is not None else None
+        if other is None:
+            return None
+        found = self.network.lane(other)
+        return other if found.drivable and found.direction == lane.direction else None

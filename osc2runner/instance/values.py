@@ -7,6 +7,10 @@ and every actor's category, size and start. The runner executes exactly that.
 ``osc2check.semantics.constants`` (a speed is a ``Quantity`` in SI units);
 ``constants.to_runtime`` turns them into the floats the simulation runs with.
 
+A field of type road, route, lane or junction stands for the map element the
+witness chose (``osc2check.verify.map_modifiers.ElementValue``: kind, road,
+direction, lane, junction), which the runner's map methods and `along` take.
+
 ``var`` fields are not parameters: their initialisers are evaluated when the
 run starts (constant ones exactly, here; the others by the compiler, over the
 live state).
@@ -73,9 +77,13 @@ class ScenarioValues:
     def value(self, field: Symbol) -> Value:
         """The value of a scenario parameter; NotConstant when the witness has none.
 
-        A struct parameter (``position_3d``, ``pose_3d``, ...) is built from the
+        A road, route, lane or junction parameter is the map element the witness
+        chose. A struct parameter (``position_3d``, ``pose_3d``, ...) is built from the
         witness's values of its scalar leaves (``p.position.x``): a namespace of
         run-time values (:meth:`struct`)."""
+        element = self.witness.element(field.name)
+        if element is not None:
+            return element  # type: ignore[return-value]
         if is_struct(field.type):
             return self.struct(field.name, field)  # type: ignore[return-value]
         p = self._by_name.get(field.name)

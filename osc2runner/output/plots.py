@@ -6,8 +6,11 @@
   onset (when the run has hard or comfortable stops);
 * ``gap_steering.png``: the longitudinal gap from the first vehicle to each
   other actor (projected on its heading), and the steering inputs;
-* ``world.png``: every actor's path in world x-y with the traffic lights in their
-  last state, and each light's semantic state over time.
+* ``world.png``: a bird's-eye view: the map's lanes (driving lanes grey, junction
+  roads darker, sidewalks and other lane types paler) under every actor's path
+  (its start a circle, its end a square) and the traffic lights in their last
+  state; the view is the paths with a margin (or the whole map, when smaller);
+  below, each light's semantic state over time.
 
 Emitted events are marked on the time axes. Figures are drawn with
 matplotlib's Agg canvas directly (no pyplot state, no display needed), each
@@ -22,8 +25,10 @@ from typing import Any
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
+from osc2check.world.network import RoadNetwork
 from osc2runner.output.files import atomic_open
 
 __all__ = ["brake_onsets", "plot_run"]
@@ -92,8 +97,9 @@ def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[in
     return segments
 
 
-def plot_run(result: Any, out: Path) -> list[Path]:
-    """Write the plots of ``result`` into ``out``; returns the files written."""
+def plot_run(result: Any, out: Path, network: RoadNetwork | None = None) -> list[Path]:
+    """Write the plots of ``result`` into ``out`` (``world.png`` draws the lanes of
+    ``network`` when given); returns the files written."""
     out.mkdir(parents=True, exist_ok=True)
     actors = _moving(result)
     written: list[Path] = []
@@ -175,7 +181,7 @@ def plot_run(result: Any, out: Path) -> list[Path]:
             ax.grid(alpha=0.3)
             ax.legend(fontsize=8, loc="lower right")
         written.append(_save(fig, out / "gap_steering.png"))
-    written.append(_plot_world(result, out, title))
+    written.append(_plot_world(result, out, title, network))
     return written
 
 
@@ -193,19 +199,80 @@ _LIGHT_COLOURS = {
 _SEMANTIC_ORDER = list(_LIGHT_COLOURS)
 
 
-def _plot_world(result: Any, out: Path, title: str) -> Path:
-    """``world.png``: every actor's path in world x-y (the start marked) with the traffic
-    lights at their places in their last state; below, each light's state over time."""
+_LANE_COLOURS = {"driving": "0.80", "junction": "0.70", "walking": "#efe2cf", "other": "0.92"}
+MAP_MARGIN = 40.0  # m of map around the actors' paths
+
+
+def _lane_polygons(network: RoadNetwork) -> dict[str, list[np.ndarray]]:
+    """Every lane of the map as a polygon in the world, grouped by how it is drawn."""
+    groups: dict[str, list[np.ndarray]] = {key: [] for key in _LANE_COLOURS}
+    for road in network.roads.values():
+        for section in road.sections:
+            sl = slice(section.start, section.stop)
+            x, y, h = road.x[sl], road.y[sl], road.heading[sl]
+            nx, ny = -np.sin(h), np.cos(h)
+            for k, lane in enumerate(section.lanes):
+                left, right = section.borders[k], section.borders[k + 1]
+                if np.all(left - right <= 1e-6):
+                    continue
+                polygon = np.concatenate(
+                    (
+                        np.column_stack((x + left * nx, y + left * ny)),
+                        np.column_stack((x + right * nx, y + right * ny))[::-1],
+                    )
+                )
+                if lane.drivable:
+                    key = "junction" if road.junction is not None else "driving"
+                elif lane.type in ("sidewalk", "walking", "biking"):
+                    key = "walking"
+                else:
+                    key = "other"
+                groups[key].append(polygon)
+    return groups
+
+
+def _draw_map(ax: Any, network: RoadNetwork, result: Any) -> None:
+    """The map's lanes under the paths, the view set to the paths with a margin."""
+    for key, polygons in _lane_polygons(network).items():
+        if polygons:
+            ax.add_collection(
+                PolyCollection(
+                    polygons, facecolors=_LANE_COLOURS[key], edgecolors="0.55", linewidths=0.3
+                )
+            )
+    x0, x1, y0, y1 = network.bounds()
+    xs = [ch["x"][np.isfinite(ch["x"])] for ch in result.telemetry.values()]
+    ys = [ch["y"][np.isfinite(ch["y"])] for ch in result.telemetry.values()]
+    if any(len(a) for a in xs):
+        x0 = max(x0, min(float(a.min()) for a in xs if len(a)) - MAP_MARGIN)
+        x1 = min(x1, max(float(a.max()) for a in xs if len(a)) + MAP_MARGIN)
+        y0 = max(y0, min(float(a.min()) for a in ys if len(a)) - MAP_MARGIN)
+        y1 = min(y1, max(float(a.max()) for a in ys if len(a)) + MAP_MARGIN)
+    ax.set_xlim(x0, x1)
+    ax.set_ylim(y0, y1)
+
+
+def _plot_world(result: Any, out: Path, title: str, network: RoadNetwork | None = None) -> Path:
+    """``world.png``: every actor's path in world x-y (start and end marked) over the map's
+    lanes, with the traffic lights at their places in their last state; below, each
+    light's state over time."""
     lights = result.metadata.get("traffic_lights") or {}
     changes: dict[str, list[tuple[float, str]]] = {name: [] for name in lights}
     for e in result.events:
         if e.kind == "traffic_light" and e.name in changes:
             changes[e.name].append((e.time, e.detail.split(" ")[0]))
-    fig, axes = _figure(2 if lights else 1)
+    rows = 2 if lights else 1
+    fig = Figure(figsize=(10, 8 + 3.2 * (rows - 1)), dpi=100, layout="constrained")
+    FigureCanvasAgg(fig)
+    grid = fig.add_gridspec(rows, 1, height_ratios=[8, 3.2][:rows])
+    axes = [fig.add_subplot(grid[i, 0]) for i in range(rows)]
     ax = axes[0]
+    if network is not None:
+        _draw_map(ax, network, result)
     for name, ch in result.telemetry.items():
-        (line,) = ax.plot(ch["x"], ch["y"], label=name, lw=1.2)
-        ax.plot(ch["x"][:1], ch["y"][:1], "o", color=line.get_color(), ms=4)
+        (line,) = ax.plot(ch["x"], ch["y"], label=name, lw=1.4)
+        ax.plot(ch["x"][:1], ch["y"][:1], "o", color=line.get_color(), ms=5)
+        ax.plot(ch["x"][-1:], ch["y"][-1:], "s", color=line.get_color(), ms=5)
     for name, where in lights.items():
         last = changes[name][-1][1] if changes[name] else "off"
         ax.plot(
@@ -219,8 +286,9 @@ def _plot_world(result: Any, out: Path, title: str) -> Path:
         ax.annotate(
             name, (where["x"], where["y"]), fontsize=7, xytext=(4, 4), textcoords="offset points"
         )
-    ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: paths")
-    ax.set_aspect("equal", adjustable="datalim")
+    where = f" on map `{network.name}`" if network is not None else ""
+    ax.set(xlabel="x (m)", ylabel="y (m)", title=f"{title}: paths{where}")
+    ax.set_aspect("equal", adjustable="box" if network is not None else "datalim")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     if lights:

@@ -31,7 +31,11 @@ starts, with its location: nothing is skipped silently.
 """
 
 
-_MAPS = "needs a road network: comes with OpenDRIVE maps (issue 12)"
+_MAPS = (
+    "paths and trajectories through route or OpenDRIVE points, and relative ones, are not "
+    "built (world-coordinate paths are)"
+)
+_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
 _TRAILER = (
     "a hitched trailer (an articulated joint between two vehicle bodies, its coupler "
     "loads in the tire model) is not built: a `trailer` actor is a vehicle of its own"
@@ -41,6 +45,7 @@ _TRAILER = (
 ABSENT: dict[str, str] = {
     "vehicle.connect_trailer": _TRAILER,
     "vehicle.disconnect_trailer": _TRAILER,
+    "map.crossing_connects": _CROSSINGS,
     "map.set_traffic_lights_control_file": (
         "control files are not read: give the cycles with `play_cycles`"
     ),

@@ -4,11 +4,15 @@ Per actor per tick (SI units, world frame): ``tick, time, x, y, yaw, speed,
 accel, jerk, throttle, brake, steer, lane, friction``. ``accel`` is the
 change of speed over the last tick (50 ms by default); ``jerk`` is the jerk
 averaged over the last second, i.e. ``(accel(t) - accel(t - 1 s)) / 1 s``
-(over the time since the start during the first second). ``lane`` is the road
-lane (1 = rightmost, NaN off the road); ``throttle``/``brake``/``steer``
-(NaN for actors without them) are the applied inputs; ``lateral_error`` is
-the lateral controller's cross-track error of the front axle from its path
-(m, positive: left of the path; NaN without one).
+(over the time since the start during the first second). ``lane`` is the
+number of the driving lane the actor is in, counted from the right in its
+direction of travel (1 = rightmost; NaN outside driving lanes);
+``throttle``/``brake``/``steer`` (NaN for actors without them) are the applied
+inputs; ``lateral_error`` is the lateral controller's cross-track error of the
+front axle from its path (m, positive: left of the path; NaN without one).
+``road`` (the road id, empty off every road), ``lane_id`` (the OpenDRIVE id of
+the lane it is in, 0 off the roads), ``s`` and ``t`` (road coordinates on that
+road, NaN off the roads) say where the actor is on the map.
 
 Files (``write_data``, then ``write_metadata``; ``write`` does both), each
 written whole or not at all (:mod:`osc2runner.output.files`):
@@ -53,7 +57,12 @@ CHANNELS = (
     "lane",
     "friction",
     "lateral_error",
+    "road",
+    "lane_id",
+    "s",
+    "t",
 )
+TEXT_CHANNELS = frozenset({"road"})
 JERK_WINDOW = 1.0  # s
 
 
@@ -69,7 +78,7 @@ class Recorder:
         self.names = list(names)
         self.dt = dt
         self.window = max(1, round(jerk_window / dt))
-        self.rows: dict[str, list[tuple[float, ...]]] = {n: [] for n in self.names}
+        self.rows: dict[str, list[tuple[float | str, ...]]] = {n: [] for n in self.names}
         self._accel: dict[str, list[float]] = {n: [] for n in self.names}
 
     def record(
@@ -117,6 +126,10 @@ class Recorder:
                     lane,
                     s.friction,
                     error,
+                    s.road if s.road is not None else "",
+                    s.lane_id,
+                    s.s,
+                    s.t,
                 )
             )
 
@@ -128,15 +141,23 @@ class Recorder:
     def arrays(self) -> dict[str, dict[str, np.ndarray]]:
         """Per actor, per channel: a numpy array over the recorded ticks."""
         result: dict[str, dict[str, np.ndarray]] = {}
+        road = CHANNELS.index("road")
+        numeric = [i for i, c in enumerate(CHANNELS) if c not in TEXT_CHANNELS]
         for name, rows in self.rows.items():
-            table = np.array(rows, dtype=float).reshape(-1, len(CHANNELS))
-            channels = {c: table[:, i].copy() for i, c in enumerate(CHANNELS)}
-            channels["tick"] = channels["tick"].astype(np.int64)
-            result[name] = channels
+            table = np.array([[row[i] for i in numeric] for row in rows], dtype=float).reshape(
+                -1, len(numeric)
+            )
+            columns = {CHANNELS[i]: table[:, k].copy() for k, i in enumerate(numeric)}
+            columns["road"] = np.array([str(row[road]) for row in rows], dtype=str)
+            columns["tick"] = columns["tick"].astype(np.int64)
+            columns["lane_id"] = columns["lane_id"].astype(np.int64)
+            result[name] = {c: columns[c] for c in CHANNELS}
         return result
 
 
-def _number(value: float) -> str:
+def _number(value: float | str) -> str:
+    if isinstance(value, str):
+        return value
     if isinstance(value, (int, np.integer)):
         return str(int(value))
     if math.isnan(value):

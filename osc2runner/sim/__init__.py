@@ -10,7 +10,8 @@ Modules, each one idea:
 
 The one loop that ticks them with a scenario is ``osc2runner.execution.loop``.
 
-The road model lives in :mod:`osc2check.road`, shared with the checker.
+The road networks (built-in straight roads and OpenDRIVE maps) live in
+:mod:`osc2check.world`, shared with the checker.
 """
 
 from __future__ import annotations

@@ -24,17 +24,33 @@ Profiles (:class:`RateProfile`):
 ``rate_peak`` like ``smooth`` with the user's peak acceleration (required)
 ========== ===========================================================
 
-Lateral: a Stanley controller on the front axle tracks a path on the
-straight road, given as a lateral offset profile ``t(s)``: constant for lane
-keeping, a quintic (minimum-jerk) or half-cosine blend for a lane change.
+Lateral: a Stanley controller on the front axle follows the centre line of a
+route of lanes (:meth:`RoadNetwork.route <osc2check.world.network.RoadNetwork.route>`:
+its lane through lane sections, road links and junctions, the forks taken
+towards the roads it is told to pass, else with its seed), at an offset given
+as a profile along that centre line (:class:`LateralPath`): constant for lane
+keeping, a quintic (minimum-jerk) or half-cosine blend for a lane change or a
+lateral move. A lane change blends to the target lane's centre as it lies at
+each point of the way (lanes of any width, widths that change), then follows
+the target lane's own route. The steering angle is Stanley's, with a
+curvature feed-forward (see :class:`StanleyController`).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from osc2check.road import Road
+import numpy as np
+
+from osc2check.world.arrays import FloatArray
+from osc2check.world.carriageways import carriageways, lane_at
+from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.paths import LanePath
+from osc2check.world.projection import lane_centre
+from osc2check.world.topology import side_neighbour
+from osc2check.world.tracking import PathCursor
 from osc2runner.sim.tracking import PathTracker
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sim.world import ActorState, VehicleInput
@@ -305,146 +321,353 @@ class SpeedController:
 
 # ---------------------------------------------------------------------- lateral
 
+#: how far ahead a route of lanes is planned (m), and how close to its end it is renewed
+ROUTE_LENGTH = 1500.0
+ROUTE_RENEW = 300.0
 
-@dataclass(frozen=True, slots=True)
+
+@dataclass(frozen=True, eq=False)
 class LateralPath:
-    """A path on the straight road: lateral offset ``t`` as a function of ``s``.
+    """An offset from the followed centre line (m, left positive) along its distance ``d``.
 
-    ``t`` blends from ``t0`` at ``s0`` to ``t1`` at ``s1`` (constant outside).
-    ``shape`` is ``smooth`` (quintic, minimum jerk: zero lateral velocity
-    and acceleration at both ends) or ``sinusoidal`` (half cosine).
+    The offset blends from ``o0`` at ``d0`` to ``o1`` at ``d1`` (constant outside).
+    ``shape`` is ``smooth`` (quintic, minimum jerk: zero lateral velocity and
+    acceleration at both ends) or ``sinusoidal`` (half cosine). A lane change's end
+    offset is where the target lane's centre lies at each point: then ``goal_d`` and
+    ``goal_o`` tabulate it (``o1`` is unused).
     """
 
-    t0: float
-    t1: float
-    s0: float = 0.0
-    s1: float = 0.0
+    o0: float
+    o1: float
+    d0: float = 0.0
+    d1: float = 0.0
     shape: str = "smooth"
+    goal_d: FloatArray | None = None
+    goal_o: FloatArray | None = None
 
     def __post_init__(self) -> None:
         if self.shape not in ("smooth", "sinusoidal"):
             raise ValueError(f"unknown lateral shape `{self.shape}`; known: smooth, sinusoidal")
 
     @classmethod
-    def constant(cls, t: float) -> LateralPath:
-        return cls(t, t)
+    def constant(cls, offset: float) -> LateralPath:
+        return cls(offset, offset)
 
-    def at(self, s: float) -> tuple[float, float]:
-        """``(t, dt/ds)`` at ``s``."""
-        length = self.s1 - self.s0
-        if self.t0 == self.t1 or length <= 0.0 or s >= self.s1:
-            return (self.t1, 0.0)
-        if s <= self.s0:
-            return (self.t0, 0.0)
-        u = (s - self.s0) / length
-        dt = self.t1 - self.t0
+    def goal(self, d: float) -> tuple[float, float]:
+        """The end offset at ``d`` and its slope."""
+        if self.goal_d is None or self.goal_o is None:
+            return (self.o1, 0.0)
+        gd, go = self.goal_d, self.goal_o
+        value = float(np.interp(d, gd, go))
+        j = int(np.clip(np.searchsorted(gd, d) - 1, 0, len(gd) - 2)) if len(gd) > 1 else 0
+        span = float(gd[j + 1] - gd[j]) if len(gd) > 1 else 0.0
+        slope = float(go[j + 1] - go[j]) / span if span > 0.0 and gd[0] <= d <= gd[-1] else 0.0
+        return (value, slope)
+
+    def at(self, d: float) -> tuple[float, float]:
+        """``(offset, d offset / d d)`` at distance ``d``."""
+        goal, goal_slope = self.goal(d)
+        length = self.d1 - self.d0
+        if length <= 0.0 or d >= self.d1:
+            return (goal, goal_slope)
+        if d <= self.d0:
+            return (self.o0, 0.0)
+        u = (d - self.d0) / length
         if self.shape == "smooth":
             blend = u * u * u * (10.0 + u * (-15.0 + 6.0 * u))
-            slope = 30.0 * u * u * (1.0 - u) * (1.0 - u)
+            rate = 30.0 * u * u * (1.0 - u) * (1.0 - u)
         else:
             blend = 0.5 * (1.0 - math.cos(math.pi * u))
-            slope = 0.5 * math.pi * math.sin(math.pi * u)
-        return (self.t0 + dt * blend, dt * slope / length)
+            rate = 0.5 * math.pi * math.sin(math.pi * u)
+        change = goal - self.o0
+        return (self.o0 + change * blend, change * rate / length + goal_slope * blend)
 
 
 class StanleyController:
-    """Lateral control on the front axle: ``delta = heading error - atan(k e / (v + v_soft))``.
+    """Lateral control on the front axle along a route of lane centre lines.
+
+    ``delta = atan(L kappa) + (psi_line - psi - asin(L kappa)) - atan(k e / (v_soft + |v|))``
+
+    ``e`` is the front axle's distance left of the line to follow (the route's centre
+    line moved by the offset profile), ``psi_line`` that line's heading where the front
+    axle projects onto it, ``kappa`` its curvature there and ``L`` the wheelbase. The
+    first term feeds the curvature forward (the steering of a car on a circle of
+    radius ``1 / kappa``); the heading error is taken from the heading such a car has
+    when its front axle is on the line (``asin(L kappa)`` less than the line's), so on
+    a curve it is zero when the car steers as it should, and it and the cross-track
+    term only correct what the feed-forward misses. On a straight line this is the
+    classic Stanley law.
 
     Parameters:
-        params: the vehicle (front axle position, maximum steer angle).
-        road: the road whose ``(s, t)`` frame paths are given in.
+        params: the vehicle (wheelbase, front axle position, maximum steer angle).
+        network: the map whose lanes are followed.
         gain: cross-track gain ``k`` (1/s).
         soft_speed: ``v_soft`` (m/s), keeps the gain finite at low speed.
+        seed: picks the forks of the route nothing else decides.
     """
 
     def __init__(
-        self, params: VehicleParams, road: Road, gain: float = 1.0, soft_speed: float = 1.0
+        self,
+        params: VehicleParams,
+        network: RoadNetwork,
+        gain: float = 1.0,
+        soft_speed: float = 1.0,
+        seed: int = 0,
     ) -> None:
         self.params = params
-        self.road = road
+        self.network = network
         self.gain = gain
         self.soft_speed = soft_speed
-        self.path: LateralPath | None = None
+        self.seed = seed
+        self.route: LanePath | None = None  # the lane centre lines followed
+        self.path: LateralPath | None = None  # the offset along them (None: no control)
         self.error = 0.0  # last cross-track error of the front axle, m (positive: left of path)
+        self.towards: list[str] = []  # roads the route is to pass, in order
+        self.on_route: Callable[[LanePath | None], None] | None = None  # told of new routes
+        self._cursor: PathCursor | None = None
+        self._renewable = False
+        self._then: tuple[int, float] | None = None  # after a lane change: side and offset
+        self._distance = 0.0  # the front axle's distance along the route at the last step
 
-    def keep_lane(self, lane: int, offset: float = 0.0) -> None:
-        """Follow the centre of ``lane`` (plus ``offset`` m to the left)."""
-        self.path = LateralPath.constant(self.road.lane_center_t(lane) + offset)
+    # ---- the route
 
-    def keep_offset(self, t: float) -> None:
-        """Follow the line at lateral road coordinate ``t``."""
-        self.path = LateralPath.constant(t)
+    def set_route(self, towards: Sequence[str]) -> None:
+        """Pass the roads ``towards`` (ids, in order) at the next forks."""
+        self.towards = list(towards)
+
+    def _lane_of(self, lane: LaneRef | int, state: ActorState | None) -> LaneRef:
+        if isinstance(lane, LaneRef):
+            return lane
+        if state is not None and state.road is not None and state.direction:
+            return self.network.lane_from_osc2_index(state.road, state.s, lane, state.direction)
+        return lane_at(self.network, carriageways(self.network)[0], 0.0, lane)
+
+    def _follow(self, lane: LaneRef) -> None:
+        towards = list(self.towards)
+        while towards and towards[0] == lane.road:
+            towards.pop(0)
+        self.towards = towards
+        route = self.network.route(lane, seed=self.seed, max_length=ROUTE_LENGTH, towards=towards)
+        self.route = route.path
+        self._renewable = route.end == "length"
+        self._cursor = PathCursor(route.path)
+        if self.on_route is not None:
+            self.on_route(route.path)
+
+    def keep_lane(
+        self, lane: LaneRef | int, offset: float = 0.0, state: ActorState | None = None
+    ) -> None:
+        """Follow the centre of ``lane`` (plus ``offset`` m to the left) along its route;
+        a lane number counts from the right where the vehicle is (``state``), or on the
+        map's first carriageway."""
+        self._follow(self._lane_of(lane, state))
+        self.path = LateralPath.constant(offset)
+        self._then = None
+
+    def hold(self, state: ActorState) -> None:
+        """Keep the lane the vehicle is in, at its offset from the lane centre now."""
+        ref = state.lane_ref
+        if ref is None or not self.network.lane(ref).drivable:
+            return
+        self.keep_lane(ref, state.offset if math.isfinite(state.offset) else 0.0)
+
+    def keep_offset(self, offset: float) -> None:
+        """Follow the current lane at ``offset`` m left of its centre."""
+        self.path = LateralPath.constant(offset)
 
     def change_lane(
         self,
         state: ActorState,
-        lane: int,
+        lane: LaneRef | int,
         *,
         offset: float = 0.0,
         distance: float | None = None,
         duration: float | None = None,
         shape: str = "smooth",
     ) -> LateralPath:
-        """Move from the current lateral position to ``lane`` over a distance or duration.
+        """Move from the current lateral position to ``lane`` (plus ``offset``) over a
+        distance or a duration (the distance is ``duration * speed`` at the start).
 
-        With ``duration`` the distance is ``duration * speed`` at the start.
-        Returns the path now followed.
+        ``lane`` is a lane of the road the vehicle is on, or its number counted from the
+        right there. Returns the offset profile now followed.
         """
-        target = self.road.lane_center_t(lane) + offset
-        return self.move_to(state, target, distance=distance, duration=duration, shape=shape)
+        target = self._lane_of(lane, state)
+        here = state.lane_ref
+        if self.route is None or here is None:
+            self.keep_lane(target, offset)
+            return self.path  # type: ignore[return-value]
+        side, count = self._steps(here, target)
+        if count == 0:
+            return self.move_to(state, offset, distance=distance, duration=duration, shape=shape)
+        distance = self._distance_of(state, distance, duration)
+        d_front, o_now = self._front_offset(state)
+        goal_d, goal_o = self._goal(side, count, d_front, d_front + distance + 50.0)
+        self.path = LateralPath(
+            o_now,
+            offset,
+            d_front,
+            d_front + distance,
+            shape,
+            goal_d,
+            goal_o + offset,
+        )
+        self._then = (side * count, offset)
+        return self.path
 
     def move_to(
         self,
         state: ActorState,
-        t: float,
+        offset: float,
         *,
         distance: float | None = None,
         duration: float | None = None,
         shape: str = "smooth",
     ) -> LateralPath:
-        """Move from the current lateral position to road coordinate ``t`` over a distance
-        or a duration (the distance is ``duration * speed`` at the start)."""
-        if distance is None:
-            if duration is None:
-                raise ValueError("a lateral move needs a distance or a duration")
-            distance = duration * max(state.speed, 1.0)
-        s_front, t_front = self._front(state)
-        t_now = self.path.at(s_front)[0] if self.path is not None else t_front
-        self.path = LateralPath(t_now, t, s_front, s_front + distance, shape)
+        """Move from the current lateral position to ``offset`` m left of the current lane's
+        centre over a distance or a duration (the distance is ``duration * speed``)."""
+        if self.route is None:
+            self.hold(state)
+        distance = self._distance_of(state, distance, duration)
+        d_front, o_now = self._front_offset(state)
+        self.path = LateralPath(o_now, offset, d_front, d_front + distance, shape)
+        self._then = None
         return self.path
 
     def done(self, state: ActorState) -> bool:
-        """True once the front axle has passed the end of the current path's blend."""
-        return self.path is not None and self._front(state)[0] >= self.path.s1
+        """True once the front axle has passed the end of the current blend."""
+        if self.path is None:
+            return False
+        if self._then is not None:
+            return False
+        return self._front_offset(state)[0] >= self.path.d1
+
+    # ---- stepping
 
     def step(self, state: ActorState) -> float:
         """One control tick: the steer input in [-1, 1] (0 without a path)."""
-        if self.path is None:
+        if self.path is None or self.route is None or self._cursor is None:
             return 0.0
-        s, t = self._front(state)
-        t_ref, slope = self.path.at(s)
-        self.error = (t - t_ref) * math.cos(math.atan(slope))
-        path_yaw = self.road.heading + math.atan(slope)
-        heading_error = (path_yaw - state.yaw + math.pi) % (2.0 * math.pi) - math.pi
-        delta = heading_error - math.atan2(
-            self.gain * self.error, self.soft_speed + abs(state.speed)
+        fx, fy = self._front(state)
+        point = self._cursor.locate(fx, fy)
+        if self._then is not None and point.distance >= self.path.d1:
+            self._switch(state)
+            point = self._cursor.locate(fx, fy)
+        elif self._renewable and point.distance > self._cursor.length - ROUTE_RENEW:
+            self._renew(state)
+            point = self._cursor.locate(fx, fy)
+        self._distance = point.distance
+        offset, slope = self.path.at(point.distance)
+        self.error = (point.offset - offset) * math.cos(math.atan(slope))
+        kappa = point.curvature / max(1.0 - point.curvature * offset, 0.1)
+        bend = min(max(self.params.wheelbase * kappa, -0.99), 0.99)
+        line = point.heading + math.atan(slope) - math.asin(bend)
+        heading_error = (line - state.yaw + math.pi) % (2.0 * math.pi) - math.pi
+        speed = abs(state.speed)
+        delta = (
+            math.atan(bend)
+            + heading_error
+            - math.atan2(self.gain * self.error, self.soft_speed + speed)
         )
         return min(max(delta / self.params.max_steer, -1.0), 1.0)
 
+    # ---- helpers
+
     def _front(self, state: ActorState) -> tuple[float, float]:
         d = self.params.front_axle_x
-        x = state.x + d * math.cos(state.yaw)
-        y = state.y + d * math.sin(state.yaw)
-        return self.road.to_st(x, y)
+        return (state.x + d * math.cos(state.yaw), state.y + d * math.sin(state.yaw))
+
+    def _front_offset(self, state: ActorState) -> tuple[float, float]:
+        """The front axle's distance along the route and the offset it follows there now."""
+        assert self._cursor is not None
+        fx, fy = self._front(state)
+        point = self._cursor.locate(fx, fy)
+        if self.path is None:
+            return point.distance, point.offset
+        return point.distance, self.path.at(point.distance)[0]
+
+    @staticmethod
+    def _distance_of(state: ActorState, distance: float | None, duration: float | None) -> float:
+        if distance is not None:
+            return max(distance, 0.1)
+        if duration is None:
+            raise ValueError("a lateral move needs a distance or a duration")
+        return max(duration * max(state.speed, 1.0), 0.1)
+
+    def _steps(self, here: LaneRef, target: LaneRef) -> tuple[int, int]:
+        """``(side, count)``: ``target`` is ``count`` lanes to the left (+1) or right (-1)
+        of ``here``, in ``here``'s direction of travel, in one lane section."""
+        if target == here:
+            return (1, 0)
+        direction = self.network.lane(here).direction
+        for side in (1, -1):
+            other: LaneRef | None = here
+            for count in range(1, 20):
+                other = side_neighbour(self.network, other, side * direction) if other else None
+                if other is None:
+                    break
+                if other == target or (other.road, other.lane) == (target.road, target.lane):
+                    return (side, count)
+        raise ValueError(f"{target} is not beside {here}")
+
+    def _goal(self, side: int, count: int, d0: float, d1: float) -> tuple[FloatArray, FloatArray]:
+        """Where the centre of the lane ``count`` lanes to ``side`` lies, left of the
+        route's centre line, at the route's points from ``d0`` to ``d1``."""
+        route = self.route
+        assert route is not None
+        lo = max(int(np.searchsorted(route.distance, d0)) - 1, 0)
+        hi = min(int(np.searchsorted(route.distance, d1)) + 1, len(route.distance))
+        distance = route.distance[lo:hi]
+        gap = np.full(len(distance), np.nan)
+        lane_of = route.lane_of[lo:hi]
+        for k in np.unique(lane_of):
+            ref: LaneRef | None = route.lanes[int(k)]
+            assert ref is not None
+            direction = self.network.lane(ref).direction
+            for _ in range(count):
+                ref = side_neighbour(self.network, ref, side * direction) if ref else None
+            if ref is None:
+                continue
+            mask = lane_of == k
+            centre, _ = lane_centre(self.network, ref, route.s[lo:hi][mask])
+            gap[mask] = (centre - route.t[lo:hi][mask]) * direction
+        valid = ~np.isnan(gap)
+        if not valid.any():
+            raise ValueError("there is no lane on that side")
+        gap = np.interp(distance, distance[valid], gap[valid])
+        return distance.copy(), gap
+
+    def _switch(self, state: ActorState) -> None:
+        """A lane change is complete: follow the target lane's own route."""
+        assert self._then is not None
+        steps, offset = self._then
+        here = state.lane_ref
+        self._then = None
+        if here is None:
+            self.path = LateralPath.constant(offset)
+            return
+        self.keep_lane(here, offset)
+
+    def _renew(self, state: ActorState) -> None:
+        """Plan the route on from the lane the vehicle is in, keeping the offset."""
+        ref = state.lane_ref
+        if ref is None or self.path is None:
+            self._renewable = False
+            return
+        path = self.path
+        self._follow(ref)
+        if path.d1 <= self._distance:
+            self.path = LateralPath.constant(path.at(self._distance)[0])
 
 
 class VehicleController:
     """A speed controller and a Stanley controller driving one vehicle."""
 
-    def __init__(self, params: VehicleParams, road: Road, dt: float) -> None:
+    def __init__(
+        self, params: VehicleParams, network: RoadNetwork, dt: float, seed: int = 0
+    ) -> None:
         self.params = params
         self.speed = SpeedController(params, dt)
-        self.lateral = StanleyController(params, road)
+        self.lateral = StanleyController(params, network, seed=seed)
         #: a world path being followed (``follow_path``...): steers instead of ``lateral``
         self.path: PathTracker | None = None
 

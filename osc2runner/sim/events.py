@@ -1,8 +1,10 @@
 """Events the world reports: collisions between actors and leaving the road.
 
-Checked once per control tick on the actors' bounding boxes (oriented
-rectangles in the ground plane): a circle broad phase over the candidate
-pairs, then a separating-axis test. A pair is reported once when its boxes
+Collisions are checked once per control tick on the actors' bounding boxes
+(oriented rectangles in the ground plane): a circle broad phase over the
+candidate pairs, then a separating-axis test. Leaving the road is the world's
+verdict on each moving actor's position (:class:`~osc2runner.sim.world.World`
+asks the map), reported here when it changes. A pair is reported once when its boxes
 start to overlap and again only after they have separated. Obstacle pairs
 are never checked (they do not move).
 """
@@ -38,7 +40,6 @@ class EventDetector:
         names: actor names, in the order of the pose arrays passed to :meth:`detect`.
         half_extents: half length and half width of each actor's box, shape (n, 2).
         static: which actors never move (obstacles).
-        bounds: the road surface ``(x_min, x_max, y_min, y_max)``.
         margin: boxes closer than this count as touching (m).
     """
 
@@ -47,7 +48,6 @@ class EventDetector:
         names: Sequence[str],
         half_extents: np.ndarray,
         static: np.ndarray,
-        bounds: tuple[float, float, float, float],
         margin: float = 0.0,
     ) -> None:
         n = len(names)
@@ -57,9 +57,6 @@ class EventDetector:
         self.static = np.asarray(static, dtype=bool)
         self.moving = ~self.static
         self.margin = margin
-        x0, x1, y0, y1 = bounds
-        self._mid = np.array([0.5 * (x0 + x1), 0.5 * (y0 + y1)])
-        self._half_road = np.array([0.5 * (x1 - x0), 0.5 * (y1 - y0)])
         radius = np.hypot(self.half[:, 0], self.half[:, 1])
         pi, pj = np.triu_indices(n, k=1)
         keep = ~(self.static[pi] & self.static[pj])
@@ -72,12 +69,6 @@ class EventDetector:
             zip(self._pi.tolist(), self._pj.tolist(), self._reach2.tolist(), strict=True)
         )
         self._moving_list = np.flatnonzero(self.moving).tolist()
-        self._bounds = (
-            float(self._mid[0]),
-            float(self._mid[1]),
-            float(self._half_road[0]),
-            float(self._half_road[1]),
-        )
         self.reset()
 
     def reset(self) -> None:
@@ -90,19 +81,19 @@ class EventDetector:
         """Pairs of actors whose boxes overlap now."""
         return frozenset((self.names[i], self.names[j]) for i, j in self._overlaps)
 
-    def detect(self, tick: int, time: float, centre: np.ndarray, yaw: np.ndarray) -> list[Event]:
-        """Events at this tick, given every actor's box centre (n, 2) and yaw (n,)."""
+    def detect(
+        self,
+        tick: int,
+        time: float,
+        centre: np.ndarray,
+        yaw: np.ndarray,
+        off_road: Sequence[bool] = (),
+    ) -> list[Event]:
+        """Events at this tick, given every actor's box centre (n, 2) and yaw (n,), and for
+        each moving actor (in order) whether it is off the road now."""
+        events = self._leaving(tick, time, off_road)
         if self._small:
-            return self._detect_small(tick, time, centre.tolist(), yaw.tolist())
-        events: list[Event] = []
-        # off-road: an actor's reference point leaves the road surface
-        away = np.abs(centre - self._mid) > self._half_road
-        outside = (away[:, 0] | away[:, 1]) & self.moving
-        if self._off_road or outside.any():
-            now_out = set(np.flatnonzero(outside).tolist())
-            for i in sorted(now_out - self._off_road):
-                events.append(Event(tick, time, "off_road", (self.names[i],)))
-            self._off_road = now_out
+            return self._detect_small(tick, time, centre.tolist(), yaw.tolist(), events)
         if not len(self._pi):
             return events
         diff = centre[self._pi] - centre[self._pj]
@@ -128,19 +119,21 @@ class EventDetector:
         self._overlaps = now
         return events
 
-    def _detect_small(self, tick: int, time: float, centre: list, yaw: list) -> list[Event]:
-        """:meth:`detect` for a few actors, in plain Python (the same results)."""
+    def _leaving(self, tick: int, time: float, off_road: Sequence[bool]) -> list[Event]:
+        """``off_road`` events of the moving actors that are off the road now and were not."""
         events: list[Event] = []
-        mx, my, hx, hy = self._bounds
-        now_out = {
-            i
-            for i in self._moving_list
-            if abs(centre[i][0] - mx) > hx or abs(centre[i][1] - my) > hy
-        }
-        if now_out or self._off_road:
-            for i in sorted(now_out - self._off_road):
-                events.append(Event(tick, time, "off_road", (self.names[i],)))
-            self._off_road = now_out
+        if not (self._off_road or any(off_road)):
+            return events
+        now_out = {i for i, off in zip(self._moving_list, off_road, strict=False) if off}
+        for i in sorted(now_out - self._off_road):
+            events.append(Event(tick, time, "off_road", (self.names[i],)))
+        self._off_road = now_out
+        return events
+
+    def _detect_small(
+        self, tick: int, time: float, centre: list, yaw: list, events: list[Event]
+    ) -> list[Event]:
+        """:meth:`detect` for a few actors, in plain Python (the same results)."""
         if not self._pairs:
             return events
         now: set[tuple[int, int]] = set()

@@ -1,6 +1,7 @@
-"""The simulated world: one MuJoCo model of a road and its actors.
+"""The simulated world: one MuJoCo model of a road network and its actors.
 
-A :class:`World` is built from a :class:`~osc2check.road.Road` and a list of
+A :class:`World` is built from a road network (a built-in map or an OpenDRIVE
+file: :class:`~osc2check.world.network.RoadNetwork`) and a list of
 :class:`ActorSpec` (sedans, HGVs, pedestrians, obstacles with their initial
 pose and speed). It advances in fixed control steps (50 ms by default), each
 made of a whole number of physics steps (2 ms by default):
@@ -9,8 +10,12 @@ made of a whole number of physics steps (2 ms by default):
    TCS, Ackermann) and are written into the model;
 2. pedestrians move along their commanded velocity (kinematic);
 3. ``mj_step`` runs the physics sub-steps;
-4. the state of every actor is read out and collision / road-departure events
-   are detected.
+4. the state of every actor is read out, with its road coordinates (road,
+   lane, ``s``, ``t``: :class:`~osc2check.world.tracking.RoadLocator`, which
+   prefers the path the actor's driver follows), and collision and road-departure
+   events are detected. A vehicle leaves the road when its reference point is on
+   no driving lane of any road (a shoulder, a sidewalk, off the map); a
+   pedestrian when it is on no lane of any type.
 
 Nothing here reads the wall clock or draws random numbers: the same
 construction and the same inputs give bit-identical states (within one MuJoCo
@@ -37,7 +42,10 @@ from dataclasses import dataclass, replace
 import mujoco
 import numpy as np
 
-from osc2check.road import Road
+from osc2check.world.carriageways import carriageways, start_pose
+from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.paths import LanePath
+from osc2check.world.tracking import RoadLocator, RoadPosition
 from osc2runner.sim.actuators import ActuatorBank
 from osc2runner.sim.events import Event, EventDetector
 from osc2runner.sim.vehicle import (
@@ -81,17 +89,20 @@ _BAD_STATE = (
 class ActorSpec:
     """An actor to create and its initial state.
 
-    The position is given either in road coordinates (``s`` along the driving
-    direction, ``lane``, ``offset`` to the left of the lane centre) or in
-    world coordinates (``x`` and ``y``, which win when given). ``yaw`` is the
-    world heading in radians (default: the road's driving direction) and
-    ``speed`` the initial speed along it in m/s.
+    The position is given in road coordinates or in world coordinates (``x`` and
+    ``y``, which win when given). In road coordinates, ``lane`` is a
+    :class:`~osc2check.world.network.LaneRef` with ``s`` its road's ``s``, or a lane
+    number counted from the right (1 = rightmost) on the map's first carriageway
+    (the road of a built-in map) with ``s`` along it; ``offset`` is to the left of the
+    lane centre; ``lane=None`` takes ``offset`` as the ``t`` of that carriageway's first
+    road. ``yaw`` is the world heading in radians (default: the lane's direction of
+    travel) and ``speed`` the initial speed along it in m/s.
     """
 
     name: str
     params: ActorParams
     s: float = 0.0
-    lane: int | None = 1
+    lane: int | LaneRef | None = 1
     offset: float = 0.0
     x: float | None = None
     y: float | None = None
@@ -107,15 +118,20 @@ class ActorSpec:
             return "pedestrian"
         return "obstacle"
 
-    def pose(self, road: Road) -> tuple[float, float, float]:
+    def pose(self, network: RoadNetwork) -> tuple[float, float, float]:
         """Initial world ``(x, y, yaw)``."""
-        if self.x is not None and self.y is not None:
-            x, y = self.x, self.y
+        first = carriageways(network)[0]
+        if isinstance(self.lane, LaneRef):
+            pose = network.lane_to_world(self.lane, self.s, self.offset)
         elif self.lane is not None:
-            x, y = road.lane_to_xy(self.s, self.lane, self.offset)
+            pose = start_pose(network, first, self.s, self.lane, self.offset)[2]
         else:
-            x, y = road.to_xy(self.s, self.offset)
-        yaw = road.heading if self.yaw is None else self.yaw
+            leg = first.leg_at(self.s)
+            pose = network.to_world(leg.road, leg.road_s(self.s), self.offset)
+            if leg.direction < 0:
+                pose = replace(pose, yaw=pose.yaw + math.pi)
+        x, y = (self.x, self.y) if self.x is not None and self.y is not None else (pose.x, pose.y)
+        yaw = pose.yaw if self.yaw is None else self.yaw
         return (x, y, yaw)
 
 
@@ -159,6 +175,13 @@ class ActorState:
     the heading, ``accel`` its change over the last control step,
     ``friction`` the mean tire friction (NaN for non-vehicles), and
     ``throttle``/``brake``/``steer`` the applied (rate-limited) inputs.
+
+    Road coordinates of the centre: ``road`` (None off every road), ``s`` and ``t``
+    on it, ``section`` and ``lane_id`` (OpenDRIVE) of the lane it is in, ``offset``
+    left of that lane's centre in its direction of travel, ``lane`` the OSC2 number
+    of that lane counted from the right (None outside driving lanes), ``on_road``
+    whether it stands on the drivable surface; ``distance`` is the distance
+    travelled since the start (m).
     """
 
     name: str
@@ -181,16 +204,28 @@ class ActorState:
     steer: float
     length: float
     width: float
+    road: str | None = None
+    section: int = -1
+    lane_id: int = 0
+    offset: float = math.nan
+    direction: int = 0
+    on_road: bool = False
+    distance: float = 0.0
+
+    @property
+    def lane_ref(self) -> LaneRef | None:
+        """The lane it is in, or None off the roads."""
+        return LaneRef(self.road, self.section, self.lane_id) if self.road is not None else None
 
 
 # ---------------------------------------------------------------------- world
 
 
 class World:
-    """A road with its actors in one MuJoCo model, stepped at a fixed control rate.
+    """A road network with its actors in one MuJoCo model, stepped at a fixed control rate.
 
     Parameters:
-        road: the road the actors are placed on.
+        network: the map the actors are placed on.
         actors: the actors, each with a unique name.
         dt_control: control period in seconds (inputs are held over it).
         dt_physics: physics step in seconds; ``dt_control`` must be a whole
@@ -206,7 +241,7 @@ class World:
 
     def __init__(
         self,
-        road: Road,
+        network: RoadNetwork,
         actors: Sequence[ActorSpec],
         *,
         dt_control: float = 0.05,
@@ -224,7 +259,7 @@ class World:
         names = [a.name for a in actors]
         if len(set(names)) != len(names):
             raise ValueError(f"actor names must be unique: {names}")
-        self.road = road
+        self.network = network
         self.specs: tuple[ActorSpec, ...] = tuple(actors)
         self.dt_control = float(dt_control)
         self.dt_physics = float(dt_physics)
@@ -258,7 +293,7 @@ class World:
         collide = self.physical_collisions
         for spec in self.specs:
             prefix = self._prefix(spec.name)
-            x, y, yaw = spec.pose(self.road)
+            x, y, yaw = spec.pose(self.network)
             p = spec.params
             if isinstance(p, VehicleParams):
                 bodies.append(vehicle_body_xml(prefix, p, x, y, yaw, collide=collide))
@@ -267,7 +302,7 @@ class World:
                 bodies.append(pedestrian_xml(prefix, p, x, y, yaw))
             else:
                 bodies.append(obstacle_xml(prefix, p, x, y, yaw, collide=collide))
-        x0, x1, y0, y1 = self.road.bounds()
+        x0, x1, y0, y1 = self.network.bounds()
         return "\n".join(
             [
                 '<mujoco model="osc2run">',
@@ -346,15 +381,21 @@ class World:
         self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
         self._obs_pos = np.flatnonzero(self._is_static)
         self._obs_pose = np.array(
-            [self.specs[i].pose(self.road) for i in self._obs_pos], dtype=float
+            [self.specs[i].pose(self.network) for i in self._obs_pos], dtype=float
         ).reshape(-1, 3)
         self._events = EventDetector(
             self._names,
             np.array([(0.5 * a.params.length, 0.5 * a.params.width) for a in self.specs]),
             self._is_static,
-            self.road.bounds(),
             margin=0.1 if self.physical_collisions else 0.0,
         )
+        self._locators = [RoadLocator(self.network) for _ in self.specs]
+        self._positions: list[RoadPosition] = [
+            self._locators[i].locate(*spec.pose(self.network)) for i, spec in enumerate(self.specs)
+        ]
+        self._moving_rows = [i for i in range(n) if not self._is_static[i]]
+        self._located: list[tuple[float, float] | None] = [None] * n
+        self._pedestrian_rows = set(self._ped_pos.tolist())
         self._centre = np.zeros((n, 2))
         self._yaw_all = np.zeros(n)
         self._bad_stats = tuple(self.data.warning[int(w)] for w, _ in _BAD_STATE)
@@ -391,15 +432,17 @@ class World:
         self._ped_yaw = np.zeros(len(self._pedestrians))
         self._ped_accel = np.zeros(len(self._pedestrians))
         self._ped_input: list[PedestrianInput | None] = [None] * len(self._pedestrians)
-        n_ped = len(self._pedestrians)
-        self._ped_place: list[tuple[float, float, float, float, int | None] | None] = [None] * n_ped
+        self._located = [None] * len(self.specs)
         self._accel = np.zeros(nv)
+        self._distance = np.zeros(len(self.specs))
+        self._read()
         for spec in self.specs:
             if spec.kind != "obstacle":  # obstacles stay where the model put them
-                x, y, yaw = spec.pose(self.road)
+                x, y, yaw = spec.pose(self.network)
                 self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
+        self._locate()
         self._bad_seen = self._bad_counts()
         self._bad_total = sum(self._bad_seen)
 
@@ -412,6 +455,8 @@ class World:
         """
         kind = self._kinds[self._index[name]]
         m, d = self.model, self.data
+        self._locators[self._index[name]].reset()
+        self._located[self._index[name]] = None
         if kind == "vehicle":
             row = self._vrow[name]
             q = self._qadr[row]
@@ -438,6 +483,7 @@ class World:
             self._ped_input[row] = None
         else:
             raise ValueError(f"obstacle `{name}` is static and cannot be placed after start")
+        self._locate()
 
     # ------------------------------------------------------------------ time
 
@@ -515,10 +561,42 @@ class World:
             c, s = self._cos, self._sin  # of the new yaw, from _read
             dv = (self._vel - prev) / self.dt_control
             self._accel = dv[:, 0] * c + dv[:, 1] * s
+            self._distance[self._veh_pos] += np.abs(self._speed) * self.dt_control
+        if len(self._pedestrians):
+            self._distance[self._ped_pos] += np.abs(self._ped_speed) * self.dt_control
         centre, yaw = self._poses()
-        events = self._events.detect(self.tick, self.time, centre, yaw)
+        self._locate(centre, yaw)
+        positions = self._positions
+        off = [
+            not (positions[i].inside if i in self._pedestrian_rows else positions[i].drivable)
+            for i in self._moving_rows
+        ]
+        events = self._events.detect(self.tick, self.time, centre, yaw, off)
         self.events.extend(events)
         return events
+
+    def _locate(self, centre: np.ndarray | None = None, yaw: np.ndarray | None = None) -> None:
+        """The road coordinates of every moving actor, from their new poses."""
+        if centre is None or yaw is None:
+            centre, yaw = self._poses()
+        points = centre.tolist()
+        angles = yaw.tolist()
+        positions, locators, last = self._positions, self._locators, self._located
+        for i in self._moving_rows:
+            x, y = points[i]
+            if last[i] == (x, y):
+                continue  # a walker standing still: where it was
+            last[i] = (x, y)
+            positions[i] = locators[i].locate(x, y, angles[i])
+
+    def follow(self, name: str, path: LanePath | None) -> None:
+        """Tell the world the lanes actor ``name`` drives (its driver's path): where roads
+        overlap, its road coordinates are taken on them."""
+        self._locators[self._index[name]].follow(path)
+
+    def position(self, name: str) -> RoadPosition:
+        """Where actor ``name`` is on the map now."""
+        return self._positions[self._index[name]]
 
     def run(self, seconds: float, inputs: Mapping[str, VehicleInput | PedestrianInput]) -> None:
         """Hold ``inputs`` for ``seconds`` (rounded to whole control steps)."""
@@ -599,31 +677,38 @@ class World:
             accel = float(self._ped_accel[r])
             friction = throttle = brake = steer = nan
         else:
-            x, y, yaw = spec.pose(self.road)
+            x, y, yaw = spec.pose(self.network)
             speed = lat = yaw_rate = accel = 0.0
             friction = throttle = brake = steer = nan
-        s, t = self.road.to_st(x, y)
+        p = self._positions[i]
         return ActorState(
-            name=name,
-            kind=kind,
-            tick=self.tick,
-            time=self.time,
-            x=x,
-            y=y,
-            yaw=yaw,
-            speed=speed,
-            lateral_speed=lat,
-            yaw_rate=yaw_rate,
-            accel=accel,
-            lane=self.road.lane_of(y),
-            s=s,
-            t=t,
-            friction=friction,
-            throttle=throttle,
-            brake=brake,
-            steer=steer,
-            length=spec.params.length,
-            width=spec.params.width,
+            name,
+            kind,
+            self.tick,
+            self.time,
+            x,
+            y,
+            yaw,
+            speed,
+            lat,
+            yaw_rate,
+            accel,
+            p.number if p.inside else None,
+            p.s,
+            p.t,
+            friction,
+            throttle,
+            brake,
+            steer,
+            spec.params.length,
+            spec.params.width,
+            p.road,
+            p.section,
+            p.lane,
+            p.offset,
+            p.direction,
+            p.drivable,
+            float(self._distance[i]),
         )
 
     def states(self) -> dict[str, ActorState]:
@@ -637,7 +722,6 @@ class World:
         a runner needs every tick; ``static=False`` leaves obstacles (which
         never move) as they are in ``out``.
         """
-        road = self.road
         tick, time = self.tick, self.time
         if len(self._vehicles):
             bank = self.actuators
@@ -650,12 +734,15 @@ class World:
             throttle = bank.throttle.tolist()
             brake = bank.brake.tolist()
             steer = (bank.delta / bank.max_steer).tolist()
+            distance = self._distance.tolist()
             mu = self._mu_mean
-            to_st, lane_of = road.to_st, road.lane_of
+            positions = self._positions
+            rows = self._veh_pos.tolist()
             for row, spec in enumerate(self._vehicles):
                 x, y = pos[row]
-                s, t = to_st(x, y)
                 params = spec.params
+                i = rows[row]
+                p = positions[i]
                 out[spec.name] = ActorState(
                     spec.name,
                     "vehicle",
@@ -668,15 +755,22 @@ class World:
                     lat[row],
                     yaw_rate[row],
                     accel[row],
-                    lane_of(y),
-                    s,
-                    t,
+                    p.number if p.inside else None,
+                    p.s,
+                    p.t,
                     mu[row],
                     throttle[row],
                     brake[row],
                     steer[row],
                     params.length,
                     params.width,
+                    p.road,
+                    p.section,
+                    p.lane,
+                    p.offset,
+                    p.direction,
+                    p.drivable,
+                    distance[i],
                 )
         if len(self._pedestrians):
             self._read_pedestrians(out, tick, time)
@@ -686,20 +780,20 @@ class World:
                 out[name] = self.state(name)
 
     def _read_pedestrians(self, out: dict[str, ActorState], tick: int, time: float) -> None:
-        """The walkers' states, as :meth:`state` gives them; road coordinates are computed
-        again only for a walker that moved."""
-        road = self.road
+        """The walkers' states, as :meth:`state` gives them (their road coordinates are
+        located again only when they moved: :meth:`_locate`)."""
         pos = self.data.mocap_pos[self._mocap, :2].tolist()
         speed = self._ped_speed.tolist()
         yaw = self._ped_yaw.tolist()
         accel = self._ped_accel.tolist()
+        rows = self._ped_pos.tolist()
+        positions = self._positions
+        distance = self._distance
         nan = math.nan
         for row, spec in enumerate(self._pedestrians):
             x, y = pos[row]
-            place = self._ped_place[row]
-            if place is None or place[0] != x or place[1] != y:
-                s, t = road.to_st(x, y)
-                place = self._ped_place[row] = (x, y, s, t, road.lane_of(y))
+            i = rows[row]
+            p = positions[i]
             params = spec.params
             out[spec.name] = ActorState(
                 spec.name,
@@ -713,15 +807,22 @@ class World:
                 0.0,
                 0.0,
                 accel[row],
-                place[4],
-                place[2],
-                place[3],
+                p.number if p.inside else None,
+                p.s,
+                p.t,
                 nan,
                 nan,
                 nan,
                 nan,
                 params.length,
                 params.width,
+                p.road,
+                p.section,
+                p.lane,
+                p.offset,
+                p.direction,
+                p.drivable,
+                float(distance[i]),
             )
 
     # ------------------------------------------------------------------ divergence

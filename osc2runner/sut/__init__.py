@@ -16,8 +16,8 @@ Each control tick (20 Hz by default) the runner calls ``step(observation)`` with
 * ``ego``: the SUT actor's own state (:class:`ActorView`, world frame);
 * ``others``: every other actor's state, world frame and seen from the SUT
   (``rel_x`` forward, ``rel_y`` left, relative velocities, bumper gaps);
-* ``road``: the road around it (:class:`RoadAhead`: lanes, where the actor is,
-  the intended path ahead, the distance to the end of the road);
+* ``road``: the road around it (:class:`RoadAhead`: where the actor is, the
+  lane's width and speed limit, the intended path ahead, its curvature);
 * ``intent``: the scenario's set speed and lateral target (:class:`Intent`);
 * ``driver``: the runner's driver model's :class:`Command` for the intent,
 
@@ -109,38 +109,40 @@ class ActorView:
 
 @dataclass(frozen=True, slots=True)
 class RoadAhead:
-    """The road around the SUT.
+    """The road around the SUT, on the lanes its driver model follows.
 
-    ``lane_count``, ``lane_width`` and ``lane`` (the SUT's, 1 = rightmost); ``s`` and
-    ``t`` of the SUT; ``speed_limit`` (m/s, None when the map has none);
-    ``distance_to_end``: road left ahead (m); ``path``: the intended path ahead as
-    world points ``(x, y)`` every 5 m over 50 m (the lateral path the scenario
-    asks for: its lane, or a lane change in progress); ``curvature`` of the road
-    at the SUT (1/m; 0 on straight roads).
+    ``road`` (the road's id, None off every road), ``lane`` (1 = rightmost lane in
+    the driving direction), ``s`` and ``t`` of the SUT on that road; ``lane_width``
+    there (m; NaN off the roads); ``speed_limit`` (m/s, None when the map has none);
+    ``heading`` and ``curvature`` (1/m, positive turns left) of the followed centre
+    line where the SUT is; ``path``: the intended path ahead as world points
+    ``(x, y)`` every 5 m over 50 m (the lane centre line the scenario asks for, moved
+    by its lateral offset, through a lane change in progress); ``distance_to_end``:
+    how far that path goes on before the road ends (m; it is planned 1.5 km ahead).
     """
 
-    lane_count: int
-    lane_width: float
+    road: str | None
     lane: int | None
     s: float
     t: float
+    lane_width: float
     speed_limit: float | None
-    distance_to_end: float
     heading: float
+    curvature: float
     path: tuple[tuple[float, float], ...]
-    curvature: float = 0.0
+    distance_to_end: float
 
 
 @dataclass(frozen=True, slots=True)
 class Intent:
     """What the scenario asks of the SUT actor now: ``speed`` (m/s; None when no
-    behaviour has set one) and ``t`` (the lateral position on the road its path
-    ends at, m left of the reference line; None when it has none), ``lane`` (the lane
-    ``t`` lies in)."""
+    behaviour has set one) and ``offset``: where its lateral path ends, in m left of
+    the centre line it follows (0: the lane centre; None without a lateral target);
+    ``changing_lane`` while a lane change or lateral move is under way."""
 
     speed: float | None
-    t: float | None
-    lane: int | None
+    offset: float | None
+    changing_lane: bool
 
 
 @dataclass(frozen=True, slots=True)

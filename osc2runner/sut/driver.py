@@ -22,7 +22,8 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-from osc2check.road import Road
+from osc2check.world.network import RoadNetwork
+from osc2check.world.tracking import PathCursor
 from osc2runner.sim import ActorState, VehicleController, VehicleInput
 from osc2runner.sim.vehicle import GRAVITY, VehicleParams
 from osc2runner.sut import (
@@ -106,7 +107,7 @@ class SutDriver:
         name: the SUT actor.
         sut: the SUT instance (already ``reset``).
         inner: the actor's driver model; behaviours set its targets.
-        road: the road.
+        network: the map.
         states: the run's states of this tick, by actor (read when stepping).
     """
 
@@ -115,14 +116,16 @@ class SutDriver:
         name: str,
         sut: SystemUnderTest,
         inner: VehicleController,
-        road: Road,
+        network: RoadNetwork,
         states: Mapping[str, ActorState],
     ) -> None:
         self.name = name
         self.sut = sut
         self.inner = inner
-        self.road = road
+        self.network = network
         self.states = states
+        self._cursor: PathCursor | None = None
+        self._cursor_route: Any = None
         self.speed = inner.speed
         self.lateral = inner.lateral
         params = inner.speed.params
@@ -156,30 +159,47 @@ class SutDriver:
         )
 
     def _road(self, state: ActorState) -> RoadAhead:
-        road = self.road
-        path = self.inner.lateral.path
-        points = []
-        for i in range(PATH_POINTS):
-            s = state.s + i * PATH_SPACING
-            t = path.at(s)[0] if path is not None else state.t
-            points.append(road.to_xy(s, t))
+        lateral = self.inner.lateral
+        route, path = lateral.route, lateral.path
+        points: list[tuple[float, float]] = []
+        heading, curvature, to_end = state.yaw, 0.0, 0.0
+        if route is not None:
+            if self._cursor is None or self._cursor_route is not route:
+                self._cursor, self._cursor_route = PathCursor(route), route
+            here = self._cursor.locate(state.x, state.y)
+            heading, curvature = here.heading, here.curvature
+            to_end = max(route.length - here.distance, 0.0)
+            for i in range(PATH_POINTS):
+                d = here.distance + i * PATH_SPACING
+                pose = route.pose_at(d)
+                offset = path.at(d)[0] if path is not None else 0.0
+                points.append(
+                    (pose.x - offset * math.sin(pose.yaw), pose.y + offset * math.cos(pose.yaw))
+                )
+        ref = state.lane_ref
+        width = math.nan
+        if ref is not None:
+            width = float(self.network.width(ref, state.s))
         return RoadAhead(
-            lane_count=road.lane_count,
-            lane_width=road.lane_width,
+            road=state.road,
             lane=state.lane,
             s=state.s,
             t=state.t,
-            speed_limit=road.speed_limit,
-            distance_to_end=road.length - state.s,
-            heading=road.heading,
+            lane_width=width,
+            speed_limit=self.network.speed_limit,
+            heading=heading,
+            curvature=curvature,
             path=tuple(points),
+            distance_to_end=to_end,
         )
 
     def _intent(self, state: ActorState) -> Intent:
-        path = self.inner.lateral.path
-        t = path.t1 if path is not None else None
-        lane = self.road.lane_of(self.road.to_xy(state.s, t)[1]) if t is not None else None
-        return Intent(self.inner.speed.target, t, lane)
+        lateral = self.inner.lateral
+        path = lateral.path
+        if path is None:
+            return Intent(self.inner.speed.target, None, False)
+        changing = lateral.route is not None and not lateral.done(state) and path.d1 > path.d0
+        return Intent(self.inner.speed.target, path.goal(path.d1)[0], changing)
 
     def step(self, state: ActorState) -> VehicleInput:
         """One tick: the driver model's inputs, the observation, the SUT's answer."""

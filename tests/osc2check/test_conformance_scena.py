@@ -54,9 +54,16 @@ DELIBERATE: dict[str, str] = {
     "check_0073": LIBRARY_22 + "`vehicle_category!heavy_truck` comes with the 2.2 "
     "harmonised categories; the 2.1 library has `truck` (N106)",
     "check_0077": LIBRARY_22 + "`vehicle_category!van` is a 2.2 category (N106)",
+    "check_0085": "`junction.xodr` is not there: osc2check reads a scenario's map (relative "
+    "to the scenario file) and reports a map file it cannot read (L516); Scena's checker "
+    "does not open map files",
+    "check_0086": "`flat.xodr` is not there: a map file that cannot be read is L516 (see "
+    "check_0085)",
     "check_0089": BOTTOM_UP,
     "check_0096": BOTTOM_UP,
     "check_0099": BOTTOM_UP,
+    "check_0115": "`no_such_map.xodr` is not there: a map file that cannot be read is L516 "
+    "(see check_0085)",
     "check_0100": LIBRARY_22 + "Scena makes `change_speed` and `keep_speed` unassociated "
     "modifiers; the 2.1 library declares them `of movable_object.action_for_movable_object`, "
     "so they apply only in the `with:` of such an action (A301)",

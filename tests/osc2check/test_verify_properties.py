@@ -264,3 +264,38 @@ def test_osc2_text_with_an_injected_conflict_reports_it_minimally(case, data):
     assert c401(lines + [body[i - 1] for i in sorted(core)] + tail) != []
     for line in core:
         assert c401(lines + [body[i - 1] for i in sorted(core - {line})] + tail) == []
+
+
+# --- quotients and remainders --------------------------------------------------------------
+
+
+@settings(IR_SETTINGS, max_examples=30)
+@given(
+    st.integers(-40, 40),
+    st.integers(-9, 9),
+    st.sampled_from(("int", "real")),
+    st.integers(-3, 3),
+)
+def test_quotients_and_remainders_are_the_evaluators(a, b, sort, bound):
+    """z3's models of ``q == a / n`` and ``r == a % n`` agree with the exact evaluator
+    (floored remainder, the divisor's sign), for a divisor that is a parameter; no model
+    divides by zero, and ``n`` fixed to 0 makes the constraints unsatisfiable."""
+    from osc2check.semantics.constants import arithmetic
+
+    problem = ir.ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
+    n = problem.var("n", sort)
+    q = problem.var("q", "real")
+    r = problem.var("r", sort)
+    add(problem, ir.op("==", ir.Ref(q), ir.op("/", ir.const(a), ir.Ref(n))), "quotient")
+    add(problem, ir.op("==", ir.Ref(r), ir.op("%", ir.const(a), ir.Ref(n))), "remainder")
+    add(problem, in_range(ir.Ref(n), ir.const(b), ir.const(b + bound)), "divisor range")
+    outcome = solve(problem, seed=b)
+    if all(d == 0 for d in range(min(b, b + bound), max(b, b + bound) + 1)):
+        assert outcome.status == "unsat"
+        return
+    assert outcome.status == "sat"
+    values = outcome.values
+    assert values["n"] != 0
+    assert values["q"] == arithmetic("/", a, values["n"])
+    assert values["r"] == arithmetic("%", a, values["n"])
+    assert all(quick.evaluate(c.term, values) is True for c in problem.constraints)

@@ -65,7 +65,8 @@ def test_success_exits_0_and_writes_outputs(tmp_path, capsys):
     assert meta["parameter_values"]["source"] == "witness (seed 0)"
     header = (out / "telemetry.csv").read_text().splitlines()[0]
     assert header == (
-        "actor,tick,time,x,y,yaw,speed,accel,jerk,throttle,brake,steer,lane,friction,lateral_error"
+        "actor,tick,time,x,y,yaw,speed,accel,jerk,throttle,brake,steer,lane,friction,"
+        "lateral_error,road,lane_id,s,t"
     )
 
 

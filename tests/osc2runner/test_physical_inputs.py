@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from osc2check.road import get_map
+from osc2check.world.builtin import builtin_network
 from osc2runner import run
 from osc2runner import runner as runner_module
 from osc2runner.cli import main
@@ -61,28 +61,40 @@ def _write(tmp_path: Path, text: str) -> Path:
     return source
 
 
-@pytest.mark.parametrize(
-    ("argument", "shown"),
-    [("1e9", "1e+09"), ("0", "0"), ("-1", "-1"), ("0.0", "0"), ("2.5", "2.5")],
-)
-def test_a_constant_friction_out_of_range_is_an_input_error_at_the_argument(
-    tmp_path, capsys, argument, shown
+@pytest.mark.parametrize("argument", ["1e9", "0", "-1", "0.0", "2.5"])
+def test_a_constant_friction_out_of_range_is_refused_by_the_checker_at_the_argument(
+    tmp_path, capsys, argument
 ):
+    """The checker verifies the range the runner takes (osc2check.world.limits): nothing runs."""
     source = _write(tmp_path, FRICTION.format(action=f"set_road_friction(value: {argument})"))
     out = tmp_path / "out"
     assert main([str(source), "--out", str(out)]) == 2
     err = capsys.readouterr().err
-    assert f"{source}:11:38: error: road friction must be in (0, 2], got {shown}" in err
+    assert f"{source}:11:31: C401 [error]" in err
+    assert f"`set_road_friction(value: {argument})`; road friction is in (0, 2]" in err
     assert "nothing ran" in err and not out.exists()
 
 
-def test_a_positional_friction_and_a_parameter_are_located_too(tmp_path):
+def test_a_friction_parameter_is_checked_where_it_is_passed(tmp_path):
     text = FRICTION.format(action="set_road_friction(mu)").replace("= 0.5", "= 1e9")
     with pytest.raises(ScenarioError) as caught:
         run(_write(tmp_path, text))
-    (problem,) = caught.value.problems
-    assert problem.span is not None and (problem.span.line, problem.span.column) == (11, 31)
-    assert "road friction must be in (0, 2], got 1e+09" in problem.message
+    (finding,) = caught.value.diagnostics
+    assert finding.code.code == "C401"
+    assert (finding.span.line, finding.span.column) == (11, 31)
+    assert "`set_road_friction(value: mu)`" in finding.message
+    assert "road friction is in (0, 2]" in finding.message
+    assert [r.span.line for r in finding.related] == [6, 11]  # the default `mu = 1e9`
+
+
+def test_the_runner_refuses_a_constant_friction_that_the_checker_did_not_see(tmp_path):
+    """Its own check at compile time stays: a witness made elsewhere may carry any value."""
+    from osc2runner.behaviours.environment import friction_problem
+
+    assert friction_problem(1e9) == "road friction must be in (0, 2], got 1e+09"
+    assert friction_problem(0.0) == "road friction must be in (0, 2], got 0"
+    assert friction_problem(2.0) is None and friction_problem(0.05) is None
+    assert friction_problem(float("nan")) is not None
 
 
 def test_frictions_in_range_run(tmp_path):
@@ -100,11 +112,12 @@ def test_a_friction_known_only_at_run_time_fails_the_phase(tmp_path, capsys):
     assert "env.set_road_friction: road friction must be in (0, 2], got 13.88" in out
 
 
-def test_a_negative_rain_intensity_is_an_input_error(tmp_path, capsys):
+def test_a_negative_rain_intensity_is_refused_by_the_checker(tmp_path, capsys):
     source = _write(tmp_path, FRICTION.format(action="rain(intensity: -5mmph)"))
     assert main([str(source)]) == 2
     err = capsys.readouterr().err
-    assert f"{source}:11:29: error: rain intensity must be finite and not negative" in err
+    assert f"{source}:11:18: C401 [error]" in err
+    assert "`rain(intensity: -5mmph)`; a rain intensity is not negative" in err
 
 
 def _rows(path: Path) -> list[dict[str, str]]:
@@ -161,7 +174,7 @@ def test_a_non_finite_read_out_ends_the_run_as_error(tmp_path, monkeypatch):
 
 def test_the_world_names_a_pedestrian_with_a_non_finite_state():
     world = World(
-        get_map("default"),
+        builtin_network("default"),
         [
             ActorSpec("car", sedan(), s=40.0, lane=1, speed=10.0),
             ActorSpec("walker", PedestrianParams(), x=120.0, y=-1.0, yaw=math.pi / 2),

@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from osc2check.road import get_map
+from osc2check.world.builtin import builtin_network
 from osc2runner.execution.loop import TickLoop
 from osc2runner.sim import (
     ActorSpec,
@@ -29,7 +29,7 @@ from osc2runner.sim import (
     sedan,
 )
 
-ROAD = get_map("default")
+ROAD = builtin_network("default")
 G = 9.81
 V80 = 80 / 3.6
 V35 = 35 / 3.6
@@ -193,7 +193,7 @@ def lane_change():
         loop.step()
         state = world.state("ego")
         if controller.lateral.done(state):
-            after.append(state.y - ROAD.lane_center_y(2))
+            after.append(state.y - 1.5 * 3.5)  # lane 2 centre
         else:
             during.append(controller.lateral.error)
     return np.array(during), np.array(after), world.state("ego")

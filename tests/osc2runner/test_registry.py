@@ -31,7 +31,7 @@ scenario s:
     do serial:
         hero.connect_trailer(trailer: box)
         hero.drive(duration: 2s)
-    m.number_of_lanes(num_of_lanes: 2)
+    m.set_traffic_lights_control_file(file: "lights.xml")
 """
 
 

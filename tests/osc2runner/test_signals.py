@@ -115,7 +115,7 @@ def _check_complete(out: Path, signame: str) -> dict[str, Any]:
         ticks = [int(r["tick"]) for r in rows if r["actor"] == actor]
         assert ticks == list(range(steps + 1))
     assert len(rows) == 2 * (steps + 1)
-    assert all(len(r) == 15 and None not in r.values() for r in rows)
+    assert all(len(r) == 1 + len(telemetry.CHANNELS) and None not in r.values() for r in rows)
     events = list(csv.DictReader((out / "events.csv").open(newline="")))
     assert events[-1]["kind"] == "outcome" and events[-1]["name"] == "interrupted"
     assert not [p.name for p in out.iterdir() if p.name.endswith(".tmp")]

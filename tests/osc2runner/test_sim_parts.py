@@ -266,9 +266,7 @@ def test_event_detector_reports_each_contact_once_and_ignores_obstacle_pairs():
     from osc2runner.sim.events import EventDetector
 
     half = np.array([[2.25, 0.9], [0.5, 0.5], [0.5, 0.5]])
-    detector = EventDetector(
-        ("car", "rock", "stone"), half, np.array([False, True, True]), (0, 100, 0, 10)
-    )
+    detector = EventDetector(("car", "rock", "stone"), half, np.array([False, True, True]))
     yaw = np.zeros(3)
     apart = np.array([[10.0, 5.0], [20.0, 5.0], [20.5, 5.0]])  # the obstacles overlap each other
     touching = np.array([[17.5, 5.0], [20.0, 5.0], [20.5, 5.0]])
@@ -279,5 +277,9 @@ def test_event_detector_reports_each_contact_once_and_ignores_obstacle_pairs():
     assert detector.collisions == {("car", "rock")}
     assert detector.detect(4, 0.2, apart, yaw) == []
     assert len(detector.detect(5, 0.25, touching, yaw)) == 1
-    off = detector.detect(6, 0.3, np.array([[10.0, -1.0], [20.0, 5.0], [20.5, 5.0]]), yaw)
+    off = detector.detect(6, 0.3, np.array([[10.0, -1.0], [20.0, 5.0], [20.5, 5.0]]), yaw, [True])
     assert [(e.kind, e.actors) for e in off] == [("off_road", ("car",))]
+    assert (
+        detector.detect(7, 0.35, np.array([[10.0, -1.0], [20.0, 5.0], [20.5, 5.0]]), yaw, [True])
+        == []
+    )

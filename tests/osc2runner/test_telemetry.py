@@ -22,6 +22,10 @@ def _state(accel: float) -> SimpleNamespace:
         steer=0.0,
         lane=1,
         friction=1.0,
+        road="0",
+        lane_id=-2,
+        s=12.5,
+        t=-5.25,
     )
 
 
@@ -46,3 +50,4 @@ def test_channels_and_missing_lane():
     assert tuple(arrays) == CHANNELS
     assert np.isnan(arrays["lane"][0]) and np.isnan(arrays["lateral_error"][0])
     assert arrays["tick"].dtype == np.int64
+    assert (arrays["road"][0], arrays["lane_id"][0], arrays["s"][0]) == ("0", -2, 12.5)

@@ -1,73 +1,105 @@
-"""The built-in straight maps through the network interface agree with osc2check.road."""
+"""The built-in straight maps: their table, and the networks built from it, against the
+closed-form geometry of a straight road (lanes counted from the right, ``s`` from the entry)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from osc2check.road import UnknownMapError, get_map, map_names
-from osc2check.world.builtin import builtin_lane, builtin_network, straight_network
+from osc2check.world.builtin import (
+    BuiltinMap,
+    builtin_lane,
+    builtin_map,
+    builtin_network,
+    map_names,
+    straight_network,
+)
+from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import load_map
 from osc2check.world.network import LaneRef
 
 
+def _centre_y(row: BuiltinMap, lane: int) -> float:
+    """World y of lane ``lane``'s centre (1 = rightmost) on a straight road towards +x."""
+    t = (lane - 0.5) * row.lane_width  # from the right edge
+    return t if row.direction == 1 else row.width - t
+
+
+def _scenario_lane(row: BuiltinMap, lane: int) -> int:
+    return row.lane_count + 1 - lane if row.numbering == "from_left" else lane
+
+
 @pytest.mark.parametrize("name", map_names())
-def test_lane_centres_agree_with_the_builtin_road(name: str) -> None:
-    road = get_map(name)
+def test_lane_centres_are_those_of_a_straight_road(name: str) -> None:
+    row = builtin_map(name)
     net = builtin_network(name)
-    assert net.roads["0"].length == road.length
-    assert net.speed_limit == road.speed_limit
-    for lane in range(1, road.lane_count + 1):
+    assert net.roads["0"].length == row.length
+    assert net.speed_limit == row.speed_limit
+    for lane in range(1, row.lane_count + 1):
         ref = builtin_lane(net, lane)
-        for s in (0.0, 123.4, road.length):
+        for s in (0.0, 123.4, row.length):
             pose = net.lane_to_world(ref, s)
-            assert (pose.x, pose.y) == pytest.approx(road.lane_to_xy(s, lane), abs=1e-9)
-            assert pose.yaw == pytest.approx(road.heading)
-        assert float(net.width(ref, 50.0)) == road.lane_width
-        assert net.scenario_lane(ref) == road.to_scenario_lane(lane)
-        assert net.lane_from_scenario("0", 10.0, road.to_scenario_lane(lane)) == ref
+            assert (pose.x, pose.y) == pytest.approx((s, _centre_y(row, lane)), abs=1e-9)
+            assert pose.yaw == pytest.approx(0.0)
+        assert float(net.width(ref, 50.0)) == row.lane_width
+        assert net.scenario_lane(ref) == _scenario_lane(row, lane)
+        assert net.lane_from_scenario("0", 10.0, _scenario_lane(row, lane)) == ref
 
 
 @pytest.mark.parametrize("name", map_names())
-def test_lane_of_a_point_agrees_with_the_builtin_road(name: str) -> None:
-    road = get_map(name)
+def test_lane_of_a_point_is_the_lane_between_its_borders(name: str) -> None:
+    row = builtin_map(name)
     net = builtin_network(name)
+    # a boundary belongs to the lane on its left, except the left road edge
     ys = np.concatenate(
-        (np.linspace(-1.0, road.width + 1.0, 97), np.arange(road.lane_count + 1) * road.lane_width)
+        (np.linspace(-1.0, row.width + 1.0, 97), np.arange(row.lane_count + 1) * row.lane_width)
     )
     xs = np.full_like(ys, 321.0)
     projected = net.project(xs, ys)
     for y, inside, lane_id, road_number in zip(
         ys, projected.inside, projected.lane, projected.road, strict=True
     ):
-        expected = road.lane_of(float(y))
-        if expected is None:
+        if not 0.0 <= y <= row.width:
             assert not inside
         else:
+            expected = min(int(y // row.lane_width) + 1, row.lane_count)
             assert inside and road_number == 0
             assert LaneRef("0", 0, int(lane_id)) == builtin_lane(net, expected), y
     point = net.to_road(321.0, 1.0)
     assert point is not None
-    s, t = road.to_st(321.0, 1.0)
-    assert point.s == pytest.approx(s)
-    assert point.offset == pytest.approx(road.lane_offset(1.0))
+    assert point.s == pytest.approx(321.0)
+    assert point.offset == pytest.approx(1.0 - 0.5 * row.lane_width)
     assert list(net.on_drivable(np.array([10.0, 10.0, -1.0]), np.array([1.0, -0.5, 1.0]))) == [
         True,
         False,
         False,
     ]
-    assert list(net.past_end(np.array([road.length + 5.0]), np.array([1.0]))) == [True]
+    assert list(net.past_end(np.array([row.length + 5.0]), np.array([1.0]))) == [True]
 
 
 def test_opposite_direction_road_keeps_s_and_lanes() -> None:
-    from osc2check.road import Road
-
-    road = Road(name="back", lane_count=2, direction=-1, length=300.0)
-    net = straight_network(road)
+    row = BuiltinMap(name="back", lane_count=2, direction=-1, length=300.0)
+    net = straight_network(row)
     for lane in (1, 2):
         pose = net.lane_to_world(builtin_lane(net, lane), 40.0)
-        assert (pose.x, pose.y) == pytest.approx(road.lane_to_xy(40.0, lane))
+        # towards -x the rightmost lane is the one at +y
+        assert (pose.x, pose.y) == pytest.approx((260.0, row.width - (lane - 0.5) * 3.5))
         assert abs(pose.yaw) == pytest.approx(np.pi)
+
+
+def test_builtin_table_checks_its_rows_and_names() -> None:
+    assert {"default", "straight_3lane", "highway_4lane", "Town06"} <= set(map_names())
+    assert builtin_map("default").lane_count == 3
+    assert builtin_map("highway_4lane").lane_count == 4
+    town = builtin_map("Town06")
+    assert builtin_map("Town06.xodr") is town and builtin_map("town06") is town
+    with pytest.raises(UnknownMapError) as info:
+        builtin_map("Town99")
+    assert "Town99" in str(info.value) and all(n in str(info.value) for n in map_names())
+    for bad in ({"lane_count": 0}, {"direction": 2}, {"length": -1.0}, {"lane_width": 0.0}):
+        with pytest.raises(ValueError):
+            BuiltinMap(name="bad", **bad)  # type: ignore[arg-type]
+    assert builtin_network("default") is builtin_network("DEFAULT")
 
 
 def test_neighbours_and_routes_on_a_straight_map() -> None:
@@ -86,4 +118,6 @@ def test_load_map_prefers_an_existing_file_then_builtin_names(tmp_path) -> None:
     assert load_map("Town06.xodr").numbering == "from_left"
     assert load_map("town06").name == "Town06"
     with pytest.raises(UnknownMapError):
+        load_map("Town99")
+    with pytest.raises(MapError, match="no such file"):
         load_map("nowhere.xodr", tmp_path)

@@ -58,3 +58,30 @@ def test_hover_in_a_document_that_does_not_parse():
         "    x: int = (1 +\n    do serial:\n        he$0ro.drive()\n"
     )
     assert text is not None and "vehicle" in text
+
+
+MAPS = __import__("pathlib").Path(__file__).resolve().parents[3] / "examples" / "maps"
+
+
+def test_hover_on_a_map_file_string_shows_its_roads_lanes_and_junctions():
+    source = (
+        "import osc.standard\nscenario s:\n    town: map with:\n"
+        f'        keep(it.map_file == "{MAPS / "four_way_junction.xodr"}$0")\n'
+    )
+    text = hover_text(source)
+    assert "**four_way_junction** (OpenDRIVE 1.8)" in text
+    assert "16 road(s)" in text and "1 junction(s) with 12 connecting road(s)" in text
+    assert "20 driving" in text and "8 sidewalk" in text
+
+
+def test_hover_on_set_map_file_with_a_missing_file_says_why():
+    text = hover_text('import osc.standard\nscenario s:\n    map.set_map_file("nowhe$0re.xodr")\n')
+    assert "cannot be read" in text and "no such file" in text
+
+
+def test_hover_on_a_built_in_map_name_shows_the_built_in_road():
+    text = hover_text(
+        "import osc.standard\nscenario s:\n    m: map with:\n"
+        '        keep(it.map_file == "Tow$0n06")\n'
+    )
+    assert "**Town06** (built-in map)" in text and "4 driving" in text

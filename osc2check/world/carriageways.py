@@ -1,0 +1,310 @@
+"""Carriageways: the roads a scenario's actors start on, measured the way a driver sees them.
+
+The checker places actors with a few numbers per actor (a lane number, a
+longitudinal position, a lateral offset); on a map those numbers are taken on a
+**carriageway**: the driving lanes of one road that travel one way, continued
+across road-to-road links where the lanes simply go on (not through junctions).
+On each carriageway:
+
+* ``s`` is the distance along the roads' reference lines in the direction of
+  travel, from the carriageway's entry (0) to its exit (``length``); for a leg
+  driven against its road's ``s`` the road coordinate is ``length - s``;
+* lane numbers are OSC2's: the driving lanes travelling that way at ``s``,
+  counted from the rightmost (1) as seen in the direction of travel
+  (:mod:`.numbering`), so they may change where lane sections change;
+* ``ahead`` is how far a vehicle can drive on beyond the exit, through
+  junctions and onto other roads (up to :data:`AHEAD_CAP`).
+
+Roads inside junctions (connecting roads) belong to no carriageway: a scenario
+starts its actors on the roads between junctions. A built-in straight map has
+one carriageway, its road. Gaps between actors (``position(distance: d,
+behind: b)``) are taken along one carriageway, so they may span road links but
+not junctions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import cast
+
+import numpy as np
+
+from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.world.numbering import driving_lanes_right_to_left
+from osc2check.world.projection import WorldPose
+
+__all__ = [
+    "AHEAD_CAP",
+    "Carriageway",
+    "LanePiece",
+    "Leg",
+    "carriageway_of",
+    "carriageways",
+    "lane_at",
+    "lane_number",
+    "start_pose",
+]
+
+#: the farthest the room ahead of a carriageway's exit is followed (m)
+AHEAD_CAP = 5000.0
+
+
+@dataclass(frozen=True, slots=True)
+class Leg:
+    """One road of a carriageway, driven ``direction`` (+1 along its ``s``, -1 against)."""
+
+    road: str
+    direction: int
+    start: float  # carriageway s where the leg begins
+    length: float  # the road's length
+
+    @property
+    def end(self) -> float:
+        return self.start + self.length
+
+    def road_s(self, s: float) -> float:
+        """The road coordinate of carriageway position ``s``."""
+        local = min(max(s - self.start, 0.0), self.length)
+        return local if self.direction > 0 else self.length - local
+
+    def carriageway_s(self, road_s: float) -> float:
+        """The carriageway position of road coordinate ``road_s``."""
+        local = road_s if self.direction > 0 else self.length - road_s
+        return self.start + local
+
+
+@dataclass(frozen=True, slots=True)
+class LanePiece:
+    """A stretch ``[s0, s1]`` of a carriageway with ``count`` driving lanes travelling its
+    way, the narrowest of them ``width`` m wide there."""
+
+    s0: float
+    s1: float
+    count: int
+    width: float
+
+
+@dataclass(frozen=True, eq=False)
+class Carriageway:
+    """Driving lanes of one travel direction over one or more linked roads (see the module)."""
+
+    index: int
+    legs: tuple[Leg, ...]
+    pieces: tuple[LanePiece, ...]
+    length: float
+    ahead: float
+    exit_junction: str | None
+
+    @property
+    def label(self) -> str:
+        """``road 3``, or ``road 3 (against s)``; ``roads 1, 2`` over several roads."""
+        if len(self.legs) == 1:
+            leg = self.legs[0]
+            return f"road {leg.road}" + ("" if leg.direction > 0 else " (against s)")
+        return "roads " + ", ".join(leg.road for leg in self.legs)
+
+    @property
+    def roads(self) -> tuple[str, ...]:
+        return tuple(leg.road for leg in self.legs)
+
+    def leg_at(self, s: float) -> Leg:
+        """The leg containing carriageway position ``s`` (the later one at a joint)."""
+        for leg in reversed(self.legs):
+            if s >= leg.start:
+                return leg
+        return self.legs[0]
+
+    def lane_count(self, s: float) -> int:
+        """Driving lanes travelling this way at ``s`` (0 where there are none)."""
+        for piece in self.pieces:
+            if piece.s0 <= s <= piece.s1:
+                return piece.count
+        return 0
+
+    @property
+    def most_lanes(self) -> int:
+        return max((p.count for p in self.pieces), default=0)
+
+
+def carriageways(network: RoadNetwork) -> tuple[Carriageway, ...]:
+    """The carriageways of ``network`` (built on first use, then cached on it)."""
+    cached = network.cache.get("carriageways")
+    if cached is None:
+        cached = network.cache["carriageways"] = _build(network)
+    return cast(tuple[Carriageway, ...], cached)
+
+
+def carriageway_of(network: RoadNetwork, road: str, direction: int) -> tuple[Carriageway, Leg]:
+    """The carriageway that drives road ``road`` in ``direction``, and that leg of it.
+
+    Raises:
+        KeyError: the road is inside a junction or has no driving lane that way.
+    """
+    for cw in carriageways(network):
+        for leg in cw.legs:
+            if leg.road == road and leg.direction == direction:
+                return cw, leg
+    raise KeyError((road, direction))
+
+
+def lane_at(network: RoadNetwork, cw: Carriageway, s: float, number: int) -> LaneRef:
+    """The driving lane numbered ``number`` from the right at carriageway position ``s``.
+
+    Raises:
+        ValueError: no such lane there (the message says how many there are).
+    """
+    leg = cw.leg_at(s)
+    road_s = leg.road_s(s)
+    section = network.roads[leg.road].section_at(road_s)
+    if leg.direction < 0 and road_s <= section.s0 and section.index > 0:
+        # travelling against s, a section's start is where it is left: the earlier
+        # section is the one entered there
+        section = network.roads[leg.road].sections[section.index - 1]
+    lanes = driving_lanes_right_to_left(network, leg.road, section.index, leg.direction)
+    if not 1 <= number <= len(lanes):
+        raise ValueError(
+            f"{cw.label} has {len(lanes)} driving lane(s) at s={s:g}, so there is no lane {number}"
+        )
+    return lanes[number - 1]
+
+
+def lane_number(network: RoadNetwork, ref: LaneRef) -> int:
+    """The OSC2 number of driving lane ``ref`` counted from the right (1 = rightmost)."""
+    return network.osc2_lane_index(ref, "right")
+
+
+def start_pose(
+    network: RoadNetwork, cw: Carriageway, s: float, number: int, offset: float = 0.0
+) -> tuple[LaneRef, float, WorldPose]:
+    """Where an actor at carriageway position ``s`` in lane ``number`` (from the right),
+    ``offset`` m left of the lane centre, stands: its lane, road ``s`` and world pose."""
+    ref = lane_at(network, cw, s, number)
+    road_s = cw.leg_at(s).road_s(s)
+    return ref, road_s, network.lane_to_world(ref, road_s, offset)
+
+
+# ---------------------------------------------------------------- building
+
+
+def _has_lanes(network: RoadNetwork, road: str, direction: int) -> bool:
+    return any(
+        lane.drivable and lane.direction == direction
+        for section in network.roads[road].sections
+        for lane in section.lanes
+    )
+
+
+def _exit_lanes(network: RoadNetwork, road: str, direction: int) -> list[LaneRef]:
+    sections = network.roads[road].sections
+    section = sections[-1] if direction > 0 else sections[0]
+    return [lane.ref for lane in section.lanes if lane.drivable and lane.direction == direction]
+
+
+def _entry_lanes(network: RoadNetwork, road: str, direction: int) -> list[LaneRef]:
+    sections = network.roads[road].sections
+    section = sections[0] if direction > 0 else sections[-1]
+    return [lane.ref for lane in section.lanes if lane.drivable and lane.direction == direction]
+
+
+def _following(network: RoadNetwork, leg: tuple[str, int], of: str) -> set[tuple[str, int]]:
+    """The (road, direction) legs that the lanes leaving (``of="next"``) or entering
+    (``"previous"``) ``leg`` lead to, on other roads."""
+    road, direction = leg
+    found: set[tuple[str, int]] = set()
+    if of == "next":
+        for ref in _exit_lanes(network, road, direction):
+            for nxt in network.next_lanes(ref):
+                if nxt.road != road:
+                    found.add((nxt.road, network.lane(nxt).direction))
+    else:
+        for ref in _entry_lanes(network, road, direction):
+            for prev in network.previous_lanes(ref):
+                if prev.road != road:
+                    found.add((prev.road, network.lane(prev).direction))
+    return found
+
+
+def _build(network: RoadNetwork) -> tuple[Carriageway, ...]:
+    legs = [
+        (road.id, d)
+        for road in network.roads.values()
+        if road.junction is None
+        for d in (1, -1)
+        if _has_lanes(network, road.id, d)
+    ]
+    candidates = set(legs)
+    nxt: dict[tuple[str, int], tuple[str, int]] = {}
+    for leg in legs:
+        after = _following(network, leg, "next")
+        if len(after) == 1:
+            other = next(iter(after))
+            if other in candidates and _following(network, other, "previous") == {leg}:
+                nxt[leg] = other
+    has_previous = set(nxt.values())
+    chains: list[list[tuple[str, int]]] = []
+    used: set[tuple[str, int]] = set()
+    for first in [leg for leg in legs if leg not in has_previous] + legs:
+        if first in used:
+            continue
+        chain = [first]
+        used.add(first)
+        while chain[-1] in nxt and nxt[chain[-1]] not in used:
+            chain.append(nxt[chain[-1]])
+            used.add(chain[-1])
+        chains.append(chain)
+    return tuple(_carriageway(network, index, chain) for index, chain in enumerate(chains))
+
+
+def _carriageway(network: RoadNetwork, index: int, chain: list[tuple[str, int]]) -> Carriageway:
+    legs: list[Leg] = []
+    pieces: list[LanePiece] = []
+    start = 0.0
+    for road_id, direction in chain:
+        road = network.roads[road_id]
+        leg = Leg(road_id, direction, start, road.length)
+        legs.append(leg)
+        sections = road.sections if direction > 0 else tuple(reversed(road.sections))
+        for section in sections:
+            lanes = [
+                lane for lane in section.lanes if lane.drivable and lane.direction == direction
+            ]
+            width = 0.0
+            if lanes:
+                width = min(
+                    float(
+                        np.min(
+                            section.borders[section.position(lane.id)]
+                            - section.borders[section.position(lane.id) + 1]
+                        )
+                    )
+                    for lane in lanes
+                )
+            a, b = sorted((leg.carriageway_s(section.s0), leg.carriageway_s(section.s1)))
+            if pieces and pieces[-1].count == len(lanes) and abs(pieces[-1].s1 - a) < 1e-9:
+                last = pieces[-1]
+                pieces[-1] = LanePiece(last.s0, b, last.count, min(last.width, width))
+            else:
+                pieces.append(LanePiece(a, b, len(lanes), width))
+        start += road.length
+    last_road, last_direction = chain[-1]
+    road = network.roads[last_road]
+    link = road.successor if last_direction > 0 else road.predecessor
+    junction = link.element_id if link is not None and link.element_type == "junction" else None
+    return Carriageway(
+        index=index,
+        legs=tuple(legs),
+        pieces=tuple(p for p in pieces if p.s1 > p.s0),
+        length=start,
+        ahead=_ahead(network, last_road, last_direction),
+        exit_junction=junction,
+    )
+
+
+def _ahead(network: RoadNetwork, road: str, direction: int) -> float:
+    """How far the lanes leaving ``road`` driven ``direction`` lead on (capped)."""
+    best = 0.0
+    end = network.roads[road].length if direction > 0 else 0.0
+    for ref in _exit_lanes(network, road, direction):
+        for span in network.reachable(ref, end, AHEAD_CAP):
+            best = max(best, span.distance + abs(span.s_to - span.s_from))
+    return min(best, AHEAD_CAP)
