@@ -74,7 +74,7 @@ def build_parser() -> argparse.ArgumentParser:
         "or diverged physics, 128 + N stopped by signal N (130 SIGINT, 143 SIGTERM, "
         "129 SIGHUP); what was recorded is written first",
     )
-    p.add_argument("file", metavar="FILE", help="the .osc file")
+    p.add_argument("file", metavar="FILE", nargs="?", help="the .osc file")
     p.add_argument("--scenario", metavar="NAME", help="the scenario to run (when several)")
     p.add_argument(
         "--seed",
@@ -106,6 +106,55 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="S",
         help="physics step (default 0.002)",
     )
+    p.add_argument(
+        "--sut",
+        metavar="MODULE:CLASS",
+        help="a system under test drives the actor named sut or ego (module:Class, or "
+        "path/file.py:Class; default: [tool.osc2run] sut in pyproject.toml)",
+    )
+    p.add_argument("--sut-actor", metavar="NAME", help="the actor the system under test drives")
+    p.add_argument(
+        "--bin",
+        metavar="ITEM=INDEX",
+        help="draw the witness inside bucket INDEX of cover item ITEM (replays a campaign's "
+        "directed run)",
+    )
+    c = p.add_argument_group("campaigns (docs/campaigns.md)")
+    c.add_argument("--runs", metavar="N", help="run N concrete tests of the scenario: a campaign")
+    c.add_argument(
+        "--jobs",
+        metavar="J",
+        help="workers (default: one per processor; with --engine ray, the number of Ray actors)",
+    )
+    c.add_argument(
+        "--engine",
+        choices=("local", "ray"),
+        default="local",
+        help="local process pool (default) or a Ray cluster",
+    )
+    c.add_argument(
+        "--address",
+        metavar="auto|HOST:PORT",
+        help="the Ray cluster (default: a local Ray instance)",
+    )
+    c.add_argument(
+        "--strategy",
+        choices=("random", "cover"),
+        default="random",
+        help="random: seeds S..S+N-1; cover: fill the scenario's cover bins",
+    )
+    c.add_argument(
+        "--run-timeout",
+        metavar="S",
+        help="wall-clock limit of one run in seconds "
+        "(default 600): a run over it is recorded as error",
+    )
+    c.add_argument(
+        "--resume",
+        metavar="DIR",
+        help="finish the campaign in DIR: its finished "
+        "runs are kept (FILE and options default to the campaign's)",
+    )
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -114,6 +163,18 @@ def build_parser() -> argparse.ArgumentParser:
 def _parse(argv: list[str]) -> argparse.Namespace:
     """The command line, every option checked (UsageError, OptionError)."""
     args = build_parser().parse_args(argv)
+    args.given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
+    args.campaign = args.runs is not None or args.resume is not None
+    if args.campaign:
+        from osc2runner.campaign.command import campaign_arguments
+
+        campaign_arguments(args)
+    elif args.file is None:
+        raise UsageError("the following arguments are required: FILE")
+    else:
+        for name in ("jobs", "address", "run_timeout"):
+            if getattr(args, name) is not None:
+                raise UsageError(f"--{name.replace('_', '-')} needs --runs N (a campaign)")
     if args.plot and not args.out:
         raise UsageError("--plot needs --out DIR")
     args.seed = _checked(args.seed, int, check_seed)
@@ -128,7 +189,39 @@ def _parse(argv: list[str]) -> argparse.Namespace:
     args.dt_control, args.dt_physics = control, physics
     if args.out is not None:
         args.out = check_out(args.out)  # a bad --out is found before the checker runs
+    args.sut_spec = _sut(args)
+    if args.bin is not None:
+        from osc2runner.campaign.steering import bin_ref
+
+        try:
+            args.bin = bin_ref(args.bin)
+        except ValueError as exc:
+            raise UsageError(f"--bin {exc}") from None
     return args
+
+
+def _sut(args: argparse.Namespace) -> Any:
+    """The system under test of the command line or ``[tool.osc2run]``; checked by
+    importing it (a usage error when it cannot be used)."""
+    from osc2runner.sut.loading import SutError, SutSpec, configured_sut
+
+    spec: SutSpec | None
+    try:
+        if args.sut is not None:
+            spec = SutSpec(args.sut, args.sut_actor).resolved()
+        elif args.file is not None:
+            spec, _ = configured_sut(args.file)
+            if spec is not None and args.sut_actor is not None:
+                spec = SutSpec(spec.target, args.sut_actor)
+        else:
+            spec = None
+        if spec is None and args.sut_actor is not None:
+            raise UsageError("--sut-actor needs --sut MODULE:CLASS")
+        if spec is not None:
+            spec.load()
+    except SutError as exc:
+        raise UsageError(f"--sut: {exc}") from None
+    return spec
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -162,6 +255,10 @@ def _main(args_list: list[str]) -> int:
         stream=sys.stderr,
     )
     try:
+        if args.campaign:
+            from osc2runner.campaign.command import run_command
+
+            return run_command(args, sys.stdout, sys.stderr)
         return _run(args, sys.stdout, sys.stderr)
     except BrokenPipeError:  # the reader went away (`osc2run ... | head`): stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -187,13 +284,17 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
 
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    prepared = prepare(
-        args.file,
-        scenario=args.scenario,
-        seed=args.seed,
-        dt_control=args.dt_control,
-        dt_physics=args.dt_physics,
-    )
+    if args.bin is not None:
+        prepared = _prepare_in_bin(args)
+    else:
+        prepared = prepare(
+            args.file,
+            scenario=args.scenario,
+            seed=args.seed,
+            dt_control=args.dt_control,
+            dt_physics=args.dt_physics,
+            sut=args.sut_spec,
+        )
     interactive = out.isatty() and not args.quiet
     try:
         if interactive:
@@ -207,6 +308,26 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     if result.outcome.status == "error":  # the physics diverged (a bug is re-raised)
         return EXIT_ERROR
     return EXIT_OK if result.success else EXIT_FAILURE
+
+
+def _prepare_in_bin(args: argparse.Namespace) -> Any:
+    """A run whose witness is drawn inside a cover bin (``--bin``), as a campaign's
+    directed run is."""
+    from osc2runner.campaign.steering import cover_items, directed_witness
+    from osc2runner.runner import check_file, compile_checked, prepare_checked
+
+    checked = check_file(args.file, scenario=args.scenario)
+    compiled = compile_checked(checked, seed=0, dt_control=args.dt_control)
+    items = cover_items(checked, compiled.ctx.coverage.items)
+    witness = directed_witness(checked, items, args.bin, args.seed)
+    return prepare_checked(
+        checked,
+        seed=args.seed,
+        dt_control=args.dt_control,
+        dt_physics=args.dt_physics,
+        sut=args.sut_spec,
+        witness=witness,
+    )
 
 
 def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any:

@@ -42,6 +42,7 @@ from osc2check.diagnostics import Severity
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
+from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.registry import standard_registry
@@ -49,7 +50,7 @@ from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
 from osc2runner.execution.coverage import RunCoverage
-from osc2runner.execution.drivers import controllers_for
+from osc2runner.execution.drivers import controllers_for, drive_with_sut
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts
@@ -61,16 +62,24 @@ from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, write_data, write_metadata
 from osc2runner.sim import World, versions
+from osc2runner.sim.vehicle import VehicleParams
+from osc2runner.sut.driver import sut_info
+from osc2runner.sut.loading import SutError, SutSpec, choose_actor
 
 __all__ = [
+    "Checked",
     "Compiled",
     "Prepared",
     "RunInterrupted",
     "RunOutcome",
     "RunResult",
+    "build_world",
+    "check_file",
+    "compile_checked",
     "compile_file",
     "execute",
     "prepare",
+    "prepare_checked",
     "run",
 ]
 
@@ -147,6 +156,7 @@ class Prepared(Compiled):
     """A compiled scenario with its world built at the witness's starts (``prepare``)."""
 
     world: World | None = None
+    sut: dict[str, str] | None = None  # the system under test: its class and actor
 
 
 # ---------------------------------------------------------------------- preparation
@@ -176,24 +186,40 @@ def _choose_scenario(analysis: Analysis, uri: str, name: str | None) -> Symbol:
         raise ScenarioError([RunProblem(f"{uri}: {exc}{choices}")]) from None
 
 
-def compile_file(
-    path: str | Path,
-    *,
-    scenario: str | None = None,
-    seed: int = 0,
-    dt_control: float = 0.05,
-    source: str | None = None,
-) -> Compiled:
-    """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
-    for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
-    """
+@dataclass
+class Checked:
+    """A file checked once and its root scenario chosen (:func:`check_file`): what the
+    runs of many seeds share (a campaign's worker checks once and compiles per seed)."""
+
+    uri: str
+    analysis: Analysis
+    scenario: Symbol
+
+
+def check_file(
+    path: str | Path, *, scenario: str | None = None, source: str | None = None
+) -> Checked:
+    """Parse, resolve and verify a file and choose the scenario to run; raises
+    ScenarioError for input errors (error diagnostics, no such scenario)."""
     uri, text = _read(path, source)
     analysis = analyze([SourceInput(uri, text)])
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     if errors:
         raise ScenarioError([], diagnostics=errors, texts=analysis.texts)
-    sym = _choose_scenario(analysis, uri, scenario)
-    instance = instantiate(analysis, uri, sym, seed)
+    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
+
+
+def compile_checked(
+    checked: Checked,
+    *,
+    seed: int = 0,
+    dt_control: float = 0.05,
+    witness: Witness | None = None,
+) -> Compiled:
+    """Instantiate the checked scenario for ``seed`` (or with ``witness``) and compile it.
+    The blackboard is cleared first: a compiled tree belongs to one run."""
+    analysis, uri, sym = checked.analysis, checked.uri, checked.scenario
+    instance = instantiate(analysis, uri, sym, seed, witness)
     model = analysis.programs[uri].model
     fresh_blackboard()
     run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
@@ -207,6 +233,75 @@ def compile_file(
     return Compiled(uri, analysis, instance, env, compiled)
 
 
+def compile_file(
+    path: str | Path,
+    *,
+    scenario: str | None = None,
+    seed: int = 0,
+    dt_control: float = 0.05,
+    source: str | None = None,
+) -> Compiled:
+    """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
+    for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
+    """
+    checked = check_file(path, scenario=scenario, source=source)
+    return compile_checked(checked, seed=seed, dt_control=dt_control)
+
+
+def build_world(
+    c: Compiled, *, dt_control: float = 0.05, dt_physics: float = 0.002, sut: SutSpec | None = None
+) -> Prepared:
+    """The world of a compiled scenario at the witness's starts, its controllers (the
+    system under test in its actor's seat when ``sut`` is given) and its variables."""
+    ctx = c.ctx
+    specs, problems = start_specs(c.instance.actors, hitches_at_start(c.compiled.start_uses))
+    if problems:
+        raise ScenarioError(problems, texts=c.analysis.texts)
+    sut_actor = _sut_actor(c, sut) if sut is not None else None
+    world = World(ctx.network, specs, dt_control=dt_control, dt_physics=dt_physics)
+    routes = {a.name: a.route for a in c.instance.witness.actors}
+    controllers = controllers_for(world, routes, ctx.seed)
+    ctx.attach(world, controllers)
+    if sut is not None and sut_actor is not None:
+        params = world.params(sut_actor)
+        assert isinstance(params, VehicleParams)
+        instance = sut.make()
+        reset = getattr(instance, "reset", None)
+        if callable(reset):
+            reset(sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name))
+        drive_with_sut(controllers, world, ctx.states, sut_actor, instance)
+    for name, fn in c.env.variable_inits:
+        ctx.variables[name] = fn()
+    prepared = Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world)
+    if sut is not None and sut_actor is not None:
+        prepared.sut = {"class": sut.target, "actor": sut_actor}
+    return prepared
+
+
+def _sut_actor(c: Compiled, sut: SutSpec) -> str:
+    fields = {a.name: a.kind for a in c.instance.actors}
+    try:
+        return choose_actor(fields, sut.actor)
+    except SutError as exc:
+        raise ScenarioError(
+            [RunProblem(f"--sut: {exc}", c.scenario.name_span)], texts=c.analysis.texts
+        ) from None
+
+
+def prepare_checked(
+    checked: Checked,
+    *,
+    seed: int = 0,
+    dt_control: float = 0.05,
+    dt_physics: float = 0.002,
+    sut: SutSpec | None = None,
+    witness: Witness | None = None,
+) -> Prepared:
+    """Compile a checked scenario for ``seed`` and build its world (see :func:`prepare`)."""
+    c = compile_checked(checked, seed=seed, dt_control=dt_control, witness=witness)
+    return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+
+
 def prepare(
     path: str | Path,
     *,
@@ -215,19 +310,11 @@ def prepare(
     dt_control: float = 0.05,
     dt_physics: float = 0.002,
     source: str | None = None,
+    sut: SutSpec | None = None,
 ) -> Prepared:
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
     c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
-    ctx = c.ctx
-    specs, problems = start_specs(c.instance.actors, hitches_at_start(c.compiled.start_uses))
-    if problems:
-        raise ScenarioError(problems, texts=c.analysis.texts)
-    world = World(ctx.network, specs, dt_control=dt_control, dt_physics=dt_physics)
-    routes = {a.name: a.route for a in c.instance.witness.actors}
-    ctx.attach(world, controllers_for(world, routes, seed))
-    for name, fn in c.env.variable_inits:
-        ctx.variables[name] = fn()
-    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world)
+    return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
 
 
 # ---------------------------------------------------------------------- running
@@ -245,6 +332,7 @@ def run(
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
     source: str | None = None,
+    sut: SutSpec | str | None = None,
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
 
@@ -261,6 +349,8 @@ def run(
         plot: also write PNG plots into ``out``.
         progress: called as ``progress(sim_time, limit, wall_seconds)`` every simulated second.
         source: the file's text, instead of reading ``path``.
+        sut: the system under test (:mod:`osc2runner.sut`): a ``SutSpec``, or
+            ``"module:Class"`` for the actor named ``sut`` or ``ego``.
 
     The result's outcome is ``error`` (and the files are written) when the physics
     diverged. Called from the main thread, the run installs handlers for SIGINT,
@@ -270,6 +360,7 @@ def run(
     Raises:
         OptionError: a bad option, ``out`` included (a ``ValueError``; nothing ran).
         ScenarioError: the input has errors (nothing ran).
+        SutError: the system under test cannot be loaded (a ``ValueError``; nothing ran).
         RunInterrupted: a signal or Ctrl-C; its ``result`` has what was recorded (and written).
     """
     check_seed(seed)
@@ -277,6 +368,10 @@ def run(
     check_duration(duration)
     if out is not None:
         check_out(out)
+    spec = SutSpec(sut) if isinstance(sut, str) else sut
+    if spec is not None:
+        spec = spec.resolved()
+        spec.load()
     prepared = prepare(
         path,
         scenario=scenario,
@@ -284,6 +379,7 @@ def run(
         dt_control=dt_control,
         dt_physics=dt_physics,
         source=source,
+        sut=spec,
     )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 
@@ -450,6 +546,7 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
             },
         },
         "notes": [*prepared.compiled.notes, *prepared.instance.witness.notes],
+        **({"sut": prepared.sut} if prepared.sut is not None else {}),
         "outcome": {
             "status": outcome.status,
             "reason": outcome.reason,

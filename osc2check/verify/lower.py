@@ -771,7 +771,7 @@ class Lowerer:
 
     def term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
         """``expr`` as a solver term in the instance ``scope`` (parameters become the
-        variables of their paths); raises NotEncodable when it cannot be one."""
+        variables of their paths; NotEncodable when the solver cannot take it)."""
         return self._term(expr, scope)
 
     def _term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
@@ -812,6 +812,12 @@ class Lowerer:
                 inner = self._term(expr.operand, scope)
                 if expr.op == "not":
                     return ir.op("not", inner)
+                if (
+                    expr.op == "-"
+                    and isinstance(inner, ir.Const)
+                    and not isinstance(inner.value, bool)
+                ):
+                    return ir.const(-inner.value)  # `-75` is a constant (a set's member)
                 return ir.op("neg", inner) if expr.op == "-" else inner
             case ast.Binary():
                 return self._binary(expr, scope)

@@ -588,7 +588,7 @@ def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[s
         if atom.kind != "eq":
             continue
         free = [n for n in atom.names if n not in fixed and n not in dependent]
-        if len(free) >= 2:
+        if free:  # one left: it follows from unknowns that follow from others
             left = term.args[0]
             chosen = (
                 left.var.name if isinstance(left, ir.Ref) and left.var.name in free else free[-1]

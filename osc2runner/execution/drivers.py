@@ -29,7 +29,13 @@ from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
 
-__all__ = ["PedestrianController", "PedestrianSpeed", "WalkerLateral", "controllers_for"]
+__all__ = [
+    "PedestrianController",
+    "PedestrianSpeed",
+    "WalkerLateral",
+    "controllers_for",
+    "drive_with_sut",
+]
 
 
 class PedestrianSpeed:
@@ -262,3 +268,17 @@ def controllers_for(
             ped.yaw = state.yaw if not math.isnan(state.yaw) else None
             controllers[name] = ped
     return controllers
+
+
+def drive_with_sut(
+    controllers: dict[str, Any], world: World, states: Any, name: str, sut: Any
+) -> None:
+    """Put the system under test ``sut`` in the seat of actor ``name``: its controller
+    becomes the driver model of a :class:`~osc2runner.sut.driver.SutDriver` (the
+    scenario's behaviours set its targets: the SUT's intent), which ``states`` (the
+    run's states of each tick) feed."""
+    from osc2runner.sut.driver import SutDriver
+
+    inner = controllers[name]
+    assert isinstance(inner, VehicleController)
+    controllers[name] = SutDriver(name, sut, inner, world.network, states)

@@ -8,7 +8,8 @@ Each control tick (50 ms by default):
 2. the behaviour tree is ticked once (behaviours set controller targets); a
    :class:`~osc2runner.execution.context.RunFault` raised by the scenario in
    1 or 2 fails the run at this tick;
-3. every controller turns its targets and its actor's state into inputs;
+3. every controller turns its targets and its actor's state into inputs (a
+   system under test that fails here ends the run as ``error``);
 4. the world advances one control step (its physics sub-steps);
 5. every actor's state is read once, and recorded; collisions and road
    departures come back as world events.
@@ -43,6 +44,7 @@ from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.execution.signals import Interrupts, signal_name
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
+from osc2runner.sut.driver import SutFault
 
 __all__ = ["RunOutcome", "TickLoop", "Ticked"]
 
@@ -124,7 +126,10 @@ class TickLoop:
         if outcome is not None:
             return outcome
         states, controllers = ctx.states, ctx.controllers
-        inputs = {name: c.step(states[name]) for name, c in controllers.items()}
+        try:
+            inputs = {name: c.step(states[name]) for name, c in controllers.items()}
+        except SutFault as fault:  # the system under test failed: its outcome, not a bug
+            return RunOutcome("error", str(fault), ctx.tick, ctx.time)
         events = world.step_control(inputs)
         if (bad := world.diverged()) is not None:
             return _diverged(world, *bad)

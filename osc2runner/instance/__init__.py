@@ -35,29 +35,36 @@ class ScenarioInstance:
     network: RoadNetwork
 
 
-def instantiate(analysis: Analysis, uri: str, scenario: Symbol, seed: int) -> ScenarioInstance:
-    """The instance of ``scenario`` for ``seed``; ScenarioError when it has none."""
+def instantiate(
+    analysis: Analysis, uri: str, scenario: Symbol, seed: int, witness: Witness | None = None
+) -> ScenarioInstance:
+    """The instance of ``scenario`` for ``seed``; ScenarioError when it has none.
+
+    ``witness`` is the one to run instead of the seed's own (a campaign's witness
+    drawn inside a coverage bin); None draws the seed's.
+    """
     model = analysis.programs[uri].model
-    witness = solve(analysis, scenario=scenario.name, seed=seed, uri=uri)
-    if isinstance(witness, Unsolvable):
+    drawn = witness if witness is not None else solve(analysis, scenario.name, seed, uri)
+    if isinstance(drawn, Unsolvable):
         span = scenario.name_span
-        if witness.status == "unsat":
+        if drawn.status == "unsat":
             raise ScenarioError(
                 [RunProblem(f"scenario `{scenario.name}` has no solution", span)],
-                diagnostics=witness.diagnostics,
+                diagnostics=drawn.diagnostics,
                 texts=analysis.texts,
             )
         raise ScenarioError(
             [
                 RunProblem(
                     f"the solver could not decide scenario `{scenario.name}` "
-                    f"({witness.status}); nothing to run",
+                    f"({drawn.status}); nothing to run",
                     span,
                 )
             ],
-            diagnostics=witness.diagnostics,
+            diagnostics=drawn.diagnostics,
             texts=analysis.texts,
         )
+    witness = drawn
     if witness.unused_map is not None:
         raise ScenarioError(
             [

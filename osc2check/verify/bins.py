@@ -1,0 +1,220 @@
+"""Coverage bins as constraints: witnesses drawn inside a ``cover`` item's bucket.
+
+A campaign that fills a scenario's ``cover`` bins (``osc2run --strategy cover``)
+steers the witness: a bucket of an item whose expression the solver can encode
+(parameters of the scenario, their arithmetic, enums and booleans; not run-time
+state such as ``hero.speed`` or a ``var``) becomes a constraint added to the
+scenario's problem —
+
+* ``low <= e < high`` for a numeric bucket (``<= high`` for the last, closed
+  one), bounds in SI units;
+* ``e == v`` for an enum member or a boolean;
+
+— and the witness is drawn from the problem with it (:func:`witness_in`), with
+the seed as usual. A bucket whose problem has no model is *unreachable*: no
+concrete instance of the scenario lands in it (:func:`bin_status`).
+
+The buckets themselves (their bounds, units) are the runner's: this module
+takes an interval or a value and never decides what a bucket is.
+"""
+
+from __future__ import annotations
+
+import copy
+from fractions import Fraction
+
+from osc2check.semantics.model import Model
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.source import Span
+from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
+from osc2check.verify import ir, quick
+from osc2check.verify.lower import InstanceScope, Lowerer, NotEncodable, TextOf
+from osc2check.verify.witness import Witness, build_witness
+from osc2check.verify.z3_backend import (
+    DEFAULT_RLIMIT,
+    DEFAULT_TIMEOUT_MS,
+    active_constraints,
+    solve,
+)
+
+__all__ = [
+    "BinStatus",
+    "NotSteerable",
+    "bin_status",
+    "cover_declaration",
+    "cover_expression",
+    "cover_term",
+    "in_bucket",
+    "is_value",
+    "term_value",
+    "witness_in",
+    "with_constraint",
+]
+
+BinStatus = str  # "reachable" | "unreachable" | "unknown"
+
+
+class NotSteerable(Exception):
+    """A cover item whose value the solver cannot choose (the message says why)."""
+
+
+def cover_declaration(
+    model: Model, scenario: Symbol, line: int, column: int
+) -> ast.CoverageDecl | None:
+    """The ``cover`` declared at ``line``:``column`` in the scenario or its ancestors."""
+    for owner in model.ancestors(scenario):
+        decl = owner.decl
+        if decl is None:
+            continue
+        for node in walk(decl):
+            if (
+                isinstance(node, ast.CoverageDecl)
+                and node.span.line == line
+                and node.span.column == column
+            ):
+                return node
+    return None
+
+
+def cover_expression(decl: ast.CoverageDecl) -> ast.Node | None:
+    """The value a ``cover``/``record`` samples: its ``expression:``, else its name (the
+    field it is named after, §7.5)."""
+    named: dict[str, ast.Node] = {}
+    positional: list[ast.Node] = []
+    for arg in decl.arguments:
+        if isinstance(arg, ast.NamedArgument):
+            named[arg.name.text] = arg.value
+        elif isinstance(arg, ast.PositionalArgument):
+            positional.append(arg.value)
+    if "expression" in named:
+        return named["expression"]
+    return named.get("name", positional[0] if positional else None)
+
+
+def _runtime_reference(model: Model, expr: ast.Node) -> str | None:
+    """The first name in ``expr`` whose value exists only at run time (a ``var``, a
+    method call), or None."""
+    for node in walk(expr):
+        if isinstance(node, ast.NameRef):
+            sym = model.references.get(node.name.name)
+        elif isinstance(node, ast.MemberAccess):
+            sym = model.references.get(node.member)
+        elif isinstance(node, ast.Call):
+            return "a method call"
+        else:
+            continue
+        if sym is not None and sym.kind is SymbolKind.VARIABLE:
+            return f"`{sym.name}` (a variable, known at run time)"
+    return None
+
+
+def cover_term(
+    model: Model,
+    scenario: Symbol,
+    problem: ir.ConstraintProblem,
+    expr: ast.Node,
+    text_of: TextOf,
+) -> tuple[ir.ConstraintProblem, ir.Term]:
+    """The solver's term of a cover item's expression, in SI units, over the scenario's
+    parameters, and the problem it is a term of (a copy of ``problem`` when the
+    expression needs variables the problem did not have); NotSteerable otherwise."""
+    why = _runtime_reference(model, expr)
+    if why is not None:
+        raise NotSteerable(f"its value depends on {why}")
+    own = _copy(problem)
+    lowerer = Lowerer(model, own, text_of)
+    scope = InstanceScope("", scenario, "", scenario, actor="actor" if scenario.actor else None)
+    lowerer.instances[""] = scenario
+    try:
+        term = lowerer.term(expr, scope)
+    except NotEncodable as exc:
+        raise NotSteerable(str(exc)) from None
+    added = set(own.variables) - set(problem.variables)
+    if added:
+        raise NotSteerable(
+            f"it reads {', '.join(f'`{n}`' for n in sorted(added))}, which no constraint decides"
+        )
+    return own, term
+
+
+def _copy(problem: ir.ConstraintProblem) -> ir.ConstraintProblem:
+    own = copy.copy(problem)
+    own.variables = dict(problem.variables)
+    own.constraints = list(problem.constraints)
+    own.removed_defaults = set(problem.removed_defaults)
+    return own
+
+
+def in_bucket(term: ir.Term, low: Fraction, high: Fraction, closed: bool) -> ir.Term:
+    """``low <= term < high`` (``<= high`` when ``closed``)."""
+    upper = "<=" if closed else "<"
+    return ir.op("and", ir.op(">=", term, ir.const(low)), ir.op(upper, term, ir.const(high)))
+
+
+def is_value(term: ir.Term, value: Fraction | bool) -> ir.Term:
+    """``term == value`` (an enum member's number, or a boolean)."""
+    return ir.op("==", term, ir.const(value))
+
+
+def with_constraint(
+    problem: ir.ConstraintProblem, term: ir.Term, text: str, span: Span | None = None
+) -> ir.ConstraintProblem:
+    """A copy of ``problem`` with the hard constraint ``term`` added (``text`` names it)."""
+    own = _copy(problem)
+    own.add(ir.Constraint(term, span or problem.span, "keep", text))
+    return own
+
+
+def bin_status(
+    problem: ir.ConstraintProblem,
+    term: ir.Term,
+    *,
+    rlimit: int = DEFAULT_RLIMIT,
+    timeout_ms: int = DEFAULT_TIMEOUT_MS,
+) -> BinStatus:
+    """Whether some instance of the scenario satisfies ``term`` (a bin's constraint)."""
+    outcome = solve(
+        with_constraint(problem, term, "coverage bin"), rlimit=rlimit, timeout_ms=timeout_ms
+    )
+    return {"sat": "reachable", "unsat": "unreachable"}.get(outcome.status, "unknown")
+
+
+def witness_in(
+    problem: ir.ConstraintProblem,
+    term: ir.Term,
+    seed: int,
+    *,
+    rlimit: int = DEFAULT_RLIMIT,
+    timeout_ms: int = DEFAULT_TIMEOUT_MS,
+) -> Witness | None:
+    """The witness of ``seed`` among the instances that satisfy ``term``; None when none
+    does (or the solver cannot tell)."""
+    own = with_constraint(problem, term, "coverage bin")
+    outcome = solve(own, seed=seed, rlimit=rlimit, timeout_ms=timeout_ms)
+    if outcome.status != "sat":
+        return None
+    active = active_constraints(own, outcome)
+    return build_witness(own, outcome.values, active, seed)
+
+
+def term_value(
+    term: ir.Term, problem: ir.ConstraintProblem, witness: Witness
+) -> Fraction | bool | None:
+    """The value of ``term`` in ``witness`` (None when it reads a value the witness lacks)."""
+    values: dict[str, Fraction | bool] = {}
+    for p in witness.parameters:
+        var = problem.variables.get(p.name)
+        if var is None:
+            continue
+        if isinstance(p.value, str):
+            number = next((v for n, v in var.enum if n == p.value), None)
+            if number is not None:
+                values[p.name] = Fraction(number)
+        else:
+            values[p.name] = p.value
+    try:
+        value = quick.evaluate(term, values)
+    except (KeyError, TypeError, ZeroDivisionError):
+        return None
+    return value if isinstance(value, (bool, Fraction)) else Fraction(value)

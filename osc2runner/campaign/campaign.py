@@ -1,0 +1,374 @@
+"""``run_campaign``: one logical scenario, many concrete runs, and what they found.
+
+1. The file is checked once here (input errors stop everything: nothing runs),
+   the campaign folder made, and the runs planned
+   (:mod:`osc2runner.campaign.plan`: ``random`` seeds or ``cover`` bins).
+2. With ``resume``, the runs of the folder whose ``record.json`` shows them
+   finished are kept and not run again; the folder must hold a campaign of the
+   same text of the same file with the same run options.
+3. An engine runs the rest (:class:`~osc2runner.campaign.pool.LocalPool` or
+   :class:`~osc2runner.campaign.ray_engine.RayEngine`); each record is written
+   to ``runs/<seed>/record.json`` as it arrives and reported to ``progress``.
+4. SIGINT, SIGTERM and SIGHUP stop the campaign: no new run starts, the runs in
+   progress end at a tick boundary with their files written (``interrupted``),
+   and the outputs are written with what finished; ``resume`` does the rest.
+5. ``campaign.json``, ``runs.csv``, ``junit.xml`` and ``report.html`` are
+   written (:mod:`~osc2runner.campaign.outputs`, :mod:`~osc2runner.campaign.report`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import logging
+import os
+import signal
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+from osc2runner.campaign.outputs import (
+    read_campaign,
+    read_records,
+    replay_command,
+    write_campaign,
+    write_junit,
+    write_record,
+    write_runs_csv,
+)
+from osc2runner.campaign.plan import CoverPlan, plan_cover, plan_random
+from osc2runner.campaign.steering import cover_items
+from osc2runner.campaign.summary import coverage_table, kpi_figures, summarize, worst_runs
+from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
+from osc2runner.errors import RunProblem, ScenarioError
+from osc2runner.execution.signals import SIGNALS, signal_name
+from osc2runner.output.files import output_folder
+from osc2runner.runner import Checked, check_file, compile_checked
+from osc2runner.sut.loading import SutSpec
+
+__all__ = [
+    "ENGINES",
+    "STRATEGIES",
+    "CampaignError",
+    "CampaignOptions",
+    "CampaignResult",
+    "run_campaign",
+]
+
+log = logging.getLogger(__name__)
+
+ENGINES = ("local", "ray")
+STRATEGIES = ("random", "cover")
+DEFAULT_RUN_TIMEOUT = 600.0  # wall-clock seconds per run
+
+
+class CampaignError(ValueError):
+    """A campaign that cannot start (a bad option, a folder holding another campaign)."""
+
+
+@dataclass(frozen=True)
+class CampaignOptions:
+    """Everything a campaign is asked to do (the command's options)."""
+
+    file: str
+    runs: int
+    out: str
+    jobs: int = 0  # 0: one worker per processor
+    engine: str = "local"
+    address: str | None = None
+    seed: int = 0
+    strategy: str = "random"
+    scenario: str | None = None
+    duration: float | None = None
+    dt_control: float = 0.05
+    dt_physics: float = 0.002
+    sut: SutSpec | None = None
+    run_timeout: float | None = DEFAULT_RUN_TIMEOUT
+    plot: bool = False
+    resume: bool = False
+
+    def run_options(self) -> dict[str, Any]:
+        """What makes two runs of one seed the same run (resume compares these)."""
+        return {
+            "scenario": self.scenario,
+            "duration": self.duration,
+            "dt_control": self.dt_control,
+            "dt_physics": self.dt_physics,
+            "sut": asdict(self.sut) if self.sut is not None else None,
+            "strategy": self.strategy,
+            "seed": self.seed,
+        }
+
+
+@dataclass
+class CampaignResult:
+    """A campaign that ended: its records (every run of the plan that finished or was
+    interrupted), its summary, where its files are, ``complete`` or ``interrupted``
+    (with the signal)."""
+
+    records: list[RunRecord]
+    summary: dict[str, Any]
+    folder: Path
+    status: str
+    signum: int | None = None
+    outputs: list[Path] = field(default_factory=list)
+    document: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def passed(self) -> bool:
+        return self.status == "complete" and self.summary["failed"] == 0
+
+
+Progress = Callable[[str, Any], None]  # progress("plan", total) / ("record", RunRecord)
+
+
+def _engine(options: CampaignOptions, setup: CampaignSetup, jobs: int) -> Any:
+    if options.engine == "ray":
+        from osc2runner.campaign.ray_engine import RayEngine
+
+        return RayEngine(setup, jobs, options.run_timeout, options.address)
+    from osc2runner.campaign.pool import LocalPool
+
+    return LocalPool(setup, jobs, options.run_timeout)
+
+
+def _check(options: CampaignOptions) -> None:
+    if options.runs < 1:
+        raise CampaignError("--runs must be at least 1")
+    if options.engine not in ENGINES:
+        raise CampaignError(f"--engine {options.engine}: one of {', '.join(ENGINES)}")
+    if options.strategy not in STRATEGIES:
+        raise CampaignError(f"--strategy {options.strategy}: one of {', '.join(STRATEGIES)}")
+    if options.jobs < 0:
+        raise CampaignError("--jobs must be a positive number of workers")
+
+
+def plan_runs(options: CampaignOptions, checked: Checked) -> tuple[CoverPlan, dict[str, list[str]]]:
+    """The planned tasks, and every cover item's bucket labels (for the coverage table)."""
+    compiled = compile_checked(checked, seed=options.seed, dt_control=options.dt_control)
+    items = cover_items(checked, compiled.ctx.coverage.items)
+    labels = {e.item.name: [b.label for b in e.item.buckets] for e in items}
+    if options.strategy == "cover":
+        if not any(e.steerable for e in items):
+            why = "; ".join(f"`{e.item.name}`: {e.reason}" for e in items) or "it has none"
+            raise ScenarioError(
+                [
+                    RunProblem(
+                        f"--strategy cover: no cover item of `{checked.scenario.name}` can be "
+                        f"steered ({why})",
+                        checked.scenario.name_span,
+                    )
+                ]
+            )
+        plan = plan_cover(checked, items, options.seed, options.runs)
+    else:
+        plan = plan_random(options.seed, options.runs)
+        plan.items = [_observed(e.item.name, labels[e.item.name], e.reason) for e in items]
+    return plan, labels
+
+
+def _observed(name: str, labels: list[str], reason: str) -> Any:
+    from osc2runner.campaign.plan import ItemPlan
+
+    return ItemPlan(name, not reason, reason, labels)
+
+
+def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> CampaignResult:
+    """Run a campaign (see the module docstring); raises ScenarioError for input errors,
+    CampaignError for options or a folder that cannot be used."""
+    _check(options)
+    started = time.perf_counter()
+    started_at = datetime.now(UTC).isoformat(timespec="seconds")
+    try:
+        data = Path(options.file).read_bytes()
+    except OSError as exc:
+        raise ScenarioError(
+            [RunProblem(f"{options.file}: cannot read: {exc.strerror or exc}")]
+        ) from None
+    from osc2check.source import decode_source
+
+    text, _ = decode_source(data)
+    checked = check_file(options.file, scenario=options.scenario, source=text)
+    digest = hashlib.sha256(data).hexdigest()
+    folder = output_folder(options.out, create=False)  # made once the runs are planned
+    previous: dict[int, RunRecord] = {}
+    if options.resume:
+        previous = _resumable(folder, options, digest)
+    jobs = options.jobs or os.cpu_count() or 1
+    setup = CampaignSetup(
+        options.file,
+        text,
+        options.scenario,
+        options.duration,
+        options.dt_control,
+        options.dt_physics,
+        options.sut,
+        options.plot,
+        str(folder),
+        ship_files=options.engine == "ray",
+    )
+    engine = _engine(options, setup, min(jobs, options.runs))
+    engine.start(options.runs - len(previous))  # the workers start while the runs are planned
+    try:
+        plan, labels = plan_runs(options, checked)
+        planned = {t.seed: t for t in plan.tasks}
+        kept = {
+            s: r
+            for s, r in previous.items()
+            if s in planned and r.finished and _bin_text(r) == _bin_text(planned[s])
+        }
+        todo = [t for t in plan.tasks if t.seed not in kept]
+        sut = (options.sut.target, options.sut.actor) if options.sut is not None else None
+        replay = {
+            t.seed: replay_command(
+                options.file,
+                t.seed,
+                scenario=options.scenario,
+                duration=options.duration,
+                dt_control=options.dt_control,
+                dt_physics=options.dt_physics,
+                sut=sut,
+                bin_text=t.bin.text if t.bin else None,
+            )
+            for t in plan.tasks
+        }
+        document: dict[str, Any] = {
+            "format": 1,
+            "tool": _tool(),
+            "source": options.file,
+            "source_sha256": digest,
+            "scenario": checked.scenario.name,
+            "options": {
+                **options.run_options(),
+                "runs": options.runs,
+                "jobs": jobs,
+                "engine": options.engine,
+                "address": options.address,
+                "run_timeout": options.run_timeout,
+                "plot": options.plot,
+            },
+            "status": "running",
+            "started": started_at,
+            "plan": {
+                "seeds": [t.seed for t in plan.tasks],
+                "directed": [{"seed": t.seed, "bin": t.bin.text} for t in plan.tasks if t.bin],
+                "cover": [p.to_json() for p in plan.items],
+                "resumed": sorted(kept),
+            },
+        }
+        folder = output_folder(options.out)
+        write_campaign(folder, document)
+        records: dict[int, RunRecord] = dict(kept)
+        if progress is not None:
+            progress("plan", {"total": len(plan.tasks), "done": list(kept.values())})
+
+        def on_record(record: RunRecord) -> None:
+            write_record(folder, record)
+            record.shipped = {}
+            records[record.seed] = record
+            if progress is not None:
+                progress("record", record)
+
+        stop_signal: list[int] = []
+
+        def on_signal(signum: int, frame: Any) -> None:
+            if not stop_signal:
+                stop_signal.append(signum)
+                log.info("campaign interrupted by %s: stopping", signal_name(signum))
+                engine.stop()
+
+        previous_handlers = {s: signal.signal(s, on_signal) for s in SIGNALS}
+        try:
+            engine.run(todo, on_record)
+        finally:
+            for s, handler in previous_handlers.items():
+                signal.signal(s, handler if handler is not None else signal.SIG_DFL)
+    finally:
+        engine.close()
+    wall = time.perf_counter() - started
+    status = "interrupted" if stop_signal else "complete"
+    result = finish(
+        folder, document, plan.tasks, records, labels, plan, replay, wall, status, engine
+    )
+    result.signum = stop_signal[0] if stop_signal else None
+    return result
+
+
+def _bin_text(run: RunTask | RunRecord) -> str | None:
+    return run.bin.text if run.bin is not None else None
+
+
+def _resumable(folder: Path, options: CampaignOptions, digest: str) -> dict[int, RunRecord]:
+    document = read_campaign(folder)
+    if document is None:
+        return {}
+    if document.get("source_sha256") != digest:
+        raise CampaignError(
+            f"--resume {folder}: its campaign ran another text of the file "
+            f"({document.get('source')}); use a new folder"
+        )
+    stored = document.get("options", {})
+    mine = options.run_options()
+    changed = [k for k, v in mine.items() if stored.get(k) != v]
+    if changed:
+        raise CampaignError(
+            f"--resume {folder}: its campaign ran with other options ({', '.join(changed)})"
+        )
+    return read_records(folder)
+
+
+def _tool() -> dict[str, Any]:
+    from osc2check.output import tool
+    from osc2runner.sim import versions
+
+    return {"name": "osc2run", "version": tool.version(), "versions": versions()}
+
+
+def finish(
+    folder: Path,
+    document: dict[str, Any],
+    tasks: list[RunTask],
+    records: dict[int, RunRecord],
+    labels: dict[str, list[str]],
+    plan: CoverPlan,
+    replay: dict[int, str],
+    wall: float,
+    status: str,
+    engine: Any,
+) -> CampaignResult:
+    """Write the campaign's outputs from its records (also after an interrupt)."""
+    ordered = [records[t.seed] for t in tasks if t.seed in records]
+    summary = summarize(ordered)
+    done = [r for r in ordered if r.finished]
+    document.update(
+        {
+            "status": status,
+            "finished": datetime.now(UTC).isoformat(timespec="seconds"),
+            "wall_seconds": round(wall, 3),
+            "runs_per_minute": round(60.0 * len(done) / wall, 2) if wall > 0 else None,
+            "workers": {
+                "engine": engine.name,
+                "started": getattr(engine, "started_workers", None),
+                "peak_memory_mb": [
+                    round(m / 2**20, 1) for m in getattr(engine, "worker_memory", [])
+                ],
+            },
+            "summary": summary,
+            "not_run": [t.seed for t in tasks if t.seed not in records],
+            "coverage": coverage_table(ordered, plan.items, labels),
+            "kpis": kpi_figures(ordered),
+            "worst": [r.seed for r in worst_runs(ordered)],
+            "runs": [{**r.to_json(), "replay": replay.get(r.seed, "")} for r in ordered],
+        }
+    )
+    outputs = [
+        write_runs_csv(folder, ordered, replay),
+        write_junit(folder, document["scenario"], ordered, replay, wall),
+    ]
+    from osc2runner.campaign.report import write_report
+
+    outputs.append(write_report(folder, document, ordered))
+    outputs.append(write_campaign(folder, document))
+    return CampaignResult(ordered, summary, folder, status, None, outputs, document)

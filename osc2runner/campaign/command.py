@@ -1,0 +1,234 @@
+"""``osc2run FILE --runs N ...``: the command line of a campaign.
+
+:func:`campaign_arguments` checks the campaign's options (usage errors before
+anything runs; ``--resume DIR`` alone takes the file and the options of the
+campaign in ``DIR``); :func:`run_command` runs it with a progress bar on a
+terminal (done, failed, rate, ETA), one line per run otherwise (``-q``: only
+the summary), prints the summary and returns the exit status: 0 when every
+run passed, 1 when one did not, 2 for usage and input errors, 128 + N when
+signal N interrupted the campaign (what finished is written).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+from typing import Any, TextIO
+
+from osc2runner.options import OptionError, check_out, check_time
+
+__all__ = ["campaign_arguments", "run_command"]
+
+
+def _usage(message: str) -> Exception:
+    from osc2runner.cli import UsageError
+
+    return UsageError(message)
+
+
+def _count(name: str, text: str | None, default: int) -> int:
+    if text is None:
+        return default
+    try:
+        value = int(text)
+    except ValueError:
+        raise _usage(f"--{name} {text}: must be a positive whole number") from None
+    if value < 1:
+        raise _usage(f"--{name} {text}: must be a positive whole number")
+    return value
+
+
+def campaign_arguments(args: argparse.Namespace) -> None:
+    """Check and complete the campaign options of the command line (UsageError)."""
+    stored: dict[str, Any] = {}
+    if args.resume is not None:
+        path = Path(args.resume) / "campaign.json"
+        if not path.is_file():
+            raise _usage(f"--resume {args.resume}: no campaign.json there")
+        try:
+            stored = json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError) as exc:
+            raise _usage(f"--resume {args.resume}: cannot read campaign.json: {exc}") from None
+        if args.out is not None and Path(args.out).resolve() != Path(args.resume).resolve():
+            raise _usage("--resume DIR writes into DIR: leave out --out")
+        args.out = args.resume
+        opts = stored.get("options", {})
+        if args.file is None:
+            args.file = stored.get("source")
+            args.scenario = args.scenario or opts.get("scenario")
+            if args.runs is None:
+                args.runs = str(len(stored.get("plan", {}).get("seeds", [])) or 1)
+            if "--seed" not in args.given:
+                args.seed = str(opts.get("seed", 0))
+            if "--strategy" not in args.given:
+                args.strategy = opts.get("strategy", "random")
+            if args.duration is None and opts.get("duration") is not None:
+                args.duration = repr(opts["duration"])
+            if "--dt-control" not in args.given:
+                args.dt_control = repr(opts.get("dt_control", 0.05))
+            if "--dt-physics" not in args.given:
+                args.dt_physics = repr(opts.get("dt_physics", 0.002))
+            sut = opts.get("sut")
+            if sut and args.sut is None:
+                args.sut, args.sut_actor = sut["target"], sut.get("actor")
+    if args.file is None:
+        raise _usage("the following arguments are required: FILE (or --resume DIR)")
+    if args.out is None:
+        raise _usage("--runs needs --out DIR (the campaign's folder) or --resume DIR")
+    args.runs = _count("runs", args.runs, 1)
+    args.jobs = _count("jobs", args.jobs, 0) if args.jobs is not None else 0
+    if args.run_timeout is not None:
+        try:
+            args.run_timeout = check_time("run_timeout", float(args.run_timeout))
+        except ValueError:
+            raise _usage(f"--run-timeout {args.run_timeout}: must be a number of seconds") from None
+        except OptionError as exc:
+            raise _usage(exc.cli) from None
+    if args.engine != "ray" and args.address is not None:
+        raise _usage("--address needs --engine ray")
+    if args.bin is not None:
+        raise _usage("--bin is for one run; a campaign chooses bins with --strategy cover")
+    check_out(args.out)
+
+
+def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
+    """Run the campaign of the command line; the exit status."""
+    from osc2runner.campaign.campaign import (
+        DEFAULT_RUN_TIMEOUT,
+        CampaignError,
+        CampaignOptions,
+        run_campaign,
+    )
+    from osc2runner.campaign.pool import EngineError
+    from osc2runner.execution.signals import exit_status
+
+    options = CampaignOptions(
+        file=args.file,
+        runs=args.runs,
+        out=str(args.out),
+        jobs=args.jobs,
+        engine=args.engine,
+        address=args.address,
+        seed=args.seed,
+        strategy=args.strategy,
+        scenario=args.scenario,
+        duration=args.duration,
+        dt_control=args.dt_control,
+        dt_physics=args.dt_physics,
+        sut=args.sut_spec,
+        run_timeout=args.run_timeout if args.run_timeout is not None else DEFAULT_RUN_TIMEOUT,
+        plot=args.plot,
+        resume=args.resume is not None,
+    )
+    interactive = out.isatty() and not args.quiet
+    try:
+        if interactive:
+            result = _with_bar(options, run_campaign)
+        else:
+            result = run_campaign(options, None if args.quiet else _lines(out))
+    except (CampaignError, EngineError) as exc:
+        err.write(f"osc2run: error: {' '.join(str(exc).split())}\n")
+        return 2
+    _summary(result, out)
+    if result.status == "interrupted":
+        return exit_status(result.signum)
+    return 0 if result.passed else 1
+
+
+def _lines(out: TextIO) -> Any:
+    total = [0]
+    done = [0]
+
+    def progress(kind: str, payload: Any) -> None:
+        if kind == "plan":
+            total[0] = payload["total"]
+            done[0] = len(payload["done"])
+            if done[0]:
+                out.write(f"resuming: {done[0]} of {total[0]} runs already finished\n")
+            return
+        done[0] += 1
+        r = payload
+        where = f" in {r.bin.text} {r.bin.label}" if r.bin is not None else ""
+        out.write(
+            f"[{done[0]}/{total[0]}] seed {r.seed}{where}: {r.status}: {r.reason} "
+            f"({r.wall_s:.1f} s)\n"
+        )
+        out.flush()
+
+    return progress
+
+
+def _with_bar(options: Any, run_campaign: Any) -> Any:
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    columns = (
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("[red]{task.fields[failed]} failed"),
+        TextColumn("{task.fields[rate]}"),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+    )
+    with Progress(*columns) as bar:
+        task = bar.add_task("campaign", total=None, failed=0, rate="")
+        failed = [0]
+
+        def progress(kind: str, payload: Any) -> None:
+            if kind == "plan":
+                done = payload["done"]
+                failed[0] = sum(1 for r in done if not r.passed)
+                bar.update(task, total=payload["total"], completed=len(done), failed=failed[0])
+                return
+            failed[0] += 0 if payload.passed else 1
+            bar.advance(task)
+            elapsed = bar.tasks[0].elapsed or 0.0
+            done = bar.tasks[0].completed
+            rate = f"{60.0 * done / elapsed:.0f} runs/min" if elapsed > 0 else ""
+            bar.update(task, failed=failed[0], rate=rate)
+
+        return run_campaign(options, progress)
+
+
+def _summary(result: Any, out: TextIO) -> None:
+    s = result.summary
+    doc = result.document
+    rate = "–" if s["pass_rate"] is None else f"{100 * s['pass_rate']:.1f} %"
+    outcomes = ", ".join(f"{v} {k}" for k, v in s["outcomes"].items()) or "none"
+    per_minute = doc.get("runs_per_minute")
+    out.write(
+        f"campaign {doc['scenario']} ({doc['source']}): {result.status}: {s['finished']} of "
+        f"{len(doc['plan']['seeds'])} runs, {s['passed']} passed ({rate}); {outcomes}\n"
+    )
+    out.write(
+        f"  {doc['wall_seconds']:.1f} s wall"
+        + (
+            f", {per_minute:.1f} runs per minute"
+            if per_minute and math.isfinite(per_minute)
+            else ""
+        )
+        + "\n"
+    )
+    for item in doc.get("coverage", []):
+        holes = f"; holes: {', '.join(item['holes'])}" if item["holes"] else ""
+        gone = f"; {item['unreachable']} unreachable" if item["unreachable"] else ""
+        out.write(
+            f"  cover {item['name']}: {item['filled']} of {item['reachable']} buckets filled"
+            f"{gone}{holes}\n"
+        )
+    worst = [r for r in result.records if not r.passed and r.finished][:5]
+    for r in worst:
+        out.write(f"  seed {r.seed}: {r.status}: {r.reason}\n")
+    for path in result.outputs:
+        out.write(f"  wrote {path}\n")
+    out.flush()

@@ -1,0 +1,207 @@
+"""The files of a campaign, each written whole or not at all.
+
+In the campaign folder ``DIR``:
+
+* ``runs/<seed>/``: each run's files, as ``osc2run FILE --seed <seed> --out``
+  writes them (``telemetry.csv``, ``events.csv``, ``coverage.json``,
+  ``run.json``, plots with ``--plot``), plus ``record.json``: what the
+  campaign keeps of the run (written when the run's record arrives; ``--resume``
+  reads these to skip finished seeds);
+* ``campaign.json``: the campaign (source and its SHA-256, options, plan,
+  summary, coverage, KPI figures, worst runs) and every run's record with the
+  command that replays it; written at the start (``status: running``) and at
+  the end (``complete`` or ``interrupted``);
+* ``runs.csv``: one row a run: seed, bin, outcome, reason, the parameters that
+  vary, the KPIs, the records, wall time, the replay command;
+* ``junit.xml``: one ``testcase`` a run (name ``seed <k>``, the parameters in
+  ``properties``); a ``failure`` for ``failure``/``timeout``, an ``error`` for
+  ``error``, ``skipped`` for ``interrupted`` — the form CI systems read;
+* ``report.html``: :mod:`osc2runner.campaign.report`.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import shlex
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+from xml.etree import ElementTree as ET
+
+from osc2runner.campaign.kpis import KPI_UNITS
+from osc2runner.campaign.summary import varying
+from osc2runner.campaign.worker import RunRecord
+from osc2runner.output.files import write_atomically
+
+__all__ = [
+    "CAMPAIGN_FILE",
+    "CAMPAIGN_FORMAT",
+    "RECORD_FILE",
+    "read_campaign",
+    "replay_command",
+    "read_records",
+    "write_campaign",
+    "write_junit",
+    "write_record",
+    "write_runs_csv",
+]
+
+CAMPAIGN_FILE = "campaign.json"
+RECORD_FILE = "record.json"
+CAMPAIGN_FORMAT = 1
+
+
+def _json(data: Any) -> str:
+    return json.dumps(data, indent=2, allow_nan=False, default=str) + "\n"
+
+
+def write_record(folder: Path, record: RunRecord) -> Path:
+    """``runs/<seed>/record.json`` (and the run's files when they were shipped back:
+    ``run.json`` last, as a run writes it)."""
+    run_dir = folder / record.folder
+    run_dir.mkdir(parents=True, exist_ok=True)
+    if record.shipped:
+        names = sorted(record.shipped, key=lambda n: n == "run.json")
+        for name in names:
+            write_atomically(run_dir / name, record.shipped[name])
+    return write_atomically(run_dir / RECORD_FILE, _json(record.to_json()))
+
+
+def read_records(folder: Path) -> dict[int, RunRecord]:
+    """The records of the runs in ``folder/runs`` that have one, by seed."""
+    found: dict[int, RunRecord] = {}
+    runs = folder / "runs"
+    if not runs.is_dir():
+        return found
+    for path in sorted(runs.glob(f"*/{RECORD_FILE}")):
+        try:
+            record = RunRecord.from_json(json.loads(path.read_text(encoding="utf-8")))
+        except (OSError, ValueError, KeyError, TypeError):
+            continue  # unreadable: the run is done again
+        found[record.seed] = record
+    return found
+
+
+def read_campaign(folder: Path) -> dict[str, Any] | None:
+    """``campaign.json`` of ``folder``, or None when there is none."""
+    path = folder / CAMPAIGN_FILE
+    if not path.is_file():
+        return None
+    data: dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
+    return data
+
+
+def write_campaign(folder: Path, document: dict[str, Any]) -> Path:
+    return write_atomically(folder / CAMPAIGN_FILE, _json(document))
+
+
+def _cell(value: Any) -> str:
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, dict)):
+        return json.dumps(value)
+    return str(value)
+
+
+def write_runs_csv(folder: Path, records: Sequence[RunRecord], replay: dict[int, str]) -> Path:
+    """``runs.csv``: one row a run (see the module docstring)."""
+    params = varying(records)
+    record_names = sorted({n for r in records for n in r.records})
+    kpi_names = [k for k in KPI_UNITS]
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(
+        ["seed", "bin", "outcome", "reason", "time_s"]
+        + params
+        + ["subject"]
+        + kpi_names
+        + [f"record:{n}" for n in record_names]
+        + ["wall_s", "replay"]
+    )
+    for r in sorted(records, key=lambda r: r.seed):
+        writer.writerow(
+            [r.seed, r.bin.text if r.bin else "", r.status, r.reason, r.time_s]
+            + [_cell(r.parameters.get(p, {}).get("value")) for p in params]
+            + [_cell(r.kpis.get("subject"))]
+            + [_cell(r.kpis.get(k)) for k in kpi_names]
+            + [_cell(r.records.get(n)) for n in record_names]
+            + [r.wall_s, replay.get(r.seed, "")]
+        )
+    return write_atomically(folder / "runs.csv", out.getvalue())
+
+
+def write_junit(
+    folder: Path, suite: str, records: Sequence[RunRecord], replay: dict[int, str], wall: float
+) -> Path:
+    """``junit.xml``: a testsuite of one testcase a run."""
+    ordered = sorted(records, key=lambda r: r.seed)
+    failures = sum(1 for r in ordered if r.status in ("failure", "timeout"))
+    errors = sum(1 for r in ordered if r.status == "error")
+    skipped = sum(1 for r in ordered if r.status == "interrupted")
+    suites = ET.Element("testsuites", name="osc2run campaign")
+    ts = ET.SubElement(
+        suites,
+        "testsuite",
+        name=suite,
+        tests=str(len(ordered)),
+        failures=str(failures),
+        errors=str(errors),
+        skipped=str(skipped),
+        time=f"{wall:.3f}",
+    )
+    for r in ordered:
+        case = ET.SubElement(
+            ts, "testcase", classname=suite, name=f"seed {r.seed}", time=f"{r.wall_s:.3f}"
+        )
+        props = ET.SubElement(case, "properties")
+        for name, p in sorted(r.parameters.items()):
+            ET.SubElement(props, "property", name=name, value=str(p.get("text", p.get("value"))))
+        if r.bin is not None:
+            ET.SubElement(props, "property", name="bin", value=r.bin.text)
+        message = f"{r.status}: {r.reason}"
+        detail = f"replay: {replay.get(r.seed, '')}\nfiles: {r.folder}/"
+        if r.status in ("failure", "timeout"):
+            ET.SubElement(case, "failure", message=message, type=r.status).text = detail
+        elif r.status == "error":
+            ET.SubElement(case, "error", message=message, type="error").text = detail + (
+                f"\n{r.error}" if r.error else ""
+            )
+        elif r.status == "interrupted":
+            ET.SubElement(case, "skipped", message=message)
+    ET.indent(suites)
+    text = '<?xml version="1.0" encoding="utf-8"?>\n' + ET.tostring(suites, encoding="unicode")
+    return write_atomically(folder / "junit.xml", text + "\n")
+
+
+def replay_command(
+    uri: str,
+    seed: int,
+    *,
+    scenario: str | None,
+    duration: float | None,
+    dt_control: float,
+    dt_physics: float,
+    sut: tuple[str, str | None] | None,
+    bin_text: str | None,
+) -> str:
+    """The ``osc2run`` command that replays one run alone (byte-identical telemetry)."""
+    args = ["osc2run", uri, "--seed", str(seed)]
+    if scenario:
+        args += ["--scenario", scenario]
+    if bin_text:
+        args += ["--bin", bin_text]
+    if duration is not None:
+        args += ["--duration", f"{duration:g}"]
+    if dt_control != 0.05:
+        args += ["--dt-control", repr(dt_control)]
+    if dt_physics != 0.002:
+        args += ["--dt-physics", repr(dt_physics)]
+    if sut is not None:
+        args += ["--sut", sut[0]]
+        if sut[1]:
+            args += ["--sut-actor", sut[1]]
+    return shlex.join(args)

@@ -1,0 +1,171 @@
+"""What a campaign found, over its runs: pass rate, coverage, worst runs, KPI figures.
+
+* **Pass rate**: runs whose outcome is ``success`` over the runs that finished
+  (``interrupted`` runs are not counted: ``--resume`` does them again).
+* **Coverage**: per ``cover`` item, each bucket's hits summed over the runs
+  (a run counts once per bucket it hit) and the seeds that hit it; buckets the
+  plan found unreachable are marked so, the others with no hit are *holes*.
+* **Worst runs**: the runs that failed first (error, failure, timeout), then
+  by smallest time to collision, then by smallest gap.
+* **KPIs**: per numeric KPI, its minimum, median, mean and maximum over the
+  finished runs that have it.
+* **Parameters**: the scenario parameters whose value differs between runs
+  (the axes the report plots KPIs and outcomes over).
+"""
+
+from __future__ import annotations
+
+import statistics
+from collections.abc import Sequence
+from typing import Any
+
+from osc2runner.campaign.kpis import KPI_UNITS
+from osc2runner.campaign.plan import ItemPlan
+from osc2runner.campaign.worker import RunRecord
+
+__all__ = [
+    "SEVERITY",
+    "axes",
+    "coverage_table",
+    "kpi_figures",
+    "summarize",
+    "varying",
+    "worst_runs",
+]
+
+#: outcomes from worst to best (the order of the worst runs)
+SEVERITY = {"error": 0, "failure": 1, "timeout": 2, "interrupted": 3, "success": 4}
+
+
+def finished(records: Sequence[RunRecord]) -> list[RunRecord]:
+    return [r for r in records if r.finished]
+
+
+def summarize(records: Sequence[RunRecord]) -> dict[str, Any]:
+    """Counts per outcome and the pass rate."""
+    done = finished(records)
+    counts: dict[str, int] = {}
+    for r in records:
+        counts[r.status] = counts.get(r.status, 0) + 1
+    passed = sum(1 for r in done if r.passed)
+    return {
+        "runs": len(records),
+        "finished": len(done),
+        "passed": passed,
+        "failed": len(done) - passed,
+        "outcomes": dict(sorted(counts.items(), key=lambda kv: SEVERITY.get(kv[0], 9))),
+        "pass_rate": round(passed / len(done), 4) if done else None,
+        "collisions": sum(1 for r in done if r.kpis.get("collision")),
+    }
+
+
+def coverage_table(
+    records: Sequence[RunRecord], plans: Sequence[ItemPlan], labels: dict[str, list[str]]
+) -> list[dict[str, Any]]:
+    """Per cover item: every bucket with its status, hits and the seeds that hit it."""
+    by_plan = {p.name: p for p in plans}
+    table: list[dict[str, Any]] = []
+    for name, bucket_labels in labels.items():
+        plan = by_plan.get(name)
+        hits = [0] * len(bucket_labels)
+        seeds: list[list[int]] = [[] for _ in bucket_labels]
+        for r in finished(records):
+            for index in r.coverage.get(name, []):
+                if 0 <= index < len(hits):
+                    hits[index] += 1
+                    seeds[index].append(r.seed)
+        buckets = []
+        for i, label in enumerate(bucket_labels):
+            status = plan.status[i] if plan is not None and plan.status else "observed"
+            state = "filled" if hits[i] else ("unreachable" if status == "unreachable" else "hole")
+            buckets.append(
+                {"label": label, "hits": hits[i], "state": state, "solver": status,
+                 "seeds": seeds[i][:20]}
+            )  # fmt: skip
+        reachable = [b for b in buckets if b["state"] != "unreachable"]
+        table.append(
+            {
+                "name": name,
+                "steerable": plan.steerable if plan is not None else False,
+                "reason": (plan.reason or None) if plan is not None else None,
+                "filled": sum(1 for b in reachable if b["hits"]),
+                "reachable": len(reachable),
+                "unreachable": len(buckets) - len(reachable),
+                "holes": [b["label"] for b in buckets if b["state"] == "hole"],
+                "buckets": buckets,
+            }
+        )
+    return table
+
+
+def _badness(r: RunRecord) -> tuple[float, float, float, int]:
+    ttc = r.kpis.get("min_ttc_s")
+    gap = r.kpis.get("min_gap_m")
+    return (
+        SEVERITY.get(r.status, 9),
+        ttc if isinstance(ttc, (int, float)) else float("inf"),
+        gap if isinstance(gap, (int, float)) else float("inf"),
+        r.seed,
+    )
+
+
+def worst_runs(records: Sequence[RunRecord], count: int = 10) -> list[RunRecord]:
+    """The ``count`` worst finished runs (see the module docstring)."""
+    return sorted(finished(records), key=_badness)[:count]
+
+
+def kpi_figures(records: Sequence[RunRecord]) -> dict[str, dict[str, Any]]:
+    """Per numeric KPI: unit, min, median, mean, max and how many runs have it."""
+    figures: dict[str, dict[str, Any]] = {}
+    for name, unit in KPI_UNITS.items():
+        values = [
+            float(r.kpis[name])
+            for r in finished(records)
+            if isinstance(r.kpis.get(name), (int, float)) and not isinstance(r.kpis.get(name), bool)
+        ]
+        if not values or name == "collision":
+            continue
+        figures[name] = {
+            "unit": unit,
+            "runs": len(values),
+            "min": round(min(values), 4),
+            "median": round(statistics.median(values), 4),
+            "mean": round(statistics.fmean(values), 4),
+            "max": round(max(values), 4),
+        }
+    return figures
+
+
+def varying(records: Sequence[RunRecord]) -> list[str]:
+    """The parameters whose value differs between the finished runs, by name."""
+    seen: dict[str, set[str]] = {}
+    for r in finished(records):
+        for name, p in r.parameters.items():
+            seen.setdefault(name, set()).add(str(p.get("value")))
+    return sorted(n for n, values in seen.items() if len(values) > 1)
+
+
+def axes(records: Sequence[RunRecord], preferred: Sequence[str] = ()) -> list[str]:
+    """The varying parameters to plot over, most telling first: those ``preferred`` (the
+    cover items' names), then by how many values they take; a parameter whose value
+    follows from one already chosen (``speed_step`` beside ``test_speed``) is left out."""
+    done = finished(records)
+    values = {
+        name: [str(r.parameters.get(name, {}).get("value")) for r in done]
+        for name in varying(records)
+    }
+    order = sorted(values, key=lambda n: (n not in preferred, -len(set(values[n])), n))
+    chosen: list[str] = []
+    for name in order:
+        if not any(_follows(values[c], values[name]) for c in chosen):
+            chosen.append(name)
+    return chosen
+
+
+def _follows(given: list[str], other: list[str]) -> bool:
+    """Whether ``other``'s value is the same wherever ``given``'s is (a function of it)."""
+    seen: dict[str, str] = {}
+    for a, b in zip(given, other, strict=True):
+        if seen.setdefault(a, b) != b:
+            return False
+    return True

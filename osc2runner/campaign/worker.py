@@ -1,0 +1,323 @@
+"""One campaign worker: check the file once, then run seed after seed.
+
+A :class:`Worker` is made from a :class:`CampaignSetup` (plain data: the
+file's text, the scenario, the run options, the SUT, the campaign folder). It
+checks the file once (parse, resolve, verify: :func:`osc2runner.runner.check_file`)
+and compiles each run from that analysis (:func:`osc2runner.runner.prepare_checked`)
+with the seed's witness, or the witness drawn inside a coverage bin. A run's
+files go to ``runs/<seed>/`` exactly as ``osc2run FILE --seed k --out DIR``
+writes them; :meth:`Worker.run` returns its :class:`RunRecord` (outcome,
+parameters, KPIs, records, coverage hits) whatever happened: a run that cannot
+start, or a bug, is recorded as ``error`` with the reason.
+
+The same worker serves the local process pool and Ray: with ``ship_files`` it
+writes into a temporary folder and returns the files' bytes in the record, for
+a driver that does not share the worker's file system.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+import time
+import traceback
+from dataclasses import dataclass, field
+from fractions import Fraction
+from pathlib import Path
+from typing import Any
+
+from osc2check.verify import ir
+from osc2check.verify.witness import Witness
+from osc2runner.campaign.kpis import run_kpis, subject_actor
+from osc2runner.campaign.steering import BinRef, SteerableItem, cover_items, directed_witness
+from osc2runner.errors import ScenarioError
+from osc2runner.runner import (
+    Checked,
+    RunInterrupted,
+    RunResult,
+    check_file,
+    compile_checked,
+    execute,
+    prepare_checked,
+)
+from osc2runner.sut.loading import SutSpec
+
+__all__ = ["CampaignSetup", "RunRecord", "RunTask", "Worker", "run_folder"]
+
+
+@dataclass(frozen=True)
+class CampaignSetup:
+    """What every worker of a campaign needs (plain data, sent to other processes).
+
+    ``uri`` is the file as named on the command line and ``text`` its content when
+    the campaign started (every worker runs that text); ``out`` the campaign folder.
+    """
+
+    uri: str
+    text: str
+    scenario: str | None = None
+    duration: float | None = None
+    dt_control: float = 0.05
+    dt_physics: float = 0.002
+    sut: SutSpec | None = None
+    plot: bool = False  # plots of every run (else of the runs that did not pass)
+    out: str = "."
+    ship_files: bool = False
+
+
+@dataclass(frozen=True, slots=True)
+class RunTask:
+    """One run to do: its seed, and the coverage bin its witness is drawn in (None: the
+    seed's own witness)."""
+
+    seed: int
+    bin: BinRef | None = None
+
+
+@dataclass
+class RunRecord:
+    """What a campaign keeps of one run (``campaign.json``'s ``runs[]``, one row of
+    ``runs.csv``, one testcase of ``junit.xml``)."""
+
+    seed: int
+    status: str  # success, failure, timeout, interrupted, error
+    reason: str
+    bin: BinRef | None = None
+    time_s: float = 0.0
+    tick: int = 0
+    parameters: dict[str, dict[str, Any]] = field(default_factory=dict)
+    kpis: dict[str, Any] = field(default_factory=dict)
+    records: dict[str, Any] = field(default_factory=dict)
+    coverage: dict[str, list[int]] = field(default_factory=dict)  # item -> buckets hit
+    wall_s: float = 0.0
+    folder: str = ""
+    files: list[str] = field(default_factory=list)
+    error: str | None = None
+    shipped: dict[str, bytes] = field(default_factory=dict, repr=False)
+
+    @property
+    def passed(self) -> bool:
+        return self.status == "success"
+
+    @property
+    def finished(self) -> bool:
+        """Whether the run went to its end (an interrupted run is done again on resume)."""
+        return self.status != "interrupted"
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "seed": self.seed,
+            "bin": (
+                {"item": self.bin.item, "index": self.bin.index, "label": self.bin.label}
+                if self.bin is not None
+                else None
+            ),
+            "outcome": {
+                "status": self.status,
+                "reason": self.reason,
+                "time": self.time_s,
+                "tick": self.tick,
+            },
+            "parameters": self.parameters,
+            "kpis": self.kpis,
+            "records": self.records,
+            "coverage": self.coverage,
+            "wall_seconds": self.wall_s,
+            "folder": self.folder,
+            "files": self.files,
+            "error": self.error,
+        }
+
+    @classmethod
+    def from_json(cls, data: dict[str, Any]) -> RunRecord:
+        b = data.get("bin")
+        outcome = data["outcome"]
+        return cls(
+            seed=data["seed"],
+            status=outcome["status"],
+            reason=outcome["reason"],
+            bin=BinRef(b["item"], b["index"], b.get("label", "")) if b else None,
+            time_s=outcome.get("time", 0.0),
+            tick=outcome.get("tick", 0),
+            parameters=data.get("parameters", {}),
+            kpis=data.get("kpis", {}),
+            records=data.get("records", {}),
+            coverage=data.get("coverage", {}),
+            wall_s=data.get("wall_seconds", 0.0),
+            folder=data.get("folder", ""),
+            files=data.get("files", []),
+            error=data.get("error"),
+        )
+
+
+def run_folder(seed: int) -> str:
+    """The folder of a run's files, relative to the campaign folder."""
+    return f"runs/{seed}"
+
+
+class Worker:
+    """Checks the campaign's file once; runs tasks (see the module docstring).
+
+    Raises ScenarioError when the file has input errors (nothing can run).
+    """
+
+    def __init__(self, setup: CampaignSetup) -> None:
+        self.setup = setup
+        self.checked: Checked = check_file(setup.uri, scenario=setup.scenario, source=setup.text)
+        self._items: list[SteerableItem] | None = None
+
+    def items(self) -> list[SteerableItem]:
+        """The scenario's cover items and what can steer them (compiled once)."""
+        if self._items is None:
+            compiled = compile_checked(self.checked, seed=0, dt_control=self.setup.dt_control)
+            self._items = cover_items(self.checked, compiled.ctx.coverage.items)
+        return self._items
+
+    def witness(self, task: RunTask) -> Witness | None:
+        """The witness of a task drawn in a bin (None: the seed's own)."""
+        if task.bin is None:
+            return None
+        return directed_witness(self.checked, self.items(), task.bin, task.seed)
+
+    def run(self, task: RunTask) -> RunRecord:
+        """Run one task; its record, whatever happened."""
+        setup = self.setup
+        started = time.perf_counter()
+        rel = run_folder(task.seed)
+        temp = tempfile.mkdtemp(prefix="osc2run-") if setup.ship_files else None
+        folder = Path(temp) if temp is not None else Path(setup.out) / rel
+        record = RunRecord(task.seed, "error", "", task.bin, folder=rel)
+        try:
+            witness = self.witness(task)
+            prepared = prepare_checked(
+                self.checked,
+                seed=task.seed,
+                dt_control=setup.dt_control,
+                dt_physics=setup.dt_physics,
+                sut=setup.sut,
+                witness=witness,
+            )
+            try:
+                result = execute(prepared, out=folder, duration=setup.duration, plot=setup.plot)
+            except RunInterrupted as exc:
+                result = exc.result
+            if not setup.plot and result.outcome.status in ("failure", "timeout", "error"):
+                _plot_after(result, folder)
+            describe(record, result, self.checked, prepared.sut)
+            for entry in self.items():
+                if entry.components:  # cross coverage: the campaign's, from its parts
+                    record.coverage[entry.item.name] = entry.hits(record.coverage)
+            record.files = sorted(p.name for p in result.outputs)
+        except ScenarioError as exc:
+            record.reason = _problem_text(exc)
+        except Exception as exc:  # a bug in this run: recorded, the campaign goes on
+            record.reason = f"internal error: {type(exc).__name__}: {exc}"
+            record.error = traceback.format_exc()
+        finally:
+            record.wall_s = round(time.perf_counter() - started, 3)
+            if temp is not None:
+                record.shipped = _read_files(Path(temp))
+                record.files = sorted(record.shipped)
+                shutil.rmtree(temp, ignore_errors=True)
+        if record.bin is not None and not record.bin.label:
+            record.bin = self._labelled(record.bin)
+        return record
+
+    def _labelled(self, ref: BinRef) -> BinRef:
+        entry = next((e for e in self.items() if e.item.name == ref.item), None)
+        if entry is None or not 0 <= ref.index < len(entry.item.buckets):
+            return ref
+        return BinRef(ref.item, ref.index, entry.item.buckets[ref.index].label)
+
+
+def _plot_after(result: RunResult, folder: Path) -> None:
+    """Plots of a run that did not pass, and its ``run.json`` again (written last)."""
+    from osc2runner.output.plots import plot_run
+    from osc2runner.output.telemetry import write_metadata
+
+    plots = plot_run(result, folder)
+    result.outputs.extend(plots)
+    write_metadata(folder, result.metadata, result.events)
+
+
+def _read_files(folder: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(folder.iterdir()) if p.is_file()}
+
+
+def _problem_text(exc: ScenarioError) -> str:
+    parts = [str(p) for p in exc.problems]
+    parts += [f"{d.code.code} {d.message}" for d in exc.diagnostics]
+    return "; ".join(parts) or "the scenario cannot run"
+
+
+def describe(
+    record: RunRecord, result: RunResult, checked: Checked, sut: dict[str, str] | None
+) -> None:
+    """Fill ``record`` from a finished run: outcome, parameters, KPIs, records, coverage."""
+    o = result.outcome
+    record.status, record.reason, record.time_s, record.tick = o.status, o.reason, o.time, o.tick
+    meta = result.metadata
+    record.parameters = parameters(meta.get("witness"), checked)
+    actors = meta.get("actors", {})
+    sizes = {n: (a["size"]["length"], a["size"]["width"]) for n, a in actors.items() if "size" in a}
+    subject = subject_actor(actors, sut["actor"] if sut else None)
+    start = actors.get(subject, {}).get("start", {}) if subject else {}
+    collisions = [(r.tick, r.actors) for r in result.events if r.kind == "collision"]
+    record.kpis = {
+        "subject": subject,
+        **run_kpis(result.telemetry, sizes, collisions, subject, start.get("speed")),
+    }
+    for item in result.coverage.items:
+        if item.kind == "record":
+            values = item.values()
+            record.records[item.name] = values[-1] if len(values) == 1 else values
+        elif item.buckets:
+            record.coverage[item.name] = sorted(
+                {s.bucket for s in item.samples if s.bucket is not None and not s.ignored}
+            )
+
+
+def parameters(witness: dict[str, Any] | None, checked: Checked) -> dict[str, dict[str, Any]]:
+    """The witness's scenario parameters that constraints decide: ``{"text": "50 kph",
+    "value": 50.0, "unit": "kph"}`` (value in the unit shown; enums and booleans as
+    they are)."""
+    if not witness:
+        return {}
+    result = next(
+        r
+        for r in checked.analysis.verified[checked.uri].scenarios
+        if r.scenario is checked.scenario
+    )
+    variables: dict[str, ir.Var] = result.problem.variables
+    found: dict[str, dict[str, Any]] = {}
+    for p in witness.get("parameters", []):
+        name = p["name"]
+        if not p.get("constrained") or "@" in name:
+            continue
+        var = variables.get(name)
+        entry: dict[str, Any] = {"text": p["text"], "unit": var.unit if var else ""}
+        if "si" in p and var is not None and not var.enum and not var.is_string:
+            shown = (Fraction(p["si"]) - var.unit_offset) / var.unit_factor
+            number = float(shown)
+            entry["value"] = int(number) if var.sort == "int" else _round(number)
+        else:
+            entry["value"] = p.get("value", p["text"])
+        found[name] = entry
+    return found
+
+
+def _round(value: float) -> float:
+    return float(f"{value:.10g}") if math.isfinite(value) else value
+
+
+def process_memory() -> int:
+    """This process's peak resident memory in bytes (0 where unknown)."""
+    try:
+        import resource
+
+        peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        return int(peak) * (1 if os.uname().sysname == "Darwin" else 1024)
+    except (ImportError, OSError):  # pragma: no cover - not POSIX
+        return 0

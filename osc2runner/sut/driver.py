@@ -1,0 +1,247 @@
+"""The SUT's seat in the loop: :class:`SutDriver` stands where the actor's controller was.
+
+The scenario's behaviours keep talking to the actor's own
+:class:`~osc2runner.sim.VehicleController` (they set its speed target and
+lateral path, and ask whether they are reached): that controller is the
+*driver model* that turns the scenario's intent into inputs. Each tick the
+:class:`SutDriver` steps it (so its state follows the car), builds the
+:class:`~osc2runner.sut.Observation` from the tick's states, asks the SUT, and
+returns the SUT's inputs instead of the driver model's. ``speed`` and
+``lateral`` are the driver model's, so behaviours and telemetry see no
+difference.
+
+What the SUT does wrong is its own outcome, not a bug of the runner: an
+exception in ``step`` or an answer that is not a finite :class:`Command` or
+:class:`Demand` raises :class:`SutFault`, which the tick loop turns into the
+outcome ``error`` naming the SUT and the tick.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from typing import Any
+
+from osc2check.world.network import RoadNetwork
+from osc2check.world.tracking import PathCursor
+from osc2runner.sim import ActorState, VehicleController, VehicleInput
+from osc2runner.sim.vehicle import GRAVITY, VehicleParams
+from osc2runner.sut import (
+    ActorView,
+    Command,
+    Demand,
+    Intent,
+    Observation,
+    RoadAhead,
+    SutInfo,
+    SystemUnderTest,
+)
+
+__all__ = ["PATH_SPACING", "PATH_POINTS", "SutDriver", "SutFault", "sut_info"]
+
+PATH_SPACING = 5.0  # m between the points of RoadAhead.path
+PATH_POINTS = 11  # 0 to 50 m ahead
+
+
+class SutFault(Exception):
+    """The system under test failed (raised, or answered something that is not an input)."""
+
+
+def sut_info(name: str, params: VehicleParams, dt: float, seed: int, scenario: str) -> SutInfo:
+    """What the SUT is told about its vehicle before a run."""
+    return SutInfo(
+        actor=name,
+        length=params.length,
+        width=params.width,
+        wheelbase=params.wheelbase,
+        mass=params.mass,
+        max_steer=params.max_steer,
+        max_accel=params.max_drive_force / params.mass,
+        max_decel=min(params.max_brake_torque / params.wheel_radius / params.mass, GRAVITY),
+        max_speed=params.max_speed,
+        dt=dt,
+        seed=seed,
+        scenario=scenario,
+    )
+
+
+def _view(state: ActorState, ego: ActorState | None) -> ActorView:
+    c, s = math.cos(state.yaw), math.sin(state.yaw)
+    vx = state.speed * c - state.lateral_speed * s
+    vy = state.speed * s + state.lateral_speed * c
+    if ego is None or ego is state:
+        return ActorView(
+            state.name, state.kind, state.x, state.y, state.yaw, state.speed, state.accel,
+            vx, vy, state.length, state.width, state.lane, state.s, state.t,
+        )  # fmt: skip
+    ec, es = math.cos(ego.yaw), math.sin(ego.yaw)
+    evx = ego.speed * ec - ego.lateral_speed * es
+    evy = ego.speed * es + ego.lateral_speed * ec
+    dx, dy = state.x - ego.x, state.y - ego.y
+    rel_x, rel_y = dx * ec + dy * es, -dx * es + dy * ec
+    dvx, dvy = vx - evx, vy - evy
+    # the other's box projected on the SUT's axes (its half extents along them)
+    rc, rs = abs(math.cos(state.yaw - ego.yaw)), abs(math.sin(state.yaw - ego.yaw))
+    half_long = 0.5 * (state.length * rc + state.width * rs)
+    half_lat = 0.5 * (state.length * rs + state.width * rc)
+    return ActorView(
+        state.name, state.kind, state.x, state.y, state.yaw, state.speed, state.accel,
+        vx, vy, state.length, state.width, state.lane, state.s, state.t,
+        rel_x=rel_x,
+        rel_y=rel_y,
+        rel_vx=dvx * ec + dvy * es,
+        rel_vy=-dvx * es + dvy * ec,
+        gap=abs(rel_x) - 0.5 * ego.length - half_long,
+        lateral_gap=abs(rel_y) - 0.5 * ego.width - half_lat,
+    )  # fmt: skip
+
+
+def _finite(*values: float) -> bool:
+    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
+
+
+class SutDriver:
+    """The controller of the SUT actor (see the module docstring).
+
+    Parameters:
+        name: the SUT actor.
+        sut: the SUT instance (already ``reset``).
+        inner: the actor's driver model; behaviours set its targets.
+        network: the map.
+        states: the run's states of this tick, by actor (read when stepping).
+    """
+
+    def __init__(
+        self,
+        name: str,
+        sut: SystemUnderTest,
+        inner: VehicleController,
+        network: RoadNetwork,
+        states: Mapping[str, ActorState],
+    ) -> None:
+        self.name = name
+        self.sut = sut
+        self.inner = inner
+        self.network = network
+        self.states = states
+        self._cursor: PathCursor | None = None
+        self._cursor_route: Any = None
+        self.speed = inner.speed
+        self.lateral = inner.lateral
+        params = inner.speed.params
+        self.params = params
+        self.last: Command | Demand | None = None
+
+    @property
+    def path(self) -> Any:
+        """The world path the driver model follows (``follow_path``...), set by behaviours."""
+        return self.inner.path
+
+    @path.setter
+    def path(self, value: Any) -> None:
+        self.inner.path = value
+
+    def __getattr__(self, name: str) -> Any:
+        # everything else behaviours ask of the actor's controller is the driver model's
+        return getattr(self.inner, name)
+
+    def observe(self, state: ActorState, driver: VehicleInput) -> Observation:
+        """The observation of this tick."""
+        others = tuple(_view(s, state) for n, s in self.states.items() if n != self.name)
+        return Observation(
+            tick=state.tick,
+            time=state.time,
+            ego=_view(state, None),
+            others=others,
+            road=self._road(state),
+            intent=self._intent(state),
+            driver=Command(driver.throttle, driver.brake, driver.steer),
+        )
+
+    def _road(self, state: ActorState) -> RoadAhead:
+        lateral = self.inner.lateral
+        route, path = lateral.route, lateral.path
+        points: list[tuple[float, float]] = []
+        heading, curvature, to_end = state.yaw, 0.0, 0.0
+        if route is not None:
+            if self._cursor is None or self._cursor_route is not route:
+                self._cursor, self._cursor_route = PathCursor(route), route
+            here = self._cursor.locate(state.x, state.y)
+            heading, curvature = here.heading, here.curvature
+            to_end = max(route.length - here.distance, 0.0)
+            for i in range(PATH_POINTS):
+                d = here.distance + i * PATH_SPACING
+                pose = route.pose_at(d)
+                offset = path.at(d)[0] if path is not None else 0.0
+                points.append(
+                    (pose.x - offset * math.sin(pose.yaw), pose.y + offset * math.cos(pose.yaw))
+                )
+        ref = state.lane_ref
+        width = math.nan
+        if ref is not None:
+            width = float(self.network.width(ref, state.s))
+        return RoadAhead(
+            road=state.road,
+            lane=state.lane,
+            s=state.s,
+            t=state.t,
+            lane_width=width,
+            speed_limit=self.network.speed_limit,
+            heading=heading,
+            curvature=curvature,
+            path=tuple(points),
+            distance_to_end=to_end,
+        )
+
+    def _intent(self, state: ActorState) -> Intent:
+        lateral = self.inner.lateral
+        path = lateral.path
+        if path is None:
+            return Intent(self.inner.speed.target, None, False)
+        changing = lateral.route is not None and not lateral.done(state) and path.d1 > path.d0
+        return Intent(self.inner.speed.target, path.goal(path.d1)[0], changing)
+
+    def step(self, state: ActorState) -> VehicleInput:
+        """One tick: the driver model's inputs, the observation, the SUT's answer."""
+        driver = self.inner.step(state)
+        observation = self.observe(state, driver)
+        try:
+            answer = self.sut.step(observation)
+        except Exception as exc:
+            raise SutFault(
+                f"the system under test ({type(self.sut).__name__}) raised "
+                f"{type(exc).__name__}: {exc} at tick {state.tick}"
+            ) from exc
+        self.last = answer
+        return self.inputs(answer, state, driver)
+
+    def inputs(
+        self, answer: Command | Demand, state: ActorState, driver: VehicleInput
+    ) -> VehicleInput:
+        """The vehicle inputs for the SUT's answer (SutFault when it is not one)."""
+        who = type(self.sut).__name__
+        if isinstance(answer, Command):
+            if not _finite(answer.throttle, answer.brake, answer.steer):
+                raise SutFault(f"{who} returned a non-finite command at tick {state.tick}")
+            return VehicleInput(
+                min(max(answer.throttle, 0.0), 1.0),
+                min(max(answer.brake, 0.0), 1.0),
+                min(max(answer.steer, -1.0), 1.0),
+            )
+        if isinstance(answer, Demand):
+            curvature = answer.curvature
+            if not _finite(answer.acceleration) or (
+                curvature is not None and not _finite(curvature)
+            ):
+                raise SutFault(f"{who} returned a non-finite demand at tick {state.tick}")
+            throttle, brake = self.inner.speed.pedals_for(answer.acceleration, state.speed)
+            if curvature is None:
+                steer = driver.steer
+            else:
+                delta = math.atan(self.params.wheelbase * curvature)
+                steer = min(max(delta / self.params.max_steer, -1.0), 1.0)
+            return VehicleInput(throttle, brake, steer)
+        raise SutFault(
+            f"{who}.step returned {type(answer).__name__}, not a Command or a Demand "
+            f"(tick {state.tick})"
+        )

@@ -1,0 +1,167 @@
+"""Which SUT class drives which actor: ``--sut``, ``--sut-actor`` and ``[tool.osc2run]``.
+
+* :class:`SutSpec` names the class (``module:Class``, a module importable from
+  the current folder or installed, or ``path/to/file.py:Class``) and, optionally,
+  the actor. It is plain data, so a campaign hands it to its workers.
+* The actor is ``actor`` when given, else the scenario's field named ``sut``,
+  else the one named ``ego``; it must be a vehicle.
+* :func:`configured_sut` reads ``sut`` and ``sut-actor`` from ``[tool.osc2run]`` in
+  the nearest ``pyproject.toml`` above the scenario file (a file path there is
+  relative to that ``pyproject.toml``); the command line wins.
+
+A name that does not import, a class that is not there or has no ``step``, or a
+scenario without the actor is a :class:`SutError` (a ``ValueError``), which the
+command reports as a one-line usage error before anything runs.
+"""
+
+from __future__ import annotations
+
+import importlib
+import importlib.util
+import os
+import sys
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+__all__ = ["SUT_FIELDS", "SutError", "SutSpec", "choose_actor", "configured_sut"]
+
+#: the scenario fields that mark the system under test, in order of preference
+SUT_FIELDS = ("sut", "ego")
+_SECTION = ("tool", "osc2run")
+
+
+class SutError(ValueError):
+    """A SUT that cannot be used (the message says why)."""
+
+
+@dataclass(frozen=True, slots=True)
+class SutSpec:
+    """The SUT class (``target``: ``module:Class`` or ``file.py:Class``) and the actor
+    it drives (None: the field named ``sut``, else ``ego``)."""
+
+    target: str
+    actor: str | None = None
+
+    def __post_init__(self) -> None:
+        module, sep, name = self.target.rpartition(":")
+        if not sep or not module or not name.isidentifier():
+            raise SutError(f"`{self.target}` is not `module:Class` or `path/file.py:Class`")
+
+    @property
+    def is_file(self) -> bool:
+        module = self.target.rpartition(":")[0]
+        return module.endswith(".py") or os.sep in module or "/" in module
+
+    def resolved(self, base: Path | None = None) -> SutSpec:
+        """The spec with a file path made absolute (relative to ``base``, else the
+        current folder), so that workers in other folders load the same file."""
+        if not self.is_file:
+            return self
+        module, _, name = self.target.rpartition(":")
+        path = Path(module)
+        if not path.is_absolute():
+            path = (base or Path.cwd()) / path
+        return SutSpec(f"{path.resolve()}:{name}", self.actor)
+
+    def load(self) -> type[Any]:
+        """The class (SutError when it cannot be imported or is not a SUT)."""
+        module_name, _, name = self.target.rpartition(":")
+        try:
+            if self.is_file:
+                module = _load_file(Path(module_name))
+            else:
+                if os.getcwd() not in sys.path:  # as `python -m` does: the current folder
+                    sys.path.append(os.getcwd())
+                module = importlib.import_module(module_name)
+        except SutError:
+            raise
+        except Exception as exc:  # an import that fails, whatever the module raised
+            raise SutError(f"cannot import `{module_name}`: {type(exc).__name__}: {exc}") from None
+        cls = getattr(module, name, None)
+        if not isinstance(cls, type):
+            raise SutError(f"`{module_name}` has no class `{name}`")
+        if not callable(getattr(cls, "step", None)):
+            raise SutError(f"`{name}` has no `step(observation)` method")
+        return cls
+
+    def make(self) -> Any:
+        """A new instance of the class."""
+        cls = self.load()
+        try:
+            return cls()
+        except Exception as exc:
+            raise SutError(f"`{self.target}()` raised {type(exc).__name__}: {exc}") from None
+
+
+def _load_file(path: Path) -> Any:
+    if not path.is_file():
+        raise SutError(f"{path}: no such file")
+    name = f"osc2run_sut_{abs(hash(str(path.resolve())))}"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        raise SutError(f"{path}: not a Python module")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    try:
+        spec.loader.exec_module(module)
+    except BaseException:
+        del sys.modules[name]
+        raise
+    return module
+
+
+def choose_actor(fields: dict[str, str], wanted: str | None) -> str:
+    """The SUT actor among the scenario's actor fields (``name -> kind``): ``wanted``,
+    else the field named ``sut``, else ``ego``; SutError when there is none or it
+    is not a vehicle."""
+    if wanted is not None:
+        if wanted not in fields:
+            known = ", ".join(fields) or "none"
+            raise SutError(f"the scenario has no actor `{wanted}` (actors: {known})")
+        chosen = wanted
+    else:
+        found = next((n for n in SUT_FIELDS if n in fields), None)
+        if found is None:
+            raise SutError(
+                "the scenario marks no system under test: name its field `sut` or `ego`, "
+                "or give --sut-actor NAME"
+            )
+        chosen = found
+    if fields[chosen] != "vehicle":
+        raise SutError(f"the system under test `{chosen}` is a {fields[chosen]}, not a vehicle")
+    return chosen
+
+
+def configured_sut(scenario_file: str | Path) -> tuple[SutSpec | None, Path | None]:
+    """``[tool.osc2run]``'s ``sut`` and ``sut-actor`` from the nearest ``pyproject.toml``
+    above ``scenario_file`` that has the table (None when none has), and that file."""
+    folder = Path(scenario_file).resolve().parent
+    for candidate in (folder, *folder.parents):
+        path = candidate / "pyproject.toml"
+        if not path.is_file():
+            continue
+        try:
+            data = tomllib.loads(path.read_text(encoding="utf-8"))
+        except (OSError, tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+            raise SutError(f"{path}: cannot read: {exc}") from None
+        table: Any = data
+        for key in _SECTION:
+            table = table.get(key) if isinstance(table, dict) else None
+        if not isinstance(table, dict):
+            continue
+        unknown = sorted(set(table) - {"sut", "sut-actor"})
+        if unknown:
+            raise SutError(
+                f"{path}: [tool.osc2run] has no key `{unknown[0]}` (keys: sut, sut-actor)"
+            )
+        target, actor = table.get("sut"), table.get("sut-actor")
+        if target is None:
+            return None, path
+        if not isinstance(target, str) or (actor is not None and not isinstance(actor, str)):
+            raise SutError(f"{path}: [tool.osc2run] sut and sut-actor are strings")
+        return SutSpec(target, actor).resolved(path.parent), path
+    return None, None

@@ -1,0 +1,267 @@
+"""Campaigns on the local pool: outputs, replay, crashes, limits, interrupts, resume."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+from pathlib import Path
+from xml.etree import ElementTree as ET
+
+import pytest
+
+from osc2runner.campaign import CampaignOptions, run_campaign
+from osc2runner.sut.loading import SutSpec
+
+HERE = Path(__file__).parent
+ROOT = HERE.parents[2]
+SUTS = HERE / "suts.py"
+CUT_IN = ROOT / "examples" / "cut_in_and_stop.osc"
+
+SHORT = """\
+import osc.standard
+
+scenario short:
+    ego: vehicle with:
+        keep(it.vehicle_category == car)
+    v: speed with:
+        keep(it in [10kph..60kph])
+    cover(v, unit: kph, range: [0..100], every: 20, event: start)
+    record(end_speed, expression: ego.speed, unit: kph)
+    do serial:
+        ego.assign_position() with:
+            lane(2, at: start)
+            speed(v, at: start)
+        ego.drive(duration: 3s) with:
+            speed(v)
+"""
+
+
+def osc2run(*args: str, **kw: object) -> subprocess.CompletedProcess[str]:
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    return subprocess.run(
+        [sys.executable, "-m", "osc2runner", *args],
+        capture_output=True, text=True, env=env, cwd=ROOT, timeout=600, **kw,
+    )  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def cut_in_campaign(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    out = tmp_path_factory.mktemp("cut_in") / "campaign"
+    done = osc2run(str(CUT_IN), "--runs", "40", "--jobs", "2", "--out", str(out))
+    assert done.returncode == 0, done.stderr + done.stdout
+    assert "40 of 40 runs, 40 passed" in done.stdout
+    return out
+
+
+def test_forty_runs_write_the_five_outputs(cut_in_campaign: Path) -> None:
+    out = cut_in_campaign
+    for name in ("campaign.json", "runs.csv", "junit.xml", "report.html"):
+        assert (out / name).is_file(), name
+    doc = json.loads((out / "campaign.json").read_text())
+    seeds = [r["seed"] for r in doc["runs"]]
+    assert sorted(seeds) == list(range(40))
+    assert doc["status"] == "complete" and doc["summary"]["pass_rate"] == 1.0
+    for seed in seeds:
+        run_dir = out / "runs" / str(seed)
+        assert {"telemetry.csv", "events.csv", "coverage.json", "run.json", "record.json"} <= {
+            p.name for p in run_dir.iterdir()
+        }
+    suite = ET.parse(out / "junit.xml").getroot().find("testsuite")
+    assert suite is not None and suite.get("tests") == "40" and suite.get("failures") == "0"
+    assert len(suite.findall("testcase")) == 40
+    rows = (out / "runs.csv").read_text().splitlines()
+    assert len(rows) == 41 and rows[0].startswith("seed,bin,outcome")
+    # the witnesses differ: the start position is drawn per seed
+    starts = {r["parameters"].get("hero", {}).get("text") for r in doc["runs"]}
+    positions = {
+        json.loads((out / "runs" / str(s) / "run.json").read_text())["actors"]["hero"]["start"]["s"]
+        for s in seeds
+    }
+    assert len(positions) == 40 and starts
+
+
+def test_a_campaign_run_replays_alone_byte_identical(cut_in_campaign: Path, tmp_path: Path) -> None:
+    doc = json.loads((cut_in_campaign / "campaign.json").read_text())
+    for run in doc["runs"][::13]:  # seeds 0, 13, 26, 39
+        assert run["replay"] == f"osc2run {CUT_IN} --seed {run['seed']}"
+        alone = tmp_path / str(run["seed"])
+        done = osc2run(str(CUT_IN), "--seed", str(run["seed"]), "--out", str(alone), "-q")
+        assert done.returncode == 0, done.stderr
+        for name in ("telemetry.csv", "events.csv"):
+            assert (alone / name).read_bytes() == (
+                cut_in_campaign / "runs" / str(run["seed"]) / name
+            ).read_bytes()
+
+
+def test_report_is_one_self_contained_file(cut_in_campaign: Path) -> None:
+    page = (cut_in_campaign / "report.html").read_text()
+    assert page.count("data:image/png;base64,") >= 1
+    assert "http://" not in page and "https://" not in page and "<script" not in page
+    assert 'href="runs/0/run.json"' in page
+
+
+def _short(tmp_path: Path) -> Path:
+    path = tmp_path / "short.osc"
+    path.write_text(SHORT, encoding="utf-8")
+    return path
+
+
+def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    result = run_campaign(
+        CampaignOptions(
+            str(path), runs=4, out=str(tmp_path / "c"), jobs=2,
+            sut=SutSpec(f"{SUTS}:CrashOnSeed").resolved(),
+        )
+    )  # fmt: skip
+    by_seed = {r.seed: r for r in result.records}
+    assert by_seed[2].status == "error" and "died" in by_seed[2].reason
+    assert [by_seed[s].status for s in (0, 1, 3)] == ["success"] * 3
+    assert result.summary["failed"] == 1 and result.status == "complete"
+    slow = run_campaign(
+        CampaignOptions(
+            str(path), runs=3, out=str(tmp_path / "d"), jobs=2, run_timeout=1.0,
+            sut=SutSpec(f"{SUTS}:SlowOnSeed").resolved(),
+        )
+    )  # fmt: skip
+    by_seed = {r.seed: r for r in slow.records}
+    assert by_seed[1].status == "error" and "wall-clock limit of 1 s" in by_seed[1].reason
+    # the stopped run still wrote its files, ended at a tick boundary
+    assert (tmp_path / "d" / "runs" / "1" / "run.json").is_file()
+    assert by_seed[0].status == by_seed[2].status == "success"
+
+
+def test_records_and_coverage(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    result = run_campaign(CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2))
+    for r in result.records:
+        v = r.parameters["v"]["value"]
+        assert 10.0 <= v <= 60.0 and r.parameters["v"]["unit"] == "kph"
+        assert r.coverage["v"] == [int(v // 20)]
+        assert r.records["end_speed"] == pytest.approx(v, abs=0.5)
+    (item,) = result.document["coverage"]
+    hits = sum(b["hits"] for b in item["buckets"])
+    assert hits == 6 and item["buckets"][4]["hits"] == 0  # 80..100 kph: above the range
+
+
+def test_cover_strategy_fills_every_reachable_bin_and_reports_the_others(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    result = run_campaign(
+        CampaignOptions(str(path), runs=4, out=str(tmp_path / "c"), jobs=2, strategy="cover")
+    )
+    (item,) = result.document["coverage"]
+    states = [b["state"] for b in item["buckets"]]
+    # v in [10..60] kph: [0..20), [20..40), [40..60) reachable, [60..80) only at 60 kph, [80..100]
+    assert states[:3] == ["filled"] * 3
+    assert states[4] == "unreachable"
+    assert item["buckets"][3]["solver"] == "reachable" and states[3] == "filled"
+
+
+def test_directed_run_replays_alone_with_bin(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    result = run_campaign(
+        CampaignOptions(str(path), runs=4, out=str(tmp_path / "c"), jobs=1, strategy="cover")
+    )
+    directed = [r for r in result.document["runs"] if r["bin"]]
+    assert directed, "v = 60 kph exactly is a bin no seed's witness lands in"
+    run = directed[0]
+    assert "--bin v=3" in run["replay"]
+    alone = tmp_path / "alone"
+    done = osc2run(str(path), "--seed", str(run["seed"]), "--bin", "v=3", "--out", str(alone))
+    assert done.returncode == 0, done.stderr
+    assert (alone / "telemetry.csv").read_bytes() == (
+        tmp_path / "c" / "runs" / str(run["seed"]) / "telemetry.csv"
+    ).read_bytes()
+
+
+def test_ctrl_c_writes_what_finished_and_resume_does_the_rest(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    out = tmp_path / "c"
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    args = [sys.executable, "-m", "osc2runner", str(path), "--runs", "8", "--jobs", "2",
+            "--out", str(out), "--sut", f"{SUTS}:Slow"]  # fmt: skip
+    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env=env, cwd=ROOT)  # fmt: skip
+    assert proc.stdout is not None
+    first = proc.stdout.readline()  # the first finished run
+    assert first.startswith("[1/8]"), first + (proc.stderr.read() if proc.stderr else "")
+    proc.send_signal(signal.SIGINT)
+    rest, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    doc = json.loads((out / "campaign.json").read_text())
+    assert doc["status"] == "interrupted" and doc["not_run"]
+    done_before = {r["seed"] for r in doc["runs"] if r["outcome"]["status"] == "success"}
+    assert done_before and len(done_before) < 8
+    suite = ET.parse(out / "junit.xml").getroot().find("testsuite")
+    assert suite is not None and int(suite.get("tests", 0)) == len(doc["runs"])
+    again = osc2run("--resume", str(out))
+    assert again.returncode == 0, again.stderr + again.stdout
+    assert f"resuming: {len(done_before)} of 8 runs already finished" in again.stdout
+    doc = json.loads((out / "campaign.json").read_text())
+    assert doc["status"] == "complete" and len(doc["runs"]) == 8
+    assert doc["summary"]["passed"] == 8 and doc["plan"]["resumed"] == sorted(done_before)
+
+
+def test_resume_refuses_another_text(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    run_campaign(CampaignOptions(str(path), runs=1, out=str(tmp_path / "c"), jobs=1))
+    path.write_text(SHORT.replace("3s", "2s"), encoding="utf-8")
+    done = osc2run("--resume", str(tmp_path / "c"))
+    assert done.returncode == 2 and "another text of the file" in done.stderr
+
+
+def test_campaign_usage_errors(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    for args, message in (
+        (["--runs", "3"], "--runs needs --out DIR"),
+        (["--runs", "0", "--out", str(tmp_path / "x")], "--runs 0: must be a positive"),
+        (["--jobs", "2"], "--jobs needs --runs N"),
+        (["--runs", "2", "--out", str(tmp_path / "x"), "--address", "auto"], "needs --engine ray"),
+        (["--sut", "nope"], "not `module:Class`"),
+    ):
+        done = osc2run(str(path), *args)
+        assert done.returncode == 2 and message in done.stderr, (args, done.stderr)
+        assert done.stderr.count("\n") == 1
+
+
+GRID = """\
+import osc.standard
+
+scenario grid:
+    ego: vehicle with:
+        keep(it.vehicle_category == car)
+    step: uint with:
+        keep(it in [1..3])
+    v: speed with:
+        keep(it == step * 10kph)
+    side: int with:
+        keep(it in [-1, 1])
+    cover(v, unit: kph, range: [5..35], every: 10, event: start)
+    cover(side, range: [-1.5..1.5], every: 1, event: start)
+    cover(cells, items: [v, side])
+    do serial:
+        ego.assign_position() with:
+            lane(2, at: start)
+            speed(v, at: start)
+        ego.drive(duration: 1s) with:
+            speed(v)
+"""
+
+
+def test_cross_coverage_fills_every_combination(tmp_path: Path) -> None:
+    path = tmp_path / "grid.osc"
+    path.write_text(GRID, encoding="utf-8")
+    result = run_campaign(
+        CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2, strategy="cover")
+    )
+    cells = next(i for i in result.document["coverage"] if i["name"] == "cells")
+    # 3 speeds x 3 side buckets, of which side 0 is unreachable: 6 reachable cells, 6 runs
+    assert cells["reachable"] == 6 and cells["unreachable"] == 3
+    assert cells["filled"] == 6 and not cells["holes"]
+    labels = [b["label"] for b in cells["buckets"] if b["state"] == "filled"]
+    assert "[5..15) × [-1.5..-0.5)" in labels and "[25..35] × [0.5..1.5]" in labels
+    combos = {(r.parameters["v"]["value"], r.parameters["side"]["value"]) for r in result.records}
+    assert combos == {(v, s) for v in (10.0, 20.0, 30.0) for s in (-1, 1)}
