@@ -223,9 +223,10 @@ def compile_checked(
     model = analysis.programs[uri].model
     fresh_blackboard()
     run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
-    run_ctx.traffic_lights = {
-        light.name: light for light in traffic_lights(model, instance.scenario, instance.values)
-    }
+    lights, problems = traffic_lights(model, instance.scenario, instance.values, instance.network)
+    if problems:
+        raise ScenarioError(problems, texts=analysis.texts)
+    run_ctx.traffic_lights = {light.name: light for light in lights}
     env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:

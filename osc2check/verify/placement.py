@@ -251,9 +251,9 @@ class PlacementLowerer:
             if p.type is not None and p.type.kind is T.Kind.COMPOUND
         ]
         actors = [(p, k) for p, k in candidates if k is not None]
-        if not actors and not self._map_modifier_members():
-            return None
         self.constants = _constants(self.problem)
+        if not actors and not self._map_modifier_members() and self._map_name()[0] is None:
+            return None  # nothing to place, and no map to read (lights may stand on one)
         self.written: set[str] = set()  # variables the scenario's own constraints mention
         for c in self.problem.constraints:
             if c.kind not in ("domain", "placement"):

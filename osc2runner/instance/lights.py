@@ -4,10 +4,15 @@ In the standard a traffic light is a struct (``traffic_light``: a ``pose``, a
 size, a ``group`` and its ``bulbs``), switched by the actions of a
 ``traffic_light_controller``. Every scenario parameter of that type is a light
 in the world, at the world ``x``, ``y`` and yaw of its ``pose`` (the witness's
-values). Its bulbs are the ``bulbs`` the scenario lists
-(``keep(it.bulbs == [red_bulb, ...])``), else a three-bulb head of red, yellow
-and green circles. Every bulb starts ``is_off`` (the light's semantic state is
-``off``) until an action switches it.
+values) — or, when its ``map_id`` is set, at the map's ``<signal>`` of that id
+(its pose from the signal's road, ``s``, ``t``, orientation and ``hOffset``,
+facing the traffic it is valid for; the ``pose`` is then not read). A
+``map_id`` that names no dynamic signal of the map stops the run before it
+starts, with the ids the map has. A light on the map without a ``group.map_id``
+is in the group of the map's ``<controller>`` that lists its signal. Its bulbs
+are the ``bulbs`` the scenario lists (``keep(it.bulbs == [red_bulb, ...])``),
+else a three-bulb head of red, yellow and green circles. Every bulb starts
+``is_off`` (the light's semantic state is ``off``) until an action switches it.
 
 The light's value is one object for the whole run: an expression that reads
 ``tl.bulbs[0].state`` reads the state of the moment. Lights of the same group
@@ -40,6 +45,8 @@ from types import SimpleNamespace
 from osc2check.semantics.constants import NotConstant
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.world.network import RoadNetwork
+from osc2runner.errors import RunProblem
 from osc2runner.instance.values import ScenarioValues, scenario_fields
 
 __all__ = ["SEMANTIC_BULBS", "LightState", "TrafficLight", "semantic_of", "traffic_lights"]
@@ -79,6 +86,7 @@ class TrafficLight:
     yaw: float
     value: SimpleNamespace
     history: list[LightState] = dataclasses.field(default_factory=list)
+    controller: str = ""  # the map's <controller> that switches it, for a light on the map
 
     def __post_init__(self) -> None:
         if not self.history:
@@ -103,7 +111,8 @@ class TrafficLight:
     @property
     def group(self) -> str:
         group = getattr(self.value, "group", None)
-        return str(getattr(group, "map_id", "")) if group is not None else ""
+        named = str(getattr(group, "map_id", "") or "") if group is not None else ""
+        return named or self.controller
 
     def semantic(self) -> str:
         """The semantic state its bulbs express (``non_functional`` when none matches)."""
@@ -123,9 +132,14 @@ def semantic_of(bulbs: tuple[SimpleNamespace, ...] | list[SimpleNamespace]) -> s
     return "non_functional"
 
 
-def traffic_lights(model: Model, scenario: Symbol, values: ScenarioValues) -> list[TrafficLight]:
-    """The scenario's traffic lights (parameters of type ``traffic_light``), in order."""
+def traffic_lights(
+    model: Model, scenario: Symbol, values: ScenarioValues, network: RoadNetwork
+) -> tuple[list[TrafficLight], list[RunProblem]]:
+    """The scenario's traffic lights (parameters of type ``traffic_light``), in order, and
+    the problems of those that cannot be placed (a ``map_id`` the map does not have)."""
     found: list[TrafficLight] = []
+    problems: list[RunProblem] = []
+    on_map = {s.id: s for s in network.signals if s.dynamic}
     for field in scenario_fields(model, scenario):
         t = field.type
         if field.kind is not SymbolKind.FIELD or t is None or t.symbol is None:
@@ -148,14 +162,26 @@ def traffic_lights(model: Model, scenario: Symbol, values: ScenarioValues) -> li
         else:
             for bulb in bulbs:
                 bulb.state = "is_off"
-        pose = value.pose
-        found.append(
-            TrafficLight(
-                field.name,
-                float(pose.position.x),
-                float(pose.position.y),
-                float(pose.orientation.yaw),
-                value,
-            )
-        )
-    return found
+        map_id = str(getattr(value, "map_id", "") or "")
+        if map_id:
+            signal = on_map.get(map_id)
+            if signal is None:
+                have = ", ".join(sorted(on_map)) or "none"
+                problems.append(
+                    RunProblem(
+                        f"traffic light {field.name!r}: map_id {map_id!r} is not a traffic "
+                        f"light of the map (its dynamic signals: {have})",
+                        field.name_span,
+                    )
+                )
+                continue
+            where = network.signal_pose(signal)
+            x, y, yaw = where.x, where.y, where.yaw
+            controller = next((c.id for c in network.controllers if map_id in c.signals), "")
+        else:
+            controller = ""
+            pose = value.pose
+            x, y = float(pose.position.x), float(pose.position.y)
+            yaw = float(pose.orientation.yaw)
+        found.append(TrafficLight(field.name, x, y, yaw, value, controller=controller))
+    return found, problems
