@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import pytest
 
+from osc2check.verify import timing
 from osc2runner import run
+from osc2runner.errors import ScenarioError
 
 KPH = 1 / 3.6
 DT = 0.05
@@ -59,14 +61,21 @@ def test_join_kinds_end_when_every_member_has_ended(kind):
 
 
 @pytest.mark.parametrize("kind", ENDS_WITH_FIRST)
-def test_kinds_that_end_with_the_first_member(kind):
+def test_kinds_that_end_with_the_first_member(kind, monkeypatch):
     # an open-ended second member ends as planned with the first
     result = _run(_overlap(kind, ""))
     assert result.outcome.status == "success", result.outcome.reason
     (start,) = result.event_ticks("start", "together.start")
     (end,) = result.event_ticks("end", "together.end")
     assert (end - start) * DT == pytest.approx(3.0)
-    # a second member with a 5 s phase cannot end no later than the 3 s first one
+    # a second member with a 5 s phase cannot end no later than the 3 s first one: the
+    # checker says so (B608) and nothing runs ...
+    with pytest.raises(ScenarioError) as caught:
+        _run(_overlap(kind, "duration: 5s"))
+    assert [d.code.code for d in caught.value.diagnostics] == ["B608"]
+    # ... and the runner, given it anyway (the checker's timing model left out), fails
+    # it when the first member ends
+    monkeypatch.setattr(timing, "lower_timing", lambda lowerer, scenario: None)
     result = _run(_overlap(kind, "duration: 5s"))
     assert result.outcome.status == "failure"
     assert f"parallel(overlap: {kind})" in result.outcome.reason
