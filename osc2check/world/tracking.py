@@ -29,7 +29,7 @@ from osc2check.world.paths import LanePath
 __all__ = ["PathCursor", "PathPoint", "RoadLocator", "RoadPosition"]
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)  # not frozen: made several times per tick, and never changed
 class PathPoint:
     """A point projected onto a path: segment ``index`` (``index .. index + 1``) and the
     ``fraction`` along it, the distance along the path (below 0 or beyond its length
@@ -61,6 +61,7 @@ class PathCursor:
         "s",
         "t",
         "lane_of",
+        "lane_table",
     )
 
     def __init__(self, path: LanePath) -> None:
@@ -74,6 +75,8 @@ class PathCursor:
         self.s: list[float] = path.s.tolist()
         self.t: list[float] = path.t.tolist()
         self.lane_of: list[int] = path.lane_of.tolist()
+        # per lane of the path: (ref, lane, OSC2 number), filled by the first RoadLocator
+        self.lane_table: list[tuple[LaneRef, Lane, int | None]] | None = None
         self.length = path.length
         self._last = len(self._x) - 2  # the last segment
         self.index = -1  # no projection yet
@@ -118,7 +121,7 @@ class PathCursor:
         )
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)  # not frozen: made per actor per tick, and never changed
 class RoadPosition:
     """Road coordinates of an actor (``road`` None when it is near no road).
 
@@ -224,18 +227,22 @@ class RoadLocator:
         if abs(point.offset) > 0.5 * width:
             return None
         lane_of, ss, ts = cursor.lane_of, cursor.s, cursor.t
+        table = cursor.lane_table
+        if table is None:
+            table = cursor.lane_table = [
+                (ref, self._lane(ref), self._number(ref)) for ref in cursor.path.lanes
+            ]
         lane_i, lane_j = lane_of[i], lane_of[i + 1]
         if lane_i == lane_j:
-            ref = cursor.path.lanes[lane_i]
+            ref, lane, number = table[lane_i]
             s = ss[i] + a * (ss[i + 1] - ss[i])
             centre = ts[i] + a * (ts[i + 1] - ts[i])
         else:  # a joint between two lanes: the nearer end's lane
             k = i if a < 0.5 else i + 1
-            ref = cursor.path.lanes[lane_of[k]]
+            ref, lane, number = table[lane_of[k]]
             along = point.distance - float(cursor.path.distance[k])
-            s = ss[k] + along * self._lane(ref).direction
+            s = ss[k] + along * lane.direction
             centre = ts[k]
-        lane = self._lane(ref)
         self._road = ref.road
         self._segment = -1  # found from s when the road is needed
         self._s_hint = s
@@ -249,7 +256,7 @@ class RoadLocator:
             lane.direction,
             True,
             lane.drivable,
-            self._number(ref),
+            number,
         )
 
     # ---- the last road

@@ -142,12 +142,11 @@ class ActuatorBank:
         whenever a tire skips (reference/vehicle-model.md §4.1, "model loads"
         were also the smoother variant there).
         """
-        dx = (self.transfer_x * accel)[:, None]
-        dy = self.transfer_y * lat_accel[:, None]
-        load = self.static_load + np.concatenate((-dx, -dx, dx, dx), axis=1)
-        load[:, 0::2] -= dy[:, 0::2]  # left wheels unload in a left turn
-        load[:, 1::2] += dy[:, 1::2]
-        return np.maximum(load, 0.0)
+        # front wheels unload when accelerating; left wheels unload in a left turn (the
+        # signs are exact: multiplying by -1 and adding is subtracting)
+        load = self.static_load + (self.transfer_x * accel)[:, None] * _ALONG
+        load += (self.transfer_y * lat_accel[:, None]) * _ACROSS
+        return np.maximum(load, 0.0, out=load)
 
     def update(
         self, speed: np.ndarray, mu: np.ndarray, accel: np.ndarray, lat_accel: np.ndarray
@@ -184,6 +183,10 @@ class ActuatorBank:
         right = np.arctan2(lw * tan_d, lw + self.half_track * tan_d)
         self.steer_angles[:, 0] = left
         self.steer_angles[:, 1] = right
+
+
+_ALONG = np.array([-1.0, -1.0, 1.0, 1.0])  # per wheel FL, FR, RL, RR
+_ACROSS = np.array([-1.0, 1.0, -1.0, 1.0])
 
 
 def _limit(change: np.ndarray, step: np.ndarray) -> np.ndarray:

@@ -426,6 +426,7 @@ class StanleyController:
         seed: int = 0,
     ) -> None:
         self.params = params
+        self._wheelbase = params.wheelbase  # a property: read once, used every tick
         self.network = network
         self.gain = gain
         self.soft_speed = soft_speed
@@ -558,7 +559,8 @@ class StanleyController:
         """One control tick: the steer input in [-1, 1] (0 without a path)."""
         if self.path is None or self.route is None or self._cursor is None:
             return 0.0
-        fx, fy = self._front(state)
+        front, yaw = self.params.front_axle_x, state.yaw
+        fx, fy = state.x + front * math.cos(yaw), state.y + front * math.sin(yaw)
         point = self._cursor.locate(fx, fy)
         if self._then is not None and point.distance >= self.path.d1:
             self._switch(state)
@@ -570,9 +572,9 @@ class StanleyController:
         offset, slope = self.path.at(point.distance)
         self.error = (point.offset - offset) * math.cos(math.atan(slope))
         kappa = point.curvature / max(1.0 - point.curvature * offset, 0.1)
-        bend = min(max(self.params.wheelbase * kappa, -0.99), 0.99)
+        bend = min(max(self._wheelbase * kappa, -0.99), 0.99)
         line = point.heading + math.atan(slope) - math.asin(bend)
-        heading_error = (line - state.yaw + math.pi) % (2.0 * math.pi) - math.pi
+        heading_error = (line - yaw + math.pi) % (2.0 * math.pi) - math.pi
         speed = abs(state.speed)
         delta = (
             math.atan(bend)

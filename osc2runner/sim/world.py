@@ -184,7 +184,7 @@ def weather_friction(weather: Weather) -> float:
     return 0.7 - 0.3 * min(weather.rain, 1.0)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)  # read-only by convention: made per actor per tick (frozen costs 4x)
 class ActorState:
     """Read-out of one actor at a control tick (SI units, world frame).
 
