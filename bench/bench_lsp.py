@@ -429,6 +429,10 @@ def compare(sizes: list[int], words: int) -> None:
 
 def main() -> None:
     if len(sys.argv) > 1:
+        if not sys.argv[1].isdigit():
+            print(__doc__)
+            print("usage: python bench/bench_lsp.py [LINES]")
+            sys.exit(0 if sys.argv[1] in ("-h", "--help") else 2)
         lines = int(sys.argv[1])
         text = generate(lines)
         print(
