@@ -57,8 +57,10 @@ class FastLeaf:
     py_trees' per-tick debug formatting, which is most of a leaf's cost at 20 Hz.
     """
 
+    status: Status  # the py_trees behaviour's it is mixed into
+
     def tick_status(self) -> Status:
-        if self.status != Status.RUNNING:  # type: ignore[attr-defined]
+        if self.status != Status.RUNNING:
             self.initialise()  # type: ignore[attr-defined]
         new_status = self.update()  # type: ignore[attr-defined]
         if new_status != Status.RUNNING:

@@ -79,7 +79,7 @@ class Rain(InstantAction):
         update_weather(self, "rain")
         mmph = float(self.args["intensity"]) * MPS_TO_MMPH
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
-        world = self.ctx.world
+        world = self.ctx.attached_world
         world.set_weather(rain=level)
         self.ctx.record(
             "environment",
@@ -98,7 +98,7 @@ class Fog(InstantAction):
         update_weather(self, "fog")
         visual = float(self.args["visual_range"])
         level = min(max(1.0 - visual / FOG_RANGE, 0.0), 1.0)
-        self.ctx.world.set_weather(fog=level)
+        self.ctx.attached_world.set_weather(fog=level)
         self.ctx.record("environment", "fog", f"visual range {visual:.6g} m -> level {level:.3g}")
 
 
@@ -115,7 +115,7 @@ class SetRoadFriction(InstantAction):
         if why is not None:
             raise ActionError(why)
         value = float(self.args["value"])
-        self.ctx.world.set_road_friction(value)
+        self.ctx.attached_world.set_road_friction(value)
         self.ctx.record("environment", "set_road_friction", f"{value:.6g}")
 
 

@@ -356,9 +356,9 @@ class Lane(Modifier):
             side = side_of(str(args.get("side", "left")))
             other = lanes.number(lane_of(ctx, args["side_of"]), "right")
             return other + n if side == "left" else other - n
-        side = args.get("from")
+        counted_from = args.get("from")
         count = lanes.count(here)
-        side_text = str(side) if side is not None else lanes.default_side
+        side_text = str(counted_from) if counted_from is not None else lanes.default_side
         return n if side_text == "right" else count + 1 - n
 
     def _lane(self, action: ActionBehaviour) -> LaneRef:

@@ -119,7 +119,7 @@ def compile_coverage(
         return item
     value = env.compile(expression_node)
     cell: list[Any] = [None]
-    inner = Bindings(None, **{name: lambda: cell[0]})
+    inner = Bindings(None, bindings={name: lambda: cell[0]})
     ignore = env.compile(named["ignore"], inner) if "ignore" in named else None
     illegal = env.compile(named["illegal"], inner) if "illegal" in named else None
     event_node = named.get("event")

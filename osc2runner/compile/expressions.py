@@ -15,7 +15,7 @@ Methods of the domain model that are ``is undefined`` (``object_distance``,
 from __future__ import annotations
 
 import operator
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
@@ -86,11 +86,16 @@ class Bindings:
     parameters, and the scenario instance (``frame``) being compiled."""
 
     def __init__(
-        self, parent: Bindings | None = None, frame: Frame | None = None, **bindings: Closure
+        self,
+        parent: Bindings | None = None,
+        frame: Frame | None = None,
+        bindings: Mapping[str, Closure] | None = None,
     ) -> None:
         self.parent = parent
-        self.bindings = dict(bindings)
-        self.frame = frame if frame is not None else (parent.frame if parent else None)
+        self.bindings: dict[str, Closure] = dict(bindings or {})
+        self.frame: Frame | None = (
+            frame if frame is not None else (parent.frame if parent else None)
+        )
 
     def lookup(self, name: str) -> Closure | None:
         scope: Bindings | None = self
@@ -101,7 +106,7 @@ class Bindings:
         return None
 
     def child(self, **bindings: Closure) -> Bindings:
-        return Bindings(self, **bindings)
+        return Bindings(self, bindings=bindings)
 
     def event(self, path: tuple[str, ...]) -> str:
         """The run's name of the event ``path`` written here (:meth:`Frame.event`)."""
@@ -292,6 +297,7 @@ class ExpressionCompiler:
 
     def _unary(self, e: ast.Unary, scope: Bindings) -> Closure:
         operand = self._c(e.operand, scope)
+        fn: Callable[[Any], Any]
         if e.op == "not":
             fn = operator.not_
         elif e.op == "-":
@@ -437,7 +443,7 @@ class ExpressionCompiler:
             bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
             self._inlining.append(method)
             try:
-                return self._c(decl.body, Bindings(None, actor=target, **bindings))
+                return self._c(decl.body, Bindings(None, bindings={"actor": target, **bindings}))
             finally:
                 self._inlining.pop()
         if isinstance(decl, ast.MethodDecl) and decl.kind == "external":
@@ -482,7 +488,7 @@ class ExpressionCompiler:
                 decl,
             )
         bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
-        inner = Bindings(None, actor=target, **bindings)
+        inner = Bindings(None, bindings={"actor": target, **bindings})
         positional: list[Closure] = []
         keywords: dict[str, Closure] = {}
         for arg in decl.external_arguments:

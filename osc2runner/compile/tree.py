@@ -15,6 +15,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import py_trees
@@ -61,6 +62,7 @@ from osc2runner.compile.expressions import (
 )
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
+from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
 
@@ -211,13 +213,13 @@ class TreeCompiler:
         for member in members:
             match member:
                 case ast.OnDirective():
-                    handler = self._guard(lambda m=member: self.on(m, scope), member)
+                    handler = self._guard(partial(self.on, member, scope), member)
                     if handler is not None:
                         handlers.append(handler)
                 case ast.Invocation():
                     self._scenario_modifier(member)
                 case ast.CoverageDecl():
-                    self._guard(lambda m=member: self.coverage(m), member)
+                    self._guard(partial(self.coverage, member), member)
         self.invoking.append(scenario)
         if do is None:
             main: py_trees.behaviour.Behaviour = Serial("do (empty)")
@@ -300,7 +302,7 @@ class TreeCompiler:
             except CompileProblem as exc:
                 self._problem(exc)
                 continue
-            on_occurrence(run, watch, lambda n=sym.name: run.emit(n, kind="event"))
+            on_occurrence(run, watch, partial(run.emit, sym.name, kind="event"))
 
     def _declared_event_handlers(
         self, scenario: Symbol, scope: Bindings
@@ -321,7 +323,7 @@ class TreeCompiler:
                 OnHandler(
                     node_name(f"event {sym.name}", decl),
                     watch,
-                    [lambda h, n=name: run.emit(n, kind="event")],
+                    [_emits(run, name)],
                 )
             )
         return handlers
@@ -600,7 +602,7 @@ class TreeCompiler:
             events=events,
             labels=_labels(do),
         )
-        inner = Bindings(frame=frame, **({"actor": constant(actor)} if actor else {}))
+        inner = Bindings(frame=frame, bindings={"actor": constant(actor)} if actor else None)
         initialisers: list[Callable[[], None]] = []
         for param in self.model.all_members(sym):
             if param.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
@@ -824,12 +826,10 @@ class TreeCompiler:
             if isinstance(member, ast.Emit):
                 name, key, args = self._emission(member, scope)
                 keys.append(key)
-                members.append(
-                    lambda h, n=name, k=key, a=args: emit_now(run, h.blackboard, n, k, a)
-                )
+                members.append(_emits_now(run, name, key, args))
             elif isinstance(member, ast.CallDirective):
                 call = env.compile(member.call, scope)
-                members.append(lambda h, c=call: c())
+                members.append(_calls(call))
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
 
     def coverage(self, decl: ast.CoverageDecl) -> None:
@@ -914,3 +914,27 @@ def _no_span() -> Any:
     from osc2check.source import Span
 
     return Span("", 0, 0, 0, 0)
+
+
+# ---- the members of an `on` handler: each called with the handler when it fires
+
+
+def _emits(run: RunContext, name: str) -> Callable[[Any], None]:
+    def fire(handler: Any) -> None:
+        run.emit(name, kind="event")
+
+    return fire
+
+
+def _emits_now(run: RunContext, name: str, key: str, args: Any) -> Callable[[Any], None]:
+    def fire(handler: Any) -> None:
+        emit_now(run, handler.blackboard, name, key, args)
+
+    return fire
+
+
+def _calls(call: Callable[[], Any]) -> Callable[[Any], None]:
+    def fire(handler: Any) -> None:
+        call()
+
+    return fire

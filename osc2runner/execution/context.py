@@ -289,6 +289,13 @@ class RunContext:
         self.tick = world.tick
         self.time = world.time
 
+    @property
+    def attached_world(self) -> World:
+        """The world, once attached (behaviours tick only after :meth:`attach`)."""
+        if self.world is None:
+            raise RuntimeError("the run context has no world attached yet")
+        return self.world
+
     def attach(self, world: World, controllers: dict[str, Any]) -> None:
         """Connect the world and the controllers built by the initializer."""
         self.world = world

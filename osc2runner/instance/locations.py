@@ -34,7 +34,8 @@ def object_locations(
             continue
         if not isinstance(member.actor, ast.NameRef) or not member.arguments:
             continue
-        value = member.arguments[0].value if member.arguments else None
+        first = member.arguments[0]
+        value = None if isinstance(first, ast.EventArgument) else first.value
         pose = _pose(model, values, value)
         if pose is None:
             problems.append(
