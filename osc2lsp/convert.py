@@ -440,15 +440,24 @@ def to_lsp_code_actions(
 
 def line_edits(old: str, new: str) -> list[tuple[int, int, str]]:
     """Edits ``(first_line, end_line, replacement)`` (0-based, end exclusive) that turn
-    ``old`` into ``new``, one per run of changed lines."""
-    a = [re.sub(r"\r\n|\r", "\n", line) for line in old.splitlines(keepends=True)]
-    b = new.splitlines(keepends=True)
+    ``old`` into ``new``, one per run of changed lines.
+
+    Lines end where the client's do (``LineIndex``), not where ``str.splitlines``
+    would also break (a form feed in a comment is no line break)."""
+    a = [re.sub(r"\r\n|\r", "\n", line) for line in _lines(old)]
+    b = _lines(new)
     edits = []
     matcher = difflib.SequenceMatcher(None, a, b, autojunk=False)
     for tag, i1, i2, j1, j2 in matcher.get_opcodes():
         if tag != "equal":
             edits.append((i1, i2, "".join(b[j1:j2])))
     return edits
+
+
+def _lines(text: str) -> list[str]:
+    """The lines of ``text`` with their line breaks (no empty last line)."""
+    lines = LineIndex(text).lines()
+    return lines[:-1] if not lines[-1] else lines
 
 
 def to_lsp_format_edits(old: str, new: str, lines: LineIndex) -> list[types.TextEdit]:

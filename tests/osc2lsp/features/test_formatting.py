@@ -8,7 +8,9 @@ import sys
 import pytest
 
 from osc2check.syntax.lexer import tokenize
+from osc2lsp.convert import to_lsp_format_edits
 from osc2lsp.features.formatting import FormatOptions, format_text, indent_style
+from osc2lsp.text import LineIndex
 from tests.osc2lsp.lsp_helpers import REPO, seed_path
 
 sys.path.insert(0, str(REPO / "bench"))
@@ -90,6 +92,31 @@ def test_formatting_generated_files_is_idempotent():
     text = generate(400)
     once = format_text(text)
     assert once is not None and format_text(once) == once
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        "# a\fb\nscenario s:\n        x: int\n",  # form feed: no line break for LSP
+        "# a\x0bb\u2028c\x85d\nscenario s:\r\n        x: int",
+        "scenario s:\r        x: int\r  y: int\r",
+    ],
+)
+def test_format_edits_count_lines_as_the_client_does(text):
+    lines = LineIndex(text)
+    edits = to_lsp_format_edits(text, format_text(text) or "", lines)
+    result = text
+    for edit in reversed(edits):  # line edits come in order and do not overlap
+        start = lines.offset(edit.range.start.line, edit.range.start.character)
+        end = lines.offset(edit.range.end.line, edit.range.end.character)
+        if edit.range.end.line >= len(lines):
+            end = len(text)
+        result = result[:start] + edit.new_text + result[end:]
+    ours, wanted = LineIndex(result), LineIndex(format_text(text) or "")
+    assert len(ours) == len(wanted)  # lines differing only in their line break stay as they are
+    assert [ours.line_content(i) for i in range(len(ours))] == [
+        wanted.line_content(i) for i in range(len(wanted))
+    ]
 
 
 @pytest.mark.parametrize(
