@@ -250,8 +250,8 @@ def _placeholder_text(cursor: Cursor) -> str:
     prev = cursor.previous()
     if prev is None:
         return ""
-    line_end = cursor.text.find("\n", cursor.offset)
-    rest = cursor.text[cursor.offset : line_end if line_end != -1 else len(cursor.text)].strip()
+    line_end = LINE_BREAK.search(cursor.text, cursor.offset)
+    rest = cursor.text[cursor.offset : line_end.start() if line_end else len(cursor.text)].strip()
     if cursor.statement_start:
         return PLACEHOLDER if not rest or rest[0] == "#" else ""
     if prev.type == "DOT":

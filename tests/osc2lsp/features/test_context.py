@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import pytest
+
 from osc2check.syntax.expected import keywords, run
 from osc2lsp.features.context import chunk_bounds, cursor_at, focus, map_offset
 from tests.osc2lsp.lsp_helpers import cursor, seed_text, snapshot
@@ -25,6 +27,12 @@ def test_cursor_facts():
     text, offset = cursor("scenario s:\n    do serial:\n        $0\n")
     c = cursor_at(text, offset)
     assert c.statement_start and {"SERIAL", "WAIT", "EMIT"} <= c.accepts
+
+
+@pytest.mark.parametrize("nl", ["\n", "\r\n", "\r"])
+def test_a_statement_start_gets_a_placeholder_with_any_line_break(nl):
+    text, offset = cursor(f"scenario s:{nl}    do serial:{nl}        $0{nl}    x: int{nl}")
+    assert focus(None, text, offset).placeholder
 
 
 def test_the_grammar_state_repairs_what_does_not_fit():
