@@ -74,6 +74,12 @@ def test_a_text_map_relates_the_unchanged_parts(old, new):
     assert old[: change.prefix] == new[: change.prefix]
     assert old[change.old_end :] == new[change.new_end :]
     assert change.prefix <= change.old_end and change.prefix <= change.new_end
+    # both parts as long as they can be: the suffix may not overlap the prefix
+    suffix = len(old) - change.old_end
+    assert suffix == len(new) - change.new_end
+    shorter = min(len(old), len(new))
+    assert change.prefix == shorter or old[change.prefix] != new[change.prefix]
+    assert suffix == shorter - change.prefix or old[-suffix - 1] != new[-suffix - 1]
     for offset in range(len(new) + 1):
         back = change.to_old(offset)
         if back is not None and offset < change.prefix:
