@@ -97,20 +97,23 @@ def foreground() -> Iterator[None]:
     instead of halving the request's speed; it is short again before the answer
     is written.
     """
-    previous = sys.getswitchinterval()
-    sys.setswitchinterval(max(previous, FOREGROUND))
-    try:
+    with _switch_interval(max, FOREGROUND):
         yield
-    finally:
-        sys.setswitchinterval(previous)
 
 
 @contextmanager
 def taking_turns() -> Iterator[None]:
     """Around blocking I/O inside ``foreground``: the usual short switch interval (the
     lock is released while blocked, and taking it back must not wait long)."""
+    with _switch_interval(min, SWITCH):
+        yield
+
+
+@contextmanager
+def _switch_interval(choose: Callable[[float, float], float], value: float) -> Iterator[None]:
+    """The switch interval ``choose(current, value)`` inside, the current one after."""
     previous = sys.getswitchinterval()
-    sys.setswitchinterval(min(previous, SWITCH))
+    sys.setswitchinterval(choose(previous, value))
     try:
         yield
     finally:

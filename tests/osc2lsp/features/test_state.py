@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import asyncio
 import gc
+import sys
 import weakref
 
+import pytest
+
 from osc2lsp.options import Options
-from osc2lsp.state import MAX_REPLACED, State
+from osc2lsp.state import FOREGROUND, MAX_REPLACED, SWITCH, State, foreground, taking_turns
 from tests.osc2lsp.cli_findings import cli_findings
 
 
@@ -204,3 +207,29 @@ def test_replaced_snapshots_are_freed_without_the_cyclic_collector():
         gc.enable()
     assert max(alive) == MAX_REPLACED + 1 and alive[-1] == MAX_REPLACED + 1
     assert freed == [True] * 5 + [False]
+
+
+def _interval() -> pytest.approx:
+    """The switch interval, to within microseconds (the interpreter keeps whole
+    microseconds, truncated: a restored 0.05 s can come back as 0.049999 s)."""
+    return pytest.approx(sys.getswitchinterval(), abs=1e-5)
+
+
+def test_requests_keep_the_interpreter_lock_longer_except_around_io():
+    before = sys.getswitchinterval()
+    sys.setswitchinterval(SWITCH)
+    try:
+        with foreground():
+            assert _interval() == FOREGROUND
+            with taking_turns():
+                assert _interval() == SWITCH
+            assert _interval() == FOREGROUND
+        assert _interval() == SWITCH
+        sys.setswitchinterval(1.0)  # never shortened by foreground, never lengthened by I/O
+        with foreground():
+            assert _interval() == 1.0
+        with taking_turns():
+            assert _interval() == SWITCH
+        assert _interval() == 1.0
+    finally:
+        sys.setswitchinterval(before)
