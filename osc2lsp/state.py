@@ -68,6 +68,7 @@ from osc2check.gc_pause import gc_paused
 from osc2lsp.options import CheckerConfigs, Options
 from osc2lsp.solver import SolverWorker
 from osc2lsp.text import LineIndex, TextMap, uri_to_key
+from osc2lsp.view import View
 
 if TYPE_CHECKING:
     from osc2check.diagnostics import Diagnostic
@@ -592,12 +593,8 @@ class State:
             return
         if doc.snapshot is not None and doc.snapshot.version == version:
             return  # the analysis was quicker
-        key = doc.key
-
-        def lines_of(k: str) -> LineIndex | None:
-            return lines if k == key else snap.lines_of(k)
-
-        doc.preview = Findings(doc.uri, key, version, tuple(found), lines_of, final=False)
+        lines_of = View(snap, None, lines).lines_of  # the current text for the document
+        doc.preview = Findings(doc.uri, doc.key, version, tuple(found), lines_of, final=False)
         self._publish(doc.uri, [doc.preview])
 
     # ---- the solver's phase ------------------------------------------------------------

@@ -28,8 +28,7 @@ def moved(span: Span, key: str, change: TextMap, lines: LineIndex) -> Span | Non
     if change.touches(span.start, span.end):
         return None
     start, end = change.to_new(span.start), change.to_new(span.end)
-    if start is None or end is None:
-        return None
+    assert start is not None and end is not None  # both lie outside the changed region
     line, column = lines.position(start)
     end_line, end_column = lines.position(end)
     return replace(
