@@ -175,25 +175,12 @@ def _line_end(text: str, offset: int) -> int:
 # ---- moving what follows an edit ------------------------------------------------
 
 
-def shift_span(span: Span, lines: int, offset: int) -> Span:
-    """``span`` of a text that starts at line ``lines + 1``, offset ``offset`` of another."""
-    return Span(
-        span.uri,
-        span.line + lines,
-        span.column,
-        span.end_line + lines,
-        span.end_column,
-        span.start + offset,
-        span.end + offset,
-    )
-
-
 def shift_diagnostic(d: Diagnostic, lines: int, offset: int) -> Diagnostic:
-    """``d`` with every location in its own file moved like ``shift_span``."""
+    """``d`` with every location in its own file moved like ``_moved_span``."""
     uri = d.span.uri
 
     def move(span: Span) -> Span:
-        return shift_span(span, lines, offset) if span.uri == uri else span
+        return _moved_span(span, lines, offset) if span.uri == uri else span
 
     fix = d.fix
     if fix is not None:
@@ -229,7 +216,7 @@ _SPAN_SLOTS = tuple(
 
 
 def shift_node(node: ast.Node, lines: int, offset: int) -> Any:
-    """A copy of ``node`` and its subtree with every span moved like ``shift_span``."""
+    """A copy of ``node`` and its subtree with every span moved like ``_moved_span``."""
     cls = type(node)
     shifter = _SHIFTERS.get(cls)
     if shifter is None:
@@ -238,7 +225,8 @@ def shift_node(node: ast.Node, lines: int, offset: int) -> Any:
 
 
 def _moved_span(span: Span, lines: int, offset: int) -> Span:
-    """``shift_span``, filling the new span's slots directly (see ``_shifter``)."""
+    """``span`` of a text that starts at line ``lines + 1``, offset ``offset`` of another
+    (filling the new span's slots directly, see ``_shifter``)."""
     moved: Span = object.__new__(Span)
     uri, line, column, end_line, end_column, start, end = _SPAN_SLOTS
     uri(moved, span.uri)
