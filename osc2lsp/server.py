@@ -709,8 +709,7 @@ def format_document(ls: Osc2LanguageServer, params: types.DocumentFormattingPara
     text, lines = ls.current(uri)
     if ls.library(uri):
         return []
-    opts = formatting.indent_style(text) or formatting.FormatOptions()
-    formatted = formatting.format_text(text, opts)
+    formatted = formatting.format_in_own_style(text)
     if formatted is None or formatted == text:
         return []
     return convert.to_lsp_format_edits(text, formatted, lines)

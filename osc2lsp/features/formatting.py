@@ -14,8 +14,9 @@ It changes whitespace only: a file whose token sequence would change, or that
 has syntax errors, is returned as None (not formatted).
 
 OSC2 is indentation-sensitive, so the indent unit is the file's own
-(``indent_style``: tabs or the width its first-level blocks use), not what an
-editor's formatting options say: Neovim, for one, asks for tabs of width 8
+(``indent_style``: tabs or the width its first-level blocks use;
+``format_in_own_style`` formats with it), not what an editor's formatting
+options say: Neovim, for one, asks for tabs of width 8
 unless told otherwise, and a file indented with spaces must not be re-indented
 with tabs because of that. The module imports
 neither pygls nor lsprotocol, so ``osc2check`` could expose it as
@@ -24,14 +25,13 @@ neither pygls nor lsprotocol, so ``osc2check`` could expose it as
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 
+from osc2check.source import split_lines
 from osc2check.syntax import parse
 from osc2check.syntax.indent import indent
-from osc2check.syntax.lexer import Token, tokenize
+from osc2check.syntax.lexer import LexResult, Token, tokenize
 
-_NEWLINE = re.compile(r"\r\n|\r|\n")
 _NO_SPACE_BEFORE = frozenset(
     {"COMMA", "RPAR", "RSQB", "COLON", "DOT", "DOTDOT", "BANG", "DOUBLE_COLON"}
 )
@@ -130,26 +130,19 @@ class FormatOptions:
 def indent_style(text: str) -> FormatOptions | None:
     """The indent unit the file uses: tabs when most first-level lines start with a tab,
     else spaces as wide as most of them; None when no line is indented."""
-    lexed = tokenize(text)
-    laid_out, _ = indent(lexed.tokens, text)
-    lines = _NEWLINE.split(text)
+    return _style(split_lines(text), _line_depths(text, tokenize(text).tokens))
+
+
+def _style(lines: list[str], depths: dict[int, int]) -> FormatOptions | None:
+    """``indent_style`` of a text's ``lines`` and ``_line_depths``."""
     counts: dict[str, int] = {}
-    depth, at_start = 0, True
-    for tok in laid_out:
-        if tok.type == "_INDENT":
-            depth, at_start = depth + 1, True
-        elif tok.type == "_DEDENT":
-            depth, at_start = depth - 1, True
-        elif tok.type == "_NL":
-            at_start = True
-        elif at_start:
-            at_start = False
-            if depth == 1 and tok.line <= len(lines):
-                line = lines[tok.line - 1]
-                lead = line[: len(line) - len(line.lstrip(" \t"))]
-                unit = "\t" if lead.startswith("\t") else lead
-                if unit:
-                    counts[unit] = counts.get(unit, 0) + 1
+    for number, depth in depths.items():
+        if depth == 1 and number <= len(lines):
+            line = lines[number - 1]
+            lead = line[: len(line) - len(line.lstrip(" \t"))]
+            unit = "\t" if lead.startswith("\t") else lead
+            if unit:
+                counts[unit] = counts.get(unit, 0) + 1
     if not counts:
         return None
     unit = max(counts, key=lambda u: (counts[u], u == "\t", -len(u)))
@@ -158,30 +151,43 @@ def indent_style(text: str) -> FormatOptions | None:
 
 def format_text(text: str, options: FormatOptions | None = None) -> str | None:
     """The formatted text, or None when the file has syntax errors."""
-    options = options or FormatOptions()
+    return _format_text(text, options or FormatOptions())
+
+
+def format_in_own_style(text: str) -> str | None:
+    """``format_text`` with the file's own indent unit (``indent_style``; the default
+    options when no line is indented), lexing the text once for both."""
+    return _format_text(text, None)
+
+
+def _format_text(text: str, options: FormatOptions | None) -> str | None:
+    """``format_text``; ``options`` None: the file's own style."""
     result = parse(text)
     if any(d.code.family == "P" for d in result.diagnostics):
         return None
     lexed = tokenize(text)
     if lexed.errors:
         return None
-    formatted = _format(text, lexed.tokens, lexed.comments, options)
-    if _signature(formatted) != _signature(text):
+    lines = split_lines(text)
+    depths = _line_depths(text, lexed.tokens)
+    if options is None:
+        options = _style(lines, depths) or FormatOptions()
+    formatted = _format(lines, depths, lexed, options)
+    if _signature(tokenize(formatted)) != _signature(lexed):
         return None
     return formatted
 
 
-def _signature(text: str) -> list[tuple[str, str]]:
-    lexed = tokenize(text)
+def _signature(lexed: LexResult) -> list[tuple[str, str]]:
     tokens = [(t.type, t.value) for t in lexed.tokens if t.type != "NEWLINE"]
     return tokens + [("COMMENT", c.text.rstrip()) for c in lexed.comments]
 
 
-def _format(text: str, tokens: list[Token], comments, options: FormatOptions) -> str:
-    lines = _NEWLINE.split(text)
+def _line_depths(text: str, tokens: list[Token]) -> dict[int, int]:
+    """Line (1-based) → block depth of the logical line that starts there."""
     laid_out, _ = indent(tokens, text)
     depth = 0
-    starts: dict[int, int] = {}  # line (1-based) → depth of the logical line starting there
+    starts: dict[int, int] = {}
     at_start = True
     for tok in laid_out:
         if tok.type == "_INDENT":
@@ -195,14 +201,20 @@ def _format(text: str, tokens: list[Token], comments, options: FormatOptions) ->
         elif at_start:
             starts.setdefault(tok.line, max(depth, 0))
             at_start = False
+    return starts
+
+
+def _format(
+    lines: list[str], starts: dict[int, int], lexed: LexResult, options: FormatOptions
+) -> str:
     on_line: dict[int, list[Token]] = {}
     covered: set[int] = set()  # lines inside a multi-line token
-    for tok in tokens:
+    for tok in lexed.tokens:
         if tok.type == "NEWLINE":
             continue
         on_line.setdefault(tok.line, []).append(tok)
         covered.update(range(tok.line + 1, tok.end_line + 1))
-    comment_on: dict[int, str] = {c.line: c.text.rstrip() for c in comments}
+    comment_on: dict[int, str] = {c.line: c.text.rstrip() for c in lexed.comments}
     out: list[str] = []
     shift = 0  # indentation change of the current logical line, for its continuations
     blank = 0

@@ -9,7 +9,12 @@ import pytest
 
 from osc2check.syntax.lexer import tokenize
 from osc2lsp.convert import to_lsp_format_edits
-from osc2lsp.features.formatting import FormatOptions, format_text, indent_style
+from osc2lsp.features.formatting import (
+    FormatOptions,
+    format_in_own_style,
+    format_text,
+    indent_style,
+)
 from osc2lsp.text import LineIndex
 from tests.osc2lsp.lsp_helpers import REPO, seed_path
 
@@ -131,7 +136,17 @@ def test_format_edits_count_lines_as_the_client_does(text):
 def test_the_indent_unit_is_the_files_own(text, unit):
     style = indent_style(text)
     assert style is not None and style.unit == unit
+    assert format_in_own_style(text) == format_text(text, style)
 
 
 def test_a_file_without_indentation_has_no_indent_style():
     assert indent_style("import osc.standard\nenum c: [a, b]\n") is None
+    assert format_in_own_style("enum  c: [a,b]\n") == "enum c: [a, b]\n"
+
+
+@pytest.mark.parametrize("path", CORPUS)
+def test_formatting_in_the_files_own_style(path):
+    with open(path, encoding="utf-8", newline="") as f:
+        text = f.read()
+    expected = format_text(text, indent_style(text) or FormatOptions())
+    assert format_in_own_style(text) == expected
