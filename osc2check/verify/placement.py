@@ -60,6 +60,7 @@ from typing import TYPE_CHECKING
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
+from osc2check.semantics.members import scenario_do
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -317,12 +318,7 @@ class PlacementLowerer:
 
     def _room(self, placement: StartPlacement) -> None:
         """Where speeds and durations are constants: road enough ahead of each start."""
-        bodies = [
-            member.member.body
-            for members in self.lw.member_decls.get(self.scenario, [])
-            for member in members
-            if isinstance(member, ast.DoDirective)
-        ]
+        bodies = [member.body for member in self._bodies(self.scenario)]
         motion = motion_bounds(self.model, bodies, self._lookup)
         if motion.duration is None or motion.duration == 0:
             return
@@ -653,12 +649,10 @@ class PlacementLowerer:
         return InstanceScope("", self.scenario, "", self.scenario)
 
     def _bodies(self, scenario: Symbol) -> list[ast.DoMember]:
-        return [
-            member.member
-            for members in self.lw.member_decls.get(scenario, [])
-            for member in members
-            if isinstance(member, ast.DoDirective)
-        ]
+        """The ``do`` the scenario runs (an inherited one too; a later one replaces an
+        earlier), as the timing model and the runner take it."""
+        do = scenario_do(self.model, self.lw.member_decls, scenario)
+        return [] if do is None else [do.member]
 
     def _start_invocations(self) -> list[tuple[ast.Invocation, InstanceScope]]:
         """The invocations that begin at time 0, each with the instance it belongs to:

@@ -378,6 +378,40 @@ def test_one_of_alternatives_do_not_fix_the_start():
     assert codes_of(analysis) == []
 
 
+def test_placement_takes_the_do_the_scenario_runs_an_inherited_one_too():
+    # b runs a's `do` (as the runner compiles it): its lane 5 is L503 for b as for a;
+    # c's own `do` replaces a's, so a's lane 5 is not c's.
+    text = (
+        HEADER
+        + """scenario a:
+    hero: vehicle
+    do hero.drive(duration: 10s) with:
+        lane(5, at: start)
+        speed(50kph)
+
+scenario b inherits a:
+    x: int = 1
+
+scenario c inherits a:
+    do hero.drive(duration: 10s) with:
+        lane(1, at: start)
+        speed(50kph)
+"""
+    )
+    analysis = checked(text)
+    found = sorted(
+        (d.code.code, d.span.line, d.message.split("`")[1]) for d in analysis.diagnostics
+    )
+    assert found == [("L503", 6, "a"), ("L503", 6, "b")]
+    results = {r.scenario.name: r for r in analysis.verified["t.osc"].scenarios}
+    assert {n: r.outcome.status for n, r in results.items()} == {
+        "a": "unsat",
+        "b": "unsat",
+        "c": "sat",
+    }
+    assert results["c"].witness.actor("hero").lane == 1
+
+
 def test_a_lateral_offset_may_leave_the_lane_but_not_the_road():
     text = (
         HEADER
