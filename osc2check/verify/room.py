@@ -33,7 +33,6 @@ __all__ = ["Motion", "motion_bounds"]
 Lookup = Callable[[Symbol, ast.Node], Value]
 
 _STOPPING = frozenset({"remain_stationary"})
-_ABSOLUTE_SPEED_ARGS = ("speed",)
 _RELATIVE = ("faster_than", "slower_than", "same_as")
 
 
