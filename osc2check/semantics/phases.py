@@ -41,6 +41,7 @@ __all__ = [
     "PHASE_ENDING_MODIFIERS",
     "MODIFIER_TIMINGS",
     "TimeZero",
+    "enum_word",
     "is_acting",
     "is_instant",
     "modifier_timing",
@@ -94,16 +95,19 @@ def is_acting(body: ast.Node) -> bool:
     return False
 
 
-def modifier_timing(arguments: Mapping[str, ast.Node]) -> str:
-    """``start``, ``end`` or ``all``: when a modifier with these bound arguments applies."""
-    node = arguments.get("at")
+def enum_word(node: ast.Node | None) -> str | None:
+    """The enum member an argument names (``start``, ``at.start``), else None."""
     match node:
         case ast.NameRef():
-            word = node.name.name.text
+            return node.name.name.text
         case ast.EnumRef():
-            word = node.member.text
-        case _:
-            return "all"
+            return node.member.text
+    return None
+
+
+def modifier_timing(arguments: Mapping[str, ast.Node]) -> str:
+    """``start``, ``end`` or ``all``: when a modifier with these bound arguments applies."""
+    word = enum_word(arguments.get("at"))
     return word if word in MODIFIER_TIMINGS else "all"
 
 

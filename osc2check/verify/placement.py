@@ -62,7 +62,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import modifier_timing, time_zero
+from osc2check.semantics.phases import enum_word, modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
@@ -219,16 +219,6 @@ def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool
         ):
             found.setdefault(t.args[0].var.name, (t.args[1].value, c))
     return found
-
-
-def _word(node: ast.Node | None) -> str | None:
-    """The enum member a modifier argument names (`start`, `at.start`), else None."""
-    match node:
-        case ast.NameRef():
-            return node.name.name.text
-        case ast.EnumRef():
-            return node.member.text
-    return None
 
 
 class PlacementLowerer:
@@ -882,7 +872,7 @@ class PlacementLowerer:
             if other is None:
                 return
             if sign is None:
-                sign = 1 if _word(args.get("side")) == "left" else -1
+                sign = 1 if enum_word(args.get("side")) == "left" else -1
             step = count if count is not None else ir.const(1)
             offset = step if sign > 0 else ir.op("neg", step)
             relation = ir.op("==", lane, ir.op("+", ir.Ref(other.lane), offset))
@@ -897,7 +887,7 @@ class PlacementLowerer:
         if "lane" not in args:
             return
         from_left = placement.network.numbering == "from_left"
-        side = _word(args.get("from"))
+        side = enum_word(args.get("from"))
         if side in ("left", "right"):
             from_left = side == "left"
         node = args["lane"]
@@ -1037,7 +1027,7 @@ class PlacementLowerer:
         value = self._value(node) if node is not None else None
         self.lateral.add(actor.name)
         if value is not None:
-            if _word(args.get("side")) == "right" and "side_of" not in args:
+            if enum_word(args.get("side")) == "right" and "side_of" not in args:
                 value = ir.op("neg", value)  # an offset to the right of the lane centre
             self._require(ir.op("==", ir.Ref(actor.t), value), item)
 

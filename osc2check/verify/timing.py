@@ -63,6 +63,7 @@ from osc2check.semantics.phases import (
     ENDS_WITH_FIRST,
     INSTANT_ACTIONS,
     PHASE_ENDING_MODIFIERS,
+    enum_word,
     is_acting,
     modifier_timing,
 )
@@ -679,13 +680,7 @@ def _guard(t: Time, owner_start: Time, active: ir.Term, free: Time, checked: Tim
 
 
 def _overlap_kind(node: ast.Node) -> str | None:
-    match node:
-        case ast.NameRef():
-            word = node.name.name.text
-        case ast.EnumRef():
-            word = node.member.text
-        case _:
-            return None
+    word = enum_word(node)
     return word if word in OVERLAP_KINDS else None
 
 
