@@ -29,7 +29,7 @@ these from here.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
 from osc2check.syntax import ast
@@ -42,6 +42,7 @@ __all__ = [
     "MODIFIER_TIMINGS",
     "TimeZero",
     "enum_word",
+    "invocations",
     "is_acting",
     "is_instant",
     "modifier_timing",
@@ -82,6 +83,24 @@ def _has_duration(arguments: tuple[ast.Argument, ...]) -> bool:
 def is_instant(inv: ast.Invocation) -> bool:
     """Whether the invocation takes no time: an instant action without a ``duration``."""
     return inv.name.text in INSTANT_ACTIONS and not _has_duration(inv.arguments)
+
+
+def invocations(node: ast.Node) -> Iterator[ast.Invocation]:
+    """The invocations of a ``do`` or ``on`` tree (a directive, a ``do`` member or a body),
+    in source order: the members only, not their modifiers."""
+    match node:
+        case ast.DoDirective():
+            yield from invocations(node.member.body)
+        case ast.OnDirective():
+            for action in node.members:
+                yield from invocations(action)
+        case ast.DoMember():
+            yield from invocations(node.body)
+        case ast.Composition():
+            for member in node.members:
+                yield from invocations(member.body)
+        case ast.Invocation():
+            yield node
 
 
 def is_acting(body: ast.Node) -> bool:

@@ -62,7 +62,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import enum_word, modifier_timing, time_zero
+from osc2check.semantics.phases import enum_word, invocations, modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
@@ -692,7 +692,7 @@ class PlacementLowerer:
     ) -> Iterator[tuple[ast.Invocation, InstanceScope]]:
         """Every invocation of a `do` tree, into the scenarios it invokes."""
         labels = _labels(member)
-        for inv in _invocations(member.body):
+        for inv in invocations(member.body):
             inner = self._invoked(inv, scope, labels, depth)
             if inner is None:
                 yield inv, scope
@@ -1125,16 +1125,6 @@ def _labels(member: ast.DoMember) -> dict[int, ast.Name]:
         if isinstance(m.body, ast.Composition):
             stack.extend(m.body.members)
     return found
-
-
-def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
-    """The invocations of a `do` tree, in source order."""
-    match body:
-        case ast.Composition():
-            for member in body.members:
-                yield from _invocations(member.body)
-        case ast.Invocation():
-            yield body
 
 
 def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:

@@ -18,13 +18,13 @@ Durations and speeds are folded with the one evaluator
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, Value, evaluate
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import is_instant
+from osc2check.semantics.phases import invocations, is_instant
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
@@ -55,7 +55,7 @@ def motion_bounds(model: Model, bodies: Sequence[ast.Node], lookup: Lookup) -> M
             motion.duration = None
         else:
             motion.duration = max(motion.duration, length)
-        for inv in _invocations(body):
+        for inv in invocations(body):
             _speeds(model, inv, lookup, motion)
     return motion
 
@@ -112,15 +112,6 @@ def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
         case ast.Emit() | ast.CallDirective():
             return Fraction(0)
     return None
-
-
-def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
-    match body:
-        case ast.Composition():
-            for member in body.members:
-                yield from _invocations(member.body)
-        case ast.Invocation():
-            yield body
 
 
 def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -> None:
