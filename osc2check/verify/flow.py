@@ -6,12 +6,10 @@ These checks read the AST and the model only; no solver.
 
 from __future__ import annotations
 
-from fractions import Fraction
-
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.builtins import PREDEFINED_EVENTS
-from osc2check.semantics.constants import NotConstant, Quantity, evaluate
+from osc2check.semantics.constants import NotConstant, evaluate, si_number
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import invocations
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -145,8 +143,8 @@ def _duration(value: ast.Node, model: Model, found: list[Diagnostic]) -> None:
             number = evaluate(node, model)
         except NotConstant:
             continue
-        si = number.si if isinstance(number, Quantity) else number
-        if isinstance(si, (int, Fraction)) and not isinstance(si, bool) and si < 0:
+        si = si_number(number)
+        if si is not None and si < 0:
             found.append(messages.negative_duration(node.span, _written(node)))
 
 

@@ -22,7 +22,13 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, Value, evaluate
+from osc2check.semantics.constants import (
+    NotConstant,
+    RangeValue,
+    Value,
+    evaluate,
+    si_number,
+)
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import invocations, is_instant
 from osc2check.semantics.symbols import Symbol
@@ -67,20 +73,12 @@ def _number(model: Model, node: ast.Node, lookup: Lookup, upper: bool = True) ->
     except NotConstant:
         return None
     if isinstance(value, RangeValue):
-        bounds = [_si(value.low), _si(value.high)]
+        bounds = [si_number(value.low), si_number(value.high)]
         if None in bounds:
             return None
         known = [b for b in bounds if b is not None]
         return max(known) if upper else min(known)
-    return _si(value)
-
-
-def _si(value: Value) -> Fraction | None:
-    if isinstance(value, Quantity):
-        return value.si
-    if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
-        return Fraction(value)
-    return None
+    return si_number(value)
 
 
 def _named(arguments: tuple[ast.Argument, ...], name: str) -> ast.Node | None:

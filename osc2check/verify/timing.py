@@ -56,7 +56,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, OVERLAP_KINDS
-from osc2check.semantics.constants import NotConstant, Quantity, evaluate
+from osc2check.semantics.constants import NotConstant, evaluate, si_number
 from osc2check.semantics.members import scenario_do
 from osc2check.semantics.phases import (
     ENDLESS_ACTIONS,
@@ -209,14 +209,9 @@ class _Builder:
 
     def _constant(self, node: ast.Node) -> Fraction | None:
         try:
-            value = evaluate(node, self.model)
+            return si_number(evaluate(node, self.model))
         except NotConstant:
             return None
-        if isinstance(value, Quantity):
-            return value.si
-        if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
-            return Fraction(value)
-        return None
 
     def _value(
         self, node: ast.Node, scope: InstanceScope, name: str, where: Span, text: str
