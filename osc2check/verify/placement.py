@@ -1171,8 +1171,3 @@ def _half(term: ir.Term) -> ir.Term:
 def _plus(a: ir.Term, b: ir.Term) -> ir.Term:
     x, y = _number(a), _number(b)
     return ir.const(x + y) if x is not None and y is not None else ir.op("+", a, b)
-
-
-def _minus(a: ir.Term, b: ir.Term) -> ir.Term:
-    x, y = _number(a), _number(b)
-    return ir.const(x - y) if x is not None and y is not None else ir.op("-", a, b)

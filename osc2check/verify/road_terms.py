@@ -150,7 +150,7 @@ class RoadTerms:
                 inside = ir.op(
                     "and",
                     ir.op(">=", centre, half_width),
-                    ir.op("<=", centre, _minus_term(ir.const(width * p.count), half_width)),
+                    ir.op("<=", centre, ir.minus(ir.const(width * p.count), half_width)),
                 )
                 each.append((cw, inside if self.uniform else _and(_within(s, p), inside)))
         return self._any(road, each)
@@ -223,11 +223,4 @@ def _between(term: ir.Term, low: int, high: int) -> ir.Term:
 
 
 def _minus(length: float, half: ir.Term) -> ir.Term:
-    return _minus_term(ir.const(fraction(length)), half)
-
-
-def _minus_term(a: ir.Term, b: ir.Term) -> ir.Term:
-    if isinstance(a, ir.Const) and isinstance(b, ir.Const):
-        assert not isinstance(a.value, bool) and not isinstance(b.value, bool)
-        return ir.const(a.value - b.value)
-    return ir.op("-", a, b)
+    return ir.minus(ir.const(fraction(length)), half)
