@@ -22,6 +22,7 @@ from __future__ import annotations
 import errno
 import os
 import stat
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
@@ -157,31 +158,26 @@ def read_bytes(path: str | Path, limit: int | None = None) -> bytes:
         why = not_regular(os.fstat(fd))  # the path may have changed since the stat
         if why:
             raise InputError(why)
-        chunks: list[bytes] = []
-        size = 0
-        while size <= limit:
-            chunk = os.read(fd, min(_CHUNK, limit + 1 - size))
-            if not chunk:
-                break
-            chunks.append(chunk)
-            size += len(chunk)
+        return _read_capped(lambda n: os.read(fd, n), limit)  # the file may grow after the stat
     except OSError as exc:
         raise InputError(reason(exc)) from None
     finally:
         os.close(fd)
-    if size > limit:  # the file grew after the stat
-        raise InputError(_too_large(None, limit))
-    return b"".join(chunks)
 
 
 def read_stream(stream: BinaryIO, limit: int | None = None) -> bytes:
     """All of ``stream`` (standard input), at most ``limit`` bytes, else ``InputError``."""
-    limit = MAX_SOURCE_BYTES if limit is None else limit
+    return _read_capped(stream.read, MAX_SOURCE_BYTES if limit is None else limit)
+
+
+def _read_capped(read: Callable[[int], bytes], limit: int) -> bytes:
+    """What ``read`` gives until it is exhausted, at most ``limit`` bytes, else
+    ``InputError`` (so is an ``OSError`` of the read)."""
     chunks: list[bytes] = []
     size = 0
     try:
         while size <= limit:
-            chunk = stream.read(min(_CHUNK, limit + 1 - size))
+            chunk = read(min(_CHUNK, limit + 1 - size))
             if not chunk:
                 break
             chunks.append(chunk)

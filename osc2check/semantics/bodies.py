@@ -9,7 +9,7 @@ from collections.abc import Callable
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
+from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS, cover_item_expression
 from osc2check.semantics.calls import CallChecker, Extra
 from osc2check.semantics.declare import Pending
 from osc2check.semantics.expressions import ExpressionChecker
@@ -248,11 +248,8 @@ class BodyChecker:
         named = {a.name.text: a.value for a in member.arguments if isinstance(a, ast.NamedArgument)}
         positional = [a.value for a in member.arguments if isinstance(a, ast.PositionalArgument)]
         item = named.get("name", positional[0] if positional else None)
-        item_type = T.UNKNOWN
-        if "expression" in named:
-            item_type = self.expr.check(named["expression"], scope)
-        elif item is not None and not {"items", "override"} & named.keys():
-            item_type = self.expr.check(item, scope)
+        expression = cover_item_expression(named, positional)
+        item_type = T.UNKNOWN if expression is None else self.expr.check(expression, scope)
         inner = scope.child()  # `ignore:` and `illegal:` speak of the item by its name
         if isinstance(item, ast.NameRef) and item.name.namespace is None:
             inner.locals[item.name.name.text] = Symbol(

@@ -16,7 +16,12 @@ them, and the runner executes them; each of those reads this module.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from osc2check.syntax import ast
 
 __all__ = [
     "Builtin",
@@ -32,6 +37,7 @@ __all__ = [
     "STANDARD_MODULE_NAMES",
     "TYPE_TESTS",
     "VALUE_FUNCTIONS",
+    "cover_item_expression",
 ]
 
 PREDEFINED_EVENTS = ("start", "end", "fail")
@@ -147,3 +153,18 @@ COVERAGE_PARAMETERS: dict[str, BuiltinParameter] = {
         _p("override", "identifier", optional=True),
     )
 }
+
+
+def cover_item_expression(
+    named: Mapping[str, ast.Node], positional: Sequence[ast.Node]
+) -> ast.Node | None:
+    """The expression a ``cover``/``record`` item samples, given its named and positional
+    arguments (§7.5): its ``expression:``, else its name (``name:`` or the first
+    positional argument: the field it is named after); None when it has none, or when
+    ``items:`` or ``override:`` make the name another item's. The checker types it and
+    the runner collects it; one rule for both."""
+    if "expression" in named:
+        return named["expression"]
+    if "items" in named or "override" in named:
+        return None
+    return named.get("name", positional[0] if positional else None)

@@ -45,6 +45,7 @@ __all__ = [
     "initial_value",
     "literal_number",
     "physical_literal",
+    "si_number",
     "to_json",
     "to_runtime",
 ]
@@ -302,6 +303,15 @@ _ARITH: dict[str, Callable[[Fraction | int, Fraction | int], Fraction | int]] = 
     "*": operator.mul,
     "%": operator.mod,
 }
+
+
+def si_number(value: object) -> Fraction | None:
+    """The SI number of a constant value (a quantity's ``si``, a number as it is), or None
+    for anything else (a bool, an enum member, a string, a range, ...)."""
+    if isinstance(value, Quantity):
+        return value.si
+    number = _number(value)
+    return Fraction(number) if number is not None else None
 
 
 def _number(value: object) -> int | Fraction | None:

@@ -29,7 +29,7 @@ these from here.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
 from osc2check.syntax import ast
@@ -41,6 +41,8 @@ __all__ = [
     "PHASE_ENDING_MODIFIERS",
     "MODIFIER_TIMINGS",
     "TimeZero",
+    "enum_word",
+    "invocations",
     "is_acting",
     "is_instant",
     "modifier_timing",
@@ -83,6 +85,24 @@ def is_instant(inv: ast.Invocation) -> bool:
     return inv.name.text in INSTANT_ACTIONS and not _has_duration(inv.arguments)
 
 
+def invocations(node: ast.Node) -> Iterator[ast.Invocation]:
+    """The invocations of a ``do`` or ``on`` tree (a directive, a ``do`` member or a body),
+    in source order: the members only, not their modifiers."""
+    match node:
+        case ast.DoDirective():
+            yield from invocations(node.member.body)
+        case ast.OnDirective():
+            for action in node.members:
+                yield from invocations(action)
+        case ast.DoMember():
+            yield from invocations(node.body)
+        case ast.Composition():
+            for member in node.members:
+                yield from invocations(member.body)
+        case ast.Invocation():
+            yield node
+
+
 def is_acting(body: ast.Node) -> bool:
     """Whether a ``one_of`` member acts (invokes an action or a scenario) rather than
     only waiting (``wait``, ``emit``, ``call``)."""
@@ -94,16 +114,19 @@ def is_acting(body: ast.Node) -> bool:
     return False
 
 
-def modifier_timing(arguments: Mapping[str, ast.Node]) -> str:
-    """``start``, ``end`` or ``all``: when a modifier with these bound arguments applies."""
-    node = arguments.get("at")
+def enum_word(node: ast.Node | None) -> str | None:
+    """The enum member an argument names (``start``, ``at.start``), else None."""
     match node:
         case ast.NameRef():
-            word = node.name.name.text
+            return node.name.name.text
         case ast.EnumRef():
-            word = node.member.text
-        case _:
-            return "all"
+            return node.member.text
+    return None
+
+
+def modifier_timing(arguments: Mapping[str, ast.Node]) -> str:
+    """``start``, ``end`` or ``all``: when a modifier with these bound arguments applies."""
+    word = enum_word(arguments.get("at"))
     return word if word in MODIFIER_TIMINGS else "all"
 
 

@@ -9,9 +9,8 @@ that lists the choices. The runner and ``osc2check.solve`` share it.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-
 from osc2check.semantics.model import Model
+from osc2check.semantics.phases import invocations
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 
@@ -60,7 +59,7 @@ def invokers(model: Model, scenarios: list[Symbol]) -> dict[Symbol, list[Symbol]
             continue
         for member in decl.members:
             if isinstance(member, (ast.DoDirective, ast.OnDirective)):
-                for inv in _invocations(member):
+                for inv in invocations(member):
                     target = model.reference(inv.name)
                     if target is not None and target.kind is SymbolKind.SCENARIO:
                         by = invoked.setdefault(target, [])
@@ -92,19 +91,3 @@ def root_scenario(model: Model, scenarios: list[Symbol], name: str | None = None
     raise RootScenarioError(
         "declares several scenarios that no other invokes and none named `top`", candidates
     )
-
-
-def _invocations(node: ast.Node) -> Iterator[ast.Invocation]:
-    match node:
-        case ast.DoDirective():
-            yield from _invocations(node.member.body)
-        case ast.OnDirective():
-            for action in node.members:
-                yield from _invocations(action)
-        case ast.DoMember():
-            yield from _invocations(node.body)
-        case ast.Composition():
-            for member in node.members:
-                yield from _invocations(member.body)
-        case ast.Invocation():
-            yield node

@@ -14,7 +14,7 @@ from collections.abc import Callable, Iterator
 
 from osc2check.semantics.model import Context, Model
 from osc2check.semantics.scope import Scope, declaration_scope
-from osc2check.semantics.symbols import Namespace, Symbol
+from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 from osc2check.syntax.walk import children
 
@@ -144,13 +144,6 @@ def _do_members(member: ast.DoMember) -> Iterator[ast.DoMember]:
             yield from _do_members(inner)
 
 
-def visible_members(model: Model, scope: Scope) -> list[Symbol]:
-    """Members of the scope's owner and its supertypes (fields, variables, events, methods)."""
-    if scope.owner is None:
-        return []
-    return model.all_members(scope.owner)
-
-
 def visible_globals(
     model: Model, ctx: Context, accept: Callable[[Symbol], bool] | None = None
 ) -> list[Symbol]:
@@ -168,18 +161,3 @@ def visible_globals(
                         seen.add(id(sym))
                         found.append(sym)
     return found
-
-
-def namespace_parts(model: Model, name: str) -> list[Namespace]:
-    """The library's and the program's parts of namespace ``name`` that are in reach."""
-    parts = []
-    base = model.base
-    if (
-        base is not None
-        and name in base.namespaces
-        and (name == "" or name in model.library_namespaces)
-    ):
-        parts.append(base.namespaces[name])
-    if name in model.namespaces:
-        parts.append(model.namespaces[name])
-    return parts

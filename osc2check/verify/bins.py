@@ -23,6 +23,7 @@ from __future__ import annotations
 import copy
 from fractions import Fraction
 
+from osc2check.semantics.builtins import cover_item_expression
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -78,8 +79,7 @@ def cover_declaration(
 
 
 def cover_expression(decl: ast.CoverageDecl) -> ast.Node | None:
-    """The value a ``cover``/``record`` samples: its ``expression:``, else its name (the
-    field it is named after, §7.5)."""
+    """The value a ``cover``/``record`` samples (``builtins.cover_item_expression``)."""
     named: dict[str, ast.Node] = {}
     positional: list[ast.Node] = []
     for arg in decl.arguments:
@@ -87,9 +87,7 @@ def cover_expression(decl: ast.CoverageDecl) -> ast.Node | None:
             named[arg.name.text] = arg.value
         elif isinstance(arg, ast.PositionalArgument):
             positional.append(arg.value)
-    if "expression" in named:
-        return named["expression"]
-    return named.get("name", positional[0] if positional else None)
+    return cover_item_expression(named, positional)
 
 
 def _runtime_reference(model: Model, expr: ast.Node) -> str | None:

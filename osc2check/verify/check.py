@@ -108,11 +108,7 @@ def _rounded(active: list[ir.Constraint], values: dict[str, Fraction | bool]) ->
     of non-linear constraints may be irrational (``x * x == 2``), and shows rounded."""
     notes = []
     for c in active:
-        try:
-            holds = quick.evaluate(c.term, values) is True
-        except (KeyError, TypeError, ZeroDivisionError):
-            holds = False
-        if not holds:
+        if not quick.holds(c.term, values):
             notes.append(f"`{c.text}` holds for irrational values, which the witness shows rounded")
     return notes
 
@@ -274,13 +270,22 @@ def _unsafe_gaps(
         return
     for gap in placement.gaps:
         safe = ir.op(">=", gap.gap, ir.op("*", ir.const(MIN_TIME_GAP), gap.speed))
-        try:
-            if quick.evaluate(safe, outcome.values) is True:
-                continue  # the model at hand is safe, so not every model is unsafe
-        except (KeyError, TypeError, ZeroDivisionError):
-            pass
-        if never_holds(problem, active, safe, rlimit):
+        if _in_no_model(problem, active, outcome, safe, rlimit):
             yield gap
+
+
+def _in_no_model(
+    problem: ir.ConstraintProblem,
+    active: list[ir.Constraint],
+    outcome: SolverOutcome,
+    term: ir.Term,
+    rlimit: int,
+) -> bool:
+    """Whether ``term`` holds in no model of the active constraints: not in the model at
+    hand (checked first, without the solver), and not in any other."""
+    if quick.holds(term, outcome.values):
+        return False
+    return never_holds(problem, active, term, rlimit)
 
 
 # a speed asked of an actor: a `speed` modifier's or a `change_speed` action's argument
@@ -307,12 +312,7 @@ def _running_persons(
         if actor is None or actor.kind != "person":
             continue
         walking = ir.op("<=", ir.Ref(c.subject), ir.const(WALKING_SPEED))
-        try:
-            if quick.evaluate(walking, outcome.values) is True:
-                continue
-        except (KeyError, TypeError, ZeroDivisionError):
-            pass
-        if never_holds(problem, active, walking, rlimit):
+        if _in_no_model(problem, active, outcome, walking, rlimit):
             yield c, actor.name
 
 

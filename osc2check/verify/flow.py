@@ -6,14 +6,12 @@ These checks read the AST and the model only; no solver.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
-from fractions import Fraction
-
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.builtins import PREDEFINED_EVENTS
-from osc2check.semantics.constants import NotConstant, Quantity, evaluate
+from osc2check.semantics.constants import NotConstant, evaluate, si_number
 from osc2check.semantics.model import Model
+from osc2check.semantics.phases import invocations
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -145,8 +143,8 @@ def _duration(value: ast.Node, model: Model, found: list[Diagnostic]) -> None:
             number = evaluate(node, model)
         except NotConstant:
             continue
-        si = number.si if isinstance(number, Quantity) else number
-        if isinstance(si, (int, Fraction)) and not isinstance(si, bool) and si < 0:
+        si = si_number(number)
+        if si is not None and si < 0:
             found.append(messages.negative_duration(node.span, _written(node)))
 
 
@@ -175,7 +173,7 @@ def _recursion(
 ) -> list[Symbol] | None:
     """A chain of scenario invocations that comes back to its start, or None."""
     for tree in _do_trees(sym):
-        for node in _invocations(tree):
+        for node in invocations(tree):
             target = model.references.get(node.name)
             if target is None or target.kind is not SymbolKind.SCENARIO or target.library:
                 continue
@@ -188,18 +186,3 @@ def _recursion(
             if found is not None:
                 return found
     return None
-
-
-def _invocations(node: ast.Node) -> Iterator[ast.Invocation]:
-    """The invocations of a `do` or `on` tree (members only, not modifiers)."""
-    match node:
-        case ast.DoDirective():
-            yield from _invocations(node.member.body)
-        case ast.OnDirective():
-            for member in node.members:
-                yield from _invocations(member)
-        case ast.Composition():
-            for do_member in node.members:
-                yield from _invocations(do_member.body)
-        case ast.Invocation():
-            yield node

@@ -93,6 +93,18 @@ def op(name: str, *args: Term) -> Op:
     return Op(name, tuple(args))
 
 
+def minus(a: Term, b: Term) -> Term:
+    """``a - b``, computed when both are numbers."""
+    if (
+        isinstance(a, Const)
+        and isinstance(b, Const)
+        and not isinstance(a.value, bool)
+        and not isinstance(b.value, bool)
+    ):
+        return const(a.value - b.value)
+    return op("-", a, b)
+
+
 def variables(term: Term) -> set[Var]:
     """The variables a term mentions."""
     found: set[Var] = set()

@@ -60,8 +60,9 @@ from typing import TYPE_CHECKING
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
+from osc2check.semantics.members import scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import modifier_timing, time_zero
+from osc2check.semantics.phases import enum_word, invocations, modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
@@ -220,16 +221,6 @@ def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool
     return found
 
 
-def _word(node: ast.Node | None) -> str | None:
-    """The enum member a modifier argument names (`start`, `at.start`), else None."""
-    match node:
-        case ast.NameRef():
-            return node.name.name.text
-        case ast.EnumRef():
-            return node.member.text
-    return None
-
-
 class PlacementLowerer:
     def __init__(self, lowerer: Lowerer, scenario: Symbol, default_map: str = "default"):
         self.lw = lowerer
@@ -317,12 +308,7 @@ class PlacementLowerer:
 
     def _room(self, placement: StartPlacement) -> None:
         """Where speeds and durations are constants: road enough ahead of each start."""
-        bodies = [
-            member.member.body
-            for members in self.lw.member_decls.get(self.scenario, [])
-            for member in members
-            if isinstance(member, ast.DoDirective)
-        ]
+        bodies = [member.body for member in self._bodies(self.scenario)]
         motion = motion_bounds(self.model, bodies, self._lookup)
         if motion.duration is None or motion.duration == 0:
             return
@@ -653,12 +639,10 @@ class PlacementLowerer:
         return InstanceScope("", self.scenario, "", self.scenario)
 
     def _bodies(self, scenario: Symbol) -> list[ast.DoMember]:
-        return [
-            member.member
-            for members in self.lw.member_decls.get(scenario, [])
-            for member in members
-            if isinstance(member, ast.DoDirective)
-        ]
+        """The ``do`` the scenario runs (an inherited one too; a later one replaces an
+        earlier), as the timing model and the runner take it."""
+        do = scenario_do(self.model, self.lw.member_decls, scenario)
+        return [] if do is None else [do.member]
 
     def _start_invocations(self) -> list[tuple[ast.Invocation, InstanceScope]]:
         """The invocations that begin at time 0, each with the instance it belongs to:
@@ -708,7 +692,7 @@ class PlacementLowerer:
     ) -> Iterator[tuple[ast.Invocation, InstanceScope]]:
         """Every invocation of a `do` tree, into the scenarios it invokes."""
         labels = _labels(member)
-        for inv in _invocations(member.body):
+        for inv in invocations(member.body):
             inner = self._invoked(inv, scope, labels, depth)
             if inner is None:
                 yield inv, scope
@@ -888,7 +872,7 @@ class PlacementLowerer:
             if other is None:
                 return
             if sign is None:
-                sign = 1 if _word(args.get("side")) == "left" else -1
+                sign = 1 if enum_word(args.get("side")) == "left" else -1
             step = count if count is not None else ir.const(1)
             offset = step if sign > 0 else ir.op("neg", step)
             relation = ir.op("==", lane, ir.op("+", ir.Ref(other.lane), offset))
@@ -903,7 +887,7 @@ class PlacementLowerer:
         if "lane" not in args:
             return
         from_left = placement.network.numbering == "from_left"
-        side = _word(args.get("from"))
+        side = enum_word(args.get("from"))
         if side in ("left", "right"):
             from_left = side == "left"
         node = args["lane"]
@@ -1043,7 +1027,7 @@ class PlacementLowerer:
         value = self._value(node) if node is not None else None
         self.lateral.add(actor.name)
         if value is not None:
-            if _word(args.get("side")) == "right" and "side_of" not in args:
+            if enum_word(args.get("side")) == "right" and "side_of" not in args:
                 value = ir.op("neg", value)  # an offset to the right of the lane centre
             self._require(ir.op("==", ir.Ref(actor.t), value), item)
 
@@ -1143,16 +1127,6 @@ def _labels(member: ast.DoMember) -> dict[int, ast.Name]:
     return found
 
 
-def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
-    """The invocations of a `do` tree, in source order."""
-    match body:
-        case ast.Composition():
-            for member in body.members:
-                yield from _invocations(member.body)
-        case ast.Invocation():
-            yield body
-
-
 def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:
     return relation if also is None else ir.op("and", relation, also)
 
@@ -1197,8 +1171,3 @@ def _half(term: ir.Term) -> ir.Term:
 def _plus(a: ir.Term, b: ir.Term) -> ir.Term:
     x, y = _number(a), _number(b)
     return ir.const(x + y) if x is not None and y is not None else ir.op("+", a, b)
-
-
-def _minus(a: ir.Term, b: ir.Term) -> ir.Term:
-    x, y = _number(a), _number(b)
-    return ir.const(x - y) if x is not None and y is not None else ir.op("-", a, b)

@@ -73,6 +73,15 @@ def _linear(term: ir.Term) -> Linear:
     raise _Unsupported
 
 
+def holds(term: ir.Term, values: Mapping[str, Fraction | bool]) -> bool | None:
+    """Whether ``term`` is true under ``values``; None when it cannot be evaluated there
+    (a variable it mentions has no value, a division by zero, a type that does not fit)."""
+    try:
+        return evaluate(term, values) is True
+    except (KeyError, TypeError, ZeroDivisionError):
+        return None
+
+
 def evaluate(term: ir.Term, values: Mapping[str, Fraction | bool]) -> Fraction | int:
     """The value of ``term`` under ``values`` (every variable it mentions must be there);
     a bool is an int, and arithmetic on one gives an int."""

@@ -46,6 +46,8 @@ class RoadTerms:
         pieces = [p for cw in self.carriageways for p in cw.pieces]
         self.most_lanes = max((p.count for p in pieces), default=0)
         self.longest = max((cw.length for cw in self.carriageways), default=0.0)
+        # every stretch of every carriageway has the same number of lanes
+        self.uniform = len({p.count for p in pieces}) == 1
 
     # ---- the choice of carriageway
 
@@ -111,9 +113,8 @@ class RoadTerms:
     def lanes(self, road: ir.Var | None, lane: ir.Term, s: ir.Term, phase: bool = False) -> ir.Term:
         """The lane number is one the carriageway has where the actor is (``phase``: one
         some road of the map has: a later phase may be anywhere)."""
-        if phase or self._uniform():
-            top = self.most_lanes
-            return ir.op("and", ir.op(">=", lane, ir.const(1)), ir.op("<=", lane, ir.const(top)))
+        if phase or self.uniform:
+            return _between(lane, 1, self.most_lanes)
         return self._any(
             road,
             [
@@ -125,7 +126,7 @@ class RoadTerms:
         )
 
     def lanes_text(self, phase: bool = False) -> str:
-        if self.single and self._uniform():
+        if self.single and self.uniform:
             return f"road `{self.name}` has lanes 1 to {self.most_lanes}"
         if phase:
             return f"the roads of map `{self.name}` have at most {self.most_lanes} lanes each way"
@@ -149,13 +150,13 @@ class RoadTerms:
                 inside = ir.op(
                     "and",
                     ir.op(">=", centre, half_width),
-                    ir.op("<=", centre, _minus_term(ir.const(width * p.count), half_width)),
+                    ir.op("<=", centre, ir.minus(ir.const(width * p.count), half_width)),
                 )
-                each.append((cw, inside if self._uniform() else _and(_within(s, p), inside)))
+                each.append((cw, inside if self.uniform else _and(_within(s, p), inside)))
         return self._any(road, each)
 
     def across_text(self, actor: str, size: str) -> str:
-        if self.single and self._uniform():
+        if self.single and self.uniform:
             p = self.carriageways[0].pieces[0]
             return f"`{actor}` ({size}) stays on the road's {p.count} lanes of {p.width:g} m"
         return f"`{actor}` ({size}) stays on the driving lanes of map `{self.name}`"
@@ -182,7 +183,7 @@ class RoadTerms:
         """``lane`` (counted from the right) is the lane a scenario numbers ``number``."""
         if not from_left:
             return ir.op("==", lane, number)
-        if self._uniform():
+        if self.uniform:
             top = ir.const(self.most_lanes + 1)
             return ir.op("==", lane, ir.op("-", top, number))
         return self._any(
@@ -199,11 +200,6 @@ class RoadTerms:
                 if p.count > 0
             ],
         )
-
-    def _uniform(self) -> bool:
-        """Every stretch of every carriageway has the same number of lanes."""
-        counts = {p.count for cw in self.carriageways for p in cw.pieces}
-        return len(counts) == 1
 
 
 def _and(a: ir.Term, b: ir.Term) -> ir.Term:
@@ -227,11 +223,4 @@ def _between(term: ir.Term, low: int, high: int) -> ir.Term:
 
 
 def _minus(length: float, half: ir.Term) -> ir.Term:
-    return _minus_term(ir.const(fraction(length)), half)
-
-
-def _minus_term(a: ir.Term, b: ir.Term) -> ir.Term:
-    if isinstance(a, ir.Const) and isinstance(b, ir.Const):
-        assert not isinstance(a.value, bool) and not isinstance(b.value, bool)
-        return ir.const(a.value - b.value)
-    return ir.op("-", a, b)
+    return ir.minus(ir.const(fraction(length)), half)

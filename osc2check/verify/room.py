@@ -18,13 +18,19 @@ Durations and speeds are folded with the one evaluator
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, Value, evaluate
+from osc2check.semantics.constants import (
+    NotConstant,
+    RangeValue,
+    Value,
+    evaluate,
+    si_number,
+)
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import is_instant
+from osc2check.semantics.phases import invocations, is_instant
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
@@ -33,7 +39,6 @@ __all__ = ["Motion", "motion_bounds"]
 Lookup = Callable[[Symbol, ast.Node], Value]
 
 _STOPPING = frozenset({"remain_stationary"})
-_ABSOLUTE_SPEED_ARGS = ("speed",)
 _RELATIVE = ("faster_than", "slower_than", "same_as")
 
 
@@ -56,7 +61,7 @@ def motion_bounds(model: Model, bodies: Sequence[ast.Node], lookup: Lookup) -> M
             motion.duration = None
         else:
             motion.duration = max(motion.duration, length)
-        for inv in _invocations(body):
+        for inv in invocations(body):
             _speeds(model, inv, lookup, motion)
     return motion
 
@@ -68,20 +73,12 @@ def _number(model: Model, node: ast.Node, lookup: Lookup, upper: bool = True) ->
     except NotConstant:
         return None
     if isinstance(value, RangeValue):
-        bounds = [_si(value.low), _si(value.high)]
+        bounds = [si_number(value.low), si_number(value.high)]
         if None in bounds:
             return None
         known = [b for b in bounds if b is not None]
         return max(known) if upper else min(known)
-    return _si(value)
-
-
-def _si(value: Value) -> Fraction | None:
-    if isinstance(value, Quantity):
-        return value.si
-    if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
-        return Fraction(value)
-    return None
+    return si_number(value)
 
 
 def _named(arguments: tuple[ast.Argument, ...], name: str) -> ast.Node | None:
@@ -113,15 +110,6 @@ def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
         case ast.Emit() | ast.CallDirective():
             return Fraction(0)
     return None
-
-
-def _invocations(body: ast.Node) -> Iterator[ast.Invocation]:
-    match body:
-        case ast.Composition():
-            for member in body.members:
-                yield from _invocations(member.body)
-        case ast.Invocation():
-            yield body
 
 
 def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -> None:

@@ -56,13 +56,14 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, OVERLAP_KINDS
-from osc2check.semantics.constants import NotConstant, Quantity, evaluate
+from osc2check.semantics.constants import NotConstant, evaluate, si_number
 from osc2check.semantics.members import scenario_do
 from osc2check.semantics.phases import (
     ENDLESS_ACTIONS,
     ENDS_WITH_FIRST,
     INSTANT_ACTIONS,
     PHASE_ENDING_MODIFIERS,
+    enum_word,
     is_acting,
     modifier_timing,
 )
@@ -208,14 +209,9 @@ class _Builder:
 
     def _constant(self, node: ast.Node) -> Fraction | None:
         try:
-            value = evaluate(node, self.model)
+            return si_number(evaluate(node, self.model))
         except NotConstant:
             return None
-        if isinstance(value, Quantity):
-            return value.si
-        if isinstance(value, (int, Fraction)) and not isinstance(value, bool):
-            return Fraction(value)
-        return None
 
     def _value(
         self, node: ast.Node, scope: InstanceScope, name: str, where: Span, text: str
@@ -679,13 +675,7 @@ def _guard(t: Time, owner_start: Time, active: ir.Term, free: Time, checked: Tim
 
 
 def _overlap_kind(node: ast.Node) -> str | None:
-    match node:
-        case ast.NameRef():
-            word = node.name.name.text
-        case ast.EnumRef():
-            word = node.member.text
-        case _:
-            return None
+    word = enum_word(node)
     return word if word in OVERLAP_KINDS else None
 
 

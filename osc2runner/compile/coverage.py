@@ -30,7 +30,11 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import COVERAGE_PARAMETERS, DEFAULT_SAMPLING_EVENT
+from osc2check.semantics.builtins import (
+    COVERAGE_PARAMETERS,
+    DEFAULT_SAMPLING_EVENT,
+    cover_item_expression,
+)
 from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, evaluate
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
@@ -82,10 +86,9 @@ def compile_coverage(
             notes.append(
                 f"{line}: `{decl.kind}({name}, {key}: ...)`: {key} is not collected by the runner"
             )
-    expression_node = named.get("expression", name_node)
-    if expression_node is None or ("expression" not in named and "items" in named):
+    expression_node = cover_item_expression(named, positional)
+    if expression_node is None:
         notes.append(f"{line}: `{decl.kind}({name})` has no expression: not collected")
-        expression_node = None
     model = env.model
     value_type = model.type_of(expression_node) if expression_node is not None else None
     unit = _unit(env, named.get("unit"), value_type)

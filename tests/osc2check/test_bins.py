@@ -82,3 +82,21 @@ def test_run_time_values_cannot_be_steered() -> None:
         term_of(2)
     with pytest.raises(bins.NotSteerable, match="`speed` \\(a variable"):
         term_of(3)
+
+
+def test_a_cross_or_an_override_has_no_expression_as_the_checker_and_the_runner_say() -> None:
+    text = TEXT.replace(
+        "    do hero",
+        "    cover(name: both, items: [v, gear])\n"
+        '    cover(v, override: v, text: "again")\n'
+        '    cover(name: gear, text: "by name")\n'
+        "    do hero",
+    )
+    analysis = analyze([SourceInput("s.osc", text)])
+    assert [d.code.code for d in analysis.diagnostics] == ["L506"]  # as for TEXT alone
+    scenario = analysis.verified["s.osc"].scenarios[0].scenario
+    decls = [n for n in walk(scenario.decl) if isinstance(n, ast.CoverageDecl)]
+    found = [bins.cover_expression(d) for d in decls]
+    assert [type(e).__name__ for e in found[:4]] == ["NameRef"] * 3 + ["MemberAccess"]
+    assert found[4:6] == [None, None]  # a cross, an override: the name is another item's
+    assert isinstance(found[6], ast.NameRef) and found[6].name.name.text == "gear"

@@ -14,6 +14,7 @@ from osc2check.semantics.constants import (
     RangeValue,
     evaluate,
     initial_value,
+    si_number,
     to_runtime,
 )
 from osc2check.semantics.symbols import SymbolKind
@@ -98,3 +99,11 @@ def test_comparing_values_that_have_no_order_is_not_constant(expr):
     sym = next(s for s in model.symbols if s.name == "b")
     with pytest.raises(NotConstant, match="cannot compare"):
         initial_value(model, sym)
+
+
+def test_si_number_is_a_quantitys_si_or_a_number_and_nothing_else() -> None:
+    assert si_number(Quantity(Fraction(25, 3), SPEED)) == Fraction(25, 3)
+    assert si_number(-4) == Fraction(-4) and isinstance(si_number(-4), Fraction)
+    assert si_number(Fraction(1, 2)) == Fraction(1, 2)
+    rng = RangeValue(Fraction(1), Fraction(2))
+    assert [si_number(v) for v in (True, False, "4", 4.0, rng, None)] == [None] * 6

@@ -116,6 +116,20 @@ def test_check_finds_easy_models_without_z3_and_sends_the_rest_to_it():
     assert check(unsat).status == "unsat"
 
 
+def test_quick_holds_is_true_false_or_none_when_the_term_cannot_be_evaluated():
+    x = ir.Var("x", "real")
+    positive = ir.op(">", ir.Ref(x), ir.const(0))
+    assert quick.holds(positive, {"x": Fraction(1)}) is True
+    assert quick.holds(positive, {"x": Fraction(-1)}) is False
+    assert quick.holds(positive, {}) is None  # x has no value
+    assert (
+        quick.holds(ir.op(">", ir.op("/", ir.const(1), ir.Ref(x)), ir.const(0)), {"x": 0}) is None
+    )
+    assert (
+        quick.holds(ir.op("+", ir.Ref(x), ir.const(1)), {"x": Fraction(0)}) is False
+    )  # 1, not True
+
+
 def test_an_integer_equation_with_a_fractional_solution_is_not_a_quick_model():
     n = ir.Var("n", "int")
     terms = [ir.op("==", ir.op("*", ir.const(2), ir.Ref(n)), ir.const(3))]
@@ -376,6 +390,40 @@ def test_one_of_alternatives_do_not_fix_the_start():
     )
     analysis = checked(text)
     assert codes_of(analysis) == []
+
+
+def test_placement_takes_the_do_the_scenario_runs_an_inherited_one_too():
+    # b runs a's `do` (as the runner compiles it): its lane 5 is L503 for b as for a;
+    # c's own `do` replaces a's, so a's lane 5 is not c's.
+    text = (
+        HEADER
+        + """scenario a:
+    hero: vehicle
+    do hero.drive(duration: 10s) with:
+        lane(5, at: start)
+        speed(50kph)
+
+scenario b inherits a:
+    x: int = 1
+
+scenario c inherits a:
+    do hero.drive(duration: 10s) with:
+        lane(1, at: start)
+        speed(50kph)
+"""
+    )
+    analysis = checked(text)
+    found = sorted(
+        (d.code.code, d.span.line, d.message.split("`")[1]) for d in analysis.diagnostics
+    )
+    assert found == [("L503", 6, "a"), ("L503", 6, "b")]
+    results = {r.scenario.name: r for r in analysis.verified["t.osc"].scenarios}
+    assert {n: r.outcome.status for n, r in results.items()} == {
+        "a": "unsat",
+        "b": "unsat",
+        "c": "sat",
+    }
+    assert results["c"].witness.actor("hero").lane == 1
 
 
 def test_a_lateral_offset_may_leave_the_lane_but_not_the_road():
