@@ -138,10 +138,7 @@ class PathMotion:
             self._place(x, y, yaw, state.speed)
 
     def _place(self, x: float, y: float, yaw: float, speed: float) -> None:
-        world = self.action.ctx.world
-        assert world is not None
-        world.place(self.action.actor.name, x, y, yaw, speed)
-        self.action.ctx.refresh()
+        self.action.ctx.place(self.action.actor.name, x, y, yaw, speed)
 
     def step(self) -> Status:
         action = self.action

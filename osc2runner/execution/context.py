@@ -289,6 +289,18 @@ class RunContext:
         self.tick = world.tick
         self.time = world.time
 
+    def place(self, name: str, x: float, y: float, yaw: float, speed: float) -> None:
+        """Teleport actor ``name`` mid-run (:meth:`World.place`) and read its new state,
+        and that of the trailer it tows (which the world moves along); the other actors'
+        states are unchanged."""
+        world = self.attached_world
+        world.place(name, x, y, yaw, speed)
+        states = self.states
+        states[name] = world.state(name)
+        trailer = world.towing(name)
+        if trailer is not None:
+            states[trailer] = world.state(trailer)
+
     @property
     def attached_world(self) -> World:
         """The world, once attached (behaviours tick only after :meth:`attach`)."""
