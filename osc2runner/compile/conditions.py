@@ -369,30 +369,9 @@ class Emit(_ContextBehaviour):
         self.blackboard.register_key(key, access=Access.WRITE)
 
     def update(self) -> Status:
-        emit_now(self.ctx, self.blackboard, self.event, self.key, self.arguments)
+        args = {k: fn() for k, fn in self.arguments.items()}  # SI values, evaluated now
+        self.ctx.emit(self.event, args, client=self.blackboard, key=self.key)
         return Status.SUCCESS
-
-
-def emit_now(
-    ctx: RunContext, client: Any, event: str, key: str, arguments: dict[str, Closure]
-) -> None:
-    """Append an occurrence of ``event`` through ``client``, log it and tell its listeners.
-
-    The arguments are evaluated now (SI values, in the event's parameter order).
-    """
-    args = {k: fn() for k, fn in arguments.items()}
-    occurrence = Occurrence(ctx.tick, ctx.time, args)
-    client.set(key, client.get(key) + (occurrence,))
-    ctx.record("emit", event, ", ".join(f"{k}: {_text(v)}" for k, v in args.items()))
-    ctx.occurred(event, occurrence)
-    if event == "fail":
-        ctx.fail("the scenario emitted `fail`")
-
-
-def _text(value: object) -> str:
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(getattr(value, "name", value))
 
 
 class CallDirective(_ContextBehaviour):
@@ -495,4 +474,4 @@ def event_name(path: tuple[str, ...]) -> str:
     return ".".join(path)
 
 
-__all__ += ["emit_now", "event_name", "event_key"]
+__all__ += ["event_name", "event_key"]

@@ -48,7 +48,6 @@ from osc2runner.compile.conditions import (
     Wait,
     Watch,
     compile_watch,
-    emit_now,
 )
 from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
@@ -932,9 +931,12 @@ def _emits(run: RunContext, name: str) -> Callable[[Any], None]:
     return fire
 
 
-def _emits_now(run: RunContext, name: str, key: str, args: Any) -> Callable[[Any], None]:
+def _emits_now(
+    run: RunContext, name: str, key: str, args: dict[str, Closure]
+) -> Callable[[Any], None]:
     def fire(handler: Any) -> None:
-        emit_now(run, handler.blackboard, name, key, args)
+        values = {k: fn() for k, fn in args.items()}  # SI values, evaluated now
+        run.emit(name, values, client=handler.blackboard, key=key)
 
     return fire
 
