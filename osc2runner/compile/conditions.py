@@ -83,6 +83,15 @@ class Watch:
     def occurred(self) -> bool:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def drain(self, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` once per occurrence since the last call (this tick's
+        evaluation: every pending one of a consuming watch, at most one otherwise)."""
+        if self.consumes:
+            while self.occurred():
+                callback()
+        elif self.occurred():
+            callback()
+
 
 class NamedEventWatch(Watch):
     """``@name [as alias] [if condition]``."""
@@ -457,11 +466,7 @@ class OnHandler(_ContextBehaviour):
         self.watch.stop()
 
     def update(self) -> Status:
-        if self.watch.consumes:
-            while self.watch.occurred():
-                self._run()
-        elif self.watch.occurred():
-            self._run()
+        self.watch.drain(self._run)
         return Status.RUNNING
 
     def _run(self) -> None:
