@@ -52,6 +52,15 @@ class _ArgumentParser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
+def _number(text: str) -> float | str:
+    """An option's text as a float, or the text itself when it is not a number (which
+    the option's check then refuses as such)."""
+    try:
+        return float(text)
+    except ValueError:
+        return text
+
+
 def _checked(text: str | None, parse: Callable[[str], Any], check: Callable[[Any], Any]) -> Any:
     """An option's text parsed and checked; an OptionError quotes the text as given."""
     if text is None:
@@ -179,14 +188,13 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         raise UsageError("--plot needs --out DIR")
     args.seed = _checked(args.seed, int, check_seed)
     args.duration = _checked(args.duration, float, lambda v: check_time("duration", v))
-    control = _checked(args.dt_control, float, lambda v: check_time("dt_control", v))
-    physics = _checked(args.dt_physics, float, lambda v: check_time("dt_physics", v))
+    given = {"dt_control": args.dt_control, "dt_physics": args.dt_physics}
     try:
-        check_steps(control, physics)
+        args.dt_control, args.dt_physics = check_steps(
+            _number(args.dt_control), _number(args.dt_physics)
+        )
     except OptionError as exc:
-        given = {"dt_control": args.dt_control, "dt_physics": args.dt_physics}
-        raise OptionError(exc.name, given[exc.name], exc.why) from None
-    args.dt_control, args.dt_physics = control, physics
+        raise OptionError(exc.name, given[exc.name], exc.why) from None  # the text given
     if args.out is not None:
         args.out = check_out(args.out)  # a bad --out is found before the checker runs
     args.sut_spec = _sut(args)

@@ -104,10 +104,11 @@ def check_steps(dt_control: object, dt_physics: object) -> tuple[float, float]:
     return control, physics
 
 
-def check_out(value: str | os.PathLike[str]) -> Path:
+def check_out(value: str | os.PathLike[str], *, create: bool = False) -> Path:
     """The output folder, checked by writing a file in it (or in the folder it would be
-    created in: a missing folder is not created here)."""
+    created in: a missing folder is created only with ``create``, when the files are
+    written)."""
     try:
-        return output_folder(value, create=False)
+        return output_folder(value, create=create)
     except FolderError as exc:
         raise OptionError("out", os.fspath(value), exc.why) from None

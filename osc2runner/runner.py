@@ -155,7 +155,7 @@ class Compiled:
 class Prepared(Compiled):
     """A compiled scenario with its world built at the witness's starts (``prepare``)."""
 
-    world: World | None = None
+    world: World
     sut: dict[str, str] | None = None  # the system under test: its class and actor
 
 
@@ -400,7 +400,6 @@ def execute(
     loop at a tick boundary, later ones cannot cut a file short.
     """
     world = prepared.world
-    assert world is not None
     seconds = check_duration(duration)
     folder = check_out(out) if out is not None else None
     limit = DEFAULT_TIME_LIMIT if seconds is None else seconds
@@ -452,25 +451,19 @@ def _finish(
     coverage = ctx.coverage
     coverage.scenario, coverage.source = prepared.scenario.name, prepared.uri
     result = RunResult(outcome, recorder.arrays(), list(ctx.records), metadata, coverage=coverage)
-    lights = list(ctx.traffic_lights.values())
     world = prepared.world
-    assert world is not None
     ticks = recorder.ticks if recorder.names else world.tick + 1
-    result.lights = light_arrays(lights, ticks, world.dt_control)
+    result.lights = light_arrays(ctx.traffic_lights.values(), ticks, world.dt_control)
     if out is not None:
-        folder = Path(out)
-        folder.mkdir(parents=True, exist_ok=True)
+        folder = check_out(out, create=True)  # checked before the run; it may have changed
         result.outputs = write_data(folder, recorder, result.events)
-        if lights:
-            result.outputs.append(
-                write_lights(folder / "lights.csv", lights, ticks, world.dt_control)
-            )
+        if result.lights:
+            result.outputs.append(write_lights(folder / "lights.csv", result.lights))
         result.outputs.append(write_coverage(folder, coverage))
         if plot:
             from osc2runner.output.plots import plot_run
 
-            network = prepared.world.network if prepared.world is not None else None
-            result.outputs.extend(plot_run(result, folder, network))
+            result.outputs.extend(plot_run(result, folder, world.network))
         result.outputs.append(write_metadata(folder, metadata, result.events))
     return result
 
@@ -479,7 +472,6 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
     from osc2check.output import tool
 
     ctx, world = prepared.ctx, prepared.world
-    assert world is not None
     actors = {}
     for name, actor in ctx.actors.items():
         entry: dict[str, Any] = {"type": actor.type.name, "kind": actor.kind}

@@ -245,12 +245,12 @@ class Position(Modifier):
             return args["behind"], -1.0
         return None, 1.0
 
-    def _distance(self, me: ActorState, other: ActorState | None, sign: float) -> float:
+    def _distance(self, follower_speed: float) -> float:
+        """The bumper gap asked: ``distance``, or ``time`` at the follower's speed."""
         if "distance" in self.args:
             return float(self.args["distance"])
         if "time" in self.args:
-            follower = me if sign < 0 or other is None else other
-            return float(self.args["time"]) * max(follower.speed, 0.0)
+            return float(self.args["time"]) * max(follower_speed, 0.0)
         raise ActionError("position() needs `distance` or `time`")
 
     def _error(self, action: ActionBehaviour) -> tuple[float, ActorState, float]:
@@ -259,7 +259,8 @@ class Position(Modifier):
         assert ref is not None
         me, other = action.state, action.ctx.states[ref.name]
         gap = sign * gap_between(other, me, bumpers=True)  # my bumper gap on the asked side
-        return gap - self._distance(me, other, sign), other, sign
+        follower = me if sign < 0 else other
+        return gap - self._distance(follower.speed), other, sign
 
     def realise(self, action: ActionBehaviour) -> None:
         ref, _ = self._reference()
@@ -308,11 +309,7 @@ class Position(Modifier):
             pose.s = d if state.direction >= 0 else _road_length(action, state) - d
             return
         other = action.ctx.states[ref.name]
-        follower_speed = speed if sign < 0 else other.speed
-        if "distance" in self.args:
-            d = float(self.args["distance"])
-        else:
-            d = float(self.args.get("time", 0.0)) * max(follower_speed, 0.0)
+        d = self._distance(speed if sign < 0 else other.speed)
         half = 0.5 * (
             float(getattr(action.actor.params, "length", 0.0))
             + float(getattr(ref.params, "length", 0.0))
@@ -361,10 +358,10 @@ class Lane(Modifier):
         side_text = str(counted_from) if counted_from is not None else lanes.default_side
         return n if side_text == "right" else count + 1 - n
 
-    def _lane(self, action: ActionBehaviour) -> LaneRef:
+    def _lane(self, action: ActionBehaviour, number: int) -> LaneRef:
+        """The lane numbered ``number`` from the right on the actor's road, its way."""
         ctx = action.ctx
         here = lane_of(ctx, action.actor)
-        number = self._number(action)
         target = ctx.lanes.lane(here, number, "right")
         if target is None:
             count = ctx.lanes.count(here)
@@ -379,7 +376,7 @@ class Lane(Modifier):
         self.change_at: float | None = None
         self.relative = "same_as" in self.args or "side_of" in self.args
         if self.at == "end" and action.remaining():
-            target = self._lane(action)
+            target = self._lane(action, self._number(action))
             if action.state.lane_ref == target:
                 _lateral(action).keep_lane(target)
                 self.changing_to = target
@@ -397,7 +394,7 @@ class Lane(Modifier):
         if self.change_at is not None:
             if action.elapsed + 1e-9 >= self.change_at:
                 self.change_at = None
-                target = self._lane(action)
+                target = self._lane(action, self._number(action))
                 duration = max(action.remaining() or 0.0, action.ctx.dt)
                 _lateral(action).change_lane(action.state, target, duration=duration)
                 self.changing_to = target
@@ -413,7 +410,7 @@ class Lane(Modifier):
         if not first and self.changing_to is not None:
             if ctx.lanes.number(self.changing_to, "right") == number:
                 return  # on its way into (or in) that lane already
-        target = self._lane(action)
+        target = self._lane(action, number)
         if state.lane_ref == target and self.changing_to is None:
             lateral.keep_lane(target)
         else:
@@ -433,17 +430,25 @@ class Lane(Modifier):
 
     def holds(self, action: ActionBehaviour) -> str | None:
         state = action.state
-        ctx = action.ctx
-        here = state.lane_ref
-        if here is None or state.lane is None:
-            return "it is off the road"
-        number = self._number(action)
-        if ctx.lanes.number(here, "right") == number:
-            return None
-        return f"it is in lane {ctx.lanes.number(here)}, not lane {_scenario(ctx, here, number)}"
+        if state.lane_ref is None or state.lane is None:
+            return "it is off the road"  # (the lane asked for is counted from where it is)
+        return _lane_problem(action, self._number(action))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         pose.lane = self._number(action)
+
+
+def _lane_problem(action: ActionBehaviour, number: int) -> str | None:
+    """None when the actor is in the lane numbered ``number`` from the right, else where
+    it is instead."""
+    state = action.state
+    here = state.lane_ref
+    if here is None or state.lane is None:
+        return "it is off the road"
+    lanes = action.ctx.lanes
+    if lanes.number(here, "right") == number:
+        return None
+    return f"it is in lane {lanes.number(here)}, not lane {_scenario(action.ctx, here, number)}"
 
 
 def _scenario(ctx: Any, here: LaneRef, number: int) -> int:
@@ -493,15 +498,7 @@ class ChangeLaneModifier(Modifier):
         _lateral(action).change_lane(action.state, target, duration=duration)
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        state = action.state
-        here = state.lane_ref
-        if here is None or state.lane is None:
-            return "it is off the road"
-        lanes = action.ctx.lanes
-        if lanes.number(here, "right") == self.target:
-            return None
-        wanted = _scenario(action.ctx, here, self.target)
-        return f"it is in lane {lanes.number(here)}, not lane {wanted}"
+        return _lane_problem(action, self.target)
 
 
 @modifier("keep_lane")

@@ -138,10 +138,7 @@ class PathMotion:
             self._place(x, y, yaw, state.speed)
 
     def _place(self, x: float, y: float, yaw: float, speed: float) -> None:
-        world = self.action.ctx.world
-        assert world is not None
-        world.place(self.action.actor.name, x, y, yaw, speed)
-        self.action.ctx.refresh()
+        self.action.ctx.place(self.action.actor.name, x, y, yaw, speed)
 
     def step(self) -> Status:
         action = self.action
@@ -188,7 +185,42 @@ class PathMotion:
             ctrl.yaw = state.yaw
 
 
-class _PathAction(ActionBehaviour):
+def _motion_path(
+    value: Any, timed: bool, points: list[tuple[float, float]] | None = None
+) -> tuple[Polyline, Trajectory | None]:
+    """The polyline of a path or trajectory value (through ``points`` when given: its
+    points in world coordinates) and, ``timed``, its trajectory over its time stamps."""
+    try:
+        path = Polyline(
+            path_points(value) if points is None else points,
+            str(getattr(value, "interpolation", "straight_line")),
+        )
+        if not timed:
+            return path, None
+        stamps = getattr(value, "time_stamps", None)
+        if stamps is None:
+            raise ActionError("the trajectory has no time stamps")
+        return path, Trajectory(path, tuple(float(t) for t in stamps))
+    except ValueError as exc:
+        raise ActionError(str(exc)) from None
+
+
+class _MotionAction(ActionBehaviour):
+    """An action whose actor moves along a path (``start`` sets its :class:`PathMotion`)."""
+
+    motion: PathMotion
+
+    def step(self) -> Status:
+        return self.motion.step()
+
+    def terminate(self, new_status: Status) -> None:
+        motion = getattr(self, "motion", None)
+        if motion is not None and self.status == Status.RUNNING:
+            motion.stop()
+        super().terminate(new_status)
+
+
+class _PathAction(_MotionAction):
     """``follow_path`` and its kin: ``absolute`` or ``relative`` path (see the module)."""
 
     exact = False
@@ -206,16 +238,7 @@ class _PathAction(ActionBehaviour):
                 self, args.get("reference"), str(args.get("transform", "object_relative"))
             )
             points = _to_world(points, frame)
-        try:
-            path = Polyline(points, str(getattr(value, "interpolation", "straight_line")))
-            trajectory = None
-            if self.timed:
-                stamps = getattr(value, "time_stamps", None)
-                if stamps is None:
-                    raise ActionError("the trajectory has no time stamps")
-                trajectory = Trajectory(path, tuple(float(t) for t in stamps))
-        except ValueError as exc:
-            raise ActionError(str(exc)) from None
+        path, trajectory = _motion_path(value, self.timed, points)
         if not self.drives("longitudinal") and not self.timed:
             ctrl = self.controller
             if ctrl is not None and ctrl.speed.target is None:
@@ -228,15 +251,6 @@ class _PathAction(ActionBehaviour):
             start_offset=float(args.get("start_offset", 0.0)),
             end_offset=float(args.get("end_offset", 0.0)),
         )
-
-    def step(self) -> Status:
-        return self.motion.step()
-
-    def terminate(self, new_status: Status) -> None:
-        motion = getattr(self, "motion", None)
-        if motion is not None and self.status == Status.RUNNING:
-            motion.stop()
-        super().terminate(new_status)
 
 
 @action("movable_object", "follow_path")
@@ -267,7 +281,7 @@ class ReplayTrajectory(_PathAction):
 
 
 @action("movable_object", "change_position")
-class ChangePosition(ActionBehaviour):
+class ChangePosition(_MotionAction):
     """``change_position(target_xyz | target_position, interpolation)``: move to the point
     along a straight line (or a smooth curve leaving along the heading); ends there."""
 
@@ -299,15 +313,6 @@ class ChangePosition(ActionBehaviour):
             raise ActionError(str(exc)) from None
         self.motion = PathMotion(self, path)
 
-    def step(self) -> Status:
-        return self.motion.step()
-
-    def terminate(self, new_status: Status) -> None:
-        motion = getattr(self, "motion", None)
-        if motion is not None and self.status == Status.RUNNING:
-            motion.stop()
-        super().terminate(new_status)
-
 
 class _AlongModifier(Modifier):
     """The action's actor follows a path or trajectory while the phase lasts."""
@@ -322,13 +327,7 @@ class _AlongModifier(Modifier):
                 f"{self.use.name}() needs a {'trajectory' if self.timed else 'path'} with "
                 "points (road routes come with maps)"
             )
-        try:
-            path = Polyline(path_points(value), str(getattr(value, "interpolation", "")))
-            trajectory = None
-            if self.timed:
-                trajectory = Trajectory(path, tuple(float(t) for t in value.time_stamps))
-        except (ValueError, AttributeError) as exc:
-            raise ActionError(str(exc)) from None
+        path, trajectory = _motion_path(value, self.timed)
         self.motion: PathMotion | None = PathMotion(
             action,
             path,

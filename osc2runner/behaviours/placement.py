@@ -20,24 +20,24 @@ from osc2runner.compile.registry import action
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
 
 
+def _movable(action: InstantAction, why: str) -> None:
+    """A stationary object stays where its ``location`` put it (ActionError ``why``)."""
+    if action.ctx.attached_world.kind(action.actor.name) == "obstacle":
+        raise ActionError(why)
+
+
 def _teleport(
     action: InstantAction, *, speed: float | None = None, yaw: float | None = None
 ) -> None:
-    ctx = action.ctx
-    world = ctx.world
-    assert world is not None
     state = action.state
-    if world.kind(action.actor.name) == "obstacle":
-        raise ActionError("a stationary object cannot be moved after the start")
-    x, y = state.x, state.y
-    world.place(
+    _movable(action, "a stationary object cannot be moved after the start")
+    action.ctx.place(
         action.actor.name,
-        x,
-        y,
+        state.x,
+        state.y,
         state.yaw if yaw is None else yaw,
         state.speed if speed is None else speed,
     )
-    ctx.refresh()
 
 
 def _not_hitched(action: InstantAction) -> None:
@@ -105,8 +105,7 @@ class AssignPosition(InstantAction):
         target = network.lane_to_world(ref, s, offset)
         yaw = target.yaw + (pose.yaw or 0.0)
         speed = pose.speed if pose.speed is not None else state.speed
-        ctx.world.place(name, target.x, target.y, yaw, speed)  # type: ignore[union-attr]
-        ctx.refresh()
+        ctx.place(name, target.x, target.y, yaw, speed)
         ctrl = self.controller
         if ctrl is not None:
             set_speed(ctrl, speed, "none")
@@ -124,8 +123,7 @@ class AssignPosition(InstantAction):
             raise ActionError("`position` is not a position_3d") from None
         _not_hitched(self)
         state = self.state
-        if self.ctx.world.kind(self.actor.name) == "obstacle":  # type: ignore[union-attr]
-            raise ActionError("a stationary object is placed with its `location` modifier")
+        _movable(self, "a stationary object is placed with its `location` modifier")
         pose = AssignedPose()
         for modifier in self.use.modifiers:
             if modifier.use.name in ("speed", "yaw", "orientation"):
@@ -133,8 +131,7 @@ class AssignPosition(InstantAction):
                 modifier.assign(pose, self)
         yaw = state.yaw if pose.yaw is None else lane_heading(self.ctx, state) + pose.yaw
         speed = state.speed if pose.speed is None else pose.speed
-        self.ctx.world.place(self.actor.name, x, y, yaw, speed)  # type: ignore[union-attr]
-        self.ctx.refresh()
+        self.ctx.place(self.actor.name, x, y, yaw, speed)
         ctrl = self.controller
         if ctrl is not None:
             set_speed(ctrl, speed, "none")

@@ -50,13 +50,14 @@ def _light(action: ActionBehaviour, value: Any) -> TrafficLight:
     raise ActionError("the `traffic_light` is not a traffic light of the scenario")
 
 
-def _group(action: ActionBehaviour, group_id: str) -> list[TrafficLight]:
-    return [light for light in _lights(action).values() if light.group == group_id]
+def _group(ctx: RunContext, group_id: str) -> list[TrafficLight]:
+    """The scenario's lights of the group ``group_id``."""
+    return [light for light in ctx.traffic_lights.values() if light.group == group_id]
 
 
 def _with_sync(action: ActionBehaviour, light: TrafficLight) -> list[TrafficLight]:
     if action.args.get("sync") and light.group:
-        return _group(action, light.group)
+        return _group(action.ctx, light.group)
     return [light]
 
 
@@ -142,7 +143,7 @@ class SetGroupBulbState(InstantAction):
     def start(self) -> None:
         args = self.args
         light = _light(self, args["traffic_light"])
-        lights = _group(self, light.group) if light.group else [light]
+        lights = _group(self.ctx, light.group) if light.group else [light]
         change = _bulb(str(args["bulb_color"]), str(args["bulb_kind"]), str(args["bulb_state"]))
         switch(self, lights, change)
 
@@ -152,7 +153,7 @@ class SetGroupState(InstantAction):
     """``set_group_state(group, state: list of bulb_state)``: every light of the group."""
 
     def start(self) -> None:
-        lights = _group(self, _group_id(self.args["group"]))
+        lights = _group(self.ctx, _group_id(self.args["group"]))
         if not lights:
             raise ActionError("no traffic light of the scenario is in this group")
         _by_position(self, lights, self.args["state"])
@@ -163,7 +164,7 @@ class SetGroupSemanticState(InstantAction):
     """``set_group_semantic_state(traffic_light_group, state)``: every light of the group."""
 
     def start(self) -> None:
-        lights = _group(self, _group_id(self.args["traffic_light_group"]))
+        lights = _group(self.ctx, _group_id(self.args["traffic_light_group"]))
         if not lights:
             raise ActionError("no traffic light of the scenario is in this group")
         switch(self, lights, _semantic(str(self.args["state"])))
@@ -199,11 +200,8 @@ class PlayCycles(ActionBehaviour):
                 continue
             self.current[n] = index
             phase = phases[index]
-            lights = _group(self, _group_id(getattr(phase, "group", None)))
-            wanted = {
-                (str(b.color), str(b.icon)): str(getattr(b, "state", "is_on"))
-                for b in tuple(getattr(phase, "bulbs_state", ()) or ())
-            }
+            lights = _group(self.ctx, _group_id(getattr(phase, "group", None)))
+            wanted = _bulb_states(getattr(phase, "bulbs_state", ()))
             switch(
                 self,
                 lights,
@@ -235,8 +233,7 @@ def state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
 @method("traffic_light_group", "state_equal")
 def group_state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
     """True when every light of the group is in the given bulbs' states."""
-    group = _group_id(subject)
-    lights = [light for light in ctx.traffic_lights.values() if light.group == group]
+    lights = _group(ctx, _group_id(subject))
     return bool(lights) and all(state_equal(ctx, light.value, bulbs) for light in lights)
 
 

@@ -71,7 +71,13 @@ def _reset(children: Sequence[Behaviour]) -> None:
 
 
 class _Fast:
-    """``tick()`` as a generator over ``tick_status()``."""
+    """``tick()`` as a generator over ``tick_status()``; the execution context from
+    ``tree.setup(context=ctx)``."""
+
+    ctx: Any = None
+
+    def setup(self, **kwargs: Any) -> None:
+        self.ctx = kwargs.get("context", self.ctx)
 
     def tick(self) -> Iterator[Behaviour]:
         self.tick_status()  # type: ignore[attr-defined]
@@ -136,10 +142,6 @@ class Parallel(_Fast, py_trees.composites.Parallel):
         self._open = [may_be_open(c) for c in self.children]
         self.overlap = overlap
         self.where = where
-        self.ctx: Any = None
-
-    def setup(self, **kwargs: Any) -> None:
-        self.ctx = kwargs.get("context", self.ctx)
 
     def tick_status(self) -> Status:
         children = self.children
@@ -224,10 +226,6 @@ class OneOf(_Fast, py_trees.composites.Parallel):
         self.winner: Behaviour | None = None
         self.chosen: Behaviour | None = None
         self.running: list[Behaviour] = []
-        self.ctx: Any = None
-
-    def setup(self, **kwargs: Any) -> None:
-        self.ctx = kwargs.get("context", self.ctx)
 
     def _choose(self) -> None:
         acting = [c for c, a in zip(self.children, self.acting, strict=True) if a]
@@ -341,13 +339,9 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
         super().__init__(name=name, child=child)
         self.bounds = bounds
         self.where = where  # "file:line:column" of the invocation or composition
-        self.ctx: Any = None
         self.low: float | None = None
         self.high: float | None = None
         self.start_tick = 0
-
-    def setup(self, **kwargs: Any) -> None:
-        self.ctx = kwargs.get("context", self.ctx)
 
     def initialise(self) -> None:
         self.low, self.high = self.bounds()
@@ -445,10 +439,6 @@ class Labelled(_Fast, py_trees.decorators.Decorator):
     def __init__(self, name: str, child: Behaviour, label: str) -> None:
         super().__init__(name=name, child=child)
         self.label = label
-        self.ctx: Any = None
-
-    def setup(self, **kwargs: Any) -> None:
-        self.ctx = kwargs.get("context", self.ctx)
 
     def tick_status(self) -> Status:
         if self.status != RUNNING:
@@ -492,13 +482,9 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
         self.path = path  # the instance's path: its events are `<path>.start` ...
         self.initialisers = list(initialisers)  # run when the instance starts (its `var`s)
         self.emits_events = emits_events  # False when a label of the same name emits them
-        self.ctx: Any = None
 
     def _event(self, name: str) -> str:
         return f"{self.path}.{name}" if self.path else name
-
-    def setup(self, **kwargs: Any) -> None:
-        self.ctx = kwargs.get("context", self.ctx)
 
     def _emit(self, name: str) -> None:
         if self.ctx is not None and self.emits_events:

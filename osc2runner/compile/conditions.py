@@ -83,6 +83,15 @@ class Watch:
     def occurred(self) -> bool:  # pragma: no cover - abstract
         raise NotImplementedError
 
+    def drain(self, callback: Callable[[], None]) -> None:
+        """Call ``callback()`` once per occurrence since the last call (this tick's
+        evaluation: every pending one of a consuming watch, at most one otherwise)."""
+        if self.consumes:
+            while self.occurred():
+                callback()
+        elif self.occurred():
+            callback()
+
 
 class NamedEventWatch(Watch):
     """``@name [as alias] [if condition]``."""
@@ -369,30 +378,9 @@ class Emit(_ContextBehaviour):
         self.blackboard.register_key(key, access=Access.WRITE)
 
     def update(self) -> Status:
-        emit_now(self.ctx, self.blackboard, self.event, self.key, self.arguments)
+        args = {k: fn() for k, fn in self.arguments.items()}  # SI values, evaluated now
+        self.ctx.emit(self.event, args, client=self.blackboard, key=self.key)
         return Status.SUCCESS
-
-
-def emit_now(
-    ctx: RunContext, client: Any, event: str, key: str, arguments: dict[str, Closure]
-) -> None:
-    """Append an occurrence of ``event`` through ``client``, log it and tell its listeners.
-
-    The arguments are evaluated now (SI values, in the event's parameter order).
-    """
-    args = {k: fn() for k, fn in arguments.items()}
-    occurrence = Occurrence(ctx.tick, ctx.time, args)
-    client.set(key, client.get(key) + (occurrence,))
-    ctx.record("emit", event, ", ".join(f"{k}: {_text(v)}" for k, v in args.items()))
-    ctx.occurred(event, occurrence)
-    if event == "fail":
-        ctx.fail("the scenario emitted `fail`")
-
-
-def _text(value: object) -> str:
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    return str(getattr(value, "name", value))
 
 
 class CallDirective(_ContextBehaviour):
@@ -478,11 +466,7 @@ class OnHandler(_ContextBehaviour):
         self.watch.stop()
 
     def update(self) -> Status:
-        if self.watch.consumes:
-            while self.watch.occurred():
-                self._run()
-        elif self.watch.occurred():
-            self._run()
+        self.watch.drain(self._run)
         return Status.RUNNING
 
     def _run(self) -> None:
@@ -495,4 +479,4 @@ def event_name(path: tuple[str, ...]) -> str:
     return ".".join(path)
 
 
-__all__ += ["emit_now", "event_name", "event_key"]
+__all__ += ["event_name", "event_key"]

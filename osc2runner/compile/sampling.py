@@ -136,11 +136,7 @@ def on_occurrence(ctx: RunContext, watch: Watch, callback: Callable[[], None]) -
         if not started[0]:
             started[0] = True
             watch.start()
-        if watch.consumes:
-            while watch.occurred():
-                callback()
-        elif watch.occurred():
-            callback()
+        watch.drain(callback)
 
     ctx.poll(poll)
 

@@ -48,7 +48,6 @@ from osc2runner.compile.conditions import (
     Wait,
     Watch,
     compile_watch,
-    emit_now,
 )
 from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
@@ -287,18 +286,27 @@ class TreeCompiler:
                 continue
             env.variable_inits.append((sym.name, fn))
 
-    def _declared_events(self, scenario: Symbol) -> None:
-        """``event e is <spec>`` (§7.3.10.2): ``e`` occurs whenever its spec occurs, watched
-        from the scenario's start (its event context); logged as kind ``event``."""
-        run = self.run
+    def _event_specs(self, scenario: Symbol) -> list[tuple[Symbol, ast.EventDecl, ast.Node]]:
+        """The ``event e is <spec>`` members of ``scenario`` (§7.3.10.2): each event's
+        symbol, declaration and spec."""
+        found: list[tuple[Symbol, ast.EventDecl, ast.Node]] = []
         for sym in self.model.all_members(scenario):
             decl = sym.decl
-            if sym.kind is not SymbolKind.EVENT or not isinstance(decl, ast.EventDecl):
-                continue
-            if decl.spec is None:
-                continue
+            if sym.kind is SymbolKind.EVENT and isinstance(decl, ast.EventDecl):
+                if decl.spec is not None:
+                    found.append((sym, decl, decl.spec))
+        return found
+
+    def _declared_events(self, scenario: Symbol) -> None:
+        """``event e is <spec>`` of the root scenario: ``e`` occurs whenever its spec
+        occurs, watched from the scenario's start (its event context) through
+        :func:`on_occurrence` (an ``@x`` spec occurs at once with ``x``, also when ``x``
+        is emitted later in the tick than the scenario's handlers run); logged as kind
+        ``event``."""
+        run = self.run
+        for sym, _, spec in self._event_specs(scenario):
             try:
-                watch = self.watch(decl.spec, Bindings())
+                watch = self.watch(spec, Bindings())
             except CompileProblem as exc:
                 self._problem(exc)
                 continue
@@ -311,14 +319,9 @@ class TreeCompiler:
         whenever its spec does while the instance runs (its event context)."""
         run = self.run
         handlers: list[py_trees.behaviour.Behaviour] = []
-        for sym in self.model.all_members(scenario):
-            decl = sym.decl
-            if sym.kind is not SymbolKind.EVENT or not isinstance(decl, ast.EventDecl):
-                continue
-            if decl.spec is None:
-                continue
+        for sym, decl, spec in self._event_specs(scenario):
             name = scope.event((sym.name,))
-            watch = self.watch(decl.spec, scope)
+            watch = self.watch(spec, scope)
             handlers.append(
                 OnHandler(
                     node_name(f"event {sym.name}", decl),
@@ -611,6 +614,15 @@ class TreeCompiler:
                 )
         for event in (*PREDEFINED_EVENTS, *events):
             self.run.declare_event(frame.qualified(event))
+        for m in members:
+            if isinstance(m, ast.CoverageDecl):
+                raise CompileProblem(
+                    f"`{sym.name}` is invoked: the runner collects `{m.kind}` items of the root "
+                    "scenario only",
+                    m,
+                )
+            if isinstance(m, ast.Invocation):
+                self._scenario_modifier(m)
         self.invoking.append(sym)
         try:
             main = (
@@ -623,13 +635,6 @@ class TreeCompiler:
             ] + self._declared_event_handlers(sym, inner)
         finally:
             self.invoking.pop()
-        for m in members:
-            if isinstance(m, ast.CoverageDecl):
-                raise CompileProblem(
-                    f"`{sym.name}` is invoked: the runner collects `{m.kind}` items of the root "
-                    "scenario only",
-                    m,
-                )
         labelled_as = outer.qualified(label.text) if label is not None else None
         node: py_trees.behaviour.Behaviour = InvokedScenario(
             node_name(f"{actor.name + '.' if actor else ''}{sym.name}()", inv),
@@ -926,9 +931,12 @@ def _emits(run: RunContext, name: str) -> Callable[[Any], None]:
     return fire
 
 
-def _emits_now(run: RunContext, name: str, key: str, args: Any) -> Callable[[Any], None]:
+def _emits_now(
+    run: RunContext, name: str, key: str, args: dict[str, Closure]
+) -> Callable[[Any], None]:
     def fire(handler: Any) -> None:
-        emit_now(run, handler.blackboard, name, key, args)
+        values = {k: fn() for k, fn in args.items()}  # SI values, evaluated now
+        run.emit(name, values, client=handler.blackboard, key=key)
 
     return fire
 

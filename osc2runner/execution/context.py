@@ -289,6 +289,18 @@ class RunContext:
         self.tick = world.tick
         self.time = world.time
 
+    def place(self, name: str, x: float, y: float, yaw: float, speed: float) -> None:
+        """Teleport actor ``name`` mid-run (:meth:`World.place`) and read its new state,
+        and that of the trailer it tows (which the world moves along); the other actors'
+        states are unchanged."""
+        world = self.attached_world
+        world.place(name, x, y, yaw, speed)
+        states = self.states
+        states[name] = world.state(name)
+        trailer = world.towing(name)
+        if trailer is not None:
+            states[trailer] = world.state(trailer)
+
     @property
     def attached_world(self) -> World:
         """The world, once attached (behaviours tick only after :meth:`attach`)."""
@@ -317,13 +329,29 @@ class RunContext:
     def occurrences(self, name: str) -> tuple[Occurrence, ...]:
         return py_trees.blackboard.Blackboard.storage.get(event_key(name), ())
 
-    def emit(self, name: str, args: dict[str, Any] | None = None, *, kind: str = "emit") -> None:
-        """Record an occurrence of event ``name`` now (runner-level events: start, end, ...)."""
-        key = self.declare_event(name)
+    def emit(
+        self,
+        name: str,
+        args: dict[str, Any] | None = None,
+        *,
+        kind: str = "emit",
+        client: py_trees.blackboard.Client | None = None,
+        key: str | None = None,
+    ) -> None:
+        """Record an occurrence of event ``name`` now, with ``args`` (values, in the event's
+        parameter order): appended to its blackboard key through ``client`` (the emitting
+        behaviour's, registered to write ``key``; else the context's own), written to the
+        event log as ``kind`` and told to its listeners. The scenario's ``emit fail`` (kind
+        ``emit``) fails the run; runner-level events (start, end, ...) have kinds of their
+        own."""
+        if client is None or key is None:
+            client, key = self._client, self.declare_event(name)
         occurrence = Occurrence(self.tick, self.time, dict(args or {}))
-        self._client.set(key, self._client.get(key) + (occurrence,))
+        client.set(key, client.get(key) + (occurrence,))
         self.record(kind, name, _args_text(args))
         self.occurred(name, occurrence)
+        if kind == "emit" and name == "fail":
+            self.fail("the scenario emitted `fail`")
 
     def occurred(self, name: str, occurrence: Occurrence) -> None:
         """Tell the listeners of ``name`` (see :meth:`listen`) that it occurred now; every
@@ -348,8 +376,7 @@ def _args_text(args: dict[str, Any] | None) -> str:
 
 
 def _short(value: object) -> str:
+    """An argument in the event log: a float to 6 digits, an actor or enum value by name."""
     if isinstance(value, float):
         return f"{value:.6g}"
-    if isinstance(value, Actor):
-        return value.name
-    return str(value)
+    return str(getattr(value, "name", value))

@@ -20,8 +20,7 @@ COVERAGE_FILE = "coverage.json"
 
 
 def write_coverage(folder: Path, coverage: RunCoverage) -> Path:
-    """Write ``coverage.json`` into ``folder`` (created if needed); returns its path."""
-    folder.mkdir(parents=True, exist_ok=True)
+    """Write ``coverage.json`` into the folder ``folder``; returns its path."""
     text = json.dumps(coverage.to_json(), indent=2, allow_nan=False) + "\n"
     return write_atomically(folder / COVERAGE_FILE, text)
 

@@ -13,10 +13,11 @@ One row per light per tick, as ``telemetry.csv`` has one per actor per tick
 
 The row at tick ``k`` is what the light shows from the time of tick ``k`` on: a
 change the event log records at tick ``k`` (an action of that tick switched it)
-is in that row. The rows are expanded from each light's history of changes when
-the file is written, so a light that does not change costs nothing while the
-run ticks. The file is written (whole or not at all) when the scenario has
-traffic lights; the lights' places are in ``run.json``.
+is in that row. The rows are expanded once from each light's history of changes
+when the run ends (the result's ``lights``, which the file is written from), so
+a light that does not change costs nothing while the run ticks. The file is
+written (whole or not at all) when the scenario has traffic lights; the lights'
+places are in ``run.json``.
 """
 
 from __future__ import annotations
@@ -65,11 +66,13 @@ def light_arrays(
     return result
 
 
-def write_lights(path: Path, lights: Iterable[TrafficLight], ticks: int, dt: float) -> Path:
-    """Write ``lights.csv`` (see the module docstring); returns the path."""
+def write_lights(path: Path, lights: dict[str, dict[str, np.ndarray]]) -> Path:
+    """Write ``lights.csv`` (see the module docstring) from the lights' columns
+    (:func:`light_arrays`); returns the path."""
     with atomic_open(path, "w", newline="", encoding="utf-8") as f:
         f.write("light," + ",".join(LIGHT_COLUMNS) + "\n")
-        for light in lights:
-            for tick, time, semantic, bulbs in light_rows(light, ticks, dt):
-                f.write(f"{light.name},{tick},{time!r},{semantic},{bulbs}\n")
+        for name, columns in lights.items():
+            rows = zip(*(columns[c].tolist() for c in LIGHT_COLUMNS), strict=True)
+            for tick, time, semantic, bulbs in rows:
+                f.write(f"{name},{tick},{time!r},{semantic},{bulbs}\n")
     return path

@@ -182,3 +182,43 @@ def test_relative_speed_and_a_speed_reached_at_the_end(tmp_path):
     assert car["speed"][-1] * 3.6 == pytest.approx(30.0, abs=0.5)
     # at: end spreads the change over the phase: halfway, halfway there
     assert car["speed"][np.searchsorted(t, 10.0)] * 3.6 == pytest.approx(40.0, abs=2.0)
+
+
+TELEPORT_BEHIND = """\
+    a: vehicle
+    b: vehicle
+    do serial:
+        parallel:
+            a.assign_position() with:
+                lane(1, at: start)
+                speed(20kph, at: start)
+            b.assign_position() with:
+                lane(1, at: start)
+                position(distance: 100m, at: start)
+                speed(20kph, at: start)
+        a.drive(duration: 1s)
+        a.assign_position() with:
+            {position}
+            speed(36kph)
+        a.drive(duration: 1s)
+"""
+
+
+def test_a_teleport_behind_takes_the_headway_at_the_assigned_speed(tmp_path):
+    """position(time: t, behind: b) when assigning: the gap is t at the follower's speed,
+    the one assigned (10 m/s), not its speed before; without distance or time the
+    assignment fails as the modifier does in a phase."""
+    body = TELEPORT_BEHIND.format(position="position(time: 2s, behind: b)")
+    result = run_text(tmp_path, body, duration=5.0)
+    assert result.outcome.status == "success", result.outcome.reason
+    (_, k) = result.event_ticks("end", "a.assign_position")
+    a, b = result.telemetry["a"], result.telemetry["b"]
+    half = sum(result.metadata["actors"][n]["size"]["length"] for n in "ab") / 2
+    closing = (a["speed"][k + 1] - b["speed"][k + 1]) * 0.05  # over the tick since
+    assert a["speed"][k + 1] == pytest.approx(10.0, abs=0.01)
+    assert abs(b["s"][k + 1] - a["s"][k + 1]) - half == pytest.approx(20.0 - closing, abs=0.05)
+    result = run_text(
+        tmp_path, TELEPORT_BEHIND.format(position="position(behind: b)"), duration=5.0
+    )
+    assert result.outcome.status == "failure"
+    assert result.outcome.reason.endswith("position() needs `distance` or `time`")

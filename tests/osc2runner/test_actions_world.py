@@ -612,3 +612,20 @@ def test_distance_to_an_xyz_point():
     assert distance_to_xyz_point(ctx, car, point, "euclidean") == math.hypot(30.0, 3.5)
     state.yaw = math.pi / 2  # turned left: the point is now to its right, 30 m
     assert distance_to_xyz_point(ctx, car, point, "lateral") == pytest.approx(-30.0)
+
+
+def test_a_trajectory_without_time_stamps_is_said_so_by_every_user():
+    """follow_trajectory/replay_trajectory and along_trajectory build their path in one way:
+    a trajectory value without time stamps is an ActionError that says so (along_trajectory
+    gave Python's AttributeError text), and both default to straight lines."""
+    from types import SimpleNamespace
+
+    from osc2runner.behaviours.base import ActionError
+    from osc2runner.behaviours.paths import _motion_path
+
+    value = SimpleNamespace(points=(SimpleNamespace(x=0.0, y=0.0), SimpleNamespace(x=10.0, y=0.0)))
+    with pytest.raises(ActionError, match="^the trajectory has no time stamps$"):
+        _motion_path(value, timed=True)
+    path, trajectory = _motion_path(value, timed=False)
+    assert trajectory is None and path.interpolation == "straight_line"
+    assert path.length == pytest.approx(10.0)

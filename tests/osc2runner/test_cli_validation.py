@@ -77,6 +77,8 @@ def _one_error_line(err: str) -> str:
         (["--dt-physics", "0"], "--dt-physics 0: must be positive"),
         (["--dt-control", "0"], "--dt-control 0: must be positive"),
         (["--dt-physics", "nan"], "--dt-physics nan: must be a finite number"),
+        (["--dt-control", "fast"], "--dt-control fast: must be a number of seconds"),
+        (["--dt-physics", "2e-3x"], "--dt-physics 2e-3x: must be a number of seconds"),
         (
             ["--dt-control", "0.033", "--dt-physics", "0.002"],
             "--dt-control 0.033: must be a whole multiple of the physics step 0.002 s",

@@ -56,3 +56,31 @@ def test_a_wait_sees_only_what_happens_after_it_starts(tmp_path):
 def test_scenario_start_and_end_events(events):
     assert events.event_ticks("start", "start") == [0]
     assert events.event_ticks("end", "end") == [events.outcome.tick]
+
+
+FAILING = """\
+import osc.standard
+
+scenario top:
+    hero: vehicle
+    event go
+    do serial:
+        hero.assign_position() with:
+            lane(1, at: start)
+            speed(0kph, at: start)
+        wait elapsed(0.5s)
+        emit {emitted}
+        hero.drive(duration: 2s)
+    on @go:
+        emit fail
+"""
+
+
+@pytest.mark.parametrize(("emitted", "tick"), [("fail", 10), ("go", 11)])
+def test_emit_fail_fails_the_run(emitted, tick):
+    """`emit fail` in the `do`, or in an `on` handler (which sees `go` at the next tick):
+    the occurrence is logged (kind `emit`) and the run is a failure that says so."""
+    result = run("<fail>.osc", source=FAILING.format(emitted=emitted), duration=5.0)
+    assert result.outcome.status == "failure"
+    assert result.outcome.reason == "the scenario emitted `fail`"
+    assert result.event_ticks("emit", "fail") == [tick]

@@ -107,3 +107,23 @@ def test_a_run_writes_run_json_last_and_leaves_no_temporary_files(tmp_path, monk
     assert set(order) == {p.name for p in result.outputs} == {p.name for p in out.iterdir()}
     assert order[:2] == ["telemetry.csv", "events.csv"]
     assert json.loads((out / "run.json").read_text())["outcome"]["status"] == "success"
+
+
+def test_an_out_folder_that_became_unusable_during_the_run_is_an_option_error(tmp_path):
+    """``--out`` is checked before the run and created when the files are written: a path
+    that turned into a file meanwhile is the option's error (one line for the command),
+    not an internal error."""
+    from osc2runner.options import OptionError
+    from osc2runner.runner import execute, prepare
+
+    out = tmp_path / "later" / "out"
+    prepared = prepare(EVENTS)
+
+    def block(sim: float, limit: float, wall: float) -> None:
+        if not (tmp_path / "later").exists():
+            (tmp_path / "later").write_text("a file now\n")
+
+    with pytest.raises(OptionError) as caught:
+        execute(prepared, out=out, duration=2.0, progress=block)
+    assert caught.value.name == "out"
+    assert caught.value.why.startswith("cannot create the folder")

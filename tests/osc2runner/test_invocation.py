@@ -235,6 +235,30 @@ scenario top:
     assert "the runner needs the actor parameter `other`" in str(caught.value.problems)
 
 
+def test_a_modifier_of_an_invoked_scenario_is_reported():
+    """A modifier applied to the whole invoked scenario is refused as in the root scenario
+    (not silently ignored)."""
+    text = """\
+modifier vehicle.careful:
+    v: speed with:
+        keep(it == 30kph)
+
+scenario vehicle.cruise:
+    careful()
+    do actor.drive(duration: 1s)
+
+scenario top:
+    a: vehicle
+    do a.cruise()
+"""
+    with pytest.raises(ScenarioError) as caught:
+        _run(text)
+    messages = [p.message for p in caught.value.problems]
+    assert messages == [
+        "`careful()`: modifiers applied to the whole scenario are not supported by the runner"
+    ]
+
+
 def test_the_reusable_cut_in_example():
     """examples/cut_in_invoked.osc: each instance cuts in at its own gap and speeds."""
     from pathlib import Path

@@ -18,6 +18,7 @@ import pytest
 
 from osc2check.world.builtin import builtin_network
 from osc2check.world.catalogue import MODELS, receiver
+from osc2runner.execution.context import RunContext
 from osc2runner.execution.loop import TickLoop
 from osc2runner.instance.bodies import body_params
 from osc2runner.sim import ActorSpec, ObstacleParams, VehicleController, VehicleInput, World, sedan
@@ -238,6 +239,32 @@ def test_connect_puts_the_trailer_on_the_hitch_and_disconnect_parks_it():
     assert abs(tr.speed) < 0.01 and math.isnan(tr.articulation)  # its brakes hold it
     assert world.state("car").x - tr.x > 20.0
     assert not [e for e in world.events if e.kind == "collision"]
+
+
+def test_a_teleport_reads_the_new_states_of_the_actor_and_its_trailer():
+    """RunContext.place: the placed actor's state and its hitched trailer's (the world
+    moves it along) are read at once; the other actors' are left as they are."""
+    world = World(
+        ROAD,
+        [
+            ActorSpec("car", CAR, s=80.0, lane=2, speed=10.0),
+            ActorSpec("tr", CARAVAN, towed_by="car"),
+            ActorSpec("other", CAR, s=150.0, lane=1, speed=5.0),
+        ],
+    )
+    ctx = RunContext(ROAD, [])
+    ctx.attach(world, {})
+    world.run(0.5, {})
+    ctx.refresh()
+    other = ctx.states["other"]
+    ctx.place("car", 120.0, 1.5 * LANE_WIDTH, 0.0, 12.0)
+    car, tr = ctx.states["car"], ctx.states["tr"]
+    assert (car.x, car.y, car.yaw, car.speed) == pytest.approx((120.0, 1.5 * LANE_WIDTH, 0.0, 12.0))
+    assert _hitch_gap(world) < 1e-9
+    fresh = world.state("tr")
+    assert (tr.x, tr.y, tr.yaw, tr.speed) == (fresh.x, fresh.y, fresh.yaw, fresh.speed)
+    assert tr.x < car.x and tr.speed == pytest.approx(12.0)
+    assert ctx.states["other"] is other
 
 
 def test_articulation_is_the_heading_difference_wrapped():
