@@ -24,7 +24,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies
-from osc2check.semantics.phases import is_acting, time_zero
+from osc2check.semantics.phases import enum_word, is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -862,13 +862,9 @@ class TreeCompiler:
 
 def _overlap_kind(node: ast.Node) -> str:
     """The overlap kind a ``parallel(overlap: ...)`` names (the checker validated it)."""
-    match node:
-        case ast.NameRef():
-            word = node.name.name.text
-        case ast.EnumRef():
-            word = node.member.text
-        case _:
-            raise CompileProblem("`overlap` takes one of the overlap kinds", node)
+    word = enum_word(node)
+    if word is None:
+        raise CompileProblem("`overlap` takes one of the overlap kinds", node)
     if word not in OVERLAP_KINDS:
         raise CompileProblem(f"`{word}` is not an overlap kind ({', '.join(OVERLAP_KINDS)})", node)
     return word
