@@ -65,6 +65,8 @@ from osc2runner.sim.vehicle import (
     ObstacleParams,
     PedestrianParams,
     VehicleParams,
+    drag_forces,
+    free_body_state,
     obstacle_xml,
     pedestrian_xml,
     vehicle_actuator_xml,
@@ -554,17 +556,10 @@ class World:
         self._located[self._index[name]] = None
         if kind == "vehicle":
             row = self._vrow[name]
-            q = self._qadr[row]
-            v = self._vadr[row]
-            old = d.qpos[q + 3 : q + 7].copy()
-            old_yaw = _quat_yaw(old)
-            tilt = _quat_mul(_yaw_quat(-old_yaw), old)
-            d.qpos[q : q + 2] = (x, y)
-            d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
-            d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
-            mujoco.mj_kinematics(m, d)
-            radius = d.xpos[self._wheel_body[row], 2]  # rolling radius = wheel centre height
-            d.qvel[self._spin_dof[row]] = speed / radius
+            _set_free_body(
+                m, d, self._qadr[row], self._vadr[row], self._spin_dof[row],
+                self._wheel_body[row], x, y, yaw, speed,
+            )  # fmt: skip
             self._read()
             self._accel[row] = 0.0
             trailer = self.towing(name)
@@ -592,14 +587,10 @@ class World:
         row = self._trow[name]
         self._locators[self._index[name]].reset()
         self._located[self._index[name]] = None
-        q, v = bank.qadr[row], bank.vadr[row]
-        old = d.qpos[q + 3 : q + 7].copy()
-        tilt = _quat_mul(_yaw_quat(-_quat_yaw(old)), old)
-        d.qpos[q : q + 2] = (x, y)
-        d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
-        d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
-        mujoco.mj_kinematics(m, d)
-        d.qvel[bank.spin_dof[row]] = speed / d.xpos[bank.wheel_body[row], 2]
+        _set_free_body(
+            m, d, bank.qadr[row], bank.vadr[row], bank.spin_dof[row], bank.wheel_body[row],
+            x, y, yaw, speed,
+        )  # fmt: skip
         bank.read(d)
         bank.accel[row] = 0.0
 
@@ -757,10 +748,7 @@ class World:
             d.ctrl[self._drive_act] = bank.drive_torque[self._driven_mask]
             m.dof_frictionloss[self._spin_dof] = bank.brake_torque
             d.ctrl[self._steer_act] = bank.steer_angles
-            vel = self._vel
-            d.xfrc_applied[self._body, :2] = (
-                -(bank.drag_coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
-            )
+            d.xfrc_applied[self._body, :2] = drag_forces(bank.drag_coefficient, self._vel)
         if self._trailers:
             self._brake_trailers()
         if self._ped_moving:
@@ -837,17 +825,16 @@ class World:
     def _read(self) -> None:
         d = self.data
         if len(self._vehicles):
-            q = d.qpos[self._q7]
-            v = d.qvel[self._v6]
-            self._pos = q[:, :2]
-            w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
-            self._yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-            self._vel = v[:, :3]
-            self._yaw_rate = v[:, 5]
-            c, s = np.cos(self._yaw), np.sin(self._yaw)
-            self._cos, self._sin = c, s
-            self._speed = v[:, 0] * c + v[:, 1] * s
-            self._lat_speed = -v[:, 0] * s + v[:, 1] * c
+            (
+                self._pos,
+                self._yaw,
+                self._vel,
+                self._yaw_rate,
+                self._cos,
+                self._sin,
+                self._speed,
+                self._lat_speed,
+            ) = free_body_state(d.qpos[self._q7], d.qvel[self._v6])
         else:
             self._pos = np.zeros((0, 2))
             self._yaw = self._speed = self._lat_speed = self._yaw_rate = np.zeros(0)
@@ -1272,6 +1259,30 @@ class World:
 
 
 # ---------------------------------------------------------------------- helpers
+
+
+def _set_free_body(
+    m: mujoco.MjModel,
+    d: mujoco.MjData,
+    q: int,
+    v: int,
+    spin_dof: np.ndarray,
+    wheel_body: np.ndarray,
+    x: float,
+    y: float,
+    yaw: float,
+    speed: float,
+) -> None:
+    """Move a vehicle's or trailer's free body (``qpos`` at ``q``, ``qvel`` at ``v``) to
+    ``(x, y)`` heading ``yaw``, keeping its height, pitch and roll, at ``speed`` along the
+    heading; its wheels (``spin_dof``, ``wheel_body``) get the matching spin."""
+    old = d.qpos[q + 3 : q + 7].copy()
+    tilt = _quat_mul(_yaw_quat(-_quat_yaw(old)), old)
+    d.qpos[q : q + 2] = (x, y)
+    d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
+    d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
+    mujoco.mj_kinematics(m, d)
+    d.qvel[spin_dof] = speed / d.xpos[wheel_body, 2]  # rolling radius = wheel centre height
 
 
 def _four(values: np.ndarray) -> tuple[float, float, float, float]:
