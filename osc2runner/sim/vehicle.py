@@ -157,6 +157,11 @@ class VehicleParams:
         return None if self.hitch_reach is None else -0.5 * self.length - self.hitch_reach
 
     @property
+    def can_tow(self) -> bool:
+        """Whether it has a hitch receiver."""
+        return self.hitch_reach is not None
+
+    @property
     def driven(self) -> tuple[bool, bool, bool, bool]:
         """Which wheels (fl, fr, rl, rr) are driven."""
         front = self.drive in ("fwd", "awd")

@@ -328,7 +328,7 @@ class World:
         """Whether actor ``name`` is a vehicle with a hitch receiver."""
         i = self._index.get(name)
         params = self.specs[i].params if i is not None else None
-        return isinstance(params, VehicleParams) and params.receiver_x is not None
+        return isinstance(params, VehicleParams) and params.can_tow
 
     def _build_xml(self) -> str:
         bodies: list[str] = []
