@@ -49,7 +49,7 @@ from osc2check.world.carriageways import carriageways, lane_at
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.paths import LanePath
 from osc2check.world.projection import lane_centre
-from osc2check.world.topology import side_neighbour
+from osc2check.world.topology import neighbour_n, side_neighbour
 from osc2check.world.tracking import PathCursor
 from osc2runner.sim.tracking import PathTracker
 from osc2runner.sim.trailer import TrailerParams
@@ -613,11 +613,12 @@ class StanleyController:
             return (1, 0)
         direction = self.network.lane(here).direction
         for side in (1, -1):
-            other: LaneRef | None = here
+            other = here
             for count in range(1, 20):
-                other = side_neighbour(self.network, other, side * direction) if other else None
-                if other is None:
+                found = side_neighbour(self.network, other, side * direction)
+                if found is None:
                     break
+                other = found
                 if other == target or (other.road, other.lane) == (target.road, target.lane):
                     return (side, count)
         raise ValueError(f"{target} is not beside {here}")
@@ -636,8 +637,7 @@ class StanleyController:
             ref: LaneRef | None = route.lanes[int(k)]
             assert ref is not None
             direction = self.network.lane(ref).direction
-            for _ in range(count):
-                ref = side_neighbour(self.network, ref, side * direction) if ref else None
+            ref = neighbour_n(self.network, ref, side * direction, count)
             if ref is None:
                 continue
             mask = lane_of == k
