@@ -438,7 +438,7 @@ class StanleyController:
         self.on_route: Callable[[LanePath | None], None] | None = None  # told of new routes
         self._cursor: PathCursor | None = None
         self._renewable = False
-        self._then: tuple[int, float] | None = None  # after a lane change: side and offset
+        self._then: float | None = None  # after a lane change: the offset to keep in the new lane
         self._distance = 0.0  # the front axle's distance along the route at the last step
 
     # ---- the route
@@ -523,7 +523,7 @@ class StanleyController:
             goal_d,
             goal_o + offset,
         )
-        self._then = (side * count, offset)
+        self._then = offset
         return self.path
 
     def move_to(
@@ -586,8 +586,7 @@ class StanleyController:
     # ---- helpers
 
     def _front(self, state: ActorState) -> tuple[float, float]:
-        d = self.params.front_axle_x
-        return (state.x + d * math.cos(state.yaw), state.y + d * math.sin(state.yaw))
+        return self.params.front_axle(state.x, state.y, state.yaw)
 
     def _front_offset(self, state: ActorState) -> tuple[float, float]:
         """The front axle's distance along the route and the offset it follows there now."""
@@ -651,8 +650,8 @@ class StanleyController:
 
     def _switch(self, state: ActorState) -> None:
         """A lane change is complete: follow the target lane's own route."""
-        assert self._then is not None
-        steps, offset = self._then
+        offset = self._then
+        assert offset is not None
         here = state.lane_ref
         self._then = None
         if here is None:

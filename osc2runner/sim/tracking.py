@@ -179,13 +179,9 @@ class PathTracker:
         self.error = 0.0  # cross-track error of the front axle, m (left positive)
         self.s = 0.0  # arc length of the front axle's projection
 
-    def _front(self, x: float, y: float, yaw: float) -> tuple[float, float]:
-        d = self.params.front_axle_x
-        return x + d * math.cos(yaw), y + d * math.sin(yaw)
-
     def step(self, x: float, y: float, yaw: float, speed: float) -> float:
         """The steer input in [-1, 1] for a vehicle at ``(x, y, yaw)``."""
-        fx, fy = self._front(x, y, yaw)
+        fx, fy = self.params.front_axle(x, y, yaw)
         self.s, self.error, heading = self.path.project(fx, fy)
         heading_error = (heading - yaw + math.pi) % (2.0 * math.pi) - math.pi
         delta = heading_error - math.atan2(self.gain * self.error, self.soft_speed + abs(speed))
@@ -193,7 +189,7 @@ class PathTracker:
 
     def done(self, x: float, y: float, yaw: float) -> bool:
         """True once the front axle has reached the end of the path."""
-        fx, fy = self._front(x, y, yaw)
+        fx, fy = self.params.front_axle(x, y, yaw)
         return self.path.project(fx, fy)[0] >= self.end - 0.05
 
 

@@ -156,6 +156,12 @@ class VehicleParams:
         """The hitch receiver relative to the bounding-box centre (None: tows nothing)."""
         return None if self.hitch_reach is None else -0.5 * self.length - self.hitch_reach
 
+    def front_axle(self, x: float, y: float, yaw: float) -> tuple[float, float]:
+        """The world point of the front axle's centre of a vehicle centred at ``(x, y)``
+        heading ``yaw`` (where the Stanley law measures its errors)."""
+        d = self.front_axle_x
+        return x + d * math.cos(yaw), y + d * math.sin(yaw)
+
     @property
     def can_tow(self) -> bool:
         """Whether it has a hitch receiver."""
