@@ -292,6 +292,8 @@ class World:
         self._initial_weather = weather or Weather()
 
         self._index = {a.name: i for i, a in enumerate(self.specs)}
+        # each actor's initial world (x, y, yaw): its spec's pose on the map, found once
+        self._initial = [a.pose(network) for a in self.specs]
         self._vehicles = [a for a in self.specs if a.kind == "vehicle"]
         self._pedestrians = [a for a in self.specs if a.kind == "pedestrian"]
         self._trailers = [a for a in self.specs if a.kind == "trailer"]
@@ -334,9 +336,8 @@ class World:
         bodies: list[str] = []
         actuators: list[str] = []
         collide = self.physical_collisions
-        for spec in self.specs:
+        for spec, (x, y, yaw) in zip(self.specs, self._initial, strict=True):
             prefix = self._prefix(spec.name)
-            x, y, yaw = spec.pose(self.network)
             p = spec.params
             if isinstance(p, VehicleParams):
                 bodies.append(vehicle_body_xml(prefix, p, x, y, yaw, collide=collide))
@@ -456,9 +457,9 @@ class World:
         self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
         self._obs_pos = np.flatnonzero(self._is_static)
         self._obs_names = tuple(self._names[i] for i in self._obs_pos)
-        self._obs_pose = np.array(
-            [self.specs[i].pose(self.network) for i in self._obs_pos], dtype=float
-        ).reshape(-1, 3)
+        self._obs_pose = np.array([self._initial[i] for i in self._obs_pos], dtype=float).reshape(
+            -1, 3
+        )
         self._events = EventDetector(
             self._names,
             np.array([(0.5 * a.params.length, 0.5 * a.params.width) for a in self.specs]),
@@ -467,11 +468,13 @@ class World:
         )
         self._locators = [RoadLocator(self.network) for _ in self.specs]
         self._positions: list[RoadPosition] = [
-            self._locators[i].locate(*spec.pose(self.network)) for i, spec in enumerate(self.specs)
+            loc.locate(*pose) for loc, pose in zip(self._locators, self._initial, strict=True)
         ]
         self._moving_rows = [i for i in range(n) if not self._is_static[i]]
         self._located: list[tuple[float, float] | None] = [None] * n
-        self._pedestrian_rows = set(self._ped_pos.tolist())
+        walkers = set(self._ped_pos.tolist())
+        # per moving row: a walker (off the map when outside every road, not off drivable lanes)
+        self._moving_walker = tuple(i in walkers for i in self._moving_rows)
         self._centre = np.zeros((n, 2))
         self._yaw_all = np.zeros(n)
         self._bad_stats = tuple(self.data.warning[int(w)] for w, _ in _BAD_STATE)
@@ -531,10 +534,9 @@ class World:
         self._distance = np.zeros(len(self.specs))
         self._read()
         self.trailers.read(d)
-        for spec in self.specs:
+        for spec, (x, y, yaw) in zip(self.specs, self._initial, strict=True):
             if spec.kind != "obstacle" and spec.name not in self.hitched:
                 # obstacles stay where the model put them; hitched trailers come with their tow
-                x, y, yaw = spec.pose(self.network)
                 self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
@@ -606,7 +608,7 @@ class World:
         assert isinstance(tp, TrailerParams) and isinstance(vp, VehicleParams)
         assert vp.receiver_x is not None
         if initial:
-            x, y, yaw = tow_spec.pose(self.network)
+            x, y, yaw = self._initial[self._index[tow]]
         else:
             row = self._vrow[tow]
             x, y, yaw = float(self._pos[row, 0]), float(self._pos[row, 1]), float(self._yaw[row])
@@ -771,8 +773,8 @@ class World:
         self._locate(centre, yaw)
         positions = self._positions
         off = [
-            not (positions[i].inside if i in self._pedestrian_rows else positions[i].drivable)
-            for i in self._moving_rows
+            not (positions[i].inside if walker else positions[i].drivable)
+            for i, walker in zip(self._moving_rows, self._moving_walker, strict=True)
         ]
         events = self._events.detect(self.tick, self.time, centre, yaw, off)
         self.events.extend(events)
@@ -899,7 +901,7 @@ class World:
             accel = float(self._ped_accel[r])
             friction = throttle = brake = steer = nan
         else:
-            x, y, yaw = spec.pose(self.network)
+            x, y, yaw = self._initial[i]
             speed = lat = yaw_rate = accel = 0.0
             friction = throttle = brake = steer = nan
         p = self._positions[i]
