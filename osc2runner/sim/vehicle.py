@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -324,26 +324,22 @@ def vehicle_body_xml(
     return "\n".join(lines)
 
 
-class FreeBodyState(NamedTuple):
-    """Planar state of n free-joint bodies (vehicles or trailers), arrays of n rows."""
-
-    pos: np.ndarray  # (n, 2)
-    yaw: np.ndarray
-    vel: np.ndarray  # (n, 3), world frame
-    yaw_rate: np.ndarray
-    cos: np.ndarray  # of yaw
-    sin: np.ndarray
-    speed: np.ndarray  # along the heading
-    lat_speed: np.ndarray  # to the left of it
+#: planar state of n free-joint bodies, arrays of n rows: position (n, 2), yaw, world
+#: velocity (n, 3), yaw rate, cos and sin of yaw, speed along the heading and left of it
+FreeBodyState = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
+]
 
 
 def free_body_state(q: np.ndarray, v: np.ndarray) -> FreeBodyState:
     """The planar state from free-joint ``qpos`` rows ``q`` (n, 7) and ``qvel`` rows ``v``
-    (n, 6): yaw from the quaternion, speeds along and across the heading."""
+    (n, 6): yaw from the quaternion, speeds along and across the heading (see
+    :data:`FreeBodyState` for the order)."""
     w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
     yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
     c, s = np.cos(yaw), np.sin(yaw)
-    return FreeBodyState(
+    # a plain tuple: read per tick, and a named one costs more to make
+    return (
         q[:, :2],
         yaw,
         v[:, :3],
