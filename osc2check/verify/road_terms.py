@@ -43,8 +43,7 @@ class RoadTerms:
         self.name = name
         self.carriageways = carriageways(network)
         self.single = len(self.carriageways) == 1
-        pieces = [p for cw in self.carriageways for p in cw.pieces]
-        self.most_lanes = max((p.count for p in pieces), default=0)
+        self.most_lanes = max((cw.most_lanes for cw in self.carriageways), default=0)
         self.longest = max((cw.length for cw in self.carriageways), default=0.0)
         # every stretch of every carriageway has the same number of lanes
         self.uniform = len({p.count for p in pieces}) == 1

@@ -41,7 +41,6 @@ __all__ = [
     "carriageway_of",
     "carriageways",
     "lane_at",
-    "lane_number",
     "start_pose",
 ]
 
@@ -123,6 +122,7 @@ class Carriageway:
 
     @property
     def most_lanes(self) -> int:
+        """The most driving lanes travelling this way anywhere along it."""
         return max((p.count for p in self.pieces), default=0)
 
 
@@ -166,11 +166,6 @@ def lane_at(network: RoadNetwork, cw: Carriageway, s: float, number: int) -> Lan
             f"{cw.label} has {len(lanes)} driving lane(s) at s={s:g}, so there is no lane {number}"
         )
     return lanes[number - 1]
-
-
-def lane_number(network: RoadNetwork, ref: LaneRef) -> int:
-    """The OSC2 number of driving lane ``ref`` counted from the right (1 = rightmost)."""
-    return network.osc2_lane_index(ref, "right")
 
 
 def start_pose(

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from osc2check.world.network import LaneRef, RoadNetwork
 
-__all__ = ["Neighbours", "neighbours", "side_neighbour"]
+__all__ = ["Neighbours", "neighbour_n", "neighbours", "side_neighbour"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -44,6 +44,18 @@ def side_neighbour(network: RoadNetwork, ref: LaneRef, side: int) -> LaneRef | N
     if section.lane(other) is None:
         return None
     return LaneRef(ref.road, ref.section, other)
+
+
+def neighbour_n(network: RoadNetwork, ref: LaneRef, side: int, count: int) -> LaneRef | None:
+    """The lane ``count`` lanes from ``ref`` on the ``+t`` (``side=+1``) or ``-t`` side
+    (``-1``) in its section (``ref`` itself for 0; None when the section ends first)."""
+    other = ref
+    for _ in range(count):
+        found = side_neighbour(network, other, side)
+        if found is None:
+            return None
+        other = found
+    return other
 
 
 def neighbours(network: RoadNetwork, ref: LaneRef) -> Neighbours:

@@ -23,7 +23,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from osc2check.world.network import Lane, LaneRef, RoadNetwork
+from osc2check.world.arrays import IntArray
+from osc2check.world.grid import SpatialIndex
+from osc2check.world.network import DRIVING_TYPES, Lane, LaneRef, RoadNetwork
 from osc2check.world.paths import LanePath
 
 __all__ = ["PathCursor", "PathPoint", "RoadLocator", "RoadPosition"]
@@ -152,12 +154,18 @@ OFF_MAP = RoadPosition(None, -1, 0, math.nan, math.nan, math.nan, 0, False, Fals
 
 
 class _RoadSamples:
-    """One road's samples as Python floats, and which section each segment is in."""
+    """One road's samples as Python floats, which section each segment is in, and the
+    number of its first section among all the network's (the spatial index's order)."""
 
-    __slots__ = ("x", "y", "h", "s", "section", "columns", "count")
+    __slots__ = ("x", "y", "h", "s", "section", "columns", "count", "first_section")
 
     def __init__(self, network: RoadNetwork, road_id: str) -> None:
         road = network.roads[road_id]
+        self.first_section = 0
+        for other_id, other in network.roads.items():
+            if other_id == road_id:
+                break
+            self.first_section += len(other.sections)
         self.x = road.x.tolist()
         self.y = road.y.tolist()
         self.h = road.heading.tolist()
@@ -169,6 +177,40 @@ class _RoadSamples:
             for j in range(section.start, max(section.stop - 1, section.start)):
                 self.section[j] = section.index
             self.columns.append(section.borders.T.tolist())
+
+
+def _cell_key(index: SpatialIndex, x: float, y: float) -> int:
+    """The grid cell of ``(x, y)`` as :mod:`.projection` finds it (-1 outside the grid)."""
+    ix = math.floor((x - index.x0) / index.cell)
+    iy = math.floor((y - index.y0) / index.cell)
+    return ix * index.ny + iy if ix >= 0 and 0 <= iy < index.ny else -1
+
+
+def _cell_patches(index: SpatialIndex, key: int) -> IntArray | None:
+    """The patches entered in cell ``key`` (None when there are none)."""
+    if key < 0:
+        return None
+    pos = int(np.searchsorted(index.keys, key))
+    if pos >= len(index.keys) or int(index.keys[pos]) != key:
+        return None
+    return index.patch[index.key_start[pos] : index.key_start[pos + 1]]
+
+
+def _alone_in_cell(index: SpatialIndex, driving: list[bool], key: int, section: int) -> bool:
+    """See :meth:`RoadLocator._alone`: the cell's patches with a driving lane all belong to
+    ``section`` and are consecutive (one stretch of it, not a road crossing itself)."""
+    patches = _cell_patches(index, key)
+    if patches is None:
+        return False
+    own = []
+    for patch, sec in zip(
+        patches.tolist(), index.section[index.patch_lo[patches]].tolist(), strict=True
+    ):
+        if sec == section:
+            own.append(patch)
+        elif driving[sec]:
+            return False
+    return bool(own) and max(own) - min(own) + 1 == len(own)
 
 
 class RoadLocator:
@@ -187,6 +229,12 @@ class RoadLocator:
         assert isinstance(samples, dict)
         self._samples: dict[str, _RoadSamples] = samples
         self._lanes: dict[LaneRef, Lane] = {}
+        alone = network.cache.setdefault("alone_cells", {})
+        assert isinstance(alone, dict)
+        self._alone_cells: dict[tuple[int, int], bool] = alone
+        occupied = network.cache.setdefault("occupied_cells", {})
+        assert isinstance(occupied, dict)
+        self._occupied_cells: dict[int, bool] = occupied
 
     def follow(self, path: LanePath | None) -> None:
         """Prefer ``path`` (the lanes the actor drives) from now on (None: no path)."""
@@ -321,7 +369,10 @@ class RoadLocator:
         self._segment = j
         s = r.s[j] + a * (r.s[j + 1] - r.s[j])
         centre = 0.5 * (borders[slot] + borders[slot + 1])
-        drivable = lane.drivable or self._drivable_elsewhere(x, y)
+        drivable = lane.drivable or (
+            not self._alone(x, y, r.first_section + section_index)
+            and self._drivable_elsewhere(x, y)
+        )
         return RoadPosition(
             road_id,
             section_index,
@@ -338,15 +389,53 @@ class RoadLocator:
     def _drivable_elsewhere(self, x: float, y: float) -> bool:
         return bool(self.network.on_drivable(np.array([x]), np.array([y]))[0])
 
+    def _alone(self, x: float, y: float, section: int) -> bool:
+        """True when, in the grid cell of ``(x, y)``, no road patch but those of ``section``
+        (a global section number), near each other along it, has a driving lane: then a
+        point in a lane of ``section`` that is not a driving lane is in no driving lane
+        elsewhere either, and :meth:`_drivable_elsewhere` need not ask. Decided once per
+        (cell, section) and kept in the network's cache."""
+        key = _cell_key(self._index(), x, y)
+        found = self._alone_cells.get((key, section))
+        if found is None:
+            found = self._alone_cells[(key, section)] = _alone_in_cell(
+                self._index(), self._driving_sections(), key, section
+            )
+        return found
+
+    def _occupied(self, x: float, y: float) -> bool:
+        """True when some road patch lies in the grid cell of ``(x, y)`` (else the full
+        projection finds no road for the point); decided once per cell."""
+        key = _cell_key(self._index(), x, y)
+        found = self._occupied_cells.get(key)
+        if found is None:
+            found = self._occupied_cells[key] = _cell_patches(self._index(), key) is not None
+        return found
+
+    def _index(self) -> SpatialIndex:
+        return self.network.spatial_index()
+
+    def _driving_sections(self) -> list[bool]:
+        found = self.network.cache.get("driving_sections")
+        if found is None:
+            index = self._index()
+            wanted = np.array([name in DRIVING_TYPES for name in index.type_names] + [False])
+            found = self.network.cache["driving_sections"] = (
+                wanted[index.lane_type].any(axis=1).tolist()
+            )
+        assert isinstance(found, list)
+        return found
+
     # ---- the whole map
 
     def _search(self, x: float, y: float, yaw: float | None) -> RoadPosition:
+        if not self._occupied(x, y):
+            return OFF_MAP  # no road patch in the point's cell: no road within the margin
         found = self.network.project(
             np.array([x]), np.array([y]), None if yaw is None else np.array([yaw])
         )
         point = found.point(self.network, 0)
-        if point is None:
-            self._road = None
+        if point is None:  # keep the last road: the next tick tries it before searching
             return OFF_MAP
         lane = self.network.lane(point.lane)
         if point.inside:

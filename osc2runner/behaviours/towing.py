@@ -51,7 +51,7 @@ def hitches_at_start(start_uses: Iterable[ActionUse]) -> dict[str, str]:
             continue
         trailer = use.arguments["trailer"]()
         tow = use.actor
-        can_tow = isinstance(tow.params, VehicleParams) and tow.params.receiver_x is not None
+        can_tow = isinstance(tow.params, VehicleParams) and tow.params.can_tow
         if not (isinstance(trailer, Actor) and trailer.kind == "trailer" and can_tow):
             continue  # the action fails when it starts, saying why
         if trailer.name not in found and tow.name not in found.values():

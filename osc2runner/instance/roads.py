@@ -21,7 +21,7 @@ from osc2check.world.builtin import DEFAULT_MAP
 from osc2check.world.maps import load_map
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.numbering import driving_lanes_right_to_left
-from osc2check.world.topology import side_neighbour
+from osc2check.world.topology import neighbour_n
 
 __all__ = ["LaneNumbers", "network_for"]
 
@@ -50,9 +50,7 @@ class LaneNumbers:
         """The scenario's number of driving lane ``ref`` counted from ``side`` (the map's
         side by default)."""
         side = side or self.default_side
-        order = self.lanes(ref.road, ref.section, self.network.lane(ref).direction)
-        index = order.index(ref)
-        return index + 1 if side == "right" else len(order) - index
+        return self.network.osc2_lane_index(ref, "right" if side == "right" else "left")
 
     def lane(self, beside: LaneRef, number: int, side: str | None = None) -> LaneRef | None:
         """The lane numbered ``number`` (from ``side``) in the section and direction of
@@ -72,9 +70,7 @@ class LaneNumbers:
         travel) of ``ref``, when it is a driving lane travelling the same way; else None."""
         lane = self.network.lane(ref)
         step = lane.direction if side == "left" else -lane.direction
-        other: LaneRef | None = ref
-        for _ in range(count):
-            other = side_neighbour(self.network, other, step) if other is not None else None
+        other = neighbour_n(self.network, ref, step, count)
         if other is None:
             return None
         found = self.network.lane(other)

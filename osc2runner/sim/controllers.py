@@ -49,7 +49,7 @@ from osc2check.world.carriageways import carriageways, lane_at
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.paths import LanePath
 from osc2check.world.projection import lane_centre
-from osc2check.world.topology import side_neighbour
+from osc2check.world.topology import neighbour_n, side_neighbour
 from osc2check.world.tracking import PathCursor
 from osc2runner.sim.tracking import PathTracker
 from osc2runner.sim.trailer import TrailerParams
@@ -438,7 +438,7 @@ class StanleyController:
         self.on_route: Callable[[LanePath | None], None] | None = None  # told of new routes
         self._cursor: PathCursor | None = None
         self._renewable = False
-        self._then: tuple[int, float] | None = None  # after a lane change: side and offset
+        self._then: float | None = None  # after a lane change: the offset to keep in the new lane
         self._distance = 0.0  # the front axle's distance along the route at the last step
 
     # ---- the route
@@ -523,7 +523,7 @@ class StanleyController:
             goal_d,
             goal_o + offset,
         )
-        self._then = (side * count, offset)
+        self._then = offset
         return self.path
 
     def move_to(
@@ -586,8 +586,7 @@ class StanleyController:
     # ---- helpers
 
     def _front(self, state: ActorState) -> tuple[float, float]:
-        d = self.params.front_axle_x
-        return (state.x + d * math.cos(state.yaw), state.y + d * math.sin(state.yaw))
+        return self.params.front_axle(state.x, state.y, state.yaw)
 
     def _front_offset(self, state: ActorState) -> tuple[float, float]:
         """The front axle's distance along the route and the offset it follows there now."""
@@ -613,11 +612,12 @@ class StanleyController:
             return (1, 0)
         direction = self.network.lane(here).direction
         for side in (1, -1):
-            other: LaneRef | None = here
+            other = here
             for count in range(1, 20):
-                other = side_neighbour(self.network, other, side * direction) if other else None
-                if other is None:
+                found = side_neighbour(self.network, other, side * direction)
+                if found is None:
                     break
+                other = found
                 if other == target or (other.road, other.lane) == (target.road, target.lane):
                     return (side, count)
         raise ValueError(f"{target} is not beside {here}")
@@ -636,8 +636,7 @@ class StanleyController:
             ref: LaneRef | None = route.lanes[int(k)]
             assert ref is not None
             direction = self.network.lane(ref).direction
-            for _ in range(count):
-                ref = side_neighbour(self.network, ref, side * direction) if ref else None
+            ref = neighbour_n(self.network, ref, side * direction, count)
             if ref is None:
                 continue
             mask = lane_of == k
@@ -651,8 +650,8 @@ class StanleyController:
 
     def _switch(self, state: ActorState) -> None:
         """A lane change is complete: follow the target lane's own route."""
-        assert self._then is not None
-        steps, offset = self._then
+        offset = self._then
+        assert offset is not None
         here = state.lane_ref
         self._then = None
         if here is None:

@@ -30,10 +30,16 @@ __all__ = ["PathTracker", "Polyline", "Trajectory", "walker_heading"]
 SAMPLE_SPACING = 0.25
 #: points closer than this are one point (m)
 SAME_POINT = 1e-6
+#: arc length searched either side of the last projection first (m; see Polyline.project)
+_REACH = 10.0
 
 
 class Polyline:
-    """A path through world points ``(x, y)``; see the module docstring."""
+    """A path through world points ``(x, y)``; see the module docstring.
+
+    It remembers where the last point projected (see :meth:`project`): one follower
+    per polyline, as the path actions build one per actor.
+    """
 
     def __init__(self, points: Sequence[tuple[float, float]], interpolation: str = "straight_line"):
         pts = _distinct(points)
@@ -48,8 +54,10 @@ class Polyline:
         self._seg_len = np.hypot(seg[:, 0], seg[:, 1])
         self.s = np.concatenate([[0.0], np.cumsum(self._seg_len)])
         self._heading = np.arctan2(seg[:, 1], seg[:, 0])
+        self._last: tuple[float, float, tuple[float, float, float]] | None = None
         # the arc length of each given point (the dense samples pass through them)
         self.given_s = np.array([self.project(float(x), float(y))[0] for x, y in pts])
+        self._last = None  # the follower starts anywhere
 
     @property
     def length(self) -> float:
@@ -66,16 +74,53 @@ class Polyline:
 
     def project(self, x: float, y: float) -> tuple[float, float, float]:
         """``(s, error, heading)`` of the nearest point: arc length, signed distance
-        (positive: the point is left of the path) and the path's heading there."""
+        (positive: the point is left of the path) and the path's heading there.
+
+        The search looks at the segments within ``_REACH`` m of arc length of the last
+        projection first (a follower moves a little per tick; on a path that crosses
+        itself this keeps to the stretch it is on), and over the whole path on the
+        first call, when the nearest point of that window is one of its ends (a nearer
+        one may lie beyond) and when it is more than ``_REACH`` m away (a jump). The
+        same point asked twice in a row (the tracker's done test and its step, a
+        walker's arrival and heading) is answered from the last result.
+        """
+        last = self._last
+        if last is not None and last[0] == x and last[1] == y:
+            return last[2]
         p = np.array([x, y])
-        rel = p - self.xy[:-1]
-        u = np.clip((rel * self._seg).sum(axis=1) / self._seg_len**2, 0.0, 1.0)
-        near = self.xy[:-1] + u[:, None] * self._seg
+        n = len(self._seg_len)
+        found = None
+        if last is not None:
+            s_last = last[2][0]
+            lo = max(int(np.searchsorted(self.s, s_last - _REACH, side="right")) - 1, 0)
+            hi = min(int(np.searchsorted(self.s, s_last + _REACH)), n)
+            found = self._nearest(p, lo, hi)
+            i, u = found[0], found[1]
+            if (
+                (i == lo and u <= 0.0 and lo > 0)
+                or (i == hi - 1 and u >= 1.0 and hi < n)
+                or found[2] > _REACH * _REACH
+            ):
+                found = None  # a nearer point may lie beyond the window (or it jumped)
+        if found is None:
+            found = self._nearest(p, 0, n)
+        i, u, d2, cross = found
+        error = math.copysign(math.sqrt(d2), cross) if cross else 0.0
+        result = float(self.s[i] + u * self._seg_len[i]), error, float(self._heading[i])
+        self._last = (x, y, result)
+        return result
+
+    def _nearest(self, p: np.ndarray, lo: int, hi: int) -> tuple[int, float, float, float]:
+        """Segment ``i`` in ``lo .. hi - 1`` nearest ``p``, the fraction along it, the
+        squared distance and the cross product that says the side."""
+        seg = self._seg[lo:hi]
+        rel = p - self.xy[lo:hi]
+        u = np.clip((rel * seg).sum(axis=1) / self._seg_len[lo:hi] ** 2, 0.0, 1.0)
+        near = self.xy[lo:hi] + u[:, None] * seg
         d2 = ((near - p) ** 2).sum(axis=1)
-        i = int(np.argmin(d2))
-        cross = self._seg[i, 0] * rel[i, 1] - self._seg[i, 1] * rel[i, 0]
-        error = math.copysign(math.sqrt(float(d2[i])), cross) if cross else 0.0
-        return float(self.s[i] + u[i] * self._seg_len[i]), error, float(self._heading[i])
+        k = int(np.argmin(d2))
+        cross = seg[k, 0] * rel[k, 1] - seg[k, 1] * rel[k, 0]
+        return lo + k, float(u[k]), float(d2[k]), float(cross)
 
 
 @dataclass(frozen=True)
@@ -134,13 +179,9 @@ class PathTracker:
         self.error = 0.0  # cross-track error of the front axle, m (left positive)
         self.s = 0.0  # arc length of the front axle's projection
 
-    def _front(self, x: float, y: float, yaw: float) -> tuple[float, float]:
-        d = self.params.front_axle_x
-        return x + d * math.cos(yaw), y + d * math.sin(yaw)
-
     def step(self, x: float, y: float, yaw: float, speed: float) -> float:
         """The steer input in [-1, 1] for a vehicle at ``(x, y, yaw)``."""
-        fx, fy = self._front(x, y, yaw)
+        fx, fy = self.params.front_axle(x, y, yaw)
         self.s, self.error, heading = self.path.project(fx, fy)
         heading_error = (heading - yaw + math.pi) % (2.0 * math.pi) - math.pi
         delta = heading_error - math.atan2(self.gain * self.error, self.soft_speed + abs(speed))
@@ -148,7 +189,7 @@ class PathTracker:
 
     def done(self, x: float, y: float, yaw: float) -> bool:
         """True once the front axle has reached the end of the path."""
-        fx, fy = self._front(x, y, yaw)
+        fx, fy = self.params.front_axle(x, y, yaw)
         return self.path.project(fx, fy)[0] >= self.end - 0.05
 
 

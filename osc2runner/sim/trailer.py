@@ -35,7 +35,15 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from osc2runner.sim.vehicle import GRAVITY, _f, _vec, yaw_quat
+from osc2runner.sim.vehicle import (
+    GRAVITY,
+    _f,
+    _vec,
+    corner_xml,
+    drag_forces,
+    free_body_state,
+    yaw_quat,
+)
 
 __all__ = [
     "TRAILER_WHEELS",
@@ -142,13 +150,7 @@ def trailer_body_xml(
     bits = 2 if collide else 0
     chassis_half = (0.5 * p.length, 0.5 * p.width, 0.5 * (p.height - p.ground_clearance))
     chassis_z = 0.5 * (p.height + p.ground_clearance) - p.h_cog
-    r = p.wheel_radius
-    i_spin = 0.5 * p.wheel_mass * r * r
-    i_side = 0.25 * p.wheel_mass * r * r
-    sprung = p.static_wheel_load - (p.wheel_mass + p.knuckle_mass) * GRAVITY
-    corner_mass = sprung / GRAVITY
-    k = corner_mass * (2.0 * math.pi * p.susp_frequency) ** 2
-    c = 2.0 * p.susp_damping_ratio * math.sqrt(k * corner_mass)
+    load = p.static_wheel_load
     support_z = SUPPORT_CLEARANCE + SUPPORT_RADIUS - p.h_cog
     lines = [
         f'<body name="{prefix}" pos="{_vec(x, y, p.h_cog)}" quat="{_vec(*yaw_quat(yaw))}">',
@@ -164,26 +166,7 @@ def trailer_body_xml(
         f'conaffinity="0" friction="{_f(SUPPORT_FRICTION)} 0.005 0.0001" group="2" mass="0"/>',
     ]
     for wheel, side in zip(TRAILER_WHEELS, (1.0, -1.0), strict=True):
-        name = f"{prefix}_{wheel}"
-        lines += [
-            f'  <body name="{name}_knuckle" '
-            f'pos="{_vec(p.axle, side * 0.5 * p.track, r - p.h_cog)}">',
-            f'    <inertial pos="0 0 0" mass="{_f(p.knuckle_mass)}" '
-            f'diaginertia="{_vec(0.05, 0.05, 0.05)}"/>',
-            f'    <joint name="{name}_susp" type="slide" axis="0 0 1" stiffness="{_f(k)}" '
-            f'springref="{_f(-sprung / k)}" damping="{_f(c)}" armature="1" '
-            f'range="{_vec(-p.susp_travel, p.susp_travel)}"/>',
-            f'    <body name="{name}_wheel">',
-            f'      <inertial pos="0 0 0" mass="{_f(p.wheel_mass)}" '
-            f'diaginertia="{_vec(i_side, i_spin, i_side)}"/>',
-            f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" '
-            f'damping="{_f(p.spin_damping)}"/>',
-            f'      <geom name="{name}_tire" type="sphere" size="{_f(r)}" condim="3" '
-            f'priority="1" contype="1" conaffinity="0" friction="1 0.005 0.0001" '
-            f'group="2" mass="0"/>',
-            "    </body>",
-            "  </body>",
-        ]
+        lines += corner_xml(f"{prefix}_{wheel}", p, p.axle, side * 0.5 * p.track, load)
     lines.append("</body>")
     return "\n".join(lines)
 
@@ -281,24 +264,16 @@ class TrailerBank:
         brake = self.brake[:, None] * self.brake_max
         np.minimum(brake, self.abs_cap * mu * self.static_load, out=brake)
         model.dof_frictionloss[self.spin_dof] = brake + self.rolling_torque
-        vel = self.vel
-        data.xfrc_applied[self.body, :2] = (
-            -(self.drag * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
-        )
+        data.xfrc_applied[self.body, :2] = drag_forces(self.drag, self.vel)
 
     def read(self, data: mujoco.MjData, dt: float | None = None) -> None:
         """Read every trailer's pose and velocity; with ``dt``, its acceleration over it."""
         q = data.qpos[self._q7]
         v = data.qvel[self._v6]
         prev = self.vel
-        self.pos = q[:, :2]
-        w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
-        self.yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-        self.vel = v[:, :3]
-        self.yaw_rate = v[:, 5]
-        c, s = np.cos(self.yaw), np.sin(self.yaw)
-        self.speed = v[:, 0] * c + v[:, 1] * s
-        self.lat_speed = -v[:, 0] * s + v[:, 1] * c
+        self.pos, self.yaw, self.vel, self.yaw_rate, c, s, self.speed, self.lat_speed = (
+            free_body_state(q, v)
+        )
         if dt is not None:
             dv = (self.vel - prev) / dt
             self.accel = dv[:, 0] * c + dv[:, 1] * s

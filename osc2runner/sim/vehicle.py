@@ -27,12 +27,22 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from osc2runner.sim.trailer import TrailerParams
 
 __all__ = [
     "WHEELS",
+    "FreeBodyState",
     "ObstacleParams",
     "PedestrianParams",
     "VehicleParams",
+    "corner_xml",
+    "drag_forces",
+    "free_body_state",
     "hgv",
     "obstacle_xml",
     "pedestrian_xml",
@@ -145,6 +155,17 @@ class VehicleParams:
     def receiver_x(self) -> float | None:
         """The hitch receiver relative to the bounding-box centre (None: tows nothing)."""
         return None if self.hitch_reach is None else -0.5 * self.length - self.hitch_reach
+
+    def front_axle(self, x: float, y: float, yaw: float) -> tuple[float, float]:
+        """The world point of the front axle's centre of a vehicle centred at ``(x, y)``
+        heading ``yaw`` (where the Stanley law measures its errors)."""
+        d = self.front_axle_x
+        return x + d * math.cos(yaw), y + d * math.sin(yaw)
+
+    @property
+    def can_tow(self) -> bool:
+        """Whether it has a hitch receiver."""
+        return self.hitch_reach is not None
 
     @property
     def driven(self) -> tuple[bool, bool, bool, bool]:
@@ -275,9 +296,6 @@ def vehicle_body_xml(
     bits = 2 if collide else 0
     chassis_half = (0.5 * p.length, 0.5 * p.width, 0.5 * (p.height - p.ground_clearance))
     chassis_z = 0.5 * (p.height + p.ground_clearance) - p.h_cog
-    r = p.wheel_radius
-    i_spin = 0.5 * p.wheel_mass * r * r
-    i_side = 0.25 * p.wheel_mass * r * r
     loads = p.static_wheel_loads
     steered = (True, True, False, False)
     corners = (
@@ -301,41 +319,92 @@ def vehicle_body_xml(
             f'pos="{_vec(p.receiver_x, 0, p.hitch_height - p.h_cog)}"/>'
         )
     for wheel, (cx, cy), steer, load in zip(WHEELS, corners, steered, loads, strict=True):
-        # sprung load of this corner: the wheel's static load minus unsprung masses
-        sprung = load - (p.wheel_mass + p.knuckle_mass) * GRAVITY
-        corner_mass = sprung / GRAVITY
-        k = corner_mass * (2.0 * math.pi * p.susp_frequency) ** 2
-        c = 2.0 * p.susp_damping_ratio * math.sqrt(k * corner_mass)
-        springref = -sprung / k
-        name = f"{prefix}_{wheel}"
-        lines += [
-            f'  <body name="{name}_knuckle" pos="{_vec(cx, cy, r - p.h_cog)}">',
-            f'    <inertial pos="0 0 0" mass="{_f(p.knuckle_mass)}" '
-            f'diaginertia="{_vec(0.05, 0.05, 0.05)}"/>',
-            f'    <joint name="{name}_susp" type="slide" axis="0 0 1" stiffness="{_f(k)}" '
-            f'springref="{_f(springref)}" damping="{_f(c)}" armature="1" '
-            f'range="{_vec(-p.susp_travel, p.susp_travel)}"/>',
-        ]
-        if steer:
-            lines.append(
-                f'    <joint name="{name}_steer" type="hinge" axis="0 0 1" '
-                f'damping="{_f(p.steer_damping)}" armature="{_f(p.steer_armature)}" '
-                f'range="{_vec(-p.max_steer, p.max_steer)}"/>'
-            )
-        lines += [
-            f'    <body name="{name}_wheel">',
-            f'      <inertial pos="0 0 0" mass="{_f(p.wheel_mass)}" '
-            f'diaginertia="{_vec(i_side, i_spin, i_side)}"/>',
-            f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" '
-            f'damping="{_f(p.spin_damping)}"/>',
-            f'      <geom name="{name}_tire" type="sphere" size="{_f(r)}" condim="3" '
-            f'priority="1" contype="1" conaffinity="0" friction="1 0.005 0.0001" '
-            f'group="2" mass="0"/>',
-            "    </body>",
-            "  </body>",
-        ]
+        lines += corner_xml(f"{prefix}_{wheel}", p, cx, cy, load, p.max_steer if steer else None)
     lines.append("</body>")
     return "\n".join(lines)
+
+
+#: planar state of n free-joint bodies, arrays of n rows: position (n, 2), yaw, world
+#: velocity (n, 3), yaw rate, cos and sin of yaw, speed along the heading and left of it
+FreeBodyState = tuple[
+    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
+]
+
+
+def free_body_state(q: np.ndarray, v: np.ndarray) -> FreeBodyState:
+    """The planar state from free-joint ``qpos`` rows ``q`` (n, 7) and ``qvel`` rows ``v``
+    (n, 6): yaw from the quaternion, speeds along and across the heading (see
+    :data:`FreeBodyState` for the order)."""
+    w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
+    yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
+    c, s = np.cos(yaw), np.sin(yaw)
+    # a plain tuple: read per tick, and a named one costs more to make
+    return (
+        q[:, :2],
+        yaw,
+        v[:, :3],
+        v[:, 5],
+        c,
+        s,
+        v[:, 0] * c + v[:, 1] * s,
+        -v[:, 0] * s + v[:, 1] * c,
+    )
+
+
+def drag_forces(coefficient: np.ndarray, vel: np.ndarray) -> np.ndarray:
+    """Aerodynamic drag (n, 2) on bodies moving at world velocities ``vel`` (n, >= 2):
+    ``coefficient`` (0.5 rho Cd A per body) times the speed squared, against the motion."""
+    result: np.ndarray = -(coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
+    return result
+
+
+def corner_xml(
+    name: str,
+    p: VehicleParams | TrailerParams,
+    x: float,
+    y: float,
+    load: float,
+    max_steer: float | None = None,
+) -> list[str]:
+    """The MJCF lines of one wheel corner of a vehicle or trailer body (indented for it):
+    a knuckle body on a suspension slide sprung for the corner's static ``load`` (N) at
+    ``(x, y)`` of the chassis frame, a steering hinge when ``max_steer`` is given, and
+    the wheel with its spin hinge and sphere tire."""
+    r = p.wheel_radius
+    i_spin = 0.5 * p.wheel_mass * r * r
+    i_side = 0.25 * p.wheel_mass * r * r
+    # sprung load of this corner: the wheel's static load minus unsprung masses
+    sprung = load - (p.wheel_mass + p.knuckle_mass) * GRAVITY
+    corner_mass = sprung / GRAVITY
+    k = corner_mass * (2.0 * math.pi * p.susp_frequency) ** 2
+    c = 2.0 * p.susp_damping_ratio * math.sqrt(k * corner_mass)
+    lines = [
+        f'  <body name="{name}_knuckle" pos="{_vec(x, y, r - p.h_cog)}">',
+        f'    <inertial pos="0 0 0" mass="{_f(p.knuckle_mass)}" '
+        f'diaginertia="{_vec(0.05, 0.05, 0.05)}"/>',
+        f'    <joint name="{name}_susp" type="slide" axis="0 0 1" stiffness="{_f(k)}" '
+        f'springref="{_f(-sprung / k)}" damping="{_f(c)}" armature="1" '
+        f'range="{_vec(-p.susp_travel, p.susp_travel)}"/>',
+    ]
+    if max_steer is not None:
+        assert isinstance(p, VehicleParams)
+        lines.append(
+            f'    <joint name="{name}_steer" type="hinge" axis="0 0 1" '
+            f'damping="{_f(p.steer_damping)}" armature="{_f(p.steer_armature)}" '
+            f'range="{_vec(-max_steer, max_steer)}"/>'
+        )
+    return lines + [
+        f'    <body name="{name}_wheel">',
+        f'      <inertial pos="0 0 0" mass="{_f(p.wheel_mass)}" '
+        f'diaginertia="{_vec(i_side, i_spin, i_side)}"/>',
+        f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" '
+        f'damping="{_f(p.spin_damping)}"/>',
+        f'      <geom name="{name}_tire" type="sphere" size="{_f(r)}" condim="3" '
+        f'priority="1" contype="1" conaffinity="0" friction="1 0.005 0.0001" '
+        f'group="2" mass="0"/>',
+        "    </body>",
+        "  </body>",
+    ]
 
 
 def vehicle_actuator_xml(prefix: str, p: VehicleParams) -> str:

@@ -65,6 +65,8 @@ from osc2runner.sim.vehicle import (
     ObstacleParams,
     PedestrianParams,
     VehicleParams,
+    drag_forces,
+    free_body_state,
     obstacle_xml,
     pedestrian_xml,
     vehicle_actuator_xml,
@@ -290,6 +292,8 @@ class World:
         self._initial_weather = weather or Weather()
 
         self._index = {a.name: i for i, a in enumerate(self.specs)}
+        # each actor's initial world (x, y, yaw): its spec's pose on the map, found once
+        self._initial = [a.pose(network) for a in self.specs]
         self._vehicles = [a for a in self.specs if a.kind == "vehicle"]
         self._pedestrians = [a for a in self.specs if a.kind == "pedestrian"]
         self._trailers = [a for a in self.specs if a.kind == "trailer"]
@@ -326,15 +330,14 @@ class World:
         """Whether actor ``name`` is a vehicle with a hitch receiver."""
         i = self._index.get(name)
         params = self.specs[i].params if i is not None else None
-        return isinstance(params, VehicleParams) and params.receiver_x is not None
+        return isinstance(params, VehicleParams) and params.can_tow
 
     def _build_xml(self) -> str:
         bodies: list[str] = []
         actuators: list[str] = []
         collide = self.physical_collisions
-        for spec in self.specs:
+        for spec, (x, y, yaw) in zip(self.specs, self._initial, strict=True):
             prefix = self._prefix(spec.name)
-            x, y, yaw = spec.pose(self.network)
             p = spec.params
             if isinstance(p, VehicleParams):
                 bodies.append(vehicle_body_xml(prefix, p, x, y, yaw, collide=collide))
@@ -454,9 +457,9 @@ class World:
         self._ped_pos = np.array([self._index[a.name] for a in self._pedestrians], dtype=int)
         self._obs_pos = np.flatnonzero(self._is_static)
         self._obs_names = tuple(self._names[i] for i in self._obs_pos)
-        self._obs_pose = np.array(
-            [self.specs[i].pose(self.network) for i in self._obs_pos], dtype=float
-        ).reshape(-1, 3)
+        self._obs_pose = np.array([self._initial[i] for i in self._obs_pos], dtype=float).reshape(
+            -1, 3
+        )
         self._events = EventDetector(
             self._names,
             np.array([(0.5 * a.params.length, 0.5 * a.params.width) for a in self.specs]),
@@ -465,11 +468,13 @@ class World:
         )
         self._locators = [RoadLocator(self.network) for _ in self.specs]
         self._positions: list[RoadPosition] = [
-            self._locators[i].locate(*spec.pose(self.network)) for i, spec in enumerate(self.specs)
+            loc.locate(*pose) for loc, pose in zip(self._locators, self._initial, strict=True)
         ]
         self._moving_rows = [i for i in range(n) if not self._is_static[i]]
         self._located: list[tuple[float, float] | None] = [None] * n
-        self._pedestrian_rows = set(self._ped_pos.tolist())
+        walkers = set(self._ped_pos.tolist())
+        # per moving row: a walker (off the map when outside every road, not off drivable lanes)
+        self._moving_walker = tuple(i in walkers for i in self._moving_rows)
         self._centre = np.zeros((n, 2))
         self._yaw_all = np.zeros(n)
         self._bad_stats = tuple(self.data.warning[int(w)] for w, _ in _BAD_STATE)
@@ -529,10 +534,9 @@ class World:
         self._distance = np.zeros(len(self.specs))
         self._read()
         self.trailers.read(d)
-        for spec in self.specs:
+        for spec, (x, y, yaw) in zip(self.specs, self._initial, strict=True):
             if spec.kind != "obstacle" and spec.name not in self.hitched:
                 # obstacles stay where the model put them; hitched trailers come with their tow
-                x, y, yaw = spec.pose(self.network)
                 self.place(spec.name, x, y, yaw, spec.speed)
         mujoco.mj_forward(m, d)
         self._read()
@@ -554,17 +558,10 @@ class World:
         self._located[self._index[name]] = None
         if kind == "vehicle":
             row = self._vrow[name]
-            q = self._qadr[row]
-            v = self._vadr[row]
-            old = d.qpos[q + 3 : q + 7].copy()
-            old_yaw = _quat_yaw(old)
-            tilt = _quat_mul(_yaw_quat(-old_yaw), old)
-            d.qpos[q : q + 2] = (x, y)
-            d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
-            d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
-            mujoco.mj_kinematics(m, d)
-            radius = d.xpos[self._wheel_body[row], 2]  # rolling radius = wheel centre height
-            d.qvel[self._spin_dof[row]] = speed / radius
+            _set_free_body(
+                m, d, self._qadr[row], self._vadr[row], self._spin_dof[row],
+                self._wheel_body[row], x, y, yaw, speed,
+            )  # fmt: skip
             self._read()
             self._accel[row] = 0.0
             trailer = self.towing(name)
@@ -592,14 +589,10 @@ class World:
         row = self._trow[name]
         self._locators[self._index[name]].reset()
         self._located[self._index[name]] = None
-        q, v = bank.qadr[row], bank.vadr[row]
-        old = d.qpos[q + 3 : q + 7].copy()
-        tilt = _quat_mul(_yaw_quat(-_quat_yaw(old)), old)
-        d.qpos[q : q + 2] = (x, y)
-        d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
-        d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
-        mujoco.mj_kinematics(m, d)
-        d.qvel[bank.spin_dof[row]] = speed / d.xpos[bank.wheel_body[row], 2]
+        _set_free_body(
+            m, d, bank.qadr[row], bank.vadr[row], bank.spin_dof[row], bank.wheel_body[row],
+            x, y, yaw, speed,
+        )  # fmt: skip
         bank.read(d)
         bank.accel[row] = 0.0
 
@@ -615,7 +608,7 @@ class World:
         assert isinstance(tp, TrailerParams) and isinstance(vp, VehicleParams)
         assert vp.receiver_x is not None
         if initial:
-            x, y, yaw = tow_spec.pose(self.network)
+            x, y, yaw = self._initial[self._index[tow]]
         else:
             row = self._vrow[tow]
             x, y, yaw = float(self._pos[row, 0]), float(self._pos[row, 1]), float(self._yaw[row])
@@ -757,10 +750,7 @@ class World:
             d.ctrl[self._drive_act] = bank.drive_torque[self._driven_mask]
             m.dof_frictionloss[self._spin_dof] = bank.brake_torque
             d.ctrl[self._steer_act] = bank.steer_angles
-            vel = self._vel
-            d.xfrc_applied[self._body, :2] = (
-                -(bank.drag_coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
-            )
+            d.xfrc_applied[self._body, :2] = drag_forces(bank.drag_coefficient, self._vel)
         if self._trailers:
             self._brake_trailers()
         if self._ped_moving:
@@ -783,8 +773,8 @@ class World:
         self._locate(centre, yaw)
         positions = self._positions
         off = [
-            not (positions[i].inside if i in self._pedestrian_rows else positions[i].drivable)
-            for i in self._moving_rows
+            not (positions[i].inside if walker else positions[i].drivable)
+            for i, walker in zip(self._moving_rows, self._moving_walker, strict=True)
         ]
         events = self._events.detect(self.tick, self.time, centre, yaw, off)
         self.events.extend(events)
@@ -837,17 +827,16 @@ class World:
     def _read(self) -> None:
         d = self.data
         if len(self._vehicles):
-            q = d.qpos[self._q7]
-            v = d.qvel[self._v6]
-            self._pos = q[:, :2]
-            w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
-            self._yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-            self._vel = v[:, :3]
-            self._yaw_rate = v[:, 5]
-            c, s = np.cos(self._yaw), np.sin(self._yaw)
-            self._cos, self._sin = c, s
-            self._speed = v[:, 0] * c + v[:, 1] * s
-            self._lat_speed = -v[:, 0] * s + v[:, 1] * c
+            (
+                self._pos,
+                self._yaw,
+                self._vel,
+                self._yaw_rate,
+                self._cos,
+                self._sin,
+                self._speed,
+                self._lat_speed,
+            ) = free_body_state(d.qpos[self._q7], d.qvel[self._v6])
         else:
             self._pos = np.zeros((0, 2))
             self._yaw = self._speed = self._lat_speed = self._yaw_rate = np.zeros(0)
@@ -912,7 +901,7 @@ class World:
             accel = float(self._ped_accel[r])
             friction = throttle = brake = steer = nan
         else:
-            x, y, yaw = spec.pose(self.network)
+            x, y, yaw = self._initial[i]
             speed = lat = yaw_rate = accel = 0.0
             friction = throttle = brake = steer = nan
         p = self._positions[i]
@@ -1272,6 +1261,30 @@ class World:
 
 
 # ---------------------------------------------------------------------- helpers
+
+
+def _set_free_body(
+    m: mujoco.MjModel,
+    d: mujoco.MjData,
+    q: int,
+    v: int,
+    spin_dof: np.ndarray,
+    wheel_body: np.ndarray,
+    x: float,
+    y: float,
+    yaw: float,
+    speed: float,
+) -> None:
+    """Move a vehicle's or trailer's free body (``qpos`` at ``q``, ``qvel`` at ``v``) to
+    ``(x, y)`` heading ``yaw``, keeping its height, pitch and roll, at ``speed`` along the
+    heading; its wheels (``spin_dof``, ``wheel_body``) get the matching spin."""
+    old = d.qpos[q + 3 : q + 7].copy()
+    tilt = _quat_mul(_yaw_quat(-_quat_yaw(old)), old)
+    d.qpos[q : q + 2] = (x, y)
+    d.qpos[q + 3 : q + 7] = _quat_mul(_yaw_quat(yaw), tilt)
+    d.qvel[v : v + 6] = (speed * math.cos(yaw), speed * math.sin(yaw), 0.0, 0.0, 0.0, 0.0)
+    mujoco.mj_kinematics(m, d)
+    d.qvel[spin_dof] = speed / d.xpos[wheel_body, 2]  # rolling radius = wheel centre height
 
 
 def _four(values: np.ndarray) -> tuple[float, float, float, float]:

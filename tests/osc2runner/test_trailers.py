@@ -395,3 +395,16 @@ def test_trailers_the_runner_does_not_build_are_input_errors():
     )
     with pytest.raises(ScenarioError, match="builds central-axle trailers only"):
         run("<semi>.osc", source=semi)
+
+
+def test_a_vehicle_can_tow_when_it_has_a_hitch_receiver():
+    assert replace(CAR, hitch_reach=0.9).can_tow
+    assert not replace(CAR, hitch_reach=None).can_tow
+    world = World(
+        ROAD,
+        [
+            ActorSpec("car", replace(CAR, hitch_reach=0.9), s=80.0, lane=2),
+            ActorSpec("van", replace(CAR, hitch_reach=None), s=40.0, lane=2),
+        ],
+    )
+    assert world.can_tow("car") and not world.can_tow("van")

@@ -226,3 +226,25 @@ def test_world_place_mid_run_updates_the_state_at_once():
     assert (state.x, state.lane, state.speed, state.accel) == pytest.approx((100.0, 3, 22.0, 0.0))
     world.step_control({"ego": VehicleInput()})
     assert world.state("ego").speed == pytest.approx(22.0, abs=0.1)
+
+
+def test_each_actors_initial_pose_is_found_on_the_map_once(monkeypatch):
+    calls: list[str] = []
+    pose = ActorSpec.pose
+
+    def counting(spec: ActorSpec, network: object) -> tuple[float, float, float]:
+        calls.append(spec.name)
+        return pose(spec, network)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(ActorSpec, "pose", counting)
+    world = World(
+        ROAD,
+        [
+            ActorSpec("car", sedan(), s=50.0, lane=1, speed=10.0),
+            ActorSpec("box", ObstacleParams(), s=90.0, lane=2),
+        ],
+    )
+    world.step_control()
+    world.states()
+    world.reset()
+    assert sorted(calls) == ["box", "car"]
