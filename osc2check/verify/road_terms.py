@@ -46,7 +46,7 @@ class RoadTerms:
         self.most_lanes = max((cw.most_lanes for cw in self.carriageways), default=0)
         self.longest = max((cw.length for cw in self.carriageways), default=0.0)
         # every stretch of every carriageway has the same number of lanes
-        self.uniform = len({p.count for p in pieces}) == 1
+        self.uniform = len({p.count for cw in self.carriageways for p in cw.pieces}) == 1
 
     # ---- the choice of carriageway
 
