@@ -265,3 +265,23 @@ def test_cross_coverage_fills_every_combination(tmp_path: Path) -> None:
     assert "[5..15) × [-1.5..-0.5)" in labels and "[25..35] × [0.5..1.5]" in labels
     combos = {(r.parameters["v"]["value"], r.parameters["side"]["value"]) for r in result.records}
     assert combos == {(v, s) for v in (10.0, 20.0, 30.0) for s in (-1, 1)}
+
+
+def test_resume_with_the_file_keeps_the_campaigns_options(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    out = tmp_path / "c"
+    first = osc2run(str(path), "--runs", "3", "--seed", "5", "--jobs", "1", "--plot",
+                    "--run-timeout", "120", "--out", str(out), "-q")  # fmt: skip
+    assert first.returncode == 0, first.stderr + first.stdout
+    again = osc2run(str(path), "--resume", str(out))
+    assert again.returncode == 0, again.stderr + again.stdout
+    assert "resuming: 3 of 3 runs already finished" in again.stdout
+    assert "complete: 3 of 3 runs, 3 passed" in again.stdout
+    doc = json.loads((out / "campaign.json").read_text())
+    assert doc["plan"]["seeds"] == doc["plan"]["resumed"] == [5, 6, 7]
+    assert [r["seed"] for r in doc["runs"]] == [5, 6, 7]
+    options = doc["options"]
+    assert (options["seed"], options["runs"], options["plot"], options["run_timeout"]) == (
+        5, 3, True, 120.0,
+    )  # fmt: skip
+    assert len((out / "runs.csv").read_text().splitlines()) == 4
