@@ -210,7 +210,8 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         ship_files=options.engine == "ray",
     )
     engine = _engine(options, setup, min(jobs, options.runs))
-    engine.start(options.runs - len(previous))  # the workers start while the runs are planned
+    # the workers start while the runs are planned (none when every run finished)
+    engine.start(options.runs - sum(r.finished for r in previous.values()))
     try:
         plan, labels = plan_runs(options, checked)
         planned = {t.seed: t for t in plan.tasks}
@@ -341,13 +342,14 @@ def finish(
     """Write the campaign's outputs from its records (also after an interrupt)."""
     ordered = [records[t.seed] for t in tasks if t.seed in records]
     summary = summarize(ordered)
-    done = [r for r in ordered if r.finished]
+    kept = set(document["plan"]["resumed"])
+    ran = [r for r in ordered if r.finished and r.seed not in kept]  # by this invocation
     document.update(
         {
             "status": status,
             "finished": datetime.now(UTC).isoformat(timespec="seconds"),
             "wall_seconds": round(wall, 3),
-            "runs_per_minute": round(60.0 * len(done) / wall, 2) if wall > 0 else None,
+            "runs_per_minute": round(60.0 * len(ran) / wall, 2) if wall > 0 else None,
             "workers": {
                 "engine": engine.name,
                 "started": getattr(engine, "started_workers", None),

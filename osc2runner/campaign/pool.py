@@ -121,8 +121,9 @@ class LocalPool:
         self.startup_failures: list[str] = []
 
     def start(self, count: int) -> None:
-        """Start ``count`` workers now (they check the file while the campaign plans)."""
-        while len(self.slots) < min(self.jobs, max(1, count)):
+        """Start ``count`` workers now, at most ``jobs`` (they check the file while the
+        campaign plans); none when nothing is left to run."""
+        while len(self.slots) < min(self.jobs, count):
             self.slots.append(self._start())
 
     def _start(self) -> _Slot:
@@ -250,12 +251,13 @@ class LocalPool:
                 self._terminate(slot, now)
 
     def close(self) -> None:
-        """Stop the workers (idle ones are asked for their peak memory first)."""
+        """Stop the workers (idle ones are asked for their peak memory first; one still
+        checking the file reads the stop once it is ready)."""
         for slot in self.slots:
-            if slot.ready and slot.task is None:
+            if slot.task is None:
                 try:
                     slot.conn.send(None)
-                    if slot.conn.poll(5.0):
+                    if slot.ready and slot.conn.poll(5.0):
                         kind, payload = slot.conn.recv()
                         if kind == "memory":
                             self.worker_memory.append(int(payload))

@@ -126,13 +126,15 @@ class RayEngine:
 
     def run(self, tasks: Iterable[RunTask], on_record: Callable[[RunRecord], None]) -> None:
         """Run ``tasks``; ``on_record`` with each record as it arrives (see LocalPool.run)."""
+        pending = deque(tasks)
+        if not pending:  # nothing left to run: no Ray instance, no actors
+            return
         ray, started = self._init()
         from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
-        pending = deque(tasks)
         idle: list[Any] = []
         try:
-            self._actors = [self._actor(ray) for _ in range(min(self.jobs, max(1, len(pending))))]
+            self._actors = [self._actor(ray) for _ in range(min(self.jobs, len(pending)))]
             idle = list(self._actors)
             failures = 0
             while (pending and not self.stopping) or self._inflight:

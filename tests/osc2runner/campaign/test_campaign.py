@@ -7,6 +7,7 @@ import os
 import signal
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
@@ -285,3 +286,28 @@ def test_resume_with_the_file_keeps_the_campaigns_options(tmp_path: Path) -> Non
         5, 3, True, 120.0,
     )  # fmt: skip
     assert len((out / "runs.csv").read_text().splitlines()) == 4
+
+
+def test_resuming_a_finished_campaign_starts_no_worker(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    options = CampaignOptions(str(path), runs=2, out=str(tmp_path / "c"), jobs=2)
+    first = run_campaign(options)
+    assert first.status == "complete" and first.document["workers"]["started"] == 2
+    again = run_campaign(replace(options, resume=True))
+    assert again.status == "complete" and again.document["plan"]["resumed"] == [0, 1]
+    assert again.document["workers"]["started"] == 0
+    assert again.document["runs_per_minute"] == 0.0  # no run done by this invocation
+    assert [r.seed for r in again.records] == [0, 1] and again.summary["passed"] == 2
+
+
+def test_closing_the_pool_stops_a_worker_still_checking_the_file(tmp_path: Path) -> None:
+    from osc2runner.campaign.pool import LocalPool
+    from osc2runner.campaign.worker import CampaignSetup
+
+    path = _short(tmp_path)
+    pool = LocalPool(CampaignSetup(str(path), SHORT, out=str(tmp_path)), 1, None)
+    pool.start(1)
+    (slot,) = pool.slots
+    assert not slot.ready
+    pool.close()  # the stop waits in the pipe: the worker leaves once ready, not killed
+    assert slot.process.exitcode == 0
