@@ -12,6 +12,8 @@
 4. SIGINT, SIGTERM and SIGHUP stop the campaign: no new run starts, the runs in
    progress end at a tick boundary with their files written (``interrupted``),
    and the outputs are written with what finished; ``resume`` does the rest.
+   Only from the main thread: a campaign run from another one installs no
+   signal handler.
 5. ``campaign.json``, ``runs.csv``, ``junit.xml`` and ``report.html`` are
    written (:mod:`~osc2runner.campaign.outputs`, :mod:`~osc2runner.campaign.report`).
 """
@@ -22,6 +24,7 @@ import hashlib
 import logging
 import os
 import signal
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -280,7 +283,13 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 log.info("campaign interrupted by %s: stopping", signal_name(signum))
                 engine.stop()
 
-        previous_handlers = {s: signal.signal(s, on_signal) for s in SIGNALS}
+        # signal handlers can only be installed from the main thread (as Interrupts does);
+        # a campaign run from another thread is not stopped by signals
+        previous_handlers = (
+            {s: signal.signal(s, on_signal) for s in SIGNALS}
+            if threading.current_thread() is threading.main_thread()
+            else {}
+        )
         try:
             engine.run(todo, on_record)
         finally:

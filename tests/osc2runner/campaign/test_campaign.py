@@ -7,13 +7,14 @@ import os
 import signal
 import subprocess
 import sys
+import threading
 from dataclasses import replace
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
 import pytest
 
-from osc2runner.campaign import CampaignOptions, run_campaign
+from osc2runner.campaign import CampaignOptions, CampaignResult, run_campaign
 from osc2runner.sut.loading import SutSpec
 
 HERE = Path(__file__).parent
@@ -311,3 +312,21 @@ def test_closing_the_pool_stops_a_worker_still_checking_the_file(tmp_path: Path)
     assert not slot.ready
     pool.close()  # the stop waits in the pipe: the worker leaves once ready, not killed
     assert slot.process.exitcode == 0
+
+
+def test_a_campaign_runs_from_another_thread(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    found: list[CampaignResult | BaseException] = []
+
+    def run() -> None:
+        try:
+            found.append(run_campaign(CampaignOptions(str(path), runs=1, out=str(tmp_path / "c"))))
+        except BaseException as exc:  # reported below
+            found.append(exc)
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    thread.join(timeout=300)
+    (result,) = found
+    assert isinstance(result, CampaignResult), repr(result)
+    assert result.status == "complete" and result.summary["passed"] == 1
