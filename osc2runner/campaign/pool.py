@@ -36,7 +36,14 @@ from dataclasses import dataclass, field
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask, Worker, process_memory
+from osc2runner.campaign.worker import (
+    CampaignSetup,
+    RunRecord,
+    RunTask,
+    Worker,
+    lost_record,
+    process_memory,
+)
 
 __all__ = ["GRACE", "EngineError", "LocalPool"]
 
@@ -208,9 +215,7 @@ class LocalPool:
                 return
         if task is not None:
             how = f"signal {-code}" if code is not None and code < 0 else f"exit status {code}"
-            reason = slot.why or f"the worker running it died ({how})"
-            status = "interrupted" if slot.why == "interrupted" else "error"
-            on_record(RunRecord(task.seed, status, reason, task.bin, folder=f"runs/{task.seed}"))
+            on_record(lost_record(task, slot.why, f"the worker running it died ({how})"))
         if not self.stopping:
             self.slots.append(self._start())
 

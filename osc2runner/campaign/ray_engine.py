@@ -32,7 +32,14 @@ from pathlib import Path
 from typing import Any
 
 from osc2runner.campaign.pool import EngineError
-from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask, Worker, process_memory
+from osc2runner.campaign.worker import (
+    CampaignSetup,
+    RunRecord,
+    RunTask,
+    Worker,
+    lost_record,
+    process_memory,
+)
 
 __all__ = ["RayEngine", "ray_available"]
 
@@ -151,15 +158,14 @@ class RayEngine:
                     try:
                         record = ray.get(ref)
                     except RayActorError as exc:
-                        record = self._lost(task, why, exc)
+                        record, died = self._lost(task, why, exc)
                         actor = None
+                        if died:
+                            failures += 1
+                            if failures > 3 * self.jobs:
+                                raise EngineError(record.reason) from None
                     except RayError as exc:
-                        record = RunRecord(task.seed, "error", f"Ray: {type(exc).__name__}: {exc}",
-                                           task.bin, folder=f"runs/{task.seed}")  # fmt: skip
-                    if record.status == "error" and record.reason.startswith("the Ray actor"):
-                        failures += 1
-                        if failures > 3 * self.jobs:
-                            raise EngineError(record.reason)
+                        record = lost_record(task, why, f"Ray: {type(exc).__name__}: {exc}")
                     on_record(record)
                     if actor is None:
                         if not self.stopping:
@@ -184,12 +190,11 @@ class RayEngine:
             if started:
                 ray.shutdown()
 
-    def _lost(self, task: RunTask, why: str, exc: BaseException) -> RunRecord:
-        if why == "interrupted":
-            return RunRecord(task.seed, "interrupted", "the campaign was interrupted", task.bin,
-                             folder=f"runs/{task.seed}")  # fmt: skip
-        reason = why or f"the Ray actor running it died: {type(exc).__name__}"
-        return RunRecord(task.seed, "error", reason, task.bin, folder=f"runs/{task.seed}")
+    def _lost(self, task: RunTask, why: str, exc: BaseException) -> tuple[RunRecord, bool]:
+        """The record of a run whose actor is gone, and whether the actor died by itself
+        (not killed by this engine: ``why`` says why it was)."""
+        reason = f"the Ray actor running it died: {type(exc).__name__}"
+        return lost_record(task, why, reason), not why
 
     def _enforce_limits(self, ray: Any) -> None:
         if self.run_timeout is None:

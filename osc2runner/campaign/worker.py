@@ -44,7 +44,7 @@ from osc2runner.runner import (
 )
 from osc2runner.sut.loading import SutSpec
 
-__all__ = ["CampaignSetup", "RunRecord", "RunTask", "Worker", "run_folder"]
+__all__ = ["CampaignSetup", "RunRecord", "RunTask", "Worker", "lost_record", "run_folder"]
 
 
 @dataclass(frozen=True)
@@ -155,6 +155,17 @@ class RunRecord:
 def run_folder(seed: int) -> str:
     """The folder of a run's files, relative to the campaign folder."""
     return f"runs/{seed}"
+
+
+def lost_record(task: RunTask, why: str, default_reason: str) -> RunRecord:
+    """The record of a run whose worker did not answer: ``interrupted`` when the engine
+    stopped it for an interrupt (``why`` is ``"interrupted"``), else ``error`` with the
+    engine's ``why`` (over the wall-clock limit) or ``default_reason`` (the worker died)."""
+    if why == "interrupted":
+        status, reason = "interrupted", "the campaign was interrupted"
+    else:
+        status, reason = "error", why or default_reason
+    return RunRecord(task.seed, status, reason, task.bin, folder=run_folder(task.seed))
 
 
 class Worker:

@@ -330,3 +330,17 @@ def test_a_campaign_runs_from_another_thread(tmp_path: Path) -> None:
     (result,) = found
     assert isinstance(result, CampaignResult), repr(result)
     assert result.status == "complete" and result.summary["passed"] == 1
+
+
+def test_a_lost_run_is_interrupted_or_an_error_in_its_folder() -> None:
+    from osc2runner.campaign.steering import BinRef
+    from osc2runner.campaign.worker import RunTask, lost_record, run_folder
+
+    task = RunTask(7, BinRef("v", 3, "[60..80)"))
+    stopped = lost_record(task, "interrupted", "the worker running it died (signal 9)")
+    assert (stopped.status, stopped.reason) == ("interrupted", "the campaign was interrupted")
+    assert not stopped.finished and stopped.bin == task.bin and stopped.folder == run_folder(7)
+    late = lost_record(task, "over the wall-clock limit of 1 s per run", "died")
+    assert (late.status, late.reason) == ("error", "over the wall-clock limit of 1 s per run")
+    died = lost_record(task, "", "the worker running it died (signal 9)")
+    assert (died.status, died.reason) == ("error", "the worker running it died (signal 9)")
