@@ -41,7 +41,7 @@ from osc2runner.campaign.outputs import (
     write_record,
     write_runs_csv,
 )
-from osc2runner.campaign.plan import CoverPlan, plan_cover, plan_random
+from osc2runner.campaign.plan import CoverPlan, ItemPlan, plan_cover, plan_random
 from osc2runner.campaign.steering import cover_items
 from osc2runner.campaign.summary import coverage_table, kpi_figures, summarize, worst_runs
 from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
@@ -148,11 +148,11 @@ def _check(options: CampaignOptions) -> None:
         raise CampaignError("--jobs must be a positive number of workers")
 
 
-def plan_runs(options: CampaignOptions, checked: Checked) -> tuple[CoverPlan, dict[str, list[str]]]:
-    """The planned tasks, and every cover item's bucket labels (for the coverage table)."""
+def plan_runs(options: CampaignOptions, checked: Checked) -> CoverPlan:
+    """The planned tasks, and every cover item's plan (its bucket labels, for ``random``
+    only observed)."""
     compiled = compile_checked(checked, seed=options.seed, dt_control=options.dt_control)
     items = cover_items(checked, compiled.ctx.coverage.items)
-    labels = {e.item.name: [b.label for b in e.item.buckets] for e in items}
     if options.strategy == "cover":
         if not any(e.steerable for e in items):
             why = "; ".join(f"`{e.item.name}`: {e.reason}" for e in items) or "it has none"
@@ -165,17 +165,13 @@ def plan_runs(options: CampaignOptions, checked: Checked) -> tuple[CoverPlan, di
                     )
                 ]
             )
-        plan = plan_cover(checked, items, options.seed, options.runs)
-    else:
-        plan = plan_random(options.seed, options.runs)
-        plan.items = [_observed(e.item.name, labels[e.item.name], e.reason) for e in items]
-    return plan, labels
-
-
-def _observed(name: str, labels: list[str], reason: str) -> Any:
-    from osc2runner.campaign.plan import ItemPlan
-
-    return ItemPlan(name, not reason, reason, labels)
+        return plan_cover(checked, items, options.seed, options.runs)
+    plan = plan_random(options.seed, options.runs)
+    plan.items = [
+        ItemPlan(e.item.name, not e.reason, e.reason, [b.label for b in e.item.buckets])
+        for e in items
+    ]
+    return plan
 
 
 def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> CampaignResult:
@@ -216,7 +212,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     # the workers start while the runs are planned (none when every run finished)
     engine.start(options.runs - sum(r.finished for r in previous.values()))
     try:
-        plan, labels = plan_runs(options, checked)
+        plan = plan_runs(options, checked)
         planned = {t.seed: t for t in plan.tasks}
         kept = {
             s: r
@@ -299,9 +295,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         engine.close()
     wall = time.perf_counter() - started
     status = "interrupted" if stop_signal else "complete"
-    result = finish(
-        folder, document, plan.tasks, records, labels, plan, replay, wall, status, engine
-    )
+    result = finish(folder, document, plan, records, replay, wall, status, engine)
     result.signum = stop_signal[0] if stop_signal else None
     return result
 
@@ -339,16 +333,15 @@ def _tool() -> dict[str, Any]:
 def finish(
     folder: Path,
     document: dict[str, Any],
-    tasks: list[RunTask],
-    records: dict[int, RunRecord],
-    labels: dict[str, list[str]],
     plan: CoverPlan,
+    records: dict[int, RunRecord],
     replay: dict[int, str],
     wall: float,
     status: str,
     engine: Any,
 ) -> CampaignResult:
     """Write the campaign's outputs from its records (also after an interrupt)."""
+    tasks = plan.tasks
     ordered = [records[t.seed] for t in tasks if t.seed in records]
     summary = summarize(ordered)
     kept = set(document["plan"]["resumed"])
@@ -368,7 +361,7 @@ def finish(
             },
             "summary": summary,
             "not_run": [t.seed for t in tasks if t.seed not in records],
-            "coverage": coverage_table(ordered, plan.items, labels),
+            "coverage": coverage_table(ordered, plan.items),
             "kpis": kpi_figures(ordered),
             "worst": [r.seed for r in worst_runs(ordered)],
             "runs": [{**r.to_json(), "replay": replay.get(r.seed, "")} for r in ordered],

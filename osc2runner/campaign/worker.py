@@ -31,7 +31,13 @@ from typing import Any
 from osc2check.verify import ir
 from osc2check.verify.witness import Witness
 from osc2runner.campaign.kpis import run_kpis, subject_actor
-from osc2runner.campaign.steering import BinRef, SteerableItem, cover_items, directed_witness
+from osc2runner.campaign.steering import (
+    BinRef,
+    SteerableItem,
+    cover_items,
+    directed_witness,
+    scenario_result,
+)
 from osc2runner.errors import ScenarioError
 from osc2runner.runner import (
     Checked,
@@ -296,12 +302,7 @@ def parameters(witness: dict[str, Any] | None, checked: Checked) -> dict[str, di
     they are)."""
     if not witness:
         return {}
-    result = next(
-        r
-        for r in checked.analysis.verified[checked.uri].scenarios
-        if r.scenario is checked.scenario
-    )
-    variables: dict[str, ir.Var] = result.problem.variables
+    variables: dict[str, ir.Var] = scenario_result(checked).problem.variables
     found: dict[str, dict[str, Any]] = {}
     for p in witness.get("parameters", []):
         name = p["name"]
