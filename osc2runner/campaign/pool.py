@@ -32,7 +32,7 @@ import signal
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
@@ -107,8 +107,6 @@ class _Slot:
     started: float = 0.0
     stopped_at: float | None = None  # when SIGTERM was sent
     why: str = ""  # why the run was stopped
-    memory: int = 0
-    extra: dict[str, Any] = field(default_factory=dict)
 
 
 class LocalPool:

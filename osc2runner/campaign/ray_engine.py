@@ -41,16 +41,7 @@ from osc2runner.campaign.worker import (
     process_memory,
 )
 
-__all__ = ["RayEngine", "ray_available"]
-
-
-def ray_available() -> bool:
-    """Whether Ray can be imported (the ``ray`` extra is installed)."""
-    try:
-        import ray  # noqa: F401
-    except ImportError:
-        return False
-    return True
+__all__ = ["RayEngine"]
 
 
 class _RayWorker:

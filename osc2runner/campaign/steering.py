@@ -67,7 +67,6 @@ class SteerableItem:
     problem: ir.ConstraintProblem | None = None
     term: ir.Term | None = None
     reason: str = ""
-    status: list[str] = field(default_factory=list)  # per bucket: reachable, unreachable, ...
     components: list[SteerableItem] = field(default_factory=list)  # of a cross item
 
     @property
