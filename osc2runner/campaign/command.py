@@ -18,7 +18,7 @@ import math
 from pathlib import Path
 from typing import Any, TextIO
 
-from osc2runner.options import OptionError, check_out, check_time
+from osc2runner.options import OptionError, check_time
 
 __all__ = ["campaign_arguments", "run_command"]
 
@@ -105,7 +105,7 @@ def campaign_arguments(args: argparse.Namespace) -> None:
         raise _usage("--address needs --engine ray")
     if args.bin is not None:
         raise _usage("--bin is for one run; a campaign chooses bins with --strategy cover")
-    check_out(args.out)
+    # --out (set for every campaign) is checked by the command line after this (cli._parse)
 
 
 def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:

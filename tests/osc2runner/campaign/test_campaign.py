@@ -219,7 +219,10 @@ def test_resume_refuses_another_text(tmp_path: Path) -> None:
 
 def test_campaign_usage_errors(tmp_path: Path) -> None:
     path = _short(tmp_path)
+    plain = tmp_path / "plain"
+    plain.write_text("", encoding="utf-8")
     for args, message in (
+        (["--runs", "2", "--out", str(plain)], f"--out {plain}: is a file, not a folder"),
         (["--runs", "3"], "--runs needs --out DIR"),
         (["--runs", "0", "--out", str(tmp_path / "x")], "--runs 0: must be a positive"),
         (["--jobs", "2"], "--jobs needs --runs N"),
