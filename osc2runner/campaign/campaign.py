@@ -12,6 +12,8 @@
 4. SIGINT, SIGTERM and SIGHUP stop the campaign: no new run starts, the runs in
    progress end at a tick boundary with their files written (``interrupted``),
    and the outputs are written with what finished; ``resume`` does the rest.
+   Only from the main thread: a campaign run from another one installs no
+   signal handler.
 5. ``campaign.json``, ``runs.csv``, ``junit.xml`` and ``report.html`` are
    written (:mod:`~osc2runner.campaign.outputs`, :mod:`~osc2runner.campaign.report`).
 """
@@ -22,6 +24,7 @@ import hashlib
 import logging
 import os
 import signal
+import threading
 import time
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
@@ -38,7 +41,7 @@ from osc2runner.campaign.outputs import (
     write_record,
     write_runs_csv,
 )
-from osc2runner.campaign.plan import CoverPlan, plan_cover, plan_random
+from osc2runner.campaign.plan import CoverPlan, ItemPlan, plan_cover, plan_random
 from osc2runner.campaign.steering import cover_items
 from osc2runner.campaign.summary import coverage_table, kpi_figures, summarize, worst_runs
 from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
@@ -145,11 +148,11 @@ def _check(options: CampaignOptions) -> None:
         raise CampaignError("--jobs must be a positive number of workers")
 
 
-def plan_runs(options: CampaignOptions, checked: Checked) -> tuple[CoverPlan, dict[str, list[str]]]:
-    """The planned tasks, and every cover item's bucket labels (for the coverage table)."""
+def plan_runs(options: CampaignOptions, checked: Checked) -> CoverPlan:
+    """The planned tasks, and every cover item's plan (its bucket labels, for ``random``
+    only observed)."""
     compiled = compile_checked(checked, seed=options.seed, dt_control=options.dt_control)
     items = cover_items(checked, compiled.ctx.coverage.items)
-    labels = {e.item.name: [b.label for b in e.item.buckets] for e in items}
     if options.strategy == "cover":
         if not any(e.steerable for e in items):
             why = "; ".join(f"`{e.item.name}`: {e.reason}" for e in items) or "it has none"
@@ -162,17 +165,13 @@ def plan_runs(options: CampaignOptions, checked: Checked) -> tuple[CoverPlan, di
                     )
                 ]
             )
-        plan = plan_cover(checked, items, options.seed, options.runs)
-    else:
-        plan = plan_random(options.seed, options.runs)
-        plan.items = [_observed(e.item.name, labels[e.item.name], e.reason) for e in items]
-    return plan, labels
-
-
-def _observed(name: str, labels: list[str], reason: str) -> Any:
-    from osc2runner.campaign.plan import ItemPlan
-
-    return ItemPlan(name, not reason, reason, labels)
+        return plan_cover(checked, items, options.seed, options.runs)
+    plan = plan_random(options.seed, options.runs)
+    plan.items = [
+        ItemPlan(e.item.name, not e.reason, e.reason, [b.label for b in e.item.buckets])
+        for e in items
+    ]
+    return plan
 
 
 def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> CampaignResult:
@@ -210,9 +209,10 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         ship_files=options.engine == "ray",
     )
     engine = _engine(options, setup, min(jobs, options.runs))
-    engine.start(options.runs - len(previous))  # the workers start while the runs are planned
+    # the workers start while the runs are planned (none when every run finished)
+    engine.start(options.runs - sum(r.finished for r in previous.values()))
     try:
-        plan, labels = plan_runs(options, checked)
+        plan = plan_runs(options, checked)
         planned = {t.seed: t for t in plan.tasks}
         kept = {
             s: r
@@ -279,7 +279,13 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 log.info("campaign interrupted by %s: stopping", signal_name(signum))
                 engine.stop()
 
-        previous_handlers = {s: signal.signal(s, on_signal) for s in SIGNALS}
+        # signal handlers can only be installed from the main thread (as Interrupts does);
+        # a campaign run from another thread is not stopped by signals
+        previous_handlers = (
+            {s: signal.signal(s, on_signal) for s in SIGNALS}
+            if threading.current_thread() is threading.main_thread()
+            else {}
+        )
         try:
             engine.run(todo, on_record)
         finally:
@@ -289,9 +295,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         engine.close()
     wall = time.perf_counter() - started
     status = "interrupted" if stop_signal else "complete"
-    result = finish(
-        folder, document, plan.tasks, records, labels, plan, replay, wall, status, engine
-    )
+    result = finish(folder, document, plan, records, replay, wall, status, engine)
     result.signum = stop_signal[0] if stop_signal else None
     return result
 
@@ -329,25 +333,25 @@ def _tool() -> dict[str, Any]:
 def finish(
     folder: Path,
     document: dict[str, Any],
-    tasks: list[RunTask],
-    records: dict[int, RunRecord],
-    labels: dict[str, list[str]],
     plan: CoverPlan,
+    records: dict[int, RunRecord],
     replay: dict[int, str],
     wall: float,
     status: str,
     engine: Any,
 ) -> CampaignResult:
     """Write the campaign's outputs from its records (also after an interrupt)."""
+    tasks = plan.tasks
     ordered = [records[t.seed] for t in tasks if t.seed in records]
     summary = summarize(ordered)
-    done = [r for r in ordered if r.finished]
+    kept = set(document["plan"]["resumed"])
+    ran = [r for r in ordered if r.finished and r.seed not in kept]  # by this invocation
     document.update(
         {
             "status": status,
             "finished": datetime.now(UTC).isoformat(timespec="seconds"),
             "wall_seconds": round(wall, 3),
-            "runs_per_minute": round(60.0 * len(done) / wall, 2) if wall > 0 else None,
+            "runs_per_minute": round(60.0 * len(ran) / wall, 2) if wall > 0 else None,
             "workers": {
                 "engine": engine.name,
                 "started": getattr(engine, "started_workers", None),
@@ -357,7 +361,7 @@ def finish(
             },
             "summary": summary,
             "not_run": [t.seed for t in tasks if t.seed not in records],
-            "coverage": coverage_table(ordered, plan.items, labels),
+            "coverage": coverage_table(ordered, plan.items),
             "kpis": kpi_figures(ordered),
             "worst": [r.seed for r in worst_runs(ordered)],
             "runs": [{**r.to_json(), "replay": replay.get(r.seed, "")} for r in ordered],

@@ -1,12 +1,13 @@
 """``osc2run FILE --runs N ...``: the command line of a campaign.
 
 :func:`campaign_arguments` checks the campaign's options (usage errors before
-anything runs; ``--resume DIR`` alone takes the file and the options of the
-campaign in ``DIR``); :func:`run_command` runs it with a progress bar on a
-terminal (done, failed, rate, ETA), one line per run otherwise (``-q``: only
-the summary), prints the summary and returns the exit status: 0 when every
-run passed, 1 when one did not, 2 for usage and input errors, 128 + N when
-signal N interrupted the campaign (what finished is written).
+anything runs; with ``--resume DIR`` the file and the options the command line
+does not give are those of the campaign in ``DIR``, ``--jobs`` excepted);
+:func:`run_command` runs it with a progress bar on a terminal (done, failed,
+rate, ETA), one line per run otherwise (``-q``: only the summary), prints the
+summary and returns the exit status: 0 when every run passed, 1 when one did
+not, 2 for usage and input errors, 128 + N when signal N interrupted the
+campaign (what finished is written).
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import math
 from pathlib import Path
 from typing import Any, TextIO
 
-from osc2runner.options import OptionError, check_out, check_time
+from osc2runner.options import OptionError, check_time
 
 __all__ = ["campaign_arguments", "run_command"]
 
@@ -40,6 +41,38 @@ def _count(name: str, text: str | None, default: int) -> int:
     return value
 
 
+def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
+    """Complete ``args`` with the stored campaign's file and options (``--resume DIR``):
+    what the command line does not give is the campaign's own, FILE or not."""
+    opts = stored.get("options", {})
+    given = args.given
+    if args.file is None:
+        args.file = stored.get("source")
+    args.scenario = args.scenario or opts.get("scenario")
+    if args.runs is None:
+        args.runs = str(len(stored.get("plan", {}).get("seeds", [])) or 1)
+    if "--seed" not in given:
+        args.seed = str(opts.get("seed", 0))
+    if "--strategy" not in given:
+        args.strategy = opts.get("strategy", "random")
+    if args.duration is None and opts.get("duration") is not None:
+        args.duration = repr(opts["duration"])
+    if "--dt-control" not in given:
+        args.dt_control = repr(opts.get("dt_control", 0.05))
+    if "--dt-physics" not in given:
+        args.dt_physics = repr(opts.get("dt_physics", 0.002))
+    sut = opts.get("sut")
+    if sut and args.sut is None:
+        args.sut, args.sut_actor = sut["target"], sut.get("actor")
+    if "--engine" not in given and opts.get("engine") in ("local", "ray"):
+        args.engine = opts["engine"]
+    if args.address is None and args.engine == "ray":
+        args.address = opts.get("address")
+    if args.run_timeout is None and opts.get("run_timeout") is not None:
+        args.run_timeout = repr(opts["run_timeout"])
+    args.plot = args.plot or bool(opts.get("plot"))
+
+
 def campaign_arguments(args: argparse.Namespace) -> None:
     """Check and complete the campaign options of the command line (UsageError)."""
     stored: dict[str, Any] = {}
@@ -54,25 +87,7 @@ def campaign_arguments(args: argparse.Namespace) -> None:
         if args.out is not None and Path(args.out).resolve() != Path(args.resume).resolve():
             raise _usage("--resume DIR writes into DIR: leave out --out")
         args.out = args.resume
-        opts = stored.get("options", {})
-        if args.file is None:
-            args.file = stored.get("source")
-            args.scenario = args.scenario or opts.get("scenario")
-            if args.runs is None:
-                args.runs = str(len(stored.get("plan", {}).get("seeds", [])) or 1)
-            if "--seed" not in args.given:
-                args.seed = str(opts.get("seed", 0))
-            if "--strategy" not in args.given:
-                args.strategy = opts.get("strategy", "random")
-            if args.duration is None and opts.get("duration") is not None:
-                args.duration = repr(opts["duration"])
-            if "--dt-control" not in args.given:
-                args.dt_control = repr(opts.get("dt_control", 0.05))
-            if "--dt-physics" not in args.given:
-                args.dt_physics = repr(opts.get("dt_physics", 0.002))
-            sut = opts.get("sut")
-            if sut and args.sut is None:
-                args.sut, args.sut_actor = sut["target"], sut.get("actor")
+        _stored_options(args, stored)
     if args.file is None:
         raise _usage("the following arguments are required: FILE (or --resume DIR)")
     if args.out is None:
@@ -90,7 +105,7 @@ def campaign_arguments(args: argparse.Namespace) -> None:
         raise _usage("--address needs --engine ray")
     if args.bin is not None:
         raise _usage("--bin is for one run; a campaign chooses bins with --strategy cover")
-    check_out(args.out)
+    # --out (set for every campaign) is checked by the command line after this (cli._parse)
 
 
 def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:

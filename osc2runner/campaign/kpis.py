@@ -40,10 +40,11 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["KPI_UNITS", "STANDSTILL", "run_kpis", "subject_actor"]
+__all__ = ["BRAKE_ONSET", "KPI_UNITS", "MOVING", "STANDSTILL", "run_kpis", "subject_actor"]
 
-STANDSTILL = 0.1  # m/s
-BRAKE_ONSET = 0.05  # brake pedal
+# What a stop is, for time_to_stop_s and for the runner's braking.png (output/plots.py)
+STANDSTILL = 0.1  # m/s: slower than this is stopped
+BRAKE_ONSET = 0.05  # brake pedal above this is braking
 MOVING = 1.0  # m/s: braking from faster than this starts a stop
 
 #: every KPI and its unit (for tables and reports), in the order shown

@@ -23,7 +23,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from osc2check.verify import bins
-from osc2runner.campaign.steering import BinRef, SteerableItem
+from osc2runner.campaign.steering import BinRef, SteerableItem, scenario_result
 from osc2runner.campaign.worker import RunTask
 from osc2runner.runner import Checked
 
@@ -101,7 +101,7 @@ def plan_cover(
         for i, status in enumerate(p.status)
         if status == "reachable"
     }
-    result = _result(checked)
+    result = scenario_result(checked)
     steer = {e.item.name: e for e in items if e.steerable}
     candidates: list[tuple[int, set[tuple[str, int]]]] = []
     budget = min(MAX_CANDIDATES, max(runs, len(wanted)) * CANDIDATES_PER_RUN)
@@ -179,8 +179,3 @@ def _status(entry: SteerableItem, index: int, term: Any, plans: dict[str, ItemPl
             return "unreachable"
     assert entry.problem is not None
     return bins.bin_status(entry.problem, term)
-
-
-def _result(checked: Checked) -> Any:
-    verified = checked.analysis.verified[checked.uri]
-    return next(r for r in verified.scenarios if r.scenario is checked.scenario)

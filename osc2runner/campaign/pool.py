@@ -32,11 +32,18 @@ import signal
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
-from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask, Worker, process_memory
+from osc2runner.campaign.worker import (
+    CampaignSetup,
+    RunRecord,
+    RunTask,
+    Worker,
+    lost_record,
+    process_memory,
+)
 
 __all__ = ["GRACE", "EngineError", "LocalPool"]
 
@@ -100,8 +107,6 @@ class _Slot:
     started: float = 0.0
     stopped_at: float | None = None  # when SIGTERM was sent
     why: str = ""  # why the run was stopped
-    memory: int = 0
-    extra: dict[str, Any] = field(default_factory=dict)
 
 
 class LocalPool:
@@ -121,8 +126,9 @@ class LocalPool:
         self.startup_failures: list[str] = []
 
     def start(self, count: int) -> None:
-        """Start ``count`` workers now (they check the file while the campaign plans)."""
-        while len(self.slots) < min(self.jobs, max(1, count)):
+        """Start ``count`` workers now, at most ``jobs`` (they check the file while the
+        campaign plans); none when nothing is left to run."""
+        while len(self.slots) < min(self.jobs, count):
             self.slots.append(self._start())
 
     def _start(self) -> _Slot:
@@ -207,9 +213,7 @@ class LocalPool:
                 return
         if task is not None:
             how = f"signal {-code}" if code is not None and code < 0 else f"exit status {code}"
-            reason = slot.why or f"the worker running it died ({how})"
-            status = "interrupted" if slot.why == "interrupted" else "error"
-            on_record(RunRecord(task.seed, status, reason, task.bin, folder=f"runs/{task.seed}"))
+            on_record(lost_record(task, slot.why, f"the worker running it died ({how})"))
         if not self.stopping:
             self.slots.append(self._start())
 
@@ -250,12 +254,13 @@ class LocalPool:
                 self._terminate(slot, now)
 
     def close(self) -> None:
-        """Stop the workers (idle ones are asked for their peak memory first)."""
+        """Stop the workers (idle ones are asked for their peak memory first; one still
+        checking the file reads the stop once it is ready)."""
         for slot in self.slots:
-            if slot.ready and slot.task is None:
+            if slot.task is None:
                 try:
                     slot.conn.send(None)
-                    if slot.conn.poll(5.0):
+                    if slot.ready and slot.conn.poll(5.0):
                         kind, payload = slot.conn.recv()
                         if kind == "memory":
                             self.worker_memory.append(int(payload))

@@ -32,18 +32,16 @@ from pathlib import Path
 from typing import Any
 
 from osc2runner.campaign.pool import EngineError
-from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask, Worker, process_memory
+from osc2runner.campaign.worker import (
+    CampaignSetup,
+    RunRecord,
+    RunTask,
+    Worker,
+    lost_record,
+    process_memory,
+)
 
-__all__ = ["RayEngine", "ray_available"]
-
-
-def ray_available() -> bool:
-    """Whether Ray can be imported (the ``ray`` extra is installed)."""
-    try:
-        import ray  # noqa: F401
-    except ImportError:
-        return False
-    return True
+__all__ = ["RayEngine"]
 
 
 class _RayWorker:
@@ -126,13 +124,15 @@ class RayEngine:
 
     def run(self, tasks: Iterable[RunTask], on_record: Callable[[RunRecord], None]) -> None:
         """Run ``tasks``; ``on_record`` with each record as it arrives (see LocalPool.run)."""
+        pending = deque(tasks)
+        if not pending:  # nothing left to run: no Ray instance, no actors
+            return
         ray, started = self._init()
         from ray.exceptions import GetTimeoutError, RayActorError, RayError
 
-        pending = deque(tasks)
         idle: list[Any] = []
         try:
-            self._actors = [self._actor(ray) for _ in range(min(self.jobs, max(1, len(pending))))]
+            self._actors = [self._actor(ray) for _ in range(min(self.jobs, len(pending)))]
             idle = list(self._actors)
             failures = 0
             while (pending and not self.stopping) or self._inflight:
@@ -149,15 +149,14 @@ class RayEngine:
                     try:
                         record = ray.get(ref)
                     except RayActorError as exc:
-                        record = self._lost(task, why, exc)
+                        record, died = self._lost(task, why, exc)
                         actor = None
+                        if died:
+                            failures += 1
+                            if failures > 3 * self.jobs:
+                                raise EngineError(record.reason) from None
                     except RayError as exc:
-                        record = RunRecord(task.seed, "error", f"Ray: {type(exc).__name__}: {exc}",
-                                           task.bin, folder=f"runs/{task.seed}")  # fmt: skip
-                    if record.status == "error" and record.reason.startswith("the Ray actor"):
-                        failures += 1
-                        if failures > 3 * self.jobs:
-                            raise EngineError(record.reason)
+                        record = lost_record(task, why, f"Ray: {type(exc).__name__}: {exc}")
                     on_record(record)
                     if actor is None:
                         if not self.stopping:
@@ -182,12 +181,11 @@ class RayEngine:
             if started:
                 ray.shutdown()
 
-    def _lost(self, task: RunTask, why: str, exc: BaseException) -> RunRecord:
-        if why == "interrupted":
-            return RunRecord(task.seed, "interrupted", "the campaign was interrupted", task.bin,
-                             folder=f"runs/{task.seed}")  # fmt: skip
-        reason = why or f"the Ray actor running it died: {type(exc).__name__}"
-        return RunRecord(task.seed, "error", reason, task.bin, folder=f"runs/{task.seed}")
+    def _lost(self, task: RunTask, why: str, exc: BaseException) -> tuple[RunRecord, bool]:
+        """The record of a run whose actor is gone, and whether the actor died by itself
+        (not killed by this engine: ``why`` says why it was)."""
+        reason = f"the Ray actor running it died: {type(exc).__name__}"
+        return lost_record(task, why, reason), not why
 
     def _enforce_limits(self, ray: Any) -> None:
         if self.run_timeout is None:

@@ -32,7 +32,14 @@ from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.coverage import CoverageBucket, CoverageItem
 from osc2runner.runner import Checked
 
-__all__ = ["BinRef", "SteerableItem", "bin_ref", "cover_items", "directed_witness"]
+__all__ = [
+    "BinRef",
+    "SteerableItem",
+    "bin_ref",
+    "cover_items",
+    "directed_witness",
+    "scenario_result",
+]
 
 MAX_CROSS_BUCKETS = 10_000
 
@@ -60,7 +67,6 @@ class SteerableItem:
     problem: ir.ConstraintProblem | None = None
     term: ir.Term | None = None
     reason: str = ""
-    status: list[str] = field(default_factory=list)  # per bucket: reachable, unreachable, ...
     components: list[SteerableItem] = field(default_factory=list)  # of a cross item
 
     @property
@@ -110,7 +116,9 @@ class SteerableItem:
         raise ValueError(f"bucket `{bucket.label}` of `{item.name}` cannot be a constraint")
 
 
-def _result(checked: Checked) -> ScenarioResult:
+def scenario_result(checked: Checked) -> ScenarioResult:
+    """The checker's result for the scenario ``checked`` runs (its constraint problem and
+    witnesses)."""
     verified = checked.analysis.verified[checked.uri]
     return next(r for r in verified.scenarios if r.scenario is checked.scenario)
 
@@ -119,7 +127,7 @@ def cover_items(checked: Checked, items: list[CoverageItem]) -> list[SteerableIt
     """The ``cover`` items among ``items`` (a compiled run's) with their terms."""
     program = checked.analysis.programs[checked.uri]
     model = program.model
-    result = _result(checked)
+    result = scenario_result(checked)
     found: list[SteerableItem] = []
     for item in items:
         if item.kind != "cover" or item.disabled:

@@ -59,14 +59,11 @@ def summarize(records: Sequence[RunRecord]) -> dict[str, Any]:
     }
 
 
-def coverage_table(
-    records: Sequence[RunRecord], plans: Sequence[ItemPlan], labels: dict[str, list[str]]
-) -> list[dict[str, Any]]:
+def coverage_table(records: Sequence[RunRecord], plans: Sequence[ItemPlan]) -> list[dict[str, Any]]:
     """Per cover item: every bucket with its status, hits and the seeds that hit it."""
-    by_plan = {p.name: p for p in plans}
     table: list[dict[str, Any]] = []
-    for name, bucket_labels in labels.items():
-        plan = by_plan.get(name)
+    for plan in plans:
+        name, bucket_labels = plan.name, plan.labels
         hits = [0] * len(bucket_labels)
         seeds: list[list[int]] = [[] for _ in bucket_labels]
         for r in finished(records):
@@ -76,7 +73,7 @@ def coverage_table(
                     seeds[index].append(r.seed)
         buckets = []
         for i, label in enumerate(bucket_labels):
-            status = plan.status[i] if plan is not None and plan.status else "observed"
+            status = plan.status[i] if plan.status else "observed"
             state = "filled" if hits[i] else ("unreachable" if status == "unreachable" else "hole")
             buckets.append(
                 {"label": label, "hits": hits[i], "state": state, "solver": status,
@@ -86,8 +83,8 @@ def coverage_table(
         table.append(
             {
                 "name": name,
-                "steerable": plan.steerable if plan is not None else False,
-                "reason": (plan.reason or None) if plan is not None else None,
+                "steerable": plan.steerable,
+                "reason": plan.reason or None,
                 "filled": sum(1 for b in reachable if b["hits"]),
                 "reachable": len(reachable),
                 "unreachable": len(buckets) - len(reachable),

@@ -31,7 +31,13 @@ from typing import Any
 from osc2check.verify import ir
 from osc2check.verify.witness import Witness
 from osc2runner.campaign.kpis import run_kpis, subject_actor
-from osc2runner.campaign.steering import BinRef, SteerableItem, cover_items, directed_witness
+from osc2runner.campaign.steering import (
+    BinRef,
+    SteerableItem,
+    cover_items,
+    directed_witness,
+    scenario_result,
+)
 from osc2runner.errors import ScenarioError
 from osc2runner.runner import (
     Checked,
@@ -44,7 +50,7 @@ from osc2runner.runner import (
 )
 from osc2runner.sut.loading import SutSpec
 
-__all__ = ["CampaignSetup", "RunRecord", "RunTask", "Worker", "run_folder"]
+__all__ = ["CampaignSetup", "RunRecord", "RunTask", "Worker", "lost_record", "run_folder"]
 
 
 @dataclass(frozen=True)
@@ -155,6 +161,17 @@ class RunRecord:
 def run_folder(seed: int) -> str:
     """The folder of a run's files, relative to the campaign folder."""
     return f"runs/{seed}"
+
+
+def lost_record(task: RunTask, why: str, default_reason: str) -> RunRecord:
+    """The record of a run whose worker did not answer: ``interrupted`` when the engine
+    stopped it for an interrupt (``why`` is ``"interrupted"``), else ``error`` with the
+    engine's ``why`` (over the wall-clock limit) or ``default_reason`` (the worker died)."""
+    if why == "interrupted":
+        status, reason = "interrupted", "the campaign was interrupted"
+    else:
+        status, reason = "error", why or default_reason
+    return RunRecord(task.seed, status, reason, task.bin, folder=run_folder(task.seed))
 
 
 class Worker:
@@ -285,12 +302,7 @@ def parameters(witness: dict[str, Any] | None, checked: Checked) -> dict[str, di
     they are)."""
     if not witness:
         return {}
-    result = next(
-        r
-        for r in checked.analysis.verified[checked.uri].scenarios
-        if r.scenario is checked.scenario
-    )
-    variables: dict[str, ir.Var] = result.problem.variables
+    variables: dict[str, ir.Var] = scenario_result(checked).problem.variables
     found: dict[str, dict[str, Any]] = {}
     for p in witness.get("parameters", []):
         name = p["name"]

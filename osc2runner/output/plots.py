@@ -29,6 +29,7 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
 from osc2check.world.network import RoadNetwork
+from osc2runner.campaign.kpis import BRAKE_ONSET, MOVING, STANDSTILL  # as time_to_stop_s
 from osc2runner.output.files import atomic_open
 
 __all__ = ["brake_onsets", "plot_run"]
@@ -69,29 +70,29 @@ def _moving(result: Any) -> dict[str, dict[str, np.ndarray]]:
 
 def brake_onsets(ch: dict[str, np.ndarray], quiet: float = 1.0) -> list[tuple[int, int]]:
     """``(start, end)`` tick indices of each stop: brake applied after ``quiet`` s without,
-    while moving, until standstill."""
+    while moving, until standstill (the thresholds of the ``time_to_stop_s`` KPI)."""
     brake, speed, time = ch["brake"], ch["speed"], ch["time"]
     segments: list[tuple[int, int]] = []
     last_free = 0.0
     i, n = 0, len(time)
     while i < n:
         b = brake[i]
-        if not (b > 0.02) or math.isnan(b):
+        if not (b > BRAKE_ONSET) or math.isnan(b):
             last_free = time[i]
             i += 1
             continue
         if (
             time[i] - last_free > 0.2
-            or speed[i] < 1.0
+            or not speed[i] > MOVING
             or (segments and time[i] - time[segments[-1][1]] < quiet)
         ):
             i += 1
             continue
         start = max(i - 1, 0)
         j = i
-        while j < n - 1 and speed[j] > 0.05:
+        while j < n - 1 and not speed[j] < STANDSTILL:
             j += 1
-        if speed[j] <= 0.05:
+        if speed[j] < STANDSTILL:
             segments.append((start, j))
         i = j + 1
     return segments

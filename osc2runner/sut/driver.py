@@ -130,7 +130,6 @@ class SutDriver:
         self.lateral = inner.lateral
         params = inner.speed.params
         self.params = params
-        self.last: Command | Demand | None = None
 
     @property
     def path(self) -> Any:
@@ -212,7 +211,6 @@ class SutDriver:
                 f"the system under test ({type(self.sut).__name__}) raised "
                 f"{type(exc).__name__}: {exc} at tick {state.tick}"
             ) from exc
-        self.last = answer
         return self.inputs(answer, state, driver)
 
     def inputs(

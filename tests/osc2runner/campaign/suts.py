@@ -13,7 +13,6 @@ class PassThrough:
 
     def reset(self, info: SutInfo) -> None:
         self.info = info
-        self.seen: list[Observation] = []
 
     def step(self, obs: Observation) -> Command:
         return obs.driver

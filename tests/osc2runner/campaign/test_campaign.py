@@ -7,12 +7,14 @@ import os
 import signal
 import subprocess
 import sys
+import threading
+from dataclasses import replace
 from pathlib import Path
 from xml.etree import ElementTree as ET
 
 import pytest
 
-from osc2runner.campaign import CampaignOptions, run_campaign
+from osc2runner.campaign import CampaignOptions, CampaignResult, run_campaign
 from osc2runner.sut.loading import SutSpec
 
 HERE = Path(__file__).parent
@@ -74,13 +76,14 @@ def test_forty_runs_write_the_five_outputs(cut_in_campaign: Path) -> None:
     assert len(suite.findall("testcase")) == 40
     rows = (out / "runs.csv").read_text().splitlines()
     assert len(rows) == 41 and rows[0].startswith("seed,bin,outcome")
+    # every parameter of the cut-in is fixed (`v_hero: speed = 35kph`), and recorded per run
+    assert {r["parameters"]["v_hero"]["text"] for r in doc["runs"]} == {"35 kph"}
     # the witnesses differ: the start position is drawn per seed
-    starts = {r["parameters"].get("hero", {}).get("text") for r in doc["runs"]}
     positions = {
         json.loads((out / "runs" / str(s) / "run.json").read_text())["actors"]["hero"]["start"]["s"]
         for s in seeds
     }
-    assert len(positions) == 40 and starts
+    assert len(positions) == 40
 
 
 def test_a_campaign_run_replays_alone_byte_identical(cut_in_campaign: Path, tmp_path: Path) -> None:
@@ -137,6 +140,7 @@ def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path
 def test_records_and_coverage(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2))
+    assert len({r.parameters["v"]["value"] for r in result.records}) > 1  # drawn per seed
     for r in result.records:
         v = r.parameters["v"]["value"]
         assert 10.0 <= v <= 60.0 and r.parameters["v"]["unit"] == "kph"
@@ -215,7 +219,10 @@ def test_resume_refuses_another_text(tmp_path: Path) -> None:
 
 def test_campaign_usage_errors(tmp_path: Path) -> None:
     path = _short(tmp_path)
+    plain = tmp_path / "plain"
+    plain.write_text("", encoding="utf-8")
     for args, message in (
+        (["--runs", "2", "--out", str(plain)], f"--out {plain}: is a file, not a folder"),
         (["--runs", "3"], "--runs needs --out DIR"),
         (["--runs", "0", "--out", str(tmp_path / "x")], "--runs 0: must be a positive"),
         (["--jobs", "2"], "--jobs needs --runs N"),
@@ -265,3 +272,80 @@ def test_cross_coverage_fills_every_combination(tmp_path: Path) -> None:
     assert "[5..15) × [-1.5..-0.5)" in labels and "[25..35] × [0.5..1.5]" in labels
     combos = {(r.parameters["v"]["value"], r.parameters["side"]["value"]) for r in result.records}
     assert combos == {(v, s) for v in (10.0, 20.0, 30.0) for s in (-1, 1)}
+
+
+def test_resume_with_the_file_keeps_the_campaigns_options(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    out = tmp_path / "c"
+    first = osc2run(str(path), "--runs", "3", "--seed", "5", "--jobs", "1", "--plot",
+                    "--run-timeout", "120", "--out", str(out), "-q")  # fmt: skip
+    assert first.returncode == 0, first.stderr + first.stdout
+    again = osc2run(str(path), "--resume", str(out))
+    assert again.returncode == 0, again.stderr + again.stdout
+    assert "resuming: 3 of 3 runs already finished" in again.stdout
+    assert "complete: 3 of 3 runs, 3 passed" in again.stdout
+    doc = json.loads((out / "campaign.json").read_text())
+    assert doc["plan"]["seeds"] == doc["plan"]["resumed"] == [5, 6, 7]
+    assert [r["seed"] for r in doc["runs"]] == [5, 6, 7]
+    options = doc["options"]
+    assert (options["seed"], options["runs"], options["plot"], options["run_timeout"]) == (
+        5, 3, True, 120.0,
+    )  # fmt: skip
+    assert len((out / "runs.csv").read_text().splitlines()) == 4
+
+
+def test_resuming_a_finished_campaign_starts_no_worker(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    options = CampaignOptions(str(path), runs=2, out=str(tmp_path / "c"), jobs=2)
+    first = run_campaign(options)
+    assert first.status == "complete" and first.document["workers"]["started"] == 2
+    again = run_campaign(replace(options, resume=True))
+    assert again.status == "complete" and again.document["plan"]["resumed"] == [0, 1]
+    assert again.document["workers"]["started"] == 0
+    assert again.document["runs_per_minute"] == 0.0  # no run done by this invocation
+    assert [r.seed for r in again.records] == [0, 1] and again.summary["passed"] == 2
+
+
+def test_closing_the_pool_stops_a_worker_still_checking_the_file(tmp_path: Path) -> None:
+    from osc2runner.campaign.pool import LocalPool
+    from osc2runner.campaign.worker import CampaignSetup
+
+    path = _short(tmp_path)
+    pool = LocalPool(CampaignSetup(str(path), SHORT, out=str(tmp_path)), 1, None)
+    pool.start(1)
+    (slot,) = pool.slots
+    assert not slot.ready
+    pool.close()  # the stop waits in the pipe: the worker leaves once ready, not killed
+    assert slot.process.exitcode == 0
+
+
+def test_a_campaign_runs_from_another_thread(tmp_path: Path) -> None:
+    path = _short(tmp_path)
+    found: list[CampaignResult | BaseException] = []
+
+    def run() -> None:
+        try:
+            found.append(run_campaign(CampaignOptions(str(path), runs=1, out=str(tmp_path / "c"))))
+        except BaseException as exc:  # reported below
+            found.append(exc)
+
+    thread = threading.Thread(target=run)
+    thread.start()
+    thread.join(timeout=300)
+    (result,) = found
+    assert isinstance(result, CampaignResult), repr(result)
+    assert result.status == "complete" and result.summary["passed"] == 1
+
+
+def test_a_lost_run_is_interrupted_or_an_error_in_its_folder() -> None:
+    from osc2runner.campaign.steering import BinRef
+    from osc2runner.campaign.worker import RunTask, lost_record, run_folder
+
+    task = RunTask(7, BinRef("v", 3, "[60..80)"))
+    stopped = lost_record(task, "interrupted", "the worker running it died (signal 9)")
+    assert (stopped.status, stopped.reason) == ("interrupted", "the campaign was interrupted")
+    assert not stopped.finished and stopped.bin == task.bin and stopped.folder == run_folder(7)
+    late = lost_record(task, "over the wall-clock limit of 1 s per run", "died")
+    assert (late.status, late.reason) == ("error", "over the wall-clock limit of 1 s per run")
+    died = lost_record(task, "", "the worker running it died (signal 9)")
+    assert (died.status, died.reason) == ("error", "the worker running it died (signal 9)")

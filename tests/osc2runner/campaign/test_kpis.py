@@ -81,3 +81,21 @@ def test_subject_actor() -> None:
     assert subject_actor(actors, "hero") == "hero"
     assert subject_actor({"hero": {"kind": "vehicle"}}, None) == "hero"
     assert subject_actor({"p": {"kind": "pedestrian"}}, None) is None
+
+
+def test_the_braking_plot_and_time_to_stop_agree_on_what_a_stop_is() -> None:
+    from osc2runner.output.plots import brake_onsets
+
+    n = 120
+    t = np.arange(n) * DT
+    # brakes at 1 s at 5 m/s², creeps at 0.08 m/s (stopped: below 0.1 m/s) from 4 s, 0 from 5 s
+    speed = np.maximum(15.0 - 5.0 * np.maximum(t - 1.0, 0.0), 0.08)
+    speed[t >= 5.0] = 0.0
+    hard = channels(np.cumsum(speed) * DT, np.zeros(n), speed, brake=np.where(t >= 1.0, 1.0, 0.0))
+    stop = run_kpis({"ego": hard}, {}, [], "ego")["time_to_stop_s"]
+    ((a, b),) = brake_onsets(hard)  # the plot starts a tick before the onset
+    assert stop == pytest.approx(3.0) and t[b] - t[a + 1] == pytest.approx(stop)
+    # a pedal at 3 % is no brake onset, for either
+    light = {**hard, "brake": np.where(t >= 1.0, 0.03, 0.0)}
+    assert run_kpis({"ego": light}, {}, [], "ego")["time_to_stop_s"] is None
+    assert brake_onsets(light) == []

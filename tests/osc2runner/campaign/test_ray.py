@@ -45,3 +45,16 @@ def test_six_runs_on_ray_equal_the_local_pool(tmp_path: Path) -> None:
             assert (tmp_path / "local" / a.folder / name).read_bytes() == (
                 tmp_path / "ray" / b.folder / name
             ).read_bytes(), (a.seed, name)
+
+
+def test_nothing_left_to_run_starts_no_actor(tmp_path: Path) -> None:
+    import ray
+
+    from osc2runner.campaign.ray_engine import RayEngine
+    from osc2runner.campaign.worker import CampaignSetup
+
+    setup = CampaignSetup(str(CCRS), CCRS.read_text(encoding="utf-8"), out=str(tmp_path))
+    engine = RayEngine(setup, 2, None)
+    records: list[object] = []
+    engine.run([], records.append)
+    assert engine.started_workers == 0 and not records and not ray.is_initialized()
