@@ -40,12 +40,9 @@ from typing import Any
 
 import numpy as np
 
-__all__ = ["BRAKE_ONSET", "KPI_UNITS", "MOVING", "STANDSTILL", "run_kpis", "subject_actor"]
+from osc2runner.output.stops import BRAKE_ONSET, MOVING, STANDSTILL
 
-# What a stop is, for time_to_stop_s and for the runner's braking.png (output/plots.py)
-STANDSTILL = 0.1  # m/s: slower than this is stopped
-BRAKE_ONSET = 0.05  # brake pedal above this is braking
-MOVING = 1.0  # m/s: braking from faster than this starts a stop
+__all__ = ["KPI_UNITS", "run_kpis", "subject_actor"]
 
 #: every KPI and its unit (for tables and reports), in the order shown
 KPI_UNITS: dict[str, str] = {

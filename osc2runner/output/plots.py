@@ -29,8 +29,8 @@ from matplotlib.collections import PolyCollection
 from matplotlib.figure import Figure
 
 from osc2check.world.network import RoadNetwork
-from osc2runner.campaign.kpis import BRAKE_ONSET, MOVING, STANDSTILL  # as time_to_stop_s
 from osc2runner.output.files import atomic_open
+from osc2runner.output.stops import BRAKE_ONSET, MOVING, STANDSTILL
 
 __all__ = ["brake_onsets", "plot_run"]
 
