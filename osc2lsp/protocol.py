@@ -53,7 +53,6 @@ from pygls.protocol.json_rpc import (
 from pygls.protocol.language_server import lsp_method
 
 from osc2lsp.framing import FrameReader, Garbled
-from osc2lsp.state import foreground, taking_turns
 
 if TYPE_CHECKING:
     from cattrs import Converter
@@ -184,24 +183,21 @@ class Osc2Protocol(LanguageServerProtocol):
             self._send_error(None, JsonRpcParseError("a frame whose body is not JSON"))
 
     def _send_data(self, data: Any) -> None:
-        """Serialise without the analysis thread's turns; write taking turns as usual (a
-        thread waiting for the lock during a long switch interval would wait long)."""
+        """As pygls' own, without logging each body and with a broken pipe logged once,
+        without a traceback (the client left)."""
         if not data:
             return
         if self.writer is None:
             log.error("no transport to send data to")
             return
-        with foreground():
-            body = json.dumps(data, default=self._serialize_message)
-            if self._include_headers:
-                body = (
-                    f"Content-Length: {len(body)}\r\n"
-                    f"Content-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n" + body
-                )
-            payload = body.encode(self.CHARSET)
+        body = json.dumps(data, default=self._serialize_message)
+        if self._include_headers:
+            body = (
+                f"Content-Length: {len(body)}\r\n"
+                f"Content-Type: {self.CONTENT_TYPE}; charset={self.CHARSET}\r\n\r\n" + body
+            )
         try:
-            with taking_turns():
-                result = self.writer.write(payload)
+            result = self.writer.write(body.encode(self.CHARSET))
             if inspect.isawaitable(result):
                 asyncio.ensure_future(result)
         except BrokenPipeError:
@@ -284,11 +280,10 @@ async def serve(protocol: Osc2Protocol, stdin: BinaryIO) -> None:
         if not data:
             log.info("end of input: stopping")
             return
-        with foreground():  # parse and dispatch without the analysis thread's turns
-            events = reader.feed(data)
-            for event in events:
-                if not isinstance(event, Garbled):
-                    protocol.dispatch(event)
+        events = reader.feed(data)
+        for event in events:
+            if not isinstance(event, Garbled):
+                protocol.dispatch(event)
         for event in events:
             if isinstance(event, Garbled):
                 protocol.garbled(event)

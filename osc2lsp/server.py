@@ -39,7 +39,7 @@ from osc2lsp import __version__, convert, lifeline
 from osc2lsp.features import legend
 from osc2lsp.options import SECTION, Options, from_settings
 from osc2lsp.protocol import Osc2Protocol, Refusal, converter, serve
-from osc2lsp.state import SWITCH, Findings, State, foreground
+from osc2lsp.state import SWITCH, Findings, State
 from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
 from osc2lsp.view import View
 
@@ -437,11 +437,10 @@ async def complete(ls: Osc2LanguageServer, params: types.CompletionParams):
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    with foreground():
-        result = completion.complete(
-            snap, text, ls.offset(lines, params.position), ls.options.completion_limit
-        )
-        return convert.to_lsp_completion(result, lines, ls.codec)
+    result = completion.complete(
+        snap, text, ls.offset(lines, params.position), ls.options.completion_limit
+    )
+    return convert.to_lsp_completion(result, lines, ls.codec)
 
 
 @SERVER.feature(
@@ -454,9 +453,8 @@ async def signature(ls: Osc2LanguageServer, params: types.SignatureHelpParams):
     uri = params.text_document.uri
     text, lines = ls.current(uri)
     snap = ls.state.latest(uri) or await ls.state.fresh(uri)
-    with foreground():
-        result = signature_help.signature_help(snap, text, ls.offset(lines, params.position))
-        return convert.to_lsp_signature_help(result)
+    result = signature_help.signature_help(snap, text, ls.offset(lines, params.position))
+    return convert.to_lsp_signature_help(result)
 
 
 # ---- reading: hover, navigation, symbols (fresh snapshot) -------------------------------
@@ -467,22 +465,20 @@ async def _view_at(
 ) -> tuple[View, int] | None:
     """The view to answer about ``position`` of the current text, and its offset there
     (``fresh``: the current version's analysis, waiting for it if need be)."""
-    with foreground():
-        text, lines = ls.current(uri)
-        offset = ls.offset(lines, position)
-        found = ls.state.view_now(uri, offset) if not fresh else None
+    text, lines = ls.current(uri)
+    offset = ls.offset(lines, position)
+    found = ls.state.view_now(uri, offset) if not fresh else None
     if found is None:
         snap = await ls.state.fresh(uri)
         if snap is None:
             return None
         found = (snap, None)
     snap, change = found
-    with foreground():
-        if change is None:
-            same = snap.text is text or snap.text == text
-            return View(snap, None, snap.lines), offset if same else ls.offset(snap.lines, position)
-        old = change.to_old(offset)
-        return View(snap, change, lines), old if old is not None else offset
+    if change is None:
+        same = snap.text is text or snap.text == text
+        return View(snap, None, snap.lines), offset if same else ls.offset(snap.lines, position)
+    old = change.to_old(offset)
+    return View(snap, change, lines), old if old is not None else offset
 
 
 async def _located(
@@ -494,18 +490,15 @@ async def _located(
     if found is None:
         return []
     view, offset = found
-    with foreground():
-        spans = find(view.snap, offset)
-        moved = view.spans(spans)
+    spans = find(view.snap, offset)
+    moved = view.spans(spans)
     if len(moved) < len(spans):  # it points into the edited text: ask the current version
         found = await _view_at(ls, uri, position, fresh=True)
         if found is None:
             return []
         view, offset = found
-        with foreground():
-            moved = view.spans(find(view.snap, offset))
-    with foreground():
-        return convert.to_lsp_locations(moved, view.lines_of, ls.uri_of, ls.codec)
+        moved = view.spans(find(view.snap, offset))
+    return convert.to_lsp_locations(moved, view.lines_of, ls.uri_of, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_HOVER)
@@ -516,11 +509,10 @@ async def on_hover(ls: Osc2LanguageServer, params: types.HoverParams):
     if found is None:
         return None
     view, offset = found
-    with foreground():
-        result = hover.hover(view.snap, offset)
-        if result is not None and result.span is not None:
-            result = replace(result, span=view.span(result.span))
-        return convert.to_lsp_hover(result, view.lines, ls.codec)
+    result = hover.hover(view.snap, offset)
+    if result is not None and result.span is not None:
+        result = replace(result, span=view.span(result.span))
+    return convert.to_lsp_hover(result, view.lines, ls.codec)
 
 
 @SERVER.feature(types.TEXT_DOCUMENT_DEFINITION)
@@ -769,7 +761,7 @@ def main(argv: list[str] | None = None) -> int:
     # Analyses make many long-lived objects; collect young ones less often so that a
     # collection does not land in the middle of a keystroke's request.
     gc.set_threshold(20_000, 20, 50)
-    # The analysis thread gives way to requests quickly (see state.foreground).
+    # The analysis thread gives way to requests quickly (see state.SWITCH).
     sys.setswitchinterval(SWITCH)
     if args.tcp:
         SERVER.start_tcp(args.host, args.port)

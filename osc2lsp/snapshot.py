@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import bisect
 from dataclasses import dataclass, field, replace
-from functools import cached_property
 from pathlib import Path
 
 from osc2check.analysis import Analysis
@@ -25,6 +24,7 @@ from osc2check.semantics.program import Program
 from osc2check.semantics.stdlib import standard_library
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ParseResult, ast, parse
+from osc2lsp.lazy import cached_property
 from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
 
 __all__ = [
@@ -60,6 +60,11 @@ def symbol_key(symbol: Symbol) -> tuple:
         symbol.name,
         symbol.kind,
     )
+
+
+# The cached properties of a snapshot that depend on its text and analysis only (not
+# on its findings): a snapshot with the solver's findings keeps them.
+_INDEXES = frozenset({"lines", "parse", "program", "model", "_names_by_file", "_name_starts"})
 
 
 @dataclass(frozen=True, eq=False)
@@ -114,8 +119,12 @@ class Snapshot:
         return self
 
     def with_findings(self, findings: list[Diagnostic]) -> Snapshot:
-        """This snapshot with the complete findings (the solver's checks included)."""
-        return replace(self, verified=True, findings=tuple(findings), _cache=self._cache)
+        """This snapshot with the complete findings (the solver's checks included), and
+        the indexes this one has built (the first request would build them again)."""
+        found = replace(self, verified=True, findings=tuple(findings), _cache=self._cache)
+        built = {k: v for k, v in vars(self).items() if k in _INDEXES}
+        vars(found).update(built)
+        return found
 
     @cached_property
     def _names_by_file(self) -> dict[str, list[NameEntry]]:

@@ -36,6 +36,10 @@ An analysis starts from the latest snapshot's parse: the segments the edits
 touched are parsed again and spliced into it (``Revision.parse``,
 ``osc2check.syntax.incremental``), the rest is reused or moved.
 
+A new snapshot's findings are published as soon as the analysis ends; requests see
+the snapshot once the indexes they use are built, on the analysis thread
+(``_settle``), and the previous snapshot answers meanwhile.
+
 A replaced snapshot is freed by reference counting (the checker's analyses hold
 no reference cycles), on the analysis thread: freeing a 10,000-line document's
 analysis holds the interpreter lock for a few tens of milliseconds, which a
@@ -55,11 +59,9 @@ import gc
 import logging
 import os
 import re
-import sys
 import time
-from collections.abc import Callable, Iterator, Mapping
+from collections.abc import Callable, Mapping
 from concurrent.futures import ThreadPoolExecutor
-from contextlib import contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -77,48 +79,15 @@ if TYPE_CHECKING:
 
 log = logging.getLogger(__name__)
 
-# The interpreter lock passes between threads every SWITCH seconds; a request keeps it
-# for up to FOREGROUND seconds (see ``foreground``).
+# The interpreter lock passes between threads every SWITCH seconds (Python's default is
+# 5 ms): a request waiting for the analysis thread to give it up waits that long, and
+# it waits several times per request (reading, answering).
 SWITCH = 0.001
-FOREGROUND = 0.05
 QUIET_FREE = 0.5  # seconds without edits or analyses before replaced snapshots are freed
 MAX_REPLACED = 3  # replaced snapshots kept until then, at most (about 13 MB each at 10,000 lines)
 QUIET_COLLECTION = 30.0  # seconds without edits or analyses before a full collection
 
 LinesOf = Callable[[str], "LineIndex | None"]
-
-
-@contextmanager
-def foreground() -> Iterator[None]:
-    """Answer a request without the analysis thread taking turns.
-
-    Both threads run Python, so they share the interpreter lock: the one waiting
-    for it takes it after the switch interval. While a request computes its answer
-    (no waiting for I/O inside), the interval is long, so the analysis waits
-    instead of halving the request's speed; it is short again before the answer
-    is written.
-    """
-    with _switch_interval(max, FOREGROUND):
-        yield
-
-
-@contextmanager
-def taking_turns() -> Iterator[None]:
-    """Around blocking I/O inside ``foreground``: the usual short switch interval (the
-    lock is released while blocked, and taking it back must not wait long)."""
-    with _switch_interval(min, SWITCH):
-        yield
-
-
-@contextmanager
-def _switch_interval(choose: Callable[[float, float], float], value: float) -> Iterator[None]:
-    """The switch interval ``choose(current, value)`` inside, the current one after."""
-    previous = sys.getswitchinterval()
-    sys.setswitchinterval(choose(previous, value))
-    try:
-        yield
-    finally:
-        sys.setswitchinterval(previous)
 
 
 def analyse(
@@ -482,28 +451,35 @@ class State:
             doc.analysis_seconds = time.perf_counter() - began
             del revisions  # they hold the replaced snapshots
             published: list[Findings] = []
-            replaced = self._replaced
+            taken: list[tuple[Document, Snapshot]] = []
             for d in batch:
                 snap = snapshots.get(d.uri)
-                current = self.documents.get(d.uri)
-                if snap is None or current is not d:
+                if snap is None or self.documents.get(d.uri) is not d:
                     continue
-                if d.snapshot is None or not _newer(d.snapshot.version, snap.version):
-                    if d.snapshot is not None:
-                        replaced.append(d.snapshot)
-                    d.replace_snapshot(snap)
+                if d.snapshot is None:
+                    d.replace_snapshot(snap)  # nothing older to answer from meanwhile
+                elif not _newer(d.snapshot.version, snap.version):
+                    taken.append((d, snap))
                 if snap.version == d.version:
                     published.append(findings_of(snap))
-                self._wake(d)
             self._publish(uri, published)
-            if self.options.verify and published and not doc.library:
-                self._schedule_solver(uri)
-            oldest = replaced[: max(len(replaced) - MAX_REPLACED, 0)]
+            # Requests see the new snapshots once their indexes are built (on the
+            # analysis thread); until then the previous ones answer.
+            replaced = self._replaced
+            oldest = replaced[: max(len(replaced) + len(taken) - MAX_REPLACED, 0)]
             del replaced[: len(oldest)]
             if snapshots or oldest:
-                await loop.run_in_executor(
-                    self._executor, _settle, list(snapshots.values()), oldest
-                )
+                built = list(snapshots.values())
+                await loop.run_in_executor(self._executor, _settle, built, oldest)
+            for d, snap in taken:
+                if self.documents.get(d.uri) is d and d.snapshot is not None:
+                    replaced.append(d.snapshot)
+                    d.replace_snapshot(snap)
+            for d in batch:
+                if d.uri in snapshots and self.documents.get(d.uri) is d:
+                    self._wake(d)
+            if self.options.verify and published and not doc.library:
+                self._schedule_solver(uri)
             self._when_quiet()
 
     def _when_quiet(self) -> None:

@@ -22,7 +22,6 @@ from __future__ import annotations
 import dataclasses
 import re
 from dataclasses import dataclass
-from functools import cached_property
 from pathlib import Path
 
 from osc2check.gc_pause import gc_paused
@@ -36,6 +35,7 @@ from osc2check.syntax.ast import Name, Node  # the class body's `ast` is the fie
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import Token, tokenize
 from osc2check.syntax.parser import parse_part
+from osc2lsp.lazy import cached_property
 from osc2lsp.snapshot import Snapshot
 from osc2lsp.text import TextMap
 

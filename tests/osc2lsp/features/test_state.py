@@ -4,13 +4,10 @@ from __future__ import annotations
 
 import asyncio
 import gc
-import sys
 import weakref
 
-import pytest
-
 from osc2lsp.options import Options
-from osc2lsp.state import FOREGROUND, MAX_REPLACED, SWITCH, State, foreground, taking_turns
+from osc2lsp.state import MAX_REPLACED, State
 from tests.osc2lsp.cli_findings import cli_findings
 
 
@@ -209,27 +206,36 @@ def test_replaced_snapshots_are_freed_without_the_cyclic_collector():
     assert freed == [True] * 5 + [False]
 
 
-def _interval() -> pytest.approx:
-    """The switch interval, to within microseconds (the interpreter keeps whole
-    microseconds, truncated: a restored 0.05 s can come back as 0.049999 s)."""
-    return pytest.approx(sys.getswitchinterval(), abs=1e-5)
+def test_requests_only_see_snapshots_whose_indexes_are_built():
+    """A new snapshot becomes the latest once the analysis thread has built what requests
+    use (names by position, line starts); while it does, the previous one answers, also
+    when the new findings are already published."""
+    text = "scenario s:\n    x: int = {}\n    keep(x > 0)\n"
+    uri = "file:///tmp/indexes.osc"
+    seen = []
+
+    async def scenario():
+        def publish(trigger, found):
+            seen.append(state.latest(uri))
+
+        state = State(Options(debounce=0, verify=False), publish)
+        state.open(uri, text.format(1), 1)
+        seen.append(await state.fresh(uri))
+        for version in range(2, 5):
+            state.change(uri, text.format(version), version)
+            seen.append(await state.fresh(uri))
+        await state.shutdown()
+
+    _run(scenario())
+    later = [snap for snap in seen if snap is not None and snap.version != 1]
+    assert {snap.version for snap in later} == {2, 3, 4}
+    assert all("_name_starts" in vars(snap) for snap in later)
 
 
-def test_requests_keep_the_interpreter_lock_longer_except_around_io():
-    before = sys.getswitchinterval()
-    sys.setswitchinterval(SWITCH)
-    try:
-        with foreground():
-            assert _interval() == FOREGROUND
-            with taking_turns():
-                assert _interval() == SWITCH
-            assert _interval() == FOREGROUND
-        assert _interval() == SWITCH
-        sys.setswitchinterval(1.0)  # never shortened by foreground, never lengthened by I/O
-        with foreground():
-            assert _interval() == 1.0
-        with taking_turns():
-            assert _interval() == SWITCH
-        assert _interval() == 1.0
-    finally:
-        sys.setswitchinterval(before)
+def test_the_solvers_snapshot_keeps_the_built_indexes():
+    from osc2lsp.state import snapshot_of
+
+    snap = snapshot_of("scenario s:\n    x: int = 1\n").prepare()
+    verified = snap.with_findings([])
+    assert verified.verified and verified.diagnostics == []
+    assert verified.lines is snap.lines and verified._name_starts is snap._name_starts
