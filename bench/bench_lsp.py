@@ -3,7 +3,7 @@
 ``python bench/bench_lsp.py`` (the default) compares documents of 60, 2,000 and
 10,000 lines through the real protocol (the server runs as a subprocess,
 driven by pygls' client, with its default settings), typing words into names:
-``OSC2LSP_BENCH_WORDS`` (10) words of 4 keystrokes 150 ms apart, a pause of
+``OSC2LSP_BENCH_WORDS`` (20) words of 4 keystrokes 150 ms apart, a pause of
 1.5 s after each word:
 
 * first diagnostics after a keystroke: ``didChange`` sent → the first
@@ -443,7 +443,7 @@ def main() -> None:
         asyncio.run(protocol(text, "server default debounce 100 ms"))
         in_process(text)
         return
-    compare([60, 2000, 10_000], int(os.environ.get("OSC2LSP_BENCH_WORDS", "10")))
+    compare([60, 2000, 10_000], int(os.environ.get("OSC2LSP_BENCH_WORDS", "20")))
 
 
 if __name__ == "__main__":
