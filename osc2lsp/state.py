@@ -470,10 +470,13 @@ class State:
             del replaced[: len(oldest)]
             if snapshots or oldest:
                 built = list(snapshots.values())
-                await loop.run_in_executor(self._executor, _settle, built, oldest)
+                try:
+                    await loop.run_in_executor(self._executor, _settle, built, oldest)
+                except Exception:  # requests build what is missing
+                    log.exception("preparing the snapshots of %s failed", uri)
             for d, snap in taken:
                 if self.documents.get(d.uri) is d and d.snapshot is not None:
-                    replaced.append(d.snapshot)
+                    self._replaced.append(d.snapshot)  # (a quiet spell may have renewed it)
                     d.replace_snapshot(snap)
             for d in batch:
                 if d.uri in snapshots and self.documents.get(d.uri) is d:
