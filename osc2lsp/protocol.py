@@ -3,8 +3,9 @@
 pygls' ``LanguageServerProtocol`` does the dispatching; this subclass changes
 what it does wrong for an editor that must never lose its server:
 
-* **Frames** are read by ``framing.FrameReader``, which re-synchronises after a
-  frame with a wrong ``Content-Length`` (pygls' reader stays silent forever).
+* **Frames** are read by ``framing.FrameReader``, on stdio and on ``--tcp`` alike,
+  which re-synchronises after a frame with a wrong ``Content-Length`` (pygls'
+  reader stays silent forever).
 * **Invalid params** of a request are answered with ``-32602`` (pygls logs the
   error and never answers, so the client waits forever); a value of the wrong
   JSON type (``"newName": null``, a number for a URI) is invalid instead of
@@ -29,7 +30,7 @@ import logging
 import os
 import re
 import threading
-from collections.abc import Generator
+from collections.abc import Awaitable, Callable, Generator
 from concurrent.futures import Future
 from typing import TYPE_CHECKING, Any, BinaryIO
 
@@ -274,9 +275,27 @@ async def serve(protocol: Osc2Protocol, stdin: BinaryIO) -> None:
                 return
 
     threading.Thread(target=read, name="osc2lsp-stdin", daemon=True).start()
+    await _dispatch_frames(protocol, chunks.get)
+
+
+async def serve_stream(protocol: Osc2Protocol, stream: asyncio.StreamReader) -> None:
+    """Read frames from a connection (``--tcp``) and dispatch them until it ends."""
+
+    async def read() -> bytes:
+        try:
+            return await stream.read(1 << 16)
+        except OSError:  # reset by the client
+            return b""
+
+    await _dispatch_frames(protocol, read)
+
+
+async def _dispatch_frames(protocol: Osc2Protocol, read: Callable[[], Awaitable[bytes]]) -> None:
+    """Frames of the chunks ``read`` gives, dispatched, until an empty chunk (the end);
+    a damaged frame is skipped and reading goes on from the next one."""
     reader = FrameReader()
     while True:
-        data = await chunks.get()
+        data = await read()
         if not data:
             log.info("end of input: stopping")
             return
@@ -296,4 +315,5 @@ __all__ = [
     "Refusal",
     "converter",
     "serve",
+    "serve_stream",
 ]

@@ -26,6 +26,7 @@ import os
 import signal
 import sys
 import threading
+from collections.abc import Awaitable, Callable
 from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING, BinaryIO
@@ -38,7 +39,7 @@ from pygls.lsp.server import LanguageServer
 from osc2lsp import __version__, convert, lifeline
 from osc2lsp.features import legend
 from osc2lsp.options import SECTION, Options, from_settings
-from osc2lsp.protocol import Osc2Protocol, Refusal, converter, serve
+from osc2lsp.protocol import Osc2Protocol, Refusal, converter, serve, serve_stream
 from osc2lsp.state import SWITCH, Findings, State
 from osc2lsp.text import LineIndex, key_to_uri, uri_to_key
 from osc2lsp.view import View
@@ -188,11 +189,48 @@ class Osc2LanguageServer(LanguageServer):
 
     def start_io(self, stdin: BinaryIO | None = None, stdout: BinaryIO | None = None) -> None:
         """Serve over stdio until ``exit``, end of input, or the editor's end."""
-        self._stop_event = threading.Event()
         self.protocol.set_writer(StdoutWriter(stdout or sys.stdout.buffer))
+        assert isinstance(self.protocol, Osc2Protocol)
+        self._run(functools.partial(serve, self.protocol, stdin or sys.stdin.buffer))
+
+    def start_tcp(self, host: str, port: int) -> None:
+        """Serve the first client to connect on ``host``:``port`` until ``exit``, the
+        end of its connection, or the editor's end (one client per server, as pygls)."""
+        self._run(functools.partial(self._serve_connection, host, port))
+
+    async def _serve_connection(self, host: str, port: int) -> None:
+        loop = asyncio.get_running_loop()
+        connected: asyncio.Future[tuple[asyncio.StreamReader, asyncio.StreamWriter]]
+        connected = loop.create_future()
+
+        def accept(reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+            if connected.done():
+                log.warning("a second client connected: refused (one client per server)")
+                writer.close()
+                return
+            connected.set_result((reader, writer))
+
+        listening = await asyncio.start_server(accept, host, port)
+        addresses = ", ".join(str(s.getsockname()) for s in listening.sockets)
+        log.info("serving on %s", addresses)
+        try:
+            reader, writer = await connected
+        finally:
+            listening.close()
+        self.protocol.set_writer(writer)
+        assert isinstance(self.protocol, Osc2Protocol)
+        try:
+            await serve_stream(self.protocol, reader)
+        finally:
+            writer.close()
+
+    def _run(self, reading: Callable[[], Awaitable[None]]) -> None:
+        """Run ``reading`` (it reads and dispatches frames) until it ends, ``exit``, a
+        signal or the editor's end; then leave with ``exit``'s code."""
+        self._stop_event = threading.Event()
         code = 0
         try:
-            asyncio.run(self._serve(stdin or sys.stdin.buffer))
+            asyncio.run(self._serve(reading))
         except SystemExit as exc:  # `exit`: pygls answers it with sys.exit
             code = exc.code if isinstance(exc.code, int) else 0
         except KeyboardInterrupt:
@@ -201,20 +239,19 @@ class Osc2LanguageServer(LanguageServer):
             self.state.kill()  # if `shutdown` never came
         sys.exit(code)
 
-    async def _serve(self, stdin: BinaryIO) -> None:
+    async def _serve(self, reading: Callable[[], Awaitable[None]]) -> None:
         self._stop = asyncio.Event()
-        assert isinstance(self.protocol, Osc2Protocol)
-        reading = asyncio.ensure_future(serve(self.protocol, stdin))
+        frames = asyncio.ensure_future(reading())
         stopping = asyncio.ensure_future(self._stop.wait())
         loop = asyncio.get_running_loop()
         for sig in (signal.SIGTERM, signal.SIGHUP) if sys.platform != "win32" else ():
             loop.add_signal_handler(sig, self._stop.set)
         try:
-            await asyncio.wait({reading, stopping}, return_when=asyncio.FIRST_COMPLETED)
-            if reading.done():
-                reading.result()  # SystemExit from `exit` surfaces here
+            await asyncio.wait({frames, stopping}, return_when=asyncio.FIRST_COMPLETED)
+            if frames.done():
+                frames.result()  # SystemExit from `exit` surfaces here
         finally:
-            for task in (reading, stopping):
+            for task in (frames, stopping):
                 task.cancel()
             await self.state.shutdown()
 
@@ -739,7 +776,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="osc2lsp", description="Language server for ASAM OpenSCENARIO DSL 2.x"
     )
-    parser.add_argument("--tcp", action="store_true", help="serve on TCP instead of stdio")
+    parser.add_argument(
+        "--tcp",
+        action="store_true",
+        help="serve the first client to connect on TCP instead of stdio",
+    )
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=2087)
     parser.add_argument(

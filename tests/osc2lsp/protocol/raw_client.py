@@ -1,13 +1,15 @@
-"""A bare JSON-RPC client on pipes, for what a real client cannot send: frames with a
-wrong length, params of the wrong type, a server to kill. Synchronous (it also
-drives the hypothesis storms); every wait has a deadline and waits on the
-server's output, never on a clock."""
+"""A bare JSON-RPC client on pipes (or a TCP connection: ``tcp=True``), for what a real
+client cannot send: frames with a wrong length, params of the wrong type, a server to
+kill. Synchronous (it also drives the hypothesis storms); every wait has a deadline
+and waits on the server's output, never on a clock (but connecting to ``--tcp``,
+retried until the server listens)."""
 
 from __future__ import annotations
 
 import json
 import os
 import selectors
+import socket
 import subprocess
 import sys
 import time
@@ -21,25 +23,32 @@ TIMEOUT = 60
 
 
 class RawClient:
-    """``python -m osc2lsp`` on pipes; its stderr goes to ``log`` (a file)."""
+    """``python -m osc2lsp`` on pipes (``tcp``: connected to ``--tcp``); its stderr goes
+    to ``log`` (a file)."""
 
-    def __init__(self, log: Path, *args: str, settings: dict | None = None):
+    def __init__(self, log: Path, *args: str, settings: dict | None = None, tcp: bool = False):
         env = dict(os.environ)
         env["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), env.get("PYTHONPATH")) if p)
         self.log = log
         self._stderr = open(log, "wb")  # noqa: SIM115 - closed in close()
+        port = _free_port() if tcp else 0
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "osc2lsp", *args],
+            [sys.executable, "-m", "osc2lsp", *args, *(["--tcp", "--port", str(port)] * tcp)],
             stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
+            stdout=subprocess.DEVNULL if tcp else subprocess.PIPE,
             stderr=self._stderr,
             env=env,
         )
+        self._socket = _connect(port, self.process) if tcp else None
         self._reader = FrameReader()
         self._selector = selectors.DefaultSelector()
-        assert self.process.stdout is not None
-        os.set_blocking(self.process.stdout.fileno(), False)
-        self._selector.register(self.process.stdout, selectors.EVENT_READ)
+        if self._socket is not None:
+            self._socket.setblocking(False)
+            self._selector.register(self._socket, selectors.EVENT_READ)
+        else:
+            assert self.process.stdout is not None
+            os.set_blocking(self.process.stdout.fileno(), False)
+            self._selector.register(self.process.stdout, selectors.EVENT_READ)
         self.inbox: list[Any] = []
         self._next_id = 0
         self.settings = settings
@@ -47,6 +56,11 @@ class RawClient:
     # ---- sending -------------------------------------------------------------------
 
     def send_bytes(self, data: bytes) -> None:
+        if self._socket is not None:
+            self._socket.setblocking(True)
+            self._socket.sendall(data)
+            self._socket.setblocking(False)
+            return
         assert self.process.stdin is not None
         self.process.stdin.write(data)
         self.process.stdin.flush()
@@ -77,8 +91,16 @@ class RawClient:
         events = self._selector.select(max(deadline - time.monotonic(), 0))
         if not events:
             return True
-        assert self.process.stdout is not None
-        data = self.process.stdout.read()
+        if self._socket is not None:
+            try:
+                data = self._socket.recv(1 << 16)
+            except BlockingIOError:
+                return True
+            except OSError:
+                return False
+        else:
+            assert self.process.stdout is not None
+            data = self.process.stdout.read()
         if not data:
             return False
         for event in self._reader.feed(data):
@@ -167,11 +189,29 @@ class RawClient:
             except (OSError, TimeoutError, EOFError, subprocess.TimeoutExpired):
                 self.process.kill()
                 self.process.wait()
-        for stream in (self.process.stdin, self.process.stdout):
+        for stream in (self.process.stdin, self.process.stdout, self._socket):
             if stream is not None:
                 stream.close()
         self._selector.close()
         self._stderr.close()
+
+
+def _free_port() -> int:
+    with socket.socket() as probe:
+        probe.bind(("127.0.0.1", 0))
+        return probe.getsockname()[1]
+
+
+def _connect(port: int, process: subprocess.Popen) -> socket.socket:
+    """A connection to the server listening on ``port`` (once it listens)."""
+    deadline = time.monotonic() + TIMEOUT
+    while True:
+        try:
+            return socket.create_connection(("127.0.0.1", port), timeout=TIMEOUT)
+        except OSError:
+            if process.poll() is not None or time.monotonic() > deadline:
+                raise
+            time.sleep(0.05)  # the server is still starting
 
 
 def children(pid: int) -> list[int]:

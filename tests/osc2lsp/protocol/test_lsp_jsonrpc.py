@@ -92,3 +92,51 @@ def test_the_end_of_input_ends_the_server(server):
     assert server.process.stdin is not None
     server.process.stdin.close()
     assert server.wait_exit() in (0, 1)
+
+
+# ---- the same frames on `--tcp` -------------------------------------------------------
+
+
+@pytest.fixture
+def tcp_server(tmp_path):
+    client = RawClient(
+        tmp_path / "stderr.log", "--log-level", "INFO", settings={"verify": False}, tcp=True
+    )
+    client.initialize()
+    client.open(URI, TEXT)
+    client.diagnostics(URI, 1)
+    yield client
+    client.close()
+
+
+@pytest.mark.parametrize("length_error", [-12, 30])
+def test_on_tcp_a_frame_with_a_wrong_length_does_not_silence_the_server(tcp_server, length_error):
+    tcp_server.request("textDocument/hover", HOVER, length_error=length_error)
+    tcp_server.send_bytes(b"\r\nhello world\r\n")
+    after = tcp_server.call("textDocument/hover", HOVER)
+    assert "x" in after["result"]["contents"]["value"]
+    assert "reading on from the next frame" in tcp_server.stderr()
+    bad_line = dict(HOVER, position={"line": "3", "character": 5})
+    assert tcp_server.call("textDocument/hover", bad_line)["error"]["code"] == -32602
+
+
+def test_on_tcp_shutdown_and_exit_end_the_server(tcp_server):
+    assert tcp_server.call("shutdown")["result"] is None
+    tcp_server.notify("exit")
+    assert tcp_server.wait_exit() == 0
+
+
+def test_on_tcp_the_end_of_the_connection_ends_the_server(tcp_server):
+    assert tcp_server._socket is not None
+    tcp_server._socket.close()
+    assert tcp_server.wait_exit() in (0, 1)
+
+
+def test_on_tcp_the_port_stops_listening_once_a_client_connects(tcp_server):
+    import socket
+
+    assert tcp_server._socket is not None
+    port = tcp_server._socket.getpeername()[1]
+    with pytest.raises(ConnectionRefusedError):
+        socket.create_connection(("127.0.0.1", port), timeout=30).close()
+    assert "x" in tcp_server.call("textDocument/hover", HOVER)["result"]["contents"]["value"]
