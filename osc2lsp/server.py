@@ -210,7 +210,11 @@ class Osc2LanguageServer(LanguageServer):
                 return
             connected.set_result((reader, writer))
 
-        listening = await asyncio.start_server(accept, host, port)
+        try:
+            listening = await asyncio.start_server(accept, host, port)
+        except OSError as exc:  # a port in use, an unknown host
+            print(f"osc2lsp: cannot listen on {host}:{port}: {exc.strerror}", file=sys.stderr)
+            raise SystemExit(2) from None
         addresses = ", ".join(str(s.getsockname()) for s in listening.sockets)
         log.info("serving on %s", addresses)
         try:

@@ -140,3 +140,24 @@ def test_on_tcp_the_port_stops_listening_once_a_client_connects(tcp_server):
     with pytest.raises(ConnectionRefusedError):
         socket.create_connection(("127.0.0.1", port), timeout=30).close()
     assert "x" in tcp_server.call("textDocument/hover", HOVER)["result"]["contents"]["value"]
+
+
+def test_on_tcp_a_port_in_use_is_a_clear_error_with_exit_2():
+    import socket
+    import subprocess
+    import sys
+
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        server = subprocess.run(
+            [sys.executable, "-m", "osc2lsp", "--tcp", "--port", str(port)],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            stdin=subprocess.DEVNULL,
+        )
+    assert server.returncode == 2
+    assert f"cannot listen on 127.0.0.1:{port}" in server.stderr
+    assert "Traceback" not in server.stderr
