@@ -10,6 +10,18 @@ REPO = Path(__file__).resolve().parents[2]
 SEED = REPO / "tests" / "data" / "seed" / "cut_in_and_stop.osc"  # vendored
 CURSOR = "$0"
 URI = "file:///tmp/osc2lsp-tests/document.osc"
+# Two `keep`s no speed satisfies: only the solver's phase finds it (C401).
+CONFLICT = """import osc.standard
+
+scenario cruise_band:
+    hero: vehicle
+    cruise: speed
+    keep(cruise in [30kph..50kph])
+    keep(cruise > 60kph)
+    do hero.drive(duration: 10s) with:
+        lane(1, at: start)
+        speed(cruise)
+"""
 
 
 def seed_path() -> Path:

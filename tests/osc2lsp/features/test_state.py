@@ -9,6 +9,7 @@ import weakref
 from osc2lsp.options import Options
 from osc2lsp.state import MAX_REPLACED, State
 from tests.osc2lsp.cli_findings import cli_findings
+from tests.osc2lsp.lsp_helpers import CONFLICT
 
 
 def _run(coro):
@@ -87,19 +88,6 @@ def test_closed_workspace_files_that_mention_a_name_are_analysed(tmp_path):
     found, again = _run(scenario())
     assert [s.key.rsplit("/", 1)[-1] for s in found] == ["user.osc"]
     assert again[0] is found[0]  # cached until the file changes
-
-
-CONFLICT = """import osc.standard
-
-scenario cruise_band:
-    hero: vehicle
-    cruise: speed
-    keep(cruise in [30kph..50kph])
-    keep(cruise > 60kph)
-    do hero.drive(duration: 10s) with:
-        lane(1, at: start)
-        speed(cruise)
-"""
 
 
 def test_the_solver_phase_adds_its_findings_after_the_first():

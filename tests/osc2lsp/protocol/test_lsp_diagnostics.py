@@ -6,7 +6,7 @@ import pytest
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
-from tests.osc2lsp.lsp_helpers import REPO, seed_text
+from tests.osc2lsp.lsp_helpers import CONFLICT, REPO, seed_text
 from tests.osc2lsp.protocol.lsp_session import (
     close_document,
     diagnostics,
@@ -133,19 +133,6 @@ async def test_diagnostics_of_a_document_that_does_not_parse(client: LanguageCli
     found = await diagnostics(client, doc_uri)
     assert any(d.code.startswith("P") for d in found)
     close_document(client, doc_uri)
-
-
-CONFLICT = """import osc.standard
-
-scenario cruise_band:
-    hero: vehicle
-    cruise: speed
-    keep(cruise in [30kph..50kph])
-    keep(cruise > 60kph)
-    do hero.drive(duration: 10s) with:
-        lane(1, at: start)
-        speed(cruise)
-"""
 
 
 async def test_diagnostics_of_the_solver_follow_the_first_ones(client: LanguageClient, doc_uri):

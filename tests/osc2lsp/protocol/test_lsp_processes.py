@@ -11,22 +11,12 @@ import sys
 
 import pytest
 
+from tests.osc2lsp.lsp_helpers import CONFLICT
 from tests.osc2lsp.protocol.raw_client import RawClient, children, command_line, wait_gone
 
 pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
 
 URI = "file:///tmp/osc2lsp-tests/processes.osc"
-CONFLICT = """import osc.standard
-
-scenario cruise_band:
-    hero: vehicle
-    cruise: speed
-    keep(cruise in [30kph..50kph])
-    keep(cruise > 60kph)
-    do hero.drive(duration: 10s) with:
-        lane(1, at: start)
-        speed(cruise)
-"""
 
 
 def _with_solver(tmp_path) -> tuple[RawClient, int]:

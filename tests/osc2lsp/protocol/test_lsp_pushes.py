@@ -15,21 +15,11 @@ import pytest
 from pygls.protocol import default_converter
 from pytest_lsp import client_capabilities
 
+from tests.osc2lsp.lsp_helpers import CONFLICT
 from tests.osc2lsp.protocol.raw_client import RawClient
 from tests.osc2lsp.storms import Edit, lsp_position
 
 CLEAN = "import osc.standard\nscenario clean:\n    x: int = 1\n    keep(x > 0)\n"  # both phases
-CONFLICT = """import osc.standard
-
-scenario cruise_band:
-    hero: vehicle
-    cruise: speed
-    keep(cruise in [30kph..50kph])
-    keep(cruise > 60kph)
-    do hero.drive(duration: 10s) with:
-        lane(1, at: start)
-        speed(cruise)
-"""
 
 
 def _emacs() -> dict:
