@@ -14,6 +14,7 @@ fails the phase when a value known only at run time is outside it.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 from fractions import Fraction
@@ -23,13 +24,27 @@ __all__ = [
     "FRICTION_RANGE",
     "ArgumentLimit",
     "friction_problem",
+    "mps_to_mmph",
     "rain_problem",
 ]
 
 #: road friction coefficients the world takes: above the first, at most the second
 FRICTION_RANGE = (Fraction(0), Fraction(2))
-#: m/s of a volumetric flux to mm/h, for messages
-MPS_TO_MMPH = 3_600_000
+
+
+def mps_to_mmph(value: float) -> float:
+    """A volumetric flux in m/s, in the library's `mmph` (the standard's factor, so a
+    scenario's `5mmph` reads back as 5)."""
+    return value / _mmph_factor()
+
+
+@functools.cache
+def _mmph_factor() -> float:
+    from osc2check.semantics.stdlib import standard_library
+
+    unit = standard_library().model.unit("mmph")
+    assert unit is not None and unit.factor is not None, "the library declares mmph"
+    return float(unit.factor)
 
 
 @dataclass(frozen=True, slots=True)
@@ -69,7 +84,7 @@ def rain_problem(value: object) -> str | None:
     """Why ``value`` (m/s) is not a rain intensity (None when it is one)."""
     if isinstance(value, (int, float)) and math.isfinite(value) and value >= 0.0:
         return None
-    given = f"{value * MPS_TO_MMPH:.6g} mm/h" if isinstance(value, (int, float)) else repr(value)
+    given = f"{mps_to_mmph(value):.6g} mm/h" if isinstance(value, (int, float)) else repr(value)
     return f"rain intensity must be finite and not negative, got {given}"
 
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 from collections.abc import Callable
 
 from osc2check.syntax import ast
-from osc2check.world.limits import FRICTION_RANGE, MPS_TO_MMPH, friction_problem, rain_problem
+from osc2check.world.limits import FRICTION_RANGE, friction_problem, mps_to_mmph, rain_problem
 from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
 from osc2runner.compile.expressions import is_constant
 from osc2runner.compile.registry import action
@@ -77,7 +77,7 @@ class Rain(InstantAction):
         if why is not None:
             raise ActionError(why)
         update_weather(self, "rain")
-        mmph = float(self.args["intensity"]) * MPS_TO_MMPH
+        mmph = mps_to_mmph(float(self.args["intensity"]))
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.attached_world
         world.set_weather(rain=level)
