@@ -2,39 +2,19 @@
 
 from __future__ import annotations
 
-from osc2runner import run
+from tests.osc2runner.test_actions_world import LIGHT, run_text
+from tests.osc2runner.test_actions_world import _light_changes as _changes
 
-HEADER = "import osc.standard\n\nscenario s:\n"
-
-LIGHTS = """\
-    ctrl: traffic_light_controller
+GROUPS = """\
     north: traffic_light_group with:
         keep(it.map_id == "north")
     south: traffic_light_group with:
         keep(it.map_id == "south")
-    tl: traffic_light with:
-        keep(it.pose.position.x == 120m)
-        keep(it.pose.position.y == -1m)
-        keep(it.group.map_id == "north")
-    tl2: traffic_light with:
-        keep(it.pose.position.x == 200m)
-        keep(it.pose.position.y == -1m)
-        keep(it.group.map_id == "north")
 """
 
 
 def _run(tmp_path, body: str):
-    source = tmp_path / "s.osc"
-    source.write_text(HEADER + LIGHTS + body)
-    return run(source)
-
-
-def _changes(result, name: str) -> list[tuple[float, str]]:
-    return [
-        (r.time, r.detail.split(" ")[0])
-        for r in result.events
-        if r.kind == "traffic_light" and r.name == name
-    ]
+    return run_text(tmp_path, LIGHT + GROUPS + body)
 
 
 def test_group_actions_set_every_light_of_the_group(tmp_path):
