@@ -263,6 +263,7 @@ def build_world(
     routes = {a.name: a.route for a in c.instance.witness.actors}
     controllers = controllers_for(world, routes, ctx.seed)
     ctx.attach(world, controllers)
+    seat: dict[str, str] | None = None
     if sut is not None and sut_actor is not None:
         params = world.params(sut_actor)
         assert isinstance(params, VehicleParams)
@@ -271,12 +272,10 @@ def build_world(
         if callable(reset):
             reset(sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name))
         drive_with_sut(controllers, world, ctx.states, sut_actor, instance)
+        seat = {"class": sut.target, "actor": sut_actor}
     for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
-    prepared = Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world)
-    if sut is not None and sut_actor is not None:
-        prepared.sut = {"class": sut.target, "actor": sut_actor}
-    return prepared
+    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world, seat)
 
 
 def _sut_actor(c: Compiled, sut: SutSpec) -> str:

@@ -42,8 +42,7 @@ def _teleport(
 
 def _not_hitched(action: InstantAction) -> None:
     """A hitched trailer moves with its tow vehicle: it cannot be put elsewhere."""
-    world = action.ctx.world
-    tow = world.hitched.get(action.actor.name) if world is not None else None
+    tow = action.ctx.attached_world.hitched.get(action.actor.name)
     if tow is not None:
         raise ActionError(
             f"`{action.actor.name}` is hitched to `{tow}` and moves with it "

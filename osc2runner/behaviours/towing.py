@@ -68,8 +68,7 @@ class ConnectTrailer(InstantAction):
 
     def start(self) -> None:
         trailer = _trailer_argument(self.args.get("trailer"))
-        world = self.ctx.world
-        assert world is not None
+        world = self.ctx.attached_world
         tow = self.actor.name
         if world.hitched.get(trailer.name) == tow:
             moved = 0.0  # hitched from the start, where the checker placed it
@@ -93,8 +92,7 @@ class DisconnectTrailer(InstantAction):
     """Unhitch the trailer the vehicle tows (see the module docstring)."""
 
     def start(self) -> None:
-        world = self.ctx.world
-        assert world is not None
+        world = self.ctx.attached_world
         tow = self.actor.name
         try:
             trailer = world.disconnect(tow)

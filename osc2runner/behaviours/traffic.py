@@ -102,6 +102,14 @@ def _group_id(value: Any) -> str:
     return str(getattr(value, "map_id", ""))
 
 
+def _group_lights(ctx: RunContext, group: Any) -> list[TrafficLight]:
+    """The scenario's lights of the ``traffic_light_group`` value ``group``; none is an error."""
+    lights = _group(ctx, _group_id(group))
+    if not lights:
+        raise ActionError("no traffic light of the scenario is in this group")
+    return lights
+
+
 @action("traffic_light_controller", "set_bulb_state")
 class SetBulbState(InstantAction):
     """``set_bulb_state(traffic_light, bulb_color, bulb_kind, bulb_state, sync)``: one bulb
@@ -153,10 +161,7 @@ class SetGroupState(InstantAction):
     """``set_group_state(group, state: list of bulb_state)``: every light of the group."""
 
     def start(self) -> None:
-        lights = _group(self.ctx, _group_id(self.args["group"]))
-        if not lights:
-            raise ActionError("no traffic light of the scenario is in this group")
-        _by_position(self, lights, self.args["state"])
+        _by_position(self, _group_lights(self.ctx, self.args["group"]), self.args["state"])
 
 
 @action("traffic_light_controller", "set_group_semantic_state")
@@ -164,9 +169,7 @@ class SetGroupSemanticState(InstantAction):
     """``set_group_semantic_state(traffic_light_group, state)``: every light of the group."""
 
     def start(self) -> None:
-        lights = _group(self.ctx, _group_id(self.args["traffic_light_group"]))
-        if not lights:
-            raise ActionError("no traffic light of the scenario is in this group")
+        lights = _group_lights(self.ctx, self.args["traffic_light_group"])
         switch(self, lights, _semantic(str(self.args["state"])))
 
 

@@ -113,14 +113,10 @@ class CompileEnvironment:
         run, n, p = self.run, actor.name, actor.params
 
         def tow() -> str | None:
-            world = run.world
-            assert world is not None
-            return world.hitched.get(n)
+            return run.attached_world.hitched.get(n)
 
         def towing() -> bool:
-            world = run.world
-            assert world is not None
-            return world.towing(n) is not None
+            return run.attached_world.towing(n) is not None
 
         if member == "trailer_receiver" and isinstance(p, VehicleParams):
             if p.receiver_x is None:

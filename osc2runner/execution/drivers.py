@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from osc2check.world.carriageways import carriageways, lane_at
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
+from osc2runner.sim.controllers import resolve_lane
 from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
@@ -115,17 +115,10 @@ class WalkerLateral:
         self.error = 0.0  # last lateral error (m, positive: left of the target)
         self.route = None  # walkers follow no route of lanes
 
-    def _lane(self, lane: LaneRef | int, state: ActorState | None) -> LaneRef:
-        if isinstance(lane, LaneRef):
-            return lane
-        if state is not None and state.road is not None and state.direction:
-            return self.network.lane_from_osc2_index(state.road, state.s, lane, state.direction)
-        return lane_at(self.network, carriageways(self.network)[0], 0.0, lane)
-
     def keep_lane(
         self, lane: LaneRef | int, offset: float = 0.0, state: ActorState | None = None
     ) -> None:
-        self.path = (self._lane(lane, state), offset)
+        self.path = (resolve_lane(self.network, lane, state), offset)
 
     def hold(self, state: ActorState) -> None:
         if math.isfinite(state.offset):

@@ -64,6 +64,7 @@ __all__ = [
     "SpeedGains",
     "StanleyController",
     "VehicleController",
+    "resolve_lane",
 ]
 
 RATE_PROFILES = ("none", "constant", "smooth", "asap", "rate_peak")
@@ -394,6 +395,16 @@ class LateralPath:
         return (self.o0 + change * blend, change * rate / length + goal_slope * blend)
 
 
+def resolve_lane(network: RoadNetwork, lane: LaneRef | int, state: ActorState | None) -> LaneRef:
+    """The lane ``lane`` names: itself, or the lane of that OSC2 number (1 = rightmost in
+    the direction of travel) where ``state`` is, else on the map's first carriageway."""
+    if isinstance(lane, LaneRef):
+        return lane
+    if state is not None and state.road is not None and state.direction:
+        return network.lane_from_osc2_index(state.road, state.s, lane, state.direction)
+    return lane_at(network, carriageways(network)[0], 0.0, lane)
+
+
 class StanleyController:
     """Lateral control on the front axle along a route of lane centre lines.
 
@@ -447,13 +458,6 @@ class StanleyController:
         """Pass the roads ``towards`` (ids, in order) at the next forks."""
         self.towards = list(towards)
 
-    def _lane_of(self, lane: LaneRef | int, state: ActorState | None) -> LaneRef:
-        if isinstance(lane, LaneRef):
-            return lane
-        if state is not None and state.road is not None and state.direction:
-            return self.network.lane_from_osc2_index(state.road, state.s, lane, state.direction)
-        return lane_at(self.network, carriageways(self.network)[0], 0.0, lane)
-
     def _follow(self, lane: LaneRef) -> None:
         towards = list(self.towards)
         while towards and towards[0] == lane.road:
@@ -472,7 +476,7 @@ class StanleyController:
         """Follow the centre of ``lane`` (plus ``offset`` m to the left) along its route;
         a lane number counts from the right where the vehicle is (``state``), or on the
         map's first carriageway."""
-        self._follow(self._lane_of(lane, state))
+        self._follow(resolve_lane(self.network, lane, state))
         self.path = LateralPath.constant(offset)
         self._then = None
 
@@ -503,7 +507,7 @@ class StanleyController:
         ``lane`` is a lane of the road the vehicle is on, or its number counted from the
         right there. Returns the offset profile now followed.
         """
-        target = self._lane_of(lane, state)
+        target = resolve_lane(self.network, lane, state)
         here = state.lane_ref
         if self.route is None or here is None:
             self.keep_lane(target, offset)
