@@ -13,8 +13,7 @@ HEADER = "import osc.standard\n\nscenario s:\n"
 def run_text(tmp_path, body: str, **kwargs):
     source = tmp_path / "s.osc"
     source.write_text(HEADER + body)
-    result = run(source, **kwargs)
-    return result
+    return run(source, **kwargs)
 
 
 def test_space_gap_is_reached_and_held(tmp_path):

@@ -390,6 +390,29 @@ LIGHT = """\
         keep(it.group.map_id == "north")
 """
 
+#: a two-phase cycle of the group "north": red 4 s, then green 6 s (the red bulb's state is
+#: given, the green one's not: a listed bulb without a state is on)
+CYCLE = """\
+    red_bulb: traffic_light_bulb with:
+        keep(it.color == red)
+        keep(it.icon == circle)
+        keep(it.state == is_on)
+    green_bulb: traffic_light_bulb with:
+        keep(it.color == green)
+        keep(it.icon == circle)
+    stop_phase: traffic_light_phase with:
+        keep(it.bulbs_state == [red_bulb])
+        keep(it.duration == 4s)
+        keep(it.group.map_id == "north")
+    go_phase: traffic_light_phase with:
+        keep(it.bulbs_state == [green_bulb])
+        keep(it.duration == 6s)
+        keep(it.group.map_id == "north")
+    cycle: traffic_light_cycle with:
+        keep(it.phases == [stop_phase, go_phase])
+        keep(it.start_offset == 0s)
+"""
+
 
 def _light_changes(result, name: str) -> list[tuple[float, str]]:
     return [
@@ -450,26 +473,8 @@ def test_play_cycles_switches_phases_on_time(tmp_path):
     result = run_text(
         tmp_path,
         LIGHT
+        + CYCLE
         + """\
-    red_bulb: traffic_light_bulb with:
-        keep(it.color == red)
-        keep(it.icon == circle)
-        keep(it.state == is_on)
-    green_bulb: traffic_light_bulb with:
-        keep(it.color == green)
-        keep(it.icon == circle)
-        keep(it.state == is_on)
-    stop_phase: traffic_light_phase with:
-        keep(it.bulbs_state == [red_bulb])
-        keep(it.duration == 4s)
-        keep(it.group.map_id == "north")
-    go_phase: traffic_light_phase with:
-        keep(it.bulbs_state == [green_bulb])
-        keep(it.duration == 6s)
-        keep(it.group.map_id == "north")
-    cycle: traffic_light_cycle with:
-        keep(it.phases == [stop_phase, go_phase])
-        keep(it.start_offset == 0s)
     do serial:
         ctrl.play_cycles(cycles: [cycle], duration: 25s)
 """,
@@ -493,25 +498,8 @@ def test_light_states_are_in_the_telemetry_every_tick(tmp_path):
         tmp_path,
         "    car: vehicle\n"
         + LIGHT
+        + CYCLE
         + """\
-    red_bulb: traffic_light_bulb with:
-        keep(it.color == red)
-        keep(it.icon == circle)
-        keep(it.state == is_on)
-    green_bulb: traffic_light_bulb with:
-        keep(it.color == green)
-        keep(it.icon == circle)
-    stop_phase: traffic_light_phase with:
-        keep(it.bulbs_state == [red_bulb])
-        keep(it.duration == 4s)
-        keep(it.group.map_id == "north")
-    go_phase: traffic_light_phase with:
-        keep(it.bulbs_state == [green_bulb])
-        keep(it.duration == 6s)
-        keep(it.group.map_id == "north")
-    cycle: traffic_light_cycle with:
-        keep(it.phases == [stop_phase, go_phase])
-        keep(it.start_offset == 0s)
     do parallel:
         ctrl.play_cycles(cycles: [cycle], duration: 25s)
         car.drive(duration: 25s)

@@ -31,10 +31,6 @@ def _run(body: str, duration: float = 60.0):
     return run("<invocation>.osc", source="import osc.standard\n\n" + body, duration=duration)
 
 
-def _ticks(result, kind: str, name: str) -> list[int]:
-    return result.event_ticks(kind, name)
-
-
 GLOBAL = (
     """\
 scenario pair:
@@ -63,9 +59,9 @@ scenario top:
 def test_global_scenario_with_positional_and_named_arguments():
     result = _run(GLOBAL)
     assert result.outcome.status == "success", result.outcome.reason
-    (first_end,) = _ticks(result, "end", "pair@24.end")
-    (second_start,) = _ticks(result, "start", "second.start")  # one record, not two
-    (second_end,) = _ticks(result, "end", "second.end")
+    (first_end,) = result.event_ticks("end", "pair@24.end")
+    (second_start,) = result.event_ticks("start", "second.start")  # one record, not two
+    (second_end,) = result.event_ticks("end", "second.end")
     assert first_end == second_start == 80  # 4 s at 20 Hz
     assert second_end == 160
     for name in ("a", "b"):
@@ -99,10 +95,10 @@ def test_nested_actor_scenarios_run_each_instance_with_its_own_arguments():
     result = _run(NESTED)
     assert result.outcome.status == "success", result.outcome.reason
     outer = "a.two_steps@19"
-    (first,) = _ticks(result, "end", f"{outer}.a.hold@10.end")
-    (second,) = _ticks(result, "end", f"{outer}.a.hold@11.end")
+    (first,) = result.event_ticks("end", f"{outer}.a.hold@10.end")
+    (second,) = result.event_ticks("end", f"{outer}.a.hold@11.end")
     assert (first, second) == (60, 120)
-    assert _ticks(result, "end", f"{outer}.end") == [120]
+    assert result.event_ticks("end", f"{outer}.end") == [120]
     speed = result.telemetry["a"]["speed"]
     assert speed[first] == pytest.approx(40 * KPH, abs=0.5 * KPH)
     assert speed[second] == pytest.approx(50 * KPH, abs=0.5 * KPH)
@@ -151,20 +147,22 @@ def test_each_instance_has_its_own_events_labels_and_variables():
     result = _run(INSTANCES)
     assert result.outcome.status == "success", result.outcome.reason
     # each instance's `wait @go` ends on its own instance's `emit go`
-    assert _ticks(result, "emit", "a.pulse@31.go") == _ticks(result, "end", "a.pulse@31.done.end")
-    assert _ticks(result, "end", "a.pulse@31.done.end") == [20]
-    assert _ticks(result, "end", "b.pulse@32.done.end") == [60]
+    assert result.event_ticks("emit", "a.pulse@31.go") == result.event_ticks(
+        "end", "a.pulse@31.done.end"
+    )
+    assert result.event_ticks("end", "a.pulse@31.done.end") == [20]
+    assert result.event_ticks("end", "b.pulse@32.done.end") == [60]
     # `var v0 = actor.speed` is taken when the instance starts (tick 140, about 50 kph),
     # so its `until` ends it when the speed first exceeds that plus 10 kph
-    (start,) = _ticks(result, "start", "a.catch_up@35.start")
-    (end,) = _ticks(result, "end", "a.catch_up@35.end")
+    (start,) = result.event_ticks("start", "a.catch_up@35.start")
+    (end,) = result.event_ticks("end", "a.catch_up@35.end")
     speed = result.telemetry["a"]["speed"]
     assert start == 140
     v0 = speed[start]
     assert v0 == pytest.approx(50 * KPH, abs=0.5 * KPH)
     assert speed[end] > v0 + 10 * KPH >= speed[end - 1]
     # `extend top:` adds its handler; `on @end` runs when the scenario ends
-    assert _ticks(result, "emit", "ping") == [_ticks(result, "end", "end")[0]]
+    assert result.event_ticks("emit", "ping") == [result.event_ticks("end", "end")[0]]
 
 
 BOUNDED = """\
@@ -191,10 +189,10 @@ scenario top:
 def test_until_and_duration_bound_an_invoked_scenario():
     result = _run(BOUNDED)
     speed = result.telemetry["a"]["speed"]
-    (until_end,) = _ticks(result, "end", "a.cruise@16.end")
+    (until_end,) = result.event_ticks("end", "a.cruise@16.end")
     assert speed[until_end] > 35 * KPH >= speed[until_end - 1]
-    (timed_start,) = _ticks(result, "start", "a.cruise@18.start")
-    (timed_end,) = _ticks(result, "end", "a.cruise@18.end")
+    (timed_start,) = result.event_ticks("start", "a.cruise@18.start")
+    (timed_end,) = result.event_ticks("end", "a.cruise@18.end")
     assert timed_start == until_end and (timed_end - timed_start) * DT == pytest.approx(2.0)
     # a lane change cannot complete in 0.5 s: the run fails at the invocation
     assert result.outcome.status == "failure"

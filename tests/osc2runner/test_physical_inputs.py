@@ -87,14 +87,28 @@ def test_a_friction_parameter_is_checked_where_it_is_passed(tmp_path):
     assert [r.span.line for r in finding.related] == [6, 11]  # the default `mu = 1e9`
 
 
-def test_the_runner_refuses_a_constant_friction_that_the_checker_did_not_see(tmp_path):
-    """Its own check at compile time stays: a witness made elsewhere may carry any value."""
+def test_the_runner_refuses_constants_that_the_checker_did_not_see(tmp_path, monkeypatch):
+    """Its own check at compile time stays: a witness made elsewhere may carry any value.
+    With the checker's argument limits left out, the runner refuses the constant at the
+    argument, before anything runs."""
+    from osc2check.verify import lower
     from osc2runner.behaviours.environment import friction_problem
 
     assert friction_problem(1e9) == "road friction must be in (0, 2], got 1e+09"
     assert friction_problem(0.0) == "road friction must be in (0, 2], got 0"
     assert friction_problem(2.0) is None and friction_problem(0.05) is None
     assert friction_problem(float("nan")) is not None
+    monkeypatch.setattr(lower, "ARGUMENT_LIMITS", {})
+    for action, column, message in (
+        ("set_road_friction(value: 1e9)", 38, "road friction must be in (0, 2], got 1e+09"),
+        ("rain(intensity: -5mmph)", 29, "rain intensity must be finite and not negative"),
+    ):
+        with pytest.raises(ScenarioError) as caught:
+            run(_write(tmp_path, FRICTION.format(action=action)))
+        assert not caught.value.diagnostics  # the checker found nothing
+        (problem,) = caught.value.problems
+        assert (problem.span.line, problem.span.column) == (11, column), action
+        assert problem.message.startswith(message), problem.message
 
 
 def test_frictions_in_range_run(tmp_path):

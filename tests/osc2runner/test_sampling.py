@@ -7,12 +7,15 @@ arguments are exact SI values.
 
 from __future__ import annotations
 
+from dataclasses import replace
+from fractions import Fraction
 from pathlib import Path
 
 import pytest
 
+from osc2check.verify.witness import Value
 from osc2runner import run
-from osc2runner.runner import execute, prepare
+from osc2runner.runner import check_file, compile_checked, execute, prepare, prepare_checked
 
 SCENARIOS = Path(__file__).parent / "scenarios"
 KPH = 1000.0 / 3600.0
@@ -59,12 +62,21 @@ def test_a_sample_read_before_its_event_without_default_fails_the_run():
     assert result.outcome.tick == 20  # when `emit report(at_go)` read it
 
 
-def test_a_sampled_var_is_not_the_witness_value(sampled):
-    """The issue: `var v = sample(...)` ran as the solver's value; the witness still
-    lists one (the checker encodes `var` fields), the run must not use it."""
-    result, reports, goes = sampled
-    parameters = {p["name"]: p for p in result.metadata["witness"]["parameters"]}
-    held = reports[1].args["held"]
-    assert held == result.telemetry["hero"]["speed"][goes[0]]
-    if "at_go" in parameters:
-        assert parameters["at_go"]["si_float"] != pytest.approx(held)
+def test_a_sampled_var_is_not_the_witness_value():
+    """The issue: `var v = sample(...)` ran as the solver's value. The checker's witness
+    lists no `var`, so the run is given one that does (a witness made elsewhere may):
+    the vars still hold their samples, not the witness's 99 m/s."""
+    checked = check_file(SCENARIOS / "sampling.osc")
+    witness = compile_checked(checked).instance.witness
+    planted = tuple(Value(name, Fraction(99), "99 mps", True) for name in ("at_go", "or_slow"))
+    prepared = prepare_checked(
+        checked, witness=replace(witness, parameters=(*witness.parameters, *planted))
+    )
+    assert prepared.instance.witness.parameter("at_go") is not None
+    result = execute(prepared)
+    assert result.outcome.status == "success", result.outcome.reason
+    reports = prepared.ctx.occurrences("report")
+    speed = result.telemetry["hero"]["speed"]
+    (go, _) = [o.tick for o in prepared.ctx.occurrences("go")]
+    assert reports[0].args["with_default"] == pytest.approx(1.0 * KPH, rel=1e-15)
+    assert reports[1].args["held"] == reports[1].args["with_default"] == speed[go]

@@ -18,9 +18,11 @@ import pytest
 
 from osc2check.world.builtin import builtin_network
 from osc2check.world.catalogue import MODELS, receiver
+from osc2runner.errors import ScenarioError
 from osc2runner.execution.context import RunContext
 from osc2runner.execution.loop import TickLoop
 from osc2runner.instance.bodies import body_params
+from osc2runner.runner import run
 from osc2runner.sim import ActorSpec, ObstacleParams, VehicleController, VehicleInput, World, sedan
 from osc2runner.sim.trailer import TrailerParams, articulation
 from osc2runner.sim.vehicle import GRAVITY
@@ -41,15 +43,23 @@ CARAVAN = _trailer("trailer.caravan")
 BOX = _trailer("trailer.box")
 
 
-def _towing(trailer: TrailerParams, speed: float, lane: int = 2, **world: object) -> World:
-    return World(
+def _towing(
+    trailer: TrailerParams, speed: float, lane: int
+) -> tuple[World, VehicleController, TickLoop]:
+    """A car towing ``trailer`` at ``speed`` in ``lane``, the car's controller holding that
+    speed and lane (it knows the load), and the loop that steps them."""
+    world = World(
         ROAD,
         [
             ActorSpec("car", CAR, s=80.0, lane=lane, speed=speed),
             ActorSpec("tr", trailer, towed_by="car"),
         ],
-        **world,  # type: ignore[arg-type]
     )
+    ctrl = VehicleController(CAR, ROAD, world.dt_control)
+    ctrl.speed.set_target(speed, "none")
+    ctrl.lateral.keep_lane(lane)
+    ctrl.speed.towed = trailer
+    return world, ctrl, TickLoop.without_scenario(world, {"car": ctrl})
 
 
 def _hitch_gap(world: World) -> float:
@@ -77,12 +87,7 @@ def test_the_catalogue_hitch_geometry_is_the_body_geometry():
 
 
 def test_on_a_straight_road_the_articulation_settles_at_zero():
-    world = _towing(CARAVAN, 80 / 3.6)
-    ctrl = VehicleController(CAR, ROAD, world.dt_control)
-    ctrl.speed.set_target(80 / 3.6, "none")
-    ctrl.lateral.keep_lane(2)
-    ctrl.speed.towed = CARAVAN
-    loop = TickLoop.without_scenario(world, {"car": ctrl})
+    world, _, loop = _towing(CARAVAN, 80 / 3.6, lane=2)
     angles = []
     for _ in range(200):  # 10 s
         loop.step()
@@ -103,12 +108,7 @@ def test_on_a_lane_change_the_trailer_follows_its_hitch_within_the_off_tracking(
     """A trailer's axle runs inside the path its hitch draws by at most L²·κ/2 (the
     kinematic off-tracking of a wheelbase L on curvature κ), and ends in the new lane."""
     speed = kph / 3.6
-    world = _towing(trailer, speed, lane=1)
-    ctrl = VehicleController(CAR, ROAD, world.dt_control)
-    ctrl.speed.set_target(speed, "none")
-    ctrl.lateral.keep_lane(1)
-    ctrl.speed.towed = trailer
-    loop = TickLoop.without_scenario(world, {"car": ctrl})
+    world, ctrl, loop = _towing(trailer, speed, lane=1)
     hitch, axle = [], []
     for tick in range(round((seconds + 8.0) / world.dt_control) + 40):
         if tick == 40:
@@ -275,9 +275,6 @@ def test_articulation_is_the_heading_difference_wrapped():
 
 # ---------------------------------------------------------------------- scenarios
 
-from osc2runner.errors import ScenarioError  # noqa: E402
-from osc2runner.runner import run  # noqa: E402
-
 TOWING = """\
 import osc.standard
 
@@ -305,10 +302,11 @@ def test_a_scenario_tows_a_trailer_from_the_start_and_leaves_it():
     result = run("<towing>.osc", source=TOWING)
     assert result.outcome.status == "success", result.outcome.reason
     car, tr = result.telemetry["car"], result.telemetry["caravan"]
-    # hitched from the start: on the hitch, straight behind
-    behind = -CAR.receiver_x + CARAVAN.coupler
+    # hitched from the start: the coupler on the model's own receiver, straight behind
     model3 = MODELS["vehicle.tesla.model3"]
-    behind += float(model3.length) / 2 + 0.1 - (-CAR.receiver_x)  # the model's own receiver
+    hitch = receiver(model3)
+    assert hitch is not None
+    behind = float(hitch.behind_front) - float(model3.length) / 2 + CARAVAN.coupler
     assert car["x"][0] - tr["x"][0] == pytest.approx(behind, abs=1e-6)
     assert car["y"][0] == tr["y"][0]
     changes = [(r.tick, r.detail) for r in result.events if r.kind == "trailer"]
