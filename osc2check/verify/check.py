@@ -552,16 +552,7 @@ def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict[
     }
     if result.invoked_by:
         data["invoked_by"] = list(result.invoked_by)
-    data["unverified"] = [
-        {
-            "path": s.span.uri,
-            "line": s.span.line,
-            "column": s.span.column,
-            "text": s.text,
-            "reason": s.reason,
-        }
-        for s in result.problem.skipped
-    ]
+    data["unverified"] = [s.to_json() for s in result.problem.skipped]
     if with_witness:
         data["witness"] = result.witness.to_json() if result.witness is not None else None
     return data
