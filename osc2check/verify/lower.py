@@ -46,7 +46,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
-from osc2check.verify.structs import is_struct, struct_leaves
+from osc2check.verify.structs import is_scalar, is_struct, struct_leaves
 from osc2check.world.limits import ARGUMENT_LIMITS
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
@@ -150,7 +150,7 @@ class Lowerer:
                     self._scalar_var(_join(param.name, sub.name), sub)
             elif param.kind is SymbolKind.FIELD:
                 self._scalar_var(param.name, param)
-            elif _scalar(param.type):
+            elif is_scalar(param.type):
                 try:  # a `var` has a value here only when its initialiser gives one
                     self._variable(param.name, param)
                 except NotEncodable:
@@ -456,7 +456,7 @@ class Lowerer:
                     continue
             else:
                 continue
-            if not _scalar(param.type):
+            if not is_scalar(param.type):
                 continue
             var = self._scalar_var(_join(path, param.name), param)
             if var is None:
@@ -651,7 +651,7 @@ class Lowerer:
     def _kind(self, sym: Symbol) -> VarKind:
         """(sort, var keywords, domain, its text) of a parameter's variables, or False."""
         t = sym.type
-        if t is None or not _scalar(t):
+        if t is None or not is_scalar(t):
             return False
         kw: ir.VarDetails = {}
         domain: _Domain | None = None
@@ -754,9 +754,9 @@ class Lowerer:
             sym = self.model.references.get(expr.name.name)
         elif isinstance(expr, ast.MemberAccess):
             sym = self.model.references.get(expr.member)
-        if sym is not None and sym.kind is SymbolKind.VARIABLE and _scalar(sym.type):
+        if sym is not None and sym.kind is SymbolKind.VARIABLE and is_scalar(sym.type):
             return self._variable(path, sym)
-        if sym is None or not _scalar(sym.type):
+        if sym is None or not is_scalar(sym.type):
             raise NotEncodable(f"`{path}` is not a number, boolean, enum or string")
         created = self._scalar_var(path, sym)
         if created is None:
@@ -997,18 +997,6 @@ def _up_to(decl: Span, default: Span) -> Span:
         default.end_column,
         decl.start,
         default.end,
-    )
-
-
-def _scalar(t: T.Type | None) -> bool:
-    return t is not None and t.kind in (
-        T.Kind.PHYSICAL,
-        T.Kind.FLOAT,
-        T.Kind.INT,
-        T.Kind.UINT,
-        T.Kind.BOOL,
-        T.Kind.ENUM,
-        T.Kind.STRING,
     )
 
 
