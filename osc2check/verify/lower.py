@@ -32,7 +32,7 @@ has no value here (``Lowerer._variable``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
@@ -85,6 +85,24 @@ class InstanceScope:
 
 def _join(prefix: str, name: str) -> str:
     return f"{prefix}.{name}" if prefix else name
+
+
+def bound_arguments(
+    params: Sequence[Symbol], arguments: Iterable[ast.Argument]
+) -> Iterator[tuple[Symbol, ast.PositionalArgument | ast.NamedArgument]]:
+    """Each argument with the parameter it gives a value to, in the order written:
+    positional ones in order, named ones by name. Arguments that name no parameter
+    (extra positional ones, unknown names, events) are left out: the semantic checks
+    report them."""
+    by_name = {p.name: p for p in params}
+    position = 0
+    for arg in arguments:
+        if isinstance(arg, ast.PositionalArgument):
+            if position < len(params):
+                yield params[position], arg
+            position += 1
+        elif isinstance(arg, ast.NamedArgument) and arg.name.text in by_name:
+            yield by_name[arg.name.text], arg
 
 
 def invocation_path(
@@ -412,19 +430,7 @@ class Lowerer:
     ) -> None:
         """An invoked scenario's actor parameters given as arguments (``cut_in(car1: npc)``)
         are the actors passed: their paths are aliases of the actors' own."""
-        params = self.model.parameters(scenario)
-        by_name = {p.name: p for p in params}
-        position = 0
-        for arg in arguments:
-            if isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    continue
-                param = params[position]
-                position += 1
-            elif isinstance(arg, ast.NamedArgument) and arg.name.text in by_name:
-                param = by_name[arg.name.text]
-            else:
-                continue
+        for param, arg in bound_arguments(self.model.parameters(scenario), arguments):
             target = _type_symbol(param)
             if target is None or target.kind is not SymbolKind.ACTOR:
                 continue
@@ -440,22 +446,7 @@ class Lowerer:
         scope: InstanceScope,
         kind: str,
     ) -> None:
-        params = self.model.parameters(callee)
-        by_name = {p.name: p for p in params}
-        position = 0
-        for arg in arguments:
-            param: Symbol | None
-            if isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    continue
-                param = params[position]
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                param = by_name.get(arg.name.text)
-                if param is None:
-                    continue
-            else:
-                continue
+        for param, arg in bound_arguments(self.model.parameters(callee), arguments):
             if not is_scalar(param.type):
                 continue
             var = self._scalar_var(_join(path, param.name), param)
@@ -862,18 +853,11 @@ class Lowerer:
             owner = _owner(self._member_path(scope, method))
         owner_type = self.instances.get(owner, method.owner)
         inner = InstanceScope(owner, owner_type, owner, owner_type, actor=scope.actor)
-        params = method.parameters
-        given: dict[Symbol, ir.Term] = {}
-        position = 0
-        for arg in call.arguments:
-            if isinstance(arg, ast.PositionalArgument) and position < len(params):
-                given[params[position]] = self._term(arg.value, scope)
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                param = next((p for p in params if p.name == arg.name.text), None)
-                if param is not None:
-                    given[param] = self._term(arg.value, scope)
-        for param in params:
+        given = {
+            param: self._term(arg.value, scope)
+            for param, arg in bound_arguments(method.parameters, call.arguments)
+        }
+        for param in method.parameters:
             if param not in given:
                 if param.default is None:
                     raise NotEncodable(f"`{param.name}` of `{method.name}` has no value")
