@@ -83,7 +83,8 @@ class InstanceScope:
     it_field: Symbol | None = None  # the field `it` stands for in a field's `with:` block
 
 
-def _join(prefix: str, name: str) -> str:
+def join_path(prefix: str, name: str) -> str:
+    """``name`` under the instance path ``prefix`` (the root's path is empty)."""
     return f"{prefix}.{name}" if prefix else name
 
 
@@ -114,9 +115,9 @@ def invocation_path(
     The witness names an invoked scenario's parameters under it; the runner reads them
     there, and names the instance's events after it."""
     if label is not None:
-        return _join(prefix, label.text)
+        return join_path(prefix, label.text)
     own = f"{name}@{inv.span.line}"
-    return _join(_join(prefix, actor_path) if actor_path else prefix, own)
+    return join_path(join_path(prefix, actor_path) if actor_path else prefix, own)
 
 
 class Lowerer:
@@ -165,7 +166,7 @@ class Lowerer:
             ):
                 self._compound(param.name, t.symbol)
                 for sub in self.model.parameters(t.symbol):
-                    self._scalar_var(_join(param.name, sub.name), sub)
+                    self._scalar_var(join_path(param.name, sub.name), sub)
             elif param.kind is SymbolKind.FIELD:
                 self._scalar_var(param.name, param)
             elif is_scalar(param.type):
@@ -262,7 +263,7 @@ class Lowerer:
             sym = self.model.references.get(name)
             if sym is None:
                 continue
-            path = _join(scope.prefix, name.text)
+            path = join_path(scope.prefix, name.text)
             type_symbol = _type_symbol(sym)
             if (
                 decl.with_members
@@ -422,7 +423,7 @@ class Lowerer:
                 case ast.Invocation():
                     modifier = self.model.references.get(item.name)
                     if modifier is not None and modifier.kind is SymbolKind.MODIFIER:
-                        mod_path = _join(path, f"{modifier.name}@{item.span.line}")
+                        mod_path = join_path(path, f"{modifier.name}@{item.span.line}")
                         self._arguments(modifier, item.arguments, mod_path, scope, "modifier")
 
     def _bind_actors(
@@ -436,7 +437,7 @@ class Lowerer:
                 continue
             actual = self._path(arg.value, scope)
             if actual is not None:
-                self.aliases[_join(path, param.name)] = actual
+                self.aliases[join_path(path, param.name)] = actual
 
     def _arguments(
         self,
@@ -449,7 +450,7 @@ class Lowerer:
         for param, arg in bound_arguments(self.model.parameters(callee), arguments):
             if not is_scalar(param.type):
                 continue
-            var = self._scalar_var(_join(path, param.name), param)
+            var = self._scalar_var(join_path(path, param.name), param)
             if var is None:
                 continue
             if callee.library or callee.toolkit:
@@ -599,7 +600,7 @@ class Lowerer:
         assert struct is not None
         self._compound(path, struct)
         for leaf, leaf_sym in struct_leaves(self.model, struct):
-            var = self._scalar_var(_join(path, leaf), leaf_sym)
+            var = self._scalar_var(join_path(path, leaf), leaf_sym)
             if var is not None and (var.unit == "deg" or leaf == "z" or leaf.endswith(".z")):
                 # left open, an angle or a height is 0 (level, on the road), not a draw
                 self.problem.preferred.setdefault(var.name, (Fraction(0), Fraction(0)))
@@ -709,7 +710,7 @@ class Lowerer:
                     target_type = self.model.expr_types.get(expr.target)
                     if target_type is not None and target_type.symbol is not None:
                         self._compound(base, target_type.symbol)
-                return self._aliased(_join(base, sym.name))
+                return self._aliased(join_path(base, sym.name))
         return None
 
     def _aliased(self, path: str) -> str:
@@ -731,8 +732,8 @@ class Lowerer:
             and scope.it_symbol is not None
             and any(a is sym.owner for a in self.model.ancestors(scope.it_symbol))
         ):
-            return _join(scope.it, sym.name)
-        return _join(scope.prefix, sym.name)
+            return join_path(scope.it, sym.name)
+        return join_path(scope.prefix, sym.name)
 
     def _var_at(self, path: str, expr: ast.Node, scope: InstanceScope) -> ir.Var:
         var = self.problem.variables.get(path)
