@@ -12,7 +12,7 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
-__all__ = ["declaration_bodies", "scenario_do"]
+__all__ = ["declaration_bodies", "scenario_do", "scenario_members"]
 
 MemberList = tuple[ast.Member, ...]
 
@@ -35,6 +35,19 @@ def declaration_bodies(model: Model) -> dict[Symbol, list[MemberList]]:
     return result
 
 
+def scenario_members(
+    model: Model, bodies: dict[Symbol, list[MemberList]], scenario: Symbol
+) -> list[ast.Member]:
+    """The members ``scenario`` runs with, as the runner compiles them: its ancestors'
+    first, each type's declaration then its ``extend``s."""
+    return [
+        member
+        for sym in reversed(list(model.ancestors(scenario)))
+        for members in bodies.get(sym, ())
+        for member in members
+    ]
+
+
 def scenario_do(
     model: Model, bodies: dict[Symbol, list[MemberList]], scenario: Symbol
 ) -> ast.DoDirective | None:
@@ -42,9 +55,7 @@ def scenario_do(
     lists and its own, in that order (a subtype's or an extension's replaces an earlier
     one, as the runner compiles it); None when it has none."""
     found = None
-    for sym in reversed(list(model.ancestors(scenario))):
-        for members in bodies.get(sym, ()):
-            for member in members:
-                if isinstance(member, ast.DoDirective):
-                    found = member
+    for member in scenario_members(model, bodies, scenario):
+        if isinstance(member, ast.DoDirective):
+            found = member
     return found

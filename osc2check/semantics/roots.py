@@ -9,6 +9,11 @@ that lists the choices. The runner and ``osc2check.solve`` share it.
 
 from __future__ import annotations
 
+from osc2check.semantics.members import (
+    MemberList,
+    declaration_bodies,
+    scenario_members,
+)
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import invocations
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -49,22 +54,30 @@ def invoked_scenarios(model: Model, scenarios: list[Symbol]) -> set[Symbol]:
     return set(invokers(model, scenarios))
 
 
-def invokers(model: Model, scenarios: list[Symbol]) -> dict[Symbol, list[Symbol]]:
-    """Each scenario one of ``scenarios`` invokes in its behaviour (directly), with the
-    scenarios that invoke it, in order."""
+def invokers(
+    model: Model, scenarios: list[Symbol], bodies: dict[Symbol, list[MemberList]] | None = None
+) -> dict[Symbol, list[Symbol]]:
+    """Each scenario one of ``scenarios`` invokes in its behaviour (directly: in the
+    ``do`` it runs and its ``on`` directives, its ``extend``s' and ancestors' included,
+    as the runner compiles it), with the scenarios that invoke it, in order. ``bodies``:
+    ``members.declaration_bodies(model)``, when the caller has it."""
+    if bodies is None:
+        bodies = declaration_bodies(model)
     invoked: dict[Symbol, list[Symbol]] = {}
     for scenario in scenarios:
-        decl = scenario.decl
-        if not isinstance(decl, ast.StructuredDecl):
-            continue
-        for member in decl.members:
-            if isinstance(member, (ast.DoDirective, ast.OnDirective)):
-                for inv in invocations(member):
-                    target = model.reference(inv.name)
-                    if target is not None and target.kind is SymbolKind.SCENARIO:
-                        by = invoked.setdefault(target, [])
-                        if scenario not in by:
-                            by.append(scenario)
+        members = scenario_members(model, bodies, scenario)
+        dos = [m for m in members if isinstance(m, ast.DoDirective)]
+        trees: list[ast.DoDirective | ast.OnDirective] = [
+            m for m in members if isinstance(m, ast.OnDirective)
+        ]
+        trees += dos[-1:]  # the last `do` replaces earlier ones
+        for tree in trees:
+            for inv in invocations(tree):
+                target = model.reference(inv.name)
+                if target is not None and target.kind is SymbolKind.SCENARIO:
+                    by = invoked.setdefault(target, [])
+                    if scenario not in by:
+                        by.append(scenario)
     return invoked
 
 

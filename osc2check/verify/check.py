@@ -195,10 +195,10 @@ def verify_program(
     text_of = source_text(program)
     report = result.diagnostics.append
     session = Session()
-    decls = None
     unverified: set[tuple[Span, str]] = set()  # each reported once per program
     scenarios = scenarios_of(program)
-    invoked = invokers(program.model, scenarios)
+    decls = member_declarations(program.model) if scenarios else None
+    invoked = invokers(program.model, scenarios, decls)
     for sym in scenarios:
         if scenario is not None and sym.name != scenario:
             continue
@@ -206,8 +206,6 @@ def verify_program(
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
-        if decls is None:
-            decls = member_declarations(program.model)
         problem = lower_scenario(program.model, sym, text_of, default_map, decls)
         _reversed_ranges(sym, program, text_of, report)
         outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
@@ -552,16 +550,7 @@ def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict[
     }
     if result.invoked_by:
         data["invoked_by"] = list(result.invoked_by)
-    data["unverified"] = [
-        {
-            "path": s.span.uri,
-            "line": s.span.line,
-            "column": s.span.column,
-            "text": s.text,
-            "reason": s.reason,
-        }
-        for s in result.problem.skipped
-    ]
+    data["unverified"] = [s.to_json() for s in result.problem.skipped]
     if with_witness:
         data["witness"] = result.witness.to_json() if result.witness is not None else None
     return data

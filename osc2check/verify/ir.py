@@ -219,6 +219,16 @@ class Skipped:
     text: str
     reason: str
 
+    def to_json(self) -> dict[str, object]:
+        """Where it is written, its text and why (the JSON output's ``unverified``)."""
+        return {
+            "path": self.span.uri,
+            "line": self.span.line,
+            "column": self.span.column,
+            "text": self.text,
+            "reason": self.reason,
+        }
+
 
 @dataclass
 class ConstraintProblem:

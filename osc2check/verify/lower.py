@@ -32,7 +32,7 @@ has no value here (``Lowerer._variable``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
@@ -46,7 +46,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
-from osc2check.verify.structs import is_struct, struct_leaves
+from osc2check.verify.structs import is_scalar, is_struct, struct_leaves
 from osc2check.world.limits import ARGUMENT_LIMITS
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
@@ -83,8 +83,27 @@ class InstanceScope:
     it_field: Symbol | None = None  # the field `it` stands for in a field's `with:` block
 
 
-def _join(prefix: str, name: str) -> str:
+def join_path(prefix: str, name: str) -> str:
+    """``name`` under the instance path ``prefix`` (the root's path is empty)."""
     return f"{prefix}.{name}" if prefix else name
+
+
+def bound_arguments(
+    params: Sequence[Symbol], arguments: Iterable[ast.Argument]
+) -> Iterator[tuple[Symbol, ast.PositionalArgument | ast.NamedArgument]]:
+    """Each argument with the parameter it gives a value to, in the order written:
+    positional ones in order, named ones by name. Arguments that name no parameter
+    (extra positional ones, unknown names, events) are left out: the semantic checks
+    report them."""
+    by_name = {p.name: p for p in params}
+    position = 0
+    for arg in arguments:
+        if isinstance(arg, ast.PositionalArgument):
+            if position < len(params):
+                yield params[position], arg
+            position += 1
+        elif isinstance(arg, ast.NamedArgument) and arg.name.text in by_name:
+            yield by_name[arg.name.text], arg
 
 
 def invocation_path(
@@ -96,9 +115,9 @@ def invocation_path(
     The witness names an invoked scenario's parameters under it; the runner reads them
     there, and names the instance's events after it."""
     if label is not None:
-        return _join(prefix, label.text)
+        return join_path(prefix, label.text)
     own = f"{name}@{inv.span.line}"
-    return _join(_join(prefix, actor_path) if actor_path else prefix, own)
+    return join_path(join_path(prefix, actor_path) if actor_path else prefix, own)
 
 
 class Lowerer:
@@ -147,10 +166,10 @@ class Lowerer:
             ):
                 self._compound(param.name, t.symbol)
                 for sub in self.model.parameters(t.symbol):
-                    self._scalar_var(_join(param.name, sub.name), sub)
+                    self._scalar_var(join_path(param.name, sub.name), sub)
             elif param.kind is SymbolKind.FIELD:
                 self._scalar_var(param.name, param)
-            elif _scalar(param.type):
+            elif is_scalar(param.type):
                 try:  # a `var` has a value here only when its initialiser gives one
                     self._variable(param.name, param)
                 except NotEncodable:
@@ -244,7 +263,7 @@ class Lowerer:
             sym = self.model.references.get(name)
             if sym is None:
                 continue
-            path = _join(scope.prefix, name.text)
+            path = join_path(scope.prefix, name.text)
             type_symbol = _type_symbol(sym)
             if (
                 decl.with_members
@@ -404,7 +423,7 @@ class Lowerer:
                 case ast.Invocation():
                     modifier = self.model.references.get(item.name)
                     if modifier is not None and modifier.kind is SymbolKind.MODIFIER:
-                        mod_path = _join(path, f"{modifier.name}@{item.span.line}")
+                        mod_path = join_path(path, f"{modifier.name}@{item.span.line}")
                         self._arguments(modifier, item.arguments, mod_path, scope, "modifier")
 
     def _bind_actors(
@@ -412,25 +431,13 @@ class Lowerer:
     ) -> None:
         """An invoked scenario's actor parameters given as arguments (``cut_in(car1: npc)``)
         are the actors passed: their paths are aliases of the actors' own."""
-        params = self.model.parameters(scenario)
-        by_name = {p.name: p for p in params}
-        position = 0
-        for arg in arguments:
-            if isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    continue
-                param = params[position]
-                position += 1
-            elif isinstance(arg, ast.NamedArgument) and arg.name.text in by_name:
-                param = by_name[arg.name.text]
-            else:
-                continue
+        for param, arg in bound_arguments(self.model.parameters(scenario), arguments):
             target = _type_symbol(param)
             if target is None or target.kind is not SymbolKind.ACTOR:
                 continue
             actual = self._path(arg.value, scope)
             if actual is not None:
-                self.aliases[_join(path, param.name)] = actual
+                self.aliases[join_path(path, param.name)] = actual
 
     def _arguments(
         self,
@@ -440,25 +447,10 @@ class Lowerer:
         scope: InstanceScope,
         kind: str,
     ) -> None:
-        params = self.model.parameters(callee)
-        by_name = {p.name: p for p in params}
-        position = 0
-        for arg in arguments:
-            param: Symbol | None
-            if isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    continue
-                param = params[position]
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                param = by_name.get(arg.name.text)
-                if param is None:
-                    continue
-            else:
+        for param, arg in bound_arguments(self.model.parameters(callee), arguments):
+            if not is_scalar(param.type):
                 continue
-            if not _scalar(param.type):
-                continue
-            var = self._scalar_var(_join(path, param.name), param)
+            var = self._scalar_var(join_path(path, param.name), param)
             if var is None:
                 continue
             if callee.library or callee.toolkit:
@@ -608,7 +600,7 @@ class Lowerer:
         assert struct is not None
         self._compound(path, struct)
         for leaf, leaf_sym in struct_leaves(self.model, struct):
-            var = self._scalar_var(_join(path, leaf), leaf_sym)
+            var = self._scalar_var(join_path(path, leaf), leaf_sym)
             if var is not None and (var.unit == "deg" or leaf == "z" or leaf.endswith(".z")):
                 # left open, an angle or a height is 0 (level, on the road), not a draw
                 self.problem.preferred.setdefault(var.name, (Fraction(0), Fraction(0)))
@@ -651,7 +643,7 @@ class Lowerer:
     def _kind(self, sym: Symbol) -> VarKind:
         """(sort, var keywords, domain, its text) of a parameter's variables, or False."""
         t = sym.type
-        if t is None or not _scalar(t):
+        if t is None or not is_scalar(t):
             return False
         kw: ir.VarDetails = {}
         domain: _Domain | None = None
@@ -718,7 +710,7 @@ class Lowerer:
                     target_type = self.model.expr_types.get(expr.target)
                     if target_type is not None and target_type.symbol is not None:
                         self._compound(base, target_type.symbol)
-                return self._aliased(_join(base, sym.name))
+                return self._aliased(join_path(base, sym.name))
         return None
 
     def _aliased(self, path: str) -> str:
@@ -740,8 +732,8 @@ class Lowerer:
             and scope.it_symbol is not None
             and any(a is sym.owner for a in self.model.ancestors(scope.it_symbol))
         ):
-            return _join(scope.it, sym.name)
-        return _join(scope.prefix, sym.name)
+            return join_path(scope.it, sym.name)
+        return join_path(scope.prefix, sym.name)
 
     def _var_at(self, path: str, expr: ast.Node, scope: InstanceScope) -> ir.Var:
         var = self.problem.variables.get(path)
@@ -754,9 +746,9 @@ class Lowerer:
             sym = self.model.references.get(expr.name.name)
         elif isinstance(expr, ast.MemberAccess):
             sym = self.model.references.get(expr.member)
-        if sym is not None and sym.kind is SymbolKind.VARIABLE and _scalar(sym.type):
+        if sym is not None and sym.kind is SymbolKind.VARIABLE and is_scalar(sym.type):
             return self._variable(path, sym)
-        if sym is None or not _scalar(sym.type):
+        if sym is None or not is_scalar(sym.type):
             raise NotEncodable(f"`{path}` is not a number, boolean, enum or string")
         created = self._scalar_var(path, sym)
         if created is None:
@@ -862,18 +854,11 @@ class Lowerer:
             owner = _owner(self._member_path(scope, method))
         owner_type = self.instances.get(owner, method.owner)
         inner = InstanceScope(owner, owner_type, owner, owner_type, actor=scope.actor)
-        params = method.parameters
-        given: dict[Symbol, ir.Term] = {}
-        position = 0
-        for arg in call.arguments:
-            if isinstance(arg, ast.PositionalArgument) and position < len(params):
-                given[params[position]] = self._term(arg.value, scope)
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                param = next((p for p in params if p.name == arg.name.text), None)
-                if param is not None:
-                    given[param] = self._term(arg.value, scope)
-        for param in params:
+        given = {
+            param: self._term(arg.value, scope)
+            for param, arg in bound_arguments(method.parameters, call.arguments)
+        }
+        for param in method.parameters:
             if param not in given:
                 if param.default is None:
                     raise NotEncodable(f"`{param.name}` of `{method.name}` has no value")
@@ -997,18 +982,6 @@ def _up_to(decl: Span, default: Span) -> Span:
         default.end_column,
         decl.start,
         default.end,
-    )
-
-
-def _scalar(t: T.Type | None) -> bool:
-    return t is not None and t.kind in (
-        T.Kind.PHYSICAL,
-        T.Kind.FLOAT,
-        T.Kind.INT,
-        T.Kind.UINT,
-        T.Kind.BOOL,
-        T.Kind.ENUM,
-        T.Kind.STRING,
     )
 
 

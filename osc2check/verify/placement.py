@@ -56,7 +56,6 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
 from fractions import Fraction
-from typing import TYPE_CHECKING
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
@@ -67,8 +66,18 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
-from osc2check.verify.lower import MAX_DEPTH, InstanceScope
+from osc2check.verify.lower import (
+    MAX_DEPTH,
+    InstanceScope,
+    Lowerer,
+    NotEncodable,
+    call_span,
+    coerce,
+    in_range,
+    join_path,
+)
 from osc2check.verify.map_modifiers import ElementField, MapFields
+from osc2check.verify.quick import linear
 from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.verify.room import motion_bounds
 from osc2check.world.builtin import builtin_network
@@ -76,9 +85,6 @@ from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_ro
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import load_map, map_path, scenario_folder
 from osc2check.world.network import RoadNetwork
-
-if TYPE_CHECKING:
-    from osc2check.verify.lower import Lowerer
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 #: the witness prefers starts in this first share of the road: room to drive ahead
@@ -802,8 +808,7 @@ class PlacementLowerer:
     def _phase_name(self, actor: PlacedActor, item: ast.Invocation, what: str) -> str:
         """The variable of ``actor``'s lane or speed in the phase of modifier ``item``,
         one for each instance of an invoked scenario."""
-        own = f"{actor.name}@{item.span.line}.{what}"
-        return f"{self.scope.prefix}.{own}" if self.scope.prefix else own
+        return join_path(self.scope.prefix, f"{actor.name}@{item.span.line}.{what}")
 
     def _args(self, inv: ast.Invocation) -> dict[str, ast.Node]:
         modifier = self.model.references.get(inv.name)
@@ -819,8 +824,6 @@ class PlacementLowerer:
         return bound
 
     def _value(self, node: ast.Node) -> ir.Term | None:
-        from osc2check.verify.lower import NotEncodable
-
         try:
             return self.lw._term(node, self.scope)
         except NotEncodable as reason:
@@ -842,8 +845,6 @@ class PlacementLowerer:
         return other
 
     def _require(self, term: ir.Term, item: ast.Invocation) -> None:
-        from osc2check.verify.lower import call_span
-
         span = call_span(item)
         self.problem.add(ir.Constraint(term, span, "modifier", self.lw.text_of(span)))
 
@@ -857,8 +858,6 @@ class PlacementLowerer:
     ) -> None:
         lane = ir.Ref(actor.lane)
         terms = placement.terms
-        from osc2check.verify.lower import coerce
-
         value = (
             self._value(args["lane"])
             if "lane" in args and not isinstance(args["lane"], ast.RangeLiteral)
@@ -899,8 +898,6 @@ class PlacementLowerer:
             low, high = self._value(node.low), self._value(node.high)
             if low is None or high is None:
                 return
-            from osc2check.verify.lower import in_range
-
             low, high = coerce(actor.lane, low), coerce(actor.lane, high)
             if not from_left:
                 self._require(in_range(lane, low, high), item)
@@ -1008,8 +1005,6 @@ class PlacementLowerer:
         if isinstance(node, ast.RangeLiteral):
             low, high = self._value(node.low), self._value(node.high)
             if low is not None and high is not None:
-                from osc2check.verify.lower import in_range
-
                 self._require(in_range(v, low, high), item)
             return
         value = self._value(node)
@@ -1084,8 +1079,6 @@ class PlacementLowerer:
         """The start lanes that the lane modifiers fix: `lane(2)`, and `lane(same_as: b)` or
         `lane(side_of: b, ...)` once `b`'s is fixed. Pairs of actors in lanes fixed apart
         need no constraint against overlapping."""
-        from osc2check.verify.quick import linear
-
         owner = {a.lane.name: name for name, a in placement.actors.items()}
         equations = []
         for c in self.problem.constraints:

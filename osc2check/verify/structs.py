@@ -23,7 +23,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 
-__all__ = ["MAX_STRUCT_DEPTH", "is_struct", "struct_leaves"]
+__all__ = ["MAX_STRUCT_DEPTH", "is_scalar", "is_struct", "struct_leaves"]
 
 #: struct members inside struct members followed at most this deep
 MAX_STRUCT_DEPTH = 4
@@ -37,6 +37,11 @@ _SCALARS = (
     T.Kind.ENUM,
     T.Kind.STRING,
 )
+
+
+def is_scalar(t: T.Type | None) -> bool:
+    """Whether ``t`` is a number, boolean, enum or string type: one solver variable."""
+    return t is not None and t.kind in _SCALARS
 
 
 def is_struct(t: T.Type | None) -> bool:
@@ -56,7 +61,7 @@ def struct_leaves(model: Model, struct: Symbol, depth: int = 0) -> list[tuple[st
         t = member.type
         if t is None:
             continue
-        if t.kind in _SCALARS:
+        if is_scalar(t):
             leaves.append((member.name, member))
         elif is_struct(t) and depth < MAX_STRUCT_DEPTH and t.symbol is not struct:
             assert t.symbol is not None

@@ -71,7 +71,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir, quick
-from osc2check.verify.lower import MAX_DEPTH, InstanceScope, Lowerer, NotEncodable
+from osc2check.verify.lower import MAX_DEPTH, InstanceScope, Lowerer, NotEncodable, join_path
 from osc2check.verify.timeline import (
     FALSE,
     NEVER,
@@ -318,11 +318,11 @@ class _Builder:
                 return self._invocation(body, member.label, scope, start, depth)
             case ast.Wait():
                 return self._wait(body, scope, start)
-        name = _join(scope.prefix, f"{type(body).__name__.lower()}@{_where(body.span)}")
+        name = join_path(scope.prefix, f"{type(body).__name__.lower()}@{_where(body.span)}")
         return Leaf(name=name, span=body.span, start=start, end=start)  # emit, call
 
     def _wait(self, wait: ast.Wait, scope: InstanceScope, start: Time) -> Leaf:
-        name = _join(scope.prefix, f"wait@{_where(wait.span)}")
+        name = join_path(scope.prefix, f"wait@{_where(wait.span)}")
         text = self.lw.text_of(wait.span)
         delay = self._delay(wait.event, scope, name, wait.span, text)
         end = after(start, delay) if delay is not None else self._after(start, name, wait.span)
@@ -337,7 +337,7 @@ class _Builder:
     def _composition(
         self, comp: ast.Composition, scope: InstanceScope, start: Time, depth: int
     ) -> Phase:
-        name = _join(scope.prefix, f"{comp.op}@{_where(comp.span)}")
+        name = join_path(scope.prefix, f"{comp.op}@{_where(comp.span)}")
         duration: ast.Argument | None = None
         overlap: ast.NamedArgument | None = None
         offsets: list[ast.NamedArgument] = []
@@ -473,7 +473,7 @@ class _Builder:
         depth: int,
     ) -> Phase:
         found = self.lw.instance_scope(inv, scope, label)
-        name = _join(scope.prefix, f"{inv.name.text}@{_where(inv.span)}")
+        name = join_path(scope.prefix, f"{inv.name.text}@{_where(inv.span)}")
         if found is None:
             return self._unmodelled(name, inv.span, start)
         behaviour, inner = found
@@ -681,10 +681,6 @@ def _overlap_kind(node: ast.Node) -> str | None:
 
 def _where(span: Span) -> str:
     return f"{span.line}:{span.column}"
-
-
-def _join(prefix: str, name: str) -> str:
-    return f"{prefix}.{name}" if prefix else name
 
 
 def _model(lowerer: Lowerer, scenario: Symbol, symbolic: bool) -> _Builder | None:

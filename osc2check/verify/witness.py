@@ -156,16 +156,7 @@ class Witness:
             "parameters": [p.to_json() for p in self.parameters],
             "map_elements": {path: v.to_json() for path, v in self.elements},
             "notes": list(self.notes),
-            "unverified": [
-                {
-                    "path": s.span.uri,
-                    "line": s.span.line,
-                    "column": s.span.column,
-                    "text": s.text,
-                    "reason": s.reason,
-                }
-                for s in self.unverified
-            ],
+            "unverified": [s.to_json() for s in self.unverified],
             "lists": {
                 k: [[kind, str(v) if isinstance(v, Fraction) else v] for kind, v in items]
                 for k, items in self.lists.items()
