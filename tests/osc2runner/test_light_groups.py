@@ -1,4 +1,4 @@
-"""Runner pieces a review found without a test: the traffic-light group actions."""
+"""The traffic-light group actions: `set_group_state` and `set_group_semantic_state`."""
 
 from __future__ import annotations
 
