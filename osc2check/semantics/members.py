@@ -12,7 +12,7 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
-__all__ = ["declaration_bodies", "scenario_do", "scenario_members"]
+__all__ = ["declaration_bodies", "last_do", "scenario_do", "scenario_members"]
 
 MemberList = tuple[ast.Member, ...]
 
@@ -54,8 +54,13 @@ def scenario_do(
     """The ``do`` that ``scenario`` runs: the last one written in its ancestors' member
     lists and its own, in that order (a subtype's or an extension's replaces an earlier
     one, as the runner compiles it); None when it has none."""
+    return last_do(scenario_members(model, bodies, scenario))
+
+
+def last_do(members: list[ast.Member]) -> ast.DoDirective | None:
+    """The last ``do`` of ``members`` (see ``scenario_do``)."""
     found = None
-    for member in scenario_members(model, bodies, scenario):
+    for member in members:
         if isinstance(member, ast.DoDirective):
             found = member
     return found

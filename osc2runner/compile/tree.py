@@ -23,7 +23,7 @@ import py_trees
 from osc2check.semantics import types as T
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
-from osc2check.semantics.members import declaration_bodies
+from osc2check.semantics.members import declaration_bodies, last_do, scenario_members
 from osc2check.semantics.phases import enum_word, is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
@@ -198,8 +198,8 @@ class TreeCompiler:
             run.declare_event(name)
         self._variables(scenario)
         self._declared_events(scenario)
-        members = self._members(scenario)
-        do = _last_do(members)
+        members = scenario_members(self.model, self.bodies, scenario)
+        do = last_do(members)
         frame = Frame(
             "",
             scenario,
@@ -230,15 +230,6 @@ class TreeCompiler:
             handlers,
         )
         return CompiledScenario(root, self._start_uses(do), self.problems, self.notes)
-
-    def _members(self, scenario: Symbol) -> list[ast.Member]:
-        """The members of ``scenario`` as written: its ancestors' first, each type's
-        declaration then its ``extend``s (a later ``do`` replaces an earlier one)."""
-        found: list[ast.Member] = []
-        for sym in reversed(list(self.model.ancestors(scenario))):
-            for members in self.bodies.get(sym, ()):
-                found.extend(members)
-        return found
 
     def _event_names(self, scenario: Symbol) -> frozenset[str]:
         return frozenset(
@@ -589,8 +580,8 @@ class TreeCompiler:
         label = self.labels.get(id(inv))
         path = invocation_path(outer.path, actor.name if actor else None, label, sym.name, inv)
         given, duration = self._scenario_arguments(sym, inv, scope)
-        members = self._members(sym)
-        do = _last_do(members)
+        members = scenario_members(self.model, self.bodies, sym)
+        do = last_do(members)
         at_start: frozenset[ast.Node] = frozenset()
         if do is not None and inv in outer.at_start:
             at_start = frozenset(time_zero(do.member.body).starts)
@@ -868,16 +859,6 @@ def _overlap_kind(node: ast.Node) -> str:
     if word not in OVERLAP_KINDS:
         raise CompileProblem(f"`{word}` is not an overlap kind ({', '.join(OVERLAP_KINDS)})", node)
     return word
-
-
-def _last_do(members: list[ast.Member]) -> ast.DoDirective | None:
-    """The scenario's ``do``: the last one written (a subtype's or an extension's replaces
-    its supertype's)."""
-    found = None
-    for member in members:
-        if isinstance(member, ast.DoDirective):
-            found = member
-    return found
 
 
 def _labels(do: ast.DoDirective | None) -> frozenset[str]:
