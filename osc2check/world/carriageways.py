@@ -32,7 +32,7 @@ import numpy as np
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.numbering import driving_lanes_right_to_left
 from osc2check.world.projection import WorldPose
-from osc2check.world.topology import Way, end_lanes, linked_ways, travel_ways
+from osc2check.world.topology import Way, end_lanes, linked_ways, travel_ways, way_label
 
 __all__ = [
     "AHEAD_CAP",
@@ -99,8 +99,7 @@ class Carriageway:
     def label(self) -> str:
         """``road 3``, or ``road 3 (against s)``; ``roads 1, 2`` over several roads."""
         if len(self.legs) == 1:
-            leg = self.legs[0]
-            return f"road {leg.road}" + ("" if leg.direction > 0 else " (against s)")
+            return way_label((self.legs[0].road, self.legs[0].direction))
         return "roads " + ", ".join(leg.road for leg in self.legs)
 
     @property

@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.paths import join_paths
 from osc2check.world.routes import turn_along
-from osc2check.world.topology import end_lanes, linked_ways, side_neighbour, travel_ways
+from osc2check.world.topology import end_lanes, linked_ways, side_neighbour, travel_ways, way_label
 
 __all__ = [
     "LANE_KINDS",
@@ -107,8 +107,7 @@ class MapElements:
     turns: tuple[JunctionTurn, ...]
 
     def route_label(self, route: tuple[str, int]) -> str:
-        road, direction = route
-        return f"road {road}" + ("" if direction > 0 else " (against s)")
+        return way_label(route)
 
     @staticmethod
     def lane_label(ref: LaneRef) -> str:

@@ -27,6 +27,7 @@ __all__ = [
     "neighbours",
     "side_neighbour",
     "travel_ways",
+    "way_label",
 ]
 
 #: a road and a direction of travel on it (+1 along its ``s``, -1 against)
@@ -86,6 +87,12 @@ def neighbours(network: RoadNetwork, ref: LaneRef) -> Neighbours:
         return other is not None and network.lane(other).direction == lane.direction
 
     return Neighbours(left, right, drivable(left), drivable(right), same(left), same(right))
+
+
+def way_label(way: Way) -> str:
+    """``road 3`` driven along its ``s``, ``road 3 (against s)`` the other way."""
+    road, direction = way
+    return f"road {road}" + ("" if direction > 0 else " (against s)")
 
 
 def travel_ways(network: RoadNetwork) -> tuple[Way, ...]:

@@ -13,6 +13,7 @@ from osc2check.world.topology import (
     neighbour_n,
     side_neighbour,
     travel_ways,
+    way_label,
 )
 from osc2runner.instance.roads import LaneNumbers
 from tests.osc2check.world.maptext import WIDTH, road_xml, xodr
@@ -52,6 +53,7 @@ def test_ways_into_and_out_of_a_junction() -> None:
     assert linked_ways(network, ("1", -1), "previous") == {("106", 1), ("107", 1), ("111", 1)}
     assert linked_ways(network, ("1", 1), "previous") == set()  # the arm's far end
     assert linked_ways(network, ("1", -1)) == set()
+    assert [way_label(w) for w in ways[:2]] == ["road 1", "road 1 (against s)"]
 
 
 def test_end_lanes_are_taken_in_the_section_traffic_enters_or_leaves(
