@@ -32,6 +32,7 @@ import numpy as np
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.numbering import driving_lanes_right_to_left
 from osc2check.world.projection import WorldPose
+from osc2check.world.topology import Way, end_lanes, linked_ways, travel_ways, way_label
 
 __all__ = [
     "AHEAD_CAP",
@@ -98,8 +99,7 @@ class Carriageway:
     def label(self) -> str:
         """``road 3``, or ``road 3 (against s)``; ``roads 1, 2`` over several roads."""
         if len(self.legs) == 1:
-            leg = self.legs[0]
-            return f"road {leg.road}" + ("" if leg.direction > 0 else " (against s)")
+            return way_label((self.legs[0].road, self.legs[0].direction))
         return "roads " + ", ".join(leg.road for leg in self.legs)
 
     @property
@@ -181,63 +181,19 @@ def start_pose(
 # ---------------------------------------------------------------- building
 
 
-def _has_lanes(network: RoadNetwork, road: str, direction: int) -> bool:
-    return any(
-        lane.drivable and lane.direction == direction
-        for section in network.roads[road].sections
-        for lane in section.lanes
-    )
-
-
-def _exit_lanes(network: RoadNetwork, road: str, direction: int) -> list[LaneRef]:
-    sections = network.roads[road].sections
-    section = sections[-1] if direction > 0 else sections[0]
-    return [lane.ref for lane in section.lanes if lane.drivable and lane.direction == direction]
-
-
-def _entry_lanes(network: RoadNetwork, road: str, direction: int) -> list[LaneRef]:
-    sections = network.roads[road].sections
-    section = sections[0] if direction > 0 else sections[-1]
-    return [lane.ref for lane in section.lanes if lane.drivable and lane.direction == direction]
-
-
-def _following(network: RoadNetwork, leg: tuple[str, int], of: str) -> set[tuple[str, int]]:
-    """The (road, direction) legs that the lanes leaving (``of="next"``) or entering
-    (``"previous"``) ``leg`` lead to, on other roads."""
-    road, direction = leg
-    found: set[tuple[str, int]] = set()
-    if of == "next":
-        for ref in _exit_lanes(network, road, direction):
-            for nxt in network.next_lanes(ref):
-                if nxt.road != road:
-                    found.add((nxt.road, network.lane(nxt).direction))
-    else:
-        for ref in _entry_lanes(network, road, direction):
-            for prev in network.previous_lanes(ref):
-                if prev.road != road:
-                    found.add((prev.road, network.lane(prev).direction))
-    return found
-
-
 def _build(network: RoadNetwork) -> tuple[Carriageway, ...]:
-    legs = [
-        (road.id, d)
-        for road in network.roads.values()
-        if road.junction is None
-        for d in (1, -1)
-        if _has_lanes(network, road.id, d)
-    ]
+    legs = [way for way in travel_ways(network) if network.roads[way[0]].junction is None]
     candidates = set(legs)
-    nxt: dict[tuple[str, int], tuple[str, int]] = {}
+    nxt: dict[Way, Way] = {}
     for leg in legs:
-        after = _following(network, leg, "next")
+        after = linked_ways(network, leg, "next")
         if len(after) == 1:
             other = next(iter(after))
-            if other in candidates and _following(network, other, "previous") == {leg}:
+            if other in candidates and linked_ways(network, other, "previous") == {leg}:
                 nxt[leg] = other
     has_previous = set(nxt.values())
-    chains: list[list[tuple[str, int]]] = []
-    used: set[tuple[str, int]] = set()
+    chains: list[list[Way]] = []
+    used: set[Way] = set()
     for first in [leg for leg in legs if leg not in has_previous] + legs:
         if first in used:
             continue
@@ -250,7 +206,7 @@ def _build(network: RoadNetwork) -> tuple[Carriageway, ...]:
     return tuple(_carriageway(network, index, chain) for index, chain in enumerate(chains))
 
 
-def _carriageway(network: RoadNetwork, index: int, chain: list[tuple[str, int]]) -> Carriageway:
+def _carriageway(network: RoadNetwork, index: int, chain: list[Way]) -> Carriageway:
     legs: list[Leg] = []
     pieces: list[LanePiece] = []
     start = 0.0
@@ -260,26 +216,20 @@ def _carriageway(network: RoadNetwork, index: int, chain: list[tuple[str, int]])
         legs.append(leg)
         sections = road.sections if direction > 0 else tuple(reversed(road.sections))
         for section in sections:
-            lanes = [
-                lane for lane in section.lanes if lane.drivable and lane.direction == direction
+            # narrowest width of each driving lane travelling this way (row p of the
+            # borders is lane p's left border, row p + 1 its right border)
+            widths = [
+                float(np.min(section.borders[p] - section.borders[p + 1]))
+                for p, lane in enumerate(section.lanes)
+                if lane.drivable and lane.direction == direction
             ]
-            width = 0.0
-            if lanes:
-                width = min(
-                    float(
-                        np.min(
-                            section.borders[section.position(lane.id)]
-                            - section.borders[section.position(lane.id) + 1]
-                        )
-                    )
-                    for lane in lanes
-                )
+            count, width = len(widths), min(widths, default=0.0)
             a, b = sorted((leg.carriageway_s(section.s0), leg.carriageway_s(section.s1)))
-            if pieces and pieces[-1].count == len(lanes) and abs(pieces[-1].s1 - a) < 1e-9:
+            if pieces and pieces[-1].count == count and abs(pieces[-1].s1 - a) < 1e-9:
                 last = pieces[-1]
                 pieces[-1] = LanePiece(last.s0, b, last.count, min(last.width, width))
             else:
-                pieces.append(LanePiece(a, b, len(lanes), width))
+                pieces.append(LanePiece(a, b, count, width))
         start += road.length
     last_road, last_direction = chain[-1]
     road = network.roads[last_road]
@@ -299,7 +249,7 @@ def _ahead(network: RoadNetwork, road: str, direction: int) -> float:
     """How far the lanes leaving ``road`` driven ``direction`` lead on (capped)."""
     best = 0.0
     end = network.roads[road].length if direction > 0 else 0.0
-    for ref in _exit_lanes(network, road, direction):
+    for ref in end_lanes(network, road, direction):
         for span in network.reachable(ref, end, AHEAD_CAP):
             best = max(best, span.distance + abs(span.s_to - span.s_from))
     return min(best, AHEAD_CAP)

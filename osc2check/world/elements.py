@@ -33,7 +33,7 @@ from dataclasses import dataclass
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.paths import join_paths
 from osc2check.world.routes import turn_along
-from osc2check.world.topology import side_neighbour
+from osc2check.world.topology import end_lanes, linked_ways, side_neighbour, travel_ways, way_label
 
 __all__ = [
     "LANE_KINDS",
@@ -107,8 +107,7 @@ class MapElements:
     turns: tuple[JunctionTurn, ...]
 
     def route_label(self, route: tuple[str, int]) -> str:
-        road, direction = route
-        return f"road {road}" + ("" if direction > 0 else " (against s)")
+        return way_label(route)
 
     @staticmethod
     def lane_label(ref: LaneRef) -> str:
@@ -143,13 +142,7 @@ class MapElements:
 
     def sequences(self, network: RoadNetwork) -> set[tuple[tuple[str, int], tuple[str, int]]]:
         """Pairs of routes where a lane leaving the first enters the second directly."""
-        pairs: set[tuple[tuple[str, int], tuple[str, int]]] = set()
-        for road_id, direction in self.routes:
-            for ref in _end_lanes(network, road_id, direction):
-                for nxt in network.next_lanes(ref):
-                    if nxt.road != road_id:
-                        pairs.add(((road_id, direction), (nxt.road, network.lane(nxt).direction)))
-        return pairs
+        return {(route, after) for route in self.routes for after in linked_ways(network, route)}
 
     def lane_sides(self, network: RoadNetwork) -> set[tuple[LaneRef, str, LaneRef, int]]:
         """``(lane1, side, lane2, count)``: ``lane1`` is ``count`` lanes to ``side`` of
@@ -196,24 +189,11 @@ def map_elements(network: RoadNetwork) -> MapElements:
     return cached
 
 
-def _end_lanes(network: RoadNetwork, road_id: str, direction: int) -> list[LaneRef]:
-    sections = network.roads[road_id].sections
-    section = sections[-1] if direction > 0 else sections[0]
-    return [lane.ref for lane in section.lanes if lane.drivable and lane.direction == direction]
-
-
 def _build(network: RoadNetwork) -> MapElements:
-    routes = tuple(
-        (road.id, d)
-        for road in network.roads.values()
-        for d in (1, -1)
-        if any(lane.drivable and lane.direction == d for lane in road.lanes())
-    )
-    lanes = tuple(lane.ref for lane in network.driving_lanes())
     return MapElements(
         roads=network.road_ids,
-        routes=routes,
-        lanes=lanes,
+        routes=travel_ways(network),
+        lanes=tuple(lane.ref for lane in network.driving_lanes()),
         junctions=tuple(network.junctions),
         turns=tuple(_turns(network)),
     )
@@ -243,7 +223,7 @@ def _turns(network: RoadNetwork) -> list[JunctionTurn]:
         if road.junction is not None:
             continue
         for direction in (1, -1):
-            for in_lane in _end_lanes(network, road.id, direction):
+            for in_lane in end_lanes(network, road.id, direction):
                 for first in network.next_lanes(in_lane):
                     junction = network.roads[first.road].junction
                     if junction is None:

@@ -69,6 +69,11 @@ class SpatialIndex:
     margin: float
     ends: FloatArray  # dead ends: (x, y, outward heading, lateral low, high) rows
 
+    def type_mask(self, types: frozenset[str]) -> BoolArray:
+        """Per ``lane_type`` code, whether it is one of ``types``; one entry more, False,
+        so that the padding code -1 indexes it."""
+        return np.array([name in types for name in self.type_names] + [False])
+
 
 def build_index(network: RoadNetwork, cell: float = CELL, margin: float = MARGIN) -> SpatialIndex:
     """Concatenate the roads' samples and grid their patches (see the module docstring)."""

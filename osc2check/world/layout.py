@@ -114,13 +114,12 @@ def lane_width(network: RoadNetwork, ref: LaneRef, s: FloatArray) -> FloatArray:
     if lane.widths:
         width: FloatArray = np.maximum(cubic_profile(lane.widths, ds), 0.0)
         return width
-    # Border records: the width is the distance to the inner neighbour's outer border.
-    position = section.position(ref.lane)
-    inner = position + 1 if ref.lane > 0 else position
-    outer = position if ref.lane > 0 else position + 1
+    # Border records: the width is the distance between the lane's two border rows
+    # (row p is the left border of lanes[p], row p + 1 its right border).
+    p = section.position(ref.lane)
     s_samples = road.s[section.start : section.stop]
-    left = np.interp(s, s_samples, section.borders[min(inner, outer)])
-    right = np.interp(s, s_samples, section.borders[max(inner, outer)])
+    left = np.interp(s, s_samples, section.borders[p])
+    right = np.interp(s, s_samples, section.borders[p + 1])
     result: FloatArray = np.abs(left - right)
     return result
 

@@ -365,7 +365,7 @@ def project(
     out_heading = np.full(n, np.nan)
     out_inside = np.zeros(n, dtype=bool)
     out_drivable = np.zeros(n, dtype=bool)
-    driving = np.array([name in DRIVING_TYPES for name in index.type_names] + [False])
+    driving = index.type_mask(DRIVING_TYPES)
     for lo in range(0, n, _CHUNK):
         hi = min(n, lo + _CHUNK)
         pairs = _pairs(index, x[lo:hi], y[lo:hi])
@@ -430,7 +430,7 @@ def on_drivable(
     index = network.spatial_index()
     x = np.atleast_1d(np.asarray(x, dtype=np.float64))
     y = np.atleast_1d(np.asarray(y, dtype=np.float64))
-    wanted = np.array([name in types for name in index.type_names] + [False])
+    wanted = index.type_mask(types)
     result = np.zeros(len(x), dtype=bool)
     for lo in range(0, len(x), _CHUNK):
         hi = min(len(x), lo + _CHUNK)

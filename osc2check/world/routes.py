@@ -19,6 +19,7 @@ from __future__ import annotations
 import heapq
 import math
 import random
+from collections import deque
 from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Literal
@@ -114,21 +115,19 @@ def plan_route(
         if not options:
             end = "dead_end"
             break
-        leading = [ref for ref in options if _leads_to(network, ref, targets[0])] if targets else []
         if len(options) == 1:
             chosen = options[0]
         elif pending:
             chosen = _choose(network, lanes[-1], options, pending.pop(0))
-            decisions.append(turn_of(network, chosen))
-        elif leading:
+        elif targets and (leading := [r for r in options if _leads_to(network, r, targets[0])]):
             chosen = leading[0] if rng is None else leading[rng.randrange(len(leading))]
-            decisions.append(turn_of(network, chosen))
         elif rng is not None:
             chosen = options[rng.randrange(len(options))]
-            decisions.append(turn_of(network, chosen))
         else:
             end = "fork"
             break
+        if len(options) > 1:
+            decisions.append(turn_of(network, chosen))
         lanes.append(chosen)
         while targets and targets[0] == chosen.road:
             targets.pop(0)
@@ -140,9 +139,9 @@ def plan_route(
 def _leads_to(network: RoadNetwork, ref: LaneRef, road: str, limit: int = 400) -> bool:
     """Whether following successors from lane ``ref`` reaches road ``road``."""
     seen = {ref}
-    frontier = [ref]
+    frontier = deque([ref])
     while frontier and len(seen) < limit:
-        current = frontier.pop(0)
+        current = frontier.popleft()
         if current.road == road:
             return True
         for nxt in network.successors.get(current, ()):

@@ -1,8 +1,10 @@
-"""Lanes beside a lane: left and right neighbours in its direction of travel.
+"""Lanes beside a lane, and the ways of travel a road's ends lead to.
 
 Successors and predecessors (the lane graph across sections, road links and
 junctions) are built once by :mod:`osc2check.world.layout` and stored on the
-network; this module answers the lateral question. Lane ids count outwards from
+network; this module answers the lateral question, and which roads, driven
+which way, the driving lanes at a road's ends link to (a *way* is a road and a
+direction of travel on it, ``(road id, +1 or -1)``). Lane ids count outwards from
 the centre lane, so the lane on the ``+t`` side of lane ``k`` is ``k + 1`` (or
 ``1`` after ``-1``: the centre lane 0 has no width). Left in the direction of
 travel is the ``+t`` side for a lane driving along ``s`` and the ``-t`` side for
@@ -12,10 +14,24 @@ one driving against it.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Literal
 
 from osc2check.world.network import LaneRef, RoadNetwork
 
-__all__ = ["Neighbours", "neighbour_n", "neighbours", "side_neighbour"]
+__all__ = [
+    "Neighbours",
+    "Way",
+    "end_lanes",
+    "linked_ways",
+    "neighbour_n",
+    "neighbours",
+    "side_neighbour",
+    "travel_ways",
+    "way_label",
+]
+
+#: a road and a direction of travel on it (+1 along its ``s``, -1 against)
+Way = tuple[str, int]
 
 
 @dataclass(frozen=True, slots=True)
@@ -71,3 +87,47 @@ def neighbours(network: RoadNetwork, ref: LaneRef) -> Neighbours:
         return other is not None and network.lane(other).direction == lane.direction
 
     return Neighbours(left, right, drivable(left), drivable(right), same(left), same(right))
+
+
+def way_label(way: Way) -> str:
+    """``road 3`` driven along its ``s``, ``road 3 (against s)`` the other way."""
+    road, direction = way
+    return f"road {road}" + ("" if direction > 0 else " (against s)")
+
+
+def travel_ways(network: RoadNetwork) -> tuple[Way, ...]:
+    """Every way with a driving lane, in road order, along ``s`` before against."""
+    return tuple(
+        (road.id, direction)
+        for road in network.roads.values()
+        for direction in (1, -1)
+        if any(lane.drivable and lane.direction == direction for lane in road.lanes())
+    )
+
+
+def end_lanes(
+    network: RoadNetwork, road_id: str, direction: int, end: Literal["entry", "exit"] = "exit"
+) -> list[LaneRef]:
+    """The driving lanes travelling ``direction`` in the lane section where traffic enters
+    (``entry``) or leaves (``exit``) road ``road_id``, left to right as seen along ``s``."""
+    sections = network.roads[road_id].sections
+    section = sections[-1] if (direction > 0) == (end == "exit") else sections[0]
+    return [lane.ref for lane in section.lanes if lane.drivable and lane.direction == direction]
+
+
+def linked_ways(
+    network: RoadNetwork, way: Way, towards: Literal["next", "previous"] = "next"
+) -> set[Way]:
+    """The ways on other roads that the driving lanes leaving ``way`` lead to (``next``),
+    or that those entering it come from (``previous``)."""
+    road, direction = way
+    if towards == "next":
+        lanes, links = end_lanes(network, road, direction, "exit"), network.next_lanes
+    else:
+        lanes, links = end_lanes(network, road, direction, "entry"), network.previous_lanes
+    return {
+        (other.road, network.lane(other).direction)
+        for ref in lanes
+        for other in links(ref)
+        if other.road != road
+    }

@@ -419,7 +419,7 @@ class RoadLocator:
         found = self.network.cache.get("driving_sections")
         if found is None:
             index = self._index()
-            wanted = np.array([name in DRIVING_TYPES for name in index.type_names] + [False])
+            wanted = index.type_mask(DRIVING_TYPES)
             found = self.network.cache["driving_sections"] = (
                 wanted[index.lane_type].any(axis=1).tolist()
             )

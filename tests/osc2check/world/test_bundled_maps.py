@@ -88,6 +88,23 @@ def test_crossing_offers_straight_left_right_from_every_arm(crossing: RoadNetwor
     assert np.max(np.abs(np.diff(route.path.curvature))) < 0.01  # clothoids: no jumps
 
 
+def test_crossing_route_towards_a_road_takes_the_turn_that_reaches_it(
+    crossing: RoadNetwork,
+) -> None:
+    start = LaneRef("1", 0, -1)
+    for target, turn in (("3", "straight"), ("4", "left"), ("2", "right")):
+        for seed in (None, 7):
+            route = crossing.route(start, seed=seed, max_length=300.0, towards=[target])
+            assert [r.road for r in route.lanes][-1] == target
+            assert route.decisions == (turn,)
+            assert route.end == "length"
+    # without a target or a seed the route stops at the fork
+    assert crossing.route(start, max_length=300.0).end == "fork"
+    # a choice left in ``choices`` comes before ``towards``
+    route = crossing.route(start, ["right"], max_length=300.0, towards=["3"])
+    assert route.decisions == ("right",) and route.lanes[-1].road == "2"
+
+
 def test_crossing_traffic_lights_and_controllers(crossing: RoadNetwork) -> None:
     lights = [s for s in crossing.signals if s.dynamic]
     assert len(lights) == 4 and all(s.validity == ((-1, -1),) for s in lights)

@@ -51,6 +51,33 @@ def test_lane_widths_are_cubic_in_ds_with_several_records(write_map: WriteMap) -
     assert net.roads["1"].section_at(85.0).index == 1
 
 
+def test_lane_widths_from_border_records_on_both_sides(write_map: WriteMap) -> None:
+    # <border> gives the outer border's distance from the centre lane; a lane's width
+    # is the gap to the border inside it (the centre lane's, at the lane offset, for
+    # the lanes next to it), also beside a lane with width records.
+    lanes = """
+      <laneSection s="0">
+        <left>
+          <lane id="2" type="shoulder"><border sOffset="0" a="7.0" b="0" c="0" d="0"/></lane>
+          <lane id="1" type="driving"><border sOffset="0" a="3.0" b="0.01" c="0" d="0"/></lane>
+        </left>
+        <center><lane id="0" type="none"/></center>
+        <right>
+          <lane id="-1" type="driving"><width sOffset="0" a="3.5" b="0" c="0" d="0"/></lane>
+          <lane id="-2" type="shoulder"><border sOffset="0" a="5.0" b="0" c="0" d="0"/></lane>
+        </right>
+      </laneSection>"""
+    offset = '\n      <laneOffset s="0" a="0.5" b="0" c="0" d="0"/>'
+    net = load_opendrive(write_map(xodr(road_xml(lanes=lanes, lanes_extra=offset))))
+    s = np.array([0.0, 40.0, 100.0])
+    assert np.allclose(net.width(LaneRef("1", 0, 1), s), 3.0 + 0.01 * s, atol=1e-9)
+    assert np.allclose(net.width(LaneRef("1", 0, 2), s), 4.0 - 0.01 * s, atol=1e-9)
+    assert np.allclose(net.width(LaneRef("1", 0, -1), s), 3.5, atol=1e-12)
+    assert np.allclose(net.width(LaneRef("1", 0, -2), s), 1.5, atol=1e-9)
+    centre = net.lane_to_world(LaneRef("1", 0, 2), 40.0)
+    assert centre.y == pytest.approx(0.5 + 0.5 * (3.4 + 7.0), abs=1e-9)
+
+
 def test_lane_offset_shifts_the_centre_lane(write_map: WriteMap) -> None:
     offset = '\n      <laneOffset s="0" a="1.0" b="0.01" c="0" d="0"/>'
     net = load_opendrive(write_map(xodr(road_xml(lanes_extra=offset))))
