@@ -157,6 +157,20 @@ def test_plots_of_a_run_that_did_not_pass_are_those_of_plot(tmp_path: Path) -> N
         ).read_bytes(), name
 
 
+def test_the_report_links_every_plot_of_a_run(tmp_path: Path) -> None:
+    from osc2runner.campaign.report import _links
+    from osc2runner.campaign.worker import RunRecord
+
+    run_dir = tmp_path / "runs" / "3"
+    run_dir.mkdir(parents=True)
+    for name in ("braking.png", "world.png", "run.json", "telemetry.csv"):
+        (run_dir / name).write_bytes(b"")
+    links = _links(RunRecord(3, "failure", "collision", folder="runs/3"), tmp_path)
+    for name in ("braking.png", "world.png", "run.json", "telemetry.csv"):
+        assert f'href="runs/3/{name}"' in links, name
+    assert "events.csv" not in links  # not there: not linked
+
+
 def test_records_and_coverage(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2))
