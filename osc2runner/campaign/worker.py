@@ -45,7 +45,6 @@ from osc2runner.runner import (
     RunInterrupted,
     RunResult,
     check_file,
-    compile_checked,
     execute,
     prepare_checked,
 )
@@ -189,8 +188,7 @@ class Worker:
     def items(self) -> list[SteerableItem]:
         """The scenario's cover items and what can steer them (compiled once)."""
         if self._items is None:
-            compiled = compile_checked(self.checked, seed=0, dt_control=self.setup.dt_control)
-            self._items = cover_items(self.checked, compiled.ctx.coverage.items)
+            self._items = cover_items(self.checked, dt_control=self.setup.dt_control)
         return self._items
 
     def witness(self, task: RunTask) -> Witness | None:
