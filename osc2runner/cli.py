@@ -188,6 +188,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         raise UsageError("--plot needs --out DIR")
     args.seed = _checked(args.seed, int, check_seed)
     args.duration = _checked(args.duration, float, lambda v: check_time("duration", v))
+    args.run_timeout = _checked(args.run_timeout, float, lambda v: check_time("run_timeout", v))
     given = {"dt_control": args.dt_control, "dt_physics": args.dt_physics}
     try:
         args.dt_control, args.dt_physics = check_steps(
