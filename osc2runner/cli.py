@@ -188,6 +188,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         raise UsageError("--plot needs --out DIR")
     args.seed = _checked(args.seed, int, check_seed)
     args.duration = _checked(args.duration, float, lambda v: check_time("duration", v))
+    args.run_timeout = _checked(args.run_timeout, float, lambda v: check_time("run_timeout", v))
     given = {"dt_control": args.dt_control, "dt_physics": args.dt_physics}
     try:
         args.dt_control, args.dt_physics = check_steps(
@@ -288,21 +289,19 @@ def _main(args_list: list[str]) -> int:
 
 
 def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
-    from osc2runner.runner import RunInterrupted, execute, prepare
+    from osc2runner.runner import RunInterrupted, check_file, execute, prepare_checked
 
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    if args.bin is not None:
-        prepared = _prepare_in_bin(args)
-    else:
-        prepared = prepare(
-            args.file,
-            scenario=args.scenario,
-            seed=args.seed,
-            dt_control=args.dt_control,
-            dt_physics=args.dt_physics,
-            sut=args.sut_spec,
-        )
+    checked = check_file(args.file, scenario=args.scenario)
+    prepared = prepare_checked(
+        checked,
+        seed=args.seed,
+        dt_control=args.dt_control,
+        dt_physics=args.dt_physics,
+        sut=args.sut_spec,
+        witness=_witness_in_bin(checked, args) if args.bin is not None else None,
+    )
     interactive = out.isatty() and not args.quiet
     try:
         if interactive:
@@ -318,24 +317,12 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     return EXIT_OK if result.success else EXIT_FAILURE
 
 
-def _prepare_in_bin(args: argparse.Namespace) -> Any:
-    """A run whose witness is drawn inside a cover bin (``--bin``), as a campaign's
-    directed run is."""
+def _witness_in_bin(checked: Any, args: argparse.Namespace) -> Any:
+    """The witness drawn inside the cover bin ``--bin``, as a campaign's directed run's is."""
     from osc2runner.campaign.steering import cover_items, directed_witness
-    from osc2runner.runner import check_file, compile_checked, prepare_checked
 
-    checked = check_file(args.file, scenario=args.scenario)
-    compiled = compile_checked(checked, seed=0, dt_control=args.dt_control)
-    items = cover_items(checked, compiled.ctx.coverage.items)
-    witness = directed_witness(checked, items, args.bin, args.seed)
-    return prepare_checked(
-        checked,
-        seed=args.seed,
-        dt_control=args.dt_control,
-        dt_physics=args.dt_physics,
-        sut=args.sut_spec,
-        witness=witness,
-    )
+    items = cover_items(checked, dt_control=args.dt_control)
+    return directed_witness(checked, items, args.bin, args.seed)
 
 
 def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any:

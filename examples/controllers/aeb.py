@@ -13,9 +13,9 @@ on its own, as a simple production AEB does:
 * once braking it holds the brake until it no longer closes in (or stands
   still), then hands back to the driver.
 
-It sees the world after ``latency`` (0.1 s: sensing and decision), so its
-reaction comes one to two ticks late, and its brake builds up at the
-vehicle's pedal rate. Stopping from speed ``v`` at full braking (about
+It sees the world after ``latency`` (0.2 s: sensing and decision), so it
+acts on what it saw four ticks before (at the default 20 Hz), and its brake
+builds up at the vehicle's pedal rate. Stopping from speed ``v`` at full braking (about
 9 m/s² on dry asphalt) takes ``v² / 18`` metres, so it avoids stationary
 targets up to about 40 kph and only reduces the impact speed above.
 

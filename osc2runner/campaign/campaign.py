@@ -48,7 +48,7 @@ from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.signals import SIGNALS, signal_name
 from osc2runner.output.files import output_folder
-from osc2runner.runner import Checked, check_file, compile_checked
+from osc2runner.runner import Checked, check_file
 from osc2runner.sut.loading import SutSpec
 
 __all__ = [
@@ -151,8 +151,7 @@ def _check(options: CampaignOptions) -> None:
 def plan_runs(options: CampaignOptions, checked: Checked) -> CoverPlan:
     """The planned tasks, and every cover item's plan (its bucket labels, for ``random``
     only observed)."""
-    compiled = compile_checked(checked, seed=options.seed, dt_control=options.dt_control)
-    items = cover_items(checked, compiled.ctx.coverage.items)
+    items = cover_items(checked, seed=options.seed, dt_control=options.dt_control)
     if options.strategy == "cover":
         if not any(e.steerable for e in items):
             why = "; ".join(f"`{e.item.name}`: {e.reason}" for e in items) or "it has none"

@@ -18,8 +18,6 @@ import math
 from pathlib import Path
 from typing import Any, TextIO
 
-from osc2runner.options import OptionError, check_time
-
 __all__ = ["campaign_arguments", "run_command"]
 
 
@@ -93,19 +91,13 @@ def campaign_arguments(args: argparse.Namespace) -> None:
     if args.out is None:
         raise _usage("--runs needs --out DIR (the campaign's folder) or --resume DIR")
     args.runs = _count("runs", args.runs, 1)
-    args.jobs = _count("jobs", args.jobs, 0) if args.jobs is not None else 0
-    if args.run_timeout is not None:
-        try:
-            args.run_timeout = check_time("run_timeout", float(args.run_timeout))
-        except ValueError:
-            raise _usage(f"--run-timeout {args.run_timeout}: must be a number of seconds") from None
-        except OptionError as exc:
-            raise _usage(exc.cli) from None
+    args.jobs = _count("jobs", args.jobs, 0)
     if args.engine != "ray" and args.address is not None:
         raise _usage("--address needs --engine ray")
     if args.bin is not None:
         raise _usage("--bin is for one run; a campaign chooses bins with --strategy cover")
-    # --out (set for every campaign) is checked by the command line after this (cli._parse)
+    # --out (set for every campaign) and --run-timeout are checked by the command line after
+    # this, as one run's options are (cli._parse)
 
 
 def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:

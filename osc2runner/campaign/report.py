@@ -42,7 +42,6 @@ SCATTER_KPIS = (
     "max_decel_mps2",
     "time_to_stop_s",
 )
-PLOT_NAMES = ("speed_throttle.png", "accel_jerk.png", "braking.png", "gap_steering.png")
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px auto;
 max-width:1180px;color:#212121;line-height:1.4;padding:0 16px}
@@ -278,7 +277,7 @@ def _histograms(records: Sequence[RunRecord]) -> str:
 
 def _links(r: RunRecord, folder: Path) -> str:
     run_dir = folder / r.folder
-    names = [n for n in PLOT_NAMES if (run_dir / n).is_file()]
+    names = sorted(p.name for p in run_dir.glob("*.png"))  # the run's plots, whichever it has
     names += [n for n in ("run.json", "telemetry.csv", "events.csv") if (run_dir / n).is_file()]
     return " ".join(f'<a href="{_e(r.folder)}/{_e(n)}">{_e(n.split(".")[0])}</a>' for n in names)
 

@@ -30,7 +30,7 @@ from osc2check.verify.check import ScenarioResult, source_text
 from osc2check.verify.witness import Witness
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.coverage import CoverageBucket, CoverageItem
-from osc2runner.runner import Checked
+from osc2runner.runner import Checked, compile_checked
 
 __all__ = [
     "BinRef",
@@ -123,8 +123,11 @@ def scenario_result(checked: Checked) -> ScenarioResult:
     return next(r for r in verified.scenarios if r.scenario is checked.scenario)
 
 
-def cover_items(checked: Checked, items: list[CoverageItem]) -> list[SteerableItem]:
-    """The ``cover`` items among ``items`` (a compiled run's) with their terms."""
+def cover_items(
+    checked: Checked, *, seed: int = 0, dt_control: float = 0.05
+) -> list[SteerableItem]:
+    """The scenario's ``cover`` items (compiled for ``seed``) with their terms."""
+    items = compile_checked(checked, seed=seed, dt_control=dt_control).ctx.coverage.items
     program = checked.analysis.programs[checked.uri]
     model = program.model
     result = scenario_result(checked)

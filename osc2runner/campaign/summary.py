@@ -120,7 +120,7 @@ def kpi_figures(records: Sequence[RunRecord]) -> dict[str, dict[str, Any]]:
             for r in finished(records)
             if isinstance(r.kpis.get(name), (int, float)) and not isinstance(r.kpis.get(name), bool)
         ]
-        if not values or name == "collision":
+        if not values:  # none, or not numbers: collision (a bool), collision_with
             continue
         figures[name] = {
             "unit": unit,

@@ -30,6 +30,7 @@ from typing import Any
 
 from osc2check.verify import ir
 from osc2check.verify.witness import Witness
+from osc2check.world.network import RoadNetwork
 from osc2runner.campaign.kpis import run_kpis, subject_actor
 from osc2runner.campaign.steering import (
     BinRef,
@@ -44,7 +45,6 @@ from osc2runner.runner import (
     RunInterrupted,
     RunResult,
     check_file,
-    compile_checked,
     execute,
     prepare_checked,
 )
@@ -188,8 +188,7 @@ class Worker:
     def items(self) -> list[SteerableItem]:
         """The scenario's cover items and what can steer them (compiled once)."""
         if self._items is None:
-            compiled = compile_checked(self.checked, seed=0, dt_control=self.setup.dt_control)
-            self._items = cover_items(self.checked, compiled.ctx.coverage.items)
+            self._items = cover_items(self.checked, dt_control=self.setup.dt_control)
         return self._items
 
     def witness(self, task: RunTask) -> Witness | None:
@@ -221,7 +220,7 @@ class Worker:
             except RunInterrupted as exc:
                 result = exc.result
             if not setup.plot and result.outcome.status in ("failure", "timeout", "error"):
-                _plot_after(result, folder)
+                _plot_after(result, folder, prepared.world.network)
             describe(record, result, self.checked, prepared.sut)
             for entry in self.items():
                 if entry.components:  # cross coverage: the campaign's, from its parts
@@ -249,12 +248,13 @@ class Worker:
         return BinRef(ref.item, ref.index, entry.item.buckets[ref.index].label)
 
 
-def _plot_after(result: RunResult, folder: Path) -> None:
-    """Plots of a run that did not pass, and its ``run.json`` again (written last)."""
+def _plot_after(result: RunResult, folder: Path, network: RoadNetwork) -> None:
+    """Plots of a run that did not pass (as ``--plot`` draws them: ``world.png`` with the
+    map's lanes), and its ``run.json`` again (written last)."""
     from osc2runner.output.plots import plot_run
     from osc2runner.output.telemetry import write_metadata
 
-    plots = plot_run(result, folder)
+    plots = plot_run(result, folder, network)
     result.outputs.extend(plots)
     write_metadata(folder, result.metadata, result.events)
 

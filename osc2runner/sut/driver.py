@@ -65,21 +65,21 @@ def sut_info(name: str, params: VehicleParams, dt: float, seed: int, scenario: s
     )
 
 
-def _view(state: ActorState, ego: ActorState | None) -> ActorView:
+def _view(state: ActorState, ego: ActorView | None = None) -> ActorView:
+    """``state`` in the world frame and, when ``ego`` (the SUT's own view) is given, seen
+    from the SUT."""
     c, s = math.cos(state.yaw), math.sin(state.yaw)
     vx = state.speed * c - state.lateral_speed * s
     vy = state.speed * s + state.lateral_speed * c
-    if ego is None or ego is state:
+    if ego is None:
         return ActorView(
             state.name, state.kind, state.x, state.y, state.yaw, state.speed, state.accel,
             vx, vy, state.length, state.width, state.lane, state.s, state.t,
         )  # fmt: skip
     ec, es = math.cos(ego.yaw), math.sin(ego.yaw)
-    evx = ego.speed * ec - ego.lateral_speed * es
-    evy = ego.speed * es + ego.lateral_speed * ec
     dx, dy = state.x - ego.x, state.y - ego.y
     rel_x, rel_y = dx * ec + dy * es, -dx * es + dy * ec
-    dvx, dvy = vx - evx, vy - evy
+    dvx, dvy = vx - ego.vx, vy - ego.vy
     # the other's box projected on the SUT's axes (its half extents along them)
     rc, rs = abs(math.cos(state.yaw - ego.yaw)), abs(math.sin(state.yaw - ego.yaw))
     half_long = 0.5 * (state.length * rc + state.width * rs)
@@ -146,11 +146,12 @@ class SutDriver:
 
     def observe(self, state: ActorState, driver: VehicleInput) -> Observation:
         """The observation of this tick."""
-        others = tuple(_view(s, state) for n, s in self.states.items() if n != self.name)
+        ego = _view(state)
+        others = tuple(_view(s, ego) for n, s in self.states.items() if n != self.name)
         return Observation(
             tick=state.tick,
             time=state.time,
-            ego=_view(state, None),
+            ego=ego,
             others=others,
             road=self._road(state),
             intent=self._intent(state),

@@ -111,6 +111,18 @@ def test_missing_file_exits_2(capsys):
     assert "no such file" in capsys.readouterr().err
 
 
+def test_a_bad_run_timeout_is_one_usage_line_that_quotes_it(tmp_path, capsys):
+    out = tmp_path / "campaign"
+    for text, why in (
+        ("abc", "must be a number of seconds"),
+        ("-1", "must be positive"),
+        ("inf", "must be a finite number of seconds"),
+    ):
+        assert main([str(EVENTS), "--runs", "2", "--out", str(out), "--run-timeout", text]) == 2
+        assert capsys.readouterr().err == f"osc2run: error: --run-timeout {text}: {why}\n"
+    assert not out.exists()
+
+
 def test_interrupted_run_writes_what_it_recorded(tmp_path):
     def interrupt(sim: float, limit: float, wall: float) -> None:
         if sim >= 2.0:

@@ -137,6 +137,40 @@ def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path
     assert by_seed[0].status == by_seed[2].status == "success"
 
 
+def test_plots_of_a_run_that_did_not_pass_are_those_of_plot(tmp_path: Path) -> None:
+    """A campaign plots a run that did not pass after it: the same files ``--plot`` writes
+    (``world.png`` with the map's lanes)."""
+    from osc2runner import run
+    from osc2runner.campaign.worker import CampaignSetup, RunTask, Worker
+
+    spec = SutSpec(f"{SUTS}:Raises").resolved()
+    alone = run("short.osc", source=SHORT, sut=spec.target, out=tmp_path / "alone", plot=True)
+    assert alone.outcome.status == "error"
+    worker = Worker(CampaignSetup("short.osc", SHORT, sut=spec, out=str(tmp_path / "c")))
+    record = worker.run(RunTask(0))
+    assert record.status == "error"
+    pngs = sorted(p.name for p in (tmp_path / "alone").glob("*.png"))
+    assert "world.png" in pngs and set(pngs) <= set(record.files)
+    for name in pngs:
+        assert (tmp_path / "alone" / name).read_bytes() == (
+            tmp_path / "c" / record.folder / name
+        ).read_bytes(), name
+
+
+def test_the_report_links_every_plot_of_a_run(tmp_path: Path) -> None:
+    from osc2runner.campaign.report import _links
+    from osc2runner.campaign.worker import RunRecord
+
+    run_dir = tmp_path / "runs" / "3"
+    run_dir.mkdir(parents=True)
+    for name in ("braking.png", "world.png", "run.json", "telemetry.csv"):
+        (run_dir / name).write_bytes(b"")
+    links = _links(RunRecord(3, "failure", "collision", folder="runs/3"), tmp_path)
+    for name in ("braking.png", "world.png", "run.json", "telemetry.csv"):
+        assert f'href="runs/3/{name}"' in links, name
+    assert "events.csv" not in links  # not there: not linked
+
+
 def test_records_and_coverage(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2))

@@ -99,3 +99,24 @@ def test_the_braking_plot_and_time_to_stop_agree_on_what_a_stop_is() -> None:
     light = {**hard, "brake": np.where(t >= 1.0, 0.03, 0.0)}
     assert run_kpis({"ego": light}, {}, [], "ego")["time_to_stop_s"] is None
     assert brake_onsets(light) == []
+
+
+def test_kpi_figures_are_of_the_numeric_kpis_of_finished_runs() -> None:
+    from osc2runner.campaign.summary import kpi_figures
+    from osc2runner.campaign.worker import RunRecord
+
+    def record(seed: int, status: str, gap: float, collision: bool) -> RunRecord:
+        kpis = {"collision": collision, "collision_with": "lead" if collision else None}
+        return RunRecord(seed, status, "", kpis={**kpis, "min_gap_m": gap, "lane_departures": 0})
+
+    records = [
+        record(0, "success", 2.0, False),
+        record(1, "failure", 0.0, True),
+        record(2, "success", 4.0, False),
+        record(3, "interrupted", 9.0, False),  # not finished: left out
+    ]
+    figures = kpi_figures(records)
+    assert set(figures) == {"min_gap_m", "lane_departures"}  # not the bool, not the actor
+    assert figures["min_gap_m"] == {
+        "unit": "m", "runs": 3, "min": 0.0, "median": 2.0, "mean": 2.0, "max": 4.0,
+    }  # fmt: skip
