@@ -608,11 +608,11 @@ class State:
         if doc is None or not doc.current:
             return  # a newer edit is on its way; its analysis schedules this again
         batch = self._batch(doc)
-        versions = {d.uri: (d.version, d.text) for d in batch}
+        texts = {d.uri: (d.version, d.text) for d in batch}
         config = self.configs.for_file(doc.key, self.options, self.root)
-        inputs = [(d.key, d.text) for d in batch]
+        jobs = [(d.key, d.version, d.text) for d in batch]
         try:
-            found = await self._solver.findings(inputs, config)
+            answer = await self._solver.findings(jobs, config)
         except Exception:
             log.exception("solver checks of %s failed", uri)
             return
@@ -620,8 +620,15 @@ class State:
         for d in batch:
             if self.documents.get(d.uri) is not d or d.stale or not d.current:
                 continue
-            if (d.version, d.text) == versions[d.uri] and d.key in found and d.snapshot:
-                d.snapshot = d.snapshot.with_findings(found[d.key])
+            # The answer is for the versions asked about, and the document is still at
+            # that version with that text: else a newer analysis is on its way.
+            if (
+                (d.version, d.text) == texts[d.uri]
+                and answer.versions.get(d.key, -1) == d.version
+                and d.key in answer.findings
+                and d.snapshot
+            ):
+                d.snapshot = d.snapshot.with_findings(answer.findings[d.key])
                 published.append(findings_of(d.snapshot))
         self._publish(uri, published)
 
