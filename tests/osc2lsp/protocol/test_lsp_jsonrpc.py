@@ -62,6 +62,27 @@ def test_a_notification_with_invalid_params_is_dropped_and_serving_goes_on(serve
     assert "a notification: not answered" in server.stderr()
 
 
+def test_an_error_for_a_message_whose_id_is_unknown_has_a_null_id(server):
+    """JSON-RPC 2.0: "If there was an error in detecting the id ... it MUST be Null"."""
+    server.send_bytes(b"Content-Length: 5\r\n\r\n{abc}")  # not JSON
+    server.send_bytes(b"Content-Length: 3\r\n\r\n[1]")  # not an object
+    bad_id = b'{"jsonrpc": "2.0", "id": [1], "method": "textDocument/hover"}'
+    server.send_bytes(b"Content-Length: %d\r\n\r\n%s" % (len(bad_id), bad_id))
+    server.call("textDocument/hover", HOVER)
+    errors = [m for m in server.inbox if "error" in m]
+    assert sorted(m["error"]["code"] for m in errors) == [-32700, -32600, -32600]
+    assert all("id" in m and m["id"] is None for m in errors)
+
+
+def test_a_rename_to_an_implicit_name_is_refused(server):
+    """``it`` and ``actor`` are names the language gives: a field renamed to ``it``
+    would be read as the subject of a ``with:`` block."""
+    for implicit in ("it", "actor"):
+        answer = server.call("textDocument/rename", dict(HOVER, newName=implicit))
+        assert answer["error"]["code"] == -32803
+        assert f"`{implicit}`" in answer["error"]["message"]
+
+
 def test_a_refused_rename_is_an_error_answer_logged_without_traceback(server):
     vehicle = {"textDocument": {"uri": URI}, "position": {"line": 2, "character": 12}}
     answer = server.call("textDocument/rename", dict(vehicle, newName="car"))
