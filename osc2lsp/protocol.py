@@ -180,6 +180,21 @@ class Osc2Protocol(LanguageServerProtocol):
         self.handle_message(message)
 
     def garbled(self, event: Garbled) -> None:
+        if event.too_large:
+            log.error("skipped %s; reading on from the next frame", event.reason)
+            self._send_error(None, JsonRpcInvalidRequest(f"skipped {event.reason}"))
+            self._send_data(
+                {
+                    "jsonrpc": "2.0",
+                    "method": types.WINDOW_SHOW_MESSAGE,
+                    "params": {
+                        "type": types.MessageType.Error.value,
+                        "message": f"osc2lsp: skipped {event.reason}; a document it changed "
+                        "may be out of date until it is opened again",
+                    },
+                }
+            )
+            return
         log.warning(
             "skipped %s (%d bytes); reading on from the next frame", event.reason, event.size
         )

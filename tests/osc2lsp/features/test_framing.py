@@ -80,3 +80,68 @@ def test_a_body_that_is_not_json_is_reported_once_the_next_frame_starts():
     events = reader.feed(b"son" + frame(MESSAGES[4]))
     assert isinstance(events[0], Garbled) and events[1] == MESSAGES[4]
     assert reader.pending == 0
+
+
+class _Counted:
+    """A compiled pattern that counts the bytes its searches and matches go over."""
+
+    def __init__(self, pattern, counter: list[int]):
+        self._pattern, self._counter = pattern, counter
+
+    def search(self, data, pos=0, endpos=None):
+        found = self._pattern.search(data, pos, len(data) if endpos is None else endpos)
+        end = found.end() if found else (len(data) if endpos is None else endpos)
+        self._counter[0] += end - pos
+        return found
+
+    def match(self, data, pos=0):
+        found = self._pattern.match(data, pos)
+        self._counter[0] += (found.end() if found else pos) - pos
+        return found
+
+
+@pytest.mark.parametrize("length_error", [0, 40])
+def test_a_large_message_in_small_chunks_is_read_in_linear_work(monkeypatch, length_error):
+    """Each chunk used to search the whole body again for the next header, and to parse
+    it whole whenever it ended with a bracket: 20 MB took tens of seconds. The bytes
+    searched and parsed are now a small multiple of the message's size."""
+    import osc2lsp.framing as framing
+
+    work = [0]
+    for name in ("_NEXT_FRAME", "_JSON_TOKEN", "_STRING_REST"):
+        if hasattr(framing, name):
+            monkeypatch.setattr(framing, name, _Counted(getattr(framing, name), work))
+    parse = framing._parse
+
+    def counted_parse(body: bytes):
+        work[0] += len(body)
+        return parse(body)
+
+    monkeypatch.setattr(framing, "_parse", counted_parse)
+    text = 'scenario s:\n    x: int = 1  # {"a": [1]}\n' * 50_000
+    message = {"jsonrpc": "2.0", "method": "m", "params": {"text": text}}
+    stream = frame(message, length_error)
+    messages, garbled = read(stream, 4096)
+    assert messages == [message] and len(garbled) == (1 if length_error else 0)
+    assert work[0] <= 4 * len(stream)
+
+
+def test_a_message_over_the_size_limit_is_skipped_and_the_next_read(monkeypatch):
+    monkeypatch.setattr("osc2lsp.framing.MAX_MESSAGE_BYTES", 10_000)
+    big = {"jsonrpc": "2.0", "id": 1, "method": "m", "params": {"text": "x" * 20_000}}
+    messages, garbled = read(frame(big) + frame(MESSAGES[2]), 1000)
+    assert messages == [MESSAGES[2]]
+    assert [g.too_large for g in garbled] == [True]
+    assert "larger than the limit of" in garbled[0].reason
+
+
+def test_a_body_without_end_is_skipped_once_past_the_size_limit(monkeypatch):
+    """A length shorter than the body, and the body goes on: never held whole."""
+    monkeypatch.setattr("osc2lsp.framing.MAX_MESSAGE_BYTES", 10_000)
+    reader = FrameReader()
+    events = reader.feed(b"Content-Length: 10\r\n\r\n[")
+    for _ in range(30):
+        events += reader.feed(b"1, " * 1000)
+        assert reader.pending < 20_000
+    assert any(isinstance(e, Garbled) and e.too_large for e in events)
+    assert reader.feed(frame(MESSAGES[3]))[-1] == MESSAGES[3]

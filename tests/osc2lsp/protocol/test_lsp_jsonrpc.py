@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import pytest
 
+from osc2lsp.framing import MAX_MESSAGE_BYTES
 from tests.osc2lsp.protocol.raw_client import RawClient
 
 URI = "file:///tmp/osc2lsp-tests/jsonrpc.osc"
@@ -72,6 +73,18 @@ def test_an_error_for_a_message_whose_id_is_unknown_has_a_null_id(server):
     errors = [m for m in server.inbox if "error" in m]
     assert sorted(m["error"]["code"] for m in errors) == [-32700, -32600, -32600]
     assert all("id" in m and m["id"] is None for m in errors)
+
+
+def test_a_message_over_the_size_limit_is_refused_with_a_clear_error(server):
+    """The header says more than ``MAX_MESSAGE_BYTES``: the body is skipped as it comes
+    (never held), the client gets an error and a message, and serving goes on."""
+    server.send_bytes(b"Content-Length: %d\r\n\r\n" % (MAX_MESSAGE_BYTES + 1))
+    server.send_bytes(b'{"jsonrpc": "2.0", "id": 99, "params": {"text": "' + b"x" * 100_000)
+    assert "result" in server.call("textDocument/hover", HOVER)
+    [error] = [m for m in server.inbox if "error" in m]
+    assert error["id"] is None and "larger than the limit of 64 MiB" in error["error"]["message"]
+    shown = server.wait_for(lambda m: m.get("method") == "window/showMessage")
+    assert "out of date" in shown["params"]["message"]
 
 
 def test_a_rename_to_an_implicit_name_is_refused(server):
