@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from osc2check import codes
 from osc2check.codes import Code
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
+from osc2check.numbers import MAX_DIGITS, MAX_MAGNITUDE
 from osc2check.source import Span
 
 if TYPE_CHECKING:
@@ -83,6 +84,16 @@ def not_an_invocation(span: Span) -> Diagnostic:
         "expected a declaration, a constraint or an invocation such as `name(...)`",
         span,
     )
+
+
+def number_out_of_range(span: Span, text: str, digits: bool) -> Diagnostic:
+    shown = text if len(text) <= 40 else f"{text[:20]}...{text[-10:]}"
+    why = (
+        f"it has more than {MAX_DIGITS} digits"
+        if digits
+        else f"a value lies between 1e-{MAX_MAGNITUDE} and 1e{MAX_MAGNITUDE + 1}, or is 0"
+    )
+    return _diag(codes.NUMBER_OUT_OF_RANGE, f"the number `{shown}` is out of range: {why}", span)
 
 
 def spaced_unit(span: Span, number: str, unit: str) -> Diagnostic:
