@@ -42,6 +42,7 @@ from typing import Any
 
 import numpy as np
 
+from osc2check.world.limits import mps_to_mmph
 from osc2check.world.network import DRIVING_TYPES
 from osc2runner.export.recording import ActorTrack, RunRecording
 from osc2runner.export.xosc import environment_at
@@ -301,7 +302,7 @@ def _environment(gt: Any, state: dict[str, Any], humidity: float) -> None:
     from osi3.osi_environment_pb2 import EnvironmentalConditions as E
 
     env = gt.environmental_conditions
-    mmph = 3_600_000.0 * max(state["rain"], state["snow"])
+    mmph = mps_to_mmph(max(state["rain"], state["snow"]))
     env.precipitation = getattr(E, next(name for bound, name in _PRECIPITATION if mmph < bound))
     env.fog = getattr(E, next(name for bound, name in _FOG if state["fog"] >= bound))
     env.temperature = state["temperature"]

@@ -75,29 +75,6 @@ def builtin_opendrive(
     lanes.add_lanesection(section)
     road = xodr.Road(0, planview, lanes, name=row.name)
     road.add_type(xodr.RoadType.motorway, s=0.0, speed=row.speed_limit, speed_unit="m/s")
-    for light in lights:
-        if light.signal:
-            continue
-        s, t, orientation, h_offset = light_signal(network, light)
-        road.add_signal(
-            xodr.Signal(
-                s=s,
-                t=t,
-                country=LIGHT_COUNTRY,
-                Type=LIGHT_TYPE,
-                subtype=LIGHT_SUBTYPE,
-                id=light.name,
-                name=light.name,
-                dynamic=xodr.Dynamic.yes,
-                orientation=(
-                    xodr.Orientation.positive if orientation == "+" else xodr.Orientation.negative
-                ),
-                hOffset=h_offset,
-                zOffset=2.0,
-                height=1.0,
-                width=0.3,
-            )
-        )
     odr = xodr.OpenDrive(row.name, revMinor="7")
     odr.add_road(road)
     odr.adjust_roads_and_lanes()
@@ -110,4 +87,36 @@ def builtin_opendrive(
     extent = {"north": max(ys), "south": min(ys), "east": max(xs), "west": min(xs)}
     for key, value in extent.items():
         header.set(key, repr(float(value)))
+    _signals(document, network, [light for light in lights if not light.signal])
     return document
+
+
+def _signals(document: ET.Element, network: RoadNetwork, lights: Sequence[LightTrack]) -> None:
+    """The lights as ``<signal>`` records of road ``0``, after its lanes (the schema's
+    order). Written here, not by scenariogeneration, which keeps signal ids in one
+    registry for the whole process and renames a light's signal the second time."""
+    road = document.find("road")
+    if not lights or road is None:
+        return
+    signals = ET.SubElement(road, "signals")
+    for light in lights:
+        s, t, orientation, h_offset = light_signal(network, light)
+        ET.SubElement(
+            signals,
+            "signal",
+            {
+                "s": repr(s),
+                "t": repr(t),
+                "id": light.name,
+                "name": light.name,
+                "dynamic": "yes",
+                "orientation": orientation,
+                "zOffset": "2.0",
+                "country": LIGHT_COUNTRY,
+                "type": LIGHT_TYPE,
+                "subtype": LIGHT_SUBTYPE,
+                "height": "1.0",
+                "width": "0.3",
+                "hOffset": repr(h_offset),
+            },
+        )

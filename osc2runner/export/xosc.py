@@ -48,6 +48,7 @@ from typing import Any
 
 import numpy as np
 
+from osc2check.world.limits import mps_to_mmph
 from osc2runner.execution.context import EnvironmentChange
 from osc2runner.export.recording import ActorTrack, LightTrack, RunRecording
 from osc2runner.output.files import write_atomically
@@ -253,11 +254,10 @@ def environment_at(changes: Iterable[EnvironmentChange]) -> dict[str, Any]:
 
 
 def _environment(xosc: Any, state: dict[str, Any], name: str) -> Any:
-    mmph = 3_600_000.0  # m/s -> mm/h
     if state["rain"] > 0.0:
-        precipitation = xosc.Precipitation(xosc.PrecipitationType.rain, state["rain"] * mmph)
+        precipitation = xosc.Precipitation(xosc.PrecipitationType.rain, mps_to_mmph(state["rain"]))
     elif state["snow"] > 0.0:
-        precipitation = xosc.Precipitation(xosc.PrecipitationType.snow, state["snow"] * mmph)
+        precipitation = xosc.Precipitation(xosc.PrecipitationType.snow, mps_to_mmph(state["snow"]))
     else:
         precipitation = xosc.Precipitation(xosc.PrecipitationType.dry, 0.0)
     speed, source = state["wind"]
