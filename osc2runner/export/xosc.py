@@ -294,6 +294,13 @@ def _signal_id(light: LightTrack) -> str:
     return light.signal or light.name
 
 
+def _lights(recording: RunRecording) -> list[LightTrack]:
+    """The lights a ``TrafficSignalStateAction`` can name: those of the map (their
+    ``map_id``) and, on a built-in road, those written into it; a light placed by its
+    pose on an OpenDRIVE map (copied as it is) has no signal there."""
+    return [light for light in recording.lights if light.signal or recording.map_file is None]
+
+
 def _at(xosc: Any, time: float) -> Any:
     return xosc.ValueTrigger(
         "at time",
@@ -315,7 +322,7 @@ def _timed_events(xosc: Any, recording: RunRecording) -> list[Any]:
         env = _environment(xosc, environment_at(changes[: i + 1]), f"after {change.action}")
         event.add_action(f"set environment #{i + 1}", xosc.EnvironmentAction(env))
         timed.append((change.time, change.tick, event))
-    for light in recording.lights:
+    for light in _lights(recording):
         for tick, time, semantic, bulbs in light.changes[1:]:
             label = f"light {light.name} {semantic} at tick {tick}"
             event = xosc.Event(label, xosc.Priority.parallel)
@@ -357,7 +364,7 @@ def scenario_xosc(recording: RunRecording, road: str) -> Any:
     init.add_global_action(
         xosc.EnvironmentAction(_environment(xosc, environment_at(start_env), "at the start"))
     )
-    for light in recording.lights:
+    for light in _lights(recording):
         _, _, _, bulbs = light.changes[0]
         init.add_global_action(
             xosc.TrafficSignalStateAction(_signal_id(light), _light_state(bulbs))

@@ -197,6 +197,35 @@ def test_light_changes_are_signal_state_actions_on_the_written_signal(tmp_path: 
     assert signal is not None and signal.get("id") == "light" and signal.get("dynamic") == "yes"
 
 
+def test_lights_on_a_map_name_its_signals_and_lights_by_pose_are_left_out(tmp_path: Path):
+    junction = (ROOT / "examples" / "maps" / "four_way_junction.xodr").as_posix()
+    _run(
+        tmp_path,
+        f"""\
+    town: map with:
+        keep(it.map_file == "{junction}")
+    ctrl: traffic_light_controller
+    east: traffic_light with:
+        keep(it.map_id == "tl1")
+    loose: traffic_light with:
+        keep(it.pose.position.x == 20m)
+        keep(it.pose.position.y == 20m)
+    do serial:
+        ctrl.set_semantic_state(traffic_light: east, state: stop)
+        ctrl.set_semantic_state(traffic_light: loose, state: stop)
+        wait elapsed(1s)
+        ctrl.set_semantic_state(traffic_light: east, state: go)
+        ctrl.set_semantic_state(traffic_light: loose, state: go)
+        wait elapsed(1s)
+""",
+        xosc=tmp_path / "map.xosc",
+    )
+    assert_valid(tmp_path / "map.xosc")  # tl1 resolves in the copied map
+    root = ET.parse(tmp_path / "map.xosc").getroot()
+    named = [a.get("name") for a in root.iter("TrafficSignalStateAction")]
+    assert named == ["tl1", "tl1"]
+
+
 def test_emitted_events_are_storyboard_events_that_count_them(tmp_path: Path):
     _run(
         tmp_path,
