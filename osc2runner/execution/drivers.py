@@ -264,14 +264,19 @@ def controllers_for(
 
 
 def drive_with_sut(
-    controllers: dict[str, Any], world: World, states: Any, name: str, sut: Any
+    controllers: dict[str, Any],
+    world: World,
+    states: Any,
+    name: str,
+    sut: Any,
+    budget: float | None = None,
 ) -> None:
     """Put the system under test ``sut`` in the seat of actor ``name``: its controller
     becomes the driver model of a :class:`~osc2runner.sut.driver.SutDriver` (the
     scenario's behaviours set its targets: the SUT's intent), which ``states`` (the
-    run's states of each tick) feed."""
+    run's states of each tick) feed; each of its steps has ``budget`` wall-clock seconds."""
     from osc2runner.sut.driver import SutDriver
 
     inner = controllers[name]
     assert isinstance(inner, VehicleController)
-    controllers[name] = SutDriver(name, sut, inner, world.network, states)
+    controllers[name] = SutDriver(name, sut, inner, world.network, states, budget)

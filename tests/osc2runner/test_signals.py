@@ -21,7 +21,7 @@ from typing import Any
 import pytest
 
 from osc2runner import run
-from osc2runner.execution.signals import Interrupts, exit_status, raising
+from osc2runner.execution.signals import Interrupts, SignalInterrupt, exit_status, raising
 from osc2runner.output import telemetry
 from osc2runner.runner import RunInterrupted
 
@@ -282,11 +282,16 @@ def test_a_run_in_another_thread_installs_no_handlers(own_handlers):
 
 
 def test_interrupts_note_signals_and_restore_the_handlers(own_handlers):
+    """The first signal is noted (the loop stops at the tick's end); a second one before
+    the loop stopped raises where the code is."""
     with Interrupts() as interrupts:
         assert interrupts.installed
         os.kill(os.getpid(), signal.SIGTERM)
-        os.kill(os.getpid(), signal.SIGINT)
         assert interrupts.first == signal.SIGTERM
+        with pytest.raises(SignalInterrupt) as second:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0)  # let the handler run
+        assert second.value.signum == signal.SIGINT
         assert interrupts.received == [signal.SIGTERM, signal.SIGINT]
         assert interrupts.consume() == signal.SIGTERM
     assert own_handlers[int(signal.SIGTERM)].calls == []
