@@ -30,11 +30,10 @@ from osc2runner.campaign import CampaignOptions, run_campaign
 from osc2runner.cli import main
 from osc2runner.execution.signals import SignalInterrupt
 from osc2runner.sut.loading import SutSpec
+from tests.osc2runner.processes import POSIX, env, wait_for
 
 HERE = Path(__file__).parent
-ROOT = HERE.parents[1]
 SUTS = HERE / "campaign" / "suts.py"
-POSIX = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
 
 EGO = """\
 import osc.standard
@@ -131,23 +130,11 @@ def test_a_signal_that_cuts_an_import_short_is_an_interruption(scenario, monkeyp
 
 def _start(scenario: Path, sut: str, tmp_path: Path, *more: str) -> tuple[subprocess.Popen, Path]:
     log = tmp_path / "stderr.log"
-    env = dict(
-        os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
-    )
     command = [sys.executable, "-m", "osc2runner", str(scenario), "--sut", f"{SUTS}:{sut}"]
     command += ["--out", str(tmp_path / "out"), "-q", *more]
     with log.open("wb") as stderr:
-        proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=stderr, env=env)
+        proc = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=stderr, env=env())
     return proc, log
-
-
-def _wait_for(log: Path, marker: str, proc: subprocess.Popen, deadline: float = 120.0) -> None:
-    end = time.monotonic() + deadline
-    while marker not in log.read_text(errors="replace"):
-        if proc.poll() is not None or time.monotonic() > end:
-            proc.kill()
-            pytest.fail(f"no {marker!r} from osc2run: {log.read_text()[-2000:]}")
-        time.sleep(0.05)
 
 
 def _written(tmp_path: Path) -> dict:
@@ -167,7 +154,7 @@ def _written(tmp_path: Path) -> dict:
 )
 def test_a_signal_stops_a_run_inside_the_sut(scenario, tmp_path, sut, marker, signame):
     proc, log = _start(scenario, sut, tmp_path)
-    _wait_for(log, marker, proc)
+    wait_for(log, marker, proc)
     proc.send_signal(getattr(signal, signame))
     assert proc.wait(120) == 128 + getattr(signal, signame)
     outcome = _written(tmp_path)["outcome"]
@@ -178,9 +165,9 @@ def test_a_signal_stops_a_run_inside_the_sut(scenario, tmp_path, sut, marker, si
 @POSIX
 def test_a_second_signal_stops_a_sut_that_swallows_the_first(scenario, tmp_path):
     proc, log = _start(scenario, "SwallowsAtTick5", tmp_path)
-    _wait_for(log, "sut: swallowing", proc)
+    wait_for(log, "sut: swallowing", proc)
     proc.send_signal(signal.SIGTERM)
-    _wait_for(log, "sut: swallowed SignalInterrupt", proc)
+    wait_for(log, "sut: swallowed SignalInterrupt", proc)
     proc.send_signal(signal.SIGHUP)
     assert proc.wait(120) == 128 + signal.SIGHUP
     outcome = _written(tmp_path)["outcome"]
