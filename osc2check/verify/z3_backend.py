@@ -486,7 +486,7 @@ class Sampler:
         # are drawn first
         follows = _dependent(self.folded, fixed)
         self.aimed = [n for n in self.linked if n not in follows]
-        self.terms = quick.Prepared(self.folded, last=follows)
+        self.terms = quick.Prepared(self.folded)
 
     def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
