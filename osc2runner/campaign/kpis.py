@@ -43,7 +43,7 @@ import numpy as np
 from osc2runner.output.gaps import boxes
 from osc2runner.output.stops import BRAKE_ONSET, MOVING, STANDSTILL
 
-__all__ = ["KPI_UNITS", "closing_speed", "run_kpis"]
+__all__ = ["KPI_UNITS", "closing_speed", "kpi_text", "run_kpis"]
 
 #: every KPI and its unit (for tables and reports), in the order shown
 KPI_UNITS: dict[str, str] = {
@@ -62,6 +62,26 @@ KPI_UNITS: dict[str, str] = {
 }
 
 KPH = 3.6
+#: the KPIs a one-line account of a run gives, in this order
+TOLD = (
+    "relative_impact_speed_kph",
+    "impact_speed_kph",
+    "speed_reduction_kph",
+    "min_ttc_s",
+    "min_gap_m",
+    "max_decel_mps2",
+)
+
+
+def kpi_text(kpis: Mapping[str, Any]) -> str:
+    """The KPIs of a run that it has, as ``name value unit`` separated by commas."""
+    parts = []
+    for name in TOLD:
+        value = kpis.get(name)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            unit = KPI_UNITS[name]
+            parts.append(f"{name} {value:g}{' ' + unit if unit else ''}")
+    return ", ".join(parts)
 
 
 def _num(value: float | None, digits: int = 4) -> float | None:
