@@ -70,9 +70,7 @@ def domains(problem: ir.ConstraintProblem) -> dict[str, Domain]:
                 values = [Fraction(k) for k in range(_ceil(low), _floor(high) + 1)]
         if values is not None and var.sort != "bool":
             values = [
-                v
-                for v in values
-                if (low is None or v >= low) and (high is None or v <= high)
+                v for v in values if (low is None or v >= low) and (high is None or v <= high)
             ]
         result[name] = Domain(low, high, tuple(values) if values is not None else None)
     return result

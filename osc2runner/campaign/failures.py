@@ -195,13 +195,13 @@ def _conditions(path: list[tuple[Split, bool]], units: Mapping[str, str]) -> lis
         unit = f" {units.get(name, '')}".rstrip()
         low, high = lows.get(name), highs.get(name)
         if name in equal:
-            texts.append(f"{name} {' and '.join(equal[name])}")
+            texts.append(f"{name} is {' and '.join(equal[name])}")
         elif low is not None and high is not None:
-            texts.append(f"{name} between {low.threshold:g} and {high.threshold:g}{unit}")
+            texts.append(f"{name} is between {low.threshold:g} and {high.threshold:g}{unit}")
         elif low is not None:
-            texts.append(f"{name} above {low.threshold:g}{unit}")
+            texts.append(f"{name} is above {low.threshold:g}{unit}")
         elif high is not None:
-            texts.append(f"{name} below {high.threshold:g}{unit}")
+            texts.append(f"{name} is below {high.threshold:g}{unit}")
     return texts
 
 
@@ -259,14 +259,9 @@ _NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e-?\d+)?")
 def reason_class(reason: str) -> str:
     """A run's reason without its numbers (times, ticks, positions), source locations
     kept: runs that failed alike share it."""
-    kept: list[str] = []
-
-    def keep(match: re.Match[str]) -> str:
-        kept.append(match.group(0))
-        return f"\0{len(kept) - 1}\0"
-
-    text = _NUMBER.sub("#", _LOCATION.sub(keep, reason))
-    return re.sub(r"\0(\d+)\0", lambda m: kept[int(m.group(1))], text)
+    places = iter(_LOCATION.findall(reason))
+    text = _NUMBER.sub("#", _LOCATION.sub("\0", reason))
+    return re.sub("\0", lambda _: next(places), text)
 
 
 def _scaled(records: Sequence[RunRecord], swept: Sequence[str]) -> dict[str, Any]:

@@ -314,7 +314,7 @@ def _maps(done: Sequence[RunRecord], document: dict[str, Any]) -> str:
         + "</li>"
         for r in limit.get("regions", [])
     )
-    parts.append("<h3 id='boundary'>Failure boundary</h3>")
+    parts.append('<h3 id="boundary">Failure boundary</h3>')
     parts.append(f"<ul>{regions}</ul>" if regions else f"<p>None: {_e(limit.get('why', ''))}.</p>")
     return "".join(parts)
 
