@@ -242,6 +242,10 @@ def kpi_figure(
         ax.set_xlabel(_label(name, domains), fontsize=8)
         ax.set_ylabel(kpi, fontsize=8)
         ax.grid(alpha=0.3)
-        if i == cols - 1:
-            _legend(ax)
+    found = dict(
+        (label, handle)
+        for ax in fig.axes
+        for handle, label in zip(*ax.get_legend_handles_labels(), strict=True)
+    )
+    _legend(fig.axes[cols - 1], list(found.values()), list(found))
     return fig

@@ -211,7 +211,8 @@ def _brackets(path: list[tuple[Split, bool]], units: Mapping[str, str]) -> list[
         if split.threshold is not None:
             unit = f" {units.get(split.name, '')}".rstrip()
             texts.append(
-                f"{split.name}: runs at {split.below:g} and {split.above:g}{unit} on either side"
+                f"{split.name}: runs at {split.below:.4g} and {split.above:.4g}{unit} on either "
+                "side"
             )
     return texts
 
