@@ -14,6 +14,7 @@ to descriptor 4. :func:`find` names the browser (``OSC2_CHROMIUM``, else
 from __future__ import annotations
 
 import base64
+import fcntl
 import json
 import os
 import shutil
@@ -37,6 +38,13 @@ FLAGS = (
 TIMEOUT = 60.0  # s for one command's answer or an awaited event
 
 
+def _above(fd: int, lowest: int = 10) -> int:
+    """``fd`` moved to a descriptor of at least ``lowest`` (closed on exec)."""
+    moved = fcntl.fcntl(fd, fcntl.F_DUPFD_CLOEXEC, lowest)
+    os.close(fd)
+    return moved
+
+
 def find() -> str | None:
     """The Chromium to drive, or None."""
     named = os.environ.get("OSC2_CHROMIUM")
@@ -52,9 +60,11 @@ class Chromium:
         self.profile = tempfile.mkdtemp(prefix="osc2-chromium-")
         to_browser, self._write = os.pipe()
         self._read, from_browser = os.pipe()
+        # the browser's ends above 9, so that putting them on 3 and 4 overwrites neither
+        to_browser, from_browser = _above(to_browser), _above(from_browser)
 
         def seat() -> None:  # in the child: the pipe ends on descriptors 3 and 4
-            os.dup2(to_browser, 3)
+            os.dup2(to_browser, 3)  # dup2 makes them inheritable
             os.dup2(from_browser, 4)
 
         self.process = subprocess.Popen(
@@ -62,7 +72,7 @@ class Chromium:
             stdin=subprocess.DEVNULL,
             stdout=subprocess.DEVNULL,
             stderr=subprocess.DEVNULL,
-            pass_fds=(3, 4, to_browser, from_browser),
+            close_fds=False,  # the others are not inheritable (Python's default)
             preexec_fn=seat,
         )
         os.close(to_browser)

@@ -16,6 +16,7 @@ from __future__ import annotations
 import csv
 import json
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -30,6 +31,7 @@ from osc2runner.campaign.charts import pass_fail_map
 from osc2runner.campaign.failures import best_pair, boundary, grow, reason_class, triage
 from osc2runner.campaign.outputs import read_records
 from osc2runner.campaign.spread import ks_p_value, spread_of
+from tests.docs_blocks import check_block
 from tests.osc2runner.campaign.chromium import Chromium, find
 
 HERE = Path(__file__).parent
@@ -184,6 +186,12 @@ def test_the_summary_prints_the_spread_and_the_boundary(campaign) -> None:
     assert "  swept o over [0..3] m (constraints): " in out
     assert "  failure boundary: fails where " in out
     assert "warning:" not in out
+
+
+def test_campaigns_md_quotes_what_the_command_prints(campaign) -> None:
+    _, out = campaign
+    shown = re.sub(r"[0-9.]+ s wall, [0-9.]+ runs per minute", "… s wall, … runs per minute", out)
+    check_block(ROOT / "docs" / "campaigns.md", "campaign-summary", f"```text\n{shown}```")
 
 
 @pytest.mark.skipif(find() is None, reason="no Chromium (apt-get install chromium)")
