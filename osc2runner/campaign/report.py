@@ -22,6 +22,7 @@ import base64
 import html
 import io
 import math
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
@@ -249,7 +250,7 @@ def _parameters(document: dict[str, Any]) -> str:
             warnings.append(f"<p class='warn'>{_e(item['warning'])}: the runs do not cover what "
                             "the constraints allow.</p>")  # fmt: skip
     derived = "".join(
-        f"<li><code>{_e(name)}</code> {_e(why)}</li>"
+        f"<li><code>{_e(name)}</code> {_CODE.sub(_AS_CODE, _e(why))}</li>"
         for name, why in parameters.get("derived", {}).items()
     )
     return (
@@ -357,6 +358,8 @@ def _kpis_over(done: Sequence[RunRecord], document: dict[str, Any]) -> str:
     return "".join(parts) or "<p>No run has a KPI to plot over the swept parameters.</p>"
 
 
+_CODE = re.compile(r"`([^`]+)`")  # `name` in a text: code
+_AS_CODE = r"<code>\1</code>"
 _SECTIONS = (
     ("criterion", "Pass criterion"),
     ("parameters", "Parameters"),
