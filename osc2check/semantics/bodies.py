@@ -5,10 +5,12 @@ events, behaviour invocations, modifier applications and `do` trees.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import BoundArgument, CoverItem
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS, cover_item_expression
 from osc2check.semantics.calls import CallChecker, Extra
 from osc2check.semantics.declare import Pending
@@ -39,9 +41,9 @@ class BodyChecker:
         params: list[Symbol],
         arguments: tuple[ast.Argument, ...],
         scope: Scope,
-        span: Span,
+        call: ast.Node,
     ) -> None:
-        self.calls.check(method, params, arguments, scope, span)
+        self.calls.check(method, params, arguments, scope, call)
 
     @property
     def time_type(self) -> T.Type:
@@ -249,6 +251,15 @@ class BodyChecker:
         positional = [a.value for a in member.arguments if isinstance(a, ast.PositionalArgument)]
         item = named.get("name", positional[0] if positional else None)
         expression = cover_item_expression(named, positional)
+        self.model.cover_items[member] = CoverItem(
+            member,
+            scope.owner,
+            _item_name(item),
+            item,
+            expression,
+            tuple(named.items()),
+            tuple(positional[1:] if "name" not in named else positional),
+        )
         item_type = T.UNKNOWN if expression is None else self.expr.check(expression, scope)
         inner = scope.child()  # `ignore:` and `illegal:` speak of the item by its name
         if isinstance(item, ast.NameRef) and item.name.namespace is None:
@@ -421,7 +432,7 @@ class BodyChecker:
                 params,
                 emit.arguments,
                 scope,
-                emit.span,
+                emit,
             )
 
     def _composition(self, comp: ast.Composition, scope: Scope, emitted: set[str]) -> None:
@@ -442,12 +453,16 @@ class BodyChecker:
                 Extra("start_to_start", self.time_type),
                 Extra("end_to_end", self.time_type),
             ]
-        args = [
+        overlap = [
             a
             for a in comp.arguments
-            if not (isinstance(a, ast.NamedArgument) and a.name.text == "overlap")
+            if isinstance(a, ast.NamedArgument) and a.name.text == "overlap"
         ]
-        self.calls.check(op_symbol, [], args, scope, comp.span, tuple(extras))
+        args = [a for a in comp.arguments if not any(a is o for o in overlap)]
+        binding = self.calls.check(op_symbol, [], args, scope, comp, tuple(extras))
+        if overlap:  # its value is a kind, not an expression: checked above, bound here
+            given = BoundArgument("overlap", overlap[0].value, None, overlap[0])
+            self.model.bindings[comp] = replace(binding, extras=(*binding.extras, given))
         if comp.op == "one_of":
             for member in comp.members:
                 if isinstance(member.body, ast.Wait):
@@ -498,16 +513,19 @@ class BodyChecker:
         self.model.references[inv.name] = behaviour
         if behaviour.toolkit:
             self.report(messages.toolkit_extension(inv.name.span, behaviour))
-        self.calls.check(
+        binding = self.calls.check(
             behaviour,
             self.model.parameters(behaviour),
             inv.arguments,
             scope,
-            inv.span,
+            inv,
             self._duration_extra(),
             library_rules=behaviour.library,
             allow_range=True,
         )
+        untils = tuple(w for w in inv.with_members if isinstance(w, ast.Until))
+        if untils:
+            self.model.bindings[inv] = replace(binding, until=untils)
         inner = scope.child(it=behaviour.type, behaviour=behaviour)
         for item in inv.with_members:
             self._with_member(item, inner, behaviour, actor or scope.actor)
@@ -581,7 +599,7 @@ class BodyChecker:
             self.model.parameters(modifier),
             inv.arguments,
             scope,
-            inv.span,
+            inv,
             library_rules=modifier.library,
             allow_range=True,
         )
@@ -605,3 +623,12 @@ class BodyChecker:
         for key in keys:
             pool.extend(s.name for s in self.model.modifiers_of(key))
         self.report(messages.unknown_modifier(inv.name.span, name, closest(name, pool)))
+
+
+def _item_name(node: ast.Node | None) -> str:
+    """A cover item's name as written: an identifier (or a path), else its text."""
+    if isinstance(node, ast.NameRef):
+        return node.name.name.text
+    if isinstance(node, ast.StringLiteral):
+        return node.value
+    return ""
