@@ -19,7 +19,7 @@ the checker read them.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -30,7 +30,15 @@ if TYPE_CHECKING:
     from osc2check.semantics.symbols import Symbol
     from osc2check.source import Span
 
-__all__ = ["BoundArgument", "Binding", "CoverItem", "EXTRAS"]
+__all__ = [
+    "EXTRAS",
+    "Binding",
+    "BoundArgument",
+    "CoverItem",
+    "argument_values",
+    "named_given",
+    "python_arguments",
+]
 
 #: The language-level arguments, which no library declaration lists: ``duration`` of
 #: every behaviour invocation and composition, and ``parallel``'s overlap and offsets.
@@ -96,6 +104,13 @@ class Binding:
                 return bound
         return None
 
+    def extra(self, name: str) -> BoundArgument | None:
+        """The language-level argument ``name`` (``duration``, ``overlap``, ...) as given."""
+        for bound in self.extras:
+            if bound.name == name:
+                return bound
+        return None
+
     def value(self, name: str) -> ast.Expr | None:
         """The expression parameter or extra ``name`` takes, default included."""
         bound = self.argument(name)
@@ -155,3 +170,37 @@ class CoverItem:
 
     def has(self, name: str) -> bool:
         return any(key == name for key, _ in self.parameters)
+
+
+def python_arguments(
+    arguments: tuple[ast.Argument, ...],
+) -> tuple[list[ast.Expr], dict[str, ast.Expr], list[ast.EventArgument]]:
+    """The arguments of ``is external pkg.fn(x, limit: 3kph)`` as a Python call takes
+    them: positional values, keyword values, and event arguments (which it cannot take).
+    They bind to the Python function's parameters, not to OSC2 ones: nothing to bind."""
+    positional: list[ast.Expr] = []
+    keywords: dict[str, ast.Expr] = {}
+    events: list[ast.EventArgument] = []
+    for arg in arguments:
+        if isinstance(arg, ast.NamedArgument):
+            keywords[arg.name.text] = arg.value
+        elif isinstance(arg, ast.PositionalArgument):
+            positional.append(arg.value)
+        else:
+            events.append(arg)
+    return positional, keywords, events
+
+
+def argument_values(arguments: Iterable[ast.Node]) -> list[ast.Expr]:
+    """The value expressions of ``arguments`` (events left out), for code that reads
+    every value whichever parameter it binds to (type checks of a call that resolves to
+    nothing, value hints)."""
+    return [
+        a.value for a in arguments if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
+    ]
+
+
+def named_given(arguments: Iterable[ast.Argument], name: str) -> bool:
+    """Whether the language-level argument ``name`` (``duration``) is written, which only a
+    name can give; for syntax-level classification that needs no model (``phases``)."""
+    return any(isinstance(a, ast.NamedArgument) and a.name.text == name for a in arguments)

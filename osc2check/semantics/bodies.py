@@ -10,9 +10,9 @@ from dataclasses import replace
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
-from osc2check.semantics.bindings import BoundArgument, CoverItem
-from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS, cover_item_expression
-from osc2check.semantics.calls import CallChecker, Extra
+from osc2check.semantics.bindings import argument_values
+from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
+from osc2check.semantics.calls import CallChecker, Extra, read_cover_item
 from osc2check.semantics.declare import Pending
 from osc2check.semantics.expressions import ExpressionChecker
 from osc2check.semantics.model import Context, Model
@@ -226,9 +226,8 @@ class BodyChecker:
         if member.kind == "expression" and member.body is not None:
             expected = sym.type if sym is not None and sym.type is not T.NONE else None
             self.expr.check(member.body, inner, expected, "method result")
-        for arg in member.external_arguments:  # `is external pkg.fn(x, limit: 3kph)`
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.expr.check(arg.value, inner)
+        for value in argument_values(member.external_arguments):  # `external pkg.fn(x)`
+            self.expr.check(value, inner)
 
     def _event_declaration(self, member: ast.EventDecl, scope: Scope) -> None:
         sym = self.model.declarations.get(member)
@@ -247,19 +246,11 @@ class BodyChecker:
     def _coverage(self, member: ast.CoverageDecl, scope: Scope) -> None:
         """`cover`/`record` (§7.5): the item's name is also its expression unless an
         `expression:` is given; `items:` and `override:` name other items."""
-        named = {a.name.text: a.value for a in member.arguments if isinstance(a, ast.NamedArgument)}
-        positional = [a.value for a in member.arguments if isinstance(a, ast.PositionalArgument)]
-        item = named.get("name", positional[0] if positional else None)
-        expression = cover_item_expression(named, positional)
-        self.model.cover_items[member] = CoverItem(
-            member,
-            scope.owner,
-            _item_name(item),
-            item,
-            expression,
-            tuple(named.items()),
-            tuple(positional[1:] if "name" not in named else positional),
-        )
+        cover, problems = read_cover_item(member, scope.owner)
+        self.model.cover_items[member] = cover
+        for problem in problems:
+            self.report(problem)
+        item, expression, named = cover.name_node, cover.expression, dict(cover.parameters)
         item_type = T.UNKNOWN if expression is None else self.expr.check(expression, scope)
         inner = scope.child()  # `ignore:` and `illegal:` speak of the item by its name
         if isinstance(item, ast.NameRef) and item.name.namespace is None:
@@ -270,7 +261,7 @@ class BodyChecker:
                 name_span=item.name.name.span,
                 type=item_type,
             )
-        for value in positional[1:]:
+        for value in cover.positional:
             self.expr.check(value, scope)
         for key, value in named.items():
             if key in ("name", "expression", "items", "override"):
@@ -426,7 +417,7 @@ class BodyChecker:
         if event is not None and event.extra.get("implicit"):
             self.report(messages.undeclared_event(emit.event.span, emit.event.text))
         params = list(event.parameters) if event is not None else []
-        if emit.arguments:
+        if emit.arguments or event is not None:  # bound with none given: defaults apply
             self.calls.check(
                 event or Symbol(SymbolKind.EVENT, emit.event.text),
                 params,
@@ -437,32 +428,19 @@ class BodyChecker:
 
     def _composition(self, comp: ast.Composition, scope: Scope, emitted: set[str]) -> None:
         op_symbol = Symbol(SymbolKind.ACTION, comp.op)
-        for arg in comp.arguments:
-            if (
-                isinstance(arg, ast.NamedArgument)
-                and arg.name.text == "overlap"
-                and comp.op == "parallel"
-            ):
-                value = arg.value
-                if not (isinstance(value, ast.NameRef) and value.name.name.text in OVERLAP_KINDS):
-                    self.report(messages.invalid_overlap(value.span, OVERLAP_KINDS))
         extras = list(self._duration_extra())
         if comp.op == "parallel":
             extras += [
-                Extra("overlap", T.UNKNOWN),
+                Extra("overlap", T.UNKNOWN, words=OVERLAP_KINDS),
                 Extra("start_to_start", self.time_type),
                 Extra("end_to_end", self.time_type),
             ]
-        overlap = [
-            a
-            for a in comp.arguments
-            if isinstance(a, ast.NamedArgument) and a.name.text == "overlap"
-        ]
-        args = [a for a in comp.arguments if not any(a is o for o in overlap)]
-        binding = self.calls.check(op_symbol, [], args, scope, comp, tuple(extras))
-        if overlap:  # its value is a kind, not an expression: checked above, bound here
-            given = BoundArgument("overlap", overlap[0].value, None, overlap[0])
-            self.model.bindings[comp] = replace(binding, extras=(*binding.extras, given))
+        binding = self.calls.check(op_symbol, [], comp.arguments, scope, comp, tuple(extras))
+        overlap = binding.extra("overlap")
+        if overlap is not None:
+            value = overlap.value
+            if not (isinstance(value, ast.NameRef) and value.name.name.text in OVERLAP_KINDS):
+                self.report(messages.invalid_overlap(value.span, OVERLAP_KINDS))
         if comp.op == "one_of":
             for member in comp.members:
                 if isinstance(member.body, ast.Wait):
@@ -532,9 +510,8 @@ class BodyChecker:
         return behaviour
 
     def _loose(self, inv: ast.Invocation, scope: Scope) -> None:
-        for arg in inv.arguments:
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.expr.check(arg.value, scope)
+        for value in argument_values(inv.arguments):
+            self.expr.check(value, scope)
         for item in inv.with_members:
             if isinstance(item, ast.KeepConstraint):
                 self.expr.check(item.expr, scope.child(it=T.UNKNOWN))
@@ -623,12 +600,3 @@ class BodyChecker:
         for key in keys:
             pool.extend(s.name for s in self.model.modifiers_of(key))
         self.report(messages.unknown_modifier(inv.name.span, name, closest(name, pool)))
-
-
-def _item_name(node: ast.Node | None) -> str:
-    """A cover item's name as written: an identifier (or a path), else its text."""
-    if isinstance(node, ast.NameRef):
-        return node.name.name.text
-    if isinstance(node, ast.StringLiteral):
-        return node.value
-    return ""

@@ -15,8 +15,8 @@ from typing import TYPE_CHECKING
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
-from osc2check.semantics.bindings import Binding, BoundArgument
-from osc2check.semantics.builtins import Builtin
+from osc2check.semantics.bindings import Binding, BoundArgument, CoverItem
+from osc2check.semantics.builtins import Builtin, cover_item_expression, coverage_directive
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -54,6 +54,7 @@ class Extra:
 
     name: str
     type: T.Type
+    words: tuple[str, ...] = ()  # its value is one of these words, not an expression
 
 
 class CallChecker:
@@ -122,7 +123,8 @@ class CallChecker:
                 bound[name] = BoundArgument(name, arg.value, named, arg, ranged)
                 continue
             if name in extra_by_name:
-                self._value(name, extra_by_name[name].type, arg.value, arg_scope, True)
+                if not extra_by_name[name].words:  # a word (`overlap: equal`) is no value
+                    self._value(name, extra_by_name[name].type, arg.value, arg_scope, True)
                 given_extras.append(BoundArgument(name, arg.value, None, arg))
                 continue
             if library_rules and name in SPEC_EXAMPLE_PARAMETERS.get(callee.name, ()):
@@ -142,7 +144,7 @@ class CallChecker:
             rejected.append(arg)
         if library_rules:
             self._groups(callee, bound, node.span)
-        if callee.kind is SymbolKind.METHOD:
+        if callee.kind in (SymbolKind.METHOD, SymbolKind.EVENT):  # all arguments needed
             for param in params:
                 if param.name not in bound and not param.has_default:
                     self.report(messages.missing_argument(node.span, callee, param.name))
@@ -211,6 +213,68 @@ def bind_builtin(builtin: Builtin, arguments: Iterable[ast.Argument], node: ast.
     return Binding(node, builtin, ordered, (), tuple(events), rejected=tuple(rejected))
 
 
+def builtin_problems(builtin: Builtin, binding: Binding) -> list[Diagnostic]:
+    """What a built-in call's binding left out: arguments that bind to no parameter, and
+    parameters it needs that have no argument (an ``@e`` argument gives ``event``)."""
+    found: list[Diagnostic] = []
+    for arg in binding.rejected:
+        if isinstance(arg, ast.NamedArgument):
+            found.append(messages.unknown_argument(arg.name.span, arg.name.text, builtin, None))
+        elif isinstance(arg, ast.PositionalArgument):
+            found.append(messages.too_many_positional(arg.span, builtin, len(builtin.parameters)))
+    for param in builtin.parameters:
+        given = binding.argument(param.name) is not None or (
+            param.type == "event" and bool(binding.events)
+        )
+        if not param.optional and not given:
+            found.append(messages.missing_argument(binding.node.span, builtin, param.name))
+    return found
+
+
+def read_cover_item(
+    decl: ast.CoverageDecl, owner: Symbol | None
+) -> tuple[CoverItem, list[Diagnostic]]:
+    """A ``cover``/``record`` (§7.5) as its table records it: its name (``name:`` or the
+    first positional argument), the expression it samples (``cover_item_expression``)
+    and its named parameters; with the arguments it has no parameter for."""
+    named: dict[str, ast.Node] = {}
+    positional: list[ast.Node] = []
+    problems: list[Diagnostic] = []
+    directive = coverage_directive(decl.kind)
+    for arg in decl.arguments:
+        if isinstance(arg, ast.NamedArgument):
+            key = arg.name.text
+            if key not in directive.names:
+                suggestion = closest(key, list(directive.names), cutoff=0.6)
+                problems.append(
+                    messages.unknown_argument(arg.name.span, key, directive, suggestion)
+                )
+            named[key] = arg.value
+        elif isinstance(arg, ast.PositionalArgument):
+            positional.append(arg.value)
+    name_node = named.get("name", positional[0] if positional else None)
+    rest = positional if "name" in named else positional[1:]
+    item = CoverItem(
+        decl,
+        owner,
+        _item_name(name_node),
+        name_node,
+        cover_item_expression(named, positional),
+        tuple(named.items()),
+        tuple(rest),
+    )
+    return item, problems
+
+
+def _item_name(node: ast.Node | None) -> str:
+    """A cover item's name as written: an identifier, else a string's text."""
+    if isinstance(node, ast.NameRef):
+        return node.name.name.text
+    if isinstance(node, ast.StringLiteral):
+        return node.value
+    return ""
+
+
 def next_parameter(arguments: Iterable[ast.Argument]) -> int | None:
     """The index of the parameter an argument typed after ``arguments`` binds to when it is
     positional (for text being typed, which the last analysis has not bound); None after
@@ -222,3 +286,9 @@ def next_parameter(arguments: Iterable[ast.Argument]) -> int | None:
         if isinstance(arg, ast.PositionalArgument):
             count += 1
     return count
+
+
+def written_name(argument: ast.Node) -> str | None:
+    """The parameter name written in a named argument (for text the analysis has not bound:
+    an editor's current line); None for any other node."""
+    return argument.name.text if isinstance(argument, ast.NamedArgument) else None

@@ -13,13 +13,15 @@ from collections.abc import Callable
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import Binding, argument_values
 from osc2check.semantics.builtins import (
     EVENT_FUNCTIONS,
     LIST_METHODS,
     TYPE_TESTS,
     VALUE_FUNCTIONS,
+    Builtin,
 )
-from osc2check.semantics.calls import bind_builtin
+from osc2check.semantics.calls import bind_builtin, builtin_problems
 from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
@@ -466,19 +468,14 @@ class ExpressionChecker:
         return method.type or T.UNKNOWN
 
     def _check_arguments_loosely(self, expr: ast.Call, scope: Scope) -> None:
-        for arg in expr.arguments:
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.check(arg.value, scope)
+        for value in argument_values(expr.arguments):
+            self.check(value, scope)
 
     def _method_on_value(
         self, callee: ast.MemberAccess, target: T.Type, expr: ast.Call, scope: Scope
     ) -> T.Type | None:
         name = callee.member.text
-        args = [
-            a.value
-            for a in expr.arguments
-            if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
-        ]
+        args = argument_values(expr.arguments)
         if name in TYPE_TESTS and len(args) == 1 and isinstance(args[0], ast.NameRef):
             qname = args[0].name
             if qname.namespace is None and qname.name.text in T.PRIMITIVES:
@@ -521,9 +518,7 @@ class ExpressionChecker:
             return None
         binding = bind_builtin(builtin, expr.arguments, expr)
         self.model.bindings[expr] = binding
-        for arg in binding.rejected:
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.check(arg.value, scope)
+        self._builtin_arguments(builtin, binding, scope)
         values = [b.value for b in binding.arguments]
         if name in EVENT_FUNCTIONS:
             for bound in binding.arguments:
@@ -544,6 +539,13 @@ class ExpressionChecker:
                 self.check(v, scope, t)
             return t
         return None
+
+    def _builtin_arguments(self, builtin: Builtin, binding: Binding, scope: Scope) -> None:
+        """Report what a built-in call's binding left out (``calls.builtin_problems``)."""
+        for problem in builtin_problems(builtin, binding):
+            self.report(problem)
+        for value in argument_values(binding.rejected):
+            self.check(value, scope)
 
     def _physical_named(self, name: str, scope: Scope) -> T.Type | None:
         found = [

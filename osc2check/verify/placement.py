@@ -85,6 +85,7 @@ from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_ro
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import load_map, map_path, scenario_folder
 from osc2check.world.network import RoadNetwork
+from osc2check.world.numbering import LANE_REFERENCES, lane_side
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 #: the witness prefers starts in this first share of the road: room to drive ahead
@@ -446,7 +447,7 @@ class PlacementLowerer:
         """Constrain the scenario's element fields as its map modifiers say."""
         scope = self._root_scope()
         for member, modifier in self._map_modifier_members():
-            self.fields.modifier(member, modifier, self._args(member), scope, self._require)
+            self.fields.modifier(member, modifier, scope, self._require)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""
@@ -774,11 +775,7 @@ class PlacementLowerer:
     ) -> None:
         args = self._args(item)
         name = item.name.text
-        if (
-            name == "lane"
-            and "lane" in args
-            and not any(k in args for k in ("same_as", "side_of", "left_of", "right_of"))
-        ):
+        if name == "lane" and "lane" in args and not any(k in args for k in LANE_REFERENCES):
             lane = self.problem.var(self._phase_name(actor, item, "lane"), "int", span=actor.span)
             saved, actor.lane = actor.lane, lane
             try:
@@ -811,17 +808,9 @@ class PlacementLowerer:
         return join_path(self.scope.prefix, f"{actor.name}@{item.span.line}.{what}")
 
     def _args(self, inv: ast.Invocation) -> dict[str, ast.Node]:
-        modifier = self.model.references.get(inv.name)
-        params = self.model.parameters(modifier) if modifier is not None else []
-        bound: dict[str, ast.Node] = {}
-        position = 0
-        for arg in inv.arguments:
-            if isinstance(arg, ast.PositionalArgument) and position < len(params):
-                bound[params[position].name] = arg.value
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                bound[arg.name.text] = arg.value
-        return bound
+        """The arguments given to modifier ``inv``, by parameter (as the checker bound them)."""
+        binding = self.model.binding(inv)
+        return dict(binding.values(defaults=False)) if binding is not None else {}
 
     def _value(self, node: ast.Node) -> ir.Term | None:
         try:
@@ -864,24 +853,19 @@ class PlacementLowerer:
             else None
         )
         count = coerce(actor.lane, value) if value is not None else None
-        for key, sign in (("side_of", None), ("left_of", 1), ("right_of", -1)):
+        for key in LANE_REFERENCES:
             if key not in args:
                 continue
             other = self._reference(args[key], actor, placement, item.span)
             if other is None:
                 return
-            if sign is None:
-                sign = 1 if enum_word(args.get("side")) == "left" else -1
+            sign = lane_side(key, enum_word(args.get("side")))
             step = count if count is not None else ir.const(1)
-            offset = step if sign > 0 else ir.op("neg", step)
-            relation = ir.op("==", lane, ir.op("+", ir.Ref(other.lane), offset))
+            target: ir.Term = ir.Ref(other.lane)
+            if sign:
+                target = ir.op("+", target, step if sign > 0 else ir.op("neg", step))
+            relation = ir.op("==", lane, target)
             self._require(_with(relation, terms.same(actor.road, other.road)), item)
-            return
-        if "same_as" in args:
-            other = self._reference(args["same_as"], actor, placement, item.span)
-            if other is not None:
-                relation = ir.op("==", lane, ir.Ref(other.lane))
-                self._require(_with(relation, terms.same(actor.road, other.road)), item)
             return
         if "lane" not in args:
             return

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from osc2check.semantics.bindings import argument_values
 from osc2check.semantics.visibility import extent
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -58,9 +59,8 @@ def inlay_hints(
                         ):
                             hints.append(Hint(bound.span.start, f"{bound.name}:", "parameter"))
                 if values:
-                    for arg in node.arguments:
-                        if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                            _value_hint(snapshot, arg.value, hints)
+                    for value in argument_values(node.arguments):
+                        _value_hint(snapshot, value, hints)
     hints.sort(key=lambda h: h.offset)
     return hints
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from osc2check.semantics.builtins import EVENT_FUNCTIONS
-from osc2check.semantics.calls import next_parameter
+from osc2check.semantics.calls import next_parameter, written_name
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2lsp.features import describe
@@ -61,8 +61,8 @@ def _active(f: Focus, node: ast.Invocation | ast.Call, params: list[Symbol]) -> 
             return 0 if params else None
     binding = f.model.binding(node)
     name = binding.parameter_of(arg) if binding is not None else None
-    if name is None and isinstance(arg, ast.NamedArgument):
-        name = arg.name.text  # not bound (a misspelt name, or text the analysis has not seen)
+    if name is None:  # not bound: a misspelt name, or text the analysis has not seen
+        name = written_name(arg)
     names = [p.name for p in params]
     return names.index(name) if name in names else None
 
