@@ -40,7 +40,7 @@ from typing import Literal
 from osc2check.semantics import types as T
 from osc2check.semantics.builtins import TYPE_TESTS, Builtin
 from osc2check.semantics.constants import NotConstant, literal_number, physical_literal
-from osc2check.semantics.members import declaration_bodies
+from osc2check.semantics.members import actor_alias, declaration_bodies
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -125,6 +125,9 @@ class Lowerer:
         self.active: list[Symbol] = []
         self.body = ""  # the declaration whose members are being lowered (C404 compares)
         self.aliases: dict[str, str] = {}  # an invoked scenario's actor parameter -> the actor
+        #: the variable of each argument, by (instance, value node): a range given where a
+        #: scalar is expected is the one value the solver chose from it
+        self.argument_vars: dict[tuple[str, int], ir.Var] = {}
         self.runtime: dict[str, str] = {}  # `var`s with no value before the run: why
         self.opening: set[str] = set()  # `var`s whose initialisers are being lowered
         self.bound: dict[Symbol, ir.Term] = {}  # parameters of the methods being inlined
@@ -135,9 +138,15 @@ class Lowerer:
     def scenario(self, sym: Symbol) -> None:
         scope = InstanceScope("", sym, "", sym, actor="actor" if sym.actor else None)
         self.instances[""] = sym
+        aliased = set()
+        for param in self.model.all_members(sym):
+            target = actor_alias(self.model, param)
+            if target is not None:  # `other: vehicle = npc` names npc: the same actor
+                self.aliases[param.name] = target.name
+                aliased.add(param)
         self._instance(sym, scope)
         for param in self.model.all_members(sym):
-            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE):
+            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE) or param in aliased:
                 continue
             t = param.type
             if (
@@ -438,6 +447,7 @@ class Lowerer:
             var = self._scalar_var(join_path(path, param.name), param)
             if var is None:
                 continue
+            self.argument_vars[(scope.prefix, id(bound.value))] = var
             if callee.library or callee.toolkit:
                 self._argument_limit(callee, param, var, arg)
             written = self.text_of(arg.span)
@@ -451,6 +461,12 @@ class Lowerer:
             self.problem.add(
                 ir.Constraint(term, arg.span, kind, f"{callee.name}({written})", "hard", var)
             )
+
+    def chosen(self, node: ast.Node, scope: InstanceScope) -> ir.Var | None:
+        """The variable of the argument ``node`` lowered in instance ``scope``: the value
+        the solver chooses (from the range, for a range given where a scalar is
+        expected); None when ``node`` is no such argument."""
+        return self.argument_vars.get((scope.prefix, id(node)))
 
     def _argument_limit(
         self, callee: Symbol, param: Symbol, var: ir.Var, arg: ast.Argument

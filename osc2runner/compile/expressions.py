@@ -24,6 +24,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.bindings import python_arguments
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS, VALUE_FUNCTIONS
 from osc2check.semantics.constants import NotConstant, physical_literal, to_runtime
+from osc2check.semantics.members import actor_alias
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.errors import CompileProblem
@@ -268,8 +269,9 @@ class ExpressionCompiler:
         if sym.kind is SymbolKind.ENUM_MEMBER:
             return constant(sym.name)
         if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
-            actor = env.actors.get(sym.name)
-            if actor is not None and actor.symbol is sym:
+            named = actor_alias(self.model, sym) or sym  # `other: vehicle = npc` is npc
+            actor = env.actors.get(named.name)
+            if actor is not None and actor.symbol is named:
                 return constant(actor)
             live = self.live_variables.get(sym)
             if live is not None:
