@@ -680,6 +680,18 @@ def missing_argument(span: Span, callee: Symbol | Builtin, name: str) -> Diagnos
     return _diag(codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{name}`", span)
 
 
+def not_executed(span: Span, what: str, reason: str) -> Diagnostic:
+    """A308: the reference runner does not execute ``what`` (``capabilities``); the
+    runner refuses the file before tick 0 with this same finding."""
+    return _diag(
+        codes.NOT_EXECUTED,
+        f"`{what}` is not executed by osc2run: {reason} (docs/coverage.md)"
+        if not what.startswith(("a ", "an ", "`"))
+        else f"{what} is not executed by osc2run: {reason} (docs/coverage.md)",
+        span,
+    )
+
+
 def exclusive_arguments(span: Span, callee: Symbol, given: Sequence[str]) -> Diagnostic:
     return _diag(
         codes.EXCLUSIVE_ARGUMENTS,
