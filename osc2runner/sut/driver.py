@@ -8,7 +8,10 @@ lateral path, and ask whether they are reached): that controller is the
 :class:`~osc2runner.sut.Observation` from the tick's states, asks the SUT, and
 returns the SUT's inputs instead of the driver model's. ``speed`` and
 ``lateral`` are the driver model's, so behaviours and telemetry see no
-difference.
+difference. When the SUT's inputs depart from the driver model's (by more than
+:data:`INTERVENTION` in a pedal or the steering) it *intervenes*, and when they
+agree again it hands back: both go to the event log (kind ``sut``), so plots and
+reports can show when the system acted.
 
 What the SUT does wrong is its own outcome, not a bug of the runner: whatever
 its construction, ``reset`` or ``step`` raises (``SystemExit`` and
@@ -41,10 +44,22 @@ from osc2runner.sut import (
     SystemUnderTest,
 )
 
-__all__ = ["PATH_SPACING", "PATH_POINTS", "SutDriver", "SutFault", "call_sut", "sut_info"]
+__all__ = [
+    "INTERVENTION",
+    "PATH_SPACING",
+    "PATH_POINTS",
+    "SutDriver",
+    "SutFault",
+    "call_sut",
+    "sut_info",
+]
 
 PATH_SPACING = 5.0  # m between the points of RoadAhead.path
 PATH_POINTS = 11  # 0 to 50 m ahead
+INTERVENTION = 0.02  # a pedal or steering difference from the driver model that intervenes
+
+#: what the event log is told: ``log(kind, name, detail, actors)``
+Log = Callable[[str, str, str, tuple[str, ...]], None]
 
 
 class SutFault(Exception):
@@ -124,6 +139,10 @@ def _view(state: ActorState, ego: ActorView | None = None) -> ActorView:
     )  # fmt: skip
 
 
+def _pedals(inputs: VehicleInput) -> str:
+    return f"throttle {inputs.throttle:.2f} brake {inputs.brake:.2f} steer {inputs.steer:.2f}"
+
+
 def _finite(*values: float) -> bool:
     return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
 
@@ -137,6 +156,7 @@ class SutDriver:
         inner: the actor's driver model; behaviours set its targets.
         network: the map.
         states: the run's states of this tick, by actor (read when stepping).
+        log: where interventions are logged (the run context's ``record``).
     """
 
     def __init__(
@@ -146,9 +166,12 @@ class SutDriver:
         inner: VehicleController,
         network: RoadNetwork,
         states: Mapping[str, ActorState],
+        log: Log | None = None,
         budget: float | None = None,
     ) -> None:
         self.name = name
+        self.log = log
+        self.intervening = False
         self.budget = budget
         self.sut = sut
         self.inner = inner
@@ -237,7 +260,27 @@ class SutDriver:
         observation = self.observe(state, driver)
         who, what = type(self.sut).__name__, f"step at tick {state.tick}"
         answer = call_sut(who, what, self.budget, self.sut.step, observation)
-        return self.inputs(answer, state, driver)
+        inputs = self.inputs(answer, state, driver)
+        self._note(inputs, driver)
+        return inputs
+
+    def _note(self, inputs: VehicleInput, driver: VehicleInput) -> None:
+        """Log when the SUT starts overriding the driver model, and when it hands back."""
+        differs = (
+            max(
+                abs(inputs.throttle - driver.throttle),
+                abs(inputs.brake - driver.brake),
+                abs(inputs.steer - driver.steer),
+            )
+            > INTERVENTION
+        )
+        if differs == self.intervening:
+            return
+        self.intervening = differs
+        if self.log is not None:
+            name = "intervenes" if differs else "hands back"
+            detail = f"{_pedals(inputs)} (driver model: {_pedals(driver)})"
+            self.log("sut", name, detail, (self.name,))
 
     def inputs(
         self, answer: Command | Demand, state: ActorState, driver: VehicleInput
