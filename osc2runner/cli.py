@@ -185,8 +185,18 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument(
         "--resume",
         metavar="DIR",
-        help="finish the campaign in DIR: its finished "
-        "runs are kept (FILE and options default to the campaign's)",
+        help="finish the campaign in DIR: its finished runs are kept (FILE and options "
+        "default to the campaign's, but --sut: give it again, or --trust-folder)",
+    )
+    c.add_argument(
+        "--trust-folder",
+        action="store_true",
+        help="with --resume: import the system under test the folder's campaign.json names",
+    )
+    c.add_argument(
+        "--force",
+        action="store_true",
+        help="let --out write into a non-empty folder that holds no campaign of the scenario",
     )
     from osc2runner.export.command import add_export_options
 
@@ -211,6 +221,9 @@ def _parse(argv: list[str]) -> argparse.Namespace:
     else:
         for name in ("jobs", "address", "run_timeout"):
             if getattr(args, name) is not None:
+                raise UsageError(f"--{name.replace('_', '-')} needs --runs N (a campaign)")
+        for name in ("trust_folder", "force"):
+            if getattr(args, name):
                 raise UsageError(f"--{name.replace('_', '-')} needs --runs N (a campaign)")
     if args.plot and not args.out:
         raise UsageError("--plot needs --out DIR")

@@ -141,27 +141,6 @@ class RunRecord:
             "error": self.error,
         }
 
-    @classmethod
-    def from_json(cls, data: dict[str, Any]) -> RunRecord:
-        b = data.get("bin")
-        outcome = data["outcome"]
-        return cls(
-            seed=data["seed"],
-            status=outcome["status"],
-            reason=outcome["reason"],
-            bin=BinRef(b["item"], b["index"], b.get("label", "")) if b else None,
-            time_s=outcome.get("time", 0.0),
-            tick=outcome.get("tick", 0),
-            parameters=data.get("parameters", {}),
-            kpis=data.get("kpis", {}),
-            records=data.get("records", {}),
-            coverage=data.get("coverage", {}),
-            wall_s=data.get("wall_seconds", 0.0),
-            folder=data.get("folder", ""),
-            files=data.get("files", []),
-            error=data.get("error"),
-        )
-
 
 def run_folder(seed: int) -> str:
     """The folder of a run's files, relative to the campaign folder."""
