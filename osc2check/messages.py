@@ -884,6 +884,15 @@ def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
     )
 
 
+def scenario_budget(span: Span, scenario: str, limit: int) -> Diagnostic:
+    return _diag(
+        codes.SOLVER_INCONCLUSIVE,
+        f"the constraints of scenario `{scenario}` are not checked: the solver checks the "
+        f"first {limit} scenarios of a file; check it alone with `--scenario {scenario}`",
+        span,
+    )
+
+
 def nonlinear_constraint(constraint: Constraint) -> Diagnostic:
     return _diag(
         codes.NONLINEAR_CONSTRAINT,

@@ -1,0 +1,29 @@
+"""The solver checks at most ``MAX_SCENARIOS`` scenarios of a file: a file of a thousand
+conflicting scenarios (200 KB) took more than a minute; each one past the budget is C408
+and is checked alone with ``--scenario``."""
+
+from __future__ import annotations
+
+from osc2check.analysis import AnalysisOptions, SourceInput, analyze
+from osc2check.verify import check
+
+BODY = """
+scenario band_{i}:
+    hero: vehicle
+    cruise: speed
+    keep(cruise in [30kph..50kph])
+    keep(cruise > 60kph)
+    do hero.drive(duration: 10s) with:
+        lane(1, at: start)
+        speed(cruise)
+"""
+TEXT = "import osc.standard\n" + "".join(BODY.format(i=i) for i in range(4))
+
+
+def test_scenarios_past_the_files_budget_are_c408_and_checked_alone(monkeypatch):
+    monkeypatch.setattr(check, "MAX_SCENARIOS", 2)
+    found = analyze([SourceInput("many.osc", TEXT)]).diagnostics
+    assert [d.code.code for d in found] == ["C401", "C401", "C408", "C408"]
+    assert "check it alone with `--scenario band_3`" in found[-1].message
+    alone = analyze([SourceInput("many.osc", TEXT)], AnalysisOptions(scenario="band_3"))
+    assert [d.code.code for d in alone.diagnostics] == ["C401"]
