@@ -6,18 +6,14 @@ from __future__ import annotations
 
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.verify import check
+from tests.osc2lsp.lsp_helpers import CONFLICT
 
-BODY = """
-scenario band_{i}:
-    hero: vehicle
-    cruise: speed
-    keep(cruise in [30kph..50kph])
-    keep(cruise > 60kph)
-    do hero.drive(duration: 10s) with:
-        lane(1, at: start)
-        speed(cruise)
-"""
-TEXT = "import osc.standard\n" + "".join(BODY.format(i=i) for i in range(4))
+_BODY = CONFLICT.split("\n", 1)[1]  # one scenario whose two `keep`s conflict (C401)
+TEXT = (
+    CONFLICT.split("\n", 1)[0]
+    + "\n"
+    + "".join(_BODY.replace("cruise_band", f"band_{i}") for i in range(4))
+)
 
 
 def test_scenarios_past_the_files_budget_are_c408_and_checked_alone(monkeypatch):
