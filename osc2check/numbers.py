@@ -26,6 +26,7 @@ solver's problem and reported (C411) before anything computes it (``ir.fits``).
 
 from __future__ import annotations
 
+import functools
 import re
 from fractions import Fraction
 
@@ -56,6 +57,7 @@ class NumberOutOfRange(ValueError):
         self.digits = digits
 
 
+@functools.lru_cache(maxsize=1024)  # the same literal met again (its value is immutable)
 def exact_number(text: str) -> int | Fraction:
     """The exact value of a numeric literal (``42``, ``0x2A``, ``1.5``, ``2e-3``): an
     ``int`` for an integer literal, else a ``Fraction``.
