@@ -3,9 +3,12 @@ never the messages after it."""
 
 from __future__ import annotations
 
+import itertools
 import json
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from osc2lsp.framing import FrameReader, Garbled
 
@@ -145,3 +148,53 @@ def test_a_body_without_end_is_skipped_once_past_the_size_limit(monkeypatch):
         assert reader.pending < 20_000
     assert any(isinstance(e, Garbled) and e.too_large for e in events)
     assert reader.feed(frame(MESSAGES[3]))[-1] == MESSAGES[3]
+
+
+_SEGMENT = st.one_of(
+    st.tuples(st.just("good"), st.integers(0, 4)),
+    st.tuples(st.just("wrong"), st.sampled_from([-30, -1, 1, 25, 400])),
+    st.tuples(st.just("junk"), st.binary(min_size=1, max_size=40).map(lambda b: b.lower())),
+    st.tuples(st.just("large"), st.integers(0, 1)),
+)
+
+
+@settings(max_examples=150, derandomize=True, deadline=None)
+@given(segments=st.lists(_SEGMENT, max_size=12), chunks=st.lists(st.integers(1, 300), min_size=1))
+def test_framing_storm_every_well_framed_message_is_read_and_none_invented(segments, chunks):
+    """Good frames, frames of a wrong length, bytes outside any frame and messages over
+    the size limit, in any order and cut anywhere: each well-framed message is read, in
+    order, nothing else is taken for one, and the reader holds no more than the limit."""
+    limit = 2_000
+    stream, expected, sent_ids = b"", [], set()
+    for n, (kind, value) in enumerate(segments):
+        message = {"jsonrpc": "2.0", "id": n, "method": "m", "params": {"text": "a\r\nb" * n}}
+        if kind == "good":
+            stream += frame(message)
+            expected.append(n)
+        elif kind == "wrong":
+            stream += frame(message, value)
+        elif kind == "junk":  # never the start of a header: its bytes hold no "content-"
+            stream += value.replace(b"c", b"k")
+        else:
+            message["params"]["text"] = "x" * (limit + 100 * value)
+            stream += frame(message)
+        sent_ids.add(n)
+    import osc2lsp.framing as framing
+
+    original = framing.MAX_MESSAGE_BYTES
+    framing.MAX_MESSAGE_BYTES = limit
+    try:
+        reader, events, at = FrameReader(), [], 0
+        for size in itertools.cycle(chunks):
+            if at >= len(stream):
+                break
+            events += reader.feed(stream[at : at + size])
+            at += size
+            assert reader.pending <= 2 * limit + 4096 + size
+    finally:
+        framing.MAX_MESSAGE_BYTES = original
+    messages = [e for e in events if not isinstance(e, Garbled)]
+    ids = [m["id"] for m in messages if isinstance(m, dict) and "id" in m]
+    assert len(ids) == len(messages) and set(ids) <= sent_ids  # nothing invented
+    assert ids == sorted(ids) and len(set(ids)) == len(ids)  # in order, each once
+    assert set(expected) <= set(ids)  # every well-framed message
