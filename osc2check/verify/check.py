@@ -137,17 +137,19 @@ def source_text(program: Program) -> TextOf:
             return " ".join(strip_comment(part).strip() for part in chosen)
         end = span.end
         open_count = _open_brackets(text[span.start : end])
-        while open_count > 0 and end < len(text):
-            rest = len(text[end:]) - len(text[end:].lstrip(" \t"))
-            if end + rest < len(text) and text[end + rest] in ")]":
-                end += rest + 1
-                open_count -= 1
-            else:
+        while open_count > 0:  # no slice of the rest: a closer a time (1 MB of them)
+            closer = _CLOSER.match(text, end)
+            if closer is None:
                 break
+            end = closer.end()
+            open_count -= 1
         parts = text[span.start : end].splitlines()
         return " ".join(p for p in (strip_comment(part).strip() for part in parts) if p)
 
     return text_of
+
+
+_CLOSER = re.compile(r"[ \t]*[)\]]")
 
 
 def _open_brackets(text: str) -> int:

@@ -23,3 +23,20 @@ def test_scenarios_past_the_files_budget_are_c408_and_checked_alone(monkeypatch)
     assert "check it alone with `--scenario band_3`" in found[-1].message
     alone = analyze([SourceInput("many.osc", TEXT)], AnalysisOptions(scenario="band_3"))
     assert [d.code.code for d in alone.diagnostics] == ["C401"]
+
+
+def test_a_value_nested_deep_in_brackets_is_quoted_whole():
+    """A field's span ends inside its default's brackets; the closers are taken from
+    the source one at a time (slicing the rest of the file for each made a megabyte
+    of brackets take minutes)."""
+    depth = 3_000
+    default = "(" * depth + "1" + ") " * depth
+    text = (
+        "import osc.standard\nscenario s:\n    hero: vehicle\n"
+        f"    x: float = {default} # a comment\n    keep(x == 2)\n"
+        "    do hero.drive(duration: 3s) with:\n        speed(30kph)\n"
+    )
+    found = analyze([SourceInput("deep.osc", text)]).diagnostics
+    replaced = [d for d in found if d.code.code == "C403"]
+    assert len(replaced) == 1
+    assert f"`x: float = {default.rstrip()}` is replaced by `keep(x == 2)`" in replaced[0].message
