@@ -11,7 +11,7 @@ import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
-from osc2check import messages
+from osc2check import memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
@@ -84,6 +84,9 @@ class AnalysisOptions:
     ``modules`` maps structured import names to files; ``search_paths`` are the
     folders ``import a.b`` looks in after the importing file's own. ``policy``
     filters and re-grades one file's diagnostics (``Config.policy``).
+    ``memory_limit_mib`` is the memory the check of one file may add to the process
+    (``memory.budget``; None for no budget, as the language server's own process has:
+    its solver worker has one); past it the file has a single finding, S003.
     """
 
     verify: bool = True
@@ -95,6 +98,7 @@ class AnalysisOptions:
     default_map: str = "default"
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
+    memory_limit_mib: int | None = None
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
 
 
@@ -118,43 +122,86 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
+    if options.memory_limit_mib:
+        _load_once(options)
     for source in sources:
-        result = cache.read(source.uri)
-        if result is None:  # pragma: no cover - sources are always in memory
-            continue
+        start = point_span(source.uri, source.text, 0)
         try:
+            with memory.budget(options.memory_limit_mib):
+                _check_one(source, cache, modules, options, found, programs, verified)
+        except Exception as exc:  # the budget was hit: say where, check the next file
+            if not memory.is_out_of_memory(exc):
+                raise
+            element = (
+                exc.element
+                if isinstance(exc, memory.BudgetExceeded)
+                else memory.Element(start, "checking the file")
+            )
+            # the finding is the checked file's, at the element when it is in that file
+            span = element.span if element.span.uri == source.uri else start
+            found.append(messages.memory_budget(span, element, options.memory_limit_mib))
+    diagnostics = _finish(found, cache, texts, options)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified)
+
+
+def _load_once(options: AnalysisOptions) -> None:
+    """Build what the process builds once (the parser, z3) before any file's budget: the
+    first file checked must not pay for it, nor fail to."""
+    parse("", "")
+    if options.verify:
+        from osc2check.verify.z3_backend import _z3
+
+        _z3()
+
+
+def _check_one(
+    source: SourceInput,
+    cache: FileCache,
+    modules: dict[str, str],
+    options: AnalysisOptions,
+    found: list[Diagnostic],
+    programs: dict[str, Program],
+    verified: dict[str, VerifyResult],
+) -> None:
+    """Parse, resolve and verify one root file, adding to ``found``, ``programs`` and
+    ``verified``."""
+    start = point_span(source.uri, source.text, 0)
+    with memory.analysing(start, "parsing the file"):
+        result = cache.read(source.uri)
+    if result is None:  # pragma: no cover - sources are always in memory
+        return
+    try:
+        with memory.analysing(start, "reading its imports and declarations"):
             program = build_program(
                 source.uri, cache.read, options.implicit_imports, modules, options.search_paths
             )
-        except RecursionError:  # pathological nesting: say so instead of crashing
-            found.extend(result.diagnostics)
-            found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
-            continue
-        programs[source.uri] = program
+    except RecursionError:  # pathological nesting: say so instead of crashing
         found.extend(result.diagnostics)
-        own = _relevant(program, result, source.uri)
-        found.extend(own)
-        if source.problem:
-            found.append(_encoding_problem(source))
-        if options.verify and not any(
-            d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
-        ):
-            try:
-                checked = verify_program(
-                    program,
-                    seed=options.seed,
-                    scenario=options.scenario,
-                    rlimit=options.solver_rlimit,
-                    timeout_ms=options.solver_timeout_ms,
-                    default_map=options.default_map,
-                )
-            except RecursionError:
-                found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
-                continue
-            verified[source.uri] = checked
-            found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
-    diagnostics = _finish(found, cache, texts, options)
-    return Analysis(diagnostics, texts, programs, cache.parses, verified)
+        found.append(messages.nesting_too_deep(start))
+        return
+    programs[source.uri] = program
+    found.extend(result.diagnostics)
+    own = _relevant(program, result, source.uri)
+    found.extend(own)
+    if source.problem:
+        found.append(_encoding_problem(source))
+    if options.verify and not any(
+        d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
+    ):
+        try:
+            checked = verify_program(
+                program,
+                seed=options.seed,
+                scenario=options.scenario,
+                rlimit=options.solver_rlimit,
+                timeout_ms=options.solver_timeout_ms,
+                default_map=options.default_map,
+            )
+        except RecursionError:
+            found.append(messages.nesting_too_deep(start))
+            return
+        verified[source.uri] = checked
+        found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
 
 
 def _clean(source: SourceInput) -> SourceInput:

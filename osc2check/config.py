@@ -25,6 +25,7 @@ from urllib.parse import unquote, urlparse
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 
 if TYPE_CHECKING:
     from osc2check.analysis import AnalysisOptions
@@ -86,6 +87,7 @@ class Config:
     force_exclude: bool = False
     road: Mapping[str, Any] = field(default_factory=dict)
     solver: Mapping[str, Any] = field(default_factory=dict)
+    memory_limit_mib: int = DEFAULT_MEMORY_LIMIT_MIB  # per file checked; 0: no budget
     search_paths: tuple[str, ...] = ()  # folders for `import a.b` (a/b.osc), after the file's own
     root: Path | None = None
 
@@ -99,6 +101,7 @@ class Config:
             default_map=str(road_map),
             solver_rlimit=_int_or_none(self.solver.get("rlimit")),
             solver_timeout_ms=_int_or_none(self.solver.get("timeout-ms")),
+            memory_limit_mib=self.memory_limit_mib or None,
             policy=self.policy,
         )
         return replace(options, **changes)
@@ -316,6 +319,12 @@ def _read_solver(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"solver": MappingProxyType(table)}
 
 
+def _read_memory_limit(v: object, path: _Where, key: str) -> dict[str, Any]:
+    if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+        raise ConfigError(f"expected a number of MiB (0: no budget), got {v!r}", path, key)
+    return {"memory_limit_mib": v}
+
+
 def _read_search_paths(v: object, path: _Where, key: str) -> dict[str, Any]:
     base = Path(path).resolve().parent if path else Path.cwd()
     return {"search_paths": tuple(str(base / p) for p in _string_list(v, path, key))}
@@ -334,6 +343,7 @@ _READERS: dict[str, _Reader] = {
     "road": _raw_table("road"),
     "solver": _read_solver,
     "search-paths": _read_search_paths,
+    "memory-limit": _read_memory_limit,
 }
 
 
