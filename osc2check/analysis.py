@@ -15,6 +15,7 @@ from osc2check import memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
@@ -98,7 +99,7 @@ class AnalysisOptions:
     default_map: str = "default"
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
-    memory_limit_mib: int | None = None
+    memory_limit_mib: int | None = DEFAULT_MEMORY_LIMIT_MIB
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
 
 
