@@ -7,7 +7,7 @@ z3 answer "out of memory") instead of exhausting the machine. ``analysing(span,
 what)`` records the element being analysed, so that the finding names it.
 
 z3's own ``memory_max_size`` is not used: once z3 has hit it, every later context of
-the process crashes (z3 4.x/5.x), and one file must never cost the others their check.
+the process crashes (seen with z3 5.4.1), and one file must never cost the others their check.
 The address-space limit covers z3's allocations as well; z3 turns a failed allocation
 into an "out of memory" answer. A z3 context made without room crashes the process,
 so ``room_for_solver`` checks for room first.
