@@ -7,8 +7,8 @@ z3 answer "out of memory") instead of exhausting the machine. ``analysing(span,
 what)`` records the element being analysed, so that the finding names it.
 
 z3's own ``memory_max_size`` is not used: once z3 has hit it, every later context of
-the process crashes (seen with z3 5.4.1), and one file must never cost the others their check.
-The address-space limit covers z3's allocations as well; z3 turns a failed allocation
+the process crashes (seen with z3 5.4.1), and one file must never cost the others
+their check. The address-space limit covers z3's allocations as well; z3 turns a failed allocation
 into an "out of memory" answer. A z3 context made without room crashes the process,
 so ``room_for_solver`` checks for room first.
 """
@@ -74,7 +74,7 @@ def budget(limit_mib: int | None) -> Iterator[None]:
     """Let the block add at most ``limit_mib`` MiB to the process's address space.
 
     No budget with ``None`` or ``0``, or where the platform has no ``RLIMIT_AS``; a
-    hard limit the process already has is kept.
+    tighter limit the process already has is kept.
     """
     try:
         import resource
@@ -87,8 +87,8 @@ def budget(limit_mib: int | None) -> Iterator[None]:
         return
     soft, hard = resource.getrlimit(resource.RLIMIT_AS)
     wanted = mapped + limit_mib * MIB
-    if hard != resource.RLIM_INFINITY:
-        wanted = min(wanted, hard)
+    if soft != resource.RLIM_INFINITY:
+        wanted = min(wanted, soft)  # a tighter limit the user set (ulimit -v) stays
     resource.setrlimit(resource.RLIMIT_AS, (wanted, hard))
     try:
         yield

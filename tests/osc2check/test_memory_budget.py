@@ -156,3 +156,15 @@ def test_a_declaration_past_the_budget_is_named(monkeypatch):
     found = analyze([SourceInput("load.osc", text)]).diagnostics
     assert [(d.code.code, d.span.line, d.span.column) for d in found] == [("S003", 3, 8)]
     assert "while checking struct `load` at load.osc:3:8" in found[0].message
+
+
+def test_a_tighter_limit_the_user_set_is_kept():
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    tight = memory._mapped() + 512 * memory.MIB
+    resource.setrlimit(resource.RLIMIT_AS, (tight, hard))
+    try:
+        with memory.budget(4096):
+            assert resource.getrlimit(resource.RLIMIT_AS)[0] == tight
+        assert resource.getrlimit(resource.RLIMIT_AS)[0] == tight
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
