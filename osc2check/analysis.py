@@ -15,6 +15,7 @@ from osc2check import messages
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
+from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
@@ -47,6 +48,7 @@ class Analysis:
     programs: dict[str, Program] = field(default_factory=dict)
     parses: dict[str, ParseResult] = field(default_factory=dict)
     verified: dict[str, VerifyResult] = field(default_factory=dict)  # by root file
+    options: AnalysisOptions | None = None  # what the files were analysed with
 
 
 class FileCache:
@@ -82,7 +84,10 @@ class AnalysisOptions:
     solver (constraints, placement, flow), as editors do between keystrokes.
     ``implicit_imports`` are standard modules every file imports without saying so;
     ``modules`` maps structured import names to files; ``search_paths`` are the
-    folders ``import a.b`` looks in after the importing file's own. ``policy``
+    folders ``import a.b`` looks in after the importing file's own; ``maps`` names
+    map files by the names scenarios give (``Town04`` -> an ``.xodr`` path).
+    ``osc_version`` chooses the standard library (2.1 or 2.2) and ``dialect`` how
+    other tools' forms are read (:mod:`osc2check.semantics.profile`). ``policy``
     filters and re-grades one file's diagnostics (``Config.policy``).
     """
 
@@ -92,10 +97,18 @@ class AnalysisOptions:
     implicit_imports: tuple[str, ...] = ()
     modules: Mapping[str, str] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
+    maps: Mapping[str, str] = field(default_factory=dict)
+    osc_version: str = DEFAULT_OSC_VERSION
+    dialect: str = DEFAULT_DIALECT
     default_map: str = "default"
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
+
+    @property
+    def library(self) -> LibraryChoice:
+        """The standard library these options build programs on."""
+        return LibraryChoice(self.osc_version, self.dialect)
 
 
 def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) -> Analysis:
@@ -123,7 +136,12 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             continue
         try:
             program = build_program(
-                source.uri, cache.read, options.implicit_imports, modules, options.search_paths
+                source.uri,
+                cache.read,
+                options.implicit_imports,
+                modules,
+                options.search_paths,
+                options.library,
             )
         except RecursionError:  # pathological nesting: say so instead of crashing
             found.extend(result.diagnostics)
@@ -146,6 +164,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
                     rlimit=options.solver_rlimit,
                     timeout_ms=options.solver_timeout_ms,
                     default_map=options.default_map,
+                    maps=options.maps,
                 )
             except RecursionError:
                 found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
@@ -153,7 +172,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             verified[source.uri] = checked
             found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
     diagnostics = _finish(found, cache, texts, options)
-    return Analysis(diagnostics, texts, programs, cache.parses, verified)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
 
 
 def _encoding_problem(source: SourceInput) -> Diagnostic:

@@ -32,10 +32,12 @@ from osc2check.config import (
     OUTPUT_FORMATS,
     Config,
     ConfigError,
+    add_language_arguments,
     load_config,
     load_config_file,
     parse_codes,
     parse_severity,
+    with_language_arguments,
 )
 from osc2check.inputs import InputError, InputProblem
 from osc2check.output import render, render_statistics, tool
@@ -128,6 +130,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="lowest severity that makes the exit status 1 (default: error)",
     )
     p.add_argument("--exit-zero", action="store_true", help="exit 0 even when there are findings")
+    add_language_arguments(p)
     p.add_argument("--config", metavar="FILE", help="read the configuration from FILE")
     p.add_argument("--isolated", action="store_true", help="ignore configuration files")
     p.add_argument(
@@ -318,7 +321,7 @@ def _with_options(config: Config, args: argparse.Namespace) -> Config:
         changes["fail_on"] = parse_severity(args.fail_on, key="--fail-on")
     if args.output_format is not None:
         changes["output_format"] = FORMAT_ALIASES.get(args.output_format, args.output_format)
-    return replace(config, **changes)
+    return with_language_arguments(replace(config, **changes), args)
 
 
 def _display(path: Path) -> str:

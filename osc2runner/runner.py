@@ -38,6 +38,7 @@ import numpy as np
 import py_trees
 
 from osc2check.analysis import Analysis, SourceInput, analyze
+from osc2check.config import Config, config_for
 from osc2check.diagnostics import Severity
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
@@ -197,12 +198,23 @@ class Checked:
 
 
 def check_file(
-    path: str | Path, *, scenario: str | None = None, source: str | None = None
+    path: str | Path,
+    *,
+    scenario: str | None = None,
+    source: str | None = None,
+    config: Config | None = None,
 ) -> Checked:
     """Parse, resolve and verify a file and choose the scenario to run; raises
-    ScenarioError for input errors (error diagnostics, no such scenario)."""
+    ScenarioError for input errors (error diagnostics, no such scenario).
+
+    ``config`` is the checker's configuration (``[tool.osc2check]``: OSC2 version,
+    dialect, maps, search paths, module map, the findings' policy); None reads the
+    one that applies to ``path``, as ``osc2check`` does.
+    """
     uri, text = _read(path, source)
-    analysis = analyze([SourceInput(uri, text)])
+    if config is None:
+        config = config_for(path)
+    analysis = analyze([SourceInput(uri, text)], config.analysis_options())
     errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
     if errors:
         raise ScenarioError([], diagnostics=errors, texts=analysis.texts)
@@ -241,11 +253,12 @@ def compile_file(
     seed: int = 0,
     dt_control: float = 0.05,
     source: str | None = None,
+    config: Config | None = None,
 ) -> Compiled:
     """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
     for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
     """
-    checked = check_file(path, scenario=scenario, source=source)
+    checked = check_file(path, scenario=scenario, source=source, config=config)
     return compile_checked(checked, seed=seed, dt_control=dt_control)
 
 
@@ -311,9 +324,12 @@ def prepare(
     dt_physics: float = 0.002,
     source: str | None = None,
     sut: SutSpec | None = None,
+    config: Config | None = None,
 ) -> Prepared:
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
-    c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
+    c = compile_file(
+        path, scenario=scenario, seed=seed, dt_control=dt_control, source=source, config=config
+    )
     return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
 
 
@@ -333,6 +349,7 @@ def run(
     progress: Callable[[float, float, float], None] | None = None,
     source: str | None = None,
     sut: SutSpec | str | None = None,
+    config: Config | None = None,
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
 
@@ -351,6 +368,9 @@ def run(
         source: the file's text, instead of reading ``path``.
         sut: the system under test (:mod:`osc2runner.sut`): a ``SutSpec``, or
             ``"module:Class"`` for the actor named ``sut`` or ``ego``.
+        config: the checker's configuration (``osc2check.config.Config``: the OSC2
+            version, dialect, maps, search paths, ...); None reads ``[tool.osc2check]``
+            from the nearest configuration file above ``path``, as ``osc2check`` does.
 
     The result's outcome is ``error`` (and the files are written) when the physics
     diverged. Called from the main thread, the run installs handlers for SIGINT,
@@ -380,6 +400,7 @@ def run(
         dt_physics=dt_physics,
         source=source,
         sut=spec,
+        config=config,
     )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 

@@ -20,6 +20,7 @@ from osc2check import inputs, messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.declare import Unit
 from osc2check.semantics.model import Context, Model
+from osc2check.semantics.profile import LibraryChoice
 from osc2check.semantics.resolve import resolve
 from osc2check.semantics.stdlib import (
     AUTO_USE,
@@ -38,6 +39,7 @@ Reader = Callable[[str], ParseResult | None]
 class Program:
     root: str
     model: Model
+    library: LibraryChoice = field(default_factory=LibraryChoice)
     files: dict[str, ParseResult] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     imports: dict[str, list[str]] = field(default_factory=dict)  # uri -> imported uris
@@ -111,6 +113,7 @@ def build_program(
     implicit_imports: tuple[str, ...] = (),
     modules: dict[str, str] | None = None,
     search_paths: tuple[str, ...] = (),
+    library: LibraryChoice | None = None,
 ) -> Program:
     """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None.
 
@@ -119,10 +122,12 @@ def build_program(
     a.b``, §7.7.5.1.2 leaves their resolution to the implementation) name the
     file ``a/b.osc``, looked for beside the importing file and then in each of
     ``search_paths`` in order; a relative search path is taken from the current
-    directory, as any relative path a program is given.
+    directory, as any relative path a program is given. ``library`` chooses the
+    standard library's version (2.1 by default).
     """
+    library = library or LibraryChoice()
     state = _Reading(
-        program=Program(root, Model(base=standard_library().model)),
+        program=Program(root, Model(base=standard_library(library.version).model), library),
         read=read,
         modules=modules or {},
         search_paths=search_paths,

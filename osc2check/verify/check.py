@@ -17,7 +17,7 @@ constraint that lowering could not encode is reported once (C411).
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
@@ -183,11 +183,14 @@ def verify_program(
     rlimit: int | None = None,
     timeout_ms: int | None = None,
     default_map: str = "default",
+    maps: Mapping[str, str] | None = None,
 ) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
     Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``);
     ``rlimit`` and ``timeout_ms`` bound each solver call (defaults: z3_backend's).
+    ``default_map`` is the map of a scenario that names none; ``maps`` gives the
+    files of map names (``[tool.osc2check.maps]``).
     """
     rlimit = DEFAULT_RLIMIT if rlimit is None else rlimit
     timeout_ms = DEFAULT_TIMEOUT_MS if timeout_ms is None else timeout_ms
@@ -206,7 +209,7 @@ def verify_program(
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
-        problem = lower_scenario(program.model, sym, text_of, default_map, decls)
+        problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
         _reversed_ranges(sym, program, text_of, report)
         outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
         for skipped in problem.skipped:

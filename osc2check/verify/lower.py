@@ -32,7 +32,7 @@ has no value here (``Lowerer._variable``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
@@ -1011,6 +1011,7 @@ def lower_scenario(
     text_of: TextOf,
     default_map: str = "default",
     member_decls: Declarations | None = None,
+    maps: Mapping[str, str] | None = None,
 ) -> ir.ConstraintProblem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 
@@ -1025,7 +1026,7 @@ def lower_scenario(
     lowerer = Lowerer(model, problem, text_of, member_decls)
     lowerer.scenario(scenario)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
-    problem.placement = lower_placement(lowerer, scenario, default_map)
+    problem.placement = lower_placement(lowerer, scenario, default_map, maps)
     lower_timing(lowerer, scenario)
     lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}

@@ -53,7 +53,7 @@ Conventions (shown in the witness):
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 
@@ -81,7 +81,14 @@ from osc2check.verify.quick import linear
 from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.verify.room import motion_bounds
 from osc2check.world.builtin import builtin_network
-from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
+from osc2check.world.catalogue import (
+    ACTOR_KINDS,
+    CATEGORIES,
+    NOT_ON_ROADS,
+    ActorRow,
+    kind_row,
+    model_row,
+)
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import load_map, map_path, scenario_folder
 from osc2check.world.network import RoadNetwork
@@ -228,12 +235,19 @@ def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool
 
 
 class PlacementLowerer:
-    def __init__(self, lowerer: Lowerer, scenario: Symbol, default_map: str = "default"):
+    def __init__(
+        self,
+        lowerer: Lowerer,
+        scenario: Symbol,
+        default_map: str = "default",
+        maps: Mapping[str, str] | None = None,
+    ):
         self.lw = lowerer
         self.model = lowerer.model
         self.problem: ir.ConstraintProblem = lowerer.problem
         self.scenario = scenario
         self.default_map = default_map
+        self.maps = maps or {}  # map names -> files (`[tool.osc2check.maps]`)
         self.lateral: set[str] = set()  # actors with a lateral offset at the start
         self.moving: set[str] = set()  # actors given a speed at the start
         self.applied: set[int] = set()  # ids of the modifiers applied at the start
@@ -390,13 +404,14 @@ class PlacementLowerer:
             path = map_path(self.default_map, folder)
             source = str(path.resolve()) if path is not None and path.is_file() else None
             return MapChoice(self.default_map if source else fallback.name, fallback, source)
+        file = self.maps.get(name, name)  # a name the configuration gives a file
         try:
-            network = load_map(name, folder)
+            network = load_map(file, folder)
         except UnknownMapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unknown=err.known)
         except MapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unreadable=err)
-        path = map_path(name, folder)
+        path = map_path(file, folder)
         source = str(path.resolve()) if path is not None and path.is_file() else None
         return MapChoice(name if source is not None else network.name, network, source, name, span)
 
@@ -522,6 +537,16 @@ class PlacementLowerer:
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
             body = ActorBody(kind, car, *self._row_terms(car))
+        for member, value in category.enum if category is not None else ():
+            if member in NOT_ON_ROADS:  # DSL 2.2's trains, boats and aircraft
+                assert category is not None  # as the loop runs
+                self._implicit(
+                    ir.op("!=", ir.Ref(category), ir.const(value)),
+                    param.name_span or self.problem.span,
+                    "category",
+                    f"`{name}` is no {member}: the world is roads, and its catalogue has "
+                    f"no {member}",
+                )
         body.notes = tuple(notes)
         return self._sized(name, body)
 
@@ -1125,10 +1150,13 @@ def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:
 
 
 def lower_placement(
-    lowerer: Lowerer, scenario: Symbol, default_map: str = "default"
+    lowerer: Lowerer,
+    scenario: Symbol,
+    default_map: str = "default",
+    maps: Mapping[str, str] | None = None,
 ) -> StartPlacement | None:
     """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
-    return PlacementLowerer(lowerer, scenario, default_map).lower()
+    return PlacementLowerer(lowerer, scenario, default_map, maps).lower()
 
 
 def _member(category: ir.Var, name: str) -> int:

@@ -32,6 +32,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from osc2check.config import Config, config_for
 from osc2runner.campaign.outputs import (
     read_campaign,
     read_records,
@@ -91,6 +92,7 @@ class CampaignOptions:
     run_timeout: float | None = DEFAULT_RUN_TIMEOUT
     plot: bool = False
     resume: bool = False
+    config: Config | None = None  # the checker's configuration; None: the file's own
 
     def run_options(self) -> dict[str, Any]:
         """What makes two runs of one seed the same run (resume compares these)."""
@@ -102,7 +104,16 @@ class CampaignOptions:
             "sut": asdict(self.sut) if self.sut is not None else None,
             "strategy": self.strategy,
             "seed": self.seed,
+            **self._language(),
         }
+
+    def _language(self) -> dict[str, Any]:
+        """The OSC2 version and dialect, when the configuration says other than the
+        defaults (a campaign of an older folder has neither)."""
+        if self.config is None:
+            return {}
+        language = {"osc_version": self.config.osc_version, "dialect": self.config.dialect}
+        return {k: v for k, v in language.items() if v != getattr(Config(), k)}
 
 
 @dataclass
@@ -188,7 +199,8 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     from osc2check.source import decode_source
 
     text, _ = decode_source(data)
-    checked = check_file(options.file, scenario=options.scenario, source=text)
+    config = options.config if options.config is not None else config_for(options.file)
+    checked = check_file(options.file, scenario=options.scenario, source=text, config=config)
     digest = hashlib.sha256(data).hexdigest()
     folder = output_folder(options.out, create=False)  # made once the runs are planned
     previous: dict[int, RunRecord] = {}
@@ -206,6 +218,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         options.plot,
         str(folder),
         ship_files=options.engine == "ray",
+        config=config,
     )
     engine = _engine(options, setup, min(jobs, options.runs))
     # the workers start while the runs are planned (none when every run finished)

@@ -69,6 +69,9 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     if args.run_timeout is None and opts.get("run_timeout") is not None:
         args.run_timeout = repr(opts["run_timeout"])
     args.plot = args.plot or bool(opts.get("plot"))
+    for name in ("osc_version", "dialect"):  # the language the campaign was checked in
+        if getattr(args, name, None) is None and opts.get(name) is not None:
+            setattr(args, name, opts[name])
 
 
 def campaign_arguments(args: argparse.Namespace) -> None:
@@ -128,6 +131,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         run_timeout=args.run_timeout if args.run_timeout is not None else DEFAULT_RUN_TIMEOUT,
         plot=args.plot,
         resume=args.resume is not None,
+        config=args.config,
     )
     interactive = out.isatty() and not args.quiet
     try:
