@@ -122,6 +122,12 @@ AMBIGUOUS_NAME = Code(
 ENUM_VALUE_CYCLE = Code(
     "N114", "enum-value-cycle", E, "enum members take their values from each other in a cycle"
 )
+SHADOWED_ENUM_LITERAL = Code(
+    "N115",
+    "shadowed-enum-literal",
+    W,
+    "a declared name is also a member of the enum expected here; the member is taken",
+)
 
 # --- T: types and units ----------------------------------------------------
 DIMENSION_MISMATCH = Code(
@@ -342,6 +348,19 @@ UNQUOTED_FILE_IMPORT = Code(
     "unquoted-file-import",
     W,
     "a file is imported by its name without quotes (`import basic.osc`), as CARLA does",
+)
+
+STRUCT_CONSTRUCTOR_CALL = Code(
+    "D809",
+    "struct-constructor-call",
+    W,
+    "a struct value is built by calling the struct's name (`pose_3d(position_3d(x: 1m))`)",
+)
+TOOL_MODULE = Code(
+    "D810",
+    "tool-module",
+    W,
+    "a module under the standard's reserved name `osc` is another tool's library",
 )
 
 # --- S: suppressions and tooling -------------------------------------------

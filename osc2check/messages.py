@@ -312,6 +312,39 @@ def unresolved_import(span: Span, target: str, reason: str) -> Diagnostic:
     return _diag(codes.UNRESOLVED_IMPORT, f"cannot import `{target}`: {reason}", span)
 
 
+def tool_module(span: Span, target: str, path: str) -> Diagnostic:
+    """``import osc.helpers`` found in a search path (the module map says so without one)."""
+    return _diag(
+        codes.TOOL_MODULE,
+        f"`{target}` is no module of the standard library (names under `osc` are the "
+        f"standard's); read from `{path}`, found by its name: name the file in the module "
+        f"map (`[tool.osc2check.modules]`) to say it is meant",
+        span,
+    )
+
+
+def shadowed_enum_literal(span: Span, name: str, enum: Symbol, shadow: Symbol) -> Diagnostic:
+    """``at: start`` where ``event start`` (or a ``global start``) is declared too."""
+    what = shadow.kind.value
+    return _diag(
+        codes.SHADOWED_ENUM_LITERAL,
+        f"`{name}` is the member `{enum.name}!{name}` here, where `{enum.name}` is expected, "
+        f"not the {what} `{name}` declared too; write `{enum.name}!{name}` to say so, or "
+        f"rename the {what}",
+        span,
+        fix=Fix(f"write `{enum.name}!{name}`", (TextEdit(span, f"{enum.name}!{name}"),)),
+    )
+
+
+def struct_constructor_call(span: Span, struct: Symbol) -> Diagnostic:
+    return _diag(
+        codes.STRUCT_CONSTRUCTOR_CALL,
+        f"`{struct.name}(...)` builds a `{struct.name}` from its fields, as scenario_execution "
+        "does; the standard has no struct constructor (give a field the value with `keep`)",
+        span,
+    )
+
+
 def reserved_name(span: Span, name: str) -> Diagnostic:
     return _diag(
         codes.RESERVED_NAME,

@@ -255,7 +255,13 @@ class ExpressionChecker:
         if expected is not None and expected.kind is T.Kind.ENUM and qname.namespace is None:
             member = self._enum_member(expected.symbol, name)
             shadow = self.value_symbol(qname, scope)
-            if member is not None and (shadow is None or shadow.kind.is_type):
+            if member is not None and (shadow is None or not self._fits(shadow, expected)):
+                # where an enum is expected its member wins over an event, a string global,
+                # ... of that name (CARLA's `event start` beside `at: start`), with N115
+                if shadow is not None and not shadow.kind.is_type and expected.symbol:
+                    self.report(
+                        messages.shadowed_enum_literal(qname.span, name, expected.symbol, shadow)
+                    )
                 self.model.references[qname.name] = member
                 return expected
         sym = self.value_symbol(qname, scope)
@@ -307,6 +313,13 @@ class ExpressionChecker:
             )
         )
         return T.UNKNOWN
+
+    @staticmethod
+    def _fits(sym: Symbol, expected: T.Type) -> bool:
+        """Whether the value ``sym`` names is of the ``expected`` type (an event is none)."""
+        if sym.kind is SymbolKind.EVENT or sym.kind.is_type or sym.type is None:
+            return False
+        return T.compatible(expected, sym.type) is T.Compat.OK
 
     def _overloaded_literal(self, expr: ast.Node, scope: Scope) -> bool:
         """Whether ``expr`` is a bare name that only enum members of several enums bear."""
@@ -431,6 +444,8 @@ class ExpressionChecker:
             sym = self.value_symbol(callee.name, scope)
             if sym is not None and sym.kind is SymbolKind.METHOD:
                 return self._invoke_method(sym, callee.name.name, expr, scope)
+            if sym is not None and sym.kind is SymbolKind.STRUCT:
+                return self._construct(sym, callee.name.name, expr, scope)
             if sym is not None:
                 self.model.references[callee.name.name] = sym
                 self.report(messages.not_callable(callee.span, sym))
@@ -459,6 +474,16 @@ class ExpressionChecker:
         if self.check_call is not None:
             self.check_call(method, list(method.parameters), expr.arguments, scope, expr.span)
         return method.type or T.UNKNOWN
+
+    def _construct(self, struct: Symbol, name: ast.Name, expr: ast.Call, scope: Scope) -> T.Type:
+        """``pose_3d(position_3d(x: 1m))``: a struct value whose fields the arguments give,
+        positional ones in declaration order (inherited first); a dialect form (D809)."""
+        self.model.references[name] = struct
+        self.report(messages.struct_constructor_call(expr.span, struct))
+        if self.check_call is not None:
+            fields = self.model.parameters(struct)
+            self.check_call(struct, fields, expr.arguments, scope, expr.span)
+        return struct.type or T.UNKNOWN
 
     def _check_arguments_loosely(self, expr: ast.Call, scope: Scope) -> None:
         for arg in expr.arguments:
