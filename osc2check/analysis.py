@@ -13,6 +13,7 @@ from dataclasses import dataclass, field, replace
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic, Severity
+from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
@@ -52,24 +53,35 @@ class Analysis:
 
 
 class FileCache:
-    """Parse results by path; sources given in memory win over the disk."""
+    """Parse results by path, each as its dialect reads it (``osc2check.dialects``);
+    sources given in memory win over the disk."""
 
-    def __init__(self, sources: dict[str, str], parses: Mapping[str, ParseResult] | None = None):
+    def __init__(
+        self,
+        sources: dict[str, str],
+        parses: Mapping[str, ParseResult] | None = None,
+        dialect: str = DEFAULT_DIALECT,
+    ):
         self.sources = sources
-        self.parses: dict[str, ParseResult] = dict(parses or {})
+        self.given = dict(parses or {})
+        self.parses: dict[str, ParseResult] = {}
+        self.dialect = dialect
 
     def read(self, uri: str) -> ParseResult | None:
         if uri in self.parses:
             return self.parses[uri]
-        text = self.sources.get(uri)
-        if text is None:
-            try:
-                data = read_bytes(uri)  # never blocks, never reads past the size cap
-            except InputError:
-                return None
-            # An imported file's own findings (P004 included) show when it is checked.
-            text, _ = decode_source(data)
-        result = parse(text, uri)
+        result = self.given.get(uri)
+        if result is None:
+            text = self.sources.get(uri)
+            if text is None:
+                try:
+                    data = read_bytes(uri)  # never blocks, never reads past the size cap
+                except InputError:
+                    return None
+                # An imported file's own findings (P004 included) show when it is checked.
+                text, _ = decode_source(data)
+            result = parse(text, uri)
+        result = dialect_reading(result, self.dialect)
         self.parses[uri] = result
         return result
 
@@ -125,7 +137,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
         for s in sources
         if s.parse is not None and s.parse.uri == s.uri and s.parse.text == s.text
     }
-    cache = FileCache(texts, given)
+    cache = FileCache(texts, given, options.dialect)
     modules = dict(options.modules)
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}

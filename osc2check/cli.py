@@ -165,6 +165,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args[:1] == ["rule"]:
             return _rule_command(args[1:], sys.stdout)
+        if args[:1] == ["migrate"]:
+            return _migrate_command(args[1:], sys.stdout)
         return _check_command(args, sys.stdout)
     except BrokenPipeError:  # the reader went away (`osc2check . | head`): stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -200,6 +202,50 @@ def _rule_command(argv: list[str], out: TextIO) -> int:
         raise UsageError(f"unknown code {args.code!r} (osc2check rule lists them)")
     out.write(rules.page_text(code))
     return EXIT_OK
+
+
+# --- osc2check migrate ------------------------------------------------------------
+
+
+def _migrate_command(argv: list[str], out: TextIO) -> int:
+    p = _ArgumentParser(
+        prog="osc2check migrate",
+        description="Write files of CARLA scenario_runner's OSC2 dialect as standard OSC2 "
+        "(what the toolkit reads them as). Each file's standard text goes to standard "
+        "output, or with --out to a file of the same name in that folder; the forms "
+        "rewritten are listed on standard error.",
+    )
+    p.add_argument("paths", nargs="+", metavar="FILE", help="the .osc files")
+    p.add_argument("--out", metavar="DIR", help="write FILE's name in DIR instead of printing")
+    p.add_argument(
+        "--dialect",
+        choices=("auto", "carla"),
+        default="auto",
+        help="carla: every file is CARLA's; auto (default): the files that import basic.osc",
+    )
+    args = p.parse_args(argv)
+    from osc2check.dialects.migrate import migrate
+
+    folder = Path(args.out) if args.out else None
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
+    status = EXIT_OK
+    for name in args.paths:
+        try:
+            data = inputs.read_bytes(name)
+        except InputError as exc:
+            sys.stderr.write(f"osc2check: error: {name}: cannot read: {exc}\n")
+            status = EXIT_ERROR
+            continue
+        text, _ = decode_source(data)
+        migration = migrate(text, name, args.dialect)
+        for form in migration.forms:
+            sys.stderr.write(f"{name}:{form.span.line}:{form.span.column}: {form.code} rewritten\n")
+        if folder is not None:
+            (folder / Path(name).name).write_text(migration.text, encoding="utf-8")
+        else:
+            out.write(migration.text)
+    return status
 
 
 # --- checking ---------------------------------------------------------------------

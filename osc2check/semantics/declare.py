@@ -31,6 +31,9 @@ _DECL_KINDS = {
     ast.ModifierDecl: SymbolKind.MODIFIER,
 }
 TOOLKIT_NAMESPACE = "osc2toolkit"
+# The toolkit's own library files (its extensions, CARLA's world): they may use what the
+# toolkit adds to the standard without a warning (D803).
+TOOLKIT_NAMESPACES = (TOOLKIT_NAMESPACE, "carla")
 
 # How the structure pass resolves a type reference and a behaviour name (``resolve._Names``).
 TypeResolver = Callable[[ast.TypeRef, Context], T.Type]

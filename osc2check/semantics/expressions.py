@@ -14,6 +14,7 @@ from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, LIST_METHODS, TYPE_TESTS
+from osc2check.semantics.declare import TOOLKIT_NAMESPACES
 from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
@@ -272,7 +273,7 @@ class ExpressionChecker:
                 return T.UNKNOWN
         if sym is not None:
             self.model.references[qname.name] = sym
-            if sym.toolkit and not scope.context.namespace == "osc2toolkit":
+            if sym.toolkit and scope.context.namespace not in TOOLKIT_NAMESPACES:
                 self.report(messages.toolkit_extension(qname.name.span, sym))
             if sym.kind.is_type:
                 return sym.type or T.UNKNOWN
@@ -392,7 +393,7 @@ class ExpressionChecker:
             if found:
                 sym = found[0]
                 self.model.references[expr.member] = sym
-                if sym.toolkit and scope.context.namespace != "osc2toolkit":
+                if sym.toolkit and scope.context.namespace not in TOOLKIT_NAMESPACES:
                     self.report(messages.toolkit_extension(expr.member.span, sym))
                 if sym.kind is SymbolKind.EVENT:
                     return T.UNKNOWN
@@ -469,7 +470,7 @@ class ExpressionChecker:
         self, method: Symbol, name: ast.Name, expr: ast.Call, scope: Scope
     ) -> T.Type:
         self.model.references[name] = method
-        if method.toolkit and scope.context.namespace != "osc2toolkit":
+        if method.toolkit and scope.context.namespace not in TOOLKIT_NAMESPACES:
             self.report(messages.toolkit_extension(name.span, method))
         if self.check_call is not None:
             self.check_call(method, list(method.parameters), expr.arguments, scope, expr.span)

@@ -197,10 +197,9 @@ def _visit(
             path = _resolve_path(uri, state.modules[target])  # the user's say: no warning
         elif decl.kind == "module":
             if target in STANDARD_MODULES:
-                namespaces, auto = STANDARD_MODULES[target]
+                namespaces, in_use = STANDARD_MODULES[target]
                 state.model.library_namespaces.update(namespaces)
-                if auto:
-                    uses.extend(AUTO_USE)
+                uses.extend(in_use)
                 continue
             if _is_tool_module(target):
                 tool = _tool_module_path(uri, target, state.search_paths, state.read)

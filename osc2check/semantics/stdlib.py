@@ -1,7 +1,8 @@
 """The bundled standard library, parsed and resolved once per process and version.
 
-``types.osc`` (namespace ``stdtypes``), ``domain.osc`` (``std``) and the
-toolkit's own ``osc2toolkit.osc`` form the base model under every program: the
+``types.osc`` (namespace ``stdtypes``), ``domain.osc`` (``std``), the
+toolkit's own ``osc2toolkit.osc`` and CARLA's world ``carla.osc`` (``carla``,
+imported as ``osc2toolkit.carla``) form the base model under every program: the
 2.1.0 library. For 2.2 (:data:`~osc2check.semantics.profile.OSC_VERSIONS`),
 ``2.2/domain.osc`` lists what 2.2.0 adds: its ``extend`` declarations extend,
 and a modifier it declares under a name ``domain.osc`` declares already gains
@@ -23,27 +24,29 @@ from osc2check.semantics.profile import DEFAULT_OSC_VERSION, OSC_VERSIONS
 from osc2check.semantics.resolve import resolve
 from osc2check.syntax import ParseResult, ast, parse
 
-LIBRARY_FILES = ("types.osc", "domain.osc", "osc2toolkit.osc")
+LIBRARY_FILES = ("types.osc", "domain.osc", "osc2toolkit.osc", "carla.osc")
 # What a version adds to the 2.1 files: the file that it merges into (see the docstring).
 VERSION_FILES: dict[str, dict[str, str]] = {"2.2": {"domain.osc": "2.2/domain.osc"}}
-STD, STDTYPES = "std", "stdtypes"
+STD, STDTYPES, CARLA = "std", "stdtypes", "carla"
+AUTO_USE = (STD, STDTYPES, TOOLKIT_NAMESPACE)
+_ALL = (STD, STDTYPES, TOOLKIT_NAMESPACE)
 
-# Structured imports of the standard: module -> (namespaces made available, auto-use).
-STANDARD_MODULES: dict[str, tuple[tuple[str, ...], bool]] = dict(
+# Structured imports of the library: module -> (namespaces made available, put in use).
+STANDARD_MODULES: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = dict(
     zip(
         STANDARD_MODULE_NAMES,
         (
-            ((STD, STDTYPES, TOOLKIT_NAMESPACE), True),
-            ((STD, STDTYPES, TOOLKIT_NAMESPACE), False),
-            ((STDTYPES,), False),
-            ((STD, STDTYPES, TOOLKIT_NAMESPACE), False),
+            (_ALL, AUTO_USE),
+            (_ALL, ()),
+            ((STDTYPES,), ()),
+            (_ALL, ()),
+            ((*_ALL, CARLA), (*AUTO_USE, CARLA)),
         ),
         strict=True,
     )
 )
 # The design paper imports the library by file name.
 STANDARD_FILE_NAMES = ("domain.osc", "types.osc", "standard.osc")
-AUTO_USE = (STD, STDTYPES, TOOLKIT_NAMESPACE)
 
 
 @dataclass(frozen=True)

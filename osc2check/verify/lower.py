@@ -689,7 +689,7 @@ class Lowerer:
                     return scope.actor
                 if name in scope.locals:
                     return scope.locals[name]
-                sym = self.model.references.get(expr.name.name)
+                sym = self.model.reference(expr.name.name)
                 if sym is None:
                     return None
                 if sym.kind is SymbolKind.GLOBAL:
@@ -699,7 +699,7 @@ class Lowerer:
                 return None
             case ast.MemberAccess():
                 base = self._path(expr.target, scope)
-                sym = self.model.references.get(expr.member)
+                sym = self.model.reference(expr.member)
                 if (
                     base is None
                     or sym is None
@@ -743,9 +743,9 @@ class Lowerer:
         if isinstance(expr, ast.NameRef) and expr.name.name.text == "it" and path == scope.it:
             sym = scope.it_field
         elif isinstance(expr, ast.NameRef):
-            sym = self.model.references.get(expr.name.name)
+            sym = self.model.reference(expr.name.name)
         elif isinstance(expr, ast.MemberAccess):
-            sym = self.model.references.get(expr.member)
+            sym = self.model.reference(expr.member)
         if sym is not None and sym.kind is SymbolKind.VARIABLE and is_scalar(sym.type):
             return self._variable(path, sym)
         if sym is None or not is_scalar(sym.type):
@@ -784,12 +784,12 @@ class Lowerer:
                 self.string_spans.setdefault(expr.value, []).append(expr.span)
                 return ir.const(self.strings.setdefault(expr.value, len(self.strings)))
             case ast.EnumRef():
-                member = self.model.references.get(expr.member)
+                member = self.model.reference(expr.member)
                 if member is None:
                     raise NotEncodable("unknown enum member")
                 return ir.const(member.value)
             case ast.NameRef() | ast.MemberAccess():
-                target = self.model.references.get(
+                target = self.model.reference(
                     expr.name.name if isinstance(expr, ast.NameRef) else expr.member
                 )
                 if target is not None and target.kind is SymbolKind.ENUM_MEMBER:

@@ -1,8 +1,8 @@
 """The built-in straight maps: a table of named roads, each built as a road network.
 
 A scenario that names no map runs on ``default``; ``straight_3lane``,
-``highway_4lane`` and ``Town06`` (a stand-in for CARLA's Town06) are the other
-built-in names. Each row of :data:`BUILTIN_MAPS` is a straight, one-directional,
+``highway_4lane``, ``Town06`` and ``Town04`` (stand-ins for CARLA's maps) are the
+other built-in names. Each row of :data:`BUILTIN_MAPS` is a straight, one-directional,
 multi-lane road; :func:`straight_network` writes it as OpenDRIVE would and sends
 it through the same layout step as a file, so a built-in map is a
 :class:`~osc2check.world.network.RoadNetwork` like any other:
@@ -15,8 +15,8 @@ it through the same layout step as a file, so a built-in map is a
 * The lanes are right lanes ``-1 .. -n`` under right-hand traffic; lane ``k``
   counted from the right (1 = rightmost) is OpenDRIVE lane ``-(n + 1 - k)``
   (:func:`builtin_lane`).
-* Town06 counts scenario lanes from the left (``numbering="from_left"``), as
-  CARLA numbers lanes outward from the centre line, so the design paper's
+* Town06 and Town04 count scenario lanes from the left (``numbering="from_left"``),
+  as CARLA numbers lanes outward from the centre line, so the design paper's
   `lane(1)` is the lane next to the median.
 
 Both ends of the road link to nothing: driving past ``length`` is driving past
@@ -118,6 +118,19 @@ BUILTIN_MAPS: dict[str, BuiltinMap] = {
         speed_limit=90.0 * _KPH,
         description="stand-in for CARLA Town06: one straight 4-lane carriageway, 1500 m; "
         "lanes numbered from the left as in CARLA",
+        numbering="from_left",
+    ),
+    # Stand-in for CARLA's Town04, the map of most of CARLA's OSC2 examples: one
+    # straight carriageway of its 4-lane highway loop (90 kph), 2000 m, lanes numbered
+    # from the left as CARLA numbers them; no loop, ramps, town streets or oncoming
+    # traffic, and not CARLA's world coordinates.
+    "Town04": BuiltinMap(
+        name="Town04",
+        lane_count=4,
+        length=2000.0,
+        speed_limit=90.0 * _KPH,
+        description="stand-in for CARLA Town04: one straight 4-lane carriageway of its "
+        "highway, 2000 m; lanes numbered from the left as in CARLA",
         numbering="from_left",
     ),
 }
