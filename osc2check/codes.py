@@ -478,6 +478,12 @@ CARLA_TRAJECTORY_FILE = Code(
     W,
     "CARLA's `follow_trajectory(input_file:)` follows a CSV file of CARLA's world",
 )
+CARLA_PHASE_DURATION = Code(
+    "D831",
+    "carla-phase-duration",
+    W,
+    "a drive in a composition with a duration: CARLA gives it the composition's duration",
+)
 CARLA_MAP = Code(
     "D830",
     "carla-map",

@@ -1107,6 +1107,15 @@ def carla_drive_path(span: Span, dropped: Sequence[str]) -> Diagnostic:
     )
 
 
+def carla_phase_duration(span: Span, duration: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_PHASE_DURATION,
+        f"CARLA gives each behaviour of a composition the composition's duration (its "
+        f"timeout): this `drive` lasts {duration}, as if written `drive(duration: {duration})`",
+        span,
+    )
+
+
 def carla_lane_numbering(span: Span) -> Diagnostic:
     return _diag(
         codes.CARLA_LANE_NUMBERING,

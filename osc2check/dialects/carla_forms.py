@@ -30,22 +30,26 @@ _PATH_MODIFIERS = ("path_min_driving_lanes", "path_over_junction")
 def behaviour_forms(text: CarlaText) -> None:
     """Apply every scenario-level rule to the file (see the module docstring)."""
     substitutions: dict[int, dict[str, str]] = {}
-    _type_names(text)
-    _static_methods(text)
-    _external_python(text)
     globals_ = text.globals()
     _unused_names(text, None, globals_)
-    for scenario in text.scenarios():
+    for scenario in text.scenarios():  # first what is left out, then what is rewritten
         names = substitutions.setdefault(id(scenario), {})
         _aliases(text, scenario, names)
         _speed_names(text, scenario, names)
-        _path(text, scenario, globals_)
         _unused_names(text, scenario, globals_)
+    _type_names(text)
+    _static_methods(text)
+    _external_python(text)
+    for scenario in text.scenarios():
+        names = substitutions[id(scenario)]
+        _path(text, scenario, globals_)
         _drive_distance(text, scenario, names)
         _elapsed_ranges(text, scenario)
+        durations = _phase_durations(scenario)
         for node in walk(scenario):
             if isinstance(node, ast.Invocation):
-                _invocation(text, node, globals_, CarlaText.fields(scenario))
+                fields = CarlaText.fields(scenario)
+                _invocation(text, node, globals_, fields, durations.get(id(node)))
     _scenarios_of_dut(text)
     for scenario in text.scenarios():
         _substitute(text, scenario, substitutions[id(scenario)])
@@ -244,15 +248,49 @@ def _path(text: CarlaText, scenario: ast.ScenarioDecl, globals_: dict[str, Field
 # ---- invocations and modifiers --------------------------------------------------------------
 
 
+def _phase_durations(scenario: ast.ScenarioDecl) -> dict[int, ast.Expr]:
+    """The ``drive`` invocations directly in a composition with a ``duration`` and none of
+    their own, by id, with that duration: CARLA gives each behaviour of a composition the
+    composition's duration (its timeout; srunner/scenarios/osc2_scenario.py)."""
+    found: dict[int, ast.Expr] = {}
+    for node in walk(scenario):
+        if not isinstance(node, ast.Composition):
+            continue
+        duration = next(
+            (
+                a.value
+                for a in node.arguments
+                if isinstance(a, ast.NamedArgument) and a.name.text == "duration"
+            ),
+            None,
+        )
+        for member in node.members if duration is not None else ():
+            inv = member.body
+            if (
+                isinstance(inv, ast.Invocation)
+                and inv.name.text == "drive"
+                and not any(
+                    isinstance(a, ast.NamedArgument) and a.name.text == "duration"
+                    for a in inv.arguments
+                )
+            ):
+                found[id(inv)] = duration  # type: ignore[assignment]  # set above
+    return found
+
+
 def _invocation(
-    text: CarlaText, inv: ast.Invocation, globals_: dict[str, Field], fields: dict[str, Field]
+    text: CarlaText,
+    inv: ast.Invocation,
+    globals_: dict[str, Field],
+    fields: dict[str, Field],
+    duration: ast.Expr | None,
 ) -> None:
     if text.removed(inv.span) or text.claimed(inv.span):
         return
     visible = {**globals_, **fields}
     name = inv.name.text
     if name == "drive":
-        _drive(text, inv, visible)
+        _drive(text, inv, visible, duration)
     elif name == "lane":
         _lane(text, inv)
     elif name == "change_lane":
@@ -270,9 +308,12 @@ def _named(inv: ast.Invocation, name: str) -> ast.NamedArgument | None:
     )
 
 
-def _drive(text: CarlaText, inv: ast.Invocation, visible: dict[str, Field]) -> None:
+def _drive(
+    text: CarlaText, inv: ast.Invocation, visible: dict[str, Field], duration: ast.Expr | None
+) -> None:
     """``drive(path)``, ``drive(path, adjust: true)``: CARLA's path is the map's road the
-    actors are placed on; ``adjust`` CARLA ignores (D817)."""
+    actors are placed on, and ``adjust`` CARLA ignores (D817). Directly in a composition
+    with a duration, the drive lasts that duration, as in CARLA (D831)."""
     dropped = [
         a
         for a in inv.arguments
@@ -284,12 +325,20 @@ def _drive(text: CarlaText, inv: ast.Invocation, visible: dict[str, Field]) -> N
         )
         or (isinstance(a, ast.NamedArgument) and a.name.text == "adjust")
     ]
-    if not dropped:
+    if not dropped and duration is None:
         return
     kept = [text.source(a) for a in inv.arguments if a not in dropped]
-    text.replace_between(inv.arguments[0].span.start, inv.arguments[-1].span.end, ", ".join(kept))
-    span = dropped[0].span.cover(dropped[-1].span)
-    text.report(messages.carla_drive_path(span, [text.source(a) for a in dropped]))
+    if duration is not None:
+        kept.append(f"duration: {text.source(duration)}")
+        text.report(messages.carla_phase_duration(inv.name.span, text.source(duration)))
+    if dropped:
+        span = dropped[0].span.cover(dropped[-1].span)
+        text.report(messages.carla_drive_path(span, [text.source(a) for a in dropped]))
+    if inv.arguments:
+        start, end = inv.arguments[0].span.start, inv.arguments[-1].span.end
+    else:
+        start = end = text.text.index("(", inv.name.span.end) + 1
+    text.replace_between(start, end, ", ".join(kept))
 
 
 def _lane(text: CarlaText, inv: ast.Invocation) -> None:

@@ -47,6 +47,7 @@ from osc2check.verify.z3_backend import (
     solve,
 )
 from osc2check.world.catalogue import WALKING_SPEED
+from osc2check.world.maps import is_carla_town
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -369,7 +370,10 @@ def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic
     choice = placement.map
     span = choice.span or problem.span
     if choice.unknown is not None and choice.asked is not None:
-        report(messages.unknown_map(span, choice.asked, choice.unknown))
+        if is_carla_town(choice.asked):  # CARLA's content: a warning, and the runner refuses
+            report(messages.carla_map(span, choice.asked, choice.unknown))
+        else:
+            report(messages.unknown_map(span, choice.asked, choice.unknown))
     if choice.unreadable is not None and choice.asked is not None:
         error = choice.unreadable
         where = None

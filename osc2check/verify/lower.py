@@ -753,6 +753,12 @@ class Lowerer:
         created = self._scalar_var(path, sym)
         if created is None:
             raise NotEncodable(f"`{path}` cannot be encoded")
+        if sym.kind is SymbolKind.GLOBAL and isinstance(sym.decl, ast.FieldDecl):
+            if sym.decl.default is not None:  # `global min_lane: int = 2`: its default holds
+                root = InstanceScope("", None, None)
+                self.pending_defaults.append(
+                    (path, sym, sym.decl, root, len(self.problem.constraints), self._origin(root))
+                )
         owner = path.rsplit(".", 1)[0] if "." in path else ""
         owner_type = self.instances.get(owner)
         if owner_type is None and sym.owner is not None and owner:

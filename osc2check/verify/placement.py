@@ -62,6 +62,7 @@ from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_
 from osc2check.semantics.members import scenario_do
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import enum_word, invocations, modifier_timing, time_zero
+from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
@@ -275,7 +276,7 @@ class PlacementLowerer:
         self.fields = placement.fields = MapFields(self.lw, choice.network, terms)
         for param, kind in actors:
             placement.actors[param.name] = self._actor(param, kind)
-        self._map_modifiers()
+        self._map_modifiers(placement)
         first: set[str] = set()
         starts = self._start_invocations()
         for inv, scope in starts:  # which modifier kinds each actor gets `at: start`
@@ -422,8 +423,9 @@ class PlacementLowerer:
                 for arg in member.arguments:
                     if isinstance(arg, ast.EventArgument):
                         continue
-                    if isinstance(arg.value, ast.StringLiteral):
-                        return arg.value.value, arg.value.span
+                    literal = self._string_of(arg.value)
+                    if literal is not None:
+                        return literal.value, literal.span
         for var_name in self.problem.variables:
             if var_name.endswith(".map_file"):
                 found = self.constants.get(var_name)
@@ -439,6 +441,18 @@ class PlacementLowerer:
                     ]
                     return name, spans[0] if spans else within
         return None, None
+
+    def _string_of(self, node: ast.Node) -> ast.StringLiteral | None:
+        """A string literal, or the one a global or field named here has as its default
+        (``global my_map: string = "Town04"``)."""
+        if isinstance(node, ast.StringLiteral):
+            return node
+        if isinstance(node, ast.NameRef):
+            sym = self.model.reference(node.name.name)
+            decl = sym.decl if sym is not None else None
+            if isinstance(decl, ast.FieldDecl) and isinstance(decl.default, ast.StringLiteral):
+                return decl.default
+        return None
 
     def _scenario_members(self) -> Iterator[ast.Member]:
         for members in self.lw.member_decls.get(self.scenario, []):
@@ -457,11 +471,26 @@ class PlacementLowerer:
                 found.append((member, modifier))
         return found
 
-    def _map_modifiers(self) -> None:
-        """Constrain the scenario's element fields as its map modifiers say."""
+    def _map_modifiers(self, placement: StartPlacement) -> None:
+        """Constrain the scenario's element fields as its map modifiers say; CARLA's path
+        conditions constrain where its actors start."""
         scope = self._root_scope()
         for member, modifier in self._map_modifier_members():
+            if modifier.namespace == CARLA and modifier.name == "path_min_driving_lanes":
+                self._min_driving_lanes(member, placement)
+                continue
             self.fields.modifier(member, modifier, self._args(member), scope, self._require)
+
+    def _min_driving_lanes(self, member: ast.Invocation, placement: StartPlacement) -> None:
+        """CARLA's ``path_min_driving_lanes(n)``: every vehicle starts where its road has at
+        least ``n`` driving lanes in its direction (CARLA chooses its spawn road so)."""
+        node = self._args(member).get("min_lanes")
+        lanes = self._value(node) if node is not None else None
+        if lanes is None:
+            return
+        for actor in placement.actors.values():
+            if actor.kind == "vehicle":
+                self._require(placement.terms.wide(actor.road, ir.Ref(actor.s), lanes), member)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""
@@ -855,6 +884,22 @@ class PlacementLowerer:
             self.problem.skip(node.span, self.lw.text_of(node.span), str(reason))
             return None
 
+    def _value_in(
+        self, actor: PlacedActor, item: ast.Invocation, what: str, node: ast.Node, unit: str
+    ) -> ir.Term | None:
+        """An argument's value; a range given for it (``position([10m..20m], ...)``) is one
+        value the solver chooses in it (§7.3.5: a range for a scalar parameter)."""
+        if not isinstance(node, ast.RangeLiteral):
+            return self._value(node)
+        low, high = self._value(node.low), self._value(node.high)
+        if low is None or high is None:
+            return None
+        chosen = self.problem.var(
+            self._phase_name(actor, item, what), "real", span=node.span, unit=unit
+        )
+        self._require(in_range(ir.Ref(chosen), low, high), item)
+        return ir.Ref(chosen)
+
     def _reference(
         self, node: ast.Node | None, actor: PlacedActor, placement: StartPlacement, span: Span
     ) -> PlacedActor | None:
@@ -960,7 +1005,7 @@ class PlacementLowerer:
             else None
         )
         if "distance" in args:
-            gap = self._value(args["distance"])
+            gap = self._value_in(actor, item, "distance", args["distance"], "m")
         elif "time" in args and other is not None:
             duration = self._value(args["time"])
             follower = actor if reference_key == "behind" else other

@@ -124,6 +124,18 @@ class RoadTerms:
             ],
         )
 
+    def wide(self, road: ir.Var | None, s: ir.Term, lanes: ir.Term) -> ir.Term:
+        """The carriageway has at least ``lanes`` driving lanes where the actor is."""
+        return self._any(
+            road,
+            [
+                (cw, _and(_within(s, p), ir.op("<=", lanes, ir.const(p.count))))
+                for cw in self.carriageways
+                for p in cw.pieces
+                if p.count > 0
+            ],
+        )
+
     def lanes_text(self, phase: bool = False) -> str:
         if self.single and self.uniform:
             return f"road `{self.name}` has lanes 1 to {self.most_lanes}"

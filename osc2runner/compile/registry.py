@@ -60,6 +60,7 @@ BEHAVIOUR_MODULES = (
     "osc2runner.behaviours.towing",
     "osc2runner.behaviours.methods",
     "osc2runner.behaviours.maps",
+    "osc2runner.behaviours.carla",
 )
 _MARK = "__osc2_entries__"
 
