@@ -1248,6 +1248,16 @@ def carla_trajectory_file(span: Span) -> Diagnostic:
     )
 
 
+def no_junction_ahead(span: Span, map_name: str) -> Diagnostic:
+    """CARLA's ``path_over_junction`` on a map whose roads lead into no junction."""
+    return _diag(
+        codes.INFEASIBLE_PLACEMENT,
+        f"no road of map `{map_name}` leads into a junction: the actors cannot start before "
+        "one, as `path_over_junction` asks (CARLA's Town03 stand-in has one)",
+        span,
+    )
+
+
 def carla_map(span: Span, name: str, known: Sequence[str]) -> Diagnostic:
     return _diag(
         codes.CARLA_MAP,

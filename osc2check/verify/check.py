@@ -380,6 +380,8 @@ def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic
         if error.line is not None:
             where = f"line {error.line}" + (f", column {error.column}" if error.column else "")
         report(messages.unreadable_map(span, choice.asked, error.problem, where))
+    for span in placement.no_junction:
+        report(messages.no_junction_ahead(span, choice.name))
     for span, name, reference in placement.unplaced_references:
         report(messages.reference_not_placed(span, name, reference))
     for cycle, span in _cycles(placement.edges):

@@ -66,6 +66,7 @@ from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
 from osc2check.verify import ir
 from osc2check.verify.lower import (
     MAX_DEPTH,
@@ -201,6 +202,7 @@ class StartPlacement:
     unplaced_references: list[tuple[Span, str, str]] = field(default_factory=list)
     gaps: list[Gap] = field(default_factory=list)
     fields: MapFields | None = None  # road, route, lane and junction fields
+    no_junction: list[Span] = field(default_factory=list)  # CARLA's path_over_junction
 
     @property
     def network(self) -> RoadNetwork:
@@ -469,6 +471,33 @@ class PlacementLowerer:
                 continue
             if any(a.name == "map" and a.library for a in self.model.ancestors(modifier.actor)):
                 found.append((member, modifier))
+        for scenario in self._invoked_scenarios():  # CARLA's path conditions hold for the run
+            for members in self.lw.member_decls.get(scenario, []):
+                for member in members:
+                    modifier = (
+                        self.model.references.get(member.name)
+                        if isinstance(member, ast.Invocation)
+                        else None
+                    )
+                    if modifier is not None and modifier.namespace == CARLA:
+                        found.append((member, modifier))  # type: ignore[arg-type]
+        return found
+
+    def _invoked_scenarios(self) -> list[Symbol]:
+        """The scenarios the scenario invokes, and those they invoke, once each."""
+        found: list[Symbol] = []
+        stack = [self.scenario]
+        while stack:
+            do = scenario_do(self.model, self.lw.member_decls, stack.pop())
+            for node in walk(do.member) if do is not None else ():
+                sym = (
+                    self.model.references.get(node.name)
+                    if isinstance(node, ast.Invocation)
+                    else None
+                )
+                if sym is not None and sym.kind is SymbolKind.SCENARIO and sym not in found:
+                    found.append(sym)
+                    stack.append(sym)
         return found
 
     def _map_modifiers(self, placement: StartPlacement) -> None:
@@ -479,7 +508,39 @@ class PlacementLowerer:
             if modifier.namespace == CARLA and modifier.name == "path_min_driving_lanes":
                 self._min_driving_lanes(member, placement)
                 continue
+            if modifier.namespace == CARLA and modifier.name == "path_over_junction":
+                self._over_junction(member, placement)
+                continue
             self.fields.modifier(member, modifier, self._args(member), scope, self._require)
+
+    def _over_junction(self, member: ast.Invocation, placement: StartPlacement) -> None:
+        """CARLA's ``path_over_junction``: every vehicle starts ``distance_before`` before a
+        junction its road leads into (a range: a distance the solver chooses in it, for
+        each). The direction through the junction and the distances in and after it are
+        not modelled (recorded as such)."""
+        args = self._args(member)
+        node = args.get("distance_before")
+        if node is None:
+            return
+        for actor in placement.actors.values():
+            if actor.kind != "vehicle":
+                continue
+            distance = self._value_in(actor, member, "distance_before", node, "m")
+            if distance is None:
+                return
+            term = placement.terms.before_junction(actor.road, ir.Ref(actor.s), distance)
+            if term is None:  # reported where the run starts (an invoker places the actors)
+                placement.no_junction.append(call_span(member))
+                return
+            self._require(term, member)
+        for name in ("direction", "distance_in", "distance_after"):
+            if name in args:
+                self.problem.skip(
+                    args[name].span,
+                    self.lw.text_of(args[name].span),
+                    f"path_over_junction({name}: ...) is not modelled: the route through the "
+                    "junction is the seed's",
+                )
 
     def _min_driving_lanes(self, member: ast.Invocation, placement: StartPlacement) -> None:
         """CARLA's ``path_min_driving_lanes(n)``: every vehicle starts where its road has at

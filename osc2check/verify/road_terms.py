@@ -136,6 +136,19 @@ class RoadTerms:
             ],
         )
 
+    def before_junction(self, road: ir.Var | None, s: ir.Term, distance: ir.Term) -> ir.Term | None:
+        """The actor's carriageway leads into a junction ``distance`` ahead of it; None on
+        a map whose carriageways lead into none."""
+        into = [cw for cw in self.carriageways if cw.exit_junction is not None]
+        if not into:
+            return None
+        terms = [
+            (cw, ir.op("==", ir.op("-", ir.const(fraction(cw.length)), s), distance)) for cw in into
+        ]
+        if self.single:
+            return terms[0][1]
+        return ir.op("or", *(_and(self.on(road, cw), term) for cw, term in terms))
+
     def lanes_text(self, phase: bool = False) -> str:
         if self.single and self.uniform:
             return f"road `{self.name}` has lanes 1 to {self.most_lanes}"

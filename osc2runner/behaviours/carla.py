@@ -17,3 +17,8 @@ PathMinDrivingLanes = realised(
     "CARLA's; scenario member: the checker placed the actors on such a road",
     __name__,
 )
+PathOverJunction = realised(
+    "path_over_junction",
+    "CARLA's; scenario member: the checker placed the actors before a junction",
+    __name__,
+)
