@@ -93,6 +93,7 @@ class CampaignOptions:
     plot: bool = False
     resume: bool = False
     config: Config | None = None  # the checker's configuration; None: the file's own
+    export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
 
     def run_options(self) -> dict[str, Any]:
         """What makes two runs of one seed the same run (resume compares these)."""
@@ -219,6 +220,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         str(folder),
         ship_files=options.engine == "ray",
         config=config,
+        export=options.export,
     )
     engine = _engine(options, setup, min(jobs, options.runs))
     # the workers start while the runs are planned (none when every run finished)
@@ -260,6 +262,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 "address": options.address,
                 "run_timeout": options.run_timeout,
                 "plot": options.plot,
+                "export": list(options.export),
             },
             "status": "running",
             "started": started_at,

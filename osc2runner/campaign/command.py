@@ -72,6 +72,8 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     for name in ("osc_version", "dialect"):  # the language the campaign was checked in
         if getattr(args, name, None) is None and opts.get(name) is not None:
             setattr(args, name, opts[name])
+    if args.export is None and opts.get("export"):
+        args.export = ",".join(opts["export"])
 
 
 def campaign_arguments(args: argparse.Namespace) -> None:
@@ -132,6 +134,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         plot=args.plot,
         resume=args.resume is not None,
         config=args.config,
+        export=args.export_formats,
     )
     interactive = out.isatty() and not args.quiet
     try:

@@ -41,6 +41,7 @@ from osc2runner.campaign.steering import (
     scenario_result,
 )
 from osc2runner.errors import ScenarioError
+from osc2runner.export import ExportTargets
 from osc2runner.runner import (
     Checked,
     RunInterrupted,
@@ -73,6 +74,7 @@ class CampaignSetup:
     out: str = "."
     ship_files: bool = False
     config: Config | None = None  # the checker's configuration (None: the file's own)
+    export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
 
 
 @dataclass(frozen=True, slots=True)
@@ -220,7 +222,13 @@ class Worker:
                 witness=witness,
             )
             try:
-                result = execute(prepared, out=folder, duration=setup.duration, plot=setup.plot)
+                result = execute(
+                    prepared,
+                    out=folder,
+                    duration=setup.duration,
+                    plot=setup.plot,
+                    export=ExportTargets.in_folder(folder, setup.export),
+                )
             except RunInterrupted as exc:
                 result = exc.result
             if not setup.plot and result.outcome.status in ("failure", "timeout", "error"):
