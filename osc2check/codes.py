@@ -484,6 +484,12 @@ CARLA_PHASE_DURATION = Code(
     W,
     "a drive in a composition with a duration: CARLA gives it the composition's duration",
 )
+CARLA_START_PLACEMENT = Code(
+    "D832",
+    "carla-start-placement",
+    W,
+    "`lane` or `position` `at: start` after time 0: CARLA sets the actor's transform there",
+)
 CARLA_MAP = Code(
     "D830",
     "carla-map",

@@ -1116,6 +1116,16 @@ def carla_phase_duration(span: Span, duration: str) -> Diagnostic:
     )
 
 
+def carla_start_placement(span: Span, actor: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_START_PLACEMENT,
+        f"in a phase that may begin after time 0, CARLA sets `{actor}`'s transform where "
+        f"its `at: start` modifiers say when the phase starts: read as "
+        f"`{actor}.assign_position()` with them, then the phase's behaviour",
+        span,
+    )
+
+
 def carla_lane_numbering(span: Span) -> Diagnostic:
     return _diag(
         codes.CARLA_LANE_NUMBERING,

@@ -13,6 +13,7 @@ from collections.abc import Iterator
 
 from osc2check import messages
 from osc2check.dialects.carla_text import CARLA_TYPE_NAMES, CarlaText, Field
+from osc2check.semantics.phases import time_zero
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 
@@ -53,6 +54,8 @@ def behaviour_forms(text: CarlaText) -> None:
     _scenarios_of_dut(text)
     for scenario in text.scenarios():
         _substitute(text, scenario, substitutions[id(scenario)])
+    for scenario in text.scenarios():  # last: it moves text that other rules edited
+        _start_placements(text, scenario)
 
 
 # ---- types --------------------------------------------------------------------------
@@ -565,3 +568,63 @@ def _external_python(text: CarlaText) -> None:
         text.replace_between(start, end, f"{target}({', '.join(rest)})")
         span = node.external[0].span.cover(node.external_arguments[-1].span)
         text.report(messages.carla_external_python(span, target))
+
+
+# ---- `at: start` after time 0 -------------------------------------------------------------
+
+_PLACING = ("lane", "position")
+
+
+def _start_placements(text: CarlaText, scenario: ast.ScenarioDecl) -> None:
+    """``npc.drive() with: lane(..., at: start)`` in a phase that is not known to begin
+    at time 0 (a later phase, a ``one_of`` member): CARLA sets the actor's transform there
+    when the phase starts (scenario_runner's ActorTransformSetter). Read as the standard's
+    exact ``assign_position`` with those modifiers, then the invocation (D832). At time 0
+    the checker's placement puts the actors there already."""
+    do = next((m for m in scenario.members if isinstance(m, ast.DoDirective)), None)
+    if do is None:
+        return
+    zero = time_zero(do.member.body)
+    at_zero = {id(inv) for inv in zero.starts}
+    for node in walk(do):
+        if (
+            not isinstance(node, ast.Invocation)
+            or id(node) in at_zero
+            or node.actor is None
+            or text.removed(node.span)
+        ):
+            continue
+        placing = [m for m in node.with_members if _places_at_start(m)]
+        if not placing:
+            continue
+        rest = [m for m in node.with_members if m not in placing]
+        indent = text.indent(node.span.start)
+        inner, deeper = indent + "    ", indent + "        "
+        actor = text.edited(node.actor.span)
+        head_end = _arguments_end(text, node)
+        lines = [
+            "serial:",
+            f"{inner}{actor}.assign_position() with:",
+            *(f"{deeper}{text.edited(m.span)}" for m in placing),
+            f"{inner}{text.edited_between(node.span.start, head_end)}" + (" with:" if rest else ""),
+            *(f"{deeper}{text.edited(m.span)}" for m in rest),
+        ]
+        text.rewrite(node.span, "\n".join(lines))
+        text.report(messages.carla_start_placement(placing[0].span, actor))
+
+
+def _places_at_start(member: ast.Node) -> bool:
+    return (
+        isinstance(member, ast.Invocation)
+        and member.name.text in _PLACING
+        and any(
+            isinstance(a, ast.NamedArgument)
+            and a.name.text == "at"
+            and isinstance(a.value, ast.NameRef | ast.EnumRef)
+            and (
+                a.value.name.name.text if isinstance(a.value, ast.NameRef) else a.value.member.text
+            )
+            == "start"
+            for a in member.arguments
+        )
+    )

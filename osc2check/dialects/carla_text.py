@@ -9,10 +9,10 @@ out is left alone by later rules.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from osc2check.diagnostics import Diagnostic
-from osc2check.dialects.rewrite import Edit
+from osc2check.dialects.rewrite import Edit, apply_edits
 from osc2check.semantics.model import Context
 from osc2check.semantics.stdlib import standard_library
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -137,6 +137,24 @@ class CarlaText:
                 break
             offset = end + 1
         self._removed.append((start, span.end))
+
+    def edited_between(self, start: int, end: int) -> str:
+        """The text of ``start..end`` with the edits inside it made."""
+        inside = [e for e in self.edits if start <= e.start and e.end <= end]
+        new, _ = apply_edits(
+            self.text[start:end],
+            [replace(e, start=e.start - start, end=e.end - start) for e in inside],
+        )
+        return new
+
+    def edited(self, span: Span) -> str:
+        return self.edited_between(span.start, span.end)
+
+    def rewrite(self, span: Span, new: str) -> None:
+        """Replace ``span`` with ``new``, which was written from its edited text: the edits
+        inside it are taken back."""
+        self.edits = [e for e in self.edits if not (span.start <= e.start and e.end <= span.end)]
+        self.replace(span, new)
 
     def report(self, finding: Diagnostic) -> None:
         self.findings.append(finding)
