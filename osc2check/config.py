@@ -379,7 +379,9 @@ def _choice(name: str, choices: tuple[str, ...]) -> _Reader:
 
 
 def _read_plugins(v: object, path: _Where, key: str) -> dict[str, Any]:
-    return {"plugins": tuple(_string_list(v, path, key))}
+    """Modules by name, or ``.py`` files relative to the configuration file."""
+    names = _string_list(v, path, key)
+    return {"plugins": tuple(str(_base(path) / n) if n.endswith(".py") else n for n in names)}
 
 
 _READERS: dict[str, _Reader] = {
@@ -494,7 +496,8 @@ def config_for(scenario: str | Path) -> Config:
 
 
 def add_language_arguments(parser: Any) -> None:
-    """``--osc-version`` and ``--dialect`` on an ``argparse`` parser (osc2check, osc2run)."""
+    """``--osc-version``, ``--dialect`` and ``--plugin`` on an ``argparse`` parser
+    (osc2check, osc2run)."""
     parser.add_argument(
         "--osc-version",
         choices=OSC_VERSIONS,
@@ -507,13 +510,24 @@ def add_language_arguments(parser: Any) -> None:
         help="how other tools' forms are read: carla reads CARLA scenario_runner's; auto "
         "(the default) does when a file imports CARLA's basic.osc",
     )
+    parser.add_argument(
+        "--plugin",
+        action="append",
+        metavar="MODULE",
+        help="a Python module (or .py file) implementing actions, modifiers or methods of "
+        "your .osc libraries (docs/plugins.md); repeatable, added to plugins in "
+        "[tool.osc2check]",
+    )
 
 
 def with_language_arguments(config: Config, args: Any) -> Config:
-    """``config`` with the ``--osc-version`` and ``--dialect`` given on the command line."""
-    changes = {
+    """``config`` with the ``--osc-version``, ``--dialect`` and ``--plugin`` given on the
+    command line."""
+    changes: dict[str, Any] = {
         name: value
         for name in ("osc_version", "dialect")
         if (value := getattr(args, name, None)) is not None
     }
+    if getattr(args, "plugin", None):
+        changes["plugins"] = (*config.plugins, *args.plugin)
     return replace(config, **changes) if changes else config
