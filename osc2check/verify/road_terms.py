@@ -136,15 +136,18 @@ class RoadTerms:
             ],
         )
 
-    def before_junction(self, road: ir.Var | None, s: ir.Term, distance: ir.Term) -> ir.Term | None:
-        """The actor's carriageway leads into a junction ``distance`` ahead of it; None on
-        a map whose carriageways lead into none."""
+    def before_junction(
+        self, road: ir.Var | None, s: ir.Term, low: ir.Term, high: ir.Term
+    ) -> ir.Term | None:
+        """The actor's carriageway leads into a junction between ``low`` and ``high`` ahead
+        of it; None on a map whose carriageways lead into none."""
         into = [cw for cw in self.carriageways if cw.exit_junction is not None]
         if not into:
             return None
-        terms = [
-            (cw, ir.op("==", ir.op("-", ir.const(fraction(cw.length)), s), distance)) for cw in into
-        ]
+        terms = []
+        for cw in into:
+            ahead = ir.op("-", ir.const(fraction(cw.length)), s)
+            terms.append((cw, ir.op("and", ir.op(">=", ahead, low), ir.op("<=", ahead, high))))
         if self.single:
             return terms[0][1]
         return ir.op("or", *(_and(self.on(road, cw), term) for cw, term in terms))
