@@ -29,6 +29,7 @@ from osc2check.dialects.carla_forms import behaviour_forms
 from osc2check.dialects.carla_text import CarlaText
 from osc2check.dialects.rewrite import Edit
 from osc2check.semantics import types as T
+from osc2check.semantics.declare import si_dimension
 from osc2check.source import Span
 from osc2check.syntax import ParseResult, ast
 
@@ -134,36 +135,9 @@ def _note(decl: ast.Declaration) -> str:
     return ""
 
 
-def _dimension(si: tuple[ast.Argument, ...]) -> T.Dimension | None:
+def _dimension(si: tuple[ast.Argument, ...]) -> T.Dimension:
     """The SI exponents of ``SI(m: 1, s: -1, ...)`` (factor and offset left out)."""
-    exponents = dict.fromkeys(T.BASE_UNITS, 0)
-    for arg in si:
-        if not isinstance(arg, ast.NamedArgument):
-            return None
-        if arg.name.text in ("factor", "offset"):
-            continue
-        value = _integer(arg.value)
-        if arg.name.text not in exponents or value is None:
-            return None
-        exponents[arg.name.text] = value
-    return (
-        exponents["m"],
-        exponents["kg"],
-        exponents["s"],
-        exponents["A"],
-        exponents["K"],
-        exponents["mol"],
-        exponents["cd"],
-        exponents["rad"],
-    )
-
-
-def _integer(expr: ast.Expr) -> int | None:
-    if isinstance(expr, ast.IntLiteral):
-        return expr.value
-    if isinstance(expr, ast.Unary) and expr.op == "-" and isinstance(expr.operand, ast.IntLiteral):
-        return -expr.operand.value
-    return None
+    return si_dimension(si, for_unit=True)[0]
 
 
 def _type_dimension(text: CarlaText, type_name: ast.QualifiedName) -> T.Dimension | None:
@@ -183,13 +157,9 @@ def _unit_dimension(text: CarlaText, decl: ast.UnitDecl) -> None:
     dimension from its type; the exponents written are made the type's."""
     wanted = _type_dimension(text, decl.type)
     written = _dimension(decl.si)
-    if wanted is None or written is None or wanted == written:
+    if wanted is None or wanted == written or not decl.si:
         return
     exponents = [f"{b}: {e}" for b, e in zip(T.BASE_UNITS, wanted, strict=True) if e]
-    scale = [text.source(a) for a in decl.si if isinstance(a, ast.NamedArgument) and _scale(a)]
+    scale = [text.source(a) for a in decl.si if text.source(a).startswith(("factor", "offset"))]
     text.replace_between(decl.si[0].span.start, decl.si[-1].span.end, ", ".join(exponents + scale))
     text.report(messages.carla_unit_dimension(decl.name.span, decl.name.text, str(decl.type)))
-
-
-def _scale(arg: ast.NamedArgument) -> bool:
-    return arg.name.text in ("factor", "offset")
