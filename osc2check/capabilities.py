@@ -38,6 +38,9 @@ _MAPS = (
     "built (world-coordinate paths are)"
 )
 _CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
+_CARLA_WORLD = (
+    "it needs CARLA's world coordinates of the map, which its built-in stand-ins do not have"
+)
 
 #: The library's actions, modifiers and ``is undefined`` methods the runner does not
 #: execute (``owner.name``), and why.
@@ -56,6 +59,9 @@ NOT_EXECUTED: dict[str, str] = {
     "map.create_trajectory_route_points": _MAPS,
     "map.resolve_relative_path": _MAPS,
     "map.resolve_relative_trajectory": _MAPS,
+    # CARLA's world (osc2toolkit.carla): the poses and trajectory files of CARLA's maps
+    "vehicle.set_position": _CARLA_WORLD,
+    "follow_trajectory": _CARLA_WORLD,
 }
 
 
@@ -142,9 +148,10 @@ def absent_reason(label: str) -> str:
 
 
 def label_of(symbol: Symbol) -> str:
-    """``owner.name`` of a library action, modifier or method (the table's key)."""
+    """``owner.name`` of a library action, modifier or method (the table's key; ``name``
+    of one without an owner)."""
     owner = symbol.owner if symbol.kind is SymbolKind.METHOD else symbol.actor
-    return f"{owner.name if owner is not None else ''}.{symbol.name}"
+    return f"{owner.name}.{symbol.name}" if owner is not None else symbol.name
 
 
 def not_executed(model: Model, scenario: Symbol, invoked: bool) -> list[Diagnostic]:

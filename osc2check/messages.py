@@ -1257,8 +1257,8 @@ def carla_world_pose(span: Span) -> Diagnostic:
     return _diag(
         codes.CARLA_WORLD_POSE,
         "`set_position` places the vehicle at a pose of CARLA's world (degrees whatever the "
-        "unit): it needs the map in CARLA's coordinates, its OpenDRIVE file in "
-        "`[tool.osc2check.maps]`; on a built-in stand-in the runner refuses it",
+        "unit): it needs CARLA's map in CARLA's coordinates, which the toolkit's stand-ins "
+        "are not; osc2run does not execute it (A308)",
         span,
     )
 
@@ -1267,8 +1267,8 @@ def carla_trajectory_file(span: Span) -> Diagnostic:
     return _diag(
         codes.CARLA_TRAJECTORY_FILE,
         "`follow_trajectory(input_file:)` follows the positions of a CSV file in CARLA's "
-        "world: it needs the map in CARLA's coordinates, its OpenDRIVE file in "
-        "`[tool.osc2check.maps]`; on a built-in stand-in the runner refuses it",
+        "world: it needs CARLA's map in CARLA's coordinates, which the toolkit's stand-ins "
+        "are not; osc2run does not execute it (A308)",
         span,
     )
 

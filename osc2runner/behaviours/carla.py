@@ -4,8 +4,8 @@ CARLA's path conditions are conditions on where the actors start: the checker's
 placement met them (``osc2check.verify.placement``), so they have nothing left to
 do in the run. ``set_position`` and ``follow_trajectory(input_file:)`` need
 CARLA's world frame of its maps, which the built-in stand-ins do not have: the
-runner refuses them before the run with the checker's own finding
-(:data:`osc2runner.instance.CARLA_CONTENT`), so they are registered nowhere here.
+capability table says so (``osc2check.capabilities``, A308), the runner refuses
+them with that finding, and they are registered nowhere here.
 """
 
 from __future__ import annotations

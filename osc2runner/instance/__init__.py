@@ -24,9 +24,10 @@ from osc2runner.instance.values import ScenarioValues
 
 __all__ = ["CARLA_CONTENT", "ScenarioInstance", "instantiate"]
 
-#: CARLA's forms that need CARLA's own content (its maps, its world frame): the checker
-#: warns, and the runner refuses them with the same code and message
-CARLA_CONTENT = (codes.CARLA_MAP, codes.CARLA_WORLD_POSE, codes.CARLA_TRAJECTORY_FILE)
+#: CARLA's content the toolkit has no stand-in for (its maps): the checker warns, and
+#: the runner refuses it with the same code and message (CARLA's world poses and
+#: trajectory files are A308, osc2check.capabilities)
+CARLA_CONTENT = (codes.CARLA_MAP,)
 
 
 @dataclass
