@@ -16,6 +16,7 @@ from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
+from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span
@@ -100,7 +101,9 @@ class AnalysisOptions:
     map files by the names scenarios give (``Town04`` -> an ``.xodr`` path).
     ``osc_version`` chooses the standard library (2.1 or 2.2) and ``dialect`` how
     other tools' forms are read (:mod:`osc2check.semantics.profile`). ``policy``
-    filters and re-grades one file's diagnostics (``Config.policy``).
+    filters and re-grades one file's diagnostics (``Config.policy``). ``plugins``
+    are the plug-in modules (:mod:`osc2check.plugins`) whose implementations run
+    behaviours of the user's libraries.
     """
 
     verify: bool = True
@@ -116,6 +119,7 @@ class AnalysisOptions:
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
+    plugins: tuple[str, ...] = ()
 
     @property
     def library(self) -> LibraryChoice:
@@ -130,6 +134,15 @@ def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) 
         return _analyze(sources, options)
 
 
+def _plugins(names: tuple[str, ...]) -> PluginRegistry:
+    """The plug-ins' registry; empty when one cannot be loaded (the command lines say why
+    before they analyse: ``Config.plugin_registry``), so their behaviours are A308."""
+    try:
+        return load_plugins(names)
+    except PluginError:
+        return PluginRegistry()
+
+
 def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     texts = {s.uri: s.text for s in sources}
     given = {
@@ -139,6 +152,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     }
     cache = FileCache(texts, given, options.dialect)
     modules = dict(options.modules)
+    plugins = _plugins(options.plugins) if options.verify else None
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
@@ -177,6 +191,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
                     timeout_ms=options.solver_timeout_ms,
                     default_map=options.default_map,
                     maps=options.maps,
+                    plugins=plugins,
                 )
             except RecursionError:
                 found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))

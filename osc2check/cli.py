@@ -260,6 +260,7 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     )
     paths = args.paths or ["."]
     config = _with_options(_load_config(args, paths), args)
+    config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs
     sources, problems = _read(_collect(paths, config, args.stdin_filename))
     _report_problems(problems, args.quiet)
     failed = any(p.is_error for p in problems)

@@ -25,6 +25,7 @@ from urllib.parse import unquote, urlparse
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, DIALECTS, OSC_VERSIONS
 
 if TYPE_CHECKING:
@@ -95,7 +96,7 @@ class Config:
     maps: Mapping[str, str] = field(default_factory=dict)  # a map name -> an .xodr file (absolute)
     osc_version: str = DEFAULT_OSC_VERSION
     dialect: str = DEFAULT_DIALECT
-    plugins: tuple[str, ...] = ()  # Python modules of user-defined behaviours (the runner's)
+    plugins: tuple[str, ...] = ()  # Python modules implementing behaviours of .osc libraries
     root: Path | None = None
 
     def __reduce__(self) -> tuple[Any, ...]:
@@ -122,8 +123,17 @@ class Config:
             solver_rlimit=_int_or_none(self.solver.get("rlimit")),
             solver_timeout_ms=_int_or_none(self.solver.get("timeout-ms")),
             policy=self.policy,
+            plugins=self.plugins,
         )
         return replace(options, **changes)
+
+    def plugin_registry(self) -> PluginRegistry:
+        """The plug-ins this configuration names (and the installed ones), loaded; a
+        ``ConfigError`` when one cannot be, said before anything is analysed."""
+        try:
+            return load_plugins(self.plugins)
+        except PluginError as exc:
+            raise ConfigError(str(exc), None, "plugins") from None
 
     def enabled(self, code: Code) -> bool:
         """True when ``code`` is selected and not ignored."""

@@ -238,7 +238,9 @@ def _config(args: argparse.Namespace) -> Any:
     if args.file is None:
         return None
     try:
-        return with_language_arguments(config_for(args.file), args)
+        config = with_language_arguments(config_for(args.file), args)
+        config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs
+        return config
     except ConfigError as exc:
         raise UsageError(str(exc)) from None
 

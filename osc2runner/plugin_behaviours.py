@@ -30,14 +30,22 @@ from typing import Any
 
 from py_trees.common import Status
 
-from osc2check.plugins import Implementation, PluginRegistry
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier, ModifierUse
+from osc2check.plugins import Implementation, PluginError, PluginRegistry
+from osc2check.syntax import ast
+from osc2runner.behaviours.base import (
+    ActionBehaviour,
+    ActionError,
+    Modifier,
+    ModifierUse,
+    ScenarioBehaviour,
+)
 from osc2runner.behaviours.driving import SPEED_PROFILE, profile_for, set_speed
-from osc2runner.compile.registry import Entry, MethodRegistry
+from osc2runner.compile.expressions import Closure
+from osc2runner.compile.registry import Entry, MethodRegistry, load_registry, standard_registry
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
 
-__all__ = ["ActorView", "PluginRun", "add_plugins"]
+__all__ = ["ActorView", "PluginRun", "add_plugins", "runner_registry"]
 
 
 @dataclass(frozen=True)
@@ -103,7 +111,7 @@ def _plain(value: Any, ctx: RunContext) -> Any:
     return value
 
 
-def _call(where: ActionBehaviour | Modifier, fn: Any, *args: Any, **kwargs: Any) -> Any:
+def _call(fn: Any, *args: Any, **kwargs: Any) -> Any:
     try:
         return fn(*args, **kwargs)
     except ActionError:
@@ -112,36 +120,100 @@ def _call(where: ActionBehaviour | Modifier, fn: Any, *args: Any, **kwargs: Any)
         raise ActionError(f"the plug-in raised {type(exc).__name__}: {exc}") from exc
 
 
+class _Performance:
+    """One invocation's implementation at work: started once, stepped until done."""
+
+    def __init__(self, impl: Implementation, run: PluginRun, actor: tuple[ActorView, ...]):
+        self._impl = impl
+        self._run = run
+        self._actor = actor
+        self._object: Any = None
+        self.done = False
+
+    def start(self, args: dict[str, Any]) -> None:
+        if self._impl.lasting:
+            self._object = self._impl.target()
+            _call(self._object.start, self._run, *self._actor, **args)
+        else:
+            _call(self._impl.target, self._run, *self._actor, **args)
+            self.done = True
+
+    def step(self) -> None:
+        if not self.done:
+            self.done = bool(_call(self._object.step, self._run, *self._actor))
+
+
 class PluginAction(ActionBehaviour):
-    """An action a plug-in implements (see the module docstring)."""
+    """An action of an actor that a plug-in implements (see the module docstring)."""
 
     implementation: Implementation  # set on each subclass made by add_plugins
+    with_defaults = True  # compiled with the declared defaults of its parameters
 
     def start(self) -> None:
-        impl = self.implementation
         run = PluginRun(self.ctx, self.use.label)
-        self._run = run
-        args = {k: _plain(v, self.ctx) for k, v in self.args.items() if k != "duration"}
-        actor = () if self.use.actor is None else (ActorView(self.actor.name, self.ctx),)
-        if impl.lasting:
-            self._object = impl.target()
-            _call(self, self._object.start, run, *actor, **args)
-            self._done = False
-        else:
-            _call(self, impl.target, run, *actor, **args)
-            self._done = True
+        self._performance = _Performance(
+            self.implementation, run, (ActorView(self.actor.name, self.ctx),)
+        )
+        self._performance.start(_arguments(self.args, self.ctx))
 
     def step(self) -> Status:
-        if not self._done:
-            actor = () if self.use.actor is None else (ActorView(self.actor.name, self.ctx),)
-            self._done = bool(_call(self, self._object.step, self._run, *actor))
-        return Status.SUCCESS if self._done else Status.RUNNING
+        self._performance.step()
+        return Status.SUCCESS if self._performance.done else Status.RUNNING
+
+
+class UnboundPluginAction(ScenarioBehaviour):
+    """An action declared without an actor (``action log:``) that a plug-in implements:
+    its log records name the action alone; a plug-in's exception fails the run with the
+    invocation's place."""
+
+    implementation: Implementation
+    finite = True
+
+    def __init__(self, name: str, node: ast.Invocation, arguments: dict[str, Closure]) -> None:
+        super().__init__(name)
+        self.node = node
+        self.arguments = arguments
+        self.label = self.implementation.name
+
+    def initialise(self) -> None:
+        self.ctx.record("start", self.label)
+        self._failure: str | None = None
+        self._performance = _Performance(self.implementation, PluginRun(self.ctx, self.label), ())
+        try:
+            args = {k: fn() for k, fn in self.arguments.items()}
+            self._performance.start(_arguments(args, self.ctx))
+        except ActionError as exc:
+            self._failure = str(exc)
+
+    def update(self) -> Status:
+        try:
+            if self._failure is None:
+                self._performance.step()
+        except ActionError as exc:
+            self._failure = str(exc)
+        if self._failure is not None:
+            span = self.node.span
+            self.ctx.fail(f"{span.uri}:{span.line}:{span.column}: {self.label}: {self._failure}")
+            return Status.FAILURE
+        return Status.SUCCESS if self._performance.done else Status.RUNNING
+
+    def terminate(self, new_status: Status) -> None:
+        if new_status == Status.INVALID and self.status != Status.RUNNING:
+            return
+        how = {Status.SUCCESS: "end", Status.FAILURE: "fail"}.get(new_status, "stop")
+        self.ctx.record(how, self.label)
+
+
+def _arguments(args: dict[str, Any], ctx: RunContext) -> dict[str, Any]:
+    """An invocation's argument values as a plug-in gets them (not its ``duration``)."""
+    return {k: _plain(v, ctx) for k, v in args.items() if k != "duration"}
 
 
 class PluginModifier(Modifier):
     """A modifier a plug-in implements (see the module docstring)."""
 
     implementation: Implementation
+    with_defaults = True
 
     def __init__(self, use: ModifierUse) -> None:
         super().__init__(use)
@@ -150,12 +222,12 @@ class PluginModifier(Modifier):
     def realise(self, action: ActionBehaviour) -> None:
         self._run = PluginRun(action.ctx, f"{action.use.label} {self.use.name}")
         args = {k: _plain(v, action.ctx) for k, v in self.args.items() if k != "at"}
-        _call(self, self._object.start, self._run, ActorView(action.actor.name, action.ctx), **args)
+        _call(self._object.start, self._run, ActorView(action.actor.name, action.ctx), **args)
 
     def step(self, action: ActionBehaviour) -> None:
         step = getattr(self._object, "step", None)
         if step is not None:
-            _call(self, step, self._run, ActorView(action.actor.name, action.ctx))
+            _call(step, self._run, ActorView(action.actor.name, action.ctx))
 
 
 def _method(impl: Implementation) -> Any:
@@ -174,17 +246,40 @@ def _method(impl: Implementation) -> Any:
     return call
 
 
+_with_plugins: dict[int, tuple[PluginRegistry, MethodRegistry]] = {}
+
+
+def runner_registry(plugins: PluginRegistry) -> MethodRegistry:
+    """The runner's registry with ``plugins`` added (the runner's own without any);
+    made once per plug-in registry. A plug-in that implements one of the runner's own
+    behaviours is a :class:`~osc2check.plugins.PluginError`."""
+    if not len(plugins):
+        return standard_registry()
+    made = _with_plugins.get(id(plugins))
+    if made is None or made[0] is not plugins:
+        made = (plugins, add_plugins(load_registry(), plugins))
+        _with_plugins[id(plugins)] = made
+    return made[1]
+
+
 def add_plugins(registry: MethodRegistry, plugins: PluginRegistry) -> MethodRegistry:
     """``registry`` with the plug-ins' implementations added (a registration of the same
     behaviour as the runner's own is an error, as two plug-ins' are)."""
     for impl in plugins:
         if impl.kind == "action":
-            target: Any = type(
-                f"Plugin_{impl.name}", (PluginAction,), {"implementation": impl, "finite": True}
-            )
+            base = PluginAction if impl.owner is not None else UnboundPluginAction
+            target: Any = type(f"Plugin_{impl.name}", (base,), {"implementation": impl})
         elif impl.kind == "modifier":
             target = type(f"Plugin_{impl.name}", (PluginModifier,), {"implementation": impl})
         else:
             target = _method(impl)
-        registry.add(Entry(impl.kind, impl.owner, impl.name, target, f"plug-in `{impl.module}`"))
+        try:
+            registry.add(
+                Entry(impl.kind, impl.owner, impl.name, target, f"plug-in `{impl.module}`")
+            )
+        except ValueError:
+            raise PluginError(
+                f"plug-in `{impl.module}` implements {impl.kind} `{impl.label}`, which the "
+                "runner implements already"
+            ) from None
     return registry

@@ -39,15 +39,16 @@ import py_trees
 
 from osc2check import codes
 from osc2check.analysis import Analysis, SourceInput, analyze
-from osc2check.config import Config, config_for
+from osc2check.config import Config, ConfigError, config_for
 from osc2check.diagnostics import Severity
+from osc2check.plugins import PluginError
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.registry import standard_registry
+from osc2runner.compile.registry import MethodRegistry, standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
@@ -64,6 +65,7 @@ from osc2runner.options import check_duration, check_out, check_seed, check_step
 from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
+from osc2runner.plugin_behaviours import runner_registry
 from osc2runner.sim import World, versions
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sut.driver import sut_info
@@ -197,6 +199,7 @@ class Checked:
     uri: str
     analysis: Analysis
     scenario: Symbol
+    registry: MethodRegistry = field(default_factory=standard_registry)  # with the plug-ins
 
 
 def check_file(
@@ -216,6 +219,10 @@ def check_file(
     uri, text = _read(path, source)
     if config is None:
         config = config_for(path)
+    try:
+        registry = runner_registry(config.plugin_registry())
+    except (ConfigError, PluginError) as exc:
+        raise ScenarioError([RunProblem(f"{uri}: {exc}")]) from None
     analysis = analyze([SourceInput(uri, text)], config.analysis_options())
     # an error, or a form the runner does not execute (A308, osc2check.capabilities):
     # refused before tick 0 with the checker's own finding
@@ -226,7 +233,7 @@ def check_file(
     ]
     if refused:
         raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
-    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
+    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario), registry)
 
 
 def compile_checked(
@@ -247,7 +254,7 @@ def compile_checked(
     if problems:
         raise ScenarioError(problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
-    env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
+    env = CompileEnvironment(model, instance.values, checked.registry, run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)

@@ -24,6 +24,7 @@ from fractions import Fraction
 from osc2check import codes, messages
 from osc2check.capabilities import not_executed
 from osc2check.diagnostics import Diagnostic, Related
+from osc2check.plugins import PluginRegistry
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.roots import invokers
@@ -186,13 +187,15 @@ def verify_program(
     timeout_ms: int | None = None,
     default_map: str = "default",
     maps: Mapping[str, str] | None = None,
+    plugins: PluginRegistry | None = None,
 ) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
     Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``);
     ``rlimit`` and ``timeout_ms`` bound each solver call (defaults: z3_backend's).
     ``default_map`` is the map of a scenario that names none; ``maps`` gives the
-    files of map names (``[tool.osc2check.maps]``).
+    files of map names (``[tool.osc2check.maps]``); ``plugins`` the plug-ins that
+    implement behaviours of the user's libraries (the others are A308).
     """
     rlimit = DEFAULT_RLIMIT if rlimit is None else rlimit
     timeout_ms = DEFAULT_TIMEOUT_MS if timeout_ms is None else timeout_ms
@@ -211,7 +214,7 @@ def verify_program(
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
-        for d in not_executed(program.model, sym, sym in invoked):
+        for d in not_executed(program.model, sym, sym in invoked, plugins):
             report(d)
         problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
         _reversed_ranges(sym, program, text_of, report)

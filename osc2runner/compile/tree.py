@@ -477,6 +477,8 @@ class TreeCompiler:
             return self.scenario_invocation(inv, sym, scope)
         if sym.kind is not SymbolKind.ACTION:
             raise CompileProblem(f"`{inv.name.text}` is a {sym.kind.value}, not an action", inv)
+        if sym.actor is None and inv.actor is None:
+            return self._unbound_action(inv, sym, scope)
         actor = self._actor(inv, scope)
         if not isinstance(actor, Actor):
             raise CompileProblem(
@@ -506,7 +508,9 @@ class TreeCompiler:
             sym.name,
             inv,
         )
-        arguments, duration = self._arguments(inv, inner, path)
+        arguments, duration = self._arguments(
+            inv, inner, path, defaults=getattr(entry.target, "with_defaults", False)
+        )
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
         for wm in inv.with_members:
@@ -536,6 +540,30 @@ class TreeCompiler:
         behaviour.endless = not cls.finite
         self.uses[inv] = (use, cls)
         return self._wrap(behaviour, inv, duration, untils, inner)
+
+    def _unbound_action(
+        self, inv: ast.Invocation, sym: Symbol, scope: Bindings
+    ) -> py_trees.behaviour.Behaviour:
+        """An action declared without an actor (``action log:``), which a plug-in
+        implements: it takes arguments, ``duration`` and ``until``, no modifiers."""
+        entry = self.env.registry.find_action(self.model, None, sym)
+        if entry is None:
+            raise CompileProblem(
+                f"action `{sym.name}` has no runner behaviour (docs/plugins.md)", inv.name
+            )
+        path = invocation_path(
+            scope.frame.path if scope.frame is not None else "",
+            None,
+            self.labels.get(id(inv)),
+            sym.name,
+            inv,
+        )
+        arguments, duration = self._arguments(inv, scope, path, defaults=True)
+        untils = [wm for wm in inv.with_members if isinstance(wm, ast.Until)]
+        if len(untils) != len(inv.with_members):
+            raise CompileProblem(f"`{sym.name}` has no actor: it takes no modifiers", inv.name)
+        behaviour = entry.target(node_name(f"{sym.name}()", inv), inv, arguments)
+        return self._wrap(behaviour, inv, duration, untils, scope)
 
     def _actor(self, inv: ast.Invocation, scope: Bindings) -> Actor:
         """The actor an invocation is of: written, or the actor of the enclosing
@@ -701,18 +729,21 @@ class TreeCompiler:
             ) from None
 
     def _arguments(
-        self, call: ast.Invocation, scope: Bindings, path: str
+        self, call: ast.Invocation, scope: Bindings, path: str, *, defaults: bool = False
     ) -> tuple[dict[str, Closure], ast.Node | None]:
         """The closures of the arguments given to an action or modifier by parameter name
-        (as the checker bound them), and its duration. A range given where a scalar is
-        expected is one value the solver chose from it (``keep(p in r)``): the witness's,
-        under the call's instance ``path`` (as ``verify.lower`` names it)."""
+        (as the checker bound them; with ``defaults``, the declared defaults of those not
+        given too), and its duration. A range given where a scalar is expected is one
+        value the solver chose from it (``keep(p in r)``): the witness's, under the
+        call's instance ``path`` (as ``verify.lower`` names it)."""
         binding = self._binding(call)
         if binding.events:
             raise CompileProblem("event arguments are not supported here", binding.events[0])
         result: dict[str, Closure] = {}
         for bound in binding.arguments:
             if bound.is_default:
+                if defaults:
+                    result[bound.name] = self.env.compile(bound.value, Bindings())
                 continue
             if bound.range and bound.parameter is not None:
                 result[bound.name] = self._chosen(path, bound.parameter, bound.value)
@@ -743,7 +774,12 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 wm.name,
             )
-        arguments, _ = self._arguments(wm, scope, join_path(path, f"{sym.name}@{wm.span.line}"))
+        arguments, _ = self._arguments(
+            wm,
+            scope,
+            join_path(path, f"{sym.name}@{wm.span.line}"),
+            defaults=getattr(entry.target, "with_defaults", False),
+        )
         arguments.setdefault("at", constant("all"))
         if wm.with_members:
             self.notes.append(f"line {wm.span.line}: the with: block of a modifier is ignored")
