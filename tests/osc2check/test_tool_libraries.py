@@ -6,7 +6,8 @@ The scenario_execution tests read its public repository from the folder named by
 scenarios are robotics; the ones about driving are the mobile robot's navigation
 (``nav_to_pose``, ``nav_through_poses``, with the simulation that spawns obstacles
 in its way): they are the road-traffic-like ones checked here, with ``hello_world``
-and ``test_log`` for the ``log`` action.
+and ``test_log`` for the ``log`` action, which the example plug-in implements
+(``examples/plugins/example_plugin.py``; without it, each call is A308).
 """
 
 from __future__ import annotations
@@ -18,6 +19,8 @@ import pytest
 
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.config import config_from_mapping
+
+EXAMPLE_PLUGIN = str(Path(__file__).parents[2] / "examples" / "plugins" / "example_plugin.py")
 
 HELPERS = """\
 action log:
@@ -49,7 +52,9 @@ def test_an_osc_module_is_found_in_the_search_paths_with_a_warning(tmp_path, lay
     library.write_text(HELPERS, encoding="utf-8")
     scenario = tmp_path / "s.osc"
     scenario.write_text(GREETING, encoding="utf-8")
-    ((code, message),) = findings(scenario, search_paths=(str(tmp_path / "lib_osc"),))
+    ((code, message),) = findings(
+        scenario, search_paths=(str(tmp_path / "lib_osc"),), plugins=(EXAMPLE_PLUGIN,)
+    )
     assert code == "D810" and str(library) in message
 
 
@@ -65,8 +70,12 @@ def test_the_module_map_names_the_file_and_says_it_is_meant(tmp_path):
 
     config, _ = load_config(tmp_path)
     assert config.modules == {"osc.helpers": str(tmp_path / "lib" / "anything.osc")}
-    analysis = analyze([SourceInput(str(scenario), GREETING)], config.analysis_options())
+    options = config.analysis_options(plugins=(EXAMPLE_PLUGIN,))
+    analysis = analyze([SourceInput(str(scenario), GREETING)], options)
     assert analysis.diagnostics == []
+    # no plug-in implements `log`: the runner would not run it
+    analysis = analyze([SourceInput(str(scenario), GREETING)], config.analysis_options())
+    assert [(d.code.code, d.span.line) for d in analysis.diagnostics] == [("A308", 4)]
 
 
 def test_an_osc_module_found_nowhere_is_unresolved_and_says_where_to_name_it(tmp_path):
@@ -103,7 +112,8 @@ scenario s:
 def test_a_struct_is_built_from_its_fields_in_declaration_order(tmp_path, goal, expected):
     scenario = tmp_path / "s.osc"
     scenario.write_text(STRUCTS.format(goal=goal), encoding="utf-8")
-    assert sorted(c for c in codes(scenario) if c != "L506") == sorted(expected)
+    # go_to is the user's action, which no plug-in implements here (A308)
+    assert sorted(c for c in codes(scenario) if c not in ("L506", "A308")) == sorted(expected)
 
 
 # ---- scenario_execution's own files --------------------------------------------------
@@ -139,11 +149,14 @@ def module_map(root: Path) -> dict[str, object]:
 @pytest.mark.parametrize("name", NAVIGATION + LOGGING)
 def test_scenario_execution_scenarios_check_without_errors_with_a_module_map(name):
     root = Path(THIRD_PARTY or "") / "scenario_execution"
-    config = config_from_mapping(module_map(root))
+    config = config_from_mapping({**module_map(root), "plugins": [EXAMPLE_PLUGIN]})
     path = root / name
     analysis = analyze([SourceInput(str(path), path.read_text())], config.analysis_options())
     found = {d.code.code for d in analysis.diagnostics}
-    # struct constructors (D809) and unit-less lengths (D805) are its dialect's forms
-    assert found <= {"D809", "D805"}, [str(d) for d in analysis.diagnostics]
+    # struct constructors (D809) and unit-less lengths (D805) are its dialect's forms; its
+    # robots' actions (nav_to_pose, ...) are behaviours no plug-in implements (A308)
+    assert found <= {"D809", "D805", "A308"}, [str(d) for d in analysis.diagnostics]
+    for d in analysis.diagnostics:
+        assert d.code.code != "A308" or "no plug-in implements it" in d.message
     if name in LOGGING:
-        assert found == set()
+        assert found == set()  # `log` is the example plug-in's
