@@ -560,8 +560,9 @@ class TreeCompiler:
         )
         arguments, duration = self._arguments(inv, scope, path, defaults=True)
         untils = [wm for wm in inv.with_members if isinstance(wm, ast.Until)]
-        if len(untils) != len(inv.with_members):
-            raise CompileProblem(f"`{sym.name}` has no actor: it takes no modifiers", inv.name)
+        for wm in inv.with_members:
+            if isinstance(wm, ast.Invocation):
+                raise CompileProblem(f"`{sym.name}` has no actor: it takes no modifiers", wm)
         behaviour = entry.target(node_name(f"{sym.name}()", inv), inv, arguments)
         return self._wrap(behaviour, inv, duration, untils, scope)
 
@@ -740,17 +741,33 @@ class TreeCompiler:
         if binding.events:
             raise CompileProblem("event arguments are not supported here", binding.events[0])
         result: dict[str, Closure] = {}
+        declared: dict[str, Closure] = {}
         for bound in binding.arguments:
             if bound.is_default:
                 if defaults:
-                    result[bound.name] = self.env.compile(bound.value, Bindings())
+                    declared[bound.name] = self.env.compile(bound.value, Bindings())
                 continue
             if bound.range and bound.parameter is not None:
                 result[bound.name] = self._chosen(path, bound.parameter, bound.value)
             else:
                 result[bound.name] = self.env.compile(bound.value, scope)
+        if defaults and isinstance(binding.callee, Symbol):
+            self._kept(binding.callee, path, result)
+            result = {**declared, **result}
         duration = binding.extra("duration")
         return result, duration.value if duration is not None else None
+
+    def _kept(self, callee: Symbol, path: str, result: dict[str, Closure]) -> None:
+        """The parameters of a plug-in's behaviour given no argument whose value the
+        witness chose (a ``keep`` of the invocation's ``with:``; else their defaults)."""
+        for param in self.model.all_members(callee):
+            if param.kind is not SymbolKind.FIELD or param.name in result:
+                continue
+            try:
+                value = to_runtime(self.env.values.value_at(path, param))
+            except NotConstant:
+                continue  # its default, or none: the checker required what has none
+            result[param.name] = constant(value)
 
     def _chosen(self, path: str, param: Symbol, where: ast.Node) -> Closure:
         """The witness's value of parameter ``param`` of the call at ``path``."""

@@ -5,6 +5,7 @@ point group ``osc2toolkit.plugins`` load them."""
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import numpy as np
@@ -245,3 +246,53 @@ def test_installed_distributions_offer_plugins_in_the_entry_point_group(monkeypa
     assert registry.modules == ["installed_osc_plugin"]
     result = run(GREETING, config=with_plugins())
     assert result.outcome.status == "success", result.outcome.reason
+
+
+def test_a_keep_of_a_plugin_action_parameter_is_the_value_it_gets(own):
+    config = with_plugins(str(own.parent / "my_plugin.py"))
+    text = OWN_SCENARIO.replace(
+        '        shout("fast!")\n',
+        '        shout("fast!") with:\n            keep(it.times == 3)\n',
+    )
+    own.write_text(text, encoding="utf-8")
+    result = run(own, config=config, duration=30)
+    assert [r.detail for r in result.events if r.kind == "log" and r.name == "shout"] == [
+        "fast!"
+    ] * 3
+
+
+# ---- scenario_execution's own files, with their libraries from the module map ------------
+
+THIRD_PARTY = os.environ.get("OSC2_THIRD_PARTY")
+needs_third_party = pytest.mark.skipif(
+    not THIRD_PARTY or not (Path(THIRD_PARTY) / "scenario_execution").is_dir(),
+    reason="OSC2_THIRD_PARTY does not name a folder with scenario_execution",
+)
+
+
+def scenario_execution(name: str) -> tuple[Path, object]:
+    root = Path(THIRD_PARTY or "") / "scenario_execution"
+    library = root / "scenario_execution" / "scenario_execution" / "lib_osc"
+    modules = {f"osc.{m}": str(library / f"{m}.osc") for m in ("helpers", "types")}
+    return root / name, config_from_mapping({"modules": modules, "plugins": [EXAMPLE_PLUGIN]})
+
+
+@needs_third_party
+def test_scenario_execution_hello_world_logs_through_the_example_plugin():
+    path, config = scenario_execution("examples/example_scenario/hello_world.osc")
+    result = run(path, config=config)
+    assert result.outcome.status == "success", result.outcome.reason
+    logs = [(r.time, r.detail) for r in result.events if r.kind == "log"]
+    assert logs == [(0.0, "Hello World!"), (3.0, "Good Bye!")]  # wait elapsed(3s) between
+
+
+@needs_third_party
+def test_scenario_execution_test_log_logs_the_message_its_keep_chose():
+    path, config = scenario_execution("scenario_execution_coverage/scenarios/test_log.osc")
+    messages = set()
+    for seed in range(4):
+        result = run(path, config=config, seed=seed)
+        assert result.outcome.status == "success", result.outcome.reason
+        (message,) = [r.detail for r in result.events if r.kind == "log"]
+        messages.add(message)
+    assert messages <= {"foo", "bar"} and messages
