@@ -116,12 +116,23 @@ class CampaignOptions:
         }
 
     def _language(self) -> dict[str, Any]:
-        """The OSC2 version and dialect, when the configuration says other than the
-        defaults (a campaign of an older folder has neither)."""
+        """The OSC2 version, dialect and plug-ins, when the configuration says other than
+        the defaults (a campaign of an older folder has none of them)."""
         if self.config is None:
             return {}
-        language = {"osc_version": self.config.osc_version, "dialect": self.config.dialect}
-        return {k: v for k, v in language.items() if v != getattr(Config(), k)}
+        language = {
+            "osc_version": self.config.osc_version,
+            "dialect": self.config.dialect,
+            "plugins": list(self.config.plugins),
+        }
+        return {k: v for k, v in language.items() if v not in (getattr(Config(), k), [])}
+
+    def language_arguments(self) -> list[str]:
+        """The language's command-line options (what a run's replay command repeats)."""
+        language = self._language()
+        named = ("osc_version", "dialect")
+        args = [f"--{k.replace('_', '-')}={language[k]}" for k in named if k in language]
+        return args + [f"--plugin={p}" for p in language.get("plugins", ())]
 
 
 @dataclass
@@ -252,6 +263,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 dt_physics=options.dt_physics,
                 sut=sut,
                 bin_text=t.bin.text if t.bin else None,
+                language=options.language_arguments(),
             )
             for t in plan.tasks
         }

@@ -5,6 +5,7 @@ point group ``osc2toolkit.plugins`` load them."""
 
 from __future__ import annotations
 
+import json
 import os
 from pathlib import Path
 
@@ -296,3 +297,16 @@ def test_scenario_execution_test_log_logs_the_message_its_keep_chose():
         (message,) = [r.detail for r in result.events if r.kind == "log"]
         messages.add(message)
     assert messages <= {"foo", "bar"} and messages
+
+
+def test_a_campaign_runs_its_plugins_in_each_run_and_replays_with_them(tmp_path):
+    out = tmp_path / "campaign"
+    argv = [str(GREETING), "--plugin", EXAMPLE_PLUGIN, "--runs", "2", "--jobs", "1"]
+    assert osc2run_main([*argv, "--out", str(out), "-q"]) == 0
+    document = json.loads((out / "campaign.json").read_text(encoding="utf-8"))
+    assert document["options"]["plugins"] == [EXAMPLE_PLUGIN]
+    for run_json in document["runs"]:
+        assert run_json["outcome"]["status"] == "success"
+        assert run_json["replay"].endswith(f"--seed {run_json['seed']} --plugin={EXAMPLE_PLUGIN}")
+        events = (out / run_json["folder"] / "events.csv").read_text(encoding="utf-8")
+        assert "Hello World!" in events and "Good Bye!" in events
