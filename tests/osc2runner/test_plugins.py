@@ -310,3 +310,15 @@ def test_a_campaign_runs_its_plugins_in_each_run_and_replays_with_them(tmp_path)
         assert run_json["replay"].endswith(f"--seed {run_json['seed']} --plugin={EXAMPLE_PLUGIN}")
         events = (out / run_json["folder"] / "events.csv").read_text(encoding="utf-8")
         assert "Hello World!" in events and "Good Bye!" in events
+
+
+def test_osc2check_reads_plugin(capsys):
+    from osc2check.cli import main as osc2check_main
+
+    assert osc2check_main([str(GREETING)]) == 0
+    assert capsys.readouterr().out.count("A308") == 3
+    assert osc2check_main([str(GREETING), "--plugin", EXAMPLE_PLUGIN]) == 0
+    assert "A308" not in capsys.readouterr().out
+    assert osc2check_main([str(GREETING), "--plugin", "no_such_module_xyz"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("osc2check: error: plugins: plug-in `no_such_module_xyz` cannot be")
