@@ -19,7 +19,7 @@ from osc2check.inputs import InputError, read_bytes
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
-from osc2check.source import decode_source, point_span
+from osc2check.source import decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
 from osc2check.verify.check import VerifyResult, verify_program
@@ -144,6 +144,7 @@ def _plugins(names: tuple[str, ...]) -> PluginRegistry:
 
 
 def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
+    sources = [_clean(s) for s in sources]
     texts = {s.uri: s.text for s in sources}
     given = {
         s.uri: s.parse
@@ -200,6 +201,14 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
     diagnostics = _finish(found, cache, texts, options)
     return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
+
+
+def _clean(source: SourceInput) -> SourceInput:
+    """The source with its NUL characters replaced (``source.without_nul``)."""
+    text, problem = without_nul(source.text, source.problem)
+    if text is source.text:
+        return source
+    return replace(source, text=text, problem=problem, parse=None)
 
 
 def _encoding_problem(source: SourceInput) -> Diagnostic:
