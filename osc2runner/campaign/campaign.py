@@ -124,23 +124,20 @@ class CampaignOptions:
         }
 
     def _language(self) -> dict[str, Any]:
-        """The OSC2 version, dialect and plug-ins, when the configuration says other than
-        the defaults (a campaign of an older folder has none of them)."""
+        """The OSC2 version and dialect, when the configuration says other than the
+        defaults (a campaign of an older folder has neither). Its plug-ins are code, not
+        recorded: a resumed campaign loads those its command line and configuration name."""
         if self.config is None:
             return {}
-        language = {
-            "osc_version": self.config.osc_version,
-            "dialect": self.config.dialect,
-            "plugins": list(self.config.plugins),
-        }
-        return {k: v for k, v in language.items() if v not in (getattr(Config(), k), [])}
+        language = {"osc_version": self.config.osc_version, "dialect": self.config.dialect}
+        return {k: v for k, v in language.items() if v != getattr(Config(), k)}
 
     def language_arguments(self) -> list[str]:
-        """The language's command-line options (what a run's replay command repeats)."""
-        language = self._language()
-        named = ("osc_version", "dialect")
-        args = [f"--{k.replace('_', '-')}={language[k]}" for k in named if k in language]
-        return args + [f"--plugin={p}" for p in language.get("plugins", ())]
+        """The language's command-line options and plug-ins (what a run's replay command
+        repeats)."""
+        args = [f"--{k.replace('_', '-')}={v}" for k, v in self._language().items()]
+        plugins = self.config.plugins if self.config is not None else ()
+        return args + [f"--plugin={p}" for p in plugins]
 
 
 @dataclass

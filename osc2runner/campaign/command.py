@@ -89,8 +89,8 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     for name in ("osc_version", "dialect"):  # the language the campaign was checked in
         if getattr(args, name, None) is None and opts.get(name) is not None:
             setattr(args, name, opts[name])
-    if not getattr(args, "plugin", None) and opts.get("plugins"):
-        args.plugin = list(opts["plugins"])  # and those of the configuration, read again
+    # plug-ins are code: a resumed campaign loads those of the command line and of the
+    # configuration, never what its folder lists (docs/security.md)
     if args.export is None and opts.get("export"):
         args.export = ",".join(opts["export"])
 

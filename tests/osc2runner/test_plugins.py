@@ -304,12 +304,15 @@ def test_a_campaign_runs_its_plugins_in_each_run_and_replays_with_them(tmp_path)
     argv = [str(GREETING), "--plugin", EXAMPLE_PLUGIN, "--runs", "2", "--jobs", "1"]
     assert osc2run_main([*argv, "--out", str(out), "-q"]) == 0
     document = json.loads((out / "campaign.json").read_text(encoding="utf-8"))
-    assert document["options"]["plugins"] == [EXAMPLE_PLUGIN]
+    assert "plugins" not in document["options"]  # code: never read back from a folder
     for run_json in document["runs"]:
         assert run_json["outcome"]["status"] == "success"
         assert run_json["replay"].endswith(f"--seed {run_json['seed']} --plugin={EXAMPLE_PLUGIN}")
         events = (out / run_json["folder"] / "events.csv").read_text(encoding="utf-8")
         assert "Hello World!" in events and "Good Bye!" in events
+    # a folder is data: --resume imports only the plug-ins its command line names
+    assert osc2run_main(["--resume", str(out), "-q"]) == 2
+    assert osc2run_main(["--resume", str(out), "--plugin", EXAMPLE_PLUGIN, "-q"]) == 0
 
 
 def test_osc2check_reads_plugin(capsys):
