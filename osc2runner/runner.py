@@ -39,14 +39,16 @@ import py_trees
 
 from osc2check import codes
 from osc2check.analysis import Analysis, SourceInput, analyze
+from osc2check.config import Config, ConfigError, config_for
 from osc2check.diagnostics import Severity
+from osc2check.plugins import PluginError
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.registry import standard_registry
+from osc2runner.compile.registry import MethodRegistry, standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
@@ -63,6 +65,7 @@ from osc2runner.options import check_duration, check_out, check_seed, check_step
 from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
+from osc2runner.plugin_behaviours import runner_registry
 from osc2runner.sim import World, versions
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sut.driver import SutFault, call_sut, sut_info
@@ -197,15 +200,31 @@ class Checked:
     uri: str
     analysis: Analysis
     scenario: Symbol
+    registry: MethodRegistry = field(default_factory=standard_registry)  # with the plug-ins
 
 
 def check_file(
-    path: str | Path, *, scenario: str | None = None, source: str | None = None
+    path: str | Path,
+    *,
+    scenario: str | None = None,
+    source: str | None = None,
+    config: Config | None = None,
 ) -> Checked:
     """Parse, resolve and verify a file and choose the scenario to run; raises
-    ScenarioError for input errors (error diagnostics, no such scenario)."""
+    ScenarioError for input errors (error diagnostics, no such scenario).
+
+    ``config`` is the checker's configuration (``[tool.osc2check]``: OSC2 version,
+    dialect, maps, search paths, module map, the findings' policy); None reads the
+    one that applies to ``path``, as ``osc2check`` does.
+    """
     uri, text = _read(path, source)
-    analysis = analyze([SourceInput(uri, text)])
+    if config is None:
+        config = config_for(path)
+    try:
+        registry = runner_registry(config.plugin_registry())
+    except (ConfigError, PluginError) as exc:
+        raise ScenarioError([RunProblem(f"{uri}: {exc}")]) from None
+    analysis = analyze([SourceInput(uri, text)], config.analysis_options())
     # an error, or a form the runner does not execute (A308, osc2check.capabilities):
     # refused before tick 0 with the checker's own finding
     refused = [
@@ -215,7 +234,7 @@ def check_file(
     ]
     if refused:
         raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
-    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
+    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario), registry)
 
 
 def compile_checked(
@@ -236,7 +255,7 @@ def compile_checked(
     if problems:
         raise ScenarioError(problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
-    env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
+    env = CompileEnvironment(model, instance.values, checked.registry, run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
@@ -250,11 +269,12 @@ def compile_file(
     seed: int = 0,
     dt_control: float = 0.05,
     source: str | None = None,
+    config: Config | None = None,
 ) -> Compiled:
     """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
     for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
     """
-    checked = check_file(path, scenario=scenario, source=source)
+    checked = check_file(path, scenario=scenario, source=source, config=config)
     return compile_checked(checked, seed=seed, dt_control=dt_control)
 
 
@@ -327,9 +347,12 @@ def prepare(
     dt_physics: float = 0.002,
     source: str | None = None,
     sut: SutSpec | None = None,
+    config: Config | None = None,
 ) -> Prepared:
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
-    c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
+    c = compile_file(
+        path, scenario=scenario, seed=seed, dt_control=dt_control, source=source, config=config
+    )
     return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
 
 
@@ -349,6 +372,7 @@ def run(
     progress: Callable[[float, float, float], None] | None = None,
     source: str | None = None,
     sut: SutSpec | str | None = None,
+    config: Config | None = None,
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
 
@@ -367,6 +391,9 @@ def run(
         source: the file's text, instead of reading ``path``.
         sut: the system under test (:mod:`osc2runner.sut`): a ``SutSpec``, or
             ``"module:Class"`` for the actor named ``sut`` or ``ego``.
+        config: the checker's configuration (``osc2check.config.Config``: the OSC2
+            version, dialect, maps, search paths, ...); None reads ``[tool.osc2check]``
+            from the nearest configuration file above ``path``, as ``osc2check`` does.
 
     The result's outcome is ``error`` (and the files are written) when the physics
     diverged. Called from the main thread, the run installs handlers for SIGINT,
@@ -396,6 +423,7 @@ def run(
         dt_physics=dt_physics,
         source=source,
         sut=spec,
+        config=config,
     )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 
