@@ -187,7 +187,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
 def _load_once(options: AnalysisOptions) -> None:
     """Build what the process builds once (the parser, z3) before any file's budget: the
     first file checked must not pay for it, nor fail to."""
-    parse("", "")
+    dialect_reading(parse("import osc.standard\n", ""), options.dialect)
     if options.verify:
         from osc2check.verify.z3_backend import _z3
 
