@@ -130,7 +130,8 @@ class PathMotion:
         self.progress = self.begin
         state = action.state
         if self.vehicle:
-            ctrl.path = PathTracker(ctrl.params, path, end=self.end)
+            corners = trajectory.corner_speeds() if trajectory is not None else None
+            ctrl.path = PathTracker(ctrl.params, path, end=self.end, corner_speeds=corners)
         else:
             ctrl.path = path
         if exact:  # an exact motion starts on the path
