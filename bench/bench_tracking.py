@@ -39,8 +39,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
+from osc2check.world.carriageways import carriageways, lane_at  # noqa: E402
 from osc2check.world.maps import load_map  # noqa: E402
+from osc2check.world.projection import lane_centre  # noqa: E402
 from osc2runner import run  # noqa: E402
+from osc2runner.behaviours.road_paths import road_line  # noqa: E402
 from osc2runner.sim.tracking import Polyline  # noqa: E402
 
 SHARED = ROOT.parent / "shared" / "conformance" / "opendrive"
@@ -87,13 +90,24 @@ def path_scene(points: list[tuple[float, float]], interpolation: str, kph: float
     )
 
 
+def action_rows(result, action: str = "follow_path") -> slice:
+    """The telemetry rows while ``car.<action>`` runs, from the row after its start (the
+    first row is where the witness put the car, before an ``assign_position``)."""
+    start = result.event_ticks("start", f"car.{action}")[0]
+    end = result.event_ticks("end", f"car.{action}")[0]
+    return slice(start + 1, end + 1)
+
+
+def line_error(result, line: Polyline) -> float:
+    """The car's largest distance from ``line`` while it follows the path."""
+    car = result.telemetry["car"]
+    rows = action_rows(result)
+    return float(line.distances(car["x"][rows], car["y"][rows]).max())
+
+
 def path_error(points: list[tuple[float, float]], interpolation: str) -> Callable:
     def measure(result) -> tuple[float, str]:
-        car = result.telemetry["car"]
-        start = result.event_ticks("start", "car.follow_path")[0]
-        end = result.event_ticks("end", "car.follow_path")[0]
-        path = Polyline(points, interpolation)
-        return float(path.distances(car["x"][start : end + 1], car["y"][start : end + 1]).max()), ""
+        return line_error(result, Polyline(points, interpolation)), ""
 
     return measure
 
@@ -133,7 +147,8 @@ def smooth(kph: float) -> Scene:
     )
 
 
-def lane_change_scene(map_file: str, lane: int, distance: float, side: str, kph: float) -> str:
+def map_scenario(map_file: str) -> str:
+    """The scenario's head on ``map_file``, down to its ``do serial:``."""
     return f"""\
 import osc.standard
 
@@ -142,6 +157,13 @@ scenario tracking:
         keep(it.map_file == "{map_file}")
     car: vehicle
     do serial:
+"""
+
+
+def lane_change_scene(map_file: str, lane: int, distance: float, side: str, kph: float) -> str:
+    return (
+        map_scenario(map_file)
+        + f"""\
         car.drive(duration: 2s) with:
             lane({lane}, at: start)
             position(distance: {distance}m, at: start)
@@ -151,6 +173,7 @@ scenario tracking:
         car.drive(duration: 2s) with:
             speed({kph}kph)
 """
+    )
 
 
 def lane_change_error(result) -> tuple[float, str]:
@@ -182,19 +205,101 @@ def lane_change(
     )
 
 
+#: lateral offsets (m, left of the lane centre) of the points of a road path, every 40 m
+ROAD_OFFSETS = (0.0, 0.0, 1.2, 1.2, -1.2, -1.2, 0.0, 0.0)
+#: a road path into the lane on the left and back (3.5 m lanes)
+LANE_TO_LANE = (0.0, 0.0, 3.5, 3.5, 3.5, 0.0, 0.0, 0.0)
+
+
+def road_points(map_file: str, offsets: tuple[float, ...]) -> list[tuple[str, int, float, float]]:
+    """OpenDRIVE points ``(road, lane id, s, t from the lane centre)`` every 40 m along the
+    first lane of the map's longest carriageway, straight on through junctions, each
+    ``offsets[k]`` left of the lane centre in the direction of travel."""
+    network = load_map(map_file)
+    cw = max(carriageways(network), key=lambda c: c.length)
+    lane = lane_at(network, cw, 5.0, 1)
+    route = network.route(lane, ["straight"] * 8, max_length=40.0 * len(offsets) + 60.0)
+    points = []
+    for k, offset in enumerate(offsets):
+        i = int(np.searchsorted(route.path.distance, 5.0 + 40.0 * k))
+        x = float(route.path.x[i]) - offset * math.sin(float(route.path.heading[i]))
+        y = float(route.path.y[i]) + offset * math.cos(float(route.path.heading[i]))
+        here = network.to_road(x, y)
+        ref = route.lanes[int(route.path.lane_of[i])]
+        centre, _ = lane_centre(network, ref, np.array([here.s]))
+        points.append((here.road, ref.lane, here.s, here.t - float(centre[0])))
+    return points
+
+
+def road_path_scene(map_file: str, points, interpolation: str, kph: float) -> str:
+    odr = ", ".join(
+        f'town.create_odr_point("{road}", "{lane}", {s:.3f}m, {t:.3f}m)'
+        for road, lane, s, t in points
+    )
+    return (
+        map_scenario(map_file)
+        + f"""\
+        car.assign_position(odr_point: town.create_odr_point("{points[0][0]}", "{points[0][1]}", \
+{points[0][2]:.3f}m, {points[0][3]:.3f}m)) with:
+            speed({kph}kph, at: start)
+        car.follow_path(town.create_path_odr_points([{odr}], {interpolation}, true)) with:
+            speed({kph}kph)
+"""
+    )
+
+
+def road_path_error(map_file: str, points, interpolation: str) -> Callable:
+    def measure(result) -> tuple[float, str]:
+        network = load_map(map_file)
+        xy = []
+        for road, lane, s, t in points:
+            centre, _ = lane_centre(network, network.lane_at(road, s, lane), np.array([s]))
+            pose = network.to_world(road, s, float(centre[0]) + t)
+            xy.append((pose.x, pose.y))
+        return line_error(result, road_line(network, xy, interpolation)), ""
+
+    return measure
+
+
+def road_path(
+    map_path: Path, interpolation: str, kph: float, offsets=ROAD_OFFSETS, label: str = ""
+) -> Scene:
+    def points():
+        return road_points(str(map_path), offsets)
+
+    return Scene(
+        f"road path {map_path.stem} {label}{interpolation} {kph:g} kph",
+        lambda: road_path_scene(str(map_path), points(), interpolation, kph),
+        lambda result: road_path_error(str(map_path), points(), interpolation)(result),
+        map_path,
+    )
+
+
 def scenes(shared: Path = SHARED) -> list[Scene]:
     e6 = shared / "esmini_e6mini.xodr"
-    return [
-        kinked(30.0),
-        kinked(50.0),
-        smooth(30.0),
-        smooth(50.0),
-        lane_change("default", "default", 1, 50.0, "left", 30.0),
-        lane_change("default", "default", 1, 50.0, "left", 50.0),
-        lane_change("highway_4lane", "highway_4lane", 3, 100.0, "right", 50.0),
-        lane_change("esmini_e6mini", str(e6), 3, 200.0, "right", 50.0, e6),
-        lane_change("esmini_e6mini", str(e6), 1, 600.0, "left", 50.0, e6),
-    ]
+    return (
+        [
+            kinked(30.0),
+            kinked(50.0),
+            smooth(30.0),
+            smooth(50.0),
+            lane_change("default", "default", 1, 50.0, "left", 30.0),
+            lane_change("default", "default", 1, 50.0, "left", 50.0),
+            lane_change("highway_4lane", "highway_4lane", 3, 100.0, "right", 50.0),
+            lane_change("esmini_e6mini", str(e6), 3, 200.0, "right", 50.0, e6),
+            lane_change("esmini_e6mini", str(e6), 1, 600.0, "left", 50.0, e6),
+        ]
+        + [
+            road_path(path, interpolation, 50.0)
+            for path in sorted(BUNDLED.glob("*.xodr")) + sorted(shared.glob("*.xodr"))
+            for interpolation in ("straight_line", "smooth")
+        ]
+        + [
+            road_path(path, interpolation, 50.0, LANE_TO_LANE, "lane to lane ")
+            for path in (BUNDLED / "rural_curves.xodr", e6)
+            for interpolation in ("straight_line", "smooth")
+        ]
+    )
 
 
 def main() -> None:

@@ -48,6 +48,9 @@ __all__ = [
     "XyzPoint",
     "follow_route",
     "is_map_route",
+    "map_point_xy",
+    "odr_coordinates",
+    "route_coordinates",
     "route_holds",
 ]
 
@@ -110,8 +113,8 @@ def _route_length(ctx: RunContext, route: ElementValue) -> float:
     return ctx.network.roads[route.road].length
 
 
-def _road_coordinates(ctx: RunContext, point: RoutePoint) -> tuple[str, float, float]:
-    """``(road, s, t)`` of a route point."""
+def route_coordinates(ctx: RunContext, point: RoutePoint) -> tuple[str, float, float]:
+    """``(road, s, t)`` of a route point (a fault when its route is not a road of the map)."""
     route = point.route
     if not route.road:
         raise RunFault(f"{route.label} is not a route")
@@ -127,7 +130,8 @@ def _on_route(ctx: RunContext, road: str, s: float, t: float, direction: int) ->
     return RoutePoint(route, ctx.network.roads[road].length - s, -t)
 
 
-def _odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, float]:
+def odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, float]:
+    """``(road, s, t)`` of an OpenDRIVE point (a fault for a road or lane the map lacks)."""
     road = point.road_id
     if road not in ctx.network.roads:
         raise RunFault(f"the map has no road `{road}`")
@@ -142,6 +146,30 @@ def _odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, floa
         centre, _ = lane_centre(ctx.network, ref, np.array([point.s]))
         t = float(centre[0]) + t
     return road, point.s, t
+
+
+def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
+    """World x, y of a route point, an OpenDRIVE point, an ``xyz_point``, a ``pose_3d`` or a
+    ``position_3d``."""
+    if isinstance(point, RoutePoint):
+        pose = ctx.network.to_world(*route_coordinates(ctx, point))
+        return pose.x, pose.y
+    if not isinstance(point, OdrPoint) and hasattr(point, "road_id"):  # a struct parameter
+        point = OdrPoint(
+            str(point.road_id),
+            str(getattr(point, "lane_id", "") or ""),
+            float(getattr(point, "s", 0.0)),
+            float(getattr(point, "t", 0.0)),
+        )
+    if isinstance(point, OdrPoint):
+        pose = ctx.network.to_world(*odr_coordinates(ctx, point))
+        return pose.x, pose.y
+    if hasattr(point, "position") and not hasattr(point, "x"):
+        point = point.position
+    try:
+        return float(point.x), float(point.y)
+    except AttributeError:
+        raise ActionError(f"`{point!r}` is not a position (it has no x and y)") from None
 
 
 def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
@@ -256,7 +284,7 @@ def create_odr_point(
     ctx: RunContext, subject: object, road_id: str, lane_id: str, s: float, t: float
 ) -> OdrPoint:
     point = OdrPoint(str(road_id), str(lane_id), float(s), float(t))
-    _odr_coordinates(ctx, point)  # a road or lane the map lacks is a fault here
+    odr_coordinates(ctx, point)  # a road or lane the map lacks is a fault here
     return point
 
 
@@ -266,7 +294,7 @@ def odr_to_route_point(
 ) -> RoutePoint:
     """The route point of OpenDRIVE coordinates: on the road, in the direction of travel
     of the lane (of the lane at ``t`` when no lane is given)."""
-    road, s_road, t_road = _odr_coordinates(ctx, OdrPoint(str(road_id), str(lane_id), s, t))
+    road, s_road, t_road = odr_coordinates(ctx, OdrPoint(str(road_id), str(lane_id), s, t))
     pose = ctx.network.to_world(road, s_road, t_road)
     found = ctx.network.to_road(pose.x, pose.y)
     direction = ctx.network.lane(found.lane).direction if found is not None else 1
@@ -288,7 +316,7 @@ def xyz_to_route_point(
 
 @method("map", "route_point_to_xyz")
 def route_point_to_xyz(ctx: RunContext, subject: object, route_point: RoutePoint) -> XyzPoint:
-    return _xyz(ctx, *_road_coordinates(ctx, route_point))
+    return _xyz(ctx, *route_coordinates(ctx, route_point))
 
 
 @method("map", "create_route")
@@ -368,7 +396,7 @@ def distance_to_route_point(
     mode: str = "reference_points",
     route_type: str = "on_road",
 ) -> float:
-    return _distance_to(ctx, subject, *_road_coordinates(ctx, point), direction)
+    return _distance_to(ctx, subject, *route_coordinates(ctx, point), direction)
 
 
 @method("physical_object", "distance_to_odr_point")
@@ -380,7 +408,7 @@ def distance_to_odr_point(
     mode: str = "reference_points",
     route_type: str = "on_road",
 ) -> float:
-    return _distance_to(ctx, subject, *_odr_coordinates(ctx, point), direction)
+    return _distance_to(ctx, subject, *odr_coordinates(ctx, point), direction)
 
 
 def _distance_to(

@@ -24,6 +24,7 @@ a corner of angle ``theta``. Smooth paths are followed as given.
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -36,6 +37,7 @@ __all__ = [
     "CORNER_ACCEL",
     "PathTracker",
     "Polyline",
+    "RoadLine",
     "Trajectory",
     "round_corners",
     "stanley_steer",
@@ -53,6 +55,8 @@ _REACH = 10.0
 CORNER_ACCEL = 5.0
 #: spacing of the samples of a rounded corner's arc (m)
 ARC_SPACING = 0.25
+#: spacing of the samples of a path along the road (m)
+ROAD_SPACING = 0.5
 #: a heading change between two samples above this is a corner, not a curve (rad)
 _CORNER = 0.1
 
@@ -79,15 +83,32 @@ class Polyline:
         self._last = None  # the follower starts anywhere
 
     @classmethod
-    def dense(cls, xy: np.ndarray) -> Polyline:
-        """A polyline through samples ``xy`` as they are (a line already sampled: a path
-        with its corners rounded), each sample a given point."""
+    def dense(cls, xy: np.ndarray, given: Sequence[int] | None = None) -> Polyline:
+        """A polyline through samples ``xy`` as they are: a line already sampled (a path
+        with its corners rounded, a path along a road), followed as it is. ``given`` are
+        the indices of the points it was made through (all samples by default)."""
         line = cls.__new__(cls)
-        line.given = line.xy = xy
-        line.interpolation = "straight_line"
+        line.interpolation = "smooth"  # the samples are the geometry: no corners to round
         line._sample(xy)
-        line.given_s = line.s
+        index = np.arange(len(xy)) if given is None else np.asarray(given, dtype=int)
+        line.given = xy[index]
+        line.given_s = line.s[index]
         return line
+
+    def follower(self) -> Polyline:
+        """This line for one more follower: the same samples, its own last projection."""
+        line = copy.copy(self)
+        line._last = None
+        return line
+
+    def driven(self, corner_speeds: Sequence[float], least_radius: float) -> Polyline:
+        """The line a car drives for this path: a ``straight_line`` path's corners rounded
+        (:func:`round_corners`) for the speed each is taken with (``corner_speeds``, one
+        per inner given point), never tighter than ``least_radius``; else the path."""
+        if self.interpolation == "smooth" or len(self.given) < 3:
+            return self
+        radii = [max(v * v / CORNER_ACCEL, least_radius) for v in corner_speeds]
+        return Polyline.dense(round_corners(self.given, radii))
 
     def _sample(self, dense: np.ndarray) -> None:
         self.xy = dense
@@ -133,7 +154,9 @@ class Polyline:
 
     def project(self, x: float, y: float) -> tuple[float, float, float]:
         """``(s, error, heading)`` of the nearest point: arc length, signed distance
-        (positive: the point is left of the path) and the path's heading there.
+        (positive: the point is left of the path) and the path's heading there. Before
+        the path's start or past its end, the distance is taken from the line through
+        the end segment (a car coming up to the path is steered onto its line).
 
         The search looks at the segments within ``_REACH`` m of arc length of the last
         projection first (a follower moves a little per tick; on a path that crosses
@@ -164,7 +187,10 @@ class Polyline:
         if found is None:
             found = self._nearest(p, 0, n)
         i, u, d2, cross = found
-        error = math.copysign(math.sqrt(d2), cross) if cross else 0.0
+        if (i == 0 and u <= 0.0) or (i == n - 1 and u >= 1.0):
+            error = cross / self._seg_len[i]  # before or past an end: off the line through it
+        else:
+            error = math.copysign(math.sqrt(d2), cross) if cross else 0.0
         result = float(self.s[i] + u * self._seg_len[i]), error, float(self._heading[i])
         self._last = (x, y, result)
         self._last_segment = i
@@ -229,6 +255,83 @@ class Trajectory:
         return float(given[i] + speed * (t - times[i])), float(speed)
 
 
+class RoadLine(Polyline):
+    """A path along a centre line (a lane's, through the lanes it leads into), at an offset
+    from it that the given points set: point ``k`` is ``given_o[k]`` m left of the centre
+    line where it has run ``given_d[k]`` m. Between two points the offset changes as the
+    interpolation says: linearly in the distance along the centre line
+    (``straight_line``) or along a cubic through every point's offset (``smooth``, a
+    Catmull-Rom spline in the distance). So a path along a curved road through points
+    in one lane follows the lane's curve, and one through points in two lanes moves
+    across as it goes along.
+
+    ``centre`` is ``(distance, x, y, heading)`` of the centre line's samples (increasing
+    distance, continuous heading). When a car drives a ``straight_line`` road path, its
+    corners (where the offset's slope changes) are blended over the distance in which a
+    car at the corner's speed turns at ``CORNER_ACCEL`` (:meth:`driven`): a parabola in
+    the offset, cutting the corner by ``v^2 dm^2 / (8 a)`` for a change of slope ``dm``.
+    """
+
+    def __init__(
+        self,
+        centre: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray],
+        given_d: Sequence[float] | np.ndarray,
+        given_o: Sequence[float] | np.ndarray,
+        interpolation: str = "straight_line",
+    ) -> None:
+        d = np.asarray(given_d, dtype=float)
+        if len(d) < 2 or np.any(np.diff(d) <= SAME_POINT):
+            raise ValueError("the points of a path along the road must follow one another")
+        self.centre = centre
+        self.given_d = d
+        self.given_o = np.asarray(given_o, dtype=float)
+        self.interpolation = interpolation
+        samples = np.union1d(np.arange(d[0], d[-1], ROAD_SPACING), d)
+        self._index = np.searchsorted(samples, d)
+        self._d = samples
+        self._build(self, self._offsets(samples))
+
+    def _build(self, line: Polyline, offsets: np.ndarray) -> None:
+        cd, cx, cy, ch = self.centre
+        d = self._d
+        heading = np.interp(d, cd, ch)
+        x = np.interp(d, cd, cx) - offsets * np.sin(heading)
+        y = np.interp(d, cd, cy) + offsets * np.cos(heading)
+        line._sample(np.column_stack([x, y]))
+        line.given = line.xy[self._index]
+        line.given_s = line.s[self._index]
+
+    def _offsets(self, d: np.ndarray, blends: Sequence[float] | None = None) -> np.ndarray:
+        """The offset at distances ``d``; ``blends``: the half-length of each inner
+        corner's parabola (``straight_line``)."""
+        gd, go = self.given_d, self.given_o
+        if self.interpolation == "smooth" and len(gd) > 2:
+            return _hermite(gd, go, d)
+        offsets = np.interp(d, gd, go)
+        slopes = np.diff(go) / np.diff(gd)
+        for k, half in enumerate(blends or (), start=1):
+            change = slopes[k] - slopes[k - 1]
+            near = np.abs(d - gd[k]) < half
+            u = d[near] - gd[k] + half
+            offsets[near] = go[k] + slopes[k - 1] * (d[near] - gd[k]) + change * u * u / (4 * half)
+        return offsets
+
+    def driven(self, corner_speeds: Sequence[float], least_radius: float) -> Polyline:
+        if self.interpolation == "smooth" or len(self.given_d) < 3:
+            return self
+        gd, go = self.given_d, self.given_o
+        slopes = np.diff(go) / np.diff(gd)
+        blends = []
+        for k, v in enumerate(corner_speeds, start=1):
+            change = abs(float(slopes[k] - slopes[k - 1]))
+            half = 0.5 * change * max(v * v / CORNER_ACCEL, least_radius)
+            blends.append(min(half, 0.5 * (gd[k] - gd[k - 1]), 0.5 * (gd[k + 1] - gd[k])))
+        line = Polyline.__new__(Polyline)
+        line.interpolation = "smooth"
+        self._build(line, self._offsets(self._d, blends))
+        return line
+
+
 class PathTracker:
     """Stanley steering of a vehicle's front axle along a :class:`Polyline`, with its
     curvature fed forward (:func:`stanley_steer`); ``end`` is the arc length where the
@@ -262,16 +365,11 @@ class PathTracker:
         self.s = 0.0  # arc length of the front axle's projection on ``path``
 
     def _driven(self, speed: float, planned: float | None) -> Polyline:
-        path = self.path
-        if path.interpolation == "smooth" or len(path.given) < 3:
-            return path
-        corners = len(path.given) - 2
         speeds = self.corner_speeds
         if speeds is None:
-            speeds = [max(abs(speed), planned or 0.0)] * corners
+            speeds = [max(abs(speed), planned or 0.0)] * max(len(self.path.given) - 2, 0)
         least = self.params.wheelbase / math.tan(self.params.max_steer)
-        radii = [max(v * v / CORNER_ACCEL, least) for v in speeds]
-        return Polyline.dense(round_corners(path.given, radii))
+        return self.path.driven(speeds, least)
 
     def step(
         self, x: float, y: float, yaw: float, speed: float, planned: float | None = None
@@ -364,6 +462,25 @@ def walker_heading(path: Polyline, x: float, y: float, lookahead: float = 1.0) -
     if math.hypot(tx - x, ty - y) < SAME_POINT:
         return heading
     return math.atan2(ty - y, tx - x)
+
+
+def _hermite(knots: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarray:
+    """A cubic through ``values`` at increasing ``knots`` (slopes from the neighbours, as
+    a Catmull-Rom spline; the end slopes those of the end intervals), at ``at``."""
+    slope = np.empty(len(knots))
+    slope[1:-1] = (values[2:] - values[:-2]) / (knots[2:] - knots[:-2])
+    slope[0] = (values[1] - values[0]) / (knots[1] - knots[0])
+    slope[-1] = (values[-1] - values[-2]) / (knots[-1] - knots[-2])
+    i = np.clip(np.searchsorted(knots, at, side="right") - 1, 0, len(knots) - 2)
+    h = knots[i + 1] - knots[i]
+    u = (at - knots[i]) / h
+    u2, u3 = u * u, u * u * u
+    return (
+        (2 * u3 - 3 * u2 + 1) * values[i]
+        + (u3 - 2 * u2 + u) * h * slope[i]
+        + (-2 * u3 + 3 * u2) * values[i + 1]
+        + (u3 - u2) * h * slope[i + 1]
+    )
 
 
 def _distinct(points: Sequence[tuple[float, float]]) -> np.ndarray:

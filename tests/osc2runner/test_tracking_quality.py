@@ -1,14 +1,20 @@
 """Tracking quality (issue 20, item 6): lateral error under 0.2 m at up to 50 kph.
 
-A ``straight_line`` path's corner cannot be driven exactly: the runner drives it on
-the arc tangent to both lines at ``CORNER_ACCEL`` (radius ``v^2 / a``), which cuts
-the corner by ``R (1 - cos(theta / 2))``, the closed form the tests compare with;
-``bench/bench_tracking.py`` prints the figures per scene.
+The scenes are ``bench/bench_tracking.py``'s (which prints the figures): paths given
+by world poses on the built-in road, lane changes, and paths through OpenDRIVE
+points along a lane of every bundled and shared map (the shared ones skipped when
+``../shared/conformance/opendrive`` is absent), each error measured against the path
+the scenario gives, in closed form. A ``straight_line`` path's corner cannot be
+driven exactly: the runner drives it on the arc tangent to both lines at
+``CORNER_ACCEL`` (radius ``v^2 / a``), which cuts the corner by
+``R (1 - cos(theta / 2))``, the closed form the tests compare with.
 """
 
 from __future__ import annotations
 
 import math
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -16,38 +22,17 @@ import pytest
 from osc2runner import run
 from osc2runner.sim.tracking import CORNER_ACCEL, Polyline, round_corners
 
-#: lane 1 to lane 3 of the built-in road: two corners of atan(7 / 40) = 9.9 degrees
-KINKED = [(30.0, 1.75), (70.0, 1.75), (110.0, 8.75), (150.0, 8.75)]
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT / "bench"))
+import bench_tracking as bench  # noqa: E402
 
-
-def _path_scenario(kph: float, interpolation: str) -> str:
-    poses = "".join(
-        f"    p{i}: pose_3d with:\n"
-        f"        keep(it.position.x == {x}m)\n"
-        f"        keep(it.position.y == {y}m)\n"
-        for i, (x, y) in enumerate(KINKED)
-    )
-    return (
-        "import osc.standard\n\nscenario s:\n    car: vehicle\n    m: map\n"
-        + poses
-        + f"""\
-    do serial:
-        car.assign_position() with:
-            lane(1, at: start)
-            position(distance: 30m, at: start)
-            speed({kph}kph, at: start)
-        car.follow_path(m.create_path([p0, p1, p2, p3], {interpolation})) with:
-            speed({kph}kph)
-"""
-    )
-
-
-def _centre_errors(result, points, interpolation: str) -> np.ndarray:
-    car = result.telemetry["car"]
-    start = result.event_ticks("start", "car.follow_path")[0]
-    end = result.event_ticks("end", "car.follow_path")[0]
-    path = Polyline(points, interpolation)
-    return path.distances(car["x"][start : end + 1], car["y"][start : end + 1])
+KINKED = bench.KINKED
+#: the scenes held to 0.2 m here (the bench has both interpolations of every road path)
+SCENES = [
+    scene
+    for scene in bench.scenes()
+    if "smooth" not in scene.name or scene.name.startswith("path smooth 50")
+]
 
 
 def test_a_rounded_corner_cuts_the_corner_by_the_closed_form():
@@ -70,22 +55,26 @@ def test_short_lines_take_at_most_half_of_each_line():
     assert radii.min() == pytest.approx(2.0)
 
 
+@pytest.mark.parametrize("scene", SCENES, ids=lambda s: s.name)
+def test_the_lateral_error_stays_under_0_2_m(tmp_path, scene):
+    if scene.needs is not None and not scene.needs.exists():
+        pytest.skip(f"{scene.needs} is absent")
+    source = tmp_path / "s.osc"
+    source.write_text(scene.source())
+    result = run(source)
+    assert result.outcome.status == "success", result.outcome.reason
+    error, _ = scene.measure(result)
+    assert error < 0.2
+
+
 @pytest.mark.parametrize("kph", [30.0, 50.0])
-def test_a_straight_line_path_is_followed_within_0_2_m(tmp_path, kph):
+def test_a_straight_line_path_cuts_its_corners_no_more_than_the_arc(tmp_path, kph):
     source = tmp_path / "s.osc"
-    source.write_text(_path_scenario(kph, "straight_line"))
+    source.write_text(bench.path_scene(KINKED, "straight_line", kph))
     result = run(source)
-    assert result.outcome.status == "success", result.outcome.reason
-    errors = _centre_errors(result, KINKED, "straight_line")
-    v = kph / 3.6
-    arc = v * v / CORNER_ACCEL * (1.0 - math.cos(math.atan2(7.0, 40.0) / 2.0))
-    assert errors.max() < 0.2
-    assert errors.max() < arc + 0.05  # the arc's cut plus a few cm of tracking
-
-
-def test_a_smooth_path_is_followed_within_a_few_centimetres_at_50_kph(tmp_path):
-    source = tmp_path / "s.osc"
-    source.write_text(_path_scenario(50.0, "smooth"))
-    result = run(source)
-    assert result.outcome.status == "success", result.outcome.reason
-    assert _centre_errors(result, KINKED, "smooth").max() < 0.05
+    error, _ = bench.path_error(KINKED, "straight_line")(result)
+    arc = bench.corner_floor(KINKED, kph, CORNER_ACCEL)
+    assert arc == pytest.approx(
+        (kph / 3.6) ** 2 / CORNER_ACCEL * (1.0 - math.cos(math.atan2(7.0, 40.0) / 2.0))
+    )
+    assert error < arc + 0.05  # the arc's cut plus a few cm of tracking
