@@ -56,6 +56,7 @@ from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
+from osc2runner.instance.actors import environment_observer
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
@@ -228,6 +229,7 @@ def compile_checked(
     if problems:
         raise ScenarioError(problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
+    run_ctx.sky.observer = environment_observer(instance.actors, instance.values)
     env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:

@@ -31,6 +31,7 @@ from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import ScenarioValues
 from osc2runner.sim import ActorState, VehicleParams
+from osc2runner.sim.sky import LightSource
 from osc2runner.sim.trailer import TrailerParams
 
 __all__ = ["CompileEnvironment"]
@@ -98,6 +99,9 @@ class CompileEnvironment:
         if actor.kind == "environment" and member == "weather":
             run = self.run
             return lambda: run.weather
+        if actor.kind == "environment" and member in ("sun", "moon"):
+            # its position is read live; one nothing gives is a run fault here
+            return constant(LightSource(member, self.run.sky, lambda why: RunFault(why, node)))
         if member in actor.attributes:
             return constant(to_runtime(actor.attributes[member]))
         if member == "name":

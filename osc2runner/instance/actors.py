@@ -34,7 +34,7 @@ from osc2check.world.catalogue import MODELS, ActorRow, category_row, kind_row
 from osc2runner.instance.bodies import ActorParams, body_params
 from osc2runner.instance.values import ScenarioValues, scenario_fields
 
-__all__ = ["Actor", "actor_kind", "scenario_actors"]
+__all__ = ["Actor", "actor_kind", "environment_observer", "scenario_actors"]
 
 _KINDS = (
     ("vehicle", "vehicle"),
@@ -120,3 +120,22 @@ def scenario_actors(
                 actor.kind = "trailer"
         actors.append(actor)
     return actors
+
+
+#: the environment's members that place and time the observer of the sky
+OBSERVER = ("geodetic_position.latitude", "geodetic_position.longitude", "datetime")
+
+
+def environment_observer(
+    actors: list[Actor], values: ScenarioValues
+) -> tuple[float, float, float] | None:
+    """``(latitude, longitude, datetime)`` (radians, radians, Unix seconds) of the first
+    environment actor whose constraints give all three, else None (``sim.sky``)."""
+    for actor in actors:
+        if actor.kind != "environment":
+            continue
+        found = [values.constrained_si(f"{actor.name}.{member}") for member in OBSERVER]
+        if all(v is not None for v in found):
+            latitude, longitude, datetime = found
+            return float(latitude), float(longitude), float(datetime)  # type: ignore[arg-type]
+    return None
