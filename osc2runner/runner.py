@@ -540,7 +540,13 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "actors": actors,
         "lights": dict(ctx.lights),
         "traffic_lights": {
-            name: {"x": light.x, "y": light.y, "yaw": light.yaw, "group": light.group}
+            name: {
+                "x": light.x,
+                "y": light.y,
+                "yaw": light.yaw,
+                "group": light.group,
+                "placed": light.placed,
+            }
             for name, light in ctx.traffic_lights.items()
         },
         "coverage": {
