@@ -44,6 +44,7 @@ from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
+from osc2runner.behaviours.traffic import run_plans
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.registry import standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
@@ -57,6 +58,7 @@ from osc2runner.execution.signals import Interrupts
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.actors import environment_observer
+from osc2runner.instance.light_plans import control_plans
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
@@ -226,14 +228,19 @@ def compile_checked(
     fresh_blackboard()
     run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
     lights, problems = traffic_lights(model, instance.scenario, instance.values, instance.network)
-    if problems:
-        raise ScenarioError(problems, texts=analysis.texts)
+    plans, plan_notes, plan_problems = control_plans(
+        model, instance.scenario, lights, Path(uri).parent
+    )
+    if problems or plan_problems:
+        raise ScenarioError(problems + plan_problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
+    run_plans(run_ctx, plans)
     run_ctx.sky.observer = environment_observer(instance.actors, instance.values)
     env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
+    compiled.notes.extend(plan_notes)
     return Compiled(uri, analysis, instance, env, compiled)
 
 

@@ -43,9 +43,6 @@ _CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not rea
 #: why each unsupported action, modifier or method is absent (``owner.name``)
 ABSENT: dict[str, str] = {
     "map.crossing_connects": _CROSSINGS,
-    "map.set_traffic_lights_control_file": (
-        "control files are not read: give the cycles with `play_cycles`"
-    ),
     "physical_object.set_bm": (
         "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
         "kind has one driver model"

@@ -31,7 +31,10 @@ scenario s:
     do serial:
         hero.connect_trailer(trailer: box)
         box.drive(duration: 2s)
-    m.set_traffic_lights_control_file(file: "lights.xml")
+    m.crossing_connects(crossing: c, start_lane: l1, end_lane: l2, start_s_coord: 10m)
+    c: crossing
+    l1: lane
+    l2: lane
 """
 
 
