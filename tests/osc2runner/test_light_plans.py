@@ -12,6 +12,7 @@ import pytest
 
 from osc2runner import run
 from osc2runner.errors import ScenarioError
+from tests.osc2runner.test_actions_world import _light_changes as _changes
 
 JUNCTION = Path(__file__).resolve().parents[2] / "examples" / "maps" / "four_way_junction.xodr"
 
@@ -72,16 +73,8 @@ def _run(tmp_path: Path, attention: str = "off;on;off", file: str = "plans.xosc"
     return run(source)
 
 
-def _changes(result, light: str) -> list[tuple[float, str]]:
-    return [
-        (record.time, record.detail.split(" ")[0])
-        for record in result.events
-        if record.kind == "traffic_light" and record.name == light
-    ]
-
-
 def test_the_plans_switch_the_lights_at_their_phases(tmp_path: Path):
-    result = _run(tmp_path.joinpath())
+    result = _run(tmp_path)
     assert result.outcome.status == "success", result.outcome.reason
     # ew from 1 s: go 4 s, attention 2 s, stop 4 s, round again at 11 s; the controller's
     # stop at 2 s holds until the plan's next phase (5 s)
