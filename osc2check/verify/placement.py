@@ -87,6 +87,9 @@ from osc2check.world.maps import load_map, map_path, scenario_folder
 from osc2check.world.network import RoadNetwork
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+#: the rule of "a vehicle whose category nothing constrains is a car": a placement that
+#: has no solution with it is tried again with those vehicles of any category
+UNSAID_CATEGORY = "unsaid-category"
 #: the witness prefers starts in this first share of the road: room to drive ahead
 PREFERRED_START_SHARE = Fraction(3, 10)
 
@@ -228,8 +231,17 @@ def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool
 
 
 class PlacementLowerer:
-    def __init__(self, lowerer: Lowerer, scenario: Symbol, default_map: str = "default"):
+    def __init__(
+        self,
+        lowerer: Lowerer,
+        scenario: Symbol,
+        default_map: str = "default",
+        open_categories: bool = False,
+    ):
         self.lw = lowerer
+        #: vehicles whose category nothing constrains may be of any category (preferably
+        #: cars): the second try when placing them as cars has no solution
+        self.open_categories = open_categories
         self.model = lowerer.model
         self.problem: ir.ConstraintProblem = lowerer.problem
         self.scenario = scenario
@@ -487,19 +499,30 @@ class PlacementLowerer:
         type_symbol = param.type.symbol if param.type is not None else None
         if row is None and _is_trailer(self.model, type_symbol):
             row = CATEGORIES["trailer"]
-        if row is None and category is not None and not self._mentioned(category):
+        unsaid = row is None and category is not None and not self._mentioned(category)
+        if unsaid and not self.open_categories:
             row = CATEGORIES["car"]  # nothing says otherwise: placed, and run, as a car
         if row is not None:
             if category is not None and not because:
+                text = (
+                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
+                    if row.category == "car"
+                    else f"`{name}` is a {row.category}"
+                )
                 self._implicit(
                     ir.op("==", ir.Ref(category), ir.const(_member(category, row.category))),
                     param.name_span or self.problem.span,
-                    "category",
-                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
-                    if row.category == "car"
-                    else f"`{name}` is a {row.category}",
+                    UNSAID_CATEGORY if unsaid else "category",
+                    text,
                 )
             body = ActorBody(kind, row, *self._row_terms(row), category, tuple(because))
+        elif category is not None and unsaid:  # any category, a car where one fits
+            car = Fraction(_member(category, "car"))
+            self.problem.preferred[category.name] = (car, car)
+            length = _by_category(category, lambda r: r.length)
+            width = _by_category(category, lambda r: r.width)
+            top = _by_category(category, lambda r: r.max_speed)
+            body = ActorBody(kind, None, length, width, top, category)
         elif category is not None:  # open: the solver chooses the category and the size
             length = _by_category(category, lambda r: r.length)
             width = _by_category(category, lambda r: r.width)
@@ -1125,10 +1148,11 @@ def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:
 
 
 def lower_placement(
-    lowerer: Lowerer, scenario: Symbol, default_map: str = "default"
+    lowerer: Lowerer, scenario: Symbol, default_map: str = "default", open_categories: bool = False
 ) -> StartPlacement | None:
-    """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
-    return PlacementLowerer(lowerer, scenario, default_map).lower()
+    """Add the placement variables and constraints of ``scenario`` to the lowerer's problem
+    (``open_categories``: see ``PlacementLowerer``)."""
+    return PlacementLowerer(lowerer, scenario, default_map, open_categories).lower()
 
 
 def _member(category: ir.Var, name: str) -> int:
