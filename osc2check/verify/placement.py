@@ -516,32 +516,29 @@ class PlacementLowerer:
                     text,
                 )
             body = ActorBody(kind, row, *self._row_terms(row), category, tuple(because))
-        elif category is not None and unsaid:  # any category, a car where one fits
-            car = Fraction(_member(category, "car"))
-            self.problem.preferred[category.name] = (car, car)
-            length = _by_category(category, lambda r: r.length)
-            width = _by_category(category, lambda r: r.width)
-            top = _by_category(category, lambda r: r.max_speed)
-            body = ActorBody(kind, None, length, width, top, category)
         elif category is not None:  # open: the solver chooses the category and the size
             length = _by_category(category, lambda r: r.length)
             width = _by_category(category, lambda r: r.width)
             top = _by_category(category, lambda r: r.max_speed)
             body = ActorBody(kind, None, length, width, top, category, shown=shown)
-            # without the constraints that mention it, the vehicle would be a car: the
-            # solver holds this while it looks for the lines a conflict cannot do without
-            self.problem.add(
-                ir.Constraint(
-                    ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
-                    param.name_span or self.problem.span,
-                    "placement",
-                    f"`{name}` is a car when nothing says otherwise",
-                    "hard",
-                    category,
-                    f"`{name}` is a car when nothing says otherwise",
-                    "fallback",
+            if unsaid:  # the second try (open_categories): any category, a car preferred
+                car_value = Fraction(_member(category, "car"))
+                self.problem.preferred[category.name] = (car_value, car_value)
+            else:
+                # without the constraints that mention it, the vehicle would be a car: the
+                # solver holds this while it looks for the lines a conflict cannot do without
+                self.problem.add(
+                    ir.Constraint(
+                        ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
+                        param.name_span or self.problem.span,
+                        "placement",
+                        f"`{name}` is a car when nothing says otherwise",
+                        "hard",
+                        category,
+                        f"`{name}` is a car when nothing says otherwise",
+                        "fallback",
+                    )
                 )
-            )
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
             body = ActorBody(kind, car, *self._row_terms(car))
