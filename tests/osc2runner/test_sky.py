@@ -109,7 +109,7 @@ def test_the_scenario_reads_the_sun_the_moon_and_the_date(tmp_path):
     assert _samples(result, "moon") == [
         pytest.approx(math.degrees(moon_position(noon + seconds, lat, 0.0)[0]), abs=1e-6)
     ]
-    assert _samples(result, "when") == [pytest.approx(noon)]
+    assert _samples(result, "when") == [pytest.approx(noon + seconds)]  # it runs on
     # the assigned position holds at once: the until ends the drive in its first tick
     assigned = result.event_ticks("end", "env.assign_celestial_position")[0]
     assert result.event_ticks("end", "car.drive")[-1] == assigned
