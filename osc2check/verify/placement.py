@@ -66,6 +66,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.lane_steps import LaneSteps, one_of_members
 from osc2check.verify.lower import (
     MAX_DEPTH,
     InstanceScope,
@@ -779,7 +780,13 @@ class PlacementLowerer:
 
     def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
-        the vehicle reaches, whenever the phase runs."""
+        the vehicle reaches, whenever the phase runs; so does a lane change, from the lane
+        the actor is in then (``lane_steps``)."""
+        scenarios = [s.decl for s in self.model.symbols if s.kind is SymbolKind.SCENARIO]
+        rules = {road.rule for road in placement.network.roads.values()}
+        steps = LaneSteps(
+            self.model, self._value, one_of_members(d for d in scenarios if d), rules != {"LHT"}
+        )
         for member in self._bodies(self.scenario):
             for inv, scope in self._all_invocations(member, self._root_scope()):
                 self.scope = scope
@@ -794,7 +801,21 @@ class PlacementLowerer:
                         self._phase_limit(actor, item, placement)
                     elif item.name.text == "along":
                         self._mod_along(actor, self._args(item), item, placement, at_start=False)
+                for change in steps.run(actor.name, actor.lane, inv, self._phase_lane(actor)):
+                    lanes = placement.terms.lanes(None, change.lane, ir.Ref(actor.s), phase=True)
+                    self._implicit(lanes, change.inv.span, "lane-range", change.text)
         self.scope = self._root_scope()
+
+    def _phase_lane(self, actor: PlacedActor) -> Callable[[ast.Invocation], ir.Var | None]:
+        """The variable of the lane a later phase's `lane(k)` gives ``actor`` (None for one
+        applied at the start)."""
+
+        def lane(item: ast.Invocation) -> ir.Var | None:
+            if id(item) in self.applied:
+                return None
+            return self.problem.variables.get(self._phase_name(actor, item, "lane"))
+
+        return lane
 
     def _phase_limit(
         self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement

@@ -132,15 +132,8 @@ def _control_files(model: Model, scenario: Symbol) -> list[tuple[str | None, ast
             continue
         if sym.name != "set_traffic_lights_control_file":
             continue
-        value = next(
-            (
-                a.value
-                for a in member.arguments
-                if isinstance(a, ast.PositionalArgument)
-                or (isinstance(a, ast.NamedArgument) and a.name.text == "file")
-            ),
-            None,
-        )
+        binding = model.binding(member)
+        value = binding.value("file") if binding is not None else None
         if isinstance(value, ast.StringLiteral):
             found.append((value.value, value))
         else:
