@@ -609,16 +609,23 @@ class PlacementLowerer:
         return actor
 
     def _on_road(self, actor: PlacedActor) -> None:
-        """The actor's sides stay on the road (with its lateral offset)."""
+        """The actor's sides stay on the road (with its lateral offset): a vehicle's on
+        the driving lanes, a person's or an animal's on any lane, sidewalks included."""
         body = actor.body
         terms = self.terms
+        walker = actor.kind in ("person", "animal")
         self._implicit(
             terms.across(
-                actor.road, ir.Ref(actor.lane), ir.Ref(actor.t), ir.Ref(actor.s), _half(body.width)
+                actor.road,
+                ir.Ref(actor.lane),
+                ir.Ref(actor.t),
+                ir.Ref(actor.s),
+                _half(body.width),
+                walker,
             ),
             actor.span,
             "road-extent",
-            terms.across_text(actor.name, body.size_text(body.width, "wide")),
+            terms.across_text(actor.name, body.size_text(body.width, "wide"), walker),
             because=body.because,
         )
 
