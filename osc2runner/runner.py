@@ -58,7 +58,7 @@ from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
-from osc2runner.instance.actors import environment_observer
+from osc2runner.instance.actors import environment_sky
 from osc2runner.instance.light_plans import control_plans
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
@@ -67,6 +67,7 @@ from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
 from osc2runner.sim import World, versions
+from osc2runner.sim.sky import Sky
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sut.driver import sut_info
 from osc2runner.sut.loading import SutError, SutSpec, choose_actor
@@ -242,7 +243,8 @@ def compile_checked(
         raise ScenarioError(problems + plan_problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
     run_plans(run_ctx, plans)
-    run_ctx.sky.observer = environment_observer(instance.actors, instance.values)
+    site, start = environment_sky(instance.actors, instance.values)
+    run_ctx.sky = Sky(site, start, clock=run_ctx.sky.clock)
     env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:

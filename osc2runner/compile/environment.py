@@ -103,14 +103,8 @@ class CompileEnvironment:
             # its position is read live; one nothing gives is a run fault here
             return constant(LightSource(member, self.run.sky, lambda why: RunFault(why, node)))
         if actor.kind == "environment" and member == "datetime":
-            # the world's clock runs with the simulation: the witness's start datetime
-            # (0 s, the Unix epoch, when nothing constrains it) plus the simulated time
-            run = self.run
-            given = (
-                to_runtime(actor.attributes["datetime"]) if "datetime" in actor.attributes else 0
-            )
-            start = float(given) if isinstance(given, (int, float)) else 0.0
-            return lambda: start + run.time
+            # the world's clock runs with the simulation (sim.sky, one home)
+            return self.run.sky.now
         if member in actor.attributes:
             return constant(to_runtime(actor.attributes[member]))
         if member == "name":

@@ -35,7 +35,7 @@ from osc2check.world.catalogue import MODELS, ActorRow, category_row, kind_row
 from osc2runner.instance.bodies import ActorParams, body_params
 from osc2runner.instance.values import ScenarioValues, scenario_fields
 
-__all__ = ["Actor", "actor_kind", "environment_observer", "scenario_actors"]
+__all__ = ["Actor", "actor_kind", "environment_sky", "scenario_actors"]
 
 _KINDS = (
     ("vehicle", "vehicle"),
@@ -123,20 +123,24 @@ def scenario_actors(
     return actors
 
 
-#: the environment's members that place and time the observer of the sky
-OBSERVER = ("geodetic_position.latitude", "geodetic_position.longitude", "datetime")
+#: the environment's members that place the observer of the sky
+SITE = ("geodetic_position.latitude", "geodetic_position.longitude")
 
 
-def environment_observer(
+def environment_sky(
     actors: list[Actor], values: ScenarioValues
-) -> tuple[float, float, float] | None:
-    """``(latitude, longitude, datetime)`` (radians, radians, Unix seconds) of the first
-    environment actor whose constraints give all three, else None (``sim.sky``)."""
+) -> tuple[tuple[float, float] | None, float | None]:
+    """The world's place and start time (``sim.sky``): ``(latitude, longitude)`` (radians)
+    of the first environment actor whose constraints give both, and the ``datetime``
+    (Unix seconds) of the first whose constraints give it; None for what none gives."""
+    site: tuple[float, float] | None = None
+    start: float | None = None
     for actor in actors:
         if actor.kind != "environment":
             continue
-        found = [values.constrained_si(f"{actor.name}.{member}") for member in OBSERVER]
-        if all(v is not None for v in found):
-            latitude, longitude, datetime = found
-            return float(latitude), float(longitude), float(datetime)  # type: ignore[arg-type]
-    return None
+        latitude, longitude = (values.constrained_si(f"{actor.name}.{m}") for m in SITE)
+        if site is None and latitude is not None and longitude is not None:
+            site = (latitude, longitude)
+        if start is None:
+            start = values.constrained_si(f"{actor.name}.datetime")
+    return site, start

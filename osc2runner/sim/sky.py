@@ -150,18 +150,27 @@ class LightSource:
 
 
 class Sky:
-    """Where the sun and the moon are (see the module docstring). ``observer`` is the
-    environment's ``(latitude, longitude, datetime)`` when all three are given; ``clock``
-    the simulated time since the scenario's start."""
+    """Where the sun and the moon are (see the module docstring), and the world's clock.
+    ``site`` is the environment's ``(latitude, longitude)`` when both are given, ``start``
+    its ``datetime`` at the scenario's start (Unix seconds), ``dated`` whether a constraint
+    gives it; ``clock`` the simulated time since the start."""
 
     def __init__(
         self,
-        observer: tuple[float, float, float] | None = None,
+        site: tuple[float, float] | None = None,
+        start: float | None = None,
         clock: Callable[[], float] = lambda: 0.0,
     ) -> None:
-        self.observer = observer
+        self.site = site
+        self.start = 0.0 if start is None else start
+        self.dated = start is not None
         self.clock = clock
         self._assigned: dict[str, list[float | None]] = {}
+
+    def now(self) -> float:
+        """``env.datetime`` now: the start datetime (0 s, the Unix epoch, when nothing
+        gives it) plus the simulated time."""
+        return self.start + self.clock()
 
     def assign(self, name: str, azimuth: float | None, elevation: float | None) -> None:
         """``assign_celestial_position``: put ``name`` there; an angle not given keeps the
@@ -185,11 +194,11 @@ class Sky:
                 missing = "azimuth" if azimuth is None else "elevation"
                 raise LookupError(f"the {name}'s {missing} was never assigned")
             return azimuth, elevation
-        if self.observer is None:
+        if self.site is None or not self.dated:
             raise LookupError(
                 f"the {name} has no position: give the environment's geodetic_position and "
                 f"datetime, or assign it with assign_celestial_position"
             )
-        latitude, longitude, start = self.observer
+        latitude, longitude = self.site
         model = sun_position if name == "sun" else moon_position
-        return model(start + self.clock(), latitude, longitude)
+        return model(self.now(), latitude, longitude)

@@ -56,7 +56,7 @@ def test_the_full_moon_stands_opposite_the_sun():
 
 
 def test_an_assigned_position_stays_and_an_angle_not_given_keeps_its_value():
-    sky = Sky((math.radians(48.0), 0.0, float(SOLSTICE)), clock=lambda: 43200.0)
+    sky = Sky((math.radians(48.0), 0.0), float(SOLSTICE), clock=lambda: 43200.0)
     sky.assign("sun", math.radians(120.0), None)
     azimuth, elevation = sky.position("sun")
     assert math.degrees(azimuth) == pytest.approx(120.0)
