@@ -212,3 +212,41 @@ def test_a_driven_corner_is_blended_over_the_distance_a_car_turns_in():
     cut = v * v * change * change / (8.0 * CORNER_ACCEL)  # the parabola's cut at the corner
     y = driven.xy[:, 1][np.searchsorted(driven.xy[:, 0], 40.0)]
     assert 3.5 - y == pytest.approx(cut, rel=0.02)
+
+
+def test_a_relative_odr_trajectory_in_the_lane_frame_keeps_its_lane_and_its_times(tmp_path):
+    """§8.8 ``follow_trajectory(relative:, transform: lane_relative)`` with
+    ``relative_trajectory_odr``: ``s`` along the reference's lane from where it is, ``t``
+    from its lane's centre (docs/runner.md); 120 m in 9 s from s 170 m, on the arc."""
+    result = _run(
+        tmp_path,
+        """\
+    a: odr_point with:
+        keep(it.road_id == "7")
+        keep(it.lane_id == "7")
+        keep(it.s == 0m)
+        keep(it.t == 0m)
+    b: odr_point with:
+        keep(it.road_id == "7")
+        keep(it.lane_id == "7")
+        keep(it.s == 120m)
+        keep(it.t == 0m)
+    rt: relative_trajectory_odr with:
+        keep(it.points == [a, b])
+        keep(it.time_stamps == [0s, 9s])
+        keep(it.interpolation == straight_line)
+    do serial:
+"""
+        + START.format(s=170)
+        + """\
+        car.follow_trajectory(relative: rt, reference: car, transform: lane_relative)
+""",
+    )
+    car = result.telemetry["car"]
+    rows = _rows(result, "follow_trajectory")
+    cx, cy, radius = _arc()
+    r = np.hypot(car["x"][rows] - cx, car["y"][rows] - cy)
+    assert np.abs(r - radius).max() < 0.1  # the lane's circle: along the lane, not a chord
+    start = result.event_ticks("start", "car.follow_trajectory")[0]
+    assert car["s"][start + round(4.5 / 0.05)] == pytest.approx(230.0, abs=0.5)
+    assert result.event_ticks("end", "car.follow_trajectory")[0] - start == 180
