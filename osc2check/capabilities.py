@@ -33,12 +33,9 @@ from osc2check.syntax.walk import walk
 
 __all__ = ["FORMS", "NOT_EXECUTED", "Form", "absent_reason", "label_of", "not_executed"]
 
-_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
-
 #: The library's actions, modifiers and ``is undefined`` methods the runner does not
 #: execute (``owner.name``), and why.
 NOT_EXECUTED: dict[str, str] = {
-    "map.crossing_connects": _CROSSINGS,
     "physical_object.set_bm": (
         "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
         "kind has one driver model"
@@ -166,6 +163,9 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic]) -> None:
             if isinstance(item, ast.Invocation):
                 _form(found, item.span, "composition_modifier")
         return
+    if isinstance(node, ast.Call):
+        _method_call(model, node, found)
+        return
     if not isinstance(node, ast.Invocation) or binding is None:
         return
     callee = binding.callee
@@ -188,6 +188,18 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic]) -> None:
         for item in node.with_members:
             if isinstance(item, ast.Invocation):
                 _heading(model, node, item, found)
+
+
+def _method_call(model: Model, node: ast.Call, found: list[Diagnostic]) -> None:
+    """A call of a library method the runner does not implement (``set_bm``)."""
+    name = node.callee_name
+    method = model.references.get(name) if name is not None else None
+    if not isinstance(method, Symbol) or method.kind is not SymbolKind.METHOD:
+        return
+    if method.library or method.toolkit:
+        reason = absent_reason(label_of(method))
+        if reason:
+            found.append(messages.not_executed(node.span, f"`{label_of(method)}`", reason))
 
 
 def _heading(

@@ -34,18 +34,21 @@ from typing import Any
 import numpy as np
 
 from osc2check.verify.map_modifiers import ElementValue
+from osc2check.world.crossings import crossing_points
 from osc2check.world.network import LaneRef
 from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
 from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
+from osc2runner.sim.tracking import Polyline
 
 __all__ = [
     "CompoundRoute",
     "OdrPoint",
     "RoutePoint",
     "XyzPoint",
+    "crossing_path",
     "follow_route",
     "is_map_route",
     "map_point_xy",
@@ -180,9 +183,25 @@ def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
 # ---------------------------------------------------------------------- along
 
 
+def crossing_path(ctx: RunContext, value: object, x: float, y: float) -> Polyline | None:
+    """``along(route: c)`` of a crossing the witness chose, from ``(x, y)``: to the end of
+    the crossing nearer to it, then straight across to the other end (**choice**: a
+    person crosses from the kerb it stands at, either way); None for another value."""
+    if not isinstance(value, ElementValue) or value.kind != "crossing":
+        return None
+    crossing = next(c for c in ctx.network.crossings if c.id == value.crossing)
+    a, b = crossing_points(ctx.network, crossing)
+    if math.hypot(b[0] - x, b[1] - y) < math.hypot(a[0] - x, a[1] - y):
+        a, b = b, a
+    approach = [(x, y)] if math.hypot(a[0] - x, a[1] - y) > 0.1 else []
+    return Polyline([*approach, a, b], "straight_line")
+
+
 def is_map_route(value: object) -> bool:
     """Whether an `along` route is the map's (a road, route, lane, compound route or route
     point) rather than a world path."""
+    if isinstance(value, ElementValue) and value.kind == "crossing":
+        return False  # walked across (crossing_path)
     return bool(roads_of(value)) and not hasattr(value, "points")
 
 
@@ -240,6 +259,7 @@ LaneSide = _realised("lane_side")
 CompoundLaneSide = _realised("compound_lane_side")
 StartLane = _realised("start_lane")
 EndLane = _realised("end_lane")
+CrossingConnects = _realised("crossing_connects")
 
 
 # ---------------------------------------------------------------------- map methods

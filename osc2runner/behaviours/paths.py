@@ -350,9 +350,14 @@ class Along(_AlongModifier):
     route): the actor's lane following passes its roads (``behaviours.maps``)."""
 
     def realise(self, action: ActionBehaviour) -> None:
-        from osc2runner.behaviours.maps import follow_route, is_map_route
+        from osc2runner.behaviours.maps import crossing_path, follow_route, is_map_route
 
         self.motion = None
+        state = action.state
+        across = crossing_path(action.ctx, self.args.get("route"), state.x, state.y)
+        if across is not None:
+            self.motion = PathMotion(action, across)
+            return
         if is_map_route(self.args.get("route")):
             follow_route(self, action)
             return

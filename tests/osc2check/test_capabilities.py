@@ -47,14 +47,13 @@ def test_each_form_is_reported_once_with_its_reason(key: str) -> None:
     ]
 
 
-def test_a_library_modifier_the_runner_lacks_is_reported() -> None:
+def test_a_library_method_the_runner_lacks_is_reported() -> None:
     found = _a308(
-        "    c: crossing\n    l1: lane\n    l2: lane\n"
-        "    m.crossing_connects(crossing: c, start_lane: l1, end_lane: l2, start_s_coord: 10m)\n"
+        "    bm: behavioral_model\n    event go\n    on @go:\n        call car.set_bm(bm)\n"
     )
     assert found == [
-        "`map.crossing_connects` is not executed by osc2run: "
-        f"{NOT_EXECUTED['map.crossing_connects']} (docs/coverage.md)"
+        "`physical_object.set_bm` is not executed by osc2run: "
+        f"{NOT_EXECUTED['physical_object.set_bm']} (docs/coverage.md)"
     ]
 
 
