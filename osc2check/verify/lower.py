@@ -1020,11 +1020,13 @@ def lower_scenario(
     default_map: str = "default",
     member_decls: Declarations | None = None,
     maps: Mapping[str, str] | None = None,
+    open_categories: bool = False,
 ) -> ir.ConstraintProblem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 
     ``member_decls`` (from ``member_declarations(model)``) can be shared by the
-    scenarios of one model.
+    scenarios of one model; ``open_categories``: vehicles whose category nothing
+    constrains may be of any category (``placement.PlacementLowerer``).
     """
     from osc2check.verify.placement import lower_placement
     from osc2check.verify.timing import lower_timing
@@ -1034,7 +1036,9 @@ def lower_scenario(
     lowerer = Lowerer(model, problem, text_of, member_decls)
     lowerer.scenario(scenario)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
-    problem.placement = lower_placement(lowerer, scenario, default_map, maps)
+    problem.placement = lower_placement(
+        lowerer, scenario, default_map, maps, open_categories=open_categories
+    )
     lower_timing(lowerer, scenario)
     lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}

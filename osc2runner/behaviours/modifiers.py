@@ -25,6 +25,7 @@ from osc2runner.behaviours.driving import (
     lane_of,
     lane_width,
     offset_for_t,
+    offset_in,
     profile_for,
     retarget,
     set_speed,
@@ -542,11 +543,13 @@ class Lateral(Modifier):
             return other.t + sign * d * (other.direction or 1)
         return None
 
-    def _wanted(self, action: ActionBehaviour) -> float:
-        """The offset from the actor's lane centre asked for."""
+    def _wanted(self, action: ActionBehaviour, ref: LaneRef | None = None) -> float:
+        """The offset from the centre of the actor's lane (or of ``ref``) asked for."""
         t = self._target_t(action)
         if t is not None:
-            return offset_for_t(action.state, t)
+            if ref is None:
+                return offset_for_t(action.state, t)
+            return offset_in(action.ctx, action.state, ref, t)
         return float(self.args.get("distance", 0.0))
 
     def realise(self, action: ActionBehaviour) -> None:
@@ -562,7 +565,9 @@ class Lateral(Modifier):
         lateral = _lateral(action)
         state = action.state
         if lateral.route is None or state.lane_ref not in (lateral.route.lanes or ()):
-            lateral.keep_lane(lane_of(action.ctx, action.actor), self._wanted(action))
+            # a person on a sidewalk: from the driving lane beside it, as it was placed
+            ref = lane_of(action.ctx, action.actor, beside=True)
+            lateral.keep_lane(ref, self._wanted(action, ref))
         else:
             lateral.keep_offset(self._wanted(action))
 
@@ -572,8 +577,9 @@ class Lateral(Modifier):
         return self.holds(action) is None
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        want = self._wanted(action)
-        offset = action.state.offset
+        ref = lane_of(action.ctx, action.actor, beside=True)
+        want = self._wanted(action, ref)
+        offset = offset_in(action.ctx, action.state, ref)
         if abs(offset - want) <= LATERAL_TOLERANCE:
             return None
         return f"it is {offset - want:+.2f} m from the lateral position asked"

@@ -34,6 +34,7 @@ from osc2check.world.network import RoadNetwork
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
+from osc2runner.sim.sky import Sky
 
 if TYPE_CHECKING:
     from osc2runner.sim import ActorState, World
@@ -248,6 +249,8 @@ class RunContext:
         self.traffic_lights: dict[str, Any] = {}
         #: ``env.weather`` as the environment actions set it
         self.weather: Any = initial_weather()
+        #: ``env.sun`` and ``env.moon`` (``runner`` gives it the environment's observer)
+        self.sky = Sky(clock=lambda: self.time)
         #: every environment action, in order (what it set, when)
         self.environment_changes: list[EnvironmentChange] = []
         self.collisions_allowed: dict[str, int] = {}
