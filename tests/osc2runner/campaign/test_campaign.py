@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -112,6 +113,18 @@ def _short(tmp_path: Path) -> Path:
     return path
 
 
+class _ClockThatJumps:
+    """A campaign's wall clock that stands still until ``trigger`` exists, then reads an
+    hour later for good: with one worker, the run in progress at the jump is the only one
+    over a limit of 1 s, however loaded the machine is."""
+
+    def __init__(self, trigger: Path) -> None:
+        self.trigger = trigger
+
+    def __call__(self) -> float:
+        return 3600.0 if self.trigger.exists() else 0.0
+
+
 def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(
@@ -124,16 +137,20 @@ def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path
     assert by_seed[2].status == "error" and "died" in by_seed[2].reason
     assert [by_seed[s].status for s in (0, 1, 3)] == ["success"] * 3
     assert result.summary["failed"] == 1 and result.status == "complete"
+    suts = Path(shutil.copy(SUTS, tmp_path / "suts.py"))  # its `stuck` lands in tmp_path
     slow = run_campaign(
         CampaignOptions(
-            str(path), runs=3, out=str(tmp_path / "d"), jobs=2, run_timeout=1.0,
-            sut=SutSpec(f"{SUTS}:SlowOnSeed").resolved(),
-        )
+            str(path), runs=3, out=str(tmp_path / "d"), jobs=1, run_timeout=1.0,
+            sut=SutSpec(f"{suts}:StuckOnSeed").resolved(),
+        ),
+        clock=_ClockThatJumps(tmp_path / "stuck"),
     )  # fmt: skip
     by_seed = {r.seed: r for r in slow.records}
     assert by_seed[1].status == "error" and "wall-clock limit of 1 s" in by_seed[1].reason
-    # the stopped run still wrote its files, ended at a tick boundary
-    assert (tmp_path / "d" / "runs" / "1" / "run.json").is_file()
+    # the stopped run still wrote its files, ended at a tick boundary, long before its end
+    meta = json.loads((tmp_path / "d" / "runs" / "1" / "run.json").read_text())
+    assert meta["outcome"]["status"] == "interrupted" and meta["outcome"]["signal"] == "SIGTERM"
+    assert 0 < meta["steps"] < 60
     assert by_seed[0].status == by_seed[2].status == "success"
 
 
