@@ -140,7 +140,7 @@ def test_edit_storms_end_with_the_clis_findings(raw_server, edits):
                 and m["params"].get("version") == version
                 and lsp_findings(m["params"]["diagnostics"]) == expected
             ),
-            timeout=30,
+            timeout=300,  # a hang guard
         )
     finally:
         raw_server.notify("textDocument/didClose", {"textDocument": {"uri": uri}})

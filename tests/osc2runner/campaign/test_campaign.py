@@ -50,22 +50,27 @@ def osc2run(*args: str, **kw: object) -> subprocess.CompletedProcess[str]:
     )  # fmt: skip
 
 
+CUT_IN_RUNS = 6  # enough to see the seeds' witnesses differ; the outputs are the same for 40
+
+
 @pytest.fixture(scope="module")
 def cut_in_campaign(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("cut_in") / "campaign"
-    done = osc2run(str(CUT_IN), "--runs", "40", "--jobs", "2", "--out", str(out))
+    done = osc2run(str(CUT_IN), "--runs", str(CUT_IN_RUNS), "--jobs", "2", "--out", str(out))
     assert done.returncode == 0, done.stderr + done.stdout
-    assert "40 of 40 runs, 40 passed" in done.stdout
+    n = CUT_IN_RUNS
+    assert f"{n} of {n} runs, {n} passed" in done.stdout
     return out
 
 
-def test_forty_runs_write_the_five_outputs(cut_in_campaign: Path) -> None:
+@pytest.mark.xdist_group("cut_in_campaign")
+def test_a_campaign_writes_the_five_outputs(cut_in_campaign: Path) -> None:
     out = cut_in_campaign
     for name in ("campaign.json", "runs.csv", "junit.xml", "report.html"):
         assert (out / name).is_file(), name
     doc = json.loads((out / "campaign.json").read_text())
     seeds = [r["seed"] for r in doc["runs"]]
-    assert sorted(seeds) == list(range(40))
+    assert sorted(seeds) == list(range(CUT_IN_RUNS))
     assert doc["status"] == "complete" and doc["summary"]["pass_rate"] == 1.0
     for seed in seeds:
         run_dir = out / "runs" / str(seed)
@@ -73,10 +78,10 @@ def test_forty_runs_write_the_five_outputs(cut_in_campaign: Path) -> None:
             p.name for p in run_dir.iterdir()
         }
     suite = ET.parse(out / "junit.xml").getroot().find("testsuite")
-    assert suite is not None and suite.get("tests") == "40" and suite.get("failures") == "0"
-    assert len(suite.findall("testcase")) == 40
+    assert suite is not None and suite.get("tests") == str(CUT_IN_RUNS)
+    assert suite.get("failures") == "0" and len(suite.findall("testcase")) == CUT_IN_RUNS
     rows = (out / "runs.csv").read_text().splitlines()
-    assert len(rows) == 41 and rows[0].startswith("seed,bin,outcome")
+    assert len(rows) == CUT_IN_RUNS + 1 and rows[0].startswith("seed,bin,outcome")
     # every parameter of the cut-in is fixed (`v_hero: speed = 35kph`), and recorded per run
     assert {r["parameters"]["v_hero"]["text"] for r in doc["runs"]} == {"35 kph"}
     # the witnesses differ: the start position is drawn per seed
@@ -84,12 +89,13 @@ def test_forty_runs_write_the_five_outputs(cut_in_campaign: Path) -> None:
         json.loads((out / "runs" / str(s) / "run.json").read_text())["actors"]["hero"]["start"]["s"]
         for s in seeds
     }
-    assert len(positions) == 40
+    assert len(positions) == CUT_IN_RUNS
 
 
+@pytest.mark.xdist_group("cut_in_campaign")
 def test_a_campaign_run_replays_alone_byte_identical(cut_in_campaign: Path, tmp_path: Path) -> None:
     doc = json.loads((cut_in_campaign / "campaign.json").read_text())
-    for run in doc["runs"][::13]:  # seeds 0, 13, 26, 39
+    for run in (doc["runs"][0], doc["runs"][-1]):  # the first seed and the last
         assert run["replay"] == f"osc2run {CUT_IN} --seed {run['seed']}"
         alone = tmp_path / str(run["seed"])
         done = osc2run(str(CUT_IN), "--seed", str(run["seed"]), "--out", str(alone), "-q")
@@ -100,6 +106,7 @@ def test_a_campaign_run_replays_alone_byte_identical(cut_in_campaign: Path, tmp_
             ).read_bytes()
 
 
+@pytest.mark.xdist_group("cut_in_campaign")
 def test_report_is_one_self_contained_file(cut_in_campaign: Path) -> None:
     page = (cut_in_campaign / "report.html").read_text()
     assert page.count("data:image/png;base64,") >= 1
