@@ -25,6 +25,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
+import pytest
 import z3
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
@@ -232,6 +233,7 @@ def assert_witness_satisfies_every_keep(case: Scenario, analysis, witness: Witne
     assert hero.length / 2 <= hero.s <= 1000 - hero.length / 2  # the default road is 1000 m
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(scenarios())
 def test_a_witness_satisfies_every_keep_by_the_exact_evaluator(case: Scenario):
@@ -267,6 +269,7 @@ def satisfiable(problem, members) -> bool:
     return result == z3.sat
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(scenarios())
 def test_removing_any_line_of_a_conflict_removes_it(case: Scenario):

@@ -6,6 +6,8 @@ import asyncio
 import gc
 import weakref
 
+import pytest
+
 from osc2lsp.options import Options
 from osc2lsp.state import MAX_REPLACED, State
 from tests.osc2lsp.cli_findings import cli_findings
@@ -90,6 +92,7 @@ def test_closed_workspace_files_that_mention_a_name_are_analysed(tmp_path):
     assert again[0] is found[0]  # cached until the file changes
 
 
+@pytest.mark.slow
 def test_the_solver_phase_adds_its_findings_after_the_first():
     async def scenario():
         batches: list[list] = []

@@ -56,6 +56,7 @@ async def _probe(client, uri, text):
     )
 
 
+@pytest.mark.slow
 @pytest.mark.asyncio(loop_scope="session")
 async def test_typing_and_deleting_through_the_protocol(client: LanguageClient, doc_uri):
     seed = seed_text()
@@ -116,6 +117,7 @@ STORM_SETTINGS = {"verify": False, "diagnostics": {"debounce": 5}}
 _storm_count = itertools.count()
 
 
+@pytest.mark.slow
 @settings(
     max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )

@@ -63,6 +63,7 @@ def cut_in_campaign(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.xdist_group("cut_in_campaign")
 def test_a_campaign_writes_the_five_outputs(cut_in_campaign: Path) -> None:
     out = cut_in_campaign
@@ -92,6 +93,7 @@ def test_a_campaign_writes_the_five_outputs(cut_in_campaign: Path) -> None:
     assert len(positions) == CUT_IN_RUNS
 
 
+@pytest.mark.slow
 @pytest.mark.xdist_group("cut_in_campaign")
 def test_a_campaign_run_replays_alone_byte_identical(cut_in_campaign: Path, tmp_path: Path) -> None:
     doc = json.loads((cut_in_campaign / "campaign.json").read_text())
@@ -106,6 +108,7 @@ def test_a_campaign_run_replays_alone_byte_identical(cut_in_campaign: Path, tmp_
             ).read_bytes()
 
 
+@pytest.mark.slow
 @pytest.mark.xdist_group("cut_in_campaign")
 def test_report_is_one_self_contained_file(cut_in_campaign: Path) -> None:
     page = (cut_in_campaign / "report.html").read_text()
@@ -132,6 +135,7 @@ class _ClockThatJumps:
         return 3600.0 if self.trigger.exists() else 0.0
 
 
+@pytest.mark.slow
 def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(
@@ -161,6 +165,7 @@ def test_crash_and_wall_clock_limit_are_errors_and_the_campaign_goes_on(tmp_path
     assert by_seed[0].status == by_seed[2].status == "success"
 
 
+@pytest.mark.slow
 def test_plots_of_a_run_that_did_not_pass_are_those_of_plot(tmp_path: Path) -> None:
     """A campaign plots a run that did not pass after it: the same files ``--plot`` writes
     (``world.png`` with the map's lanes)."""
@@ -195,6 +200,7 @@ def test_the_report_links_every_plot_of_a_run(tmp_path: Path) -> None:
     assert "events.csv" not in links  # not there: not linked
 
 
+@pytest.mark.slow
 def test_records_and_coverage(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(CampaignOptions(str(path), runs=6, out=str(tmp_path / "c"), jobs=2))
@@ -222,6 +228,7 @@ def test_cover_strategy_fills_every_reachable_bin_and_reports_the_others(tmp_pat
     assert item["buckets"][3]["solver"] == "reachable" and states[3] == "filled"
 
 
+@pytest.mark.slow
 def test_directed_run_replays_alone_with_bin(tmp_path: Path) -> None:
     path = _short(tmp_path)
     result = run_campaign(
@@ -239,6 +246,7 @@ def test_directed_run_replays_alone_with_bin(tmp_path: Path) -> None:
     ).read_bytes()
 
 
+@pytest.mark.slow
 def test_ctrl_c_writes_what_finished_and_resume_does_the_rest(tmp_path: Path) -> None:
     path = _short(tmp_path)
     out = tmp_path / "c"
@@ -267,6 +275,7 @@ def test_ctrl_c_writes_what_finished_and_resume_does_the_rest(tmp_path: Path) ->
     assert doc["summary"]["passed"] == 8 and doc["plan"]["resumed"] == sorted(done_before)
 
 
+@pytest.mark.slow
 def test_resume_refuses_another_text(tmp_path: Path) -> None:
     path = _short(tmp_path)
     run_campaign(CampaignOptions(str(path), runs=1, out=str(tmp_path / "c"), jobs=1))
@@ -316,6 +325,7 @@ scenario grid:
 """
 
 
+@pytest.mark.slow
 def test_cross_coverage_fills_every_combination(tmp_path: Path) -> None:
     path = tmp_path / "grid.osc"
     path.write_text(GRID, encoding="utf-8")
@@ -332,6 +342,7 @@ def test_cross_coverage_fills_every_combination(tmp_path: Path) -> None:
     assert combos == {(v, s) for v in (10.0, 20.0, 30.0) for s in (-1, 1)}
 
 
+@pytest.mark.slow
 def test_resume_with_the_file_keeps_the_campaigns_options(tmp_path: Path) -> None:
     path = _short(tmp_path)
     out = tmp_path / "c"

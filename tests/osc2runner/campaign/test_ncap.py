@@ -25,6 +25,7 @@ GRIDS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(GRIDS))
 def test_the_grid_is_the_protocols(name: str) -> None:
     checked = check_file(NCAP / name)
@@ -35,6 +36,7 @@ def test_the_grid_is_the_protocols(name: str) -> None:
     assert reachable == parts
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["ccrs.osc", "ccrm.osc", "ccrb.osc", "cpna25.osc"])
 def test_each_test_runs_alone_and_without_braking_it_hits(name: str) -> None:
     result = run(NCAP / name, seed=1)
@@ -42,6 +44,7 @@ def test_each_test_runs_alone_and_without_braking_it_hits(name: str) -> None:
     assert result.outcome.reason.startswith("collision: ego and ")
 
 
+@pytest.mark.slow
 def test_the_example_aeb_avoids_at_low_speed_and_mitigates_at_50_kph(tmp_path: Path) -> None:
     path = NCAP / "ccrs.osc"
     worker = Worker(
