@@ -447,6 +447,8 @@ def _print_input_errors(exc: ScenarioError, err: TextIO) -> None:
     if exc.problems:
         n = len(exc.problems)
         err.write(f"osc2run: {n} problem{'s' if n != 1 else ''}; nothing ran\n")
+    elif all(d.code.code == "A308" for d in exc.diagnostics):  # capabilities.not_executed
+        err.write("osc2run: the checker found forms the runner does not execute; nothing ran\n")
     else:
         err.write("osc2run: the checker found errors; nothing ran\n")
     err.flush()

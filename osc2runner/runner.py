@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 import py_trees
 
+from osc2check import codes
 from osc2check.analysis import Analysis, SourceInput, analyze
 from osc2check.diagnostics import Severity
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
@@ -204,9 +205,15 @@ def check_file(
     ScenarioError for input errors (error diagnostics, no such scenario)."""
     uri, text = _read(path, source)
     analysis = analyze([SourceInput(uri, text)])
-    errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
-    if errors:
-        raise ScenarioError([], diagnostics=errors, texts=analysis.texts)
+    # an error, or a form the runner does not execute (A308, osc2check.capabilities):
+    # refused before tick 0 with the checker's own finding
+    refused = [
+        d
+        for d in analysis.diagnostics
+        if d.severity is Severity.ERROR or d.code is codes.NOT_EXECUTED
+    ]
+    if refused:
+        raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
     return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
 
 
