@@ -261,9 +261,10 @@ class LocalPool:
                 slot.why = "interrupted"
                 self._terminate(slot, now)
 
-    def close(self) -> None:
+    def close(self, wait: float = 5.0) -> None:
         """Stop the workers (idle ones are asked for their peak memory first; one still
-        checking the file reads the stop once it is ready)."""
+        checking the file reads the stop once it is ready); one still alive ``wait``
+        seconds later is killed."""
         for slot in self.slots:
             if slot.task is None:
                 try:
@@ -275,7 +276,7 @@ class LocalPool:
                 except (EOFError, OSError, BrokenPipeError):
                     pass
         for slot in self.slots:
-            slot.process.join(timeout=5.0)
+            slot.process.join(timeout=wait)
             if slot.process.is_alive():
                 slot.process.kill()
                 slot.process.join(timeout=1.0)

@@ -384,7 +384,9 @@ def test_closing_the_pool_stops_a_worker_still_checking_the_file(tmp_path: Path)
     pool.start(1)
     (slot,) = pool.slots
     assert not slot.ready
-    pool.close()  # the stop waits in the pipe: the worker leaves once ready, not killed
+    # the stop waits in the pipe: the worker leaves once ready, not killed (however long
+    # checking the file takes on a loaded machine: the wait is a hang guard)
+    pool.close(wait=300.0)
     assert slot.process.exitcode == 0
 
 
