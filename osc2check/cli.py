@@ -32,10 +32,12 @@ from osc2check.config import (
     OUTPUT_FORMATS,
     Config,
     ConfigError,
+    add_language_arguments,
     load_config,
     load_config_file,
     parse_codes,
     parse_severity,
+    with_language_arguments,
 )
 from osc2check.inputs import InputError, InputProblem
 from osc2check.output import render, render_statistics, tool
@@ -128,6 +130,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="lowest severity that makes the exit status 1 (default: error)",
     )
     p.add_argument("--exit-zero", action="store_true", help="exit 0 even when there are findings")
+    add_language_arguments(p)
     p.add_argument("--config", metavar="FILE", help="read the configuration from FILE")
     p.add_argument("--isolated", action="store_true", help="ignore configuration files")
     p.add_argument(
@@ -162,6 +165,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args[:1] == ["rule"]:
             return _rule_command(args[1:], sys.stdout)
+        if args[:1] == ["migrate"]:
+            return _migrate_command(args[1:], sys.stdout)
         return _check_command(args, sys.stdout)
     except BrokenPipeError:  # the reader went away (`osc2check . | head`): stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -199,6 +204,50 @@ def _rule_command(argv: list[str], out: TextIO) -> int:
     return EXIT_OK
 
 
+# --- osc2check migrate ------------------------------------------------------------
+
+
+def _migrate_command(argv: list[str], out: TextIO) -> int:
+    p = _ArgumentParser(
+        prog="osc2check migrate",
+        description="Write files of CARLA scenario_runner's OSC2 dialect as standard OSC2 "
+        "(what the toolkit reads them as). Each file's standard text goes to standard "
+        "output, or with --out to a file of the same name in that folder; the forms "
+        "rewritten are listed on standard error.",
+    )
+    p.add_argument("paths", nargs="+", metavar="FILE", help="the .osc files")
+    p.add_argument("--out", metavar="DIR", help="write FILE's name in DIR instead of printing")
+    p.add_argument(
+        "--dialect",
+        choices=("auto", "carla"),
+        default="auto",
+        help="carla: every file is CARLA's; auto (default): the files that import basic.osc",
+    )
+    args = p.parse_args(argv)
+    from osc2check.dialects.migrate import migrate
+
+    folder = Path(args.out) if args.out else None
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
+    status = EXIT_OK
+    for name in args.paths:
+        try:
+            data = inputs.read_bytes(name)
+        except InputError as exc:
+            sys.stderr.write(f"osc2check: error: {name}: cannot read: {exc}\n")
+            status = EXIT_ERROR
+            continue
+        text, _ = decode_source(data)
+        migration = migrate(text, name, args.dialect)
+        for form in migration.forms:
+            sys.stderr.write(f"{name}:{form.span.line}:{form.span.column}: {form.code} rewritten\n")
+        if folder is not None:
+            (folder / Path(name).name).write_text(migration.text, encoding="utf-8")
+        else:
+            out.write(migration.text)
+    return status
+
+
 # --- checking ---------------------------------------------------------------------
 
 
@@ -211,6 +260,7 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     )
     paths = args.paths or ["."]
     config = _with_options(_load_config(args, paths), args)
+    config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs
     sources, problems = _read(_collect(paths, config, args.stdin_filename))
     _report_problems(problems, args.quiet)
     failed = any(p.is_error for p in problems)
@@ -318,7 +368,7 @@ def _with_options(config: Config, args: argparse.Namespace) -> Config:
         changes["fail_on"] = parse_severity(args.fail_on, key="--fail-on")
     if args.output_format is not None:
         changes["output_format"] = FORMAT_ALIASES.get(args.output_format, args.output_format)
-    return replace(config, **changes)
+    return with_language_arguments(replace(config, **changes), args)
 
 
 def _display(path: Path) -> str:
@@ -368,31 +418,15 @@ def _walk(root: Path, config: Config) -> tuple[list[Path], list[InputProblem]]:
     check = not _excluded(config, root)  # a folder named explicitly is searched anyway
     found: list[Path] = []
     problems: list[InputProblem] = []
-
-    def unlisted(exc: OSError) -> None:
-        where = Path(exc.filename) if exc.filename else root
-        problems.append(_cannot_read(where, inputs.reason(exc)))
-
-    for dirpath, dirnames, filenames in os.walk(root, onerror=unlisted):
-        here = Path(dirpath)
-        dirnames[:] = sorted(
-            d for d in dirnames if not (check and _excluded(config, here / d, name_only=True))
-        )
-        for name in sorted(filenames):
-            path = here / name
-            if not name.endswith(".osc") or (check and _excluded(config, path, name_only=True)):
-                continue
-            try:
-                why = inputs.not_regular(inputs.probe(path))
-            except InputError as exc:
-                problems.append(_cannot_read(path, str(exc)))
-                continue
-            if why is None:
-                found.append(path)
-            else:
-                problems.append(
-                    InputProblem(_display_as_given(path), f"skipped: {why}", Severity.INFO)
-                )
+    for met in inputs.walk(root, lambda p: check and _excluded(config, p, name_only=True)):
+        if met.why is None:
+            found.append(met.path)
+        elif met.error:
+            problems.append(_cannot_read(met.path, met.why))
+        else:
+            problems.append(
+                InputProblem(_display_as_given(met.path), f"skipped: {met.why}", Severity.INFO)
+            )
     return found, problems
 
 

@@ -39,14 +39,16 @@ import py_trees
 
 from osc2check import codes
 from osc2check.analysis import Analysis, SourceInput, analyze
+from osc2check.config import Config, ConfigError, config_for
 from osc2check.diagnostics import Severity
+from osc2check.plugins import PluginError
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.registry import standard_registry
+from osc2runner.compile.registry import MethodRegistry, standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
@@ -54,7 +56,7 @@ from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for, drive_with_sut
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
-from osc2runner.execution.signals import Interrupts
+from osc2runner.execution.signals import Interrupts, exit_status, signal_name
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.lights import traffic_lights
@@ -63,9 +65,10 @@ from osc2runner.options import check_duration, check_out, check_seed, check_step
 from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
+from osc2runner.plugin_behaviours import runner_registry
 from osc2runner.sim import World, versions
 from osc2runner.sim.vehicle import VehicleParams
-from osc2runner.sut.driver import sut_info
+from osc2runner.sut.driver import SutFault, call_sut, sut_info
 from osc2runner.sut.loading import SutError, SutSpec, choose_actor
 
 __all__ = [
@@ -159,6 +162,7 @@ class Prepared(Compiled):
 
     world: World
     sut: dict[str, str] | None = None  # the system under test: its class and actor
+    sut_fault: str | None = None  # the SUT failed to start (construction, reset): a run error
 
 
 # ---------------------------------------------------------------------- preparation
@@ -196,15 +200,31 @@ class Checked:
     uri: str
     analysis: Analysis
     scenario: Symbol
+    registry: MethodRegistry = field(default_factory=standard_registry)  # with the plug-ins
 
 
 def check_file(
-    path: str | Path, *, scenario: str | None = None, source: str | None = None
+    path: str | Path,
+    *,
+    scenario: str | None = None,
+    source: str | None = None,
+    config: Config | None = None,
 ) -> Checked:
     """Parse, resolve and verify a file and choose the scenario to run; raises
-    ScenarioError for input errors (error diagnostics, no such scenario)."""
+    ScenarioError for input errors (error diagnostics, no such scenario).
+
+    ``config`` is the checker's configuration (``[tool.osc2check]``: OSC2 version,
+    dialect, maps, search paths, module map, the findings' policy); None reads the
+    one that applies to ``path``, as ``osc2check`` does.
+    """
     uri, text = _read(path, source)
-    analysis = analyze([SourceInput(uri, text)])
+    if config is None:
+        config = config_for(path)
+    try:
+        registry = runner_registry(config.plugin_registry())
+    except (ConfigError, PluginError) as exc:
+        raise ScenarioError([RunProblem(f"{uri}: {exc}")]) from None
+    analysis = analyze([SourceInput(uri, text)], config.analysis_options())
     # an error, or a form the runner does not execute (A308, osc2check.capabilities):
     # refused before tick 0 with the checker's own finding
     refused = [
@@ -214,7 +234,7 @@ def check_file(
     ]
     if refused:
         raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
-    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
+    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario), registry)
 
 
 def compile_checked(
@@ -235,7 +255,7 @@ def compile_checked(
     if problems:
         raise ScenarioError(problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
-    env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
+    env = CompileEnvironment(model, instance.values, checked.registry, run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
@@ -249,11 +269,12 @@ def compile_file(
     seed: int = 0,
     dt_control: float = 0.05,
     source: str | None = None,
+    config: Config | None = None,
 ) -> Compiled:
     """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
     for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
     """
-    checked = check_file(path, scenario=scenario, source=source)
+    checked = check_file(path, scenario=scenario, source=source, config=config)
     return compile_checked(checked, seed=seed, dt_control=dt_control)
 
 
@@ -272,18 +293,25 @@ def build_world(
     controllers = controllers_for(world, routes, ctx.seed)
     ctx.attach(world, controllers)
     seat: dict[str, str] | None = None
+    fault: str | None = None
     if sut is not None and sut_actor is not None:
         params = world.params(sut_actor)
         assert isinstance(params, VehicleParams)
-        instance = sut.make()
-        reset = getattr(instance, "reset", None)
-        if callable(reset):
-            reset(sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name))
-        drive_with_sut(controllers, world, ctx.states, sut_actor, instance, ctx.record)
         seat = {"class": sut.target, "actor": sut_actor}
+        try:
+            instance = sut.make()
+            reset = getattr(instance, "reset", None)
+            if callable(reset):
+                info = sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name)
+                call_sut(type(instance).__name__, "reset", sut.step_timeout, reset, info)
+            drive_with_sut(
+                controllers, world, ctx.states, sut_actor, instance, ctx.record, sut.step_timeout
+            )
+        except SutFault as exc:  # the run ends before its first tick, as an error
+            fault = str(exc)
     for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
-    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world, seat)
+    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world, seat, fault)
 
 
 def _sut_actor(c: Compiled, sut: SutSpec) -> str:
@@ -319,9 +347,12 @@ def prepare(
     dt_physics: float = 0.002,
     source: str | None = None,
     sut: SutSpec | None = None,
+    config: Config | None = None,
 ) -> Prepared:
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
-    c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
+    c = compile_file(
+        path, scenario=scenario, seed=seed, dt_control=dt_control, source=source, config=config
+    )
     return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
 
 
@@ -341,6 +372,7 @@ def run(
     progress: Callable[[float, float, float], None] | None = None,
     source: str | None = None,
     sut: SutSpec | str | None = None,
+    config: Config | None = None,
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
 
@@ -359,6 +391,9 @@ def run(
         source: the file's text, instead of reading ``path``.
         sut: the system under test (:mod:`osc2runner.sut`): a ``SutSpec``, or
             ``"module:Class"`` for the actor named ``sut`` or ``ego``.
+        config: the checker's configuration (``osc2check.config.Config``: the OSC2
+            version, dialect, maps, search paths, ...); None reads ``[tool.osc2check]``
+            from the nearest configuration file above ``path``, as ``osc2check`` does.
 
     The result's outcome is ``error`` (and the files are written) when the physics
     diverged. Called from the main thread, the run installs handlers for SIGINT,
@@ -388,6 +423,7 @@ def run(
         dt_physics=dt_physics,
         source=source,
         sut=spec,
+        config=config,
     )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 
@@ -400,13 +436,19 @@ def execute(
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
     export: ExportTargets | None = None,
+    hard_stop: Callable[[RunResult, int], None] | None = None,
 ) -> RunResult:
     """Tick a prepared scenario to its end and write its files (see :func:`run`), and
     the exports ``export`` names (:mod:`osc2runner.export`), before ``run.json``.
 
     Signals are noted from before the first tick until the files are written
     (:class:`~osc2runner.execution.signals.Interrupts`): the first one ends the
-    loop at a tick boundary, later ones cannot cut a file short.
+    loop at a tick boundary (or where it is, in the system under test's code),
+    later ones cannot cut a file short. With ``hard_stop`` (for a command's own
+    process), a system under test that does not stop (a second signal, or its budget
+    run out twice) is left where it is: the files are written from the signal handler
+    and ``hard_stop(result, status)`` is called with the exit status; it must end the
+    process (``os._exit``).
     """
     world = prepared.world
     seconds = check_duration(duration)
@@ -414,19 +456,30 @@ def execute(
     limit = DEFAULT_TIME_LIMIT if seconds is None else seconds
     if log.isEnabledFor(logging.DEBUG):
         progress = _logging(progress)
-    with Interrupts() as interrupts:
-        loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
+    loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
+
+    def stop_now(status: str, reason: str, signum: int | None) -> None:
+        assert hard_stop is not None
+        interrupts.consumed = True  # nothing more is taken from here on
+        name = signal_name(signum) if signum is not None else None
+        ctx = prepared.ctx
+        outcome = RunOutcome(status, reason, ctx.tick, ctx.time, signal=name)
+        ctx.record("outcome", outcome.status, outcome.reason)
+        result = _finish(prepared, loop.recorder, outcome, 0.0, folder, plot, export)
+        log.error("%s: the run ended at tick %d, its files written", reason, ctx.tick)
+        hard_stop(result, exit_status(signum) if signum is not None else 2)
+
+    with Interrupts(hard_stop=stop_now if hard_stop is not None else None) as interrupts:
         log.debug(
             "ticking scenario %s (signals caught: %s)", prepared.scenario.name, interrupts.installed
         )
-        ticked = loop.run(progress, interrupts)
+        ticked = loop.run(progress, interrupts, fault=prepared.sut_fault)
+        interrupts.writing = True
         result = _finish(
             prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, folder, plot, export
         )
     if ticked.outcome.status == "interrupted":
-        raise RunInterrupted(result, interrupts.first if interrupts.consumed else None) from (
-            ticked.error
-        )
+        raise RunInterrupted(result, ticked.signum) from ticked.error
     if ticked.error is not None:
         raise ticked.error
     return result

@@ -17,13 +17,14 @@ constraint that lowering could not encode is reported once (C411).
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 
 from osc2check import codes, messages
 from osc2check.capabilities import not_executed
 from osc2check.diagnostics import Diagnostic, Related
+from osc2check.plugins import PluginRegistry
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.roots import invokers
@@ -48,6 +49,7 @@ from osc2check.verify.z3_backend import (
     solve,
 )
 from osc2check.world.catalogue import WALKING_SPEED
+from osc2check.world.maps import is_carla_town
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -137,17 +139,19 @@ def source_text(program: Program) -> TextOf:
             return " ".join(strip_comment(part).strip() for part in chosen)
         end = span.end
         open_count = _open_brackets(text[span.start : end])
-        while open_count > 0 and end < len(text):
-            rest = len(text[end:]) - len(text[end:].lstrip(" \t"))
-            if end + rest < len(text) and text[end + rest] in ")]":
-                end += rest + 1
-                open_count -= 1
-            else:
+        while open_count > 0:  # no slice of the rest: a closer a time (1 MB of them)
+            closer = _CLOSER.match(text, end)
+            if closer is None:
                 break
+            end = closer.end()
+            open_count -= 1
         parts = text[span.start : end].splitlines()
         return " ".join(p for p in (strip_comment(part).strip() for part in parts) if p)
 
     return text_of
+
+
+_CLOSER = re.compile(r"[ \t]*[)\]]")
 
 
 def _open_brackets(text: str) -> int:
@@ -184,11 +188,18 @@ def verify_program(
     rlimit: int | None = None,
     timeout_ms: int | None = None,
     default_map: str = "default",
+    maps: Mapping[str, str] | None = None,
+    plugins: PluginRegistry | None = None,
 ) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
     Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``);
-    ``rlimit`` and ``timeout_ms`` bound each solver call (defaults: z3_backend's).
+    ``rlimit`` and ``timeout_ms`` bound each solver call (defaults: z3_backend's), and
+    the solver checks at most ``MAX_SCENARIOS`` scenarios of a file (each one past
+    them is C408: it is checked alone with ``scenario``). ``default_map`` is the map
+    of a scenario that names none; ``maps`` gives the files of map names
+    (``[tool.osc2check.maps]``); ``plugins`` the plug-ins that implement behaviours of
+    the user's libraries (the others are A308).
     """
     rlimit = DEFAULT_RLIMIT if rlimit is None else rlimit
     timeout_ms = DEFAULT_TIMEOUT_MS if timeout_ms is None else timeout_ms
@@ -200,16 +211,22 @@ def verify_program(
     scenarios = scenarios_of(program)
     decls = member_declarations(program.model) if scenarios else None
     invoked = invokers(program.model, scenarios, decls)
+    checked = 0
     for sym in scenarios:
         if scenario is not None and sym.name != scenario:
+            continue
+        checked += 1
+        if checked > MAX_SCENARIOS and sym.name_span is not None:
+            # the file's budget: its cost grows with every scenario
+            report(messages.scenario_budget(sym.name_span, sym.name, MAX_SCENARIOS))
             continue
         # an invoked scenario's actors are its invoker's: its start is checked there
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
-        for d in not_executed(program.model, sym, sym in invoked):
+        for d in not_executed(program.model, sym, sym in invoked, plugins):
             report(d)
-        problem = lower_scenario(program.model, sym, text_of, default_map, decls)
+        problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
         _reversed_ranges(sym, program, text_of, report)
         outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
         for skipped in problem.skipped:
@@ -257,6 +274,9 @@ def verify_program(
 
 
 MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's speed is unsafe
+# Scenarios of one file the solver checks (about 60 ms each; a file of a thousand took a
+# minute): files in use have a few, and one past them is checked alone with --scenario.
+MAX_SCENARIOS = 100
 
 
 def _unsafe_gaps(
@@ -369,13 +389,18 @@ def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic
     choice = placement.map
     span = choice.span or problem.span
     if choice.unknown is not None and choice.asked is not None:
-        report(messages.unknown_map(span, choice.asked, choice.unknown))
+        if is_carla_town(choice.asked):  # CARLA's content: a warning, and the runner refuses
+            report(messages.carla_map(span, choice.asked, choice.unknown))
+        else:
+            report(messages.unknown_map(span, choice.asked, choice.unknown))
     if choice.unreadable is not None and choice.asked is not None:
         error = choice.unreadable
         where = None
         if error.line is not None:
             where = f"line {error.line}" + (f", column {error.column}" if error.column else "")
         report(messages.unreadable_map(span, choice.asked, error.problem, where))
+    for span in placement.no_junction:
+        report(messages.no_junction_ahead(span, choice.name))
     for span, name, reference in placement.unplaced_references:
         report(messages.reference_not_placed(span, name, reference))
     for cycle, span in _cycles(placement.edges):

@@ -124,6 +124,34 @@ class RoadTerms:
             ],
         )
 
+    def wide(self, road: ir.Var | None, s: ir.Term, lanes: ir.Term) -> ir.Term:
+        """The carriageway has at least ``lanes`` driving lanes where the actor is."""
+        return self._any(
+            road,
+            [
+                (cw, _and(_within(s, p), ir.op("<=", lanes, ir.const(p.count))))
+                for cw in self.carriageways
+                for p in cw.pieces
+                if p.count > 0
+            ],
+        )
+
+    def before_junction(
+        self, road: ir.Var | None, s: ir.Term, low: ir.Term, high: ir.Term
+    ) -> ir.Term | None:
+        """The actor's carriageway leads into a junction between ``low`` and ``high`` ahead
+        of it; None on a map whose carriageways lead into none."""
+        into = [cw for cw in self.carriageways if cw.exit_junction is not None]
+        if not into:
+            return None
+        terms = []
+        for cw in into:
+            ahead = ir.op("-", ir.const(fraction(cw.length)), s)
+            terms.append((cw, ir.op("and", ir.op(">=", ahead, low), ir.op("<=", ahead, high))))
+        if self.single:
+            return terms[0][1]
+        return ir.op("or", *(_and(self.on(road, cw), term) for cw, term in terms))
+
     def lanes_text(self, phase: bool = False) -> str:
         if self.single and self.uniform:
             return f"road `{self.name}` has lanes 1 to {self.most_lanes}"

@@ -190,28 +190,30 @@ def route_holds(modifier: Modifier, action: ActionBehaviour) -> str | None:
 _REALISED = "scenario member: the checker chose the map elements"
 
 
-def _realised(name: str) -> type[Modifier]:
+def realised(name: str, note: str = _REALISED, module: str = __name__) -> type[Modifier]:
+    """The runner's entry of ``map.name(...)`` that the witness realises: nothing to do
+    during the run (``module`` is where the entry is registered from)."""
     cls = type(
         "".join(part.title() for part in name.split("_")),
         (Modifier,),
         {
-            "__doc__": f"``map.{name}(...)``: realised by the witness (the checker chose the "
-            "map elements that satisfy it); nothing to do during the run.",
-            "__module__": __name__,
+            "__doc__": f"``map.{name}(...)``: realised by the witness (the checker chose "
+            "where it holds); nothing to do during the run.",
+            "__module__": module,
         },
     )
-    return modifier(name, actor="map", note=_REALISED)(cls)
+    return modifier(name, actor="map", note=note)(cls)
 
 
-NumberOfLanes = _realised("number_of_lanes")
-RoutesAreInSequence = _realised("routes_are_in_sequence")
-RoadsFollowInJunction = _realised("roads_follow_in_junction")
-RoutesOverlap = _realised("routes_overlap")
-RoutesAreOpposite = _realised("routes_are_opposite")
-LaneSide = _realised("lane_side")
-CompoundLaneSide = _realised("compound_lane_side")
-StartLane = _realised("start_lane")
-EndLane = _realised("end_lane")
+NumberOfLanes = realised("number_of_lanes")
+RoutesAreInSequence = realised("routes_are_in_sequence")
+RoadsFollowInJunction = realised("roads_follow_in_junction")
+RoutesOverlap = realised("routes_overlap")
+RoutesAreOpposite = realised("routes_are_opposite")
+LaneSide = realised("lane_side")
+CompoundLaneSide = realised("compound_lane_side")
+StartLane = realised("start_lane")
+EndLane = realised("end_lane")
 
 
 # ---------------------------------------------------------------------- map methods

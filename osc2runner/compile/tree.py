@@ -477,6 +477,8 @@ class TreeCompiler:
             return self.scenario_invocation(inv, sym, scope)
         if sym.kind is not SymbolKind.ACTION:
             raise CompileProblem(f"`{inv.name.text}` is a {sym.kind.value}, not an action", inv)
+        if sym.actor is None and inv.actor is None:
+            return self._unbound_action(inv, sym, scope)
         actor = self._actor(inv, scope)
         if not isinstance(actor, Actor):
             raise CompileProblem(
@@ -506,7 +508,9 @@ class TreeCompiler:
             sym.name,
             inv,
         )
-        arguments, duration = self._arguments(inv, inner, path)
+        arguments, duration = self._arguments(
+            inv, inner, path, defaults=getattr(entry.target, "with_defaults", False)
+        )
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
         for wm in inv.with_members:
@@ -536,6 +540,31 @@ class TreeCompiler:
         behaviour.endless = not cls.finite
         self.uses[inv] = (use, cls)
         return self._wrap(behaviour, inv, duration, untils, inner)
+
+    def _unbound_action(
+        self, inv: ast.Invocation, sym: Symbol, scope: Bindings
+    ) -> py_trees.behaviour.Behaviour:
+        """An action declared without an actor (``action log:``), which a plug-in
+        implements: it takes arguments, ``duration`` and ``until``, no modifiers."""
+        entry = self.env.registry.find_action(self.model, None, sym)
+        if entry is None:
+            raise CompileProblem(
+                f"action `{sym.name}` has no runner behaviour (docs/plugins.md)", inv.name
+            )
+        path = invocation_path(
+            scope.frame.path if scope.frame is not None else "",
+            None,
+            self.labels.get(id(inv)),
+            sym.name,
+            inv,
+        )
+        arguments, duration = self._arguments(inv, scope, path, defaults=True)
+        untils = [wm for wm in inv.with_members if isinstance(wm, ast.Until)]
+        for wm in inv.with_members:
+            if isinstance(wm, ast.Invocation):
+                raise CompileProblem(f"`{sym.name}` has no actor: it takes no modifiers", wm)
+        behaviour = entry.target(node_name(f"{sym.name}()", inv), inv, arguments)
+        return self._wrap(behaviour, inv, duration, untils, scope)
 
     def _actor(self, inv: ast.Invocation, scope: Bindings) -> Actor:
         """The actor an invocation is of: written, or the actor of the enclosing
@@ -701,25 +730,44 @@ class TreeCompiler:
             ) from None
 
     def _arguments(
-        self, call: ast.Invocation, scope: Bindings, path: str
+        self, call: ast.Invocation, scope: Bindings, path: str, *, defaults: bool = False
     ) -> tuple[dict[str, Closure], ast.Node | None]:
         """The closures of the arguments given to an action or modifier by parameter name
-        (as the checker bound them), and its duration. A range given where a scalar is
-        expected is one value the solver chose from it (``keep(p in r)``): the witness's,
-        under the call's instance ``path`` (as ``verify.lower`` names it)."""
+        (as the checker bound them; with ``defaults``, the declared defaults of those not
+        given too), and its duration. A range given where a scalar is expected is one
+        value the solver chose from it (``keep(p in r)``): the witness's, under the
+        call's instance ``path`` (as ``verify.lower`` names it)."""
         binding = self._binding(call)
         if binding.events:
             raise CompileProblem("event arguments are not supported here", binding.events[0])
         result: dict[str, Closure] = {}
+        declared: dict[str, Closure] = {}
         for bound in binding.arguments:
             if bound.is_default:
+                if defaults:
+                    declared[bound.name] = self.env.compile(bound.value, Bindings())
                 continue
             if bound.range and bound.parameter is not None:
                 result[bound.name] = self._chosen(path, bound.parameter, bound.value)
             else:
                 result[bound.name] = self.env.compile(bound.value, scope)
+        if defaults and isinstance(binding.callee, Symbol):
+            self._kept(binding.callee, path, result)
+            result = {**declared, **result}
         duration = binding.extra("duration")
         return result, duration.value if duration is not None else None
+
+    def _kept(self, callee: Symbol, path: str, result: dict[str, Closure]) -> None:
+        """The parameters of a plug-in's behaviour given no argument whose value the
+        witness chose (a ``keep`` of the invocation's ``with:``; else their defaults)."""
+        for param in self.model.all_members(callee):
+            if param.kind is not SymbolKind.FIELD or param.name in result:
+                continue
+            try:
+                value = to_runtime(self.env.values.value_at(path, param))
+            except NotConstant:
+                continue  # its default, or none: the checker required what has none
+            result[param.name] = constant(value)
 
     def _chosen(self, path: str, param: Symbol, where: ast.Node) -> Closure:
         """The witness's value of parameter ``param`` of the call at ``path``."""
@@ -743,7 +791,12 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 wm.name,
             )
-        arguments, _ = self._arguments(wm, scope, join_path(path, f"{sym.name}@{wm.span.line}"))
+        arguments, _ = self._arguments(
+            wm,
+            scope,
+            join_path(path, f"{sym.name}@{wm.span.line}"),
+            defaults=getattr(entry.target, "with_defaults", False),
+        )
         arguments.setdefault("at", constant("all"))
         if wm.with_members:
             self.notes.append(f"line {wm.span.line}: the with: block of a modifier is ignored")
