@@ -56,15 +56,18 @@ class CrashOnSeed:
 
 
 class StuckOnSeed:
-    """Seed 1's run: from its first tick on, touches ``stuck`` beside this file and takes
+    """Seed 1's run: from its sixth tick on, touches ``stuck`` beside this file and takes
     0.5 s of wall clock per tick (a SUT too slow for any limit; 30 s for a 3 s scenario if
-    nothing stops it). The other seeds' runs are the driver's."""
+    nothing stops it), so its run has ticks to write when it is stopped. The other seeds'
+    runs are the driver's."""
 
     def reset(self, info: SutInfo) -> None:
         self.stuck = info.seed == 1
+        self.ticks = 0
 
     def step(self, obs: Observation) -> Command:
-        if self.stuck:
+        self.ticks += 1
+        if self.stuck and self.ticks > 5:
             Path(__file__).with_name("stuck").touch()
             time.sleep(0.5)
         return obs.driver
