@@ -285,6 +285,7 @@ CROSS = settings(
 )
 
 
+@pytest.mark.slow
 @CROSS
 @given(lines=members(2))
 def test_the_checker_reports_b608_exactly_when_the_runner_fails_on_timing(
@@ -305,6 +306,7 @@ def test_the_runner_agrees_with_each_rule(
     assert runner_fails_on_timing(scenario(body), monkeypatch) is infeasible
 
 
+@pytest.mark.slow
 @settings(
     derandomize=True,
     max_examples=60,

@@ -26,6 +26,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
+import pytest
 import z3
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
@@ -244,6 +245,7 @@ def _fits_as_car(case: Scenario) -> bool:
     return not errors
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(scenarios())
 def test_a_witness_satisfies_every_keep_by_the_exact_evaluator(case: Scenario):
@@ -279,6 +281,7 @@ def satisfiable(problem, members) -> bool:
     return result == z3.sat
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(scenarios())
 def test_removing_any_line_of_a_conflict_removes_it(case: Scenario):
