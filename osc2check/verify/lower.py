@@ -1020,7 +1020,7 @@ def lower_scenario(
     scenarios of one model.
     """
     from osc2check.verify.placement import lower_placement
-    from osc2check.verify.timing import lower_timing
+    from osc2check.verify.timing import lower_timing, timing_plan
 
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.ConstraintProblem(scenario.name, span)
@@ -1029,6 +1029,8 @@ def lower_scenario(
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     problem.placement = lower_placement(lowerer, scenario, default_map)
     lower_timing(lowerer, scenario)
+    if problem.timing is None:  # (the timing's constraints were left out)
+        problem.timing = timing_plan(lowerer, scenario)
     lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     return problem
