@@ -235,3 +235,66 @@ def test_driving_past_the_end_of_the_road_fails_the_run():
     assert "drove past the end of the road" in result.outcome.reason
     car = result.telemetry["car"]
     assert car["x"][-1] > 1000.0 and result.outcome.time < 5.0
+
+
+# ---- plans that know their deadline (docs/runner.md "Deadlines and tolerances")
+
+CHANGE_LANE_TIMED = """\
+scenario move_over:
+    car: vehicle
+    do serial:
+        car.assign_position() with:
+            lane(1, at: start)
+            speed(50kph, at: start)
+        car.change_lane(num_of_lanes: 1, side: left, duration: 3s)
+        car.drive(duration: 1s)
+"""
+
+
+def test_a_change_lane_with_a_duration_finishes_inside_it():
+    # a 3 s change_lane is planned to arrive a margin (two control periods) before its
+    # bound, so the tracking's lag of a tick does not fail it (on main: "did not complete
+    # within its duration (3 s)", 1.5 cm from the new lane's centre)
+    result = _run(CHANGE_LANE_TIMED)
+    assert result.outcome.status == "success", result.outcome.reason
+    car = result.telemetry["car"]
+    start = _tick(result, "start", "car.change_lane")
+    end = _tick(result, "end", "car.change_lane")
+    assert (end - start) * DT <= 3.0 + 1e-9
+    assert (end - start) * DT >= 2.5  # spread over the phase, not done at once
+    assert car["lane"][end] == 2
+    assert car["y"][end] == pytest.approx(1.5 * 3.5, abs=0.175)
+
+
+SPEED_AT_END_IN_PARALLEL = """\
+scenario speed_up:
+    hero: vehicle
+    npc: vehicle
+    do serial:
+        parallel:
+            hero.assign_position() with:
+                lane(1, at: start)
+                speed(30kph, at: start)
+            npc.assign_position() with:
+                lane(2, at: start)
+                speed(30kph, at: start)
+        parallel(duration: 25s):
+            hero.drive() with:
+                speed(80kph, at: end)
+            npc.drive() with:
+                speed(30kph)
+"""
+
+
+def test_speed_at_end_is_planned_against_an_enclosing_parallel_duration():
+    # the drive has no duration of its own: its phase ends when the `parallel(duration:
+    # 25s)` does, and the plan knows that (on main the car never accelerated and the run
+    # failed "does not hold when the phase ends")
+    result = _run(SPEED_AT_END_IN_PARALLEL)
+    assert result.outcome.status == "success", result.outcome.reason
+    hero = result.telemetry["hero"]
+    start, end = _tick(result, "start", "hero.drive"), _tick(result, "end", "hero.drive")
+    assert (end - start) * DT == pytest.approx(25.0)
+    assert hero["speed"][end] == pytest.approx(80 * KPH, abs=0.54 * KPH)
+    # one constant rate that arrives a margin early: 50 kph over 24.9 s, 55 kph half way
+    assert hero["speed"][start + 250] == pytest.approx(55 * KPH, abs=1.0 * KPH)
