@@ -61,6 +61,7 @@ from osc2runner.compile.expressions import (
     is_constant,
     read_variable,
 )
+from osc2runner.compile.preparation import prepare_starts
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.execution.context import RunContext
@@ -387,6 +388,7 @@ class TreeCompiler:
         node: py_trees.behaviour.Behaviour
         if comp.op == "serial":
             node = Serial(name, children)
+            prepare_starts(comp, self.uses)
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:
