@@ -242,6 +242,8 @@ def schedule(plan: TimingPlan | None, values: Mapping[str, Fraction | bool]) -> 
         candidates = [phase.end, *entry.stops]
         if isinstance(phase, Bounded):
             candidates.append(after(phase.start, phase.high))
+        elif isinstance(phase, UntilEvent):
+            candidates.append(phase.event)  # (an `until elapsed(d)`: known)
         deadlines: dict[PhaseKey, float] = {}
         for time in candidates:
             found = _relative(resolver, time, entry.anchors, seconds)

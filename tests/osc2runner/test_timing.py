@@ -370,3 +370,36 @@ def test_a_relative_position_at_a_later_start_is_brought_about():
     third = _tick(result, "start", "car.drive", 1)
     gap = (lead["x"][third] - 2.25) - (car["x"][third] + 2.25)
     assert gap == pytest.approx(30.0, abs=0.4)
+
+
+SPEED_AT_END_IN_SERIAL = """\
+scenario speed_up_later:
+    car: vehicle
+    do serial:
+        car.assign_position() with:
+            lane(1, at: start)
+            speed(30kph, at: start)
+        serial(duration: 8s):
+            car.drive(duration: 3s)
+            car.drive() with:
+                speed(60kph, at: end)
+        car.drive() with:
+            speed(40kph, at: end)
+            until elapsed(6s)
+"""
+
+
+def test_speed_at_end_is_planned_against_a_serial_duration_and_an_until_elapsed():
+    # the second drive ends when the 8 s serial does (5 s after it starts); the third
+    # when its `until elapsed(6s)` occurs: each plans its change over its own phase
+    result = _run(SPEED_AT_END_IN_SERIAL)
+    assert result.outcome.status == "success", result.outcome.reason
+    car = result.telemetry["car"]
+    second, third = _tick(result, "start", "car.drive", 1), _tick(result, "start", "car.drive", 2)
+    assert (third - second) * DT == pytest.approx(5.0)
+    assert car["speed"][third] == pytest.approx(60 * KPH, abs=0.54 * KPH)
+    assert car["speed"][second + 50] == pytest.approx(45 * KPH, abs=1.0 * KPH)  # half way
+    end = _tick(result, "stop", "car.drive")  # (an `until` stops its phase)
+    assert (end - third) * DT == pytest.approx(6.0)
+    assert car["speed"][end] == pytest.approx(40 * KPH, abs=0.54 * KPH)
+    assert car["speed"][third + 60] == pytest.approx(50 * KPH, abs=1.0 * KPH)
