@@ -255,6 +255,7 @@ def compile_checked(
     model = analysis.programs[uri].model
     fresh_blackboard()
     run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
+    run_ctx.schedule = instance.witness.schedule
     lights, problems = traffic_lights(model, instance.scenario, instance.values, instance.network)
     plans, plan_notes, plan_problems = control_plans(
         model, instance.scenario, lights, Path(uri).parent

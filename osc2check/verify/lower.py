@@ -1029,7 +1029,7 @@ def lower_scenario(
     constrains may be of any category (``placement.PlacementLowerer``).
     """
     from osc2check.verify.placement import lower_placement
-    from osc2check.verify.timing import lower_timing
+    from osc2check.verify.timing import lower_timing, timing_plan
 
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.ConstraintProblem(scenario.name, span)
@@ -1040,6 +1040,8 @@ def lower_scenario(
         lowerer, scenario, default_map, maps, open_categories=open_categories
     )
     lower_timing(lowerer, scenario)
+    if problem.timing is None:  # (the timing's constraints were left out)
+        problem.timing = timing_plan(lowerer, scenario)
     lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     return problem
