@@ -46,11 +46,6 @@ __all__ = [
     "plugin_of",
 ]
 
-_MAPS = (
-    "paths and trajectories through route or OpenDRIVE points, and relative ones, are not "
-    "built (world-coordinate paths are)"
-)
-_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
 _NO_PLUGIN = "no plug-in implements it (docs/plugins.md: --plugin, plugins in [tool.osc2check])"
 _CARLA_WORLD = (
     "it needs CARLA's world coordinates of the map, which its built-in stand-ins do not have"
@@ -59,20 +54,10 @@ _CARLA_WORLD = (
 #: The library's actions, modifiers and ``is undefined`` methods the runner does not
 #: execute (``owner.name``), and why.
 NOT_EXECUTED: dict[str, str] = {
-    "map.crossing_connects": _CROSSINGS,
-    "map.set_traffic_lights_control_file": (
-        "control files are not read: give the cycles with `play_cycles`"
-    ),
     "physical_object.set_bm": (
         "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
         "kind has one driver model"
     ),
-    "map.create_path_odr_points": _MAPS,
-    "map.create_path_route_points": _MAPS,
-    "map.create_trajectory_odr_points": _MAPS,
-    "map.create_trajectory_route_points": _MAPS,
-    "map.resolve_relative_path": _MAPS,
-    "map.resolve_relative_trajectory": _MAPS,
     # CARLA's world (osc2toolkit.carla): the poses and trajectory files of CARLA's maps
     "vehicle.set_position": _CARLA_WORLD,
     "follow_trajectory": _CARLA_WORLD,
@@ -206,11 +191,8 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic], plugins: Plugin
         return
     if isinstance(node, ast.Call):
         method = binding.callee if binding is not None else None
-        if (
-            isinstance(method, Symbol)
-            and _undefined(method)
-            and not (method.library or method.toolkit)
-        ):
+        if isinstance(method, Symbol) and _undefined(method):
+            # a library method the runner lacks (set_bm), or a program's without a plug-in
             _implemented(model, method, node.callee.span, found, plugins)
         return
     if not isinstance(node, ast.Invocation) or binding is None:

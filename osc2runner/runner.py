@@ -47,6 +47,7 @@ from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
+from osc2runner.behaviours.traffic import run_plans
 from osc2runner.compile.environment import CompileEnvironment
 from osc2runner.compile.registry import MethodRegistry, standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
@@ -59,6 +60,8 @@ from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts, exit_status, signal_name
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
+from osc2runner.instance.actors import environment_sky
+from osc2runner.instance.light_plans import control_plans
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
@@ -67,6 +70,7 @@ from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
 from osc2runner.plugin_behaviours import runner_registry
 from osc2runner.sim import World, versions
+from osc2runner.sim.sky import Sky
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sut.driver import SutFault, call_sut, sut_info
 from osc2runner.sut.loading import SutError, SutSpec, choose_actor
@@ -251,14 +255,22 @@ def compile_checked(
     model = analysis.programs[uri].model
     fresh_blackboard()
     run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
+    run_ctx.schedule = instance.witness.schedule
     lights, problems = traffic_lights(model, instance.scenario, instance.values, instance.network)
-    if problems:
-        raise ScenarioError(problems, texts=analysis.texts)
+    plans, plan_notes, plan_problems = control_plans(
+        model, instance.scenario, lights, Path(uri).parent
+    )
+    if problems or plan_problems:
+        raise ScenarioError(problems + plan_problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
+    run_plans(run_ctx, plans)
+    site, start = environment_sky(instance.actors, instance.values)
+    run_ctx.sky = Sky(site, start, clock=run_ctx.sky.clock)
     env = CompileEnvironment(model, instance.values, checked.registry, run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
+    compiled.notes.extend(plan_notes)
     return Compiled(uri, analysis, instance, env, compiled)
 
 
@@ -598,7 +610,13 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "actors": actors,
         "lights": dict(ctx.lights),
         "traffic_lights": {
-            name: {"x": light.x, "y": light.y, "yaw": light.yaw, "group": light.group}
+            name: {
+                "x": light.x,
+                "y": light.y,
+                "yaw": light.yaw,
+                "group": light.group,
+                "placed": light.placed,
+            }
             for name, light in ctx.traffic_lights.items()
         },
         "coverage": {

@@ -35,7 +35,7 @@ from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import flow, ir, quick
 from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
-from osc2check.verify.placement import Gap
+from osc2check.verify.placement import UNSAID_CATEGORY, Gap
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
@@ -235,6 +235,15 @@ def verify_program(
             problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
             _reversed_ranges(sym, program, text_of, report)
             outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+            if outcome.status == "unsat" and _unsaid_categories(problem):
+                # vehicles nothing says the category of were placed as cars: any category may
+                # do (a car where one fits); when none does, the cars' conflict is reported
+                relaxed = lower_scenario(
+                    program.model, sym, text_of, default_map, decls, maps, open_categories=True
+                )
+                again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+                if again.status != "unsat":
+                    problem, outcome = relaxed, again
             for skipped in problem.skipped:
                 if (skipped.span, skipped.reason) not in unverified:
                     unverified.add((skipped.span, skipped.reason))
@@ -291,6 +300,11 @@ MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's
 # Scenarios of one file the solver checks (about 60 ms each; a file of a thousand took a
 # minute): files in use have a few, and one past them is checked alone with --scenario.
 MAX_SCENARIOS = 100
+
+
+def _unsaid_categories(problem: ir.ConstraintProblem) -> bool:
+    """Whether a vehicle of ``problem`` is a car because nothing says its category."""
+    return any(c.rule == UNSAID_CATEGORY for c in problem.constraints)
 
 
 def _unsafe_gaps(

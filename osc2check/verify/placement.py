@@ -68,6 +68,7 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir
+from osc2check.verify.lane_steps import LaneSteps, one_of_members
 from osc2check.verify.lower import (
     MAX_DEPTH,
     InstanceScope,
@@ -96,10 +97,11 @@ from osc2check.world.maps import load_map, map_path, scenario_folder
 from osc2check.world.network import RoadNetwork
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
 
-_POSITIONING = ("lane", "position")
-_DEGREE = Fraction(
-    314159265358979, 18000000000000000
-)  # pi / 180 (a unit factor)  # the modifiers that place an actor (L506)
+_POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+_DEGREE = Fraction(314159265358979, 18000000000000000)  # pi / 180 (a unit factor)
+#: the rule of "a vehicle whose category nothing constrains is a car": a placement that
+#: has no solution with it is tried again with those vehicles of any category
+UNSAID_CATEGORY = "unsaid-category"
 #: the witness prefers starts in this first share of the road: room to drive ahead
 PREFERRED_START_SHARE = Fraction(3, 10)
 
@@ -249,8 +251,12 @@ class PlacementLowerer:
         scenario: Symbol,
         default_map: str = "default",
         maps: Mapping[str, str] | None = None,
+        open_categories: bool = False,
     ):
         self.lw = lowerer
+        #: vehicles whose category nothing constrains may be of any category (preferably
+        #: cars): the second try when placing them as cars has no solution
+        self.open_categories = open_categories
         self.model = lowerer.model
         self.problem: ir.ConstraintProblem = lowerer.problem
         self.scenario = scenario
@@ -602,17 +608,21 @@ class PlacementLowerer:
         type_symbol = param.type.symbol if param.type is not None else None
         if row is None and _is_trailer(self.model, type_symbol):
             row = CATEGORIES["trailer"]
-        if row is None and category is not None and not self._mentioned(category):
+        unsaid = row is None and category is not None and not self._mentioned(category)
+        if unsaid and not self.open_categories:
             row = CATEGORIES["car"]  # nothing says otherwise: placed, and run, as a car
         if row is not None:
             if category is not None and not because:
+                text = (
+                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
+                    if row.category == "car"
+                    else f"`{name}` is a {row.category}"
+                )
                 self._implicit(
                     ir.op("==", ir.Ref(category), ir.const(_member(category, row.category))),
                     param.name_span or self.problem.span,
-                    "category",
-                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
-                    if row.category == "car"
-                    else f"`{name}` is a {row.category}",
+                    UNSAID_CATEGORY if unsaid else "category",
+                    text,
                 )
             body = ActorBody(kind, row, *self._row_terms(row), category, tuple(because))
         elif category is not None:  # open: the solver chooses the category and the size
@@ -620,20 +630,24 @@ class PlacementLowerer:
             width = _by_category(category, lambda r: r.width)
             top = _by_category(category, lambda r: r.max_speed)
             body = ActorBody(kind, None, length, width, top, category, shown=shown)
-            # without the constraints that mention it, the vehicle would be a car: the
-            # solver holds this while it looks for the lines a conflict cannot do without
-            self.problem.add(
-                ir.Constraint(
-                    ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
-                    param.name_span or self.problem.span,
-                    "placement",
-                    f"`{name}` is a car when nothing says otherwise",
-                    "hard",
-                    category,
-                    f"`{name}` is a car when nothing says otherwise",
-                    "fallback",
+            if unsaid:  # the second try (open_categories): any category, a car preferred
+                car_value = Fraction(_member(category, "car"))
+                self.problem.preferred[category.name] = (car_value, car_value)
+            else:
+                # without the constraints that mention it, the vehicle would be a car: the
+                # solver holds this while it looks for the lines a conflict cannot do without
+                self.problem.add(
+                    ir.Constraint(
+                        ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
+                        param.name_span or self.problem.span,
+                        "placement",
+                        f"`{name}` is a car when nothing says otherwise",
+                        "hard",
+                        category,
+                        f"`{name}` is a car when nothing says otherwise",
+                        "fallback",
+                    )
                 )
-            )
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
             body = ActorBody(kind, car, *self._row_terms(car))
@@ -708,16 +722,23 @@ class PlacementLowerer:
         return actor
 
     def _on_road(self, actor: PlacedActor) -> None:
-        """The actor's sides stay on the road (with its lateral offset)."""
+        """The actor's sides stay on the road (with its lateral offset): a vehicle's on
+        the driving lanes, a person's or an animal's on any lane, sidewalks included."""
         body = actor.body
         terms = self.terms
+        walker = actor.kind in ("person", "animal")
         self._implicit(
             terms.across(
-                actor.road, ir.Ref(actor.lane), ir.Ref(actor.t), ir.Ref(actor.s), _half(body.width)
+                actor.road,
+                ir.Ref(actor.lane),
+                ir.Ref(actor.t),
+                ir.Ref(actor.s),
+                _half(body.width),
+                walker,
             ),
             actor.span,
             "road-extent",
-            terms.across_text(actor.name, body.size_text(body.width, "wide")),
+            terms.across_text(actor.name, body.size_text(body.width, "wide"), walker),
             because=body.because,
         )
 
@@ -879,7 +900,13 @@ class PlacementLowerer:
 
     def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
-        the vehicle reaches, whenever the phase runs."""
+        the vehicle reaches, whenever the phase runs; so does a lane change, from the lane
+        the actor is in then (``lane_steps``)."""
+        scenarios = [s.decl for s in self.model.symbols if s.kind is SymbolKind.SCENARIO]
+        rules = {road.rule for road in placement.network.roads.values()}
+        steps = LaneSteps(
+            self.model, self._value, one_of_members(d for d in scenarios if d), rules != {"LHT"}
+        )
         for member in self._bodies(self.scenario):
             for inv, scope in self._all_invocations(member, self._root_scope()):
                 self.scope = scope
@@ -894,7 +921,21 @@ class PlacementLowerer:
                         self._phase_limit(actor, item, placement)
                     elif item.name.text == "along":
                         self._mod_along(actor, self._args(item), item, placement, at_start=False)
+                for change in steps.run(actor.name, actor.lane, inv, self._phase_lane(actor)):
+                    lanes = placement.terms.lanes(None, change.lane, ir.Ref(actor.s), phase=True)
+                    self._implicit(lanes, change.inv.span, "lane-range", change.text)
         self.scope = self._root_scope()
+
+    def _phase_lane(self, actor: PlacedActor) -> Callable[[ast.Invocation], ir.Var | None]:
+        """The variable of the lane a later phase's `lane(k)` gives ``actor`` (None for one
+        applied at the start)."""
+
+        def lane(item: ast.Invocation) -> ir.Var | None:
+            if id(item) in self.applied:
+                return None
+            return self.problem.variables.get(self._phase_name(actor, item, "lane"))
+
+        return lane
 
     def _phase_limit(
         self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement
@@ -1276,9 +1317,11 @@ def lower_placement(
     scenario: Symbol,
     default_map: str = "default",
     maps: Mapping[str, str] | None = None,
+    open_categories: bool = False,
 ) -> StartPlacement | None:
-    """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
-    return PlacementLowerer(lowerer, scenario, default_map, maps).lower()
+    """Add the placement variables and constraints of ``scenario`` to the lowerer's problem
+    (``open_categories``: see ``PlacementLowerer``)."""
+    return PlacementLowerer(lowerer, scenario, default_map, maps, open_categories).lower()
 
 
 def _member(category: ir.Var, name: str) -> int:

@@ -160,29 +160,41 @@ class RoadTerms:
         return f"the lane is one that map `{self.name}` has where the actor starts"
 
     def across(
-        self, road: ir.Var | None, lane: ir.Term, t: ir.Term, s: ir.Term, half_width: ir.Term
+        self,
+        road: ir.Var | None,
+        lane: ir.Term,
+        t: ir.Term,
+        s: ir.Term,
+        half_width: ir.Term,
+        walker: bool = False,
     ) -> ir.Term:
         """The actor's sides stay on the carriageway's driving lanes (with its offset ``t``
-        from the lane centre). Lanes are taken as wide as the narrowest driving lane of
-        each stretch: on maps with lanes of several widths this is the cautious side."""
+        from the lane centre); a ``walker`` (a person, an animal) stays on the road, every
+        lane of it, sidewalks and shoulders included. Lanes are taken as wide as the
+        narrowest driving lane of each stretch: on maps with lanes of several widths this
+        is the cautious side."""
         each: list[tuple[Carriageway, ir.Term]] = []
         for cw in self.carriageways:
             for p in cw.pieces:
                 if p.count == 0:
                     continue
                 width = fraction(p.width)
+                right = fraction(p.right) if walker else Fraction(0)
+                left = fraction(p.left) if walker else Fraction(0)
                 centre = ir.op(
                     "+", ir.op("*", ir.const(width), ir.op("-", lane, ir.const(Fraction(1, 2)))), t
                 )
                 inside = ir.op(
                     "and",
-                    ir.op(">=", centre, half_width),
-                    ir.op("<=", centre, ir.minus(ir.const(width * p.count), half_width)),
+                    ir.op(">=", centre, ir.minus(half_width, ir.const(right))),
+                    ir.op("<=", centre, ir.minus(ir.const(width * p.count + left), half_width)),
                 )
                 each.append((cw, inside if self.uniform else _and(_within(s, p), inside)))
         return self._any(road, each)
 
-    def across_text(self, actor: str, size: str) -> str:
+    def across_text(self, actor: str, size: str, walker: bool = False) -> str:
+        if walker:
+            return f"`{actor}` ({size}) stays on the road (any of its lanes, sidewalks included)"
         if self.single and self.uniform:
             p = self.carriageways[0].pieces[0]
             return f"`{actor}` ({size}) stays on the road's {p.count} lanes of {p.width:g} m"

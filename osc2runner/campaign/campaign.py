@@ -162,14 +162,16 @@ class CampaignResult:
 Progress = Callable[[str, Any], None]  # progress("plan", total) / ("record", RunRecord)
 
 
-def _engine(options: CampaignOptions, setup: CampaignSetup, jobs: int) -> Any:
+def _engine(
+    options: CampaignOptions, setup: CampaignSetup, jobs: int, clock: Callable[[], float]
+) -> Any:
     if options.engine == "ray":
         from osc2runner.campaign.ray_engine import RayEngine
 
-        return RayEngine(setup, jobs, options.run_timeout, options.address)
+        return RayEngine(setup, jobs, options.run_timeout, options.address, clock)
     from osc2runner.campaign.pool import LocalPool
 
-    return LocalPool(setup, jobs, options.run_timeout)
+    return LocalPool(setup, jobs, options.run_timeout, clock)
 
 
 def _check(options: CampaignOptions) -> None:
@@ -208,9 +210,15 @@ def plan_runs(options: CampaignOptions, checked: Checked) -> CoverPlan:
     return plan
 
 
-def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> CampaignResult:
+def run_campaign(
+    options: CampaignOptions,
+    progress: Progress | None = None,
+    *,
+    clock: Callable[[], float] = time.monotonic,
+) -> CampaignResult:
     """Run a campaign (see the module docstring); raises ScenarioError for input errors,
-    CampaignError for options or a folder that cannot be used."""
+    CampaignError for options or a folder that cannot be used. ``clock`` is the wall clock
+    the engine holds each run to ``run_timeout`` with (a test gives one it controls)."""
     _check(options)
     started = time.perf_counter()
     started_at = datetime.now(UTC).isoformat(timespec="seconds")
@@ -245,7 +253,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         config=config,
         export=options.export,
     )
-    engine = _engine(options, setup, min(jobs, options.runs))
+    engine = _engine(options, setup, min(jobs, options.runs), clock)
     # the workers start while the runs are planned (none when every run finished)
     engine.start(options.runs - sum(r.finished for r in previous.values()))
     try:

@@ -54,6 +54,7 @@ BEHAVIOUR_MODULES = (
     "osc2runner.behaviours.modifiers",
     "osc2runner.behaviours.placement",
     "osc2runner.behaviours.paths",
+    "osc2runner.behaviours.road_paths",
     "osc2runner.behaviours.environment",
     "osc2runner.behaviours.lights",
     "osc2runner.behaviours.traffic",

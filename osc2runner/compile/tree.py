@@ -30,6 +30,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify.lower import invocation_path, join_path
+from osc2check.verify.timeline import PhaseKey
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
     DurationBound,
@@ -60,6 +61,7 @@ from osc2runner.compile.expressions import (
     is_constant,
     read_variable,
 )
+from osc2runner.compile.preparation import prepare_starts
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.execution.context import RunContext
@@ -386,6 +388,7 @@ class TreeCompiler:
         node: py_trees.behaviour.Behaviour
         if comp.op == "serial":
             node = Serial(name, children)
+            prepare_starts(comp, self.uses)
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:
@@ -398,11 +401,13 @@ class TreeCompiler:
                         args[key],
                     )
             span = comp.span
-            node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}")
+            plans = [self.run.schedule.get(_phase_key(scope, m.body)) for m in comp.members]
+            node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}", plans)
         elif comp.op == "one_of":
             node = OneOf(name, children, [is_acting(m.body) for m in comp.members])
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
+        node.phase_key = _phase_key(scope, comp)
         untils = self._untils(comp.with_members, "a composition")
         return self._wrap(node, comp, args.get("duration"), untils, scope)
 
@@ -523,6 +528,7 @@ class TreeCompiler:
                     f"line {wm.span.line}: `{self._text(wm)}` is left to the "
                     "solver (not enforced at run time)"
                 )
+        key = _phase_key(scope, inv)
         use = ActionUse(
             inv,
             sym,
@@ -532,6 +538,8 @@ class TreeCompiler:
             self._bounds(self.env.compile(duration, inner)) if duration else None,
             starts_scenario=scope.frame is not None and inv in scope.frame.at_start,
             binding=self.model.binding(inv),
+            key=key,
+            plan=self.run.schedule.get(key),
         )
         cls = entry.target
         use.behaviour = cls
@@ -658,7 +666,7 @@ class TreeCompiler:
         finally:
             self.invoking.pop()
         labelled_as = outer.qualified(label.text) if label is not None else None
-        node: py_trees.behaviour.Behaviour = InvokedScenario(
+        invoked = InvokedScenario(
             node_name(f"{actor.name + '.' if actor else ''}{sym.name}()", inv),
             main,
             handlers,
@@ -666,8 +674,9 @@ class TreeCompiler:
             initialisers,
             emits_events=labelled_as != path,
         )
+        invoked.phase_key = _phase_key(scope, inv)
         untils = self._untils(inv.with_members, "a scenario invocation")
-        return self._wrap(node, inv, duration, untils, scope)
+        return self._wrap(invoked, inv, duration, untils, scope)
 
     def _scenario_arguments(
         self, sym: Symbol, inv: ast.Invocation, scope: Bindings
@@ -806,9 +815,11 @@ class TreeCompiler:
 
     def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
         """``wait <event>``: its event context is the wait (§7.3.10.3)."""
-        return Wait(
+        node = Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
+        node.phase_key = _phase_key(scope, wait)
+        return node
 
     def emit(self, emit: ast.Emit, scope: Bindings) -> py_trees.behaviour.Behaviour:
         name, key, args = self._emission(emit, scope)
@@ -883,6 +894,11 @@ class TreeCompiler:
             if entry is not None:
                 found.append(entry[0])
         return found
+
+
+def _phase_key(scope: Bindings, node: ast.Node) -> PhaseKey:
+    """The schedule's name of the phase ``node`` runs (``osc2check.verify.schedule``)."""
+    return (scope.frame.path if scope.frame is not None else "", node.span)
 
 
 def _overlap_kind(node: ast.Node) -> str:
