@@ -40,6 +40,7 @@ from osc2check.config import (
     with_language_arguments,
 )
 from osc2check.inputs import InputError, InputProblem
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.output import render, render_statistics, tool
 from osc2check.source import decode_source
 
@@ -82,6 +83,13 @@ class _ArgumentParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         raise UsageError(message)
+
+
+def _mebibytes(text: str) -> int:
+    """A memory budget in MiB: a non-negative integer (0: no budget)."""
+    if not text.isdigit():
+        raise argparse.ArgumentTypeError(f"expected a number of MiB, got {text!r}")
+    return int(text)
 
 
 def _seed(text: str) -> int:
@@ -152,6 +160,13 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="N",
         help="pick the witness with seed N, a non-negative integer (default 0): different "
         "seeds, different witnesses",
+    )
+    p.add_argument(
+        "--memory-limit",
+        type=_mebibytes,
+        metavar="MIB",
+        help="memory the check of one file may add, in MiB (default "
+        f"{DEFAULT_MEMORY_LIMIT_MIB}; 0: no budget); past it the file is S003",
     )
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     p.add_argument("--version", action="version", version=f"%(prog)s {tool.version()}")
@@ -366,6 +381,8 @@ def _with_options(config: Config, args: argparse.Namespace) -> Config:
         changes["strict"] = True
     if args.fail_on is not None:
         changes["fail_on"] = parse_severity(args.fail_on, key="--fail-on")
+    if args.memory_limit is not None:
+        changes["memory_limit_mib"] = args.memory_limit
     if args.output_format is not None:
         changes["output_format"] = FORMAT_ALIASES.get(args.output_format, args.output_format)
     return with_language_arguments(replace(config, **changes), args)
