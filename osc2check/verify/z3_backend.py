@@ -23,6 +23,7 @@ from typing import Any
 
 from osc2check import memory
 from osc2check.verify import ir, quick
+from osc2check.verify.lower import is_one_of_choice
 
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
@@ -494,7 +495,9 @@ class Sampler:
         # are drawn first
         follows = _dependent(self.folded, fixed)
         self.aimed = [n for n in self.linked if n not in follows]
-        self.terms = quick.Prepared(self.folded)
+        # which `one_of` member runs is drawn first: the start it needs follows from it
+        choices = [n for n in self.order if is_one_of_choice(n)]
+        self.terms = quick.Prepared(self.folded, first=choices)
 
     def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""

@@ -29,7 +29,7 @@ from osc2check.semantics.phases import enum_word, is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify.lower import invocation_path, join_path
+from osc2check.verify.lower import invocation_path, join_path, one_of_choice
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
@@ -404,12 +404,22 @@ class TreeCompiler:
             plans = [self.run.schedule.get(_phase_key(scope, m.body)) for m in comp.members]
             node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}", plans)
         elif comp.op == "one_of":
-            node = OneOf(name, children, [is_acting(m.body) for m in comp.members])
+            acting = [is_acting(m.body) for m in comp.members]
+            node = OneOf(name, children, acting, self._chosen_member(comp, scope))
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
         node.phase_key = _phase_key(scope, comp)
         untils = self._untils(comp.with_members, "a composition")
         return self._wrap(node, comp, args.get("duration"), untils, scope)
+
+    def _chosen_member(self, comp: ast.Composition, scope: Bindings) -> int | None:
+        """The acting member of a ``one_of`` the witness chose (the placement placed the
+        actors for it: ``verify.lower.one_of_choice``), or None (the seed chooses)."""
+        path = scope.frame.path if scope.frame is not None else ""
+        chosen = self.env.values.witness.parameter(one_of_choice(path, comp))
+        if chosen is None or isinstance(chosen.value, bool):
+            return None
+        return int(chosen.value)
 
     def _untils(self, with_members: tuple[ast.WithMember, ...], what: str) -> list[ast.Until]:
         """The ``until``s of the ``with:`` block of ``what`` (a composition, a scenario
