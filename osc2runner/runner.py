@@ -76,6 +76,7 @@ __all__ = [
     "RunOutcome",
     "RunResult",
     "build_world",
+    "check_analysis",
     "check_file",
     "compile_checked",
     "compile_file",
@@ -204,9 +205,13 @@ def check_file(
     """Parse, resolve and verify a file and choose the scenario to run; raises
     ScenarioError for input errors (error diagnostics, no such scenario)."""
     uri, text = _read(path, source)
-    analysis = analyze([SourceInput(uri, text)])
-    # an error, or a form the runner does not execute (A308, osc2check.capabilities):
-    # refused before tick 0 with the checker's own finding
+    return check_analysis(analyze([SourceInput(uri, text)]), uri, scenario=scenario)
+
+
+def check_analysis(analysis: Analysis, uri: str, *, scenario: str | None = None) -> Checked:
+    """The root scenario of ``uri`` in an analysis the checker made; raises ScenarioError
+    for what stops a run: an error, or a form the runner does not execute (A308,
+    ``osc2check.capabilities``), refused before tick 0 with the checker's own finding."""
     refused = [
         d
         for d in analysis.diagnostics

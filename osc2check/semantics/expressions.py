@@ -262,7 +262,11 @@ class ExpressionChecker:
         if expected is not None and expected.kind is T.Kind.ENUM and qname.namespace is None:
             member = self._enum_member(expected.symbol, name)
             shadow = self.value_symbol(qname, scope)
-            if member is not None and (shadow is None or shadow.kind.is_type):
+            # an event is no value: where an enum is expected, its member is meant
+            # (`at: start` in a scenario that declares `event start`; docs/runner.md)
+            if member is not None and (
+                shadow is None or shadow.kind.is_type or shadow.kind is SymbolKind.EVENT
+            ):
                 self.model.references[qname.name] = member
                 return expected
         sym = self.value_symbol(qname, scope)

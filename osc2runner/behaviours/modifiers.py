@@ -516,7 +516,8 @@ class KeepLane(Modifier):
 
 @modifier("lateral")
 class Lateral(Modifier):
-    """``lateral(distance: d)``: ``d`` to the left of the lane centre; with a reference,
+    """``lateral(distance: d)``: ``d`` to the left of the lane centre (to the right with
+    ``side: right``); with a reference,
     ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned), on the
     road the actor is on.
 
@@ -542,12 +543,18 @@ class Lateral(Modifier):
             return other.t + sign * d * (other.direction or 1)
         return None
 
+    def _offset(self) -> float:
+        """The offset from the lane centre asked for without a reference: ``distance`` to
+        the left, or to the right with ``side: right`` (as the checker places it)."""
+        d = float(self.args.get("distance", 0.0))
+        return -d if str(self.args.get("side", "left")) == "right" else d
+
     def _wanted(self, action: ActionBehaviour) -> float:
         """The offset from the actor's lane centre asked for."""
         t = self._target_t(action)
         if t is not None:
             return offset_for_t(action.state, t)
-        return float(self.args.get("distance", 0.0))
+        return self._offset()
 
     def realise(self, action: ActionBehaviour) -> None:
         if self.at == "end" and action.remaining():
@@ -581,7 +588,7 @@ class Lateral(Modifier):
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         t = self._target_t(action)
         if t is None:
-            pose.offset = float(self.args.get("distance", 0.0))
+            pose.offset = self._offset()
         else:
             pose.t = t
 
@@ -660,7 +667,12 @@ class AvoidCollisions(Modifier):
 
 @modifier("physical_movement", note="always physical; accepted, no effect")
 class PhysicalMovement(Modifier):
-    """``physical_movement(...)``: every movement in this runner is physical; nothing to do."""
+    """``physical_movement(option)``: every movement in this runner is physical, which
+    each option allows (``prefer_non_physical`` asks for exact motion only where the
+    implementation has it): nothing to change."""
+
+    def begin(self, action: ActionBehaviour) -> None:
+        self.option = str(self.args.get("option", "prefer_physical"))
 
 
 @modifier(
