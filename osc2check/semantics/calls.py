@@ -52,6 +52,15 @@ ONE_OF: dict[str, list[frozenset[str]]] = {
     "follow_path": [frozenset({"absolute", "relative"})],
     "follow_trajectory": [frozenset({"absolute", "relative"})],
     "change_position": [frozenset({"target_position", "target_st", "target_odr", "target_xyz"})],
+    # the gap or headway to another actor: which actor, the runner cannot choose
+    **{
+        f"{verb}_{what}": [frozenset({"reference"})]
+        for verb in ("change", "keep")
+        for what in ("time_gap", "space_gap", "time_headway", "space_headway")
+    },
+    # what to move along
+    "along": [frozenset({"route"})],
+    "along_trajectory": [frozenset({"trajectory"})],
 }
 # An argument that needs another one: (behaviour, argument) -> the argument it needs.
 REQUIRES: dict[tuple[str, str], str] = {
