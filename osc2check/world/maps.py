@@ -6,7 +6,8 @@
 exists; a name that is not a file is looked up among the built-in names (so
 ``Town06.xodr`` without a file gives the Town06 stand-in, as CARLA scenarios
 expect), and an ``.xodr`` name that is neither is a :class:`MapError` ("no such
-file"). Loaded files are cached by path and modification time, so an editor
+file or directory"); a folder, FIFO or device of that name is one too, saying what it
+is (it is never opened). Loaded files are cached by path and modification time, so an editor
 asking on every keystroke reads a map once.
 """
 
@@ -16,6 +17,7 @@ import re
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from osc2check.inputs import InputError, not_regular, probe
 from osc2check.world.builtin import builtin_network
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import RoadNetwork
@@ -60,17 +62,22 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
     path = map_path(name, relative_to)
     if path is None:
         return builtin_network(name)
-    if path.is_file():
-        resolved = path.resolve()
-        key = (str(resolved), path.stat().st_mtime_ns)
-        network = _CACHE.get(key)
-        if network is None:
-            network = load_opendrive(resolved)  # its source is the file's absolute path
-            if len(_CACHE) >= _CACHE_SIZE:
-                _CACHE.pop(next(iter(_CACHE)))
-            _CACHE[key] = network
-        return network
     try:
-        return builtin_network(name)
-    except UnknownMapError:
-        raise MapError(f"no such file (looked for `{path}`)", name) from None
+        status = probe(path)
+    except InputError as missing:
+        try:
+            return builtin_network(name)
+        except UnknownMapError:
+            raise MapError(f"{missing} (looked for `{path}`)", name) from None
+    why = not_regular(status)  # a folder, a FIFO, a device: there, but no map file
+    if why is not None:
+        raise MapError(f"cannot read the map file: {why}", str(path))
+    resolved = path.resolve()
+    key = (str(resolved), status.st_mtime_ns)
+    network = _CACHE.get(key)
+    if network is None:
+        network = load_opendrive(resolved)  # its source is the file's absolute path
+        if len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = network
+    return network
