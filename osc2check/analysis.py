@@ -11,10 +11,14 @@ import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
-from osc2check import messages
+from osc2check import memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
+from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
+from osc2check.plugins import PluginError, PluginRegistry, load_plugins
+from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
@@ -47,27 +51,39 @@ class Analysis:
     programs: dict[str, Program] = field(default_factory=dict)
     parses: dict[str, ParseResult] = field(default_factory=dict)
     verified: dict[str, VerifyResult] = field(default_factory=dict)  # by root file
+    options: AnalysisOptions | None = None  # what the files were analysed with
 
 
 class FileCache:
-    """Parse results by path; sources given in memory win over the disk."""
+    """Parse results by path, each as its dialect reads it (``osc2check.dialects``);
+    sources given in memory win over the disk."""
 
-    def __init__(self, sources: dict[str, str], parses: Mapping[str, ParseResult] | None = None):
+    def __init__(
+        self,
+        sources: dict[str, str],
+        parses: Mapping[str, ParseResult] | None = None,
+        dialect: str = DEFAULT_DIALECT,
+    ):
         self.sources = sources
-        self.parses: dict[str, ParseResult] = dict(parses or {})
+        self.given = dict(parses or {})
+        self.parses: dict[str, ParseResult] = {}
+        self.dialect = dialect
 
     def read(self, uri: str) -> ParseResult | None:
         if uri in self.parses:
             return self.parses[uri]
-        text = self.sources.get(uri)
-        if text is None:
-            try:
-                data = read_bytes(uri)  # never blocks, never reads past the size cap
-            except InputError:
-                return None
-            # An imported file's own findings (P004 included) show when it is checked.
-            text, _ = decode_source(data)
-        result = parse(text, uri)
+        result = self.given.get(uri)
+        if result is None:
+            text = self.sources.get(uri)
+            if text is None:
+                try:
+                    data = read_bytes(uri)  # never blocks, never reads past the size cap
+                except InputError:
+                    return None
+                # An imported file's own findings (P004 included) show when it is checked.
+                text, _ = decode_source(data)
+            result = parse(text, uri)
+        result = dialect_reading(result, self.dialect)
         self.parses[uri] = result
         return result
 
@@ -82,8 +98,16 @@ class AnalysisOptions:
     solver (constraints, placement, flow), as editors do between keystrokes.
     ``implicit_imports`` are standard modules every file imports without saying so;
     ``modules`` maps structured import names to files; ``search_paths`` are the
-    folders ``import a.b`` looks in after the importing file's own. ``policy``
-    filters and re-grades one file's diagnostics (``Config.policy``).
+    folders ``import a.b`` looks in after the importing file's own; ``maps`` names
+    map files by the names scenarios give (``Town04`` -> an ``.xodr`` path).
+    ``osc_version`` chooses the standard library (2.1 or 2.2) and ``dialect`` how
+    other tools' forms are read (:mod:`osc2check.semantics.profile`). ``policy``
+    filters and re-grades one file's diagnostics (``Config.policy``). ``plugins``
+    are the plug-in modules (:mod:`osc2check.plugins`) whose implementations run
+    behaviours of the user's libraries. ``memory_limit_mib`` is the memory the check
+    of one file may add to the process (``memory.budget``; None for no budget, as the
+    language server's own process has: its solver worker has one); past it the file
+    has a single finding, S003.
     """
 
     verify: bool = True
@@ -92,10 +116,20 @@ class AnalysisOptions:
     implicit_imports: tuple[str, ...] = ()
     modules: Mapping[str, str] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
+    maps: Mapping[str, str] = field(default_factory=dict)
+    osc_version: str = DEFAULT_OSC_VERSION
+    dialect: str = DEFAULT_DIALECT
     default_map: str = "default"
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
+    memory_limit_mib: int | None = DEFAULT_MEMORY_LIMIT_MIB
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
+    plugins: tuple[str, ...] = ()
+
+    @property
+    def library(self) -> LibraryChoice:
+        """The standard library these options build programs on."""
+        return LibraryChoice(self.osc_version, self.dialect)
 
 
 def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) -> Analysis:
@@ -103,6 +137,15 @@ def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) 
     options = options if options is not None else AnalysisOptions()
     with gc_paused():  # analysis builds long-lived tables; collections only cost time
         return _analyze(sources, options)
+
+
+def _plugins(names: tuple[str, ...]) -> PluginRegistry:
+    """The plug-ins' registry; empty when one cannot be loaded (the command lines say why
+    before they analyse: ``Config.plugin_registry``), so their behaviours are A308."""
+    try:
+        return load_plugins(names)
+    except PluginError:
+        return PluginRegistry()
 
 
 def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
@@ -113,48 +156,100 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
         for s in sources
         if s.parse is not None and s.parse.uri == s.uri and s.parse.text == s.text
     }
-    cache = FileCache(texts, given)
+    cache = FileCache(texts, given, options.dialect)
     modules = dict(options.modules)
+    plugins = _plugins(options.plugins) if options.verify else None
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
+    if options.memory_limit_mib:
+        _load_once(options)
     for source in sources:
-        result = cache.read(source.uri)
-        if result is None:  # pragma: no cover - sources are always in memory
-            continue
+        start = point_span(source.uri, source.text, 0)
         try:
-            program = build_program(
-                source.uri, cache.read, options.implicit_imports, modules, options.search_paths
+            with memory.budget(options.memory_limit_mib):
+                _check_one(source, cache, modules, plugins, options, found, programs, verified)
+        except Exception as exc:  # the budget was hit: say where, check the next file
+            if not memory.is_out_of_memory(exc):
+                raise
+            element = (
+                exc.element
+                if isinstance(exc, memory.BudgetExceeded)
+                else memory.Element(start, "checking the file")
             )
-        except RecursionError:  # pathological nesting: say so instead of crashing
-            found.extend(result.diagnostics)
-            found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
-            continue
-        programs[source.uri] = program
-        found.extend(result.diagnostics)
-        own = _relevant(program, result, source.uri)
-        found.extend(own)
-        if source.problem:
-            found.append(_encoding_problem(source))
-        if options.verify and not any(
-            d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
-        ):
-            try:
-                checked = verify_program(
-                    program,
-                    seed=options.seed,
-                    scenario=options.scenario,
-                    rlimit=options.solver_rlimit,
-                    timeout_ms=options.solver_timeout_ms,
-                    default_map=options.default_map,
-                )
-            except RecursionError:
-                found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
-                continue
-            verified[source.uri] = checked
-            found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
+            # the finding is the checked file's, at the element when it is in that file
+            span = element.span if element.span.uri == source.uri else start
+            found.append(messages.memory_budget(span, element, options.memory_limit_mib))
     diagnostics = _finish(found, cache, texts, options)
-    return Analysis(diagnostics, texts, programs, cache.parses, verified)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
+
+
+def _load_once(options: AnalysisOptions) -> None:
+    """Build what the process builds once (the parser, z3) before any file's budget: the
+    first file checked must not pay for it, nor fail to."""
+    dialect_reading(parse("import osc.standard\n", ""), options.dialect)
+    if options.verify:
+        from osc2check.verify.z3_backend import _z3
+
+        _z3()
+
+
+def _check_one(
+    source: SourceInput,
+    cache: FileCache,
+    modules: dict[str, str],
+    plugins: PluginRegistry | None,
+    options: AnalysisOptions,
+    found: list[Diagnostic],
+    programs: dict[str, Program],
+    verified: dict[str, VerifyResult],
+) -> None:
+    """Parse, resolve and verify one root file, adding to ``found``, ``programs`` and
+    ``verified``."""
+    start = point_span(source.uri, source.text, 0)
+    with memory.analysing(start, "parsing the file"):
+        result = cache.read(source.uri)
+    if result is None:  # pragma: no cover - sources are always in memory
+        return
+    try:
+        with memory.analysing(start, "reading its imports and declarations"):
+            program = build_program(
+                source.uri,
+                cache.read,
+                options.implicit_imports,
+                modules,
+                options.search_paths,
+                options.library,
+            )
+    except RecursionError:  # pathological nesting: say so instead of crashing
+        found.extend(result.diagnostics)
+        found.append(messages.nesting_too_deep(start))
+        return
+    programs[source.uri] = program
+    found.extend(result.diagnostics)
+    own = _relevant(program, result, source.uri)
+    found.extend(own)
+    if source.problem:
+        found.append(_encoding_problem(source))
+    if options.verify and not any(
+        d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
+    ):
+        try:
+            checked = verify_program(
+                program,
+                seed=options.seed,
+                scenario=options.scenario,
+                rlimit=options.solver_rlimit,
+                timeout_ms=options.solver_timeout_ms,
+                default_map=options.default_map,
+                maps=options.maps,
+                plugins=plugins,
+            )
+        except RecursionError:
+            found.append(messages.nesting_too_deep(start))
+            return
+        verified[source.uri] = checked
+        found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
 
 
 def _clean(source: SourceInput) -> SourceInput:

@@ -207,10 +207,13 @@ class CallChecker:
     ) -> None:
         """A303 for a group of arguments of which a call must give one (``ONE_OF``),
         given neither as an argument nor by a ``keep`` of the call's own ``with:``
-        (which leaves it to the solver)."""
+        (which leaves it to the solver). A group holds for a callee that declares its
+        members: a dialect's behaviour of the same name (CARLA's ``follow_trajectory``)
+        has parameters of its own."""
         kept = _kept_members(node)
+        declared = {p.name for p in params}
         for group in ONE_OF.get(callee.name, ()):
-            if not group & (bound.keys() | kept):
+            if group <= declared and not group & (bound.keys() | kept):
                 self.report(messages.missing_argument(node.span, callee, *sorted(group)))
 
     def _groups(self, callee: Symbol, bound: dict[str, BoundArgument], span: Span) -> None:

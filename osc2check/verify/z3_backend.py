@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from osc2check import memory
 from osc2check.verify import ir, quick
 
 DEFAULT_RLIMIT = 20_000_000
@@ -63,6 +64,13 @@ class SolverOutcome:
     method: str = "z3"  # "z3" | "propagation": what decided the status
 
 
+def new_context() -> Z3Context:
+    """A new z3 context, or ``MemoryError`` when the memory budget has no room for one
+    (z3 does not check that its context was made, and crashes)."""
+    memory.room_for_solver()
+    return _z3().Context()
+
+
 class Session:
     """The z3 context that the scenarios of one analysis share, made when first needed."""
 
@@ -72,7 +80,7 @@ class Session:
     @property
     def ctx(self) -> Z3Context:
         if self._ctx is None:
-            self._ctx = _z3().Context()
+            self._ctx = new_context()
         return self._ctx
 
 
@@ -275,7 +283,7 @@ def check(
         outcome.values = model
         outcome.method = "propagation"
         return outcome
-    ctx = session.ctx if session is not None else _z3().Context()
+    ctx = session.ctx if session is not None else new_context()
     return _solve(problem, outcome, active, None, rlimit, timeout_ms, ctx)
 
 
@@ -299,7 +307,7 @@ def solve(
         seed,
         rlimit,
         timeout_ms,
-        ctx if ctx is not None else _z3().Context(),
+        ctx if ctx is not None else new_context(),
     )
 
 
@@ -494,7 +502,7 @@ class Sampler:
             return self.opt
         z3 = _z3()
         if self.enc is None:
-            self.enc = _Encoder(self.problem, z3.Context())
+            self.enc = _Encoder(self.problem, new_context())
         enc = self.enc
         opt = self.opt = z3.Optimize(ctx=enc.ctx)
         opt.set("timeout", self.timeout_ms)
@@ -519,7 +527,9 @@ class Sampler:
         if var.sort == "bool":
             return rng.random() < 0.5
         if var.enum:
-            return Fraction(rng.choice(var.enum)[1])
+            wanted = self.problem.preferred.get(var.name)
+            members = [v for _, v in var.enum if wanted is None or wanted[0] <= v <= wanted[1]]
+            return Fraction(rng.choice(members or [v for _, v in var.enum]))
         low, high = self.bounds.get(var.name, (None, None))
         plausible = self.problem.preferred.get(var.name)
         if plausible is not None:  # draw in the plausible part of the bounds when there is one
@@ -628,7 +638,7 @@ def never_holds(
 ) -> bool:
     """Whether ``term`` is false in every model of the active constraints."""
     z3 = _z3()
-    ctx = z3.Context()
+    ctx = new_context()
     enc = _Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("rlimit", rlimit)

@@ -23,7 +23,16 @@ from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import RoadNetwork
 from osc2check.world.opendrive import load_opendrive
 
-__all__ = ["load_map", "map_path", "scenario_folder"]
+__all__ = ["is_carla_town", "load_map", "map_path", "scenario_folder"]
+
+# CARLA's maps: Town01 .. Town15, Town10HD and their `_Opt` (layered) variants
+_CARLA_TOWN = re.compile(r"Town\d{2}(HD)?(_Opt)?")
+
+
+def is_carla_town(name: str) -> bool:
+    """Whether ``name`` is one of CARLA's maps (``Town04``, ``Town10HD_Opt``)."""
+    return _CARLA_TOWN.fullmatch(name.removesuffix(".xodr")) is not None
+
 
 _CACHE: dict[tuple[str, int], RoadNetwork] = {}
 _CACHE_SIZE = 8

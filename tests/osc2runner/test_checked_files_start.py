@@ -84,10 +84,8 @@ def test_example_compiles_and_starts_or_is_refused_with_the_checkers_findings(pa
 
 #: Known disagreements, not fixed yet (strict: a fix makes the test say so). Scena's
 #: DSL 2.2 cases declare their own actor types without the standard library: the
-#: witness places no actor of such a type, and the runner refuses to start one; a
-#: modifier invoked as a scenario member is refused by the runner alone.
+#: witness places no actor of such a type, and the runner refuses to start one.
 _NO_START = "the runner refuses an actor of a user actor type the witness does not place"
-_MEMBER_MODIFIER = "a modifier as a scenario member: the runner refuses it, the checker passes it"
 KNOWN = {
     **{
         f"scena-2.2/cases/resolve_{n}.osc": _NO_START
@@ -96,10 +94,6 @@ KNOWN = {
     **{
         f"scena-2.2/expr/host_{n}.osc": _NO_START
         for n in ("001", "002", "006", "007", "009", "023")
-    },
-    **{
-        f"scena-2.2/cases/resolve_{n}.osc": _MEMBER_MODIFIER
-        for n in ("0061", "0076", "0096", "0097", "0099")
     },
 }
 

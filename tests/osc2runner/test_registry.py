@@ -28,12 +28,15 @@ import osc.standard
 scenario s:
     hero: vehicle
     box: trailer
-    m: map
+    bm: behavioral_model
+    event go
     do serial:
         hero.connect_trailer(trailer: box)
         box.drive(duration: 2s)
-    m.set_traffic_lights_control_file(file: "lights.xml")
+    on @go:
+        call hero.set_bm(bm)
 """
+SET_BM = "    on @go:\n        call hero.set_bm(bm)\n"
 
 
 def _symbol(kind: str, name: str, actor: str | None = None):
@@ -137,19 +140,17 @@ def test_required_actions_and_modifiers_are_registered():
 
 def test_unsupported_action_and_modifier_stop_the_run_with_their_locations():
     """Both forms are the capability table's: the checker's A308, refused before tick 0."""
-    without_lights = UNSUPPORTED.replace(
-        '    m.set_traffic_lights_control_file(file: "lights.xml")\n', ""
-    )
+    without_set_bm = UNSUPPORTED.replace(SET_BM, "")
     with pytest.raises(ScenarioError) as caught:
-        compile_file("<unsupported>.osc", source=without_lights)
+        compile_file("<unsupported>.osc", source=without_set_bm)
     assert not caught.value.problems  # nothing the checker did not announce
     found = [(d.code.code, d.span.line, d.span.column) for d in caught.value.diagnostics]
-    assert found == [("A308", 9, 13)]  # a trailer has no driver
+    assert found == [("A308", 10, 13)]  # a trailer has no driver
     assert "a trailer" in caught.value.diagnostics[0].message
     with pytest.raises(ScenarioError) as refused:
         compile_file("<unsupported>.osc", source=UNSUPPORTED)
     found = [(d.code.code, d.span.line, d.span.column) for d in refused.value.diagnostics]
-    assert found == [("A308", 9, 13), ("A308", 10, 7)]
+    assert found == [("A308", 10, 13), ("A308", 12, 14)]
 
 
 def test_the_registry_runs_exactly_what_the_capability_table_does_not_exclude():

@@ -6,7 +6,7 @@ solver chose from a range) and raises :class:`PropertyFailed` when the effect is
 there. The timing follows docs/runner.md: ``at: start`` holds at the phase's first
 tick, ``at: end`` at its last, ``at: all`` (the default) throughout once reached —
 for a phase that starts the scenario the witness placed the actor so at tick 0.
-Tolerances are the runner's own verdict tolerances (``behaviours.modifiers``),
+Tolerances are the runner's own verdict tolerances (``execution.tolerances``),
 widened by what one control period of motion can add.
 
 A property applies only when nothing else in the case commands the same quantity
@@ -29,23 +29,20 @@ import numpy as np
 
 from osc2check.world.builtin import builtin_network
 from osc2check.world.network import LaneRef
-from osc2runner.behaviours.modifiers import (
-    GAP_TOLERANCE,
-    LATERAL_TOLERANCE,
-    SPEED_TOLERANCE,
-    YAW_TOLERANCE,
-)
+from osc2runner.execution.tolerances import Tolerances
 from tests.osc2runner.differential.cases import Call, Case
 
 __all__ = ["PROPERTIES", "Observed", "PropertyFailed", "check", "phase_time"]
 
 KPH = 1 / 3.6
+#: the runner's verdict tolerances at the control period the harness runs with (50 ms)
+TOLERANCES = Tolerances.for_period(0.05)
 #: what a speed may be off by where the property reads it: the verdict's tolerance,
 #: and what a control period at the comfort acceleration adds
-SPEED = SPEED_TOLERANCE + 0.15
-LATERAL = LATERAL_TOLERANCE
-YAW = YAW_TOLERANCE
-GAP = GAP_TOLERANCE + 0.1
+SPEED = TOLERANCES.speed + 0.15
+LATERAL = TOLERANCES.lateral
+YAW = TOLERANCES.heading
+GAP = TOLERANCES.position + 0.1
 
 
 class PropertyFailed(AssertionError):
