@@ -738,8 +738,17 @@ def duplicate_argument(span: Span, name: str) -> Diagnostic:
     return _diag(codes.DUPLICATE_ARGUMENT, f"`{name}` is given more than once", span)
 
 
-def missing_argument(span: Span, callee: Symbol | Builtin, name: str) -> Diagnostic:
-    return _diag(codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{name}`", span)
+def missing_argument(span: Span, callee: Symbol | Builtin, *names: str) -> Diagnostic:
+    """A303: ``callee`` needs the argument ``names[0]`` (or one of ``names``)."""
+    if len(names) == 1:
+        return _diag(
+            codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{names[0]}`", span
+        )
+    return _diag(
+        codes.MISSING_ARGUMENT,
+        f"{_callee(callee)} needs one of the arguments {_quote_list(names, conj='or')}",
+        span,
+    )
 
 
 def not_executed(span: Span, what: str, reason: str) -> Diagnostic:

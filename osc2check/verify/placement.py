@@ -61,6 +61,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import ReadArguments
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
@@ -109,6 +110,8 @@ from osc2check.world.network import RoadNetwork
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+#: actions whose actor stands still throughout
+_STANDING = ("remain_stationary",)
 _DEGREE = Fraction(314159265358979, 18000000000000000)  # pi / 180 (a unit factor)
 #: the rule of "a vehicle whose category nothing constrains is a car": a placement that
 #: has no solution with it is tried again with those vehicles of any category
@@ -942,9 +945,11 @@ class PlacementLowerer:
         is_first = actor.name not in first
         first.add(actor.name)
         if inv.name.text == "assign_speed":  # an instant action: its speed is the start speed
-            given = self._args(inv)
+            given = self._args(inv, realised=True)
             if "speed" in given:
                 self._mod_speed(actor, {"speed": given["speed"]}, inv, placement)
+        if inv.name.text in _STANDING:  # it stands: its speed is 0, whatever else says
+            self._require(ir.op("==", ir.Ref(actor.speed), ir.const(0)), inv)
         handlers = {
             "lane": self._mod_lane,
             "position": self._mod_position,
@@ -957,7 +962,9 @@ class PlacementLowerer:
         for item in inv.with_members:
             if not isinstance(item, ast.Invocation):
                 continue
-            args = self._args(item)
+            args = self._args(item, realised=True)
+            if item.name.text == "change_lane":  # a change from the start lane
+                self._lane_change(actor, args, item, placement)
             at = modifier_timing(args)
             if not (
                 at == "start"
@@ -969,6 +976,33 @@ class PlacementLowerer:
                 actor.placed = actor.placed or item.name.text in _POSITIONING
                 self.applied.add(id(item))
                 handler(actor, args, item, placement)
+
+    def _lane_change(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
+        """``change_lane(n, side)`` in a phase that starts the scenario: the road has a
+        lane ``n`` lanes to ``side`` of the start lane (to either side without one, as
+        the runner then draws one of those that exist); ``n`` from a range is the
+        solver's, which the runner changes by."""
+        node = args.get("lane")
+        count = self._value(node) if node is not None else ir.const(1)
+        if count is None:
+            return
+        count = coerce(actor.lane, count)
+        side = enum_word(args.get("side"))
+        beside = []
+        for sign, name in ((1, "left"), (-1, "right")):
+            if side not in (None, name):
+                continue
+            step = count if sign > 0 else ir.op("neg", count)
+            target = ir.op("+", ir.Ref(actor.lane), step)
+            beside.append(placement.terms.lanes(actor.road, target, ir.Ref(actor.s)))
+        if beside:
+            self._require(beside[0] if len(beside) == 1 else ir.op("or", *beside), item)
 
     def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
@@ -990,7 +1024,7 @@ class PlacementLowerer:
                     if not isinstance(item, ast.Invocation) or id(item) in self.applied:
                         continue
                     if item.name.text in ("lane", "speed"):
-                        self._phase_limit(actor, item, placement)
+                        self._phase_limit(actor, item, placement, inv.name.text in _STANDING)
                     elif item.name.text == "along":
                         self._mod_along(actor, self._args(item), item, placement, at_start=False)
                 for change in steps.run(actor.name, actor.lane, inv, self._phase_lane(actor)):
@@ -1010,8 +1044,14 @@ class PlacementLowerer:
         return lane
 
     def _phase_limit(
-        self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement
+        self,
+        actor: PlacedActor,
+        item: ast.Invocation,
+        placement: StartPlacement,
+        standing: bool = False,
     ) -> None:
+        """The lane or speed a modifier gives in its phase is one the road has and the
+        vehicle reaches (``standing``: the phase's action stands, so the speed is 0)."""
         args = self._args(item)
         name = item.name.text
         if name == "lane" and "lane" in args and not any(k in args for k in LANE_REFERENCES):
@@ -1038,6 +1078,8 @@ class PlacementLowerer:
             try:
                 self._speed_range(actor)
                 self._mod_speed(actor, args, item, placement)
+                if standing:
+                    self._require(ir.op("==", ir.Ref(speed), ir.const(0)), item)
             finally:
                 actor.speed = saved
 
@@ -1046,10 +1088,15 @@ class PlacementLowerer:
         one for each instance of an invoked scenario."""
         return join_path(self.scope.prefix, f"{actor.name}@{item.span.line}.{what}")
 
-    def _args(self, inv: ast.Invocation) -> dict[str, ast.Node]:
-        """The arguments given to modifier ``inv``, by parameter (as the checker bound them)."""
+    def _args(self, inv: ast.Invocation, realised: bool = False) -> dict[str, ast.Node]:
+        """The arguments given to modifier ``inv``, by parameter (as the checker bound them);
+        ``realised``: the start placement realises them, and notes what it reads
+        (``bindings.recording_reads``)."""
         binding = self.model.binding(inv)
-        return dict(binding.values(defaults=False)) if binding is not None else {}
+        given: dict[str, ast.Node] = (
+            dict(binding.values(defaults=False)) if binding is not None else {}
+        )
+        return ReadArguments(inv, given) if realised else given
 
     def _value(self, node: ast.Node) -> ir.Term | None:
         chosen = self._chosen(node)
@@ -1283,8 +1330,30 @@ class PlacementLowerer:
         node = args.get("distance")
         value = self._value(node) if node is not None else None
         self.lateral.add(actor.name)
+        for key, sign in (("left_of", 1), ("right_of", -1), ("same_as", 0), ("side_of", 0)):
+            if key not in args:
+                continue
+            other = self._reference(args[key], actor, placement, item.span)
+            if other is None:
+                return
+            if key == "side_of":
+                sign = -1 if enum_word(args.get("side")) == "right" else 1
+            offset = value if value is not None and sign else ir.const(0)
+            if sign < 0:
+                offset = ir.op("neg", offset)
+            relation = placement.terms.beside(
+                actor.road,
+                ir.Ref(actor.s),
+                ir.Ref(actor.lane),
+                ir.Ref(actor.t),
+                ir.Ref(other.lane),
+                ir.Ref(other.t),
+                offset,
+            )
+            self._require(_with(relation, placement.terms.same(actor.road, other.road)), item)
+            return
         if value is not None:
-            if enum_word(args.get("side")) == "right" and "side_of" not in args:
+            if enum_word(args.get("side")) == "right":
                 value = ir.op("neg", value)  # an offset to the right of the lane centre
             self._require(ir.op("==", ir.Ref(actor.t), value), item)
 

@@ -20,8 +20,9 @@ from typing import Any
 
 import py_trees
 
+from osc2check.capabilities import TRAILER_ACTIONS
 from osc2check.semantics import types as T
-from osc2check.semantics.bindings import Binding, CoverItem
+from osc2check.semantics.bindings import Binding, CoverItem, note_read
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies, last_do, scenario_members
@@ -507,7 +508,7 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 inv.name,
             )
-        if actor.kind == "trailer" and not getattr(entry.target, "for_trailers", False):
+        if actor.kind == "trailer" and sym.name not in TRAILER_ACTIONS:
             raise CompileProblem(
                 f"`{actor.name}` is a trailer: it has no engine or driver and moves only when "
                 f"a vehicle tows it (`connect_trailer`), so `{sym.name}` cannot act on it",
@@ -602,6 +603,15 @@ class TreeCompiler:
             )
         return actor
 
+    def _actor_type(self, node: ast.Node) -> bool:
+        """Whether ``node`` names an actor type, not an actor (``dut.cut_in()`` with
+        ``actor dut``): the scenario of that type is invoked with no actor of its own,
+        as the checker reads it (docs/runner.md)."""
+        if not isinstance(node, ast.NameRef):
+            return False
+        sym = self.model.references.get(node.name.name)
+        return isinstance(sym, Symbol) and sym.kind is SymbolKind.ACTOR
+
     def scenario_invocation(
         self, inv: ast.Invocation, sym: Symbol, scope: Bindings
     ) -> py_trees.behaviour.Behaviour:
@@ -620,7 +630,7 @@ class TreeCompiler:
         outer = scope.frame
         assert outer is not None
         actor: Actor | None = None
-        if inv.actor is not None:
+        if inv.actor is not None and not self._actor_type(inv.actor):
             actor = self._actor(inv, scope)
         elif sym.actor is not None:
             implicit = scope.lookup("actor")
@@ -770,10 +780,21 @@ class TreeCompiler:
                 result[bound.name] = self._chosen(path, bound.parameter, bound.value)
             else:
                 result[bound.name] = self.env.compile(bound.value, scope)
-        if defaults and isinstance(binding.callee, Symbol):
-            self._kept(binding.callee, path, result)
+        callee = binding.callee
+        if isinstance(callee, Symbol) and callee.kind is SymbolKind.ACTION:
+            # a parameter that a `keep` of the call's `with:` gives: the witness's value
+            for param in self.model.parameters(callee):
+                if param.name in result or binding.given(param.name) is not None:
+                    continue
+                kept = self.env.values.kept(path, param)
+                if kept is not None:
+                    result[param.name] = constant(to_runtime(kept))
+        if defaults and isinstance(callee, Symbol):
+            self._kept(callee, path, result)
             result = {**declared, **result}
         duration = binding.extra("duration")
+        if duration is not None:  # the phase's bound (``_wrap``) and the plans' (ActionUse)
+            note_read(call, "duration")
         return result, duration.value if duration is not None else None
 
     def _kept(self, callee: Symbol, path: str, result: dict[str, Closure]) -> None:

@@ -475,7 +475,9 @@ def run(argv: list[str], cwd: Path) -> tuple[int, str]:
 
 
 def test_a_conflict_over_three_files_is_reported_with_every_line_in_json():
-    status, out = run(["main.osc", "--isolated", "--output-format", "json"], THREE_FILES)
+    status, out = run(  # A308 (`route`'s actor `bus` not passed) is beside the point
+        ["main.osc", "--isolated", "--ignore", "A308", "--output-format", "json"], THREE_FILES
+    )
     assert status == 1
     document = json.loads(out)
     (finding,) = document["findings"]
@@ -500,7 +502,9 @@ def test_a_conflict_over_three_files_is_reported_with_every_line_in_json():
 
 
 def test_a_conflict_over_three_files_carries_related_locations_in_sarif():
-    status, out = run(["main.osc", "--isolated", "--output-format", "sarif"], THREE_FILES)
+    status, out = run(  # A308 (`route`'s actor `bus` not passed) is beside the point
+        ["main.osc", "--isolated", "--ignore", "A308", "--output-format", "sarif"], THREE_FILES
+    )
     assert status == 1
     (result,) = json.loads(out)["runs"][0]["results"]
     assert result["ruleId"] == "C401"
