@@ -367,9 +367,9 @@ def _warm_up() -> None:
     frozen by mistake would never be freed.
     """
     from osc2check.semantics.stdlib import standard_library
-    from osc2check.syntax.grammar import lark_parser
+    from osc2check.syntax.tables import parse_tables
 
-    lark_parser()
+    parse_tables()
     standard_library()
     completion.complete(None, "scenario s:\n    ", 16)  # the grammar table, the focus path
     importlib.import_module("osc2lsp.preview")  # what the first edit needs

@@ -9,6 +9,7 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass
 
+from osc2check import cache
 from osc2check.diagnostics import Diagnostic
 from osc2check.resources import stdlib_dir
 from osc2check.semantics.builtins import STANDARD_MODULE_NAMES
@@ -16,6 +17,7 @@ from osc2check.semantics.declare import TOOLKIT_NAMESPACE, Unit
 from osc2check.semantics.model import Context, Model
 from osc2check.semantics.resolve import resolve
 from osc2check.syntax import ParseResult, parse
+from osc2check.syntax.grammar import grammar_key
 
 LIBRARY_FILES = ("types.osc", "domain.osc", "osc2toolkit.osc")
 STD, STDTYPES = "std", "stdtypes"
@@ -61,23 +63,33 @@ def comment_lines(result: ParseResult) -> dict[int, str]:
 
 
 def standard_library() -> StandardLibrary:
-    """The library's model; built on first use, then shared (it is never modified)."""
+    """The library's model; built on first use, then shared (it is never modified).
+
+    It comes from the start-up cache (``osc2check.cache``) when an entry for this
+    toolkit, grammar, library text and Python is there; otherwise it is built and
+    stored for the next process.
+    """
     global _cached
     with _lock:
         if _cached is None:
             folder = stdlib_dir()
-            model = Model()
-            parses: dict[str, ParseResult] = {}
-            units = []
-            for name in LIBRARY_FILES:
-                path = folder / name
-                uri = str(path)
-                result = parse(path.read_text(encoding="utf-8"), uri)
-                parses[uri] = result
-                units.append(
-                    Unit(uri, result.ast, Context(), library=True, comments=comment_lines(result))
-                )
-            diagnostics = [d for r in parses.values() for d in r.diagnostics]
-            diagnostics += resolve(model, units)
-            _cached = StandardLibrary(model, parses, tuple(diagnostics))
+            texts = {str(folder / n): (folder / n).read_text("utf-8") for n in LIBRARY_FILES}
+            key = {
+                **grammar_key(),
+                "library": cache.digest(*texts, *texts.values()),  # its file names are in spans
+            }
+            _cached = cache.cached("stdlib", key, lambda: _build(texts))
         return _cached
+
+
+def _build(texts: dict[str, str]) -> StandardLibrary:
+    model = Model()
+    parses: dict[str, ParseResult] = {}
+    units = []
+    for uri, text in texts.items():
+        result = parse(text, uri)
+        parses[uri] = result
+        units.append(Unit(uri, result.ast, Context(), library=True, comments=comment_lines(result)))
+    diagnostics = [d for r in parses.values() for d in r.diagnostics]
+    diagnostics += resolve(model, units)
+    return StandardLibrary(model, parses, tuple(diagnostics))

@@ -1,0 +1,153 @@
+"""The start-up cache: entries keyed, checked and rebuilt; findings never depend on it."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from osc2check import cache
+from osc2check.semantics.stdlib import standard_library
+
+ROOT = Path(__file__).resolve().parents[2]
+EXAMPLES = ROOT / "examples"
+# a clean file, one with findings of several kinds, one with a syntax error (the recovering
+# parser), one on a built-in map other than the default
+FILES = [
+    EXAMPLES / "cut_in_and_stop.osc",
+    EXAMPLES / "unsafe_typos.osc",
+    EXAMPLES / "red_light_stop.osc",
+]
+
+
+@pytest.fixture
+def folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
+    monkeypatch.setenv("OSC2_CACHE_DIR", str(tmp_path / "cache"))
+    monkeypatch.delenv("OSC2_NO_CACHE", raising=False)
+    return tmp_path / "cache"
+
+
+def _check(folder: Path | None, *paths: Path, no_cache: bool = False) -> tuple[int, str]:
+    env = {k: v for k, v in os.environ.items() if k not in ("OSC2_CACHE_DIR", "OSC2_NO_CACHE")}
+    if folder is not None:
+        env["OSC2_CACHE_DIR"] = str(folder)
+    args = [sys.executable, "-m", "osc2check.cli", "--output-format", "concise"]
+    if no_cache:
+        args.append("--no-cache")
+    done = subprocess.run(
+        [*args, *map(str, paths)], env=env, capture_output=True, text=True, timeout=300
+    )
+    assert "Traceback" not in done.stderr, done.stderr
+    return done.returncode, done.stdout
+
+
+def test_an_entry_is_read_back_under_its_key_only(folder: Path) -> None:
+    cache.store("probe", {"a": "1"}, {"value": (1, "two")})
+    assert cache.load("probe", {"a": "1"}) == {"value": (1, "two")}
+    assert cache.load("probe", {"a": "2"}) is None
+    assert cache.load("other", {"a": "1"}) is None
+
+
+def test_a_damaged_entry_is_ignored_and_written_again(folder: Path) -> None:
+    cache.store("probe", {}, [1, 2, 3])
+    (entry,) = folder.glob("probe-*.bin")
+    data = entry.read_bytes()
+    for damaged in (b"", data[: len(data) // 2], data[:-1] + bytes([data[-1] ^ 1]), b"x" * 999):
+        entry.write_bytes(damaged)
+        assert cache.load("probe", {}) is None
+        assert cache.cached("probe", {}, lambda: [1, 2, 3]) == [1, 2, 3]
+        assert cache.load("probe", {}) == [1, 2, 3]
+
+
+def test_the_cache_off_neither_reads_nor_writes(folder: Path) -> None:
+    cache.store("probe", {}, "stored")
+    cache.set_enabled(False)
+    try:
+        assert cache.load("probe", {}) is None
+        assert cache.cached("probe", {}, lambda: "built") == "built"
+        assert os.environ["OSC2_NO_CACHE"] == "1"  # processes started now inherit it
+    finally:
+        cache.set_enabled(True)
+    assert cache.load("probe", {}) == "stored"
+    assert "OSC2_NO_CACHE" not in os.environ
+
+
+def test_an_unwritable_folder_only_means_no_cache(tmp_path: Path, monkeypatch) -> None:
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    monkeypatch.setenv("OSC2_CACHE_DIR", str(blocker / "cache"))
+    assert cache.cached("probe", {}, lambda: 42) == 42
+    assert cache.load("probe", {}) is None
+
+
+def test_old_entries_of_a_kind_are_pruned(folder: Path) -> None:
+    for version in range(8):
+        cache.store("probe", {"v": str(version)}, version)
+    cache.store("probe-other", {}, "kept")  # a kind whose name begins like another's
+    assert len(list(folder.glob("probe-????????????????.bin"))) <= 5
+    assert cache.load("probe", {"v": "7"}) == 7
+    assert cache.load("probe-other", {}) == "kept"
+
+
+def test_the_library_from_the_cache_is_the_library_built(folder: Path) -> None:
+    built = standard_library()  # this process's, whichever way it came
+    stored = cache.load("stdlib", _stdlib_key())
+    if stored is None:  # this process built it with the cache elsewhere: store a copy
+        cache.store("stdlib", _stdlib_key(), built)
+        stored = cache.load("stdlib", _stdlib_key())
+    assert stored is not built
+    assert [_symbol_row(s) for s in stored.model.symbols] == [
+        _symbol_row(s) for s in built.model.symbols
+    ]
+    assert sorted(stored.parses) == sorted(built.parses)
+    for uri, result in built.parses.items():
+        assert stored.parses[uri].text == result.text
+        assert len(stored.parses[uri].ast.declarations) == len(result.ast.declarations)
+    # identities the analysis relies on: a symbol's declaration is the AST node of the parse
+    symbol = next(s for s in stored.model.symbols if s.decl is not None)
+    assert stored.model.declarations[symbol.decl] is symbol
+
+
+def _stdlib_key() -> dict[str, str]:
+    from osc2check.semantics.stdlib import LIBRARY_FILES
+    from osc2check.syntax.grammar import grammar_key
+
+    folder = next(iter(standard_library().parses)).rsplit(os.sep, 1)[0]
+    texts = {f"{folder}{os.sep}{n}": Path(folder, n).read_text("utf-8") for n in LIBRARY_FILES}
+    return {**grammar_key(), "library": cache.digest(*texts, *texts.values())}
+
+
+def _symbol_row(symbol) -> tuple[object, ...]:
+    return (
+        symbol.kind,
+        symbol.qualified_name,
+        symbol.uri,
+        symbol.name_span,
+        str(symbol.type) if symbol.type is not None else None,
+        symbol.parent.qualified_name if symbol.parent is not None else None,
+        symbol.doc,
+    )
+
+
+def test_garbage_and_eight_checkers_at_once_never_change_a_finding(tmp_path: Path) -> None:
+    expected = _check(None, *FILES, no_cache=True)
+    assert expected[0] == 1 and expected[1].count("\n") > 3  # findings to compare
+    folder = tmp_path / "cache"
+    # a cold cache, filled by eight checkers at once
+    with ThreadPoolExecutor(8) as pool:
+        results = list(pool.map(lambda _: _check(folder, *FILES), range(8)))
+    assert results == [expected] * 8
+    entries = sorted(folder.glob("*.bin"))
+    assert {p.name.rsplit("-", 1)[0] for p in entries} >= {"stdlib", "parse-tables"}
+    assert not list(folder.glob(".*.tmp"))  # every temporary file was renamed or removed
+    # garbage in every entry: each checker reads it, rebuilds, writes it again
+    for number, entry in enumerate(entries):
+        entry.write_bytes(os.urandom(64 + number) if number % 2 else b"OSC2CACHE\n1 2 3\nxx")
+    with ThreadPoolExecutor(8) as pool:
+        results = list(pool.map(lambda _: _check(folder, *FILES), range(8)))
+    assert results == [expected] * 8
+    assert _check(folder, *FILES) == expected  # the rewritten entries, read back
