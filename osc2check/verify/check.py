@@ -20,6 +20,7 @@ import re
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from osc2check import codes, messages
 from osc2check.diagnostics import Diagnostic, Related
@@ -33,7 +34,6 @@ from osc2check.syntax.walk import walk
 from osc2check.verify import flow, ir, quick
 from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
 from osc2check.verify.placement import Gap
-from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
@@ -47,6 +47,9 @@ from osc2check.verify.z3_backend import (
     solve,
 )
 from osc2check.world.catalogue import WALKING_SPEED
+
+if TYPE_CHECKING:
+    from osc2check.verify.witness import Witness
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -100,6 +103,8 @@ class ScenarioResult:
                 )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
+        from osc2check.verify.witness import build_witness  # only a witness asked for
+
         return build_witness(self.problem, values, active, seed, _rounded(active, values))
 
 

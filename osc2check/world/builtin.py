@@ -29,10 +29,7 @@ import math
 from dataclasses import dataclass
 
 from osc2check.world.errors import UnknownMapError
-from osc2check.world.geometry import Cubic, Geometry
-from osc2check.world.layout import build_network
 from osc2check.world.network import LaneRef, Numbering, RoadNetwork
-from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
 
 __all__ = [
     "BUILTIN_MAPS",
@@ -151,6 +148,11 @@ def builtin_map(name: str) -> BuiltinMap:
 
 def straight_network(row: BuiltinMap) -> RoadNetwork:
     """The road network of one straight road."""
+    # the geometry needs numpy, which a check on a cached map never imports
+    from osc2check.world.geometry import Cubic, Geometry
+    from osc2check.world.layout import build_network
+    from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
+
     n = row.lane_count
     if row.direction == 1:
         geometry = Geometry("line", 0.0, 0.0, row.width, 0.0, row.length)

@@ -25,14 +25,14 @@ not junctions.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import cast
-
-import numpy as np
+from typing import TYPE_CHECKING, cast
 
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.numbering import driving_lanes_right_to_left
-from osc2check.world.projection import WorldPose
 from osc2check.world.topology import Way, end_lanes, linked_ways, travel_ways, way_label
+
+if TYPE_CHECKING:
+    from osc2check.world.projection import WorldPose
 
 __all__ = [
     "AHEAD_CAP",
@@ -219,7 +219,7 @@ def _carriageway(network: RoadNetwork, index: int, chain: list[Way]) -> Carriage
             # narrowest width of each driving lane travelling this way (row p of the
             # borders is lane p's left border, row p + 1 its right border)
             widths = [
-                float(np.min(section.borders[p] - section.borders[p + 1]))
+                float((section.borders[p] - section.borders[p + 1]).min())
                 for p, lane in enumerate(section.lanes)
                 if lane.drivable and lane.direction == direction
             ]

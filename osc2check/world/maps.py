@@ -8,20 +8,29 @@ exists; a name that is not a file is looked up among the built-in names (so
 expect), and an ``.xodr`` name that is neither is a :class:`MapError` ("no such
 file"). Loaded files are cached by path and modification time, so an editor
 asking on every keystroke reads a map once.
+
+:func:`find_map` is :func:`load_map` for the checker's placement: a
+:class:`FoundMap` gives the few facts placement reads first (:class:`MapFacts`:
+numbering, speed limit, carriageways) at once and builds the network only when
+something asks for it. A built-in map's facts come from the start-up cache
+(``osc2check.cache``), so checking a scenario on one usually builds no geometry.
 """
 
 from __future__ import annotations
 
 import re
+import threading
+from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
-from osc2check.world.builtin import builtin_network
+from osc2check import cache
+from osc2check.world.builtin import builtin_map, builtin_network
+from osc2check.world.carriageways import Carriageway, carriageways
 from osc2check.world.errors import MapError, UnknownMapError
-from osc2check.world.network import RoadNetwork
-from osc2check.world.opendrive import load_opendrive
+from osc2check.world.network import Numbering, RoadNetwork
 
-__all__ = ["load_map", "map_path", "scenario_folder"]
+__all__ = ["FoundMap", "MapFacts", "find_map", "load_map", "map_path", "scenario_folder"]
 
 _CACHE: dict[tuple[str, int], RoadNetwork] = {}
 _CACHE_SIZE = 8
@@ -65,6 +74,8 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
         key = (str(resolved), path.stat().st_mtime_ns)
         network = _CACHE.get(key)
         if network is None:
+            from osc2check.world.opendrive import load_opendrive
+
             network = load_opendrive(resolved)  # its source is the file's absolute path
             if len(_CACHE) >= _CACHE_SIZE:
                 _CACHE.pop(next(iter(_CACHE)))
@@ -74,3 +85,66 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
         return builtin_network(name)
     except UnknownMapError:
         raise MapError(f"no such file (looked for `{path}`)", name) from None
+
+
+@dataclass(frozen=True)
+class MapFacts:
+    """What placement reads from a map before it asks anything of its geometry."""
+
+    name: str
+    numbering: Numbering
+    speed_limit: float | None
+    carriageways: tuple[Carriageway, ...]
+
+
+_FACTS: dict[str, MapFacts] = {}  # built-in maps' facts, by name, once read
+
+
+def map_facts(network: RoadNetwork) -> MapFacts:
+    return MapFacts(network.name, network.numbering, network.speed_limit, carriageways(network))
+
+
+class FoundMap:
+    """A map found by name: its :class:`MapFacts` now, its network on first use."""
+
+    def __init__(self, facts: MapFacts, network: RoadNetwork | None, name: str) -> None:
+        self.facts = facts
+        self._network = network
+        self._name = name  # a built-in map's name, to build its network from
+        self._lock = threading.Lock()
+
+    @property
+    def name(self) -> str:
+        return self.facts.name
+
+    @property
+    def network(self) -> RoadNetwork:
+        with self._lock:
+            if self._network is None:
+                self._network = builtin_network(self._name)
+            return self._network
+
+
+def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
+    """:func:`load_map`, with a built-in map's facts from the start-up cache and its network
+    built only when asked for (raises as :func:`load_map` does)."""
+    path = map_path(name, relative_to)
+    if path is None or not path.is_file():
+        try:
+            row = builtin_map(name)
+        except UnknownMapError:
+            if path is None:
+                raise
+            raise MapError(f"no such file (looked for `{path}`)", name) from None
+        built: list[RoadNetwork] = []
+
+        def build() -> MapFacts:
+            built.append(builtin_network(row.name))
+            return map_facts(built[0])
+
+        facts = _FACTS.get(row.name)
+        if facts is None:
+            facts = _FACTS[row.name] = cache.cached("builtin-map", {"map": row.name}, build)
+        return FoundMap(facts, built[0] if built else None, row.name)
+    network = load_map(name, relative_to)
+    return FoundMap(map_facts(network), network, name)
