@@ -178,6 +178,10 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     CampaignError for options or a folder that cannot be used."""
     _check(options)
     started = time.perf_counter()
+    if options.engine == "local":
+        from osc2runner.campaign.pool import warm_up
+
+        warm_up()
     started_at = datetime.now(UTC).isoformat(timespec="seconds")
     try:
         data = Path(options.file).read_bytes()
@@ -263,7 +267,16 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         if progress is not None:
             progress("plan", {"total": len(plan.tasks), "done": list(kept.values())})
 
+        spare_core = (os.cpu_count() or 1) > jobs
+        preloading: list[threading.Thread] = []
+
         def on_record(record: RunRecord) -> None:
+            # the report's modules are imported on a core no worker needs: one left spare,
+            # or the one freed when fewer runs are left than workers
+            left = len(todo) - len(records.keys() - kept.keys()) - 1
+            if not preloading and (spare_core or left < jobs):
+                preloading.append(threading.Thread(target=_preload_report, daemon=True))
+                preloading[0].start()
             write_record(folder, record)
             record.shipped = {}
             records[record.seed] = record
@@ -297,6 +310,15 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     result = finish(folder, document, plan, records, replay, wall, status, engine)
     result.signum = stop_signal[0] if stop_signal else None
     return result
+
+
+def _preload_report() -> None:
+    from osc2runner.campaign.report import preload
+
+    try:
+        preload()
+    except Exception:  # the report says what is wrong when it is written
+        log.debug("the report's modules could not be imported ahead", exc_info=True)
 
 
 def _bin_text(run: RunTask | RunRecord) -> str | None:
