@@ -376,6 +376,7 @@ def finish(
             "workers": {
                 "engine": engine.name,
                 "started": getattr(engine, "started_workers", None),
+                "retried": getattr(engine, "retried", []),  # runs again: their node died
                 "peak_memory_mb": [
                     round(m / 2**20, 1) for m in getattr(engine, "worker_memory", [])
                 ],

@@ -1,0 +1,176 @@
+"""A campaign across a real two-node Ray cluster: the local pool's results; a lost node's run
+is run again on the other node.
+
+The cluster is started here the way a user starts one: ``ray start --head --num-cpus=1``
+and ``ray start --address=HEAD --num-cpus=1`` (both on this machine, one CPU each, so a
+campaign of two workers has an actor on each node), on ports and a temporary folder of
+its own, and stopped by stopping those two commands (never ``ray stop``, which stops
+every Ray on the machine). Skipped where Ray is not installed; ``.ci/run`` installs it.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+pytest.importorskip("ray")
+
+from osc2runner.campaign import CampaignOptions, run_campaign  # noqa: E402
+from osc2runner.sut.loading import SutSpec  # noqa: E402
+
+ROOT = Path(__file__).parents[3]
+CCRS = ROOT / "examples" / "ncap" / "ccrs.osc"
+AEB = ROOT / "examples" / "controllers" / "aeb.py"
+RUNS, SEED = 4, 40
+RAY = shutil.which("ray") or str(Path(sys.executable).with_name("ray"))
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return int(s.getsockname()[1])
+
+
+@dataclass
+class Cluster:
+    address: str
+    head: subprocess.Popen[bytes]
+    node: subprocess.Popen[bytes]
+
+
+def _start(args: list[str], log: Path) -> subprocess.Popen[bytes]:
+    env = {**os.environ, "RAY_USAGE_STATS_ENABLED": "0"}
+    with log.open("wb") as out:
+        return subprocess.Popen(
+            [RAY, "start", "--block", "--num-cpus=1", "--node-ip-address=127.0.0.1", *args],
+            stdout=out, stderr=subprocess.STDOUT, env=env, start_new_session=True,
+        )  # fmt: skip
+
+
+def _alive_nodes(address: str) -> int:
+    """How many nodes the cluster at ``address`` has (0 while its head is not up)."""
+    host, port = address.split(":")
+    try:
+        socket.create_connection((host, int(port)), timeout=2).close()
+    except OSError:
+        return 0
+    probe = (
+        f"import ray; ray.init(address={address!r}, log_to_driver=False, "
+        "configure_logging=False); print(sum(1 for n in ray.nodes() if n['Alive']))"
+    )
+    try:
+        done = subprocess.run(
+            [sys.executable, "-c", probe], capture_output=True, text=True, timeout=120
+        )
+    except subprocess.TimeoutExpired:
+        return 0
+    lines = done.stdout.strip().splitlines()
+    return int(lines[-1]) if done.returncode == 0 and lines else 0
+
+
+def _stop(process: subprocess.Popen[bytes]) -> None:
+    """Stop a ``ray start --block`` and the node it runs (its own process group)."""
+    if process.poll() is None:
+        os.killpg(process.pid, signal.SIGTERM)
+        try:
+            process.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait(timeout=10)
+    try:  # what the node left behind in the group (its raylet's workers)
+        os.killpg(process.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+
+
+@pytest.fixture(scope="module")
+def cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
+    logs = tmp_path_factory.mktemp("ray-logs")
+    folder = Path(tempfile.mkdtemp(prefix="r", dir="/tmp"))  # short: Ray's socket paths
+    port = _free_port()
+    address = f"127.0.0.1:{port}"
+    ports = [f"--dashboard-agent-listen-port={_free_port()}"]
+    head = _start(
+        ["--head", f"--port={port}", f"--temp-dir={folder}", "--include-dashboard=false",
+         f"--dashboard-port={_free_port()}", "--disable-usage-stats", *ports],
+        logs / "head.log",
+    )  # fmt: skip
+    node = None
+    try:
+        deadline = time.monotonic() + 180
+        while _alive_nodes(address) < 1:
+            assert head.poll() is None and time.monotonic() < deadline, "the head did not start"
+            time.sleep(1)
+        node = _start(
+            [f"--address={address}", f"--dashboard-agent-listen-port={_free_port()}"],
+            logs / "node.log",
+        )
+        while _alive_nodes(address) < 2:
+            assert node.poll() is None and time.monotonic() < deadline, "node 2 did not start"
+            time.sleep(1)
+        yield Cluster(address, head, node)
+    finally:
+        if node is not None:
+            _stop(node)
+        _stop(head)
+        shutil.rmtree(folder, ignore_errors=True)
+
+
+@pytest.fixture(scope="module")
+def local(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, dict[int, object]]:
+    out = tmp_path_factory.mktemp("local")
+    result = run_campaign(_options(out))
+    return out, {r.seed: _outcome(r) for r in result.records}
+
+
+def _options(out: Path, **more: object) -> CampaignOptions:
+    sut = SutSpec(f"{AEB}:Aeb").resolved()
+    return CampaignOptions(str(CCRS), RUNS, str(out), jobs=2, sut=sut, seed=SEED, **more)  # type: ignore[arg-type]
+
+
+def _outcome(record) -> tuple[object, ...]:
+    return record.status, record.reason, record.parameters, record.kpis
+
+
+def _same_as_local(result, out: Path, local: tuple[Path, dict[int, object]]) -> None:
+    folder, outcomes = local
+    assert result.status == "complete" and result.summary["finished"] == RUNS
+    assert {r.seed: _outcome(r) for r in result.records} == outcomes
+    for record in result.records:
+        for name in ("telemetry.csv", "events.csv", "coverage.json"):
+            assert (out / record.folder / name).read_bytes() == (
+                folder / record.folder / name
+            ).read_bytes(), (record.seed, name)
+
+
+def test_a_campaign_across_two_nodes_gives_the_local_pools_results(
+    cluster: Cluster, local: tuple[Path, dict[int, object]], tmp_path: Path
+) -> None:
+    result = run_campaign(_options(tmp_path, engine="ray", address=cluster.address))
+    assert result.document["workers"]["engine"] == "ray"
+    _same_as_local(result, tmp_path, local)
+
+
+def test_the_run_of_a_node_that_dies_is_run_again_on_the_other(
+    cluster: Cluster, local: tuple[Path, dict[int, object]], tmp_path: Path
+) -> None:
+    def progress(kind: str, payload: object) -> None:
+        if kind == "record" and cluster.node.poll() is None:
+            _stop(cluster.node)  # both actors were busy: node 2 dies in the middle of a run
+
+    result = run_campaign(_options(tmp_path, engine="ray", address=cluster.address), progress)
+    assert cluster.node.poll() is not None
+    retried = result.document["workers"]["retried"]
+    assert retried and set(retried) <= set(range(SEED, SEED + RUNS))
+    _same_as_local(result, tmp_path, local)
