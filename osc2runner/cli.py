@@ -21,6 +21,7 @@ import os
 import sys
 import traceback
 from collections.abc import Callable, Sequence
+from functools import partial
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
@@ -164,6 +165,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="finish the campaign in DIR: its finished "
         "runs are kept (FILE and options default to the campaign's)",
     )
+    from osc2runner.export.command import add_export_options
+
+    add_export_options(p)
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -198,6 +202,9 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         raise OptionError(exc.name, given[exc.name], exc.why) from None  # the text given
     if args.out is not None:
         args.out = check_out(args.out)  # a bad --out is found before the checker runs
+    from osc2runner.export.command import export_arguments
+
+    export_arguments(args)
     args.sut_spec = _sut(args)
     if args.bin is not None:
         from osc2runner.campaign.steering import bin_ref
@@ -303,11 +310,12 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         witness=_witness_in_bin(checked, args) if args.bin is not None else None,
     )
     interactive = out.isatty() and not args.quiet
+    files = {"out": args.out, "plot": args.plot, "export": args.export_targets}
     try:
         if interactive:
-            result = _with_progress(prepared, args, execute)
+            result = _with_progress(prepared, args, partial(execute, **files))
         else:
-            result = execute(prepared, out=args.out, duration=args.duration, plot=args.plot)
+            result = execute(prepared, duration=args.duration, **files)
     except RunInterrupted as exc:
         _summary(exc.result, out)
         return exit_status(exc.signum)
@@ -343,9 +351,7 @@ def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any
             rtf = f"{sim / wall:.0f}x real time" if wall > 0 else ""
             progress.update(task, completed=sim, sim=f"{sim:.1f}", rtf=rtf)
 
-        return execute(
-            prepared, out=args.out, duration=args.duration, plot=args.plot, progress=report
-        )
+        return execute(prepared, duration=args.duration, progress=report)
 
 
 def _summary(result: Any, out: TextIO) -> None:

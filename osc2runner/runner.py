@@ -54,6 +54,7 @@ from osc2runner.execution.drivers import controllers_for, drive_with_sut
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts
+from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
@@ -391,8 +392,10 @@ def execute(
     duration: float | None = None,
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
+    export: ExportTargets | None = None,
 ) -> RunResult:
-    """Tick a prepared scenario to its end and write its files (see :func:`run`).
+    """Tick a prepared scenario to its end and write its files (see :func:`run`), and
+    the exports ``export`` names (:mod:`osc2runner.export`), before ``run.json``.
 
     Signals are noted from before the first tick until the files are written
     (:class:`~osc2runner.execution.signals.Interrupts`): the first one ends the
@@ -411,7 +414,7 @@ def execute(
         )
         ticked = loop.run(progress, interrupts)
         result = _finish(
-            prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, folder, plot
+            prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, folder, plot, export
         )
     if ticked.outcome.status == "interrupted":
         raise RunInterrupted(result, interrupts.first if interrupts.consumed else None) from (
@@ -442,9 +445,10 @@ def _finish(
     wall: float,
     out: str | Path | None,
     plot: bool,
+    export: ExportTargets | None = None,
 ) -> RunResult:
-    """The result, and its files: telemetry and events, the plots, ``run.json`` last
-    (a folder with a ``run.json`` has every file of its run)."""
+    """The result, and its files: telemetry and events, the plots, the exports,
+    ``run.json`` last (a folder with a ``run.json`` has every file of its run)."""
     ctx = prepared.ctx
     metadata = _metadata(prepared, outcome, wall)
     coverage = ctx.coverage
@@ -453,8 +457,9 @@ def _finish(
     world = prepared.world
     ticks = recorder.ticks if recorder.names else world.tick + 1
     result.lights = light_arrays(ctx.traffic_lights.values(), ticks, world.dt_control)
-    if out is not None:
-        folder = check_out(out, create=True)  # checked before the run; it may have changed
+    # checked before the run; it may have changed
+    folder = check_out(out, create=True) if out is not None else None
+    if folder is not None:
         result.outputs = write_data(folder, recorder, result.events)
         if result.lights:
             result.outputs.append(write_lights(folder / "lights.csv", result.lights))
@@ -463,6 +468,11 @@ def _finish(
             from osc2runner.output.plots import plot_run
 
             result.outputs.extend(plot_run(result, folder, world.network))
+    if export:
+        from osc2runner.export import export_run
+
+        result.outputs.extend(export_run(prepared, result, export))
+    if folder is not None:
         result.outputs.append(write_metadata(folder, metadata, result.events))
     return result
 

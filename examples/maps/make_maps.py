@@ -298,6 +298,17 @@ def four_way_junction() -> ET.Element:
             sub(sub(section, "center"), "lane", id=0, type="none", level="false")
             lane(sub(section, "right"), -1, "driving", LANE, predecessor=-1, successor=1)
             connections.append((arm_id, road_id))
+    # OpenDRIVE orders a file as header, roads, controllers, junctions (the 1.8 schema)
+    for controller_id, members in (("ns", ("2", "4")), ("ew", ("1", "3"))):
+        controller = sub(
+            root,
+            "controller",
+            id=controller_id,
+            name=f"{controller_id} lights",
+            sequence=1 if controller_id == "ns" else 2,
+        )
+        for arm_id in members:
+            sub(controller, "control", signalId=f"tl{arm_id}", type="0")
     junction = sub(root, "junction", id=junction_id, name="four-way crossing", type="default")
     for number, (incoming, connecting) in enumerate(connections):
         connection = sub(
@@ -309,16 +320,6 @@ def four_way_junction() -> ET.Element:
             contactPoint="start",
         )
         sub(connection, "laneLink", from_=-1, to=-1)
-    for controller_id, members in (("ns", ("2", "4")), ("ew", ("1", "3"))):
-        controller = sub(
-            root,
-            "controller",
-            id=controller_id,
-            name=f"{controller_id} lights",
-            sequence=1 if controller_id == "ns" else 2,
-        )
-        for arm_id in members:
-            sub(controller, "control", signalId=f"tl{arm_id}", type="0")
     return root
 
 

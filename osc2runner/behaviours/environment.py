@@ -81,9 +81,9 @@ class Rain(InstantAction):
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.attached_world
         world.set_weather(rain=level)
-        self.ctx.record(
-            "environment",
+        self.ctx.environment_changed(
             "rain",
+            self.args,
             f"{mmph:.6g} mm/h -> level {level:.3g}, road friction {world.road_friction:.3g}",
         )
 
@@ -99,7 +99,8 @@ class Fog(InstantAction):
         visual = float(self.args["visual_range"])
         level = min(max(1.0 - visual / FOG_RANGE, 0.0), 1.0)
         self.ctx.attached_world.set_weather(fog=level)
-        self.ctx.record("environment", "fog", f"visual range {visual:.6g} m -> level {level:.3g}")
+        detail = f"visual range {visual:.6g} m -> level {level:.3g}"
+        self.ctx.environment_changed("fog", self.args, detail)
 
 
 @action("environment", "set_road_friction")
@@ -116,7 +117,7 @@ class SetRoadFriction(InstantAction):
             raise ActionError(why)
         value = float(self.args["value"])
         self.ctx.attached_world.set_road_friction(value)
-        self.ctx.record("environment", "set_road_friction", f"{value:.6g}")
+        self.ctx.environment_changed("set_road_friction", self.args, f"{value:.6g}")
 
 
 class Recorded(InstantAction):
@@ -130,7 +131,7 @@ class Recorded(InstantAction):
         detail = ", ".join(
             f"{k}: {v:.6g}" if isinstance(v, float) else f"{k}: {v}" for k, v in self.args.items()
         )
-        self.ctx.record("environment", self.use.symbol.name, detail)
+        self.ctx.environment_changed(self.use.symbol.name, self.args, detail)
 
 
 @action("environment", "air", note=_RECORDED)

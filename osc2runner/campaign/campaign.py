@@ -91,6 +91,7 @@ class CampaignOptions:
     run_timeout: float | None = DEFAULT_RUN_TIMEOUT
     plot: bool = False
     resume: bool = False
+    export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
 
     def run_options(self) -> dict[str, Any]:
         """What makes two runs of one seed the same run (resume compares these)."""
@@ -210,6 +211,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         options.plot,
         str(folder),
         ship_files=options.engine == "ray",
+        export=options.export,
     )
     engine = _engine(options, setup, min(jobs, options.runs))
     # the workers start while the runs are planned (none when every run finished)
@@ -251,6 +253,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 "address": options.address,
                 "run_timeout": options.run_timeout,
                 "plot": options.plot,
+                "export": list(options.export),
             },
             "status": "running",
             "started": started_at,

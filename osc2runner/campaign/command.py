@@ -69,6 +69,8 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     if args.run_timeout is None and opts.get("run_timeout") is not None:
         args.run_timeout = repr(opts["run_timeout"])
     args.plot = args.plot or bool(opts.get("plot"))
+    if args.export is None and opts.get("export"):
+        args.export = ",".join(opts["export"])
 
 
 def campaign_arguments(args: argparse.Namespace) -> None:
@@ -128,6 +130,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         run_timeout=args.run_timeout if args.run_timeout is not None else DEFAULT_RUN_TIMEOUT,
         plot=args.plot,
         resume=args.resume is not None,
+        export=args.export_formats,
     )
     interactive = out.isatty() and not args.quiet
     try:

@@ -22,6 +22,7 @@ from typing import Any
 
 from osc2runner.campaign.summary import axes, worst_runs
 from osc2runner.campaign.worker import RunRecord
+from osc2runner.export import FILE_NAMES
 from osc2runner.output.files import write_atomically
 
 __all__ = ["REPORT_FILE", "write_report"]
@@ -286,6 +287,7 @@ def _links(r: RunRecord, folder: Path) -> str:
     run_dir = folder / r.folder
     names = sorted(p.name for p in run_dir.glob("*.png"))  # the run's plots, whichever it has
     names += [n for n in ("run.json", "telemetry.csv", "events.csv") if (run_dir / n).is_file()]
+    names += [n for n in FILE_NAMES.values() if (run_dir / n).is_file()]  # exports (--export)
     return " ".join(f'<a href="{_e(r.folder)}/{_e(n)}">{_e(n.split(".")[0])}</a>' for n in names)
 
 

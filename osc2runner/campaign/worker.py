@@ -40,6 +40,7 @@ from osc2runner.campaign.steering import (
     scenario_result,
 )
 from osc2runner.errors import ScenarioError
+from osc2runner.export import ExportTargets
 from osc2runner.runner import (
     Checked,
     RunInterrupted,
@@ -71,6 +72,7 @@ class CampaignSetup:
     plot: bool = False  # plots of every run (else of the runs that did not pass)
     out: str = "."
     ship_files: bool = False
+    export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
 
 
 @dataclass(frozen=True, slots=True)
@@ -216,7 +218,13 @@ class Worker:
                 witness=witness,
             )
             try:
-                result = execute(prepared, out=folder, duration=setup.duration, plot=setup.plot)
+                result = execute(
+                    prepared,
+                    out=folder,
+                    duration=setup.duration,
+                    plot=setup.plot,
+                    export=ExportTargets.in_folder(folder, setup.export),
+                )
             except RunInterrupted as exc:
                 result = exc.result
             if not setup.plot and result.outcome.status in ("failure", "timeout", "error"):

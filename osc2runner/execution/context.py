@@ -41,6 +41,7 @@ if TYPE_CHECKING:
 __all__ = [
     "EVENT_ROOT",
     "EdgeDetector",
+    "EnvironmentChange",
     "LogRecord",
     "Occurrence",
     "PeriodicDetector",
@@ -86,6 +87,19 @@ class LogRecord:
     name: str
     detail: str = ""
     actors: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, slots=True)
+class EnvironmentChange:
+    """An environment action as it took effect: its tick and time, the action's name
+    (``rain``, ``set_road_friction``, ...), the arguments it was given (SI values, enum
+    members by name) and the road friction after it (what exports replay)."""
+
+    tick: int
+    time: float
+    action: str
+    values: dict[str, float | str]
+    road_friction: float
 
 
 def initial_weather() -> SimpleNamespace:
@@ -234,6 +248,8 @@ class RunContext:
         self.traffic_lights: dict[str, Any] = {}
         #: ``env.weather`` as the environment actions set it
         self.weather: Any = initial_weather()
+        #: every environment action, in order (what it set, when)
+        self.environment_changes: list[EnvironmentChange] = []
         self.collisions_allowed: dict[str, int] = {}
         self.failed: str | None = None
         self.event_names: set[str] = set()
@@ -362,6 +378,16 @@ class RunContext:
     def record(self, kind: str, name: str, detail: str = "", actors: tuple[str, ...] = ()) -> None:
         """Add a line to the event log at the current tick."""
         self.records.append(LogRecord(self.tick, self.time, kind, name, detail, actors))
+
+    def environment_changed(self, action: str, values: dict[str, Any], detail: str) -> None:
+        """Log an environment action that took effect now (``detail`` for the event log)
+        and keep what it set (:attr:`environment_changes`)."""
+        plain = {k: v if isinstance(v, (int, float)) else str(v) for k, v in values.items()}
+        friction = self.attached_world.road_friction
+        self.environment_changes.append(
+            EnvironmentChange(self.tick, self.time, action, plain, float(friction))
+        )
+        self.record("environment", action, detail)
 
     def fail(self, reason: str) -> None:
         """Mark the run as failed (the scenario's `fail` event, an impossible action, ...)."""
