@@ -795,8 +795,18 @@ def main(argv: list[str] | None = None) -> int:
         choices=["DEBUG", "INFO", "WARNING", "ERROR"],
     )
     parser.add_argument("--log-file", help="log here instead of to stderr")
+    parser.add_argument(
+        "--no-cache",
+        action="store_true",
+        help="neither read nor write the start-up cache (the parser's tables, the analysed "
+        "standard library; OSC2_CACHE_DIR says where it is)",
+    )
     parser.add_argument("--version", action="version", version=f"osc2lsp {__version__}")
     args = parser.parse_args(argv)
+    if args.no_cache:
+        from osc2check import cache
+
+        cache.set_enabled(False)
     handler = (
         logging.FileHandler(args.log_file) if args.log_file else logging.StreamHandler(sys.stderr)
     )

@@ -107,7 +107,10 @@ class RayEngine:
             os.getcwd(),
             *filter(None, os.environ.get("PYTHONPATH", "").split(os.pathsep)),
         ]
-        runtime_env = {"env_vars": {"PYTHONPATH": os.pathsep.join(dict.fromkeys(paths))}}
+        env_vars = {"PYTHONPATH": os.pathsep.join(dict.fromkeys(paths))}
+        if "OSC2_NO_CACHE" in os.environ:  # --no-cache: the workers follow
+            env_vars["OSC2_NO_CACHE"] = os.environ["OSC2_NO_CACHE"]
+        runtime_env = {"env_vars": env_vars}
         started = not ray.is_initialized()
         if started:
             kwargs: dict[str, Any] = {
