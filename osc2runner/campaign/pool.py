@@ -155,8 +155,8 @@ class LocalPool:
         except BaseException as exc:  # raised where the campaign waits for the start
             self._start_error = exc
 
-    def _started(self) -> None:
-        """Wait until the workers asked for by :meth:`start` are started."""
+    def wait_started(self) -> None:
+        """Wait until the workers asked for by :meth:`start` are started (not yet ready)."""
         if self._starting is not None:
             self._starting.join()
             self._starting = None
@@ -178,9 +178,9 @@ class LocalPool:
         """Run ``tasks``, calling ``on_record`` with each record as it arrives, until all
         are done or :meth:`stop` was called and the busy workers have answered."""
         pending = deque(tasks)
-        self._started()
+        self.wait_started()
         self.start(len(pending))
-        self._started()
+        self.wait_started()
         failures = self.startup_failures
         try:
             while self.slots and (pending and not self.stopping or self._busy()):
@@ -291,7 +291,7 @@ class LocalPool:
     def close(self) -> None:
         """Stop the workers (idle ones are asked for their peak memory first; one still
         checking the file reads the stop once it is ready)."""
-        self._started()
+        self.wait_started()
         for slot in self.slots:
             if slot.task is None:
                 try:
