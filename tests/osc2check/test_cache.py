@@ -151,3 +151,36 @@ def test_garbage_and_eight_checkers_at_once_never_change_a_finding(tmp_path: Pat
         results = list(pool.map(lambda _: _check(folder, *FILES), range(8)))
     assert results == [expected] * 8
     assert _check(folder, *FILES) == expected  # the rewritten entries, read back
+
+
+def test_a_large_imported_file_is_parsed_once_per_version(
+    folder: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from osc2check import analysis
+    from osc2check.analysis import IMPORT_CACHE_SIZE, SourceInput, analyze
+
+    structs = [
+        f"struct pose_{i}:\n    x: length = {i}m\n    y: length = 2 * x\n" for i in range(400)
+    ]
+    library = tmp_path / "lib.osc"
+    library.write_text("import osc.standard\n\n" + "\n".join(structs))
+    assert len(library.read_text()) >= IMPORT_CACHE_SIZE
+    root = tmp_path / "root.osc"
+    text = 'import "lib.osc"\n\nscenario s:\n    p: pose_7\n    q: pose_999\n'
+    root.write_text(text)
+    parsed: list[str] = []
+    real_parse = analysis.parse
+    monkeypatch.setattr(analysis, "parse", lambda t, u: parsed.append(u) or real_parse(t, u))
+
+    def findings() -> list[tuple[int, str]]:
+        found = analyze([SourceInput(str(root), text)]).diagnostics
+        return [(d.span.line, d.code.code) for d in found if d.span.uri == str(root)]
+
+    first = findings()
+    assert first == [(5, "N101")] and str(library) in parsed
+    assert len(list(folder.glob("import-*.bin"))) == 1
+    parsed.clear()
+    assert findings() == first and str(library) not in parsed  # its parse, read back
+    library.write_text(library.read_text().replace("pose_7:", "pose_seven:"))
+    assert findings() == [(4, "N101"), (5, "N101")] and str(library) in parsed
+    assert len(list(folder.glob("import-*.bin"))) == 2  # each version kept, a few at most
