@@ -174,7 +174,7 @@ def main() -> None:
     )
     ctx = _z3().Context()
     enc = _Encoder(problem, ctx)
-    fallback = Sampler(problem, active, base, enc=enc, exprs=[enc.term(c.term) for c in active])
+    fallback = Sampler(problem, active, base, enc=enc)
     fallback.TRIES = 0  # straight to z3.Optimize
     fallback.sample(0)
     seeds = iter(range(1000))

@@ -174,6 +174,12 @@ EXCLUSIVE_ARGUMENTS = Code(
 INCOMPLETE_ARGUMENTS = Code(
     "A307", "incomplete-argument-group", E, "an argument is given without the argument it needs"
 )
+NOT_EXECUTED = Code(
+    "A308",
+    "not-executed-by-runner",
+    W,
+    "a call or argument form that the reference runner does not execute",
+)
 MISSING_ARGUMENT = Code(
     "A303", "missing-argument", E, "a method call omits a parameter that has no default"
 )

@@ -17,6 +17,7 @@ from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
 from osc2check.source import Span
 
 if TYPE_CHECKING:
+    from osc2check.semantics.builtins import Builtin
     from osc2check.semantics.symbols import Symbol
     from osc2check.semantics.types import Dimension, Type
     from osc2check.verify.ir import Constraint
@@ -603,7 +604,7 @@ def not_callable(span: Span, symbol: Symbol | None) -> Diagnostic:
 # ---- A: arguments ----------------------------------------------------------------
 
 
-def _callee(symbol: Symbol) -> str:
+def _callee(symbol: Symbol | Builtin) -> str:
     return f"`{symbol.name}`"
 
 
@@ -642,7 +643,9 @@ def modifier_not_applicable(span: Span, modifier: Symbol) -> Diagnostic:
     )
 
 
-def unknown_argument(span: Span, name: str, callee: Symbol, suggestion: str | None) -> Diagnostic:
+def unknown_argument(
+    span: Span, name: str, callee: Symbol | Builtin, suggestion: str | None
+) -> Diagnostic:
     return _diag(
         codes.UNKNOWN_ARGUMENT,
         f"{_callee(callee)} has no parameter `{name}`{_did_you_mean(suggestion)}",
@@ -660,7 +663,7 @@ def positional_after_named(span: Span) -> Diagnostic:
     )
 
 
-def too_many_positional(span: Span, callee: Symbol, count: int) -> Diagnostic:
+def too_many_positional(span: Span, callee: Symbol | Builtin, count: int) -> Diagnostic:
     return _diag(
         codes.TOO_MANY_POSITIONAL,
         f"{_callee(callee)} takes {count} positional argument"
@@ -673,8 +676,20 @@ def duplicate_argument(span: Span, name: str) -> Diagnostic:
     return _diag(codes.DUPLICATE_ARGUMENT, f"`{name}` is given more than once", span)
 
 
-def missing_argument(span: Span, callee: Symbol, name: str) -> Diagnostic:
+def missing_argument(span: Span, callee: Symbol | Builtin, name: str) -> Diagnostic:
     return _diag(codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{name}`", span)
+
+
+def not_executed(span: Span, what: str, reason: str) -> Diagnostic:
+    """A308: the reference runner does not execute ``what`` (``capabilities``); the
+    runner refuses the file before tick 0 with this same finding."""
+    return _diag(
+        codes.NOT_EXECUTED,
+        f"`{what}` is not executed by osc2run: {reason} (docs/coverage.md)"
+        if not what.startswith(("a ", "an ", "`"))
+        else f"{what} is not executed by osc2run: {reason} (docs/coverage.md)",
+        span,
+    )
 
 
 def exclusive_arguments(span: Span, callee: Symbol, given: Sequence[str]) -> Diagnostic:

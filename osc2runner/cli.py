@@ -76,6 +76,12 @@ def _checked(text: str | None, parse: Callable[[str], Any], check: Callable[[Any
         raise OptionError(exc.name, text, exc.why) from None
 
 
+def _version() -> str:
+    from osc2check.output import tool
+
+    return tool.version()
+
+
 def build_parser() -> argparse.ArgumentParser:
     p = _ArgumentParser(
         prog="osc2run",
@@ -175,6 +181,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="neither read nor write the start-up cache (the parser's tables, the analysed "
         "standard library; OSC2_CACHE_DIR says where it is); a campaign's workers follow",
     )
+    p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
 
@@ -365,6 +372,9 @@ def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any
 
 
 def _summary(result: Any, out: TextIO) -> None:
+    """The run's summary: outcome, system under test, collisions, what was simulated, the
+    events emitted, the files; the wall time and the real-time factor (this machine's)
+    on a line of their own."""
     meta = result.metadata
     o = result.outcome
     rtf = meta.get("real_time_factor")
@@ -372,9 +382,21 @@ def _summary(result: Any, out: TextIO) -> None:
         f"scenario {meta['scenario']} ({meta['source']}): {o.status} at "
         f"{o.time:.2f} s (tick {o.tick}): {o.reason}\n"
     )
+    sut = meta.get("sut")
+    if sut:
+        acts = [e for e in result.events if e.kind == "sut" and e.name == "intervenes"]
+        when = f", first at {acts[0].time:.2f} s" if acts else ""
+        out.write(
+            f"  system under test: {sut['class']} driving {sut['actor']} "
+            f"({len(acts)} intervention{'' if len(acts) == 1 else 's'}{when})\n"
+        )
+    for line in _impacts(result):
+        out.write(f"  {line}\n")
+    out.write(f"  simulated {meta['simulated_time']:.2f} s in {meta['steps']} ticks\n")
     out.write(
-        f"  simulated {meta['simulated_time']:.2f} s in {meta['steps']} ticks, "
-        f"{meta['wall_seconds']:.2f} s wall" + (f", {rtf:.0f}x real time" if rtf else "") + "\n"
+        f"  wall time (this machine): {meta['wall_seconds']:.2f} s"
+        + (f", {rtf:.0f}x real time" if rtf else "")
+        + "\n"
     )
     emitted = [e for e in result.events if e.kind == "emit"]
     if emitted:
@@ -384,6 +406,32 @@ def _summary(result: Any, out: TextIO) -> None:
     for path in result.outputs:
         out.write(f"  wrote {path}\n")
     out.flush()
+
+
+def _impacts(result: Any) -> list[str]:
+    """One line per collision: who, when, each one's speed and the closing speed."""
+    import numpy as np
+
+    from osc2runner.campaign.kpis import KPH, closing_speed
+
+    lines = []
+    for e in result.events:
+        if e.kind != "collision" or len(e.actors) != 2:
+            continue
+        a, b = (result.telemetry.get(n) for n in e.actors)
+        if a is None or b is None:
+            continue
+        row = min(int(np.searchsorted(a["tick"], e.tick)), len(a["tick"]) - 1)
+        speeds = ", ".join(
+            f"{n} at {float(ch['speed'][min(row, len(ch['speed']) - 1)]) * KPH:.1f} kph"
+            for n, ch in zip(e.actors, (a, b), strict=True)
+        )
+        closing = closing_speed(a, b, row) * KPH
+        lines.append(
+            f"collision at {e.time:.2f} s: {speeds}; impact speed (closing, along "
+            f"{e.actors[0]}'s heading) {abs(closing):.1f} kph"
+        )
+    return lines
 
 
 def _one_line(message: str) -> str:
@@ -409,6 +457,8 @@ def _print_input_errors(exc: ScenarioError, err: TextIO) -> None:
     if exc.problems:
         n = len(exc.problems)
         err.write(f"osc2run: {n} problem{'s' if n != 1 else ''}; nothing ran\n")
+    elif all(d.code.code == "A308" for d in exc.diagnostics):  # capabilities.not_executed
+        err.write("osc2run: the checker found forms the runner does not execute; nothing ran\n")
     else:
         err.write("osc2run: the checker found errors; nothing ran\n")
     err.flush()

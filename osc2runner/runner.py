@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 import py_trees
 
+from osc2check import codes
 from osc2check.analysis import Analysis, SourceInput, analyze
 from osc2check.diagnostics import Severity
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
@@ -61,7 +62,7 @@ from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
 from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
-from osc2runner.output.telemetry import Recorder, write_data, write_metadata
+from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
 from osc2runner.sim import World, versions
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sut.driver import sut_info
@@ -204,9 +205,15 @@ def check_file(
     ScenarioError for input errors (error diagnostics, no such scenario)."""
     uri, text = _read(path, source)
     analysis = analyze([SourceInput(uri, text)])
-    errors = [d for d in analysis.diagnostics if d.severity is Severity.ERROR]
-    if errors:
-        raise ScenarioError([], diagnostics=errors, texts=analysis.texts)
+    # an error, or a form the runner does not execute (A308, osc2check.capabilities):
+    # refused before tick 0 with the checker's own finding
+    refused = [
+        d
+        for d in analysis.diagnostics
+        if d.severity is Severity.ERROR or d.code is codes.NOT_EXECUTED
+    ]
+    if refused:
+        raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
     return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
 
 
@@ -272,7 +279,7 @@ def build_world(
         reset = getattr(instance, "reset", None)
         if callable(reset):
             reset(sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name))
-        drive_with_sut(controllers, world, ctx.states, sut_actor, instance)
+        drive_with_sut(controllers, world, ctx.states, sut_actor, instance, ctx.record)
         seat = {"class": sut.target, "actor": sut_actor}
     for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
@@ -518,7 +525,7 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "dt_physics": world.dt_physics,
         "steps": world.tick,
         "physics_steps": world.tick * world.substeps,
-        "simulated_time": world.time,
+        "simulated_time": tick_time(world.time, world.dt_control),
         "wall_seconds": wall,
         "real_time_factor": world.time / wall if wall > 0 else None,
         "map": {
@@ -553,7 +560,7 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
             "status": outcome.status,
             "reason": outcome.reason,
             "tick": outcome.tick,
-            "time": outcome.time,
+            "time": tick_time(outcome.time, world.dt_control),
             **({"signal": outcome.signal} if outcome.signal is not None else {}),
         },
     }

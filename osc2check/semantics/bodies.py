@@ -5,12 +5,14 @@ events, behaviour invocations, modifier applications and `do` trees.
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS, cover_item_expression
-from osc2check.semantics.calls import CallChecker, Extra
+from osc2check.semantics.bindings import argument_values
+from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
+from osc2check.semantics.calls import CallChecker, Extra, read_cover_item
 from osc2check.semantics.declare import Pending
 from osc2check.semantics.expressions import ExpressionChecker
 from osc2check.semantics.model import Context, Model
@@ -39,9 +41,9 @@ class BodyChecker:
         params: list[Symbol],
         arguments: tuple[ast.Argument, ...],
         scope: Scope,
-        span: Span,
+        call: ast.Node,
     ) -> None:
-        self.calls.check(method, params, arguments, scope, span)
+        self.calls.check(method, params, arguments, scope, call)
 
     @property
     def time_type(self) -> T.Type:
@@ -224,9 +226,8 @@ class BodyChecker:
         if member.kind == "expression" and member.body is not None:
             expected = sym.type if sym is not None and sym.type is not T.NONE else None
             self.expr.check(member.body, inner, expected, "method result")
-        for arg in member.external_arguments:  # `is external pkg.fn(x, limit: 3kph)`
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.expr.check(arg.value, inner)
+        for value in argument_values(member.external_arguments):  # `external pkg.fn(x)`
+            self.expr.check(value, inner)
 
     def _event_declaration(self, member: ast.EventDecl, scope: Scope) -> None:
         sym = self.model.declarations.get(member)
@@ -245,10 +246,11 @@ class BodyChecker:
     def _coverage(self, member: ast.CoverageDecl, scope: Scope) -> None:
         """`cover`/`record` (§7.5): the item's name is also its expression unless an
         `expression:` is given; `items:` and `override:` name other items."""
-        named = {a.name.text: a.value for a in member.arguments if isinstance(a, ast.NamedArgument)}
-        positional = [a.value for a in member.arguments if isinstance(a, ast.PositionalArgument)]
-        item = named.get("name", positional[0] if positional else None)
-        expression = cover_item_expression(named, positional)
+        cover, problems = read_cover_item(member, scope.owner)
+        self.model.cover_items[member] = cover
+        for problem in problems:
+            self.report(problem)
+        item, expression, named = cover.name_node, cover.expression, dict(cover.parameters)
         item_type = T.UNKNOWN if expression is None else self.expr.check(expression, scope)
         inner = scope.child()  # `ignore:` and `illegal:` speak of the item by its name
         if isinstance(item, ast.NameRef) and item.name.namespace is None:
@@ -259,7 +261,7 @@ class BodyChecker:
                 name_span=item.name.name.span,
                 type=item_type,
             )
-        for value in positional[1:]:
+        for value in cover.positional:
             self.expr.check(value, scope)
         for key, value in named.items():
             if key in ("name", "expression", "items", "override"):
@@ -415,39 +417,30 @@ class BodyChecker:
         if event is not None and event.extra.get("implicit"):
             self.report(messages.undeclared_event(emit.event.span, emit.event.text))
         params = list(event.parameters) if event is not None else []
-        if emit.arguments:
+        if emit.arguments or event is not None:  # bound with none given: defaults apply
             self.calls.check(
                 event or Symbol(SymbolKind.EVENT, emit.event.text),
                 params,
                 emit.arguments,
                 scope,
-                emit.span,
+                emit,
             )
 
     def _composition(self, comp: ast.Composition, scope: Scope, emitted: set[str]) -> None:
         op_symbol = Symbol(SymbolKind.ACTION, comp.op)
-        for arg in comp.arguments:
-            if (
-                isinstance(arg, ast.NamedArgument)
-                and arg.name.text == "overlap"
-                and comp.op == "parallel"
-            ):
-                value = arg.value
-                if not (isinstance(value, ast.NameRef) and value.name.name.text in OVERLAP_KINDS):
-                    self.report(messages.invalid_overlap(value.span, OVERLAP_KINDS))
         extras = list(self._duration_extra())
         if comp.op == "parallel":
             extras += [
-                Extra("overlap", T.UNKNOWN),
+                Extra("overlap", T.UNKNOWN, words=OVERLAP_KINDS),
                 Extra("start_to_start", self.time_type),
                 Extra("end_to_end", self.time_type),
             ]
-        args = [
-            a
-            for a in comp.arguments
-            if not (isinstance(a, ast.NamedArgument) and a.name.text == "overlap")
-        ]
-        self.calls.check(op_symbol, [], args, scope, comp.span, tuple(extras))
+        binding = self.calls.check(op_symbol, [], comp.arguments, scope, comp, tuple(extras))
+        overlap = binding.extra("overlap")
+        if overlap is not None:
+            value = overlap.value
+            if not (isinstance(value, ast.NameRef) and value.name.name.text in OVERLAP_KINDS):
+                self.report(messages.invalid_overlap(value.span, OVERLAP_KINDS))
         if comp.op == "one_of":
             for member in comp.members:
                 if isinstance(member.body, ast.Wait):
@@ -498,25 +491,27 @@ class BodyChecker:
         self.model.references[inv.name] = behaviour
         if behaviour.toolkit:
             self.report(messages.toolkit_extension(inv.name.span, behaviour))
-        self.calls.check(
+        binding = self.calls.check(
             behaviour,
             self.model.parameters(behaviour),
             inv.arguments,
             scope,
-            inv.span,
+            inv,
             self._duration_extra(),
             library_rules=behaviour.library,
             allow_range=True,
         )
+        untils = tuple(w for w in inv.with_members if isinstance(w, ast.Until))
+        if untils:
+            self.model.bindings[inv] = replace(binding, until=untils)
         inner = scope.child(it=behaviour.type, behaviour=behaviour)
         for item in inv.with_members:
             self._with_member(item, inner, behaviour, actor or scope.actor)
         return behaviour
 
     def _loose(self, inv: ast.Invocation, scope: Scope) -> None:
-        for arg in inv.arguments:
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.expr.check(arg.value, scope)
+        for value in argument_values(inv.arguments):
+            self.expr.check(value, scope)
         for item in inv.with_members:
             if isinstance(item, ast.KeepConstraint):
                 self.expr.check(item.expr, scope.child(it=T.UNKNOWN))
@@ -581,7 +576,7 @@ class BodyChecker:
             self.model.parameters(modifier),
             inv.arguments,
             scope,
-            inv.span,
+            inv,
             library_rules=modifier.library,
             allow_range=True,
         )

@@ -38,6 +38,7 @@ __all__ = [
     "TYPE_TESTS",
     "VALUE_FUNCTIONS",
     "cover_item_expression",
+    "coverage_directive",
 ]
 
 PREDEFINED_EVENTS = ("start", "end", "fail")
@@ -76,6 +77,11 @@ class Builtin:
     @property
     def signature(self) -> str:
         return f"{self.name}({', '.join(p.text for p in self.parameters)})"
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """Its parameters' names, in order."""
+        return tuple(p.name for p in self.parameters)
 
 
 def _p(name: str, type_: str, optional: bool = False) -> BuiltinParameter:
@@ -168,3 +174,10 @@ def cover_item_expression(
     if "items" in named or "override" in named:
         return None
     return named.get("name", positional[0] if positional else None)
+
+
+def coverage_directive(kind: str) -> Builtin:
+    """``cover`` or ``record`` as a built-in with its parameters (§7.5: ``record`` has no
+    ``target``)."""
+    params = tuple(p for p in COVERAGE_PARAMETERS.values() if kind == "cover" or p.name != "target")
+    return Builtin(kind, params, "none", f"the coverage directive `{kind}`")

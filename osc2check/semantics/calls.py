@@ -15,6 +15,8 @@ from typing import TYPE_CHECKING
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import Binding, BoundArgument, CoverItem
+from osc2check.semantics.builtins import Builtin, cover_item_expression, coverage_directive
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -52,9 +54,13 @@ class Extra:
 
     name: str
     type: T.Type
+    words: tuple[str, ...] = ()  # its value is one of these words, not an expression
 
 
 class CallChecker:
+    """Binds and checks call arguments; records each call's :class:`Binding` in the model
+    (the one binder: every other stage reads ``Model.binding``)."""
+
     def __init__(self, expressions: ExpressionChecker, report: Callable[[Diagnostic], None]):
         self.expressions = expressions
         self.report = report
@@ -65,14 +71,18 @@ class CallChecker:
         params: list[Symbol],
         arguments: Iterable[ast.Argument],
         scope: Scope,
-        span: Span,
+        node: ast.Node,
         extras: tuple[Extra, ...] = (),
         library_rules: bool = False,
         allow_range: bool = False,
-    ) -> dict[str, ast.Node]:
-        """Check ``arguments`` against ``params``; returns the bound values by name."""
+    ) -> Binding:
+        """Check ``arguments`` of the call ``node`` against ``params``; records and
+        returns their binding."""
         model = self.expressions.model
-        bound: dict[str, ast.Node] = {}
+        bound: dict[str, BoundArgument] = {}
+        given_extras: list[BoundArgument] = []
+        events: list[ast.EventArgument] = []
+        rejected: list[ast.Argument] = []
         by_name = {p.name: p for p in params}
         extra_by_name = {e.name: e for e in extras}
         seen_named = False
@@ -81,41 +91,46 @@ class CallChecker:
         arg_scope.locals = {}
         for arg in arguments:
             if isinstance(arg, ast.EventArgument):
+                events.append(arg)
                 continue
             if isinstance(arg, ast.PositionalArgument):
                 if seen_named:
                     self.report(messages.positional_after_named(arg.span))
                     self.expressions.check(arg.value, arg_scope)
+                    rejected.append(arg)
                     continue
                 if position >= len(params):
                     self.report(messages.too_many_positional(arg.span, callee, len(params)))
                     self.expressions.check(arg.value, arg_scope)
+                    rejected.append(arg)
                     continue
                 param = params[position]
                 position += 1
-                self._value(param.name, param.type, arg.value, arg_scope, allow_range)
-                bound[param.name] = arg.value
+                ranged = self._value(param.name, param.type, arg.value, arg_scope, allow_range)
+                bound[param.name] = BoundArgument(param.name, arg.value, param, arg, ranged)
                 continue
             seen_named = True
             name = arg.name.text
-            if name in bound:
+            if name in bound or any(b.name == name for b in given_extras):
                 self.report(messages.duplicate_argument(arg.name.span, name))
                 self.expressions.check(arg.value, arg_scope)
+                rejected.append(arg)
                 continue
             named = by_name.get(name)
             if named is not None:
                 model.references[arg.name] = named
-                self._value(name, named.type, arg.value, arg_scope, allow_range)
-                bound[name] = arg.value
+                ranged = self._value(name, named.type, arg.value, arg_scope, allow_range)
+                bound[name] = BoundArgument(name, arg.value, named, arg, ranged)
                 continue
             if name in extra_by_name:
-                self._value(name, extra_by_name[name].type, arg.value, arg_scope, True)
-                bound[name] = arg.value
+                if not extra_by_name[name].words:  # a word (`overlap: equal`) is no value
+                    self._value(name, extra_by_name[name].type, arg.value, arg_scope, True)
+                given_extras.append(BoundArgument(name, arg.value, None, arg))
                 continue
             if library_rules and name in SPEC_EXAMPLE_PARAMETERS.get(callee.name, ()):
                 self.report(messages.spec_example_parameter(arg.name.span, callee, name))
                 self.expressions.check(arg.value, arg_scope)
-                bound[name] = arg.value
+                bound[name] = BoundArgument(name, arg.value, None, arg)
                 continue
             self.report(
                 messages.unknown_argument(
@@ -126,24 +141,39 @@ class CallChecker:
                 )
             )
             self.expressions.check(arg.value, arg_scope)
+            rejected.append(arg)
         if library_rules:
-            self._groups(callee, bound, span)
-        if callee.kind is SymbolKind.METHOD:
+            self._groups(callee, bound, node.span)
+        if callee.kind in (SymbolKind.METHOD, SymbolKind.EVENT):  # all arguments needed
             for param in params:
                 if param.name not in bound and not param.has_default:
-                    self.report(messages.missing_argument(span, callee, param.name))
-        return bound
+                    self.report(messages.missing_argument(node.span, callee, param.name))
+        ordered = [bound.get(p.name) or _default(p) for p in params]
+        ordered += [b for b in bound.values() if b.parameter is None]
+        binding = Binding(
+            node,
+            callee,
+            tuple(b for b in ordered if b is not None),
+            tuple(given_extras),
+            tuple(events),
+            rejected=tuple(rejected),
+        )
+        model.bindings[node] = binding
+        return binding
 
     def _value(
         self, name: str, expected: T.Type | None, value: ast.Node, scope: Scope, allow_range: bool
-    ) -> None:
+    ) -> bool:
+        """Check one argument's value; whether it is a range given for a scalar."""
         actual = self.expressions.infer(value, scope, expected)
-        if expected is not None:
-            self.expressions.expect(
-                value, actual, expected, scope, f"argument `{name}`", allow_range=allow_range
-            )
+        if expected is None:
+            return False
+        self.expressions.expect(
+            value, actual, expected, scope, f"argument `{name}`", allow_range=allow_range
+        )
+        return allow_range and actual.kind is T.Kind.RANGE and expected.kind is not T.Kind.RANGE
 
-    def _groups(self, callee: Symbol, bound: dict[str, ast.Node], span: Span) -> None:
+    def _groups(self, callee: Symbol, bound: dict[str, BoundArgument], span: Span) -> None:
         for group in EXCLUSIVE.get(callee.name, ()):
             given = [n for n in bound if n in group]
             if len(given) > 1:
@@ -151,3 +181,114 @@ class CallChecker:
         for (behaviour, arg), needed in REQUIRES.items():
             if behaviour == callee.name and arg in bound and needed not in bound:
                 self.report(messages.incomplete_arguments(bound[arg].span, callee, arg, needed))
+
+
+def _default(param: Symbol) -> BoundArgument | None:
+    if param.default is None:
+        return None
+    return BoundArgument(param.name, param.default, param)
+
+
+def bind_builtin(builtin: Builtin, arguments: Iterable[ast.Argument], node: ast.Node) -> Binding:
+    """The binding of a call of a built-in function (``elapsed(2s)``, ``every(1s,
+    offset: 2s)``, ``sample(x, @e)``): positional arguments in order, named ones by
+    name. The expression checker types the values; it records this."""
+    names = [p.name for p in builtin.parameters]
+    bound: dict[str, BoundArgument] = {}
+    events: list[ast.EventArgument] = []
+    rejected: list[ast.Argument] = []
+    position = 0
+    for arg in arguments:
+        if isinstance(arg, ast.EventArgument):  # takes its place: `sample(x, @e, 0)`
+            events.append(arg)
+            position += 1
+        elif isinstance(arg, ast.PositionalArgument) and position < len(names):
+            bound.setdefault(names[position], BoundArgument(names[position], arg.value, None, arg))
+            position += 1
+        elif isinstance(arg, ast.NamedArgument) and arg.name.text in names:
+            bound.setdefault(arg.name.text, BoundArgument(arg.name.text, arg.value, None, arg))
+        else:
+            rejected.append(arg)
+    ordered = tuple(bound[n] for n in names if n in bound)
+    return Binding(node, builtin, ordered, (), tuple(events), rejected=tuple(rejected))
+
+
+def builtin_problems(builtin: Builtin, binding: Binding) -> list[Diagnostic]:
+    """What a built-in call's binding left out: arguments that bind to no parameter, and
+    parameters it needs that have no argument (an ``@e`` argument gives ``event``)."""
+    found: list[Diagnostic] = []
+    for arg in binding.rejected:
+        if isinstance(arg, ast.NamedArgument):
+            found.append(messages.unknown_argument(arg.name.span, arg.name.text, builtin, None))
+        elif isinstance(arg, ast.PositionalArgument):
+            found.append(messages.too_many_positional(arg.span, builtin, len(builtin.parameters)))
+    for param in builtin.parameters:
+        given = binding.argument(param.name) is not None or (
+            param.type == "event" and bool(binding.events)
+        )
+        if not param.optional and not given:
+            found.append(messages.missing_argument(binding.node.span, builtin, param.name))
+    return found
+
+
+def read_cover_item(
+    decl: ast.CoverageDecl, owner: Symbol | None
+) -> tuple[CoverItem, list[Diagnostic]]:
+    """A ``cover``/``record`` (§7.5) as its table records it: its name (``name:`` or the
+    first positional argument), the expression it samples (``cover_item_expression``)
+    and its named parameters; with the arguments it has no parameter for."""
+    named: dict[str, ast.Node] = {}
+    positional: list[ast.Node] = []
+    problems: list[Diagnostic] = []
+    directive = coverage_directive(decl.kind)
+    for arg in decl.arguments:
+        if isinstance(arg, ast.NamedArgument):
+            key = arg.name.text
+            if key not in directive.names:
+                suggestion = closest(key, list(directive.names), cutoff=0.6)
+                problems.append(
+                    messages.unknown_argument(arg.name.span, key, directive, suggestion)
+                )
+            named[key] = arg.value
+        elif isinstance(arg, ast.PositionalArgument):
+            positional.append(arg.value)
+    name_node = named.get("name", positional[0] if positional else None)
+    rest = positional if "name" in named else positional[1:]
+    item = CoverItem(
+        decl,
+        owner,
+        _item_name(name_node),
+        name_node,
+        cover_item_expression(named, positional),
+        tuple(named.items()),
+        tuple(rest),
+    )
+    return item, problems
+
+
+def _item_name(node: ast.Node | None) -> str:
+    """A cover item's name as written: an identifier, else a string's text."""
+    if isinstance(node, ast.NameRef):
+        return node.name.name.text
+    if isinstance(node, ast.StringLiteral):
+        return node.value
+    return ""
+
+
+def next_parameter(arguments: Iterable[ast.Argument]) -> int | None:
+    """The index of the parameter an argument typed after ``arguments`` binds to when it is
+    positional (for text being typed, which the last analysis has not bound); None after
+    a named argument, where only named ones may follow."""
+    count = 0
+    for arg in arguments:
+        if isinstance(arg, ast.NamedArgument):
+            return None
+        if isinstance(arg, ast.PositionalArgument):
+            count += 1
+    return count
+
+
+def written_name(argument: ast.Node) -> str | None:
+    """The parameter name written in a named argument (for text the analysis has not bound:
+    an editor's current line); None for any other node."""
+    return argument.name.text if isinstance(argument, ast.NamedArgument) else None

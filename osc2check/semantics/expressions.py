@@ -13,16 +13,23 @@ from collections.abc import Callable
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import EVENT_FUNCTIONS, LIST_METHODS, TYPE_TESTS
+from osc2check.semantics.bindings import Binding, argument_values
+from osc2check.semantics.builtins import (
+    EVENT_FUNCTIONS,
+    LIST_METHODS,
+    TYPE_TESTS,
+    VALUE_FUNCTIONS,
+    Builtin,
+)
+from osc2check.semantics.calls import bind_builtin, builtin_problems
 from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.source import Span
 from osc2check.syntax import ast
 
 # Checks a method call's arguments: (method, parameters, arguments, scope, span of the call).
-CallCheck = Callable[[Symbol, list[Symbol], tuple[ast.Argument, ...], Scope, Span], None]
+CallCheck = Callable[[Symbol, list[Symbol], tuple[ast.Argument, ...], Scope, ast.Node], None]
 
 _ARITH = {"+", "-"}
 _SCALE = {"*", "/", "%"}
@@ -457,23 +464,18 @@ class ExpressionChecker:
         if method.toolkit and scope.context.namespace != "osc2toolkit":
             self.report(messages.toolkit_extension(name.span, method))
         if self.check_call is not None:
-            self.check_call(method, list(method.parameters), expr.arguments, scope, expr.span)
+            self.check_call(method, list(method.parameters), expr.arguments, scope, expr)
         return method.type or T.UNKNOWN
 
     def _check_arguments_loosely(self, expr: ast.Call, scope: Scope) -> None:
-        for arg in expr.arguments:
-            if isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                self.check(arg.value, scope)
+        for value in argument_values(expr.arguments):
+            self.check(value, scope)
 
     def _method_on_value(
         self, callee: ast.MemberAccess, target: T.Type, expr: ast.Call, scope: Scope
     ) -> T.Type | None:
         name = callee.member.text
-        args = [
-            a.value
-            for a in expr.arguments
-            if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
-        ]
+        args = argument_values(expr.arguments)
         if name in TYPE_TESTS and len(args) == 1 and isinstance(args[0], ast.NameRef):
             qname = args[0].name
             if qname.namespace is None and qname.name.text in T.PRIMITIVES:
@@ -511,17 +513,21 @@ class ExpressionChecker:
             is not None
         ):
             return None
-        args = expr.arguments
-        values = [
-            a.value for a in args if isinstance(a, (ast.PositionalArgument, ast.NamedArgument))
-        ]
-        builtin = EVENT_FUNCTIONS.get(name)
-        if builtin is not None:
-            for param, value in zip(builtin.parameters, values, strict=False):
+        builtin = EVENT_FUNCTIONS.get(name) or VALUE_FUNCTIONS.get(name)
+        if builtin is None:
+            return None
+        binding = bind_builtin(builtin, expr.arguments, expr)
+        self.model.bindings[expr] = binding
+        self._builtin_arguments(builtin, binding, scope)
+        values = [b.value for b in binding.arguments]
+        if name in EVENT_FUNCTIONS:
+            for bound in binding.arguments:
+                param = next(p for p in builtin.parameters if p.name == bound.name)
                 if param.type == "bool":
-                    self.condition(value, scope, f"argument of `{name}`")
+                    self.condition(bound.value, scope, f"argument of `{name}`")
                 else:
-                    self.check(value, scope, self._physical_named(param.type, scope), "duration")
+                    physical = self._physical_named(param.type, scope)
+                    self.check(bound.value, scope, physical, "duration")
             return T.BOOL
         if name == "range" and len(values) == 2:
             low = self.check(values[0], scope)
@@ -533,6 +539,13 @@ class ExpressionChecker:
                 self.check(v, scope, t)
             return t
         return None
+
+    def _builtin_arguments(self, builtin: Builtin, binding: Binding, scope: Scope) -> None:
+        """Report what a built-in call's binding left out (``calls.builtin_problems``)."""
+        for problem in builtin_problems(builtin, binding):
+            self.report(problem)
+        for value in argument_values(binding.rejected):
+            self.check(value, scope)
 
     def _physical_named(self, name: str, scope: Scope) -> T.Type | None:
         found = [

@@ -8,11 +8,12 @@ runner's compiler both read it from here.
 
 from __future__ import annotations
 
+from osc2check.semantics import types as T
 from osc2check.semantics.model import Model
-from osc2check.semantics.symbols import Symbol
+from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 
-__all__ = ["declaration_bodies", "last_do", "scenario_do", "scenario_members"]
+__all__ = ["actor_alias", "declaration_bodies", "last_do", "scenario_do", "scenario_members"]
 
 MemberList = tuple[ast.Member, ...]
 
@@ -64,3 +65,34 @@ def last_do(members: list[ast.Member]) -> ast.DoDirective | None:
         if isinstance(member, ast.DoDirective):
             found = member
     return found
+
+
+def _actor_field(sym: Symbol | None) -> bool:
+    t = sym.type if sym is not None else None
+    return (
+        sym is not None
+        and sym.kind is SymbolKind.FIELD
+        and t is not None
+        and t.kind is T.Kind.COMPOUND
+        and t.symbol is not None
+        and t.symbol.kind is SymbolKind.ACTOR
+    )
+
+
+def actor_alias(model: Model, field: Symbol) -> Symbol | None:
+    """The actor field that the actor field ``field`` names (``other: vehicle = npc``): the
+    same actor, not a new one; None when ``field`` is no such alias. Chains are followed
+    (``a = b``, ``b = npc``: ``npc``); a cycle is no alias. Placement, the witness and the
+    runner read aliases here."""
+    seen: set[int] = set()
+    target: Symbol | None = None
+    current = field
+    while _actor_field(current) and isinstance(current.default, ast.NameRef):
+        if id(current) in seen:
+            return None
+        seen.add(id(current))
+        named = model.reference(current.default.name.name)
+        if not _actor_field(named) or named is None:
+            break
+        target = current = named
+    return target

@@ -4,15 +4,17 @@ A program's model sits on top of the standard library's model (``base``),
 which is built once per process and never changed: declarations that a
 program adds to library types (``extend``, new actions of ``vehicle``) are
 kept in the program's own tables. Resolution results are side tables keyed
-by AST node identity (``references``, ``expr_types``).
+by AST node identity (``references``, ``expr_types``, ``bindings``,
+``cover_items``).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import Literal, overload
+from typing import Any, Literal, overload
 
+from osc2check.semantics.bindings import Binding, CoverItem
 from osc2check.semantics.symbols import Namespace, Symbol, SymbolKind
 from osc2check.semantics.types import Type
 from osc2check.syntax import ast
@@ -40,6 +42,8 @@ class Model:
     declarations: dict[ast.Node, Symbol] = field(default_factory=dict)
     references: dict[ast.Name, Symbol] = field(default_factory=dict)
     expr_types: dict[ast.Node, Type] = field(default_factory=dict)
+    bindings: dict[ast.Node, Binding] = field(default_factory=dict)  # call -> its arguments
+    cover_items: dict[ast.CoverageDecl, CoverItem] = field(default_factory=dict)
     library_namespaces: set[str] = field(default_factory=set)  # library namespaces imported
 
     # ---- namespaces ------------------------------------------------------------
@@ -152,6 +156,12 @@ class Model:
     def _tables(self, attr: Literal["references"]) -> Iterator[dict[ast.Name, Symbol]]: ...
     @overload
     def _tables(self, attr: Literal["expr_types"]) -> Iterator[dict[ast.Node, Type]]: ...
+    @overload
+    def _tables(self, attr: Literal["bindings"]) -> Iterator[dict[ast.Node, Binding]]: ...
+    @overload
+    def _tables(
+        self, attr: Literal["cover_items"]
+    ) -> Iterator[dict[ast.CoverageDecl, CoverItem]]: ...
     def _tables(self, attr: str) -> Iterator[object]:
         model: Model | None = self
         while model is not None:
@@ -287,16 +297,40 @@ class Model:
                             seen.add(id(sym))
                             yield sym
 
+    def _first(self, attr: str, key: object) -> Any:
+        """``key``'s entry in side table ``attr``, this program's or the library's."""
+        for table in self._tables(attr):  # type: ignore[call-overload]
+            if key in table:
+                return table[key]
+        return None
+
     def reference(self, name: ast.Name) -> Symbol | None:
         """What ``name`` refers to; names in the library resolve through the base model."""
-        for table in self._tables("references"):
-            if name in table:
-                return table[name]
-        return None
+        found: Symbol | None = self._first("references", name)
+        return found
 
     def type_of(self, node: ast.Node) -> Type | None:
         """The type of an expression node, in this program or in the library."""
-        for table in self._tables("expr_types"):
-            if node in table:
-                return table[node]
-        return None
+        found: Type | None = self._first("expr_types", node)
+        return found
+
+    def binding(self, call: ast.Node) -> Binding | None:
+        """How the call checker bound the arguments of ``call`` (an invocation, modifier
+        application, method or built-in call, ``emit`` or composition); None for a call
+        it could not resolve. Calls in the library resolve through the base model."""
+        found: Binding | None = self._first("bindings", call)
+        return found
+
+    def cover_item(self, decl: ast.CoverageDecl) -> CoverItem | None:
+        """The ``cover``/``record`` item ``decl`` declares, as the checker read it."""
+        found: CoverItem | None = self._first("cover_items", decl)
+        return found
+
+    def cover_items_of(self, owner: Symbol) -> list[CoverItem]:
+        """The cover and record items of ``owner`` and its supertypes (``extend``
+        included), inherited ones first, each in the order written."""
+        result: list[CoverItem] = []
+        for sym in reversed(list(self.ancestors(owner))):
+            for table in reversed(list(self._tables("cover_items"))):
+                result.extend(item for item in table.values() if item.owner is sym)
+        return result

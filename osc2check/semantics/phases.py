@@ -32,6 +32,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
+from osc2check.semantics.bindings import named_given
 from osc2check.syntax import ast
 
 __all__ = [
@@ -77,7 +78,7 @@ MODIFIER_TIMINGS = ("start", "end", "all")
 
 
 def _has_duration(arguments: tuple[ast.Argument, ...]) -> bool:
-    return any(isinstance(a, ast.NamedArgument) and a.name.text == "duration" for a in arguments)
+    return named_given(arguments, "duration")
 
 
 def is_instant(inv: ast.Invocation) -> bool:

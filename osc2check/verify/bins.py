@@ -23,7 +23,6 @@ from __future__ import annotations
 import copy
 from fractions import Fraction
 
-from osc2check.semantics.builtins import cover_item_expression
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -43,8 +42,6 @@ __all__ = [
     "BinStatus",
     "NotSteerable",
     "bin_status",
-    "cover_declaration",
-    "cover_expression",
     "cover_term",
     "in_bucket",
     "is_value",
@@ -58,36 +55,6 @@ BinStatus = str  # "reachable" | "unreachable" | "unknown"
 
 class NotSteerable(Exception):
     """A cover item whose value the solver cannot choose (the message says why)."""
-
-
-def cover_declaration(
-    model: Model, scenario: Symbol, line: int, column: int
-) -> ast.CoverageDecl | None:
-    """The ``cover`` declared at ``line``:``column`` in the scenario or its ancestors."""
-    for owner in model.ancestors(scenario):
-        decl = owner.decl
-        if decl is None:
-            continue
-        for node in walk(decl):
-            if (
-                isinstance(node, ast.CoverageDecl)
-                and node.span.line == line
-                and node.span.column == column
-            ):
-                return node
-    return None
-
-
-def cover_expression(decl: ast.CoverageDecl) -> ast.Node | None:
-    """The value a ``cover``/``record`` samples (``builtins.cover_item_expression``)."""
-    named: dict[str, ast.Node] = {}
-    positional: list[ast.Node] = []
-    for arg in decl.arguments:
-        if isinstance(arg, ast.NamedArgument):
-            named[arg.name.text] = arg.value
-        elif isinstance(arg, ast.PositionalArgument):
-            positional.append(arg.value)
-    return cover_item_expression(named, positional)
 
 
 def _runtime_reference(model: Model, expr: ast.Node) -> str | None:

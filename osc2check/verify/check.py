@@ -23,6 +23,7 @@ from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from osc2check import codes, messages
+from osc2check.capabilities import not_executed
 from osc2check.diagnostics import Diagnostic, Related
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
@@ -210,6 +211,8 @@ def verify_program(
         # an invoked scenario's actors are its invoker's: its start is checked there
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
+            report(d)
+        for d in not_executed(program.model, sym, sym in invoked):
             report(d)
         problem = lower_scenario(program.model, sym, text_of, default_map, decls)
         _reversed_ranges(sym, program, text_of, report)

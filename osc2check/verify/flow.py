@@ -34,6 +34,10 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
     serials: list[ast.Composition] = []
     for tree in _do_trees(scenario):
         for node in walk(tree):
+            binding = model.binding(node)
+            duration = binding.extra("duration") if binding is not None else None
+            if duration is not None:
+                _duration(duration.value, model, found)
             match node:
                 case ast.Emit() if not node.event.missing:
                     emits.setdefault(node.event.text, []).append(node)
@@ -50,8 +54,6 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
                     value = _fold_bool(cond.expr, model)
                     if value is not None:
                         found.append(messages.constant_condition(cond.span, value, "condition"))
-                case ast.NamedArgument() if node.name.text == "duration":
-                    _duration(node.value, model, found)
     if waits:
         conditional = _conditional_events(model, scenario)
         for ref, wait in waits:

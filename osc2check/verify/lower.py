@@ -32,15 +32,15 @@ has no value here (``Lowerer._variable``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
 
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import TYPE_TESTS
+from osc2check.semantics.builtins import TYPE_TESTS, Builtin
 from osc2check.semantics.constants import NotConstant, literal_number, physical_literal
-from osc2check.semantics.members import declaration_bodies
+from osc2check.semantics.members import actor_alias, declaration_bodies
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -88,24 +88,6 @@ def join_path(prefix: str, name: str) -> str:
     return f"{prefix}.{name}" if prefix else name
 
 
-def bound_arguments(
-    params: Sequence[Symbol], arguments: Iterable[ast.Argument]
-) -> Iterator[tuple[Symbol, ast.PositionalArgument | ast.NamedArgument]]:
-    """Each argument with the parameter it gives a value to, in the order written:
-    positional ones in order, named ones by name. Arguments that name no parameter
-    (extra positional ones, unknown names, events) are left out: the semantic checks
-    report them."""
-    by_name = {p.name: p for p in params}
-    position = 0
-    for arg in arguments:
-        if isinstance(arg, ast.PositionalArgument):
-            if position < len(params):
-                yield params[position], arg
-            position += 1
-        elif isinstance(arg, ast.NamedArgument) and arg.name.text in by_name:
-            yield by_name[arg.name.text], arg
-
-
 def invocation_path(
     prefix: str, actor_path: str | None, label: ast.Name | None, name: str, inv: ast.Invocation
 ) -> str:
@@ -143,6 +125,9 @@ class Lowerer:
         self.active: list[Symbol] = []
         self.body = ""  # the declaration whose members are being lowered (C404 compares)
         self.aliases: dict[str, str] = {}  # an invoked scenario's actor parameter -> the actor
+        #: the variable of each argument, by (instance, value node): a range given where a
+        #: scalar is expected is the one value the solver chose from it
+        self.argument_vars: dict[tuple[str, int], ir.Var] = {}
         self.runtime: dict[str, str] = {}  # `var`s with no value before the run: why
         self.opening: set[str] = set()  # `var`s whose initialisers are being lowered
         self.bound: dict[Symbol, ir.Term] = {}  # parameters of the methods being inlined
@@ -153,9 +138,15 @@ class Lowerer:
     def scenario(self, sym: Symbol) -> None:
         scope = InstanceScope("", sym, "", sym, actor="actor" if sym.actor else None)
         self.instances[""] = sym
+        aliased = set()
+        for param in self.model.all_members(sym):
+            target = actor_alias(self.model, param)
+            if target is not None:  # `other: vehicle = npc` names npc: the same actor
+                self.aliases[param.name] = target.name
+                aliased.add(param)
         self._instance(sym, scope)
         for param in self.model.all_members(sym):
-            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE):
+            if param.kind not in (SymbolKind.FIELD, SymbolKind.VARIABLE) or param in aliased:
                 continue
             t = param.type
             if (
@@ -410,9 +401,9 @@ class Lowerer:
         inner = InstanceScope(
             scope.prefix, scope.owner, path, behaviour, scope.actor, dict(scope.locals)
         )  # its `with:` block: `it` is the behaviour
-        self._arguments(behaviour, inv.arguments, path, scope, "argument")
+        self._arguments(inv, path, scope, "argument")
         if behaviour.kind is SymbolKind.SCENARIO:
-            self._bind_actors(behaviour, inv.arguments, path, scope)
+            self._bind_actors(inv, path, scope)
         if self.depth <= MAX_DEPTH and not behaviour.library:
             self.instances[path] = behaviour
             self._instance(behaviour, body)
@@ -424,39 +415,43 @@ class Lowerer:
                     modifier = self.model.references.get(item.name)
                     if modifier is not None and modifier.kind is SymbolKind.MODIFIER:
                         mod_path = join_path(path, f"{modifier.name}@{item.span.line}")
-                        self._arguments(modifier, item.arguments, mod_path, scope, "modifier")
+                        self._arguments(item, mod_path, scope, "modifier")
 
-    def _bind_actors(
-        self, scenario: Symbol, arguments: tuple[ast.Argument, ...], path: str, scope: InstanceScope
-    ) -> None:
+    def _bind_actors(self, inv: ast.Invocation, path: str, scope: InstanceScope) -> None:
         """An invoked scenario's actor parameters given as arguments (``cut_in(car1: npc)``)
         are the actors passed: their paths are aliases of the actors' own."""
-        for param, arg in bound_arguments(self.model.parameters(scenario), arguments):
-            target = _type_symbol(param)
+        binding = self.model.binding(inv)
+        for bound in binding.arguments if binding is not None else ():
+            param = bound.parameter
+            target = _type_symbol(param) if param is not None and not bound.is_default else None
             if target is None or target.kind is not SymbolKind.ACTOR:
                 continue
-            actual = self._path(arg.value, scope)
+            actual = self._path(bound.value, scope)
             if actual is not None:
-                self.aliases[join_path(path, param.name)] = actual
+                self.aliases[join_path(path, bound.name)] = actual
 
-    def _arguments(
-        self,
-        callee: Symbol,
-        arguments: tuple[ast.Argument, ...],
-        path: str,
-        scope: InstanceScope,
-        kind: str,
-    ) -> None:
-        for param, arg in bound_arguments(self.model.parameters(callee), arguments):
+    def _arguments(self, call: ast.Invocation, path: str, scope: InstanceScope, kind: str) -> None:
+        """Each argument given to a behaviour or modifier as a rule on its parameter's
+        variable: ``p == v``, or ``p in [a..b]`` for a range given where a scalar is
+        expected (one value chosen from it)."""
+        binding = self.model.binding(call)
+        if binding is None or isinstance(binding.callee, Builtin):
+            return
+        callee = binding.callee
+        for bound in binding.arguments:
+            param, arg = bound.parameter, bound.written
+            if param is None or arg is None:
+                continue
             if not is_scalar(param.type):
                 continue
             var = self._scalar_var(join_path(path, param.name), param)
             if var is None:
                 continue
+            self.argument_vars[(scope.prefix, id(bound.value))] = var
             if callee.library or callee.toolkit:
                 self._argument_limit(callee, param, var, arg)
             written = self.text_of(arg.span)
-            if isinstance(arg, ast.PositionalArgument):
+            if bound.positional:
                 written = f"{param.name}: {written}"
             try:
                 term = self._membership(var, arg.value, scope)
@@ -466,6 +461,12 @@ class Lowerer:
             self.problem.add(
                 ir.Constraint(term, arg.span, kind, f"{callee.name}({written})", "hard", var)
             )
+
+    def chosen(self, node: ast.Node, scope: InstanceScope) -> ir.Var | None:
+        """The variable of the argument ``node`` lowered in instance ``scope``: the value
+        the solver chooses (from the range, for a range given where a scalar is
+        expected); None when ``node`` is no such argument."""
+        return self.argument_vars.get((scope.prefix, id(node)))
 
     def _argument_limit(
         self, callee: Symbol, param: Symbol, var: ir.Var, arg: ast.Argument
@@ -854,15 +855,16 @@ class Lowerer:
             owner = _owner(self._member_path(scope, method))
         owner_type = self.instances.get(owner, method.owner)
         inner = InstanceScope(owner, owner_type, owner, owner_type, actor=scope.actor)
-        given = {
-            param: self._term(arg.value, scope)
-            for param, arg in bound_arguments(method.parameters, call.arguments)
-        }
+        binding = self.model.binding(call)
+        given: dict[Symbol, ir.Term] = {}
+        for bound in binding.arguments if binding is not None else ():
+            if bound.parameter is not None:  # a default is read in the method's instance
+                given[bound.parameter] = self._term(
+                    bound.value, inner if bound.is_default else scope
+                )
         for param in method.parameters:
             if param not in given:
-                if param.default is None:
-                    raise NotEncodable(f"`{param.name}` of `{method.name}` has no value")
-                given[param] = self._term(param.default, inner)
+                raise NotEncodable(f"`{param.name}` of `{method.name}` has no value")
         saved = dict(self.bound)
         self.bound.update(given)
         self.inlining.append(method)

@@ -260,7 +260,6 @@ class MapFields:
         self,
         inv: ast.Invocation,
         modifier: Symbol,
-        args: dict[str, ast.Node],
         scope: InstanceScope,
         require: Callable[[ir.Term, ast.Invocation], None],
     ) -> None:
@@ -271,7 +270,7 @@ class MapFields:
             if name not in ("set_map_file", "set_traffic_lights_control_file"):
                 self._skip(inv.span, f"map.{name} is not modelled by the checker")
             return
-        given = self._arguments(modifier, args, scope, inv)
+        given = self._arguments(modifier, scope, inv)
         if given is None:
             return
         rows = handler(self, given, inv)
@@ -283,17 +282,16 @@ class MapFields:
         self.problem.skip(span, self.lw.text_of(span), why)
 
     def _arguments(
-        self, modifier: Symbol, args: dict[str, ast.Node], scope: InstanceScope, inv: ast.Invocation
+        self, modifier: Symbol, scope: InstanceScope, inv: ast.Invocation
     ) -> dict[str, _Argument] | None:
         from osc2check.verify.lower import NotEncodable
 
         found: dict[str, _Argument] = {}
-        for param in self.model.parameters(modifier):
-            node = args.get(param.name)
-            if node is None:
-                node = param.default
-                if node is None:
-                    continue
+        binding = self.model.binding(inv)
+        for bound in binding.arguments if binding is not None else ():
+            param, node = bound.parameter, bound.value
+            if param is None:
+                continue
             item = self.field_of(node, scope)
             if item is not None:
                 found[param.name] = _Argument(param.name, element=item)

@@ -60,7 +60,7 @@ from typing import TYPE_CHECKING
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
-from osc2check.semantics.members import scenario_do
+from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import enum_word, invocations, modifier_timing, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -84,11 +84,15 @@ from osc2check.verify.room import motion_bounds
 from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import FoundMap, MapFacts, find_map, map_path, scenario_folder
+from osc2check.world.numbering import LANE_REFERENCES, lane_side
 
 if TYPE_CHECKING:
     from osc2check.world.network import RoadNetwork
 
-_POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+_POSITIONING = ("lane", "position")
+_DEGREE = Fraction(
+    314159265358979, 18000000000000000
+)  # pi / 180 (a unit factor)  # the modifiers that place an actor (L506)
 #: the witness prefers starts in this first share of the road: room to drive ahead
 PREFERRED_START_SHARE = Fraction(3, 10)
 
@@ -157,6 +161,7 @@ class PlacedActor:
     placed: bool = False  # a start `lane` or `position` modifier places it
     acts: bool = False  # the scenario invokes an action of it
     along: list[ElementField] = field(default_factory=list)  # routes `along` names, in order
+    heading: ir.Var | None = None  # its start heading from the lane's, given by `yaw` (rad)
 
 
 @dataclass(frozen=True)
@@ -257,7 +262,9 @@ class PlacementLowerer:
         candidates = [
             (p, actor_kind(self.model, p.type.symbol if p.type else None))
             for p in self.model.parameters(self.scenario)
-            if p.type is not None and p.type.kind is T.Kind.COMPOUND
+            if p.type is not None
+            and p.type.kind is T.Kind.COMPOUND
+            and actor_alias(self.model, p) is None  # another name of an actor placed here
         ]
         actors = [(p, k) for p, k in candidates if k is not None]
         self.constants = _constants(self.problem)
@@ -456,7 +463,7 @@ class PlacementLowerer:
         """Constrain the scenario's element fields as its map modifiers say."""
         scope = self._root_scope()
         for member, modifier in self._map_modifier_members():
-            self.fields.modifier(member, modifier, self._args(member), scope, self._require)
+            self.fields.modifier(member, modifier, scope, self._require)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""
@@ -743,6 +750,8 @@ class PlacementLowerer:
             "speed": self._mod_speed,
             "lateral": self._mod_lateral,
             "along": self._mod_along,
+            "yaw": self._mod_heading,
+            "orientation": self._mod_heading,
         }
         for item in inv.with_members:
             if not isinstance(item, ast.Invocation):
@@ -784,11 +793,7 @@ class PlacementLowerer:
     ) -> None:
         args = self._args(item)
         name = item.name.text
-        if (
-            name == "lane"
-            and "lane" in args
-            and not any(k in args for k in ("same_as", "side_of", "left_of", "right_of"))
-        ):
+        if name == "lane" and "lane" in args and not any(k in args for k in LANE_REFERENCES):
             lane = self.problem.var(self._phase_name(actor, item, "lane"), "int", span=actor.span)
             saved, actor.lane = actor.lane, lane
             try:
@@ -821,24 +826,27 @@ class PlacementLowerer:
         return join_path(self.scope.prefix, f"{actor.name}@{item.span.line}.{what}")
 
     def _args(self, inv: ast.Invocation) -> dict[str, ast.Node]:
-        modifier = self.model.references.get(inv.name)
-        params = self.model.parameters(modifier) if modifier is not None else []
-        bound: dict[str, ast.Node] = {}
-        position = 0
-        for arg in inv.arguments:
-            if isinstance(arg, ast.PositionalArgument) and position < len(params):
-                bound[params[position].name] = arg.value
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                bound[arg.name.text] = arg.value
-        return bound
+        """The arguments given to modifier ``inv``, by parameter (as the checker bound them)."""
+        binding = self.model.binding(inv)
+        return dict(binding.values(defaults=False)) if binding is not None else {}
 
     def _value(self, node: ast.Node) -> ir.Term | None:
+        chosen = self._chosen(node)
+        if chosen is not None:
+            return chosen
         try:
             return self.lw._term(node, self.scope)
         except NotEncodable as reason:
             self.problem.skip(node.span, self.lw.text_of(node.span), str(reason))
             return None
+
+    def _chosen(self, node: ast.Node | None) -> ir.Term | None:
+        """A range given where a scalar is expected: the value chosen from it (the
+        argument's own variable, whose value the runner runs with); None otherwise."""
+        if not isinstance(node, ast.RangeLiteral):
+            return None
+        var = self.lw.chosen(node, self.scope)
+        return ir.Ref(var) if var is not None else None
 
     def _reference(
         self, node: ast.Node | None, actor: PlacedActor, placement: StartPlacement, span: Span
@@ -870,28 +878,24 @@ class PlacementLowerer:
         terms = placement.terms
         value = (
             self._value(args["lane"])
-            if "lane" in args and not isinstance(args["lane"], ast.RangeLiteral)
+            if "lane" in args
+            and (not isinstance(args["lane"], ast.RangeLiteral) or self._chosen(args["lane"]))
             else None
         )
         count = coerce(actor.lane, value) if value is not None else None
-        for key, sign in (("side_of", None), ("left_of", 1), ("right_of", -1)):
+        for key in LANE_REFERENCES:
             if key not in args:
                 continue
             other = self._reference(args[key], actor, placement, item.span)
             if other is None:
                 return
-            if sign is None:
-                sign = 1 if enum_word(args.get("side")) == "left" else -1
+            sign = lane_side(key, enum_word(args.get("side")))
             step = count if count is not None else ir.const(1)
-            offset = step if sign > 0 else ir.op("neg", step)
-            relation = ir.op("==", lane, ir.op("+", ir.Ref(other.lane), offset))
+            target: ir.Term = ir.Ref(other.lane)
+            if sign:
+                target = ir.op("+", target, step if sign > 0 else ir.op("neg", step))
+            relation = ir.op("==", lane, target)
             self._require(_with(relation, terms.same(actor.road, other.road)), item)
-            return
-        if "same_as" in args:
-            other = self._reference(args["same_as"], actor, placement, item.span)
-            if other is not None:
-                relation = ir.op("==", lane, ir.Ref(other.lane))
-                self._require(_with(relation, terms.same(actor.road, other.road)), item)
             return
         if "lane" not in args:
             return
@@ -904,7 +908,8 @@ class PlacementLowerer:
         s = ir.Ref(actor.s)
         if phase and from_left and not terms.single:
             return  # where a later phase is, and so how many lanes it has, is not known here
-        if isinstance(node, ast.RangeLiteral):
+        # a range whose chosen value is known is that one lane (``count``, below)
+        if isinstance(node, ast.RangeLiteral) and self._chosen(node) is None:
             low, high = self._value(node.low), self._value(node.high)
             if low is None or high is None:
                 return
@@ -1012,7 +1017,7 @@ class PlacementLowerer:
                 return
         if node is None:
             return
-        if isinstance(node, ast.RangeLiteral):
+        if isinstance(node, ast.RangeLiteral) and self._chosen(node) is None:
             low, high = self._value(node.low), self._value(node.high)
             if low is not None and high is not None:
                 self._require(in_range(v, low, high), item)
@@ -1020,6 +1025,30 @@ class PlacementLowerer:
         value = self._value(node)
         if value is not None:
             self._require(ir.op("==", v, value), item)
+
+    def _mod_heading(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
+        """``yaw(angle)``, ``orientation(yaw: a)``: the start heading, from the lane's
+        (``relative_to_road``, the default; other frames are the capability table's)."""
+        node = args.get("angle" if item.name.text == "yaw" else "yaw")
+        frame = "measure_by" if item.name.text == "yaw" else "measured_by"
+        if node is None or "relative_to" in args:
+            return
+        if enum_word(args.get(frame)) not in (None, "relative_to_road"):
+            return
+        value = self._value(node)
+        if value is None:
+            return
+        if actor.heading is None:
+            actor.heading = self.problem.var(
+                f"{actor.name}@start.heading", "real", unit="rad", span=actor.span
+            )
+        self._require(ir.op("==", ir.Ref(actor.heading), value), item)
 
     def _mod_lateral(
         self,

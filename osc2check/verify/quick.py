@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import math
 import random
-from collections.abc import Iterator, Mapping
+from collections.abc import Collection, Iterator, Mapping
 from fractions import Fraction
 
 from osc2check.verify import ir
@@ -70,6 +70,11 @@ def _linear(term: ir.Term) -> Linear:
             a, ka, b, kb = b, kb, a, ka
         # a * kb (b is a constant)
         return ({v: c * kb for v, c in a.items() if c * kb}, ka * kb)
+    if term.op == "/":
+        (a, ka), (b, kb) = _linear(term.args[0]), _linear(term.args[1])
+        if b or not kb:  # by an unknown, or by zero (no value)
+            raise _Unsupported
+        return ({v: c / kb for v, c in a.items()}, ka / kb)
     raise _Unsupported
 
 
@@ -132,9 +137,11 @@ def evaluate(term: ir.Term, values: Mapping[str, Fraction | bool]) -> Fraction |
 
 class _Atom:
     """One conjunct: ``form op 0`` (linear), a finite set of values of one variable,
-    a boolean literal, or anything else (only checked at the end)."""
+    a boolean literal, or anything else (only checked at the end). An equation that is
+    not linear keeps its ``term``: once all but one of its unknowns have values it may
+    be (``gap == closing * headway`` with the closing speed and the headway drawn)."""
 
-    __slots__ = ("kind", "form", "op", "var", "values", "names", "unknown")
+    __slots__ = ("kind", "form", "op", "var", "values", "names", "unknown", "term")
 
     def __init__(
         self,
@@ -144,6 +151,7 @@ class _Atom:
         op: str = "",
         var: str = "",
         values: tuple[Fraction | bool, ...] = (),
+        term: ir.Term | None = None,
     ):
         self.kind = kind
         self.form: Linear | None = form
@@ -152,6 +160,7 @@ class _Atom:
         self.values = values
         self.names: tuple[str, ...] = names
         self.unknown = len(names)
+        self.term = term
 
 
 def _conjuncts(term: ir.Term, out: list[ir.Term]) -> None:
@@ -223,6 +232,8 @@ def _atom(term: ir.Term) -> _Atom:
                 values.append(alt.args[1].value)
             else:
                 return _Atom("set", names, var=names[0], values=tuple(values))
+        if term.op == "==":
+            return _Atom("other", names, term=term)
     return _Atom("other", names)
 
 
@@ -281,28 +292,31 @@ def fold(term: ir.Term, values: Mapping[str, Fraction | bool]) -> ir.Term:
 class Prepared:
     """A constraint set split into atoms once, for many ``find_model`` calls.
 
-    A conjunct that is not linear (``v <= ite(category == truck, 25, ...)``) is folded
-    with the values that equations fix from constants alone first, so that a vehicle's
-    category chosen by a keep gives its speed an upper bound to draw under. The
-    original conjuncts are what a model is checked against.
+    A conjunct that is not linear (``v <= ite(category == truck, 25, ...)``,
+    ``gap == closing * ttc0``) is folded with the values that equations fix from
+    constants alone first (a field's ``ttc0: time = 4s``), so that a vehicle's category
+    chosen by a keep gives its speed an upper bound to draw under, and a product with a
+    constant field is linear. The original conjuncts are what a model is checked
+    against. Variables are drawn in the order they are first mentioned, those in
+    ``last`` (which equations define from the others) after the rest.
     """
 
-    def __init__(self, terms: list[ir.Term]):
+    def __init__(self, terms: list[ir.Term], last: Collection[str] = ()):
         self.conjuncts: list[ir.Term] = []
         for t in terms:
             _conjuncts(t, self.conjuncts)
         self.atoms = [_atom(t) for t in self.conjuncts]
-        pairs = zip(self.conjuncts, self.atoms, strict=True)
-        if any(a.kind == "other" and _has_ite(c) for c, a in pairs):
+        if any(a.kind == "other" for a in self.atoms):
             self.atoms = _folded(self.conjuncts, self.atoms)
         self.by_var: dict[str, list[_Atom]] = {}
-        self.order: list[str] = []
+        order: list[str] = []
         for a in self.atoms:
             for name in a.names:
                 if name not in self.by_var:
                     self.by_var[name] = []
-                    self.order.append(name)
+                    order.append(name)
                 self.by_var[name].append(a)
+        self.order = [n for n in order if n not in last] + [n for n in order if n in last]
 
 
 def find_model(
@@ -346,7 +360,7 @@ def find_model(
         values[name] = value
         for a in by_var[name]:
             a.unknown -= 1
-            if a.unknown == 1 and a.kind in ("eq", "bool"):
+            if a.unknown == 1 and (a.kind in ("eq", "bool") or a.term is not None):
                 ready.append(a)
         return True
 
@@ -363,6 +377,12 @@ def find_model(
                 if not assign(name, a.values[0]):
                     return None
                 continue
+            if a.kind == "other":  # an equation linear in its last unknown, or left to check
+                assert a.term is not None  # only equations are made ready
+                solved = _atom(fold(a.term, values))
+                if solved.kind != "eq" or solved.names != (name,):
+                    continue
+                a = solved
             assert a.form is not None  # an equation has its linear form
             coeffs, constant = a.form
             rest = constant + sum(c * values[v] for v, c in coeffs.items() if v != name)
@@ -482,7 +502,7 @@ def _choose(
 
 def _folded(conjuncts: list[ir.Term], atoms: list[_Atom]) -> list[_Atom]:
     """``atoms`` with each non-linear one replaced by the atoms of its conjunct folded with
-    the values that equations fix (``determined``)."""
+    the values that equations fix (``determined``): constants, for what follows."""
     known = _propagated([a for a in atoms if a.kind in ("eq", "bool")])
     for a in atoms:
         a.unknown = len(a.names)  # as propagation found them
@@ -490,24 +510,13 @@ def _folded(conjuncts: list[ir.Term], atoms: list[_Atom]) -> list[_Atom]:
         return atoms
     result: list[_Atom] = []
     for c, a in zip(conjuncts, atoms, strict=True):
-        if a.kind != "other" or not any(n in known for n in a.names) or not _has_ite(c):
+        if a.kind != "other" or not any(n in known for n in a.names):
             result.append(a)
             continue
         parts: list[ir.Term] = []
         _conjuncts(fold(c, known), parts)
         result.extend(_atom(p) for p in parts if not (isinstance(p, ir.Const) and p.value is True))
     return result
-
-
-def _has_ite(term: ir.Term) -> bool:
-    stack = [term]
-    while stack:
-        t = stack.pop()
-        if isinstance(t, ir.Op):
-            if t.op == "ite":
-                return True
-            stack.extend(t.args)
-    return False
 
 
 def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:

@@ -81,18 +81,18 @@ def _number(model: Model, node: ast.Node, lookup: Lookup, upper: bool = True) ->
     return si_number(value)
 
 
-def _named(arguments: tuple[ast.Argument, ...], name: str) -> ast.Node | None:
-    for arg in arguments:
-        if isinstance(arg, ast.NamedArgument) and arg.name.text == name:
-            return arg.value
-    return None
+def _given(model: Model, call: ast.Node, name: str) -> ast.Node | None:
+    """The argument given for parameter or extra ``name`` of ``call`` (no default)."""
+    binding = model.binding(call)
+    bound = binding.given(name) if binding is not None else None
+    return bound.value if bound is not None else None
 
 
 def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
     """The constant length of ``body`` in seconds, or None when it is not one."""
     match body:
         case ast.Composition():
-            given = _named(body.arguments, "duration")
+            given = _given(model, body, "duration")
             if given is not None:
                 return _number(model, given, lookup)
             lengths = [_duration(model, m.body, lookup) for m in body.members]
@@ -103,7 +103,7 @@ def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
                 return sum(known, Fraction(0))
             return max(known, default=Fraction(0))
         case ast.Invocation():
-            given = _named(body.arguments, "duration")
+            given = _given(model, body, "duration")
             if given is not None:
                 return _number(model, given, lookup)
             return Fraction(0) if is_instant(body) else None
@@ -121,7 +121,7 @@ def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -
     if inv.name.text in _STOPPING:
         found.append(Fraction(0))
     for key in ("target", "speed"):
-        given = _named(inv.arguments, key)
+        given = _given(model, inv, key)
         if given is not None and inv.name.text in ("change_speed", "assign_speed"):
             found.append(_number(model, given, lookup))
     if inv.name.text == "assign_speed" and not inv.arguments:
@@ -131,16 +131,10 @@ def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -
             continue
         name = item.name.text
         if name in ("speed", "change_speed", "acceleration", "keep_speed"):
-            if name != "speed" or any(_named(item.arguments, k) is not None for k in _RELATIVE):
+            if name != "speed" or any(_given(model, item, k) is not None for k in _RELATIVE):
                 found.append(None)
                 continue
-            given = _named(item.arguments, "speed")
-            if (
-                given is None
-                and item.arguments
-                and isinstance(item.arguments[0], ast.PositionalArgument)
-            ):
-                given = item.arguments[0].value
+            given = _given(model, item, "speed")
             found.append(_number(model, given, lookup) if given is not None else None)
     for speed in found:
         if speed is None:

@@ -55,6 +55,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from osc2check.semantics.bindings import BoundArgument
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, OVERLAP_KINDS
 from osc2check.semantics.constants import NotConstant, evaluate, si_number
 from osc2check.semantics.members import scenario_do
@@ -235,14 +236,13 @@ class _Builder:
         return var, ir.op("==", var, value)
 
     def _duration(
-        self, arg: ast.Argument, scope: InstanceScope, callee: str, name: str
+        self, arg: BoundArgument, scope: InstanceScope, callee: str, name: str
     ) -> tuple[ir.Term, ir.Term, ir.Term, str] | None:
         """The bounds of a ``duration`` argument, what its line says of them, and its
         text; None when a bound is a negative constant (B604 reports it)."""
-        assert isinstance(arg, (ast.NamedArgument, ast.PositionalArgument))
         value = arg.value
         written = self.lw.text_of(arg.span)
-        if isinstance(arg, ast.PositionalArgument):
+        if arg.positional:
             written = f"duration: {written}"
         text = f"{callee}({written})"
         nodes = [value.low, value.high] if isinstance(value, ast.RangeLiteral) else [value]
@@ -282,12 +282,8 @@ class _Builder:
             return None
         wanted = 0 if function == "elapsed" else 1
         parameter = EVENT_FUNCTIONS[function].parameters[wanted].name
-        node: ast.Node | None = None
-        for i, arg in enumerate(spec.expr.arguments):
-            if isinstance(arg, ast.PositionalArgument) and i == wanted:
-                node = arg.value
-            elif isinstance(arg, ast.NamedArgument) and arg.name.text == parameter:
-                node = arg.value
+        binding = self.model.binding(spec.expr)
+        node = binding.value(parameter) if binding is not None else None
         if node is None:
             return ZERO if function == "every" else None
         found = self._value(node, scope, f"{name}.delay", where, text)
@@ -338,19 +334,14 @@ class _Builder:
         self, comp: ast.Composition, scope: InstanceScope, start: Time, depth: int
     ) -> Phase:
         name = join_path(scope.prefix, f"{comp.op}@{_where(comp.span)}")
-        duration: ast.Argument | None = None
-        overlap: ast.NamedArgument | None = None
-        offsets: list[ast.NamedArgument] = []
-        for i, arg in enumerate(comp.arguments):
-            if isinstance(arg, ast.NamedArgument):
-                if arg.name.text == "duration":
-                    duration = arg
-                elif arg.name.text == "overlap":
-                    overlap = arg
-                elif arg.name.text in ("start_to_start", "end_to_end"):
-                    offsets.append(arg)
-            elif isinstance(arg, ast.PositionalArgument) and i == 0:
-                duration = arg
+        binding = self.model.binding(comp)
+        duration = binding.extra("duration") if binding is not None else None
+        overlap = binding.extra("overlap") if binding is not None else None
+        offsets = [
+            b
+            for b in (binding.extras if binding is not None else ())
+            if b.name in ("start_to_start", "end_to_end")
+        ]
         kind = _overlap_kind(overlap.value) if overlap is not None else "start"
         untils = [w for w in comp.with_members if isinstance(w, ast.Until)]
         core: Phase
@@ -380,7 +371,7 @@ class _Builder:
         self,
         comp: ast.Composition,
         kind: str,
-        overlap: ast.NamedArgument | None,
+        overlap: BoundArgument | None,
         scope: InstanceScope,
         start: Time,
         depth: int,
@@ -478,17 +469,8 @@ class _Builder:
             return self._unmodelled(name, inv.span, start)
         behaviour, inner = found
         name = inner.prefix
-        params = {p.name for p in self.model.parameters(behaviour)}
-        duration = next(
-            (
-                a
-                for a in inv.arguments
-                if isinstance(a, ast.NamedArgument)
-                and a.name.text == "duration"
-                and "duration" not in params
-            ),
-            None,
-        )
+        binding = self.model.binding(inv)
+        duration = binding.extra("duration") if binding is not None else None
         untils = [w for w in inv.with_members if isinstance(w, ast.Until)]
         core: Phase
         if behaviour.kind is SymbolKind.SCENARIO:
@@ -512,6 +494,11 @@ class _Builder:
             callee = f"{self.lw.text_of(inv.actor.span)}.{callee}"
         return self._wrap(core, inv.span, duration, untils, scope, callee, name)
 
+    def _given(self, call: ast.Node) -> dict[str, ast.Expr]:
+        """The arguments given to ``call`` by parameter, as the checker bound them."""
+        binding = self.model.binding(call)
+        return binding.values(defaults=False) if binding is not None else {}
+
     def _action(
         self,
         inv: ast.Invocation,
@@ -528,13 +515,7 @@ class _Builder:
             return Leaf(name=name, span=inv.span, start=start, end=end)
         ends_phase = any(
             isinstance(m, ast.Invocation)
-            and (
-                m.name.text in PHASE_ENDING_MODIFIERS
-                or modifier_timing(
-                    {a.name.text: a.value for a in m.arguments if isinstance(a, ast.NamedArgument)}
-                )
-                == "end"
-            )
+            and (m.name.text in PHASE_ENDING_MODIFIERS or modifier_timing(self._given(m)) == "end")
             for m in inv.with_members
         )
         end = self._after(start, name, inv.span, may_never=True) if ends_phase else NEVER
@@ -545,7 +526,7 @@ class _Builder:
         self,
         core: Phase,
         span: Span,
-        duration: ast.Argument | None,
+        duration: BoundArgument | None,
         untils: list[ast.Until],
         scope: InstanceScope,
         callee: str,

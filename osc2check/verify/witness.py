@@ -299,7 +299,7 @@ def build_witness(
                     t,
                     pose.x,
                     pose.y,
-                    pose.yaw,
+                    pose.yaw + _heading(a, values),
                     Fraction(values.get(a.speed.name, Fraction(0))),
                     _size(a.body.length, values),
                     _size(a.body.width, values),
@@ -338,6 +338,13 @@ def build_witness(
         source,
         tuple(elements),
     )
+
+
+def _heading(actor: PlacedActor, values: dict[str, Fraction | bool]) -> float:
+    """The start heading a ``yaw``/``orientation`` modifier gives, from the lane's (rad)."""
+    if actor.heading is None:
+        return 0.0
+    return float(values.get(actor.heading.name, Fraction(0)))
 
 
 def _start(

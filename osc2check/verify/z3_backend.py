@@ -132,6 +132,15 @@ def active_constraints(
     ]
 
 
+def nonlinear(active: list[ir.Constraint]) -> list[ir.Constraint]:
+    """The constraints of ``active`` that multiply or divide unknowns (C410). A parameter
+    that equations fix to a constant (its declaration's ``ttc0: time = 4s`` while no
+    keep overrides it, ``keep(ttc0 == 4s)``) is a constant, as the sampler takes it:
+    ``gap == closing * ttc0`` is linear then."""
+    fixed = quick.determined([c.term for c in active])
+    return [c for c in active if ir.is_nonlinear(quick.fold(c.term, fixed))]
+
+
 def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
     """The fallbacks (``rule == "fallback"``: a vehicle is a car when nothing says
     otherwise) that do not hold because constraints of ``active`` mention their variable.
@@ -260,7 +269,7 @@ def check(
     """
     outcome = SolverOutcome("sat")
     active = active_constraints(problem, outcome)
-    outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
+    outcome.nonlinear = nonlinear(active)
     model = quick.find_model(problem.variables, [c.term for c in active])
     if model is not None:
         outcome.values = model
@@ -282,7 +291,7 @@ def solve(
     ``seed``; without a seed, z3's first model)."""
     outcome = SolverOutcome("sat")
     active = active_constraints(problem, outcome)
-    outcome.nonlinear = [c for c in active if ir.is_nonlinear(c.term)]
+    outcome.nonlinear = nonlinear(active)
     return _solve(
         problem,
         outcome,
@@ -354,7 +363,7 @@ def _solve(
     }
     if seed is not None:  # satisfiable without dropping anything: every constraint holds
         sample = Sampler(
-            problem, active, values, timeout_ms=timeout_ms, rlimit=rlimit, enc=enc, exprs=exprs
+            problem, active, values, timeout_ms=timeout_ms, rlimit=rlimit, enc=enc
         ).sample(seed)
         if sample is not None:
             values = sample
@@ -420,19 +429,22 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
 class Sampler:
     """Models of one problem spread over its feasible space, one per seed.
 
-    A seed draws a random target for every variable: inside the bounds that
-    constraints on the variable alone give (the road, the vehicle, a range), else
-    around 0. A variable that only such constraints mention (or none) takes a
-    drawn value that satisfies them; one that equations fix keeps its value. The
-    others ("linked") are drawn by propagation, each at random inside the bounds
-    that the values drawn before leave it (``quick.find_model`` with a seeded
-    generator: no solver, and checked exactly). Only when that fails does z3 come
-    in: ``z3.Optimize`` puts the real ones as near to their targets as possible
-    (the sum of distances is minimised, for one variable of each equation between
-    unknowns) and the integer ones at their targets where they can be (soft
-    constraints; integer distances would make it a slow mixed-integer problem). One
-    ``Optimize``, made when first needed, serves every sample: a sample only fixes
-    the targets, inside ``push``/``pop``. The same seed gives the same sample.
+    A seed draws a random target for every variable: inside the bounds that constraints
+    on the variable alone give (the road, the vehicle, a range), else around 0. A
+    variable that only such constraints mention (or none) takes a drawn value that
+    satisfies them; one that equations fix keeps its value, and is a constant in the
+    other constraints (``ttc0: time = 4s`` makes ``gap == closing * ttc0`` linear). The
+    others ("linked") are drawn by propagation, each at random inside the bounds that
+    the values drawn before leave it (``quick.find_model`` with a seeded generator: no
+    solver, and checked exactly); a variable that an equation defines from others
+    (``gap`` there) is drawn last, so it follows from the values drawn for the others
+    instead of cornering them on a bound. Only when that fails does z3 come in:
+    ``z3.Optimize`` puts the real ones as near to their targets as possible (the sum of
+    distances is minimised, for one variable of each equation between unknowns) and the
+    integer ones at their targets where they can be (soft constraints; integer distances
+    would make it a slow mixed-integer problem). One ``Optimize``, made when first
+    needed, serves every sample: a sample only fixes the targets, inside
+    ``push``/``pop``. The same seed gives the same sample.
     """
 
     TRIES = 3  # draws by propagation before asking z3
@@ -446,15 +458,13 @@ class Sampler:
         timeout_ms: int = DEFAULT_TIMEOUT_MS,
         rlimit: int = DEFAULT_RLIMIT,
         enc: _Encoder | None = None,
-        exprs: list[Z3Expr] | None = None,
     ):
         self.problem = problem
         self.active = active
         self.base = base
         self.timeout_ms, self.rlimit = timeout_ms, rlimit
-        self.enc, self.exprs = enc, exprs  # both or neither
+        self.enc = enc  # the problem's variables in a z3 context (made when first needed)
         self.opt: Any = None  # a z3 Optimize
-        self.terms = quick.Prepared([c.term for c in active])
         self.order = sorted(problem.variables)
         self.bounds = bounds(active)
         self.alone: dict[str, list[ir.Term]] = {}  # constraints on one variable only
@@ -468,10 +478,15 @@ class Sampler:
         fixed = self.fixed = quick.determined([c.term for c in active])
         self.linked = [n for n in self.order if n in linked and n not in fixed]
         self.linked_set = set(self.linked)
+        # constants (a field's `= value`, `keep(p == 4s)`) are folded in: a product with
+        # one is linear, for the propagation and for z3
+        self.folded = [quick.fold(c.term, fixed) for c in active]
         # an equation between unknowns makes one of them follow from the others: only
-        # the others get a target (fewer terms to minimise, the same spread)
-        follows = _dependent([c.term for c in active], fixed)
+        # the others get a target (fewer terms to minimise, the same spread), and they
+        # are drawn first
+        follows = _dependent(self.folded, fixed)
         self.aimed = [n for n in self.linked if n not in follows]
+        self.terms = quick.Prepared(self.folded)
 
     def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
@@ -480,14 +495,12 @@ class Sampler:
         z3 = _z3()
         if self.enc is None:
             self.enc = _Encoder(self.problem, z3.Context())
-            self.exprs = [self.enc.term(c.term) for c in self.active]
         enc = self.enc
-        assert self.exprs is not None  # given with `enc`, or made with it here
         opt = self.opt = z3.Optimize(ctx=enc.ctx)
         opt.set("timeout", self.timeout_ms)
         opt.set("rlimit", self.rlimit)
-        for expr in self.exprs:
-            opt.add(expr)
+        for term in self.folded:
+            opt.add(enc.term(term))
         self.target: dict[str, Z3Expr] = {}
         distances = []
         for name in self.aimed:
@@ -576,7 +589,10 @@ class Sampler:
 
 
 def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[str]:
-    """Variables that equations express through other unknowns, one per equation."""
+    """Variables that equations express through other unknowns, one per equation: of a
+    linear one, its left side when that is a variable, else its last unknown; of one that
+    is not linear (``gap == closing * headway``, ``t == d / v``), the variable alone on
+    one side that the other side does not mention."""
     conjuncts: list[ir.Term] = []
     for t in terms:
         quick._conjuncts(t, conjuncts)
@@ -585,15 +601,22 @@ def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[s
         if not (isinstance(term, ir.Op) and term.op == "=="):
             continue
         atom = quick._atom(term)
-        if atom.kind != "eq":
-            continue
         free = [n for n in atom.names if n not in fixed and n not in dependent]
-        if free:  # one left: it follows from unknowns that follow from others
-            left = term.args[0]
-            chosen = (
-                left.var.name if isinstance(left, ir.Ref) and left.var.name in free else free[-1]
-            )
-            dependent.add(chosen)
+        if not free:  # none left: it follows from unknowns that follow from others
+            continue
+        left, right = term.args
+        if atom.kind == "eq":
+            on_left = isinstance(left, ir.Ref) and left.var.name in free
+            dependent.add(left.var.name if isinstance(left, ir.Ref) and on_left else free[-1])
+            continue
+        for side, other in ((left, right), (right, left)):
+            if (
+                isinstance(side, ir.Ref)
+                and side.var.name in free
+                and side.var.name not in ir.names(other)
+            ):
+                dependent.add(side.var.name)
+                break
     return dependent
 
 

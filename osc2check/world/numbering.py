@@ -17,7 +17,31 @@ from typing import Literal
 
 from osc2check.world.network import LaneRef, RoadNetwork
 
-__all__ = ["driving_lanes_right_to_left", "lane_from_osc2_index", "osc2_lane_index"]
+__all__ = [
+    "LANE_REFERENCES",
+    "driving_lanes_right_to_left",
+    "lane_from_osc2_index",
+    "lane_side",
+    "osc2_lane_index",
+]
+
+#: The arguments of ``lane(...)`` that name another actor whose lane the actor's is
+#: counted from; ``left_of``/``right_of`` are the standard's own examples' forms.
+LANE_REFERENCES = ("same_as", "side_of", "left_of", "right_of")
+
+
+def lane_side(reference: str, side: str | None) -> int:
+    """Which way ``lane(<reference>: b, lane: n)`` counts from ``b``'s lane: +1 for ``n``
+    lanes to the left, -1 to the right, 0 for ``b``'s own lane (``same_as``, where ``n``
+    is not used). ``side_of`` goes to its ``side:`` (which the checker requires; left
+    when absent); checker and runner both read it here."""
+    if reference == "same_as":
+        return 0
+    if reference == "left_of":
+        return 1
+    if reference == "right_of":
+        return -1
+    return -1 if side in ("right", "outside") else 1  # right-hand traffic: outside is right
 
 
 def driving_lanes_right_to_left(

@@ -3,18 +3,18 @@
 * after an initialiser or argument that is not a plain literal and folds to a
   physical constant: its value in the unit it was written in
   (``v_hero + 12.42mph`` → ``≈ 55.0 kph``);
-* before a positional argument of an invocation or call: the parameter it
-  binds to (``lane(lane: 1, at: start)``).
+* before a positional argument of an invocation or call: the parameter the
+  checker bound it to (``lane(lane: 1, at: start)``).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+from osc2check.semantics.bindings import argument_values
 from osc2check.semantics.visibility import extent
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2lsp.features import describe
 from osc2lsp.features.values import evaluate, short
 from osc2lsp.snapshot import Snapshot
 
@@ -50,37 +50,19 @@ def inlay_hints(
             if values and isinstance(node, ast.FieldDecl) and node.default is not None:
                 _value_hint(snapshot, node.default, hints)
             if isinstance(node, (ast.Invocation, ast.Call)):
-                name = node.name if isinstance(node, ast.Invocation) else _callee_name(node)
-                callee_sym = model.references.get(name) if name is not None else None
-                params = describe.parameters_of(model, callee_sym) if callee_sym else []
-                position = 0
-                for arg in node.arguments:
-                    if isinstance(arg, ast.PositionalArgument):
-                        if (
-                            parameter_names
-                            and position < len(params)
-                            and not (
-                                isinstance(arg.value, ast.NameRef)
-                                and arg.value.name.name.text == params[position].name
-                            )
+                binding = model.binding(node)
+                if parameter_names and binding is not None:
+                    for bound in binding.arguments:
+                        if bound.positional and not (
+                            isinstance(bound.value, ast.NameRef)
+                            and bound.value.name.name.text == bound.name
                         ):
-                            hints.append(
-                                Hint(arg.span.start, f"{params[position].name}:", "parameter")
-                            )
-                        position += 1
-                    if values and isinstance(arg, (ast.PositionalArgument, ast.NamedArgument)):
-                        _value_hint(snapshot, arg.value, hints)
+                            hints.append(Hint(bound.span.start, f"{bound.name}:", "parameter"))
+                if values:
+                    for value in argument_values(node.arguments):
+                        _value_hint(snapshot, value, hints)
     hints.sort(key=lambda h: h.offset)
     return hints
-
-
-def _callee_name(call: ast.Call) -> ast.Name | None:
-    callee = call.callee
-    if isinstance(callee, ast.MemberAccess):
-        return callee.member
-    if isinstance(callee, ast.NameRef):
-        return callee.name.name
-    return None
 
 
 def _value_hint(snapshot: Snapshot, expr: ast.Node, hints: list[Hint]) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from osc2check.semantics.builtins import EVENT_FUNCTIONS
+from osc2check.semantics.calls import next_parameter, written_name
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2lsp.features import describe
@@ -53,18 +54,17 @@ def _active(f: Focus, node: ast.Invocation | ast.Call, params: list[Symbol]) -> 
         args = list(node.arguments)
         if index is not None and index < len(args):
             arg = args[index]
-        elif index is not None:
-            written = sum(isinstance(a, ast.PositionalArgument) for a in args)
-            named = any(isinstance(a, ast.NamedArgument) for a in args)
-            return None if named else (written if written < len(params) else None)
+        elif index is not None:  # an argument being typed after the last one analysed
+            following = next_parameter(args)
+            return following if following is not None and following < len(params) else None
         else:
             return 0 if params else None
-    if isinstance(arg, ast.NamedArgument):
-        names = [p.name for p in params]
-        return names.index(arg.name.text) if arg.name.text in names else None
-    positional = [a for a in node.arguments if isinstance(a, ast.PositionalArgument)]
-    index = next((i for i, a in enumerate(positional) if a is arg), 0)
-    return index if index < len(params) else None
+    binding = f.model.binding(node)
+    name = binding.parameter_of(arg) if binding is not None else None
+    if name is None:  # not bound: a misspelt name, or text the analysis has not seen
+        name = written_name(arg)
+    names = [p.name for p in params]
+    return names.index(name) if name in names else None
 
 
 def _builtin(f: Focus) -> SignatureResult | None:

@@ -28,6 +28,7 @@ from typing import TYPE_CHECKING, Any
 import py_trees
 from py_trees.common import Status
 
+from osc2check.semantics.bindings import Binding
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 from osc2runner.compile.expressions import Closure
@@ -97,10 +98,15 @@ class ModifierUse:
     symbol: Symbol
     arguments: dict[str, Closure]
     actor: Actor | None = None
+    binding: Binding | None = None  # the checker's reading of its arguments
 
     @property
     def name(self) -> str:
         return self.symbol.name
+
+    def given(self, name: str) -> ast.Node | None:
+        """The expression written for parameter ``name``; None when it was not given."""
+        return _given(self.binding, name)
 
 
 @dataclass
@@ -115,10 +121,20 @@ class ActionUse:
     duration: Callable[[], tuple[float | None, float | None]] | None = None
     behaviour: type | None = None  # the registered class
     starts_scenario: bool = False  # begins at time 0: the witness realised its `at: start`
+    binding: Binding | None = None  # the checker's reading of its arguments
+
+    def given(self, name: str) -> ast.Node | None:
+        """The expression written for parameter ``name``; None when it was not given."""
+        return _given(self.binding, name)
 
     @property
     def label(self) -> str:
         return f"{self.actor.name}.{self.symbol.name}"
+
+
+def _given(binding: Binding | None, name: str) -> ast.Node | None:
+    bound = binding.given(name) if binding is not None else None
+    return bound.value if bound is not None else None
 
 
 class ScenarioBehaviour(FastLeaf, py_trees.behaviour.Behaviour):

@@ -45,12 +45,7 @@ def _check_constant(use: ActionUse, name: str, problem: Callable[[object], str |
 
 def _argument(use: ActionUse, name: str) -> ast.Node:
     """The expression given for the parameter ``name`` (the invocation when not found)."""
-    node = use.node
-    positional = [a for a in node.arguments if isinstance(a, ast.PositionalArgument)]
-    for arg in node.arguments:
-        if isinstance(arg, ast.NamedArgument) and arg.name.text == name:
-            return arg.value
-    return positional[0].value if len(positional) == 1 else node
+    return use.given(name) or use.node
 
 
 def update_weather(action: InstantAction, part: str) -> None:

@@ -15,6 +15,7 @@ import math
 from typing import Any
 
 from osc2check.world.network import LaneRef
+from osc2check.world.numbering import LANE_REFERENCES, lane_side
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
 from osc2runner.behaviours.driving import (
     SPEED_PROFILE,
@@ -323,12 +324,14 @@ class Position(Modifier):
 
 @modifier("lane")
 class Lane(Modifier):
-    """``lane(n)``, ``lane(same_as: ref)``, ``lane(side_of: ref, side: s)``.
+    """``lane(n)``, ``lane(same_as: ref)``, ``lane(side_of: ref, side: s)``,
+    ``lane(n, left_of: ref)``, ``lane(n, right_of: ref)``.
 
     Lanes are those of the road the actor is on, travelling its way. ``n`` counts from
     the ``from:`` side (default: the map's, see :mod:`osc2runner.instance.roads`);
     ``same_as`` is the lane with the reference's number, ``side_of`` the one ``n``
-    lanes to a side of it. ``all``: changes into the lane at once if needed and keeps
+    lanes to a side of it, ``left_of``/``right_of`` to that side (``numbering.lane_side``,
+    as the checker places them). ``all``: changes into the lane at once if needed and keeps
     it (following a reference when it changes lanes). ``end``: with a planned duration
     the lane change is timed to end when the phase ends (it starts a change's length
     before; a shorter phase spreads it over all of it); without one the change starts
@@ -347,12 +350,12 @@ class Lane(Modifier):
             raise ActionError("a lane range needs the solver's choice; give one lane")
         n = int(n)
         lanes = ctx.lanes
-        if isinstance(args.get("same_as"), Actor):
-            return lanes.number(lane_of(ctx, args["same_as"]), "right")
-        if isinstance(args.get("side_of"), Actor):
-            side = side_of(str(args.get("side", "left")))
-            other = lanes.number(lane_of(ctx, args["side_of"]), "right")
-            return other + n if side == "left" else other - n
+        for key in LANE_REFERENCES:
+            reference = args.get(key)
+            if isinstance(reference, Actor):
+                side = side_of(str(args["side"])) if "side" in args else None
+                other = lanes.number(lane_of(ctx, reference), "right")
+                return other + lane_side(key, side) * n
         counted_from = args.get("from")
         count = lanes.count(here)
         side_text = str(counted_from) if counted_from is not None else lanes.default_side
@@ -374,7 +377,7 @@ class Lane(Modifier):
     def realise(self, action: ActionBehaviour) -> None:
         self.changing_to: LaneRef | None = None
         self.change_at: float | None = None
-        self.relative = "same_as" in self.args or "side_of" in self.args
+        self.relative = any(key in self.args for key in LANE_REFERENCES)
         if self.at == "end" and action.remaining():
             target = self._lane(action, self._number(action))
             if action.state.lane_ref == target:

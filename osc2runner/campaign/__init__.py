@@ -14,8 +14,10 @@ the worst runs and the KPIs over the parameters::
 
 Modules: ``campaign`` (the flow), ``plan`` (seeds and bins), ``steering``
 (cover items and directed witnesses), ``worker`` (check once, run per seed),
-``pool`` and ``ray_engine`` (engines), ``kpis``, ``summary``, ``outputs``,
-``report``. The command is ``osc2run FILE --runs N``; see docs/campaigns.md.
+``pool`` and ``ray_engine`` (engines), ``kpis``, ``summary``, ``parameters``
+(swept and derived parameters), ``spread`` (how evenly runs cover them),
+``failures`` (pass/fail map, failure boundary, triage), ``outputs``, ``charts``
+and ``report``. The command is ``osc2run FILE --runs N``; see docs/campaigns.md.
 """
 
 from __future__ import annotations

@@ -41,9 +41,16 @@ from osc2runner.campaign.outputs import (
     write_record,
     write_runs_csv,
 )
+from osc2runner.campaign.parameters import parameter_domains, parameter_equations
 from osc2runner.campaign.plan import CoverPlan, ItemPlan, plan_cover, plan_random
 from osc2runner.campaign.steering import cover_items
-from osc2runner.campaign.summary import coverage_table, kpi_figures, summarize, worst_runs
+from osc2runner.campaign.summary import (
+    coverage_table,
+    findings,
+    kpi_figures,
+    summarize,
+    worst_runs,
+)
 from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.signals import SIGNALS, signal_name
@@ -263,6 +270,10 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 "cover": [p.to_json() for p in plan.items],
                 "resumed": sorted(kept),
             },
+            "parameters": {
+                "domains": parameter_domains(checked),
+                "equations": parameter_equations(checked),
+            },
         }
         folder = output_folder(options.out)
         write_campaign(folder, document)
@@ -370,6 +381,8 @@ def finish(
     summary = summarize(ordered)
     kept = set(document["plan"]["resumed"])
     ran = [r for r in ordered if r.finished and r.seed not in kept]  # by this invocation
+    preferred = [p.name for p in plan.items]
+    swept, failures = findings(ordered, document.get("parameters", {}), preferred, replay)
     document.update(
         {
             "status": status,
@@ -388,13 +401,15 @@ def finish(
             "not_run": [t.seed for t in tasks if t.seed not in records],
             "coverage": coverage_table(ordered, plan.items),
             "kpis": kpi_figures(ordered),
+            "parameters": swept,
+            "failures": failures,
             "worst": [r.seed for r in worst_runs(ordered)],
             "runs": [{**r.to_json(), "replay": replay.get(r.seed, "")} for r in ordered],
         }
     )
     outputs = [
         write_runs_csv(folder, ordered, replay),
-        write_junit(folder, document["scenario"], ordered, replay, wall),
+        write_junit(folder, document, ordered, replay, wall),
     ]
     from osc2runner.campaign.report import write_report
 

@@ -236,9 +236,33 @@ def _summary(result: Any, out: TextIO) -> None:
             f"  cover {item['name']}: {item['filled']} of {item['reachable']} buckets filled"
             f"{gone}{holes}\n"
         )
+    for line in findings_lines(doc):
+        out.write(f"  {line}\n")
     worst = [r for r in result.records if not r.passed and r.finished][:5]
     for r in worst:
         out.write(f"  seed {r.seed}: {r.status}: {r.reason}\n")
     for path in result.outputs:
         out.write(f"  wrote {path}\n")
     out.flush()
+
+
+def findings_lines(document: dict[str, Any]) -> list[str]:
+    """The summary's lines of what the campaign swept (each parameter's spread, a warning
+    for one that piles up) and where it failed (the failure boundary)."""
+    from osc2runner.campaign.spread import Spread
+
+    parameters = document.get("parameters", {})
+    lines = []
+    for entry in parameters.get("spread", []):
+        spread = Spread(**entry)
+        lines.append(f"swept {spread.text()}")
+        if spread.warning:
+            lines.append(f"warning: {spread.warning}: the runs do not cover what it allows")
+    for name, why in parameters.get("derived", {}).items():
+        lines.append(f"not swept: {name} {why}")
+    found = document.get("failures", {}).get("boundary", {})
+    for region in found.get("regions", []):
+        lines.append(f"failure boundary: {region['text']}")
+    if found.get("why"):
+        lines.append(f"failure boundary: none ({found['why']})")
+    return lines

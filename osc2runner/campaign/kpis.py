@@ -40,9 +40,10 @@ from typing import Any
 
 import numpy as np
 
+from osc2runner.output.gaps import boxes
 from osc2runner.output.stops import BRAKE_ONSET, MOVING, STANDSTILL
 
-__all__ = ["KPI_UNITS", "run_kpis", "subject_actor"]
+__all__ = ["KPI_UNITS", "closing_speed", "kpi_text", "run_kpis"]
 
 #: every KPI and its unit (for tables and reports), in the order shown
 KPI_UNITS: dict[str, str] = {
@@ -61,18 +62,26 @@ KPI_UNITS: dict[str, str] = {
 }
 
 KPH = 3.6
+#: the KPIs a one-line account of a run gives, in this order
+TOLD = (
+    "relative_impact_speed_kph",
+    "impact_speed_kph",
+    "speed_reduction_kph",
+    "min_ttc_s",
+    "min_gap_m",
+    "max_decel_mps2",
+)
 
 
-def subject_actor(actors: Mapping[str, Mapping[str, Any]], sut: str | None) -> str | None:
-    """The run's subject among ``actors`` (run.json's ``actors``: name -> entry with a
-    ``kind``): ``sut``, else ``sut``/``ego`` fields, else the first vehicle."""
-    if sut is not None:
-        return sut
-    vehicles = [n for n, a in actors.items() if a.get("kind") == "vehicle"]
-    for name in ("sut", "ego"):
-        if name in vehicles:
-            return name
-    return vehicles[0] if vehicles else None
+def kpi_text(kpis: Mapping[str, Any]) -> str:
+    """The KPIs of a run that it has, as ``name value unit`` separated by commas."""
+    parts = []
+    for name in TOLD:
+        value = kpis.get(name)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            unit = KPI_UNITS[name]
+            parts.append(f"{name} {value:g}{' ' + unit if unit else ''}")
+    return ", ".join(parts)
 
 
 def _num(value: float | None, digits: int = 4) -> float | None:
@@ -119,7 +128,7 @@ def run_kpis(
         kpis["impact_speed_kph"] = _num(v * KPH, 2)
         kpis["speed_reduction_kph"] = _num((start_speed - v) * KPH, 2)
         if other is not None and other in telemetry:
-            closing = _closing(me, telemetry[other], row)
+            closing = closing_speed(me, telemetry[other], row)
             kpis["relative_impact_speed_kph"] = _num(closing * KPH, 2)
     else:
         kpis["speed_reduction_kph"] = _num(start_speed * KPH, 2)  # avoided: all of it
@@ -135,7 +144,7 @@ def run_kpis(
     return kpis
 
 
-def _closing(me: Mapping[str, np.ndarray], other: Mapping[str, np.ndarray], row: int) -> float:
+def closing_speed(me: Mapping[str, np.ndarray], other: Mapping[str, np.ndarray], row: int) -> float:
     """Closing speed of ``me`` on ``other`` along ``me``'s heading at ``row``."""
     row = min(row, len(other["speed"]) - 1)
     yaw = float(me["yaw"][row])
@@ -175,33 +184,23 @@ def _ttc_and_gap(
     subject: str,
 ) -> tuple[float | None, float | None]:
     me = telemetry[subject]
-    length, width = sizes.get(subject, (0.0, 0.0))
-    x, y, yaw, v = me["x"], me["y"], me["yaw"], me["speed"]
-    c, s = np.cos(yaw), np.sin(yaw)
+    mine = sizes.get(subject, (0.0, 0.0))
+    v = me["speed"]
     best_ttc, best_gap = math.inf, math.inf
     for name, other in telemetry.items():
         if name == subject or name not in sizes:
             continue
-        n = min(len(x), len(other["x"]))
+        seen = boxes(me, other, mine, sizes[name])
+        n = len(seen.gap)
         if n == 0:
             continue
-        ol, ow = sizes[name]
-        dx, dy = other["x"][:n] - x[:n], other["y"][:n] - y[:n]
-        rel_x = dx * c[:n] + dy * s[:n]
-        rel_y = -dx * s[:n] + dy * c[:n]
-        dyaw = other["yaw"][:n] - yaw[:n]
-        rc, rs = np.abs(np.cos(dyaw)), np.abs(np.sin(dyaw))
-        half_long = 0.5 * (ol * rc + ow * rs)
-        half_lat = 0.5 * (ol * rs + ow * rc)
-        gap = np.abs(rel_x) - 0.5 * length - half_long
-        overlapping = np.abs(rel_y) - 0.5 * width - half_lat < 0.0
+        overlapping = seen.lateral_gap < 0.0
         if overlapping.any():
-            best_gap = min(best_gap, float(np.maximum(gap[overlapping], 0.0).min()))
-        ov = other["speed"][:n]
-        closing = v[:n] - ov * np.cos(dyaw)  # along the subject's heading
-        ahead = overlapping & (rel_x > 0.0) & (closing > 1e-6)
+            best_gap = min(best_gap, float(np.maximum(seen.gap[overlapping], 0.0).min()))
+        closing = v[:n] - other["speed"][:n] * np.cos(seen.dyaw)  # along the subject's heading
+        ahead = overlapping & (seen.rel_x > 0.0) & (closing > 1e-6)
         if ahead.any():
-            ttc = np.maximum(gap[ahead], 0.0) / closing[ahead]
+            ttc = np.maximum(seen.gap[ahead], 0.0) / closing[ahead]
             best_ttc = min(best_ttc, float(ttc.min()))
     return (
         best_ttc if math.isfinite(best_ttc) else None,

@@ -13,9 +13,12 @@ In the campaign folder ``DIR``:
   the end (``complete`` or ``interrupted``);
 * ``runs.csv``: one row a run: seed, bin, outcome, reason, the parameters that
   vary, the KPIs, the records, wall time, the replay command;
-* ``junit.xml``: one ``testcase`` a run (name ``seed <k>``, the parameters in
-  ``properties``); a ``failure`` for ``failure``/``timeout``, an ``error`` for
-  ``error``, ``skipped`` for ``interrupted`` — the form CI systems read;
+* ``junit.xml``: one ``testcase`` a run, named by the scenario and the swept
+  parameters' values (``my_ccrm[ego_speed=75.8kph,offset=-0.08m]``; with the seed
+  when two runs would share a name), the parameters and the seed in
+  ``properties``; a ``failure`` for ``failure``/``timeout``, an ``error`` for
+  ``error``, ``skipped`` for ``interrupted``, its message the outcome and the KPIs
+  — the form CI systems read;
 * ``report.html``: :mod:`osc2runner.campaign.report`.
 """
 
@@ -25,12 +28,14 @@ import csv
 import io
 import json
 import shlex
-from collections.abc import Sequence
+from collections import Counter
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
-from osc2runner.campaign.kpis import KPI_UNITS
+from osc2runner.campaign.kpis import KPI_UNITS, kpi_text
+from osc2runner.campaign.parameters import compact_text
 from osc2runner.campaign.summary import varying
 from osc2runner.campaign.worker import RunRecord
 from osc2runner.output.files import write_atomically
@@ -134,10 +139,36 @@ def write_runs_csv(folder: Path, records: Sequence[RunRecord], replay: dict[int,
     return write_atomically(folder / "runs.csv", out.getvalue())
 
 
+def case_names(
+    suite: str, records: Sequence[RunRecord], swept: Sequence[str], units: Mapping[str, str]
+) -> dict[int, str]:
+    """Each run's testcase name: the scenario and the swept parameters' values
+    (``my_ccrm[ego_speed=75.8kph,offset=-0.08m]``); a name two runs share gets the seed."""
+    names = {}
+    for r in records:
+        values = ",".join(
+            f"{n}={compact_text(r.parameters[n].get('value'), units.get(n, ''))}"
+            for n in swept
+            if n in r.parameters
+        )
+        names[r.seed] = f"{suite}[{values}]" if values else f"{suite} seed {r.seed}"
+    counts = Counter(names.values())
+    return {s: n if counts[n] == 1 else f"{n} seed {s}" for s, n in names.items()}
+
+
 def write_junit(
-    folder: Path, suite: str, records: Sequence[RunRecord], replay: dict[int, str], wall: float
+    folder: Path,
+    document: Mapping[str, Any],
+    records: Sequence[RunRecord],
+    replay: dict[int, str],
+    wall: float,
 ) -> Path:
-    """``junit.xml``: a testsuite of one testcase a run."""
+    """``junit.xml``: a testsuite of one testcase a run, named by its swept parameters;
+    a failure's message gives the outcome and the KPIs."""
+    suite = document["scenario"]
+    parameters = document.get("parameters", {})
+    units = {n: d.get("unit", "") for n, d in parameters.get("domains", {}).items()}
+    names = case_names(suite, records, parameters.get("swept", []), units)
     ordered = sorted(records, key=lambda r: r.seed)
     failures = sum(1 for r in ordered if r.status in ("failure", "timeout"))
     errors = sum(1 for r in ordered if r.status == "error")
@@ -155,14 +186,16 @@ def write_junit(
     )
     for r in ordered:
         case = ET.SubElement(
-            ts, "testcase", classname=suite, name=f"seed {r.seed}", time=f"{r.wall_s:.3f}"
+            ts, "testcase", classname=suite, name=names[r.seed], time=f"{r.wall_s:.3f}"
         )
         props = ET.SubElement(case, "properties")
         for name, p in sorted(r.parameters.items()):
             ET.SubElement(props, "property", name=name, value=str(p.get("text", p.get("value"))))
         if r.bin is not None:
             ET.SubElement(props, "property", name="bin", value=r.bin.text)
-        message = f"{r.status}: {r.reason}"
+        ET.SubElement(props, "property", name="seed", value=str(r.seed))
+        told = kpi_text(r.kpis)
+        message = f"{r.status}: {r.reason}" + (f"; {told}" if told else "")
         detail = f"replay: {replay.get(r.seed, '')}\nfiles: {r.folder}/"
         if r.status in ("failure", "timeout"):
             ET.SubElement(case, "failure", message=message, type=r.status).text = detail

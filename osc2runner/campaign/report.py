@@ -1,13 +1,19 @@
 """``report.html``: one self-contained page that says what a campaign found.
 
-Sections: the summary (scenario, strategy, system under test, outcomes, pass
-rate, time); the pass criterion and, when two parameters vary, a heat map of
-the runs that passed over both (which speeds and overlaps fail); the coverage
-of every ``cover`` item (hits per bucket, holes, unreachable buckets); the KPIs
-over each varying parameter (scatter, coloured by outcome) and their figures;
-the worst runs; every run. Images are PNGs drawn with matplotlib and inlined
-(``data:`` URIs), so the file opens anywhere alone; each run links to its own
-files (``runs/<seed>/``: plots, telemetry, ``run.json``) beside it.
+Sections (each with an anchor, listed at the top): the summary (scenario,
+strategy, system under test, outcomes, pass rate, time); the pass criterion;
+the parameters the campaign swept, how evenly its runs cover each (a warning
+for one that piles up) and those that follow from them; where runs fail: the
+pass/fail map over the pair of swept parameters that best separates the
+failures (the other pairs one click away), the failure boundary and the triage
+table (one row per group of failures alike in reason and region, with a
+representative run and the command that replays it); the coverage of every
+``cover`` item (hits per bucket, holes, unreachable buckets); the KPIs over each
+swept parameter and their distributions; the worst runs; every run. Every run
+table has a column per swept parameter. Images are PNGs drawn with matplotlib
+(:mod:`osc2runner.campaign.charts`) and inlined (``data:`` URIs), each in a
+``figure`` with its caption, so the file opens anywhere alone; each run links to
+its own files (``runs/<seed>/``: plots, telemetry, ``run.json``) beside it.
 """
 
 from __future__ import annotations
@@ -16,11 +22,14 @@ import base64
 import html
 import io
 import math
+import re
 from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from osc2runner.campaign.summary import axes, worst_runs
+from osc2runner.campaign.charts import COLOURS, kpi_figure, kpis_of, pass_fail_map
+from osc2runner.campaign.parameters import compact_text, numeric
+from osc2runner.campaign.summary import worst_runs
 from osc2runner.campaign.worker import RunRecord
 from osc2runner.export import FILE_NAMES
 from osc2runner.output.files import write_atomically
@@ -28,21 +37,6 @@ from osc2runner.output.files import write_atomically
 __all__ = ["REPORT_FILE", "write_report"]
 
 REPORT_FILE = "report.html"
-COLOURS = {
-    "success": "#2e7d32",
-    "failure": "#c62828",
-    "timeout": "#ef6c00",
-    "error": "#6a1b9a",
-    "interrupted": "#9e9e9e",
-}
-SCATTER_KPIS = (
-    "min_ttc_s",
-    "min_gap_m",
-    "relative_impact_speed_kph",
-    "speed_reduction_kph",
-    "max_decel_mps2",
-    "time_to_stop_s",
-)
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;margin:24px auto;
 max-width:1180px;color:#212121;line-height:1.4;padding:0 16px}
@@ -56,7 +50,9 @@ padding:3px 7px;text-align:left;vertical-align:top}th{background:#f5f5f5}
 .error{color:#6a1b9a}.interrupted{color:#9e9e9e}code{font-size:.9em;background:#f5f5f5;
 padding:1px 3px;border-radius:3px}img{max-width:100%}.note{color:#616161;font-size:.9em}
 .hole{background:#ffebee}.unreachable{background:#eeeeee;color:#9e9e9e}
-details summary{cursor:pointer;color:#1565c0}
+details summary{cursor:pointer;color:#1565c0}.scroll{overflow-x:auto;max-width:100%}
+td code{overflow-wrap:anywhere}figure{margin:10px 0}figcaption{color:#616161;font-size:.85em}
+.warn{background:#fff3e0;border-left:4px solid #ef6c00;padding:4px 8px}nav a{margin-right:10px}
 """
 
 
@@ -64,11 +60,15 @@ def _e(value: Any) -> str:
     return html.escape("" if value is None else str(value))
 
 
-def _png(fig: Any) -> str:
+def _png(fig: Any, caption: str) -> str:
+    """The figure as an inlined PNG in a ``figure``, ``caption`` its alt text and caption."""
     buffer = io.BytesIO()
     fig.savefig(buffer, format="png", dpi=90)
     data = base64.b64encode(buffer.getvalue()).decode("ascii")
-    return f'<img alt="" src="data:image/png;base64,{data}">'
+    return (
+        f'<figure><img alt="{_e(caption)}" src="data:image/png;base64,{data}">'
+        f"<figcaption>{_e(caption)}</figcaption></figure>"
+    )
 
 
 def preload() -> None:
@@ -85,67 +85,6 @@ def _figure(width: float, height: float) -> Any:
     fig = Figure(figsize=(width, height), dpi=90, layout="constrained")
     FigureCanvasAgg(fig)
     return fig
-
-
-def _number(value: Any) -> float | None:
-    if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return None
-    return float(value) if math.isfinite(value) else None
-
-
-def _axis_values(records: Sequence[RunRecord], name: str) -> list[Any]:
-    return [r.parameters.get(name, {}).get("value") for r in records]
-
-
-def _ordered(values: list[Any]) -> list[Any]:
-    distinct = {v for v in values if v is not None}
-    if all(_number(v) is not None for v in distinct):
-        return sorted(distinct, key=float)
-    return sorted(distinct, key=str)
-
-
-def _grid(records: Sequence[RunRecord], params: list[str]) -> str:
-    """Pass rate over two parameters (the first two with few distinct values)."""
-    few = [p for p in params if 1 < len(set(map(str, _axis_values(records, p)))) <= 24][:2]
-    if len(few) < 2:
-        return ""
-    x_name, y_name = few[0], few[1]
-    xs, ys = _ordered(_axis_values(records, x_name)), _ordered(_axis_values(records, y_name))
-    import numpy as np
-
-    passed = np.zeros((len(ys), len(xs)))
-    total = np.zeros((len(ys), len(xs)))
-    for r in records:
-        x = r.parameters.get(x_name, {}).get("value")
-        y = r.parameters.get(y_name, {}).get("value")
-        if x in xs and y in ys:
-            total[ys.index(y), xs.index(x)] += 1
-            passed[ys.index(y), xs.index(x)] += r.passed
-    rate = np.where(total > 0, passed / np.maximum(total, 1), np.nan)
-    fig = _figure(min(11.0, 1.0 + 0.75 * len(xs)), 1.2 + 0.5 * len(ys))
-    ax = fig.add_subplot()
-    from matplotlib.colors import LinearSegmentedColormap
-
-    cmap = LinearSegmentedColormap.from_list(
-        "pass", ["#c62828", "#fdd835", "#2e7d32"]
-    ).with_extremes(bad="#eeeeee")
-    image = ax.imshow(rate, cmap=cmap, vmin=0, vmax=1, aspect="auto", origin="lower")
-    for j in range(len(ys)):
-        for i in range(len(xs)):
-            if total[j, i]:
-                ax.text(i, j, f"{int(passed[j, i])}/{int(total[j, i])}", ha="center",
-                        va="center", fontsize=8, color="black")  # fmt: skip
-    ax.set_xticks(range(len(xs)), [str(v) for v in xs])
-    ax.set_yticks(range(len(ys)), [str(v) for v in ys])
-    unit_x = records[0].parameters.get(x_name, {}).get("unit") or ""
-    unit_y = records[0].parameters.get(y_name, {}).get("unit") or ""
-    ax.set_xlabel(f"{x_name} {('(' + unit_x + ')') if unit_x else ''}")
-    ax.set_ylabel(f"{y_name} {('(' + unit_y + ')') if unit_y else ''}")
-    fig.colorbar(image, ax=ax, label="runs passed")
-    return (
-        f"<p>Runs passed / runs, over <code>{_e(x_name)}</code> and "
-        f"<code>{_e(y_name)}</code> (grey: not run).</p>" + _png(fig)
-    )
 
 
 def _coverage(document: dict[str, Any]) -> str:
@@ -186,7 +125,7 @@ def _coverage(document: dict[str, Any]) -> str:
             f"<h3><code>{_e(item['name'])}</code>: {item['filled']} of {item['reachable']} "
             f"reachable buckets filled</h3><p class='note'>{steer}; holes: {_e(holes)}; "
             f"unreachable (no instance of the scenario lands there): {item['unreachable']}</p>"
-            + _png(fig)
+            + _png(fig, f"runs per bucket of the cover item {item['name']}")
         )
     return "".join(parts)
 
@@ -220,46 +159,14 @@ def _cross_map(item: dict[str, Any], split: list[list[str]]) -> str:
     return (
         f"<h3><code>{_e(item['name'])}</code> (cross): {item['filled']} of {item['reachable']} "
         f"reachable combinations filled</h3><p class='note'>runs per combination; grey: "
-        f"unreachable ({item['unreachable']}); holes: {_e(holes)}</p>" + _png(fig)
+        f"unreachable ({item['unreachable']}); holes: {_e(holes)}</p>"
+        + _png(fig, f"runs per combination of the cross item {item['name']}")
     )
-
-
-def _scatter(records: Sequence[RunRecord], params: list[str]) -> str:
-    numeric = [p for p in params if all(
-        _number(v) is not None for v in _axis_values(records, p) if v is not None)][:3]  # fmt: skip
-    kpis = [k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)]
-    if not numeric or not kpis:
-        return "<p>No numeric parameter varies between the runs.</p>"
-    fig = _figure(3.6 * len(numeric) + 0.5, 2.3 * len(kpis))
-    for row, kpi in enumerate(kpis):
-        for col, param in enumerate(numeric):
-            ax = fig.add_subplot(len(kpis), len(numeric), row * len(numeric) + col + 1)
-            for status, colour in COLOURS.items():
-                pts = [
-                    (float(r.parameters[param]["value"]), float(r.kpis[kpi]))
-                    for r in records
-                    if r.status == status
-                    and param in r.parameters
-                    and _number(r.parameters[param].get("value")) is not None
-                    and _number(r.kpis.get(kpi)) is not None
-                ]
-                if pts:
-                    ax.scatter(*zip(*pts, strict=True), s=14, color=colour, label=status,
-                               alpha=0.8)  # fmt: skip
-            unit = records[0].parameters.get(param, {}).get("unit")
-            if row == len(kpis) - 1:
-                ax.set_xlabel(f"{param}" + (f" ({unit})" if unit else ""))
-            if col == 0:
-                ax.set_ylabel(f"{kpi}", fontsize=8)
-            ax.grid(alpha=0.3)
-            if row == 0 and col == len(numeric) - 1:
-                ax.legend(fontsize=7)
-    return _png(fig)
 
 
 def _histograms(records: Sequence[RunRecord]) -> str:
     """The distribution of each KPI over the runs, coloured by outcome."""
-    kpis = [k for k in SCATTER_KPIS if any(_number(r.kpis.get(k)) is not None for r in records)]
+    kpis = kpis_of(records)
     if not kpis:
         return ""
     cols = min(3, len(kpis))
@@ -270,7 +177,7 @@ def _histograms(records: Sequence[RunRecord]) -> str:
         groups, colours, labels = [], [], []
         for status, colour in COLOURS.items():
             values = [float(r.kpis[kpi]) for r in records
-                      if r.status == status and _number(r.kpis.get(kpi)) is not None]  # fmt: skip
+                      if r.status == status and numeric(r.kpis.get(kpi)) is not None]  # fmt: skip
             if values:
                 groups.append(values)
                 colours.append(colour)
@@ -280,7 +187,7 @@ def _histograms(records: Sequence[RunRecord]) -> str:
         ax.set_ylabel("runs", fontsize=8)
         if i == 0:
             ax.legend(fontsize=7)
-    return _png(fig)
+    return _png(fig, "each KPI's distribution over the runs, stacked by outcome")
 
 
 def _links(r: RunRecord, folder: Path) -> str:
@@ -316,9 +223,162 @@ def _runs_table(records: Sequence[RunRecord], params: list[str], folder: Path,
             f"<td><code>{_e(replay.get(r.seed, ''))}</code></td></tr>"
         )
     return (
-        f"<table><tr><th>seed</th><th>bin</th><th>outcome</th><th>reason</th>{head}"
-        f"<th>files</th><th>replay alone</th></tr>{''.join(rows)}</table>"
+        f"<div class='scroll'><table><tr><th>seed</th><th>bin</th><th>outcome</th><th>reason</th>"
+        f"{head}<th>files</th><th>replay alone</th></tr>{''.join(rows)}</table></div>"
     )
+
+
+def _parameters(document: dict[str, Any]) -> str:
+    """The swept parameters' spreads (a warning for each that piles up), and those that
+    follow from them."""
+    parameters = document.get("parameters", {})
+    spread = parameters.get("spread", [])
+    if not spread:
+        return "<p>No parameter varies between the runs.</p>"
+    rows, warnings = [], []
+    for item in spread:
+        unit = _e(item["unit"])
+        if item["kind"] == "continuous":
+            where = f"[{item['low']:g} .. {item['high']:g}] {unit} ({_e(item['range'])})"
+            evenness = (
+                f"KS D = {item['ks']:.2f} (p = {item['ks_p']:.2g})"
+                if item["ks"] is not None
+                else ""
+            )
+            bounds = f"{item['on_low']} / {item['on_high']}"
+        else:
+            where = f"{item['allowed']} values, {item['hit']} hit"
+            evenness, bounds = "", "–"
+        top = f"{_e(compact_text(item['top_value'], ' ' + item['unit']))}: {item['top_runs']}"
+        rows.append(
+            f"<tr><td><code>{_e(item['name'])}</code></td><td>{where}</td><td>{bounds}</td>"
+            f"<td>{top} of {item['runs']}</td><td>{evenness}</td>"
+            f"<td>{'piles up' if item['piles'] else 'spread'}</td></tr>"
+        )
+        if item["warning"]:
+            warnings.append(f"<p class='warn'>{_e(item['warning'])}: the runs do not cover what "
+                            "the constraints allow.</p>")  # fmt: skip
+    derived = "".join(
+        f"<li><code>{_e(name)}</code> {_CODE.sub(_AS_CODE, _e(why))}</li>"
+        for name, why in parameters.get("derived", {}).items()
+    )
+    return (
+        "".join(warnings)
+        + "<div class='scroll'><table><tr><th>swept parameter</th><th>range</th><th>runs on "
+        "the lower / upper bound</th><th>most runs at one value</th><th>uniform over its "
+        "range (Kolmogorov-Smirnov)</th><th>spread</th></tr>"
+        + "".join(rows)
+        + "</table></div>"
+        + (
+            f"<p>Not swept (they follow from the swept ones):</p><ul>{derived}</ul>"
+            if derived
+            else ""
+        )  # fmt: skip
+        + "<p class='note'>A continuous parameter piles up when more than 10 % of the runs "
+        "share one value; a discrete one when one value holds improbably many runs for its "
+        "values hit evenly (docs/campaigns.md).</p>"
+    )
+
+
+def _maps(done: Sequence[RunRecord], document: dict[str, Any]) -> str:
+    """The pass/fail map of the best pair, the others one click away, and the boundary."""
+    parameters = document.get("parameters", {})
+    domains = parameters.get("domains", {})
+    failures = document.get("failures", {})
+    found = failures.get("map", {})
+    pair, pairs = found.get("pair"), found.get("pairs", [])
+    parts = []
+    if pair is None:
+        swept = parameters.get("swept", [])
+        parts.append(
+            "<p>The pass/fail map needs two swept parameters; this campaign swept "
+            f"{len(swept)}: the KPIs below show the runs over "
+            f"{', '.join(f'<code>{_e(n)}</code>' for n in swept) or 'none'}.</p>"
+        )
+    else:
+        x, y = pair
+        score = next(p for p in pairs if [p["x"], p["y"]] == pair)
+        parts.append(
+            f"<p>Runs over <code>{_e(x)}</code> and <code>{_e(y)}</code>: of the pairs of swept "
+            "parameters, the one over which a two-level decision tree separates the runs that "
+            f"failed from those that passed with the fewest runs on the wrong side "
+            f"({score['wrong']} of {score['runs']}; splits by Gini impurity, each kept when it "
+            "puts fewer runs on the wrong side; ties to the cover items, then the order of the "
+            "parameters).</p>"
+            + _png(pass_fail_map(done, x, y, domains), f"pass/fail map over {x} and {y}")
+        )
+        for other in pairs:
+            if [other["x"], other["y"]] == pair:
+                continue
+            caption = f"pass/fail map over {other['x']} and {other['y']}"
+            parts.append(
+                f"<details><summary>{_e(other['x'])} and {_e(other['y'])} ({other['wrong']} "
+                f"of {other['runs']} runs on the wrong side)</summary>"
+                + _png(pass_fail_map(done, other["x"], other["y"], domains), caption)
+                + "</details>"
+            )
+    limit = failures.get("boundary", {})
+    regions = "".join(
+        f"<li><b>{_e(r['text'])}</b>"
+        + (f"<br><span class='note'>{_e('; '.join(r['brackets']))}</span>" if r["brackets"] else "")
+        + "</li>"
+        for r in limit.get("regions", [])
+    )
+    parts.append('<h3 id="boundary">Failure boundary</h3>')
+    parts.append(f"<ul>{regions}</ul>" if regions else f"<p>None: {_e(limit.get('why', ''))}.</p>")
+    return "".join(parts)
+
+
+def _triage(document: dict[str, Any]) -> str:
+    """One row per group of runs that did not pass (reason and region), with a
+    representative run to replay."""
+    rows = document.get("failures", {}).get("triage", [])
+    if not rows:
+        return "<p>Every run passed.</p>"
+    cells = []
+    for row in rows:
+        seeds = " ".join(f'<a href="runs/{s}/run.json">{s}</a>' for s in row["seeds"][:30])
+        more = f" (+{len(row['seeds']) - 30})" if len(row["seeds"]) > 30 else ""
+        rep = row["representative"]
+        cells.append(
+            f"<tr><td>{len(row['seeds'])}</td><td>{_e(', '.join(row['statuses']))}</td>"
+            f"<td>{_e(row['reason'])}</td><td>{_e(row['region'])}</td><td>{seeds}{more}</td>"
+            f'<td><a href="runs/{rep}/run.json">{rep}</a></td>'
+            f"<td><code>{_e(row['replay'])}</code></td></tr>"
+        )
+    return (
+        "<div class='scroll'><table><tr><th>runs</th><th>outcome</th><th>reason</th>"
+        "<th>region</th><th>seeds</th><th>representative</th><th>replay it</th></tr>"
+        + "".join(cells)
+        + "</table></div><p class='note'>Runs group by their reason (numbers left out) and the "
+        "region of the failure boundary's tree they fall in; the representative is the run "
+        "nearest the others over the swept parameters.</p>"
+    )
+
+
+def _kpis_over(done: Sequence[RunRecord], document: dict[str, Any]) -> str:
+    parameters = document.get("parameters", {})
+    domains = parameters.get("domains", {})
+    parts = []
+    for name in parameters.get("swept", []):
+        fig = kpi_figure(done, name, domains)
+        if fig is not None:
+            parts.append(_png(fig, f"KPIs over {name}, a point a run coloured by its outcome"))
+    return "".join(parts) or "<p>No run has a KPI to plot over the swept parameters.</p>"
+
+
+_CODE = re.compile(r"`([^`]+)`")  # `name` in a text: code
+_AS_CODE = r"<code>\1</code>"
+_SECTIONS = (
+    ("criterion", "Pass criterion"),
+    ("parameters", "Parameters"),
+    ("failures", "Where runs fail"),
+    ("triage", "Triage"),
+    ("coverage", "Coverage"),
+    ("kpis", "KPIs"),
+    ("worst", "Worst runs"),
+    ("runs", "All runs"),
+)
 
 
 def _shown(target: str) -> str:
@@ -335,7 +395,7 @@ def write_report(folder: Path, document: dict[str, Any], records: Sequence[RunRe
     summary = document["summary"]
     options = document["options"]
     done = [r for r in records if r.finished]
-    params = axes(done, [item["name"] for item in document.get("coverage", [])])
+    params = document.get("parameters", {}).get("swept", [])
     replay = {run["seed"]: run.get("replay", "") for run in document.get("runs", [])}
     rate = summary["pass_rate"]
     sut = options.get("sut")
@@ -377,7 +437,8 @@ system under test: {
 <div class="cards">{
         "".join(f'<div class="card"><b>{_e(v)}</b><span>{_e(k)}</span></div>' for k, v in cards)
     }</div>
-<h2>Pass criterion</h2>
+<nav>{"".join(f'<a href="#{key}">{title}</a>' for key, title in _SECTIONS)}</nav>
+<h2 id="criterion">Pass criterion</h2>
 <p>A run passes when its outcome is <span class="success">success</span>: the scenario's
 behaviour ended, with no collision (unless <code>avoid_collisions(false)</code> allows it), no
 actor off the road, no phase over its <code>duration</code>. Crash-test protocols grade a test
@@ -385,16 +446,18 @@ with an impact by its impact speed: <code>relative_impact_speed_kph</code> (the 
 the first contact) and <code>speed_reduction_kph</code> (the start speed less the speed at
 impact; all of it when there was none) are in every run's KPIs.</p>
 <table><tr><th>outcome</th><th>runs</th></tr>{outcome_rows}</table>
-{_grid(done, params)}
-<h2>Coverage</h2>{_coverage(document)}
-<h2>KPIs over the parameters</h2>{_scatter(done, params)}
+<h2 id="parameters">Parameters</h2>{_parameters(document)}
+<h2 id="failures">Where runs fail</h2>{_maps(done, document)}
+<h2 id="triage">Triage</h2>{_triage(document)}
+<h2 id="coverage">Coverage</h2>{_coverage(document)}
+<h2 id="kpis">KPIs over the parameters</h2>{_kpis_over(done, document)}
 <h3>Distributions</h3>{_histograms(done)}
 <table><tr><th>KPI</th><th>unit</th><th>min</th><th>median</th><th>mean</th><th>max</th>
 <th>runs</th></tr>{kpi_rows}</table>
 <p class="note">KPIs are of the subject: the system under test's actor, else the field named
 <code>sut</code> or <code>ego</code>, else the first vehicle (docs/campaigns.md).</p>
-<h2>Worst runs</h2>{_runs_table(worst, params, folder, replay)}
-<h2>All runs</h2><details><summary>{len(records)} runs</summary>
+<h2 id="worst">Worst runs</h2>{_runs_table(worst, params, folder, replay)}
+<h2 id="runs">All runs</h2><details><summary>{len(records)} runs</summary>
 {_runs_table(records, params, folder, replay)}</details>
 """
     page = (

@@ -22,6 +22,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from osc2check.semantics.bindings import CoverItem
 from osc2check.semantics.symbols import SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.ast import NameRef as _NameRef
@@ -127,26 +128,24 @@ def cover_items(
     checked: Checked, *, seed: int = 0, dt_control: float = 0.05
 ) -> list[SteerableItem]:
     """The scenario's ``cover`` items (compiled for ``seed``) with their terms."""
-    items = compile_checked(checked, seed=seed, dt_control=dt_control).ctx.coverage.items
+    compiled = compile_checked(checked, seed=seed, dt_control=dt_control).compiled
     program = checked.analysis.programs[checked.uri]
     model = program.model
     result = scenario_result(checked)
     found: list[SteerableItem] = []
-    for item in items:
+    for item, source in compiled.cover_items:
         if item.kind != "cover" or item.disabled:
             continue
         entry = SteerableItem(item)
         found.append(entry)
-        loc = item.location
-        decl = bins.cover_declaration(model, checked.scenario, loc.line, loc.column)
-        crossed = _crossed(decl) if decl is not None else None
+        crossed = _crossed(source)
         if crossed is not None:
             _cross(entry, crossed, found)
             continue
         if not item.buckets:
             entry.reason = "it has no buckets (give it a range, or make it an enum or boolean)"
             continue
-        expr = bins.cover_expression(decl) if decl is not None else None
+        expr = source.expression
         owner = model.references.get(expr.name.name) if isinstance(expr, _NameRef) else None
         if expr is None or (owner is not None and owner.kind is SymbolKind.EVENT):
             entry.reason = "it has no expression the solver can read"
@@ -160,15 +159,14 @@ def cover_items(
     return found
 
 
-def _crossed(decl: ast.CoverageDecl) -> list[str] | None:
+def _crossed(source: CoverItem) -> list[str] | None:
     """The item names of ``items: [a, b]``, or None when the item is not a cross."""
-    for arg in decl.arguments:
-        if isinstance(arg, ast.NamedArgument) and arg.name.text == "items":
-            value = arg.value
-            if isinstance(value, ast.ListLiteral):
-                return [v.name.name.text if isinstance(v, ast.NameRef) else "" for v in value.items]
-            return []
-    return None
+    value = source.get("items")
+    if value is None:
+        return None
+    if isinstance(value, ast.ListLiteral):
+        return [v.name.name.text if isinstance(v, ast.NameRef) else "" for v in value.items]
+    return []
 
 
 def _cross(entry: SteerableItem, names: list[str], found: list[SteerableItem]) -> None:

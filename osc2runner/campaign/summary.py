@@ -9,24 +9,29 @@
   by smallest time to collision, then by smallest gap.
 * **KPIs**: per numeric KPI, its minimum, median, mean and maximum over the
   finished runs that have it.
-* **Parameters**: the scenario parameters whose value differs between runs
-  (the axes the report plots KPIs and outcomes over).
+* **Parameters**: the scenario parameters the campaign swept and how evenly
+  (:mod:`~osc2runner.campaign.parameters`, :mod:`~osc2runner.campaign.spread`);
+  **failures**: the pass/fail map's pair, the failure boundary and the triage of
+  the runs that did not pass (:mod:`~osc2runner.campaign.failures`).
 """
 
 from __future__ import annotations
 
 import statistics
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
+from osc2runner.campaign.failures import best_pair, boundary, triage
 from osc2runner.campaign.kpis import KPI_UNITS
+from osc2runner.campaign.parameters import choose_axes
 from osc2runner.campaign.plan import ItemPlan
+from osc2runner.campaign.spread import spreads
 from osc2runner.campaign.worker import RunRecord
 
 __all__ = [
     "SEVERITY",
-    "axes",
     "coverage_table",
+    "findings",
     "kpi_figures",
     "summarize",
     "varying",
@@ -142,27 +147,27 @@ def varying(records: Sequence[RunRecord]) -> list[str]:
     return sorted(n for n, values in seen.items() if len(values) > 1)
 
 
-def axes(records: Sequence[RunRecord], preferred: Sequence[str] = ()) -> list[str]:
-    """The varying parameters to plot over, most telling first: those ``preferred`` (the
-    cover items' names), then by how many values they take; a parameter whose value
-    follows from one already chosen (``speed_step`` beside ``test_speed``) is left out."""
-    done = finished(records)
-    values = {
-        name: [str(r.parameters.get(name, {}).get("value")) for r in done]
-        for name in varying(records)
+def findings(
+    records: Sequence[RunRecord],
+    parameters: Mapping[str, Any],
+    preferred: Sequence[str],
+    replay: Mapping[int, str],
+) -> tuple[dict[str, Any], dict[str, Any]]:
+    """The parameters the campaign swept and their spread, and where its runs failed:
+    ``campaign.json``'s ``parameters`` (``parameters`` holds its ``domains`` and
+    ``equations``, which the check of the file gave) and ``failures``."""
+    domains = parameters.get("domains", {})
+    axes = choose_axes(records, domains, parameters.get("equations", []), preferred)
+    units = {name: d.get("unit", "") for name, d in domains.items()}
+    pair, pairs = best_pair(records, axes.swept)
+    swept = {
+        **parameters,
+        **axes.to_json(),
+        "spread": [s.to_json() for s in spreads(records, axes.swept, domains)],
     }
-    order = sorted(values, key=lambda n: (n not in preferred, -len(set(values[n])), n))
-    chosen: list[str] = []
-    for name in order:
-        if not any(_follows(values[c], values[name]) for c in chosen):
-            chosen.append(name)
-    return chosen
-
-
-def _follows(given: list[str], other: list[str]) -> bool:
-    """Whether ``other``'s value is the same wherever ``given``'s is (a function of it)."""
-    seen: dict[str, str] = {}
-    for a, b in zip(given, other, strict=True):
-        if seen.setdefault(a, b) != b:
-            return False
-    return True
+    failures = {
+        "map": {"pair": list(pair) if pair else None, "pairs": pairs},
+        "boundary": boundary(records, axes.swept, units),
+        "triage": triage(records, axes.swept, units, replay),
+    }
+    return swept, failures

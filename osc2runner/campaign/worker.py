@@ -31,7 +31,7 @@ from typing import Any
 from osc2check.verify import ir
 from osc2check.verify.witness import Witness
 from osc2check.world.network import RoadNetwork
-from osc2runner.campaign.kpis import run_kpis, subject_actor
+from osc2runner.campaign.kpis import run_kpis
 from osc2runner.campaign.steering import (
     BinRef,
     SteerableItem,
@@ -41,6 +41,8 @@ from osc2runner.campaign.steering import (
 )
 from osc2runner.errors import ScenarioError
 from osc2runner.export import ExportTargets
+from osc2runner.output.gaps import subject_actor
+from osc2runner.output.telemetry import tick_time
 from osc2runner.runner import (
     Checked,
     RunInterrupted,
@@ -282,8 +284,9 @@ def describe(
 ) -> None:
     """Fill ``record`` from a finished run: outcome, parameters, KPIs, records, coverage."""
     o = result.outcome
-    record.status, record.reason, record.time_s, record.tick = o.status, o.reason, o.time, o.tick
     meta = result.metadata
+    record.status, record.reason, record.tick = o.status, o.reason, o.tick
+    record.time_s = tick_time(o.time, meta["dt_control"])
     record.parameters = parameters(meta.get("witness"), checked)
     actors = meta.get("actors", {})
     sizes = {n: (a["size"]["length"], a["size"]["width"]) for n, a in actors.items() if "size" in a}

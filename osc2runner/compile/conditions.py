@@ -281,23 +281,12 @@ def event_path(env: CompileEnvironment, node: ast.Node) -> str | None:
     return None
 
 
-def _arguments(builtin: str, call: ast.Call) -> dict[str, ast.Node]:
-    """The arguments of a built-in call by parameter name (positional ones in order)."""
-    params = [p.name for p in EVENT_FUNCTIONS[builtin].parameters]
-    given: dict[str, ast.Node] = {}
-    position = 0
-    for arg in call.arguments:
-        if isinstance(arg, ast.NamedArgument):
-            if arg.name.text not in params:
-                raise CompileProblem(f"`{builtin}` has no parameter `{arg.name.text}`", arg)
-            given[arg.name.text] = arg.value
-        elif isinstance(arg, ast.PositionalArgument):
-            if position >= len(params):
-                raise CompileProblem(f"too many arguments for `{builtin}`", arg)
-            given[params[position]] = arg.value
-            position += 1
-        else:
-            raise CompileProblem(f"`{builtin}` takes no event argument", arg)
+def _arguments(env: CompileEnvironment, builtin: str, call: ast.Call) -> dict[str, ast.Node]:
+    """The arguments of a built-in call by parameter name, as the checker bound them."""
+    binding = env.model.binding(call)
+    if binding is None:
+        raise CompileProblem(f"this `{builtin}` was not bound by the checker", call)
+    given: dict[str, ast.Node] = dict(binding.values())
     for p in EVENT_FUNCTIONS[builtin].parameters:
         if not p.optional and p.name not in given:
             raise CompileProblem(f"`{builtin}` needs its argument `{p.name}`", call)
@@ -306,7 +295,7 @@ def _arguments(builtin: str, call: ast.Call) -> dict[str, ast.Node]:
 
 def _event_function(env: CompileEnvironment, fname: str, call: ast.Call, scope: Bindings) -> Watch:
     run = env.run
-    args = _arguments(fname, call)
+    args = _arguments(env, fname, call)
     first = args[EVENT_FUNCTIONS[fname].parameters[0].name]
     if fname in ("rise", "fall"):
         return EdgeWatch(run.edge(env.compile(first, scope), fname == "rise", call))

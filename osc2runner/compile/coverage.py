@@ -30,11 +30,8 @@ from fractions import Fraction
 from typing import TYPE_CHECKING, Any
 
 from osc2check.semantics import types as T
-from osc2check.semantics.builtins import (
-    COVERAGE_PARAMETERS,
-    DEFAULT_SAMPLING_EVENT,
-    cover_item_expression,
-)
+from osc2check.semantics.bindings import CoverItem
+from osc2check.semantics.builtins import COVERAGE_PARAMETERS, DEFAULT_SAMPLING_EVENT
 from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, evaluate
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
@@ -59,34 +56,27 @@ _NOT_COLLECTED = ("items", "buckets", "override")
 _MAX_BUCKETS = 10_000
 
 
-def compile_coverage(
-    env: CompileEnvironment, decl: ast.CoverageDecl, notes: list[str]
-) -> CoverageItem:
-    """The item of one ``cover``/``record`` and its collector (registered with the run);
-    raises CompileProblem for what cannot be collected as written."""
+def compile_coverage(env: CompileEnvironment, source: CoverItem, notes: list[str]) -> CoverageItem:
+    """The item of one ``cover``/``record`` (as the checker read it) and its collector
+    (registered with the run); raises CompileProblem for what cannot be collected as
+    written."""
     from osc2runner.compile.tree import unparse
 
-    named: dict[str, ast.Node] = {}
-    positional: list[ast.Node] = []
-    for arg in decl.arguments:
-        if isinstance(arg, ast.NamedArgument):
-            key = arg.name.text
-            if key not in COVERAGE_PARAMETERS or (key == "target" and decl.kind == "record"):
-                raise CompileProblem(f"`{decl.kind}` has no parameter `{key}`", arg.name)
-            named[key] = arg.value
-        elif isinstance(arg, ast.PositionalArgument):
-            positional.append(arg.value)
-        else:
-            raise CompileProblem(f"an event is not an argument of `{decl.kind}`", arg)
-    name_node = named.get("name", positional[0] if positional else None)
-    name = _item_name(name_node, decl)
+    decl = source.decl
+    named = dict(source.parameters)
+    for key, given in source.parameters:
+        if key not in COVERAGE_PARAMETERS or (key == "target" and decl.kind == "record"):
+            raise CompileProblem(f"`{decl.kind}` has no parameter `{key}`", given)
+    if not source.name:
+        raise CompileProblem(f"`{decl.kind}` needs a name (its first argument or `name:`)", decl)
+    name = source.name
     line = f"line {decl.span.line}"
     for key in _NOT_COLLECTED:
         if key in named:
             notes.append(
                 f"{line}: `{decl.kind}({name}, {key}: ...)`: {key} is not collected by the runner"
             )
-    expression_node = cover_item_expression(named, positional)
+    expression_node = source.expression
     if expression_node is None:
         notes.append(f"{line}: `{decl.kind}({name})` has no expression: not collected")
     model = env.model
@@ -150,15 +140,6 @@ def compile_coverage(
 
     on_occurrence(ctx, watch, take)
     return item
-
-
-def _item_name(node: ast.Node | None, decl: ast.CoverageDecl) -> str:
-    match node:
-        case ast.NameRef():
-            return node.name.name.text
-        case ast.StringLiteral():
-            return node.value
-    raise CompileProblem(f"`{decl.kind}` needs a name (its first argument or `name:`)", decl)
 
 
 def _unit(env: CompileEnvironment, node: ast.Node | None, value_type: T.Type | None) -> Any:

@@ -98,6 +98,15 @@ class CompileEnvironment:
         if actor.kind == "environment" and member == "weather":
             run = self.run
             return lambda: run.weather
+        if actor.kind == "environment" and member == "datetime":
+            # the world's clock runs with the simulation: the witness's start datetime
+            # (0 s, the Unix epoch, when nothing constrains it) plus the simulated time
+            run = self.run
+            given = (
+                to_runtime(actor.attributes["datetime"]) if "datetime" in actor.attributes else 0
+            )
+            start = float(given) if isinstance(given, (int, float)) else 0.0
+            return lambda: start + run.time
         if member in actor.attributes:
             return constant(to_runtime(actor.attributes[member]))
         if member == "name":

@@ -21,8 +21,10 @@ from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any
 
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import python_arguments
 from osc2check.semantics.builtins import EVENT_FUNCTIONS, PREDEFINED_EVENTS, VALUE_FUNCTIONS
 from osc2check.semantics.constants import NotConstant, physical_literal, to_runtime
+from osc2check.semantics.members import actor_alias
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.errors import CompileProblem
@@ -267,8 +269,9 @@ class ExpressionCompiler:
         if sym.kind is SymbolKind.ENUM_MEMBER:
             return constant(sym.name)
         if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
-            actor = env.actors.get(sym.name)
-            if actor is not None and actor.symbol is sym:
+            named = actor_alias(self.model, sym) or sym  # `other: vehicle = npc` is npc
+            actor = env.actors.get(named.name)
+            if actor is not None and actor.symbol is named:
                 return constant(actor)
             live = self.live_variables.get(sym)
             if live is not None:
@@ -394,37 +397,24 @@ class ExpressionCompiler:
             read, sampler = compile_sample(self.env, e, scope, unparse(e))
             self.samplers.append(sampler)
             return read
-        values = [a.value for a in e.arguments if not isinstance(a, ast.EventArgument)]
-        if len(values) != 2:
+        binding = self.model.binding(e)
+        low, high = (binding.value(n) if binding else None for n in ("low", "high"))
+        if low is None or high is None:
             raise CompileProblem("`range` needs two bounds", e)
-        return self._c(ast.RangeLiteral(e.span, values[0], values[1]), scope)
+        return self._c(ast.RangeLiteral(e.span, low, high), scope)
 
     def _arguments(self, method: Symbol, call: ast.Call, scope: Bindings) -> list[Closure]:
-        params = list(method.parameters)
-        given: dict[str, Closure] = {}
-        position = 0
-        for arg in call.arguments:
-            if isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    raise CompileProblem(f"too many arguments for `{method.name}`", arg)
-                given[params[position].name] = self._c(arg.value, scope)
-                position += 1
-            elif isinstance(arg, ast.NamedArgument):
-                if not any(p.name == arg.name.text for p in params):
-                    raise CompileProblem(
-                        f"`{method.name}` has no parameter `{arg.name.text}`", arg.name
-                    )
-                given[arg.name.text] = self._c(arg.value, scope)
-            else:
-                raise CompileProblem("event arguments are not supported in calls", arg)
+        """The closures of a method call's arguments in parameter order, as the checker
+        bound them (a default is compiled in no scope of the call's)."""
+        binding = self.model.binding(call)
+        if binding is None:
+            raise CompileProblem(f"the call of `{method.name}` was not bound by the checker", call)
         result = []
-        for p in params:
-            if p.name in given:
-                result.append(given[p.name])
-            elif p.default is not None:
-                result.append(self._c(p.default, Bindings()))
-            else:
+        for p in method.parameters:
+            bound = binding.argument(p.name)
+            if bound is None:
                 raise CompileProblem(f"`{method.name}` needs its argument `{p.name}`", call)
+            result.append(self._c(bound.value, Bindings() if bound.is_default else scope))
         return result
 
     def _method_call(
@@ -489,15 +479,11 @@ class ExpressionCompiler:
             )
         bindings = {p.name: a for p, a in zip(method.parameters, args, strict=True)}
         inner = Bindings(None, bindings={"actor": target, **bindings})
-        positional: list[Closure] = []
-        keywords: dict[str, Closure] = {}
-        for arg in decl.external_arguments:
-            if isinstance(arg, ast.NamedArgument):
-                keywords[arg.name.text] = self._c(arg.value, inner)
-            elif isinstance(arg, ast.PositionalArgument):
-                positional.append(self._c(arg.value, inner))
-            else:
-                raise CompileProblem("an event is not an argument of an external method", arg)
+        written, named, events = python_arguments(decl.external_arguments)
+        if events:
+            raise CompileProblem("an event is not an argument of an external method", events[0])
+        positional = [self._c(value, inner) for value in written]
+        keywords = {key: self._c(value, inner) for key, value in named.items()}
         if not decl.external_arguments:
             positional = list(args)
         convert = _result_conversion(method)

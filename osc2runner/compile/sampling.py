@@ -32,6 +32,7 @@ from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import RunContext, RunFault
 
 if TYPE_CHECKING:
+    from osc2check.semantics.model import Model
     from osc2runner.compile.environment import CompileEnvironment
 
 __all__ = ["Sampler", "compile_sample", "on_occurrence", "sample_arguments"]
@@ -78,28 +79,15 @@ class Sampler:
         return self.default()
 
 
-def sample_arguments(call: ast.Call) -> dict[str, ast.Node]:
-    """The arguments of a ``sample`` call by parameter name (expression, event, default):
-    positional ones in order (an ``@e`` argument is the event), then named ones."""
-    params = [p.name for p in VALUE_FUNCTIONS["sample"].parameters]
-    given: dict[str, ast.Node] = {}
-    position = 0
-    for arg in call.arguments:
-        match arg:
-            case ast.NamedArgument():
-                if arg.name.text not in params:
-                    raise CompileProblem(f"`sample` has no parameter `{arg.name.text}`", arg)
-                given[arg.name.text] = arg.value
-            case ast.EventArgument():
-                given[params[1]] = arg
-                position = max(position, 2)
-            case ast.PositionalArgument():
-                while position < len(params) and params[position] in given:
-                    position += 1
-                if position >= len(params):
-                    raise CompileProblem("too many arguments for `sample`", arg)
-                given[params[position]] = arg.value
-                position += 1
+def sample_arguments(model: Model, call: ast.Call) -> dict[str, ast.Node]:
+    """The arguments of a ``sample`` call by parameter name (expression, event, default),
+    as the checker bound them (an ``@e`` argument is the event)."""
+    binding = model.binding(call)
+    if binding is None:
+        raise CompileProblem("this `sample` was not bound by the checker", call)
+    given: dict[str, ast.Node] = dict(binding.values())
+    if binding.events and "event" not in given:
+        given["event"] = binding.events[0]
     for p in VALUE_FUNCTIONS["sample"].parameters:
         if not p.optional and p.name not in given:
             raise CompileProblem(f"`sample` needs its argument `{p.name}`", call)
@@ -110,7 +98,7 @@ def compile_sample(
     env: CompileEnvironment, call: ast.Call, scope: Bindings, text: str
 ) -> tuple[Closure, Sampler]:
     """The closure reading ``sample(...)`` and its sampler (registered with the run)."""
-    args = sample_arguments(call)
+    args = sample_arguments(env.model, call)
     expression_node, event_node = args["expression"], args["event"]
     default_node = args.get("default")
     expression = env.compile(expression_node, scope)

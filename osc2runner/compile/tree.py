@@ -21,6 +21,7 @@ from typing import Any
 import py_trees
 
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import Binding, CoverItem
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies, last_do, scenario_members
@@ -28,7 +29,7 @@ from osc2check.semantics.phases import enum_word, is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify.lower import invocation_path
+from osc2check.verify.lower import invocation_path, join_path
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
     DurationBound,
@@ -62,6 +63,7 @@ from osc2runner.compile.expressions import (
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.execution.context import RunContext
+from osc2runner.execution.coverage import CoverageItem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
 
@@ -78,6 +80,8 @@ class CompiledScenario:
     start_uses: list[ActionUse] = field(default_factory=list)
     problems: list[RunProblem] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    #: each run-time coverage item with the checker's reading of its ``cover``/``record``
+    cover_items: list[tuple[CoverageItem, CoverItem]] = field(default_factory=list)
 
 
 def node_name(text: str, node: ast.Node) -> str:
@@ -160,6 +164,7 @@ class TreeCompiler:
         self.texts = texts
         self.problems: list[RunProblem] = []
         self.notes: list[str] = []
+        self.cover_items: list[tuple[CoverageItem, CoverItem]] = []
         self.uses: dict[ast.Invocation, tuple[ActionUse, type]] = {}
         self.labels: dict[int, ast.Name] = {}  # the label of an invocation, by node id
         self.invoking: list[Symbol] = []  # the scenarios being compiled, outermost first
@@ -229,7 +234,9 @@ class TreeCompiler:
             main,
             handlers,
         )
-        return CompiledScenario(root, self._start_uses(do), self.problems, self.notes)
+        return CompiledScenario(
+            root, self._start_uses(do), self.problems, self.notes, self.cover_items
+        )
 
     def _event_names(self, scenario: Symbol) -> frozenset[str]:
         return frozenset(
@@ -373,9 +380,7 @@ class TreeCompiler:
         return node
 
     def composition(self, comp: ast.Composition, scope: Bindings) -> py_trees.behaviour.Behaviour:
-        args = self._named(
-            comp.arguments, ("duration", "overlap", "start_to_start", "end_to_end"), comp
-        )
+        args = {b.name: b.value for b in self._binding(comp).extras}
         children = [self.do_member(m, scope) for m in comp.members]
         name = node_name(comp.op, comp)
         node: py_trees.behaviour.Behaviour
@@ -420,23 +425,12 @@ class TreeCompiler:
                 )
         return untils
 
-    def _named(
-        self, arguments: tuple[ast.Argument, ...], allowed: tuple[str, ...], owner: ast.Node
-    ) -> dict[str, ast.Node]:
-        result: dict[str, ast.Node] = {}
-        for arg in arguments:
-            if isinstance(arg, ast.NamedArgument) and arg.name.text in allowed:
-                result[arg.name.text] = arg.value
-            elif (
-                isinstance(arg, ast.PositionalArgument)
-                and "duration" in allowed
-                and "duration" not in result
-                and not result
-            ):
-                result["duration"] = arg.value
-            else:
-                raise CompileProblem("unsupported argument of a composition", arg)
-        return result
+    def _binding(self, call: ast.Node) -> Binding:
+        """The checker's binding of ``call``'s arguments (every checked call has one)."""
+        binding = self.model.binding(call)
+        if binding is None:
+            raise CompileProblem("the checker bound no arguments here", call)
+        return binding
 
     def _wrap(
         self,
@@ -505,12 +499,19 @@ class TreeCompiler:
         # the arguments, modifiers and `until` of an action are written in the scenario's
         # scope: `actor` there is the scenario's actor, not the action's
         inner = scope
-        arguments, duration = self._arguments(sym, inv.arguments, inner, inv, allow_duration=True)
+        path = invocation_path(
+            scope.frame.path if scope.frame is not None else "",
+            actor.name,
+            self.labels.get(id(inv)),
+            sym.name,
+            inv,
+        )
+        arguments, duration = self._arguments(inv, inner, path)
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
         for wm in inv.with_members:
             if isinstance(wm, ast.Invocation):
-                modifiers.append(self.modifier(wm, actor, inner))
+                modifiers.append(self.modifier(wm, actor, inner, path))
             elif isinstance(wm, ast.Until):
                 untils.append(wm)
             else:
@@ -526,6 +527,7 @@ class TreeCompiler:
             modifiers,
             self._bounds(self.env.compile(duration, inner)) if duration else None,
             starts_scenario=scope.frame is not None and inv in scope.frame.at_start,
+            binding=self.model.binding(inv),
         )
         cls = entry.target
         use.behaviour = cls
@@ -642,21 +644,10 @@ class TreeCompiler:
         self, sym: Symbol, inv: ast.Invocation, scope: Bindings
     ) -> tuple[dict[str, ast.Node], ast.Node | None]:
         """The arguments of a scenario invocation by parameter name, and its duration."""
-        params = [p.name for p in self.model.parameters(sym)]
-        given: dict[str, ast.Node] = {}
-        duration: ast.Node | None = None
-        position = 0
-        for arg in inv.arguments:
-            if isinstance(arg, ast.NamedArgument):
-                if arg.name.text == "duration" and "duration" not in params:
-                    duration = arg.value
-                else:
-                    given[arg.name.text] = arg.value
-            elif isinstance(arg, ast.PositionalArgument) and position < len(params):
-                given[params[position]] = arg.value
-                position += 1
+        binding = self._binding(inv)
+        duration = binding.extra("duration")
         self._argument_scope[id(inv)] = scope
-        return given, duration
+        return dict(binding.values(defaults=False)), duration.value if duration else None
 
     def _instance_field(
         self,
@@ -710,34 +701,38 @@ class TreeCompiler:
             ) from None
 
     def _arguments(
-        self,
-        sym: Symbol,
-        arguments: tuple[ast.Argument, ...],
-        scope: Bindings,
-        owner: ast.Node,
-        allow_duration: bool = False,
+        self, call: ast.Invocation, scope: Bindings, path: str
     ) -> tuple[dict[str, Closure], ast.Node | None]:
-        params = [p.name for p in self.model.parameters(sym)]
+        """The closures of the arguments given to an action or modifier by parameter name
+        (as the checker bound them), and its duration. A range given where a scalar is
+        expected is one value the solver chose from it (``keep(p in r)``): the witness's,
+        under the call's instance ``path`` (as ``verify.lower`` names it)."""
+        binding = self._binding(call)
+        if binding.events:
+            raise CompileProblem("event arguments are not supported here", binding.events[0])
         result: dict[str, Closure] = {}
-        duration: ast.Node | None = None
-        position = 0
-        for arg in arguments:
-            if isinstance(arg, ast.NamedArgument):
-                key = arg.name.text
-                if key == "duration" and allow_duration and key not in params:
-                    duration = arg.value
-                    continue
-                result[key] = self.env.compile(arg.value, scope)
-            elif isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    raise CompileProblem(f"too many arguments for `{sym.name}`", arg)
-                result[params[position]] = self.env.compile(arg.value, scope)
-                position += 1
+        for bound in binding.arguments:
+            if bound.is_default:
+                continue
+            if bound.range and bound.parameter is not None:
+                result[bound.name] = self._chosen(path, bound.parameter, bound.value)
             else:
-                raise CompileProblem("event arguments are not supported here", arg)
-        return result, duration
+                result[bound.name] = self.env.compile(bound.value, scope)
+        duration = binding.extra("duration")
+        return result, duration.value if duration is not None else None
 
-    def modifier(self, wm: ast.Invocation, actor: Actor, scope: Bindings) -> Modifier:
+    def _chosen(self, path: str, param: Symbol, where: ast.Node) -> Closure:
+        """The witness's value of parameter ``param`` of the call at ``path``."""
+        try:
+            return constant(to_runtime(self.env.values.value_at(path, param)))
+        except NotConstant:
+            raise CompileProblem(
+                f"`{param.name}` is given a range and the checker's witness chose no value from it",
+                where,
+            ) from None
+
+    def modifier(self, wm: ast.Invocation, actor: Actor, scope: Bindings, path: str) -> Modifier:
+        """A modifier applied in an action's ``with:`` (``path``: the action's instance)."""
         sym = self.model.references.get(wm.name)
         if sym is None or sym.kind is not SymbolKind.MODIFIER:
             raise CompileProblem(f"`{wm.name.text}` is not a modifier the runner knows", wm)
@@ -748,11 +743,11 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 wm.name,
             )
-        arguments, _ = self._arguments(sym, wm.arguments, scope, wm)
+        arguments, _ = self._arguments(wm, scope, join_path(path, f"{sym.name}@{wm.span.line}"))
         arguments.setdefault("at", constant("all"))
         if wm.with_members:
             self.notes.append(f"line {wm.span.line}: the with: block of a modifier is ignored")
-        return entry.target(ModifierUse(wm, sym, arguments, actor))
+        return entry.target(ModifierUse(wm, sym, arguments, actor, self.model.binding(wm)))
 
     # ---- events
 
@@ -772,33 +767,14 @@ class TreeCompiler:
         not given takes its default (an input error when it has none)."""
         name = scope.event((emit.event.text,))
         key = self.run.declare_event(name)
+        binding = self.model.binding(emit)
         sym = self.model.references.get(emit.event)
-        params = list(sym.parameters) if sym is not None else []
-        names = [p.name for p in params]
-        given: dict[str, Closure] = {}
-        position = 0
-        for arg in emit.arguments:
-            if isinstance(arg, ast.NamedArgument):
-                if arg.name.text not in names:
-                    raise CompileProblem(
-                        f"event `{name}` has no parameter `{arg.name.text}`", arg.name
-                    )
-                given[arg.name.text] = self.env.compile(arg.value, scope)
-            elif isinstance(arg, ast.PositionalArgument):
-                if position >= len(params):
-                    raise CompileProblem(f"too many arguments for event `{name}`", arg)
-                given[names[position]] = self.env.compile(arg.value, scope)
-                position += 1
-            else:
-                raise CompileProblem("an event is not an argument of `emit`", arg)
         args: dict[str, Closure] = {}
-        for p in params:
-            if p.name in given:
-                args[p.name] = given[p.name]
-            elif p.default is not None:
-                args[p.name] = self.env.compile(p.default, Bindings())
-            else:
+        for p in sym.parameters if sym is not None else ():
+            bound = binding.argument(p.name) if binding is not None else None
+            if bound is None:
                 raise CompileProblem(f"`emit {name}` needs its argument `{p.name}`", emit)
+            args[p.name] = self.env.compile(bound.value, Bindings() if bound.is_default else scope)
         return name, key, args
 
     def call(self, call: ast.CallDirective, scope: Bindings) -> py_trees.behaviour.Behaviour:
@@ -831,7 +807,12 @@ class TreeCompiler:
     def coverage(self, decl: ast.CoverageDecl) -> None:
         """``cover(...)`` / ``record(...)``: an item of the run's coverage, sampled at its
         event (:mod:`osc2runner.compile.coverage`)."""
-        self.run.coverage.items.append(compile_coverage(self.env, decl, self.notes))
+        source = self.model.cover_item(decl)
+        if source is None:
+            raise CompileProblem(f"`{decl.kind}` was not read by the checker", decl)
+        item = compile_coverage(self.env, source, self.notes)
+        self.run.coverage.items.append(item)
+        self.cover_items.append((item, source))
 
     def watch(self, spec: ast.Node, scope: Bindings) -> Watch:
         """The watch of an event spec (:func:`osc2runner.compile.conditions.compile_watch`)."""

@@ -17,7 +17,7 @@ from __future__ import annotations
 import math
 import zlib
 from collections.abc import Callable, Mapping, Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -25,6 +25,9 @@ from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.controllers import resolve_lane
+
+if TYPE_CHECKING:
+    from osc2runner.sut.driver import Log
 from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
@@ -264,14 +267,19 @@ def controllers_for(
 
 
 def drive_with_sut(
-    controllers: dict[str, Any], world: World, states: Any, name: str, sut: Any
+    controllers: dict[str, Any],
+    world: World,
+    states: Any,
+    name: str,
+    sut: Any,
+    log: Log | None = None,
 ) -> None:
     """Put the system under test ``sut`` in the seat of actor ``name``: its controller
     becomes the driver model of a :class:`~osc2runner.sut.driver.SutDriver` (the
     scenario's behaviours set its targets: the SUT's intent), which ``states`` (the
-    run's states of each tick) feed."""
+    run's states of each tick) feed; its interventions go to ``log``."""
     from osc2runner.sut.driver import SutDriver
 
     inner = controllers[name]
     assert isinstance(inner, VehicleController)
-    controllers[name] = SutDriver(name, sut, inner, world.network, states)
+    controllers[name] = SutDriver(name, sut, inner, world.network, states, log)

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import Value
+from osc2check.semantics.members import actor_alias
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.verify.witness import ActorStart, Witness
@@ -107,8 +108,8 @@ def scenario_actors(
         t = sym.type
         if t is None or t.kind is not T.Kind.COMPOUND or t.symbol is None:
             continue
-        if t.symbol.kind is not SymbolKind.ACTOR:
-            continue
+        if t.symbol.kind is not SymbolKind.ACTOR or actor_alias(model, sym) is not None:
+            continue  # an alias names another field's actor: no actor of its own
         kind = actor_kind(model, t.symbol)
         actor = Actor(sym.name, sym, t.symbol, kind, attributes=values.attributes(sym))
         start = witness.actor(sym.name)

@@ -29,6 +29,7 @@ import numpy as np
 
 from osc2runner.instance.lights import LightState, TrafficLight
 from osc2runner.output.files import atomic_open
+from osc2runner.output.telemetry import tick_time
 
 __all__ = ["LIGHT_COLUMNS", "light_arrays", "light_rows", "write_lights"]
 
@@ -47,7 +48,7 @@ def light_rows(light: TrafficLight, ticks: int, dt: float) -> Iterator[tuple[int
         while k + 1 < len(history) and history[k + 1].tick <= tick:
             k += 1
         state = history[k]
-        yield tick, tick * dt, state.semantic, _bulbs(state)
+        yield tick, tick_time(tick * dt, dt), state.semantic, _bulbs(state)
 
 
 def light_arrays(

@@ -1,4 +1,5 @@
-"""``docs/coverage.md``: what the runner supports, generated from the method registry.
+"""``docs/coverage.md``: what the runner supports, generated from the method registry
+and the capability table (``osc2check.capabilities``, which the checker's A308 reads).
 
 Every action, modifier and ``is undefined`` method of the bundled library
 (the standard ``std`` namespace and the toolkit's own) is listed, supported
@@ -10,13 +11,14 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
+from osc2check.capabilities import FORMS, absent_reason
 from osc2check.semantics.model import Model
 from osc2check.semantics.stdlib import standard_library
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.compile.registry import MethodRegistry, standard_registry
 
-__all__ = ["ABSENT", "absent_reason", "coverage_markdown"]
+__all__ = ["coverage_markdown"]
 
 _HEADER = """\
 # Runner coverage
@@ -26,42 +28,15 @@ the bundled library (ASAM OpenSCENARIO DSL 2.1 `std` plus the toolkit's
 `osc2toolkit` extensions). Generated from the runner's method registry by
 `python -m osc2runner.output.support > docs/coverage.md`; a test checks that this
 file is up to date. Invoking anything marked "no" is an error before the run
-starts, with its location: nothing is skipped silently. A trailer (an actor
+starts, with its location: nothing is skipped silently. The reasons, and the forms
+below, are the capability table `osc2check.capabilities`: `osc2check` reports
+each use as A308 (a warning), and `osc2run` refuses such a file before tick 0
+with the same finding. A trailer (an actor
 whose catalogue row is a trailer) has no engine or driver: of the actions it
 takes only `assign_position` and `assign_orientation`, and a vehicle tows it
 (`connect_trailer`).
 
 """
-
-
-_MAPS = (
-    "paths and trajectories through route or OpenDRIVE points, and relative ones, are not "
-    "built (world-coordinate paths are)"
-)
-_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
-
-#: why each unsupported action, modifier or method is absent (``owner.name``)
-ABSENT: dict[str, str] = {
-    "map.crossing_connects": _CROSSINGS,
-    "map.set_traffic_lights_control_file": (
-        "control files are not read: give the cycles with `play_cycles`"
-    ),
-    "physical_object.set_bm": (
-        "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
-        "kind has one driver model"
-    ),
-}
-
-
-def absent_reason(label: str, owner: str) -> str:
-    """Why ``label`` (``owner.name``) is not supported."""
-    if label in ABSENT:
-        return ABSENT[label]
-    if owner in ("map", "route") or label.endswith(
-        ("route_point", "odr_point", "distance_along_route")
-    ):
-        return _MAPS
-    return ""
 
 
 def _library_symbols(model: Model, kind: SymbolKind) -> list[Symbol]:
@@ -113,7 +88,7 @@ def _actions(model: Model, reg: MethodRegistry) -> list[str]:
                 entries[entry.label] = entry
         if not runs_for:
             owner = action.actor.name if action.actor else ""
-            why = _escape(absent_reason(f"{owner}.{action.name}", owner))
+            why = _escape(absent_reason(f"{owner}.{action.name}"))
             rows.append(f"| {label} | {action.namespace} | **no** | | {why} |")
             continue
         shown = _compact(model, action.actor, runs_for)
@@ -155,7 +130,7 @@ def _modifiers(model: Model, reg: MethodRegistry) -> list[str]:
         entry = reg.find_modifier(model, mod)
         if entry is None:
             owner = mod.actor.name if mod.actor else ""
-            why = _escape(absent_reason(f"{owner}.{mod.name}", owner))
+            why = _escape(absent_reason(f"{owner}.{mod.name}"))
             rows.append(f"| `{mod.qualified_name}` | {where} | **no** | | {why} |")
         else:
             rows.append(
@@ -185,8 +160,22 @@ def _methods(model: Model, reg: MethodRegistry) -> list[str]:
         owner = sym.owner.name if sym.owner is not None else ""
         found.append((owner, sym.name, reg.find_method(model, sym) is not None))
     for owner, name, ok in sorted(found):
-        why = "" if ok else _escape(absent_reason(f"{owner}.{name}", owner))
+        why = "" if ok else _escape(absent_reason(f"{owner}.{name}"))
         rows.append(f"| `{owner}.{name}` | {'yes' if ok else '**no**'} | {why} |")
+    return rows
+
+
+def _forms() -> list[str]:
+    rows = [
+        "## Forms the runner does not execute",
+        "",
+        "Calls that run, written in a way the runner does not carry out (A308).",
+        "",
+        "| form | why |",
+        "|---|---|",
+    ]
+    for form in FORMS.values():
+        rows.append(f"| {_escape(form.written)} | {_escape(form.reason)} |")
     return rows
 
 
@@ -211,6 +200,8 @@ def coverage_markdown(reg: MethodRegistry | None = None) -> str:
         *_modifiers(model, reg),
         "",
         *_methods(model, reg),
+        "",
+        *_forms(),
     ]
     return "\n".join(parts) + "\n"
 

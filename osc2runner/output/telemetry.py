@@ -12,16 +12,22 @@ inputs; ``lateral_error`` is the lateral controller's cross-track error of the
 front axle from its path (m, positive: left of the path; NaN without one).
 ``road`` (the road id, empty off every road), ``lane_id`` (the OpenDRIVE id of
 the lane it is in, 0 off the roads), ``s`` and ``t`` (road coordinates on that
-road, NaN off the roads) say where the actor is on the map; ``articulation``
-is a hitched trailer's articulation angle (its tow vehicle's heading less its
-own, rad; NaN for other actors and unhitched trailers).
+road, NaN off the roads) say where the actor is on the map; ``distance`` is how
+far it has travelled along its path since its start (the witness's ``s`` counts
+along the actor's carriageway in its direction of travel, so its start ``s`` plus
+``distance`` is its position along its route in the witness's measure, while the
+road's ``s`` follows the road's reference line, decreasing in a lane that drives
+against it, and starts again on each road); ``articulation`` is a hitched
+trailer's articulation angle (its tow vehicle's heading less its own, rad; NaN for
+other actors and unhitched trailers).
 
 Files (``write_data``, then ``write_metadata``; ``write`` does both), each
 written whole or not at all (:mod:`osc2runner.output.files`):
 
 * ``telemetry.csv``: one row per actor and tick, columns as above after
   ``actor``; floats written with ``repr`` (exact, so identical runs give
-  identical bytes);
+  identical bytes), times at the precision of the control period (``13.6``, not
+  ``13.600000000000001``: :func:`tick_time`);
 * ``events.csv``: the event log (``tick, time, kind, name, actors, detail``);
 * ``run.json``: metadata (versions, seed, steps, parameter values, actors,
   outcome) and the event log. The runner writes it last, after the plots.
@@ -33,6 +39,7 @@ import csv
 import json
 import math
 from collections.abc import Iterable, Mapping
+from decimal import Decimal
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +49,7 @@ from osc2runner.execution.context import LogRecord
 from osc2runner.output.files import atomic_open, write_atomically
 from osc2runner.sim import ActorState
 
-__all__ = ["CHANNELS", "Recorder", "write_data", "write_metadata"]
+__all__ = ["CHANNELS", "Recorder", "tick_time", "write_data", "write_metadata"]
 
 CHANNELS = (
     "tick",
@@ -63,10 +70,18 @@ CHANNELS = (
     "lane_id",
     "s",
     "t",
+    "distance",
     "articulation",
 )
 TEXT_CHANNELS = frozenset({"road"})
 JERK_WINDOW = 1.0  # s
+
+
+def tick_time(time: float, dt: float) -> float:
+    """``time``, a whole number of control periods ``dt``, at the period's precision: the
+    decimals of ``dt`` (``272 * 0.05`` is ``13.6``, not ``13.600000000000001``)."""
+    exponent = Decimal(repr(dt)).normalize().as_tuple().exponent
+    return round(time, max(0, -int(exponent))) if isinstance(exponent, int) else time
 
 
 class Recorder:
@@ -91,6 +106,7 @@ class Recorder:
         self.rows: dict[str, list[tuple[float | str, ...]]] = {n: [] for n in self.names}
         self._accel: dict[str, list[float]] = {n: [] for n in self.names}
         self._last: dict[str, tuple[object, float, int]] = {}  # state, error, ticks unchanged
+        self._path: dict[str, tuple[float, float, float]] = {}  # x, y, distance travelled
 
     def record(
         self,
@@ -102,7 +118,7 @@ class Recorder:
         """Add this tick's row of every actor (``controllers`` give the path errors)."""
         window = self.window
         controllers = controllers or {}
-        self.clock.append((tick, time))
+        self.clock.append((tick, tick_time(time, self.dt)))
         last = self._last
         for name in self.names:
             s = states[name]
@@ -121,6 +137,9 @@ class Recorder:
                 last[name] = (s, error, before[2] + 1)
             else:
                 last[name] = (s, error, 0)
+            x0, y0, travelled = self._path.get(name, (s.x, s.y, 0.0))
+            travelled += math.hypot(s.x - x0, s.y - y0)
+            self._path[name] = (s.x, s.y, travelled)
             history = self._accel[name]
             history.append(s.accel)
             n = len(history)
@@ -150,6 +169,7 @@ class Recorder:
                     s.lane_id,
                     s.s,
                     s.t,
+                    travelled,
                     s.articulation,
                 )
             )
@@ -208,19 +228,20 @@ def write_telemetry(path: Path, recorder: Recorder) -> None:
             f.write("".join(lines))
 
 
-def write_events(path: Path, records: Iterable[LogRecord]) -> None:
+def write_events(path: Path, records: Iterable[LogRecord], dt: float) -> None:
     with atomic_open(path, "w", newline="", encoding="utf-8") as f:
         writer = csv.writer(f, lineterminator="\n")
         writer.writerow(["tick", "time", "kind", "name", "actors", "detail"])
         for r in records:
-            writer.writerow([r.tick, repr(r.time), r.kind, r.name, " ".join(r.actors), r.detail])
+            when = repr(tick_time(r.time, dt))
+            writer.writerow([r.tick, when, r.kind, r.name, " ".join(r.actors), r.detail])
 
 
-def event_dicts(records: Iterable[LogRecord]) -> list[dict[str, Any]]:
+def event_dicts(records: Iterable[LogRecord], dt: float) -> list[dict[str, Any]]:
     return [
         {
             "tick": r.tick,
-            "time": r.time,
+            "time": tick_time(r.time, dt),
             "kind": r.kind,
             "name": r.name,
             "actors": list(r.actors),
@@ -235,14 +256,14 @@ def write_data(out: Path, recorder: Recorder, records: list[LogRecord]) -> list[
     telemetry = out / "telemetry.csv"
     events = out / "events.csv"
     write_telemetry(telemetry, recorder)
-    write_events(events, records)
+    write_events(events, records, recorder.dt)
     return [telemetry, events]
 
 
 def write_metadata(out: Path, metadata: dict[str, Any], records: list[LogRecord]) -> Path:
     """Write ``run.json`` (``metadata`` and the event log) into the folder ``out``."""
     document = dict(metadata)
-    document["events"] = event_dicts(records)
+    document["events"] = event_dicts(records, metadata["dt_control"])
     text = json.dumps(document, indent=2, default=_json_default) + "\n"
     return write_atomically(out / "run.json", text)
 

@@ -8,7 +8,10 @@ lateral path, and ask whether they are reached): that controller is the
 :class:`~osc2runner.sut.Observation` from the tick's states, asks the SUT, and
 returns the SUT's inputs instead of the driver model's. ``speed`` and
 ``lateral`` are the driver model's, so behaviours and telemetry see no
-difference.
+difference. When the SUT's inputs depart from the driver model's (by more than
+:data:`INTERVENTION` in a pedal or the steering) it *intervenes*, and when they
+agree again it hands back: both go to the event log (kind ``sut``), so plots and
+reports can show when the system acted.
 
 What the SUT does wrong is its own outcome, not a bug of the runner: an
 exception in ``step`` or an answer that is not a finite :class:`Command` or
@@ -19,7 +22,7 @@ outcome ``error`` naming the SUT and the tick.
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from typing import Any
 
 from osc2check.world.network import RoadNetwork
@@ -37,10 +40,14 @@ from osc2runner.sut import (
     SystemUnderTest,
 )
 
-__all__ = ["PATH_SPACING", "PATH_POINTS", "SutDriver", "SutFault", "sut_info"]
+__all__ = ["INTERVENTION", "PATH_SPACING", "PATH_POINTS", "SutDriver", "SutFault", "sut_info"]
 
 PATH_SPACING = 5.0  # m between the points of RoadAhead.path
 PATH_POINTS = 11  # 0 to 50 m ahead
+INTERVENTION = 0.02  # a pedal or steering difference from the driver model that intervenes
+
+#: what the event log is told: ``log(kind, name, detail, actors)``
+Log = Callable[[str, str, str, tuple[str, ...]], None]
 
 
 class SutFault(Exception):
@@ -96,6 +103,10 @@ def _view(state: ActorState, ego: ActorView | None = None) -> ActorView:
     )  # fmt: skip
 
 
+def _pedals(inputs: VehicleInput) -> str:
+    return f"throttle {inputs.throttle:.2f} brake {inputs.brake:.2f} steer {inputs.steer:.2f}"
+
+
 def _finite(*values: float) -> bool:
     return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
 
@@ -109,6 +120,7 @@ class SutDriver:
         inner: the actor's driver model; behaviours set its targets.
         network: the map.
         states: the run's states of this tick, by actor (read when stepping).
+        log: where interventions are logged (the run context's ``record``).
     """
 
     def __init__(
@@ -118,8 +130,11 @@ class SutDriver:
         inner: VehicleController,
         network: RoadNetwork,
         states: Mapping[str, ActorState],
+        log: Log | None = None,
     ) -> None:
         self.name = name
+        self.log = log
+        self.intervening = False
         self.sut = sut
         self.inner = inner
         self.network = network
@@ -212,7 +227,27 @@ class SutDriver:
                 f"the system under test ({type(self.sut).__name__}) raised "
                 f"{type(exc).__name__}: {exc} at tick {state.tick}"
             ) from exc
-        return self.inputs(answer, state, driver)
+        inputs = self.inputs(answer, state, driver)
+        self._note(inputs, driver)
+        return inputs
+
+    def _note(self, inputs: VehicleInput, driver: VehicleInput) -> None:
+        """Log when the SUT starts overriding the driver model, and when it hands back."""
+        differs = (
+            max(
+                abs(inputs.throttle - driver.throttle),
+                abs(inputs.brake - driver.brake),
+                abs(inputs.steer - driver.steer),
+            )
+            > INTERVENTION
+        )
+        if differs == self.intervening:
+            return
+        self.intervening = differs
+        if self.log is not None:
+            name = "intervenes" if differs else "hands back"
+            detail = f"{_pedals(inputs)} (driver model: {_pedals(driver)})"
+            self.log("sut", name, detail, (self.name,))
 
     def inputs(
         self, answer: Command | Demand, state: ActorState, driver: VehicleInput

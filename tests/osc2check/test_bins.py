@@ -40,7 +40,7 @@ def setup() -> tuple[object, object, object, list[ast.CoverageDecl]]:
 
 def term_of(index: int):  # type: ignore[no-untyped-def]
     program, result, text_of, decls = setup()
-    expr = bins.cover_expression(decls[index])
+    expr = program.model.cover_item(decls[index]).expression
     assert expr is not None
     return bins.cover_term(program.model, result.scenario, result.problem, expr, text_of)
 
@@ -96,7 +96,8 @@ def test_a_cross_or_an_override_has_no_expression_as_the_checker_and_the_runner_
     assert [d.code.code for d in analysis.diagnostics] == ["L506"]  # as for TEXT alone
     scenario = analysis.verified["s.osc"].scenarios[0].scenario
     decls = [n for n in walk(scenario.decl) if isinstance(n, ast.CoverageDecl)]
-    found = [bins.cover_expression(d) for d in decls]
+    model = analysis.programs["s.osc"].model
+    found = [model.cover_item(d).expression for d in decls]
     assert [type(e).__name__ for e in found[:4]] == ["NameRef"] * 3 + ["MemberAccess"]
     assert found[4:6] == [None, None]  # a cross, an override: the name is another item's
     assert isinstance(found[6], ast.NameRef) and found[6].name.name.text == "gear"

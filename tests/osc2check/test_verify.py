@@ -638,7 +638,7 @@ def test_samples_reuse_one_optimizer_and_keep_free_variables_in_their_bounds():
 
     enc = _Encoder(p, z3.Context())
     active = active_constraints(p, SolverOutcome("sat"))
-    sampler = Sampler(p, active, first, enc=enc, exprs=[enc.term(c.term) for c in active])
+    sampler = Sampler(p, active, first, enc=enc)
     samples = [sampler.sample(seed) for seed in range(8)]
     assert all(s is not None and 0 <= s["x"] <= 100 and s["y"] >= s["x"] + 3 for s in samples)
     assert len({s["x"] for s in samples}) == 8

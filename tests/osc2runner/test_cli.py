@@ -66,7 +66,7 @@ def test_success_exits_0_and_writes_outputs(tmp_path, capsys):
     header = (out / "telemetry.csv").read_text().splitlines()[0]
     assert header == (
         "actor,tick,time,x,y,yaw,speed,accel,jerk,throttle,brake,steer,lane,friction,"
-        "lateral_error,road,lane_id,s,t,articulation"
+        "lateral_error,road,lane_id,s,t,distance,articulation"
     )
 
 

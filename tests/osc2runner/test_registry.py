@@ -7,6 +7,7 @@ from pathlib import Path
 
 import pytest
 
+from osc2check.capabilities import NOT_EXECUTED, label_of
 from osc2check.semantics.stdlib import standard_library
 from osc2runner.compile.registry import (
     MethodRegistry,
@@ -135,12 +136,50 @@ def test_required_actions_and_modifiers_are_registered():
 
 
 def test_unsupported_action_and_modifier_stop_the_run_with_their_locations():
+    without_lights = UNSUPPORTED.replace(
+        '    m.set_traffic_lights_control_file(file: "lights.xml")\n', ""
+    )
     with pytest.raises(ScenarioError) as caught:
-        compile_file("<unsupported>.osc", source=UNSUPPORTED)
+        compile_file("<unsupported>.osc", source=without_lights)
     problems = [(p.span.line, p.span.column, p.message) for p in caught.value.problems]
     trailer = [p for p in problems if p[:2] == (9, 13)]  # a trailer has no driver
     assert trailer and "`box` is a trailer" in trailer[0][2] and "`drive`" in trailer[0][2]
-    assert any(p[:2] == (10, 5) and "not supported" in p[2] for p in problems)
+    with pytest.raises(ScenarioError) as refused:  # the table's: the checker's finding
+        compile_file("<unsupported>.osc", source=UNSUPPORTED)
+    found = [(d.code.code, d.span.line, d.span.column) for d in refused.value.diagnostics]
+    assert found == [("A308", 10, 7)]
+
+
+def test_the_registry_runs_exactly_what_the_capability_table_does_not_exclude():
+    """Each library action, modifier and `is undefined` method either has a runner
+    implementation or is in ``capabilities.NOT_EXECUTED``, never both."""
+    model = standard_library().model
+    reg = standard_registry()
+    labels = set()
+    for sym in model.symbols:
+        if not (sym.library or sym.toolkit):
+            continue
+        if sym.kind.name == "ACTION" and not (
+            sym.name == "osc_action" or sym.name.startswith("action_for_")
+        ):
+            actors = [sym.actor, *_subtypes(model, sym.actor)] if sym.actor else []
+            runs = any(reg.find_action(model, a, sym) for a in actors)
+        elif sym.kind.name == "MODIFIER":
+            runs = reg.find_modifier(model, sym) is not None
+        elif sym.kind.name == "METHOD" and getattr(sym.decl, "kind", "") == "undefined":
+            runs = reg.find_method(model, sym) is not None
+        else:
+            continue
+        label = label_of(sym)
+        labels.add(label)
+        assert runs == (label not in NOT_EXECUTED), label
+    assert set(NOT_EXECUTED) <= labels  # the table names nothing the library lacks
+
+
+def _subtypes(model, actor):  # type: ignore[no-untyped-def]
+    for child in model.children.get(actor, ()):
+        yield child
+        yield from _subtypes(model, child)
 
 
 def test_coverage_page_is_up_to_date():

@@ -88,3 +88,35 @@ def test_filtered_jerk_is_bounded_while_braking_smoothly(braking):
     onset, end = _stops(braking)[1]
     jerk = braking.telemetry["hero"]["jerk"][onset + 20 : end - 20]
     assert np.all(np.abs(jerk) <= 3.0)  # a 1 s average of a 10 m/s³-limited profile
+
+
+def test_runner_md_quotes_these_figures(braking):
+    """docs/runner.md's braking rows are this run's figures (OSC2_UPDATE_DOCS=1 writes them)."""
+    from tests.docs_blocks import ROOT as DOCS_ROOT
+    from tests.docs_blocks import check_block
+
+    hero = braking.telemetry["hero"]
+    (dry, smooth, wet) = _stops(braking)
+    peak = -hero["accel"][dry[0] : dry[1] + 1].min()
+    accel = -hero["accel"][smooth[0] : smooth[1] + 1]
+    plateau = accel[len(accel) // 4 : 3 * len(accel) // 4]
+    wet_peak = -hero["accel"][wet[0] : wet[1] + 1].min()
+    drives = braking.event_ticks("start", "hero.drive")
+    times = [
+        hero["time"][s + int(np.flatnonzero(hero["speed"][s:] >= 0.99 * V80)[0])] - hero["time"][s]
+        for s in (drives[0], drives[2])
+    ]
+    rows = [
+        "| scenario | figure | required | measured |",
+        "|---|---|---|---|",
+        f"| `examples/braking_friction.osc` (sedan, 80 kph) | dry `asap` stopping distance | "
+        f"25.2–30.5 m | **{_distance(braking, dry):.2f} m** (peak {peak:.2f} m/s²) |",
+        f"| | dry `smooth` plateau / distance | 2.5 ± 0.15 m/s² / 98.8 m ± 5% | "
+        f"**{plateau.min():.3f}–{plateau.max():.3f}** (mean {plateau.mean():.3f}) / "
+        f"**{_distance(braking, smooth):.2f} m** |",
+        f"| | µ 0.4 `asap` peak (50 ms) / distance | 3.5–4.3 m/s² / 62.9 m ± 15% | "
+        f"**{wet_peak:.2f}** / **{_distance(braking, wet):.2f} m** |",
+        f"| | 0 → 99% of 80 kph, µ 1.0 vs 0.4 | visibly slower at 0.4 | "
+        f"**{times[0]:.2f} s vs {times[1]:.2f} s** |",
+    ]
+    check_block(DOCS_ROOT / "docs" / "runner.md", "braking-figures", "\n".join(rows))

@@ -141,3 +141,36 @@ def test_paper_braking_runs_unchanged_to_success():
         "WET_BRAKE_ASAP_TRIGGERED",
     ]
     assert result.telemetry["hero"]["friction"][-1] == pytest.approx(0.4)
+
+
+def test_runner_md_quotes_these_figures(paper):
+    """docs/runner.md's cut-in rows are this run's figures (OSC2_UPDATE_DOCS=1 writes them)."""
+    from tests.docs_blocks import ROOT as DOCS_ROOT
+    from tests.docs_blocks import check_block
+
+    hero = paper.telemetry["hero"]
+    trigger = _record(paper, "stop", "hero.drive")
+    settled = hero["speed"][160:trigger] * KPH
+    gap = _ahead(paper, "npc", "hero")
+    emitted = _record(paper, "emit", "OBSTACLE_DETECTED")
+    reaction = _record(paper, "start", "hero.change_speed")
+    start = _record(paper, "start", "hero.change_lane")
+    end = _record(paper, "end", "hero.change_lane")
+    tracking = np.nanmax(np.abs(hero["lateral_error"][start : end + 1]))
+    collided = any(r.kind == "collision" for r in paper.events)
+    rows = [
+        "| scenario | figure | required | measured |",
+        "|---|---|---|---|",
+        f"| paper's `cut_in_and_stop.osc` | outcome | success, unchanged | "
+        f"**{paper.outcome.status}** at {paper.outcome.time:.2f} s, "
+        f"{'a collision' if collided else 'no collision'} |",
+        f"| | hero speed once settled (8 s after go to the trigger) | 35 ± 0.3 kph | "
+        f"**{settled.min():.2f}–{settled.max():.2f} kph** |",
+        f"| | `fall(... > safety_gap)` | first tick below 12 m | **tick {trigger}**: "
+        f"{gap[trigger - 1]:.2f} m -> {gap[trigger]:.2f} m |",
+        f"| | `OBSTACLE_DETECTED` -> hero reaction | within one tick | emitted tick {emitted}, "
+        f"`change_speed` starts tick **{reaction}** |",
+        f"| | hero lane change tracking ({(end - start) * 0.05:.1f} s) | < 0.1 m | "
+        f"**{tracking:.3f} m** |",
+    ]
+    check_block(DOCS_ROOT / "docs" / "runner.md", "cut-in-figures", "\n".join(rows))

@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from osc2runner.campaign.kpis import run_kpis, subject_actor
+from osc2runner.campaign.kpis import run_kpis
+from osc2runner.output.gaps import subject_actor
 
 DT = 0.05
 
@@ -84,7 +85,7 @@ def test_subject_actor() -> None:
 
 
 def test_the_braking_plot_and_time_to_stop_agree_on_what_a_stop_is() -> None:
-    from osc2runner.output.plots import brake_onsets
+    from osc2runner.output.plots import braking_phases
 
     n = 120
     t = np.arange(n) * DT
@@ -93,12 +94,13 @@ def test_the_braking_plot_and_time_to_stop_agree_on_what_a_stop_is() -> None:
     speed[t >= 5.0] = 0.0
     hard = channels(np.cumsum(speed) * DT, np.zeros(n), speed, brake=np.where(t >= 1.0, 1.0, 0.0))
     stop = run_kpis({"ego": hard}, {}, [], "ego")["time_to_stop_s"]
-    ((a, b),) = brake_onsets(hard)  # the plot starts a tick before the onset
+    ((a, b, ending),) = [(p.start, p.end, p.ending) for p in braking_phases(hard)]
+    assert ending == "stop"  # the plot starts a tick before the onset
     assert stop == pytest.approx(3.0) and t[b] - t[a + 1] == pytest.approx(stop)
     # a pedal at 3 % is no brake onset, for either
     light = {**hard, "brake": np.where(t >= 1.0, 0.03, 0.0)}
     assert run_kpis({"ego": light}, {}, [], "ego")["time_to_stop_s"] is None
-    assert brake_onsets(light) == []
+    assert braking_phases(light) == []
 
 
 def test_kpi_figures_are_of_the_numeric_kpis_of_finished_runs() -> None:

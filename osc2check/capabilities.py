@@ -1,0 +1,234 @@
+"""What ``osc2run`` executes: one table for the checker, the runner and ``docs/coverage.md``.
+
+Everything the bundled library declares runs, except what this table lists:
+
+* ``NOT_EXECUTED``: actions, modifiers and ``is undefined`` methods the runner has
+  no implementation of (``owner.name``), each with the reason;
+* ``FORMS``: argument forms and placements of otherwise executed calls that the
+  runner does not carry out (``parallel(start_to_start: ...)``, a modifier on a
+  composition, ``orientation(measured_by: absolute)``, ...).
+
+The checker reports each use as A308 (``not_executed``, a warning by default, so
+the editor shows it); the runner refuses a file with such a finding before tick 0
+with the same code and message, and never meets one of these forms otherwise. The
+runner's registry is tested against ``NOT_EXECUTED`` (each library entry either
+has an implementation or is listed here, never both), and ``docs/coverage.md``
+is generated from both.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from osc2check import messages
+from osc2check.diagnostics import Diagnostic
+from osc2check.semantics import types as T
+from osc2check.semantics.members import declaration_bodies
+from osc2check.semantics.model import Model
+from osc2check.semantics.phases import enum_word, modifier_timing
+from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.source import Span
+from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
+
+__all__ = ["FORMS", "NOT_EXECUTED", "Form", "absent_reason", "label_of", "not_executed"]
+
+_MAPS = (
+    "paths and trajectories through route or OpenDRIVE points, and relative ones, are not "
+    "built (world-coordinate paths are)"
+)
+_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
+
+#: The library's actions, modifiers and ``is undefined`` methods the runner does not
+#: execute (``owner.name``), and why.
+NOT_EXECUTED: dict[str, str] = {
+    "map.crossing_connects": _CROSSINGS,
+    "map.set_traffic_lights_control_file": (
+        "control files are not read: give the cycles with `play_cycles`"
+    ),
+    "physical_object.set_bm": (
+        "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
+        "kind has one driver model"
+    ),
+    "map.create_path_odr_points": _MAPS,
+    "map.create_path_route_points": _MAPS,
+    "map.create_trajectory_odr_points": _MAPS,
+    "map.create_trajectory_route_points": _MAPS,
+    "map.resolve_relative_path": _MAPS,
+    "map.resolve_relative_trajectory": _MAPS,
+}
+
+
+@dataclass(frozen=True, slots=True)
+class Form:
+    """A form of an executed call that the runner does not carry out."""
+
+    key: str
+    written: str  # how it looks (``parallel(start_to_start: ...)``), as messages show it
+    reason: str
+
+
+#: The forms of calls the runner does not carry out, by key.
+FORMS: dict[str, Form] = {
+    f.key: f
+    for f in (
+        Form(
+            "start_to_start",
+            "`parallel(start_to_start: ...)`",
+            "the runner starts every member of a `parallel` with the composition",
+        ),
+        Form(
+            "end_to_end",
+            "`parallel(end_to_end: ...)`",
+            "the runner starts every member of a `parallel` with the composition",
+        ),
+        Form(
+            "composition_modifier",
+            "a modifier of a composition",
+            "the runner applies modifiers to actions only; put it on the actions inside",
+        ),
+        Form(
+            "scenario_modifier",
+            "a modifier of a scenario invocation",
+            "the runner applies modifiers to actions only; put it on the scenario's actions",
+        ),
+        Form(
+            "modifier_with",
+            "a `with:` block of a modifier",
+            "a modifier's own constraints are not applied by the runner",
+        ),
+        Form(
+            "invoked_coverage",
+            "`cover`/`record` of an invoked scenario",
+            "the runner collects the coverage items of the root scenario only",
+        ),
+        Form(
+            "event_argument",
+            "an event argument of an action or modifier",
+            "actions and modifiers take values, not events",
+        ),
+        Form(
+            "yaw_relative_to",
+            "`yaw(relative_to: ...)`",
+            "a heading relative to another actor is not executed: give it from the road",
+        ),
+        Form(
+            "orientation_relative_to",
+            "`orientation(relative_to: ...)`",
+            "a heading relative to another actor is not executed: give it from the road",
+        ),
+        Form(
+            "heading_frame",
+            "a heading measured other than `relative_to_road`",
+            "headings are executed from the road's direction (`relative_to_road`) only",
+        ),
+        Form(
+            "pitch_roll",
+            "`orientation(pitch: ..., roll: ...)`",
+            "the world is flat: pitch and roll are 0",
+        ),
+        Form(
+            "vehicle_heading",
+            "`yaw`/`orientation` of a vehicle at `end` or `all`",
+            "the runner steers vehicles along their lanes or path: give the heading `at: start`",
+        ),
+    )
+}
+
+
+def absent_reason(label: str) -> str:
+    """Why the library's ``label`` (``owner.name``) is not executed ('' when it is)."""
+    return NOT_EXECUTED.get(label, "")
+
+
+def label_of(symbol: Symbol) -> str:
+    """``owner.name`` of a library action, modifier or method (the table's key)."""
+    owner = symbol.owner if symbol.kind is SymbolKind.METHOD else symbol.actor
+    return f"{owner.name if owner is not None else ''}.{symbol.name}"
+
+
+def not_executed(model: Model, scenario: Symbol, invoked: bool) -> list[Diagnostic]:
+    """A308 for each call of ``scenario``'s own members that the runner does not execute
+    (``invoked``: the scenario is invoked by another, whose run collects no coverage of
+    it)."""
+    found: list[Diagnostic] = []
+    bodies = declaration_bodies(model).get(scenario, [])
+    for members in bodies:
+        for member in members:
+            if invoked and isinstance(member, ast.CoverageDecl):
+                _form(found, member.span, "invoked_coverage")
+            for node in walk(member):
+                _node(model, node, found)
+    found.sort(key=lambda d: d.sort_key)
+    return found
+
+
+def _form(found: list[Diagnostic], span: Span, key: str) -> None:
+    form = FORMS[key]
+    found.append(messages.not_executed(span, form.written, form.reason))
+
+
+def _node(model: Model, node: ast.Node, found: list[Diagnostic]) -> None:
+    binding = model.binding(node)
+    if isinstance(node, ast.Composition):
+        for key in ("start_to_start", "end_to_end"):
+            given = binding.extra(key) if binding is not None else None
+            if given is not None:
+                _form(found, given.span, key)
+        for item in node.with_members:
+            if isinstance(item, ast.Invocation):
+                _form(found, item.span, "composition_modifier")
+        return
+    if not isinstance(node, ast.Invocation) or binding is None:
+        return
+    callee = binding.callee
+    if not isinstance(callee, Symbol):
+        return
+    if callee.library or callee.toolkit:
+        reason = absent_reason(label_of(callee))
+        if reason:
+            found.append(messages.not_executed(node.name.span, f"`{label_of(callee)}`", reason))
+    if binding.events:
+        _form(found, binding.events[0].span, "event_argument")
+    if callee.kind is SymbolKind.SCENARIO:
+        for item in node.with_members:
+            if isinstance(item, ast.Invocation):
+                _form(found, item.span, "scenario_modifier")
+    if callee.kind is SymbolKind.MODIFIER:
+        if node.with_members:
+            _form(found, node.with_members[0].span, "modifier_with")
+    if callee.kind is SymbolKind.ACTION:
+        for item in node.with_members:
+            if isinstance(item, ast.Invocation):
+                _heading(model, node, item, found)
+
+
+def _heading(
+    model: Model, action: ast.Invocation, item: ast.Invocation, found: list[Diagnostic]
+) -> None:
+    """The forms of ``yaw``/``orientation`` the runner does not carry out."""
+    binding = model.binding(item)
+    if binding is None or not isinstance(binding.callee, Symbol):
+        return
+    name = binding.callee.name
+    if name not in ("yaw", "orientation") or not binding.callee.library:
+        return
+    given = binding.values(defaults=False)
+    if "relative_to" in given:
+        _form(found, item.span, f"{name}_relative_to")
+    frame = "measure_by" if name == "yaw" else "measured_by"
+    if enum_word(given.get(frame)) not in (None, "relative_to_road"):
+        _form(found, item.span, "heading_frame")
+    if name == "orientation" and ("pitch" in given or "roll" in given):
+        _form(found, item.span, "pitch_roll")
+    if modifier_timing(given) != "start" and _is_vehicle(model, action):
+        _form(found, item.span, "vehicle_heading")
+
+
+def _is_vehicle(model: Model, action: ast.Invocation) -> bool:
+    """Whether the actor of ``action`` is a vehicle (persons turn at once)."""
+    actor_type = model.type_of(action.actor) if action.actor is not None else None
+    symbol = actor_type.symbol if actor_type is not None else None
+    if symbol is None or actor_type is None or actor_type.kind is not T.Kind.COMPOUND:
+        return False
+    return any(a.name == "vehicle" for a in model.ancestors(symbol))
