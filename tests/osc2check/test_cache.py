@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -103,6 +104,10 @@ def test_the_library_from_the_cache_is_the_library_built(folder: Path) -> None:
     assert [_symbol_row(s) for s in stored.model.symbols] == [
         _symbol_row(s) for s in built.model.symbols
     ]
+    for table in dataclasses.fields(stored.model):  # every side table, those added later too
+        value = getattr(stored.model, table.name)
+        if hasattr(value, "__len__"):
+            assert len(value) == len(getattr(built.model, table.name)), table.name
     assert sorted(stored.parses) == sorted(built.parses)
     for uri, result in built.parses.items():
         assert stored.parses[uri].text == result.text
