@@ -121,11 +121,11 @@ def _checksum(data: bytes) -> str:
     return f"{zlib.crc32(data):08x}{zlib.adler32(data):08x}{len(data):x}"
 
 
-def _full_key(kind: str, key: Mapping[str, str]) -> bytes:
+def _full_key(kind: str, key: Mapping[str, str], toolkit: bool = True) -> bytes:
     fields_ = {
         "kind": kind,
         "format": FORMAT,
-        "toolkit": toolkit_fingerprint(),
+        "toolkit": toolkit_fingerprint() if toolkit else "",
         "python": f"{sys.implementation.cache_tag} {sys.version}",
         **key,
     }
@@ -136,13 +136,15 @@ def _entry_path(kind: str, full: bytes) -> Path:
     return cache_folder() / f"{kind}-{_checksum(full)[:16]}.bin"
 
 
-def load(kind: str, key: Mapping[str, str]) -> object | None:
+def load(kind: str, key: Mapping[str, str], *, toolkit: bool = True) -> object | None:
     """The value stored under ``kind`` and ``key``, or None (absent, stale, corrupt,
-    not the user's, or the cache is off)."""
+    not the user's, or the cache is off). ``toolkit=False``: a value that does not
+    depend on the toolkit's code (its key says all it depends on), kept across
+    versions."""
     if not enabled():
         return None
     try:
-        full = _full_key(kind, key)
+        full = _full_key(kind, key, toolkit)
         path = _entry_path(kind, full)
         with open(path, "rb") as f:
             if hasattr(os, "getuid") and os.fstat(f.fileno()).st_uid != os.getuid():
@@ -158,12 +160,12 @@ def load(kind: str, key: Mapping[str, str]) -> object | None:
         return None
 
 
-def store(kind: str, key: Mapping[str, str], value: object) -> None:
+def store(kind: str, key: Mapping[str, str], value: object, *, toolkit: bool = True) -> None:
     """Write ``value`` under ``kind`` and ``key`` (atomically; failures are ignored)."""
     if not enabled():
         return
     try:
-        full = _full_key(kind, key)
+        full = _full_key(kind, key, toolkit)
         data = _encode(value, full)
         path = _entry_path(kind, full)
         path.parent.mkdir(parents=True, exist_ok=True, mode=0o700)
@@ -185,13 +187,13 @@ def store(kind: str, key: Mapping[str, str], value: object) -> None:
         log.debug("cache entry %s not written: %s", kind, exc)
 
 
-def cached(kind: str, key: Mapping[str, str], build: Callable[[], T]) -> T:
-    """The stored value, or ``build()`` stored for next time."""
-    found = load(kind, key)
+def cached(kind: str, key: Mapping[str, str], build: Callable[[], T], *, toolkit: bool = True) -> T:
+    """The stored value, or ``build()`` stored for next time (``toolkit``: see ``load``)."""
+    found = load(kind, key, toolkit=toolkit)
     if found is not None:
         return found  # type: ignore[return-value]  # stored by this function with this key
     value = build()
-    store(kind, key, value)
+    store(kind, key, value, toolkit=toolkit)
     return value
 
 

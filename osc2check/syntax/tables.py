@@ -223,9 +223,7 @@ def _load_lark(data: Any, memo: Any, **options: Any) -> Lark:
 
 
 def _make() -> ParseTables:
-    from lark import Lark
-    from lark.grammar import Rule
-    from lark.lexer import PatternStr, TerminalDef
+    from lark.lexer import PatternStr
     from lark.parse_tree_builder import (
         ChildFilterLALR,
         ChildFilterLALR_NoPlaceholders,
@@ -233,8 +231,11 @@ def _make() -> ParseTables:
     )
     from lark.parsers.lalr_analysis import Shift
 
-    made = Lark(grammar_text(), **LARK_OPTIONS)
-    data, memo = made.memo_serialize([TerminalDef, Rule])
+    # lark's analysis of the grammar (about a second) depends on the grammar and lark
+    # only: it is kept across versions of the toolkit, as lark's own cache would be
+    key = {**grammar_key(), "options": repr(sorted(LARK_OPTIONS.items()))}
+    analysis = cache.cached("lark-analysis", key, _analyse, toolkit=False)
+    data, memo = pickle.loads(analysis)
     # the tables are read from the stored form, loaded back: their states are then the
     # ones every later process's lark parser has
     lark = _load_lark(data, memo)
@@ -296,5 +297,15 @@ def _make() -> ParseTables:
         end=int(conf.end_state),
         literals=literals,
         patterns=patterns,
-        analysis=pickle.dumps((data, memo), protocol=pickle.HIGHEST_PROTOCOL),
+        analysis=analysis,
     )
+
+
+def _analyse() -> bytes:
+    """lark's LALR analysis of the grammar, in lark's own stored form (``Lark.save``)."""
+    from lark import Lark
+    from lark.grammar import Rule
+    from lark.lexer import TerminalDef
+
+    made = Lark(grammar_text(), **LARK_OPTIONS)
+    return pickle.dumps(made.memo_serialize([TerminalDef, Rule]), protocol=pickle.HIGHEST_PROTOCOL)

@@ -64,6 +64,17 @@ def test_a_damaged_entry_is_ignored_and_written_again(folder: Path) -> None:
         assert cache.load("probe", {}) == [1, 2, 3]
 
 
+def test_an_entry_independent_of_the_toolkit_outlives_a_new_version(
+    folder: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    cache.store("probe", {}, "toolkit's")
+    cache.store("probe-lark", {}, "lark's", toolkit=False)
+    monkeypatch.setattr(cache, "_toolkit", "another version of the toolkit")
+    assert cache.load("probe", {}) is None
+    assert cache.load("probe-lark", {}, toolkit=False) == "lark's"
+    assert cache.load("probe-lark", {}) is None  # the two kinds of key never meet
+
+
 def test_the_cache_off_neither_reads_nor_writes(folder: Path) -> None:
     cache.store("probe", {}, "stored")
     cache.set_enabled(False)
