@@ -18,12 +18,13 @@ is generated from both.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
-from osc2check.semantics.members import declaration_bodies
+from osc2check.semantics.members import MemberList, declaration_bodies
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import enum_word, modifier_timing
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -147,13 +148,20 @@ def label_of(symbol: Symbol) -> str:
     return f"{owner.name if owner is not None else ''}.{symbol.name}"
 
 
-def not_executed(model: Model, scenario: Symbol, invoked: bool) -> list[Diagnostic]:
+def not_executed(
+    model: Model,
+    scenario: Symbol,
+    invoked: bool,
+    bodies: Mapping[Symbol, Sequence[MemberList]] | None = None,
+) -> list[Diagnostic]:
     """A308 for each call of ``scenario``'s own members that the runner does not execute
     (``invoked``: the scenario is invoked by another, whose run collects no coverage of
-    it)."""
+    it). ``bodies``: ``declaration_bodies(model)``, when the caller has it (a file's
+    scenarios share it: made once per scenario, it is quadratic in the file's size)."""
     found: list[Diagnostic] = []
-    bodies = declaration_bodies(model).get(scenario, [])
-    for members in bodies:
+    if bodies is None:
+        bodies = declaration_bodies(model)
+    for members in bodies.get(scenario, ()):
         for member in members:
             if invoked and isinstance(member, ast.CoverageDecl):
                 _form(found, member.span, "invoked_coverage")

@@ -212,7 +212,7 @@ def verify_program(
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
-        for d in not_executed(program.model, sym, sym in invoked):
+        for d in not_executed(program.model, sym, sym in invoked, decls):
             report(d)
         problem = lower_scenario(program.model, sym, text_of, default_map, decls)
         _reversed_ranges(sym, program, text_of, report)
