@@ -51,6 +51,11 @@ __all__ = ["RayEngine"]
 NODE_RETRIES = 2
 #: seconds the engine waits for any actor to be ready when none is (the cluster has no room)
 READY_WAIT = 300.0
+#: seconds the engine waits, when an actor died, for the cluster to say whether its node
+#: did: a node that is cut off (killed, unplugged) is declared dead after Ray's health
+#: checks fail (by default 5 checks 3 s apart, each allowed 10 s: 15 s for a node whose
+#: machine refuses the connection, up to 65 s for one that does not answer)
+NODE_DEATH_WAIT = 60.0
 
 
 class _RayWorker:
@@ -244,12 +249,14 @@ class RayEngine:
         node = self._nodes.get(actor)
         if node is None:
             return False
-        for _ in range(20):  # the cluster notices a lost node within seconds
+        deadline = time.monotonic() + NODE_DEATH_WAIT
+        while True:
             alive = {n["NodeID"]: n["Alive"] for n in ray.nodes()}
             if not alive.get(node, False):
                 return True
+            if time.monotonic() > deadline:
+                return False
             time.sleep(0.25)
-        return False
 
     def _lost(
         self, task: RunTask, why: str, exc: BaseException, lost_node: bool = False

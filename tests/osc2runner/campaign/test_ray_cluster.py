@@ -4,8 +4,15 @@ is run again on the other node.
 The cluster is started here the way a user starts one: ``ray start --head --num-cpus=1``
 and ``ray start --address=HEAD --num-cpus=1`` (both on this machine, one CPU each, so a
 campaign of two workers has an actor on each node), on ports and a temporary folder of
-its own, and stopped by stopping those two commands (never ``ray stop``, which stops
+its own, and stopped by killing those two commands (never ``ray stop``, which stops
 every Ray on the machine). Skipped where Ray is not installed; ``.ci/run`` installs it.
+
+Token authentication is off for this cluster, in its nodes and in the driver alike
+(``RAY_AUTH_MODE=disabled``, Ray's own switch): left unset, a ``ray start`` of recent
+Ray (2.60) turns it on whenever a token exists in ``~/.ray`` (one local ``ray.init``
+writes one, as ``test_ray.py`` does before this in CI), while a driver that joins an
+address does not, and the campaign could never connect. The cluster listens on
+127.0.0.1 only. Node 2 is killed, not stopped: it dies with its run.
 """
 
 from __future__ import annotations
@@ -67,7 +74,7 @@ def _alive_nodes(address: str) -> int:
         return 0
     probe = (
         f"import ray; ray.init(address={address!r}, log_to_driver=False, "
-        "configure_logging=False); print(sum(1 for n in ray.nodes() if n['Alive']))"
+        "configure_logging=False); print('alive', sum(1 for n in ray.nodes() if n['Alive']))"
     )
     try:
         done = subprocess.run(
@@ -75,27 +82,34 @@ def _alive_nodes(address: str) -> int:
         )
     except subprocess.TimeoutExpired:
         return 0
-    lines = done.stdout.strip().splitlines()
-    return int(lines[-1]) if done.returncode == 0 and lines else 0
+    # the raylet may print lines of its own on the same output
+    counts = [line.split()[1] for line in done.stdout.splitlines() if line.startswith("alive ")]
+    return int(counts[-1]) if done.returncode == 0 and counts else 0
 
 
 def _stop(process: subprocess.Popen[bytes]) -> None:
-    """Stop a ``ray start --block`` and the node it runs (its own process group)."""
-    if process.poll() is None:
-        os.killpg(process.pid, signal.SIGTERM)
-        try:
-            process.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait(timeout=10)
-    try:  # what the node left behind in the group (its raylet's workers)
+    """Kill a ``ray start --block`` and the node it runs (its own process group): a node
+    that dies, not one that drains (a drained node may finish its run first, and a head
+    draining at the end waits 30 s for itself)."""
+    try:
         os.killpg(process.pid, signal.SIGKILL)
     except ProcessLookupError:
         pass
+    process.wait(timeout=10)
 
 
 @pytest.fixture(scope="module")
 def cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
+    with pytest.MonkeyPatch.context() as env:
+        env.setenv("RAY_AUTH_MODE", "disabled")  # the nodes, the probes and the driver
+        # a killed node is declared dead after 5 failed health checks 1 s apart (Ray's
+        # defaults: 3 s apart); a busy node still has 5 s to answer each
+        env.setenv("RAY_health_check_period_ms", "1000")
+        env.setenv("RAY_health_check_timeout_ms", "5000")
+        yield from _cluster(tmp_path_factory)
+
+
+def _cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
     logs = tmp_path_factory.mktemp("ray-logs")
     folder = Path(tempfile.mkdtemp(prefix="r", dir="/tmp"))  # short: Ray's socket paths
     port = _free_port()
@@ -108,17 +122,22 @@ def cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
     )  # fmt: skip
     node = None
     try:
-        deadline = time.monotonic() + 180
-        while _alive_nodes(address) < 1:
+        deadline = time.monotonic() + 300
+        while _alive_nodes(address) < 1:  # the head's own node is up: a node may join
             assert head.poll() is None and time.monotonic() < deadline, "the head did not start"
             time.sleep(1)
-        node = _start(
-            [f"--address={address}", f"--dashboard-agent-listen-port={_free_port()}"],
-            logs / "node.log",
-        )
-        while _alive_nodes(address) < 2:
-            assert node.poll() is None and time.monotonic() < deadline, "node 2 did not start"
-            time.sleep(1)
+        for attempt in range(3):  # Ray gives a raylet 30 s to register: a busy machine
+            node = _start(  # may need another start
+                [f"--address={address}", f"--dashboard-agent-listen-port={_free_port()}"],
+                logs / f"node-{attempt}.log",
+            )
+            while node.poll() is None and _alive_nodes(address) < 2:
+                assert time.monotonic() < deadline, "node 2 did not start"
+                time.sleep(1)
+            if node.poll() is None:
+                break
+            _stop(node)  # what the failed start left in its group
+        assert node.poll() is None, "node 2 did not start"
         yield Cluster(address, head, node)
     finally:
         if node is not None:
@@ -141,6 +160,25 @@ def _options(out: Path, **more: object) -> CampaignOptions:
 
 def _outcome(record) -> tuple[object, ...]:
     return record.status, record.reason, record.parameters, record.kpis
+
+
+def _await_actor_on_node_2() -> None:
+    """Wait until the campaign's actor on the second node is made (its next run then goes
+    to it; a node lost before its actor is made loses no run)."""
+    import ray
+    from ray._private import state  # the actor table, without the dashboard's state API
+
+    nodes = [n for n in ray.nodes() if n["Alive"]]
+    second = {n["NodeID"] for n in nodes if "node:__internal_head__" not in n["Resources"]}
+    job = ray.get_runtime_context().get_job_id()
+    deadline = time.monotonic() + 180
+    while time.monotonic() < deadline:
+        alive = state.actors(job_id=ray.JobID.from_hex(job), actor_state_name="ALIVE")
+        if any(a["Address"]["NodeID"] in second for a in alive.values()):
+            time.sleep(1)  # its answer of where it runs reaches the driver
+            return
+        time.sleep(0.25)
+    raise AssertionError("no actor was made on the second node")
 
 
 def _same_as_local(result, out: Path, local: tuple[Path, dict[int, object]]) -> None:
@@ -167,7 +205,8 @@ def test_the_run_of_a_node_that_dies_is_run_again_on_the_other(
 ) -> None:
     def progress(kind: str, payload: object) -> None:
         if kind == "record" and cluster.node.poll() is None:
-            _stop(cluster.node)  # both actors were busy: node 2 dies in the middle of a run
+            _await_actor_on_node_2()  # under load it may start after the head's first run
+            _stop(cluster.node)  # node 2 dies in the middle of its run, or of the next one
 
     result = run_campaign(_options(tmp_path, engine="ray", address=cluster.address), progress)
     assert cluster.node.poll() is not None
