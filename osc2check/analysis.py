@@ -16,7 +16,7 @@ from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
 from osc2check.semantics.program import Program, build_program
-from osc2check.source import decode_source, point_span
+from osc2check.source import decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
 from osc2check.verify.check import VerifyResult, verify_program
@@ -122,6 +122,7 @@ def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) 
 
 
 def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
+    sources = [_clean(s) for s in sources]
     texts = {s.uri: s.text for s in sources}
     given = {
         s.uri: s.parse
@@ -170,6 +171,14 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
     diagnostics = _finish(found, cache, texts, options)
     return Analysis(diagnostics, texts, programs, cache.parses, verified)
+
+
+def _clean(source: SourceInput) -> SourceInput:
+    """The source with its NUL characters replaced (``source.without_nul``)."""
+    text, problem = without_nul(source.text, source.problem)
+    if text is source.text:
+        return source
+    return replace(source, text=text, problem=problem, parse=None)
 
 
 def _encoding_problem(source: SourceInput) -> Diagnostic:

@@ -393,31 +393,15 @@ def _walk(root: Path, config: Config) -> tuple[list[Path], list[InputProblem]]:
     check = not _excluded(config, root)  # a folder named explicitly is searched anyway
     found: list[Path] = []
     problems: list[InputProblem] = []
-
-    def unlisted(exc: OSError) -> None:
-        where = Path(exc.filename) if exc.filename else root
-        problems.append(_cannot_read(where, inputs.reason(exc)))
-
-    for dirpath, dirnames, filenames in os.walk(root, onerror=unlisted):
-        here = Path(dirpath)
-        dirnames[:] = sorted(
-            d for d in dirnames if not (check and _excluded(config, here / d, name_only=True))
-        )
-        for name in sorted(filenames):
-            path = here / name
-            if not name.endswith(".osc") or (check and _excluded(config, path, name_only=True)):
-                continue
-            try:
-                why = inputs.not_regular(inputs.probe(path))
-            except InputError as exc:
-                problems.append(_cannot_read(path, str(exc)))
-                continue
-            if why is None:
-                found.append(path)
-            else:
-                problems.append(
-                    InputProblem(_display_as_given(path), f"skipped: {why}", Severity.INFO)
-                )
+    for met in inputs.walk(root, lambda p: check and _excluded(config, p, name_only=True)):
+        if met.why is None:
+            found.append(met.path)
+        elif met.error:
+            problems.append(_cannot_read(met.path, met.why))
+        else:
+            problems.append(
+                InputProblem(_display_as_given(met.path), f"skipped: {met.why}", Severity.INFO)
+            )
     return found, problems
 
 

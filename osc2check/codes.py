@@ -149,6 +149,12 @@ INVALID_UNIT_DECLARATION = Code(
     "a unit declares SI exponents that differ from its type's",
 )
 NOT_CALLABLE = Code("T208", "not-callable", E, "something that is not a method is called")
+NUMBER_OUT_OF_RANGE = Code(
+    "T209",
+    "number-out-of-range",
+    E,
+    "a number has more digits or a larger or smaller magnitude than any value can have",
+)
 
 # --- A: arguments and invocations ------------------------------------------
 UNKNOWN_ACTION_OR_MODIFIER = Code(

@@ -22,7 +22,7 @@ from __future__ import annotations
 import errno
 import os
 import stat
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
@@ -33,11 +33,13 @@ __all__ = [
     "MAX_SOURCE_BYTES",
     "InputError",
     "InputProblem",
+    "Met",
     "not_regular",
     "probe",
     "read_bytes",
     "read_stream",
     "reason",
+    "walk",
 ]
 
 MAX_SOURCE_BYTES = 50 * 1024 * 1024  # far above any scenario; below what hurts to hold
@@ -105,6 +107,47 @@ def probe(path: str | Path) -> os.stat_result:
         raise InputError(reason(exc, path)) from None
     except ValueError:  # a NUL byte in the name
         raise InputError("invalid file name") from None
+
+
+@dataclass(frozen=True, slots=True)
+class Met:
+    """A path met walking a folder: a source to read (``why`` None), or why not."""
+
+    path: Path
+    why: str | None = None
+    error: bool = False  # it cannot be read (else a special file, skipped with a note)
+
+
+def walk(root: Path, excluded: Callable[[Path], bool] | None = None) -> Iterator[Met]:
+    """The ``*.osc`` paths below ``root``, in sorted order, each with why it is not read.
+
+    A regular file (links followed) is a source; a FIFO, socket or device named
+    ``*.osc`` is skipped (a note: it is never opened); a link that leads nowhere and a
+    folder that cannot be listed cannot be read (errors). Links to folders are not
+    followed; folders and files ``excluded`` says are left out. The command line and
+    the language server's workspace search both walk this way.
+    """
+    met: list[Met] = []  # folders that cannot be listed, met while walking
+
+    def unlisted(exc: OSError) -> None:
+        met.append(Met(Path(exc.filename) if exc.filename else root, reason(exc), True))
+
+    for dirpath, dirnames, filenames in os.walk(root, onerror=unlisted):
+        yield from met
+        met.clear()
+        here = Path(dirpath)
+        dirnames[:] = sorted(d for d in dirnames if not (excluded and excluded(here / d)))
+        for name in sorted(filenames):
+            path = here / name
+            if not name.endswith(".osc") or (excluded and excluded(path)):
+                continue
+            try:
+                why = not_regular(probe(path))
+            except InputError as exc:
+                yield Met(path, str(exc), True)
+                continue
+            yield Met(path, why)
+    yield from met
 
 
 def not_regular(status: os.stat_result) -> str | None:

@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 from osc2check import codes
 from osc2check.codes import Code
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
+from osc2check.numbers import MAX_DIGITS, MAX_MAGNITUDE
 from osc2check.source import Span
 
 if TYPE_CHECKING:
@@ -84,6 +85,16 @@ def not_an_invocation(span: Span) -> Diagnostic:
         "expected a declaration, a constraint or an invocation such as `name(...)`",
         span,
     )
+
+
+def number_out_of_range(span: Span, text: str, digits: bool) -> Diagnostic:
+    shown = text if len(text) <= 40 else f"{text[:20]}...{text[-10:]}"
+    why = (
+        f"it has more than {MAX_DIGITS} digits"
+        if digits
+        else f"a value lies between 1e-{MAX_MAGNITUDE} and 1e{MAX_MAGNITUDE + 1}, or is 0"
+    )
+    return _diag(codes.NUMBER_OUT_OF_RANGE, f"the number `{shown}` is out of range: {why}", span)
 
 
 def spaced_unit(span: Span, number: str, unit: str) -> Diagnostic:
@@ -869,6 +880,15 @@ def solver_inconclusive(span: Span, scenario: str, reason: str) -> Diagnostic:
         f"the solver could not decide whether the constraints of scenario `{scenario}` "
         f"can all hold ({reason}); raise `[tool.osc2check.solver] rlimit` to try "
         "harder",
+        span,
+    )
+
+
+def scenario_budget(span: Span, scenario: str, limit: int) -> Diagnostic:
+    return _diag(
+        codes.SOLVER_INCONCLUSIVE,
+        f"the constraints of scenario `{scenario}` are not checked: the solver checks the "
+        f"first {limit} scenarios of a file; check it alone with `--scenario {scenario}`",
         span,
     )
 

@@ -98,7 +98,16 @@ def decode_source(data: bytes) -> tuple[str, str | None]:
     except UnicodeDecodeError as exc:
         text = data.decode("utf-8-sig", errors="replace")
         problem = f"invalid UTF-8 at byte {exc.start}"
-    if "\x00" in text:
-        text = text.replace("\x00", "\ufffd")
-        problem = problem or "NUL byte in source"
-    return text, problem
+    return without_nul(text, problem)
+
+
+def without_nul(text: str, problem: str | None = None) -> tuple[str, str | None]:
+    """``text`` with each NUL character replaced (as an invalid byte is), and the
+    problem (P004) that says so, unless ``problem`` already tells of one.
+
+    A NUL is no part of a text file; the checker reads it whether it comes from a
+    file's bytes or from an editor's text, so both show the same findings.
+    """
+    if "\x00" not in text:
+        return text, problem
+    return text.replace("\x00", "\ufffd"), problem or "NUL byte in source"

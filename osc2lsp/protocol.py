@@ -37,7 +37,6 @@ from typing import TYPE_CHECKING, Any, BinaryIO
 from cattrs.errors import ClassValidationError, IterableValidationError
 from cattrs.v import format_exception, transform_error
 from lsprotocol import types
-from lsprotocol.types import ResponseError
 from pygls.exceptions import (
     JsonRpcException,
     JsonRpcInternalError,
@@ -166,6 +165,10 @@ class Osc2Protocol(LanguageServerProtocol):
             log.warning("ignoring a JSON-RPC message that is not an object: %.200r", data)
             self._send_error(None, JsonRpcInvalidRequest("a message must be a JSON object"))
             return
+        if "id" in data and not _valid_id(data["id"]):
+            log.warning("ignoring a JSON-RPC message whose id is %.200r", data["id"])
+            self._send_error(None, JsonRpcInvalidRequest("an id must be a string or a number"))
+            return
         try:
             message = self.structure_message(data)
         except JsonRpcException as exc:
@@ -177,6 +180,21 @@ class Osc2Protocol(LanguageServerProtocol):
         self.handle_message(message)
 
     def garbled(self, event: Garbled) -> None:
+        if event.too_large:
+            log.error("skipped %s; reading on from the next frame", event.reason)
+            self._send_error(None, JsonRpcInvalidRequest(f"skipped {event.reason}"))
+            self._send_data(
+                {
+                    "jsonrpc": "2.0",
+                    "method": types.WINDOW_SHOW_MESSAGE,
+                    "params": {
+                        "type": types.MessageType.Error.value,
+                        "message": f"osc2lsp: skipped {event.reason}; a document it changed "
+                        "may be out of date until it is opened again",
+                    },
+                }
+            )
+            return
         log.warning(
             "skipped %s (%d bytes); reading on from the next frame", event.reason, event.size
         )
@@ -209,10 +227,14 @@ class Osc2Protocol(LanguageServerProtocol):
             self._server._report_server_error(error, JsonRpcInternalError)
 
     def _send_error(self, msg_id: Any, error: JsonRpcException) -> None:
+        """An error answer; ``"id": null`` when the id is unknown (JSON-RPC 2.0 wants
+        the member present, and lsprotocol's converter leaves a None out)."""
         self._send_data(
-            types.ResponseErrorMessage(
-                id=msg_id, error=ResponseError(code=error.code, message=error.message)
-            )
+            {
+                "jsonrpc": "2.0",
+                "id": msg_id if _valid_id(msg_id) else None,
+                "error": {"code": error.code, "message": error.message},
+            }
         )
 
     def handle_message(self, message: Any) -> None:
@@ -249,6 +271,11 @@ class Osc2Protocol(LanguageServerProtocol):
     def lsp_text_document__did_close(self, params: Any) -> Generator[Any, Any, None]:
         if (handler := self.fm.features.get(types.TEXT_DOCUMENT_DID_CLOSE)) is not None:
             yield handler, (params,), None
+
+
+def _valid_id(value: Any) -> bool:
+    """Whether ``value`` can be a request's id (a string or a number, not a boolean)."""
+    return isinstance(value, (str, int, float)) and not isinstance(value, bool)
 
 
 # ---- reading stdin ---------------------------------------------------------------------

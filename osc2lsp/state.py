@@ -57,7 +57,6 @@ from __future__ import annotations
 import asyncio
 import gc
 import logging
-import os
 import re
 import time
 from collections.abc import Callable, Mapping
@@ -608,11 +607,11 @@ class State:
         if doc is None or not doc.current:
             return  # a newer edit is on its way; its analysis schedules this again
         batch = self._batch(doc)
-        versions = {d.uri: (d.version, d.text) for d in batch}
+        texts = {d.uri: (d.version, d.text) for d in batch}
         config = self.configs.for_file(doc.key, self.options, self.root)
-        inputs = [(d.key, d.text) for d in batch]
+        jobs = [(d.key, d.version, d.text) for d in batch]
         try:
-            found = await self._solver.findings(inputs, config)
+            answer = await self._solver.findings(jobs, config)
         except Exception:
             log.exception("solver checks of %s failed", uri)
             return
@@ -620,8 +619,15 @@ class State:
         for d in batch:
             if self.documents.get(d.uri) is not d or d.stale or not d.current:
                 continue
-            if (d.version, d.text) == versions[d.uri] and d.key in found and d.snapshot:
-                d.snapshot = d.snapshot.with_findings(found[d.key])
+            # The answer is for the versions asked about, and the document is still at
+            # that version with that text: else a newer analysis is on its way.
+            if (
+                (d.version, d.text) == texts[d.uri]
+                and answer.versions.get(d.key, -1) == d.version
+                and d.key in answer.findings
+                and d.snapshot
+            ):
+                d.snapshot = d.snapshot.with_findings(answer.findings[d.key])
                 published.append(findings_of(d.snapshot))
         self._publish(uri, published)
 
@@ -664,30 +670,31 @@ class State:
 
     async def closed_files(self, mentioning: str, limit: int = 200) -> list[Snapshot]:
         """Snapshots of the workspace's `.osc` files that are not open and whose text
-        contains ``mentioning`` (references and rename reach into them)."""
-        if not self.root or not Path(self.root).is_dir():
+        contains ``mentioning`` (references and rename reach into them).
+
+        The files are found and read as ``osc2check`` finds and reads them (regular
+        files only, at most its size cap, never blocking) on a thread of their own:
+        a slow or strange file system never holds up the event loop.
+        """
+        if not self.root:
             return []
         open_keys = {d.key for d in self.documents.values()}
+        known = {key: (mtime, text) for key, (mtime, text, _) in self._closed.items()}
         loop = asyncio.get_running_loop()
+        read = await loop.run_in_executor(
+            None, _workspace_sources, Path(self.root), limit, open_keys, known, mentioning
+        )
         found: list[Snapshot] = []
-        for path in _osc_files(Path(self.root), limit):
-            key = str(path)
-            if key in open_keys:
+        for key, mtime, text, mentions in read:
+            cached = self._closed.get(key)
+            if cached is None or cached[0] != mtime or cached[1] is not text:
+                cached = self._closed[key] = (mtime, text, None)
+            if not mentions:
                 continue
-            try:
-                stat = path.stat()
-                cached = self._closed.get(key)
-                if cached is None or cached[0] != stat.st_mtime:
-                    text = path.read_text(encoding="utf-8", errors="replace")
-                    cached = self._closed[key] = (stat.st_mtime, text, None)
-            except OSError:
-                continue
-            mtime, text, snap = cached
-            if not re.search(rf"(?<!\w){re.escape(mentioning)}(?!\w)", text):
-                continue
+            snap = cached[2]
             if snap is None:
                 config = self.configs.for_file(key, self.options, self.root)
-                uri = path.as_uri()
+                uri = Path(key).as_uri()
                 inputs: list[tuple[str, str, int | None]] = [(uri, text, None)]
                 analysed = await loop.run_in_executor(
                     self._executor, analyse, inputs, config, False
@@ -758,25 +765,56 @@ def _warm_features(snap: Snapshot) -> None:
         log.debug("warming the features failed", exc_info=True)
 
 
-def _osc_files(root: Path, limit: int):
-    """The `.osc` files under ``root``, skipping the folders ``osc2check`` skips and
-    the bundled library."""
+def _workspace_sources(
+    root: Path,
+    limit: int,
+    open_keys: set[str],
+    known: dict[str, tuple[float, str]],
+    mentioning: str,
+) -> list[tuple[str, float, str, bool]]:
+    """``(key, mtime, text, mentions)`` of the first ``limit`` sources below ``root``
+    that are not open (the text of ``known`` when the file has not changed since), as
+    ``osc2check`` walks and reads them; the folders it skips by default, hidden ones and
+    the bundled library are left out. ``mentions``: the text has ``mentioning`` as a
+    whole word. On a thread: it reads files."""
     from osc2check.config import DEFAULT_EXCLUDE
+    from osc2check.inputs import InputError, read_bytes, walk
     from osc2check.resources import stdlib_dir
+    from osc2check.source import decode_source
 
     library = stdlib_dir().resolve()
-    count = 0
-    for folder, dirs, files in os.walk(root):
-        if Path(folder).resolve() == library:
-            dirs[:] = []
+
+    def excluded(path: Path) -> bool:
+        name = path.name
+        if name.endswith(".osc"):
+            return False
+        return name in DEFAULT_EXCLUDE or name.startswith(".") or path.resolve() == library
+
+    if not root.is_dir():
+        return []
+    word = re.compile(rf"(?<!\w){re.escape(mentioning)}(?!\w)")
+    found = []
+    for met in walk(root, excluded):
+        if met.why is not None:
+            log.debug("workspace search: %s left out: %s", met.path, met.why)
             continue
-        dirs[:] = sorted(d for d in dirs if d not in DEFAULT_EXCLUDE and not d.startswith("."))
-        for name in sorted(files):
-            if name.endswith(".osc"):
-                yield Path(folder) / name
-                count += 1
-                if count >= limit:
-                    return
+        key = str(met.path)
+        if key in open_keys:
+            continue
+        try:
+            mtime = met.path.stat().st_mtime
+            cached = known.get(key)
+            if cached is not None and cached[0] == mtime:
+                text = cached[1]
+            else:
+                text, _ = decode_source(read_bytes(met.path))
+        except (OSError, InputError) as exc:
+            log.debug("workspace search: %s left out: %s", met.path, exc)
+            continue
+        found.append((key, mtime, text, bool(word.search(text))))
+        if len(found) >= limit:
+            break
+    return found
 
 
 def _newer(a: int | None, b: int | None) -> bool:

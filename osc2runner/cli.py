@@ -5,9 +5,13 @@ phase, the ``fail`` event, a collision, the time limit with bounded phases
 still running); 2 for usage errors (one line ``osc2run: error: ...``; a bad
 option or ``--out`` is found before the checker runs), input errors (the
 checker's error diagnostics or the runner's own problems are printed, and
-nothing runs), a run whose physics diverged (outcome ``error``, files written)
-and internal errors; 128 + the signal's number when SIGINT (130), SIGTERM
-(143) or SIGHUP (129) interrupted it (what was recorded is written first).
+nothing runs), a run that ended as ``error`` (the physics diverged, or the
+system under test failed: it raised, ``SystemExit`` and ``KeyboardInterrupt``
+included, or ran past ``--step-timeout``; files written) and internal errors;
+128 + the signal's number when SIGINT (130), SIGTERM (143) or SIGHUP (129)
+interrupted it, at any point, the system under test's code included (what was
+recorded is written first; a second signal ends a system under test that does
+not stop).
 
 On a terminal a progress bar shows simulated time and the real-time factor;
 otherwise one summary is printed at the end.
@@ -16,6 +20,7 @@ otherwise one summary is printed at the end.
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import logging
 import os
 import sys
@@ -26,7 +31,13 @@ from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
 from osc2runner.errors import ScenarioError
-from osc2runner.execution.signals import SignalInterrupt, exit_status, raising, signal_name
+from osc2runner.execution.signals import (
+    Caught,
+    SignalInterrupt,
+    exit_status,
+    raising,
+    signal_name,
+)
 from osc2runner.options import OptionError, check_out, check_seed, check_steps, check_time
 
 __all__ = [
@@ -130,6 +141,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--sut-actor", metavar="NAME", help="the actor the system under test drives")
     p.add_argument(
+        "--step-timeout",
+        metavar="S",
+        help="wall-clock limit in seconds of each call into the system under test (its "
+        "construction, reset and every step; default 60): over it the run ends as error",
+    )
+    p.add_argument(
         "--bin",
         metavar="ITEM=INDEX",
         help="draw the witness inside bucket INDEX of cover item ITEM (replays a campaign's "
@@ -168,8 +185,18 @@ def build_parser() -> argparse.ArgumentParser:
     c.add_argument(
         "--resume",
         metavar="DIR",
-        help="finish the campaign in DIR: its finished "
-        "runs are kept (FILE and options default to the campaign's)",
+        help="finish the campaign in DIR: its finished runs are kept (FILE and options "
+        "default to the campaign's, but --sut: give it again, or --trust-folder)",
+    )
+    c.add_argument(
+        "--trust-folder",
+        action="store_true",
+        help="with --resume: import the system under test the folder's campaign.json names",
+    )
+    c.add_argument(
+        "--force",
+        action="store_true",
+        help="let --out write into a non-empty folder that holds no campaign of the scenario",
     )
     from osc2runner.export.command import add_export_options
 
@@ -205,11 +232,15 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         for name in ("jobs", "address", "run_timeout"):
             if getattr(args, name) is not None:
                 raise UsageError(f"--{name.replace('_', '-')} needs --runs N (a campaign)")
+        for name in ("trust_folder", "force"):
+            if getattr(args, name):
+                raise UsageError(f"--{name.replace('_', '-')} needs --runs N (a campaign)")
     if args.plot and not args.out:
         raise UsageError("--plot needs --out DIR")
     args.seed = _checked(args.seed, int, check_seed)
     args.duration = _checked(args.duration, float, lambda v: check_time("duration", v))
     args.run_timeout = _checked(args.run_timeout, float, lambda v: check_time("run_timeout", v))
+    args.step_timeout = _checked(args.step_timeout, float, lambda v: check_time("step_timeout", v))
     given = {"dt_control": args.dt_control, "dt_physics": args.dt_physics}
     try:
         args.dt_control, args.dt_physics = check_steps(
@@ -250,6 +281,10 @@ def _sut(args: argparse.Namespace) -> Any:
             spec = None
         if spec is None and args.sut_actor is not None:
             raise UsageError("--sut-actor needs --sut MODULE:CLASS")
+        if spec is None and args.step_timeout is not None:
+            raise UsageError("--step-timeout needs --sut MODULE:CLASS")
+        if spec is not None and args.step_timeout is not None:
+            spec = dataclasses.replace(spec, step_timeout=args.step_timeout)
         if spec is not None:
             spec.load()
     except SutError as exc:
@@ -261,8 +296,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``) and return the exit status."""
     args_list = list(sys.argv[1:] if argv is None else argv)
     try:
-        with raising():
-            return _main(args_list)
+        with raising() as caught:
+            return _main(args_list, caught)
     except SignalInterrupt as exc:  # outside the run's loop (the checker, a summary)
         sys.stderr.write(f"osc2run: interrupted by {signal_name(exc.signum)}\n")
         return exit_status(exc.signum)
@@ -271,7 +306,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         return EXIT_INTERRUPTED
 
 
-def _main(args_list: list[str]) -> int:
+def _main(args_list: list[str], caught: Caught) -> int:
     try:
         args = _parse(args_list)
     except SystemExit as exc:  # --help, --version
@@ -304,6 +339,9 @@ def _main(args_list: list[str]) -> int:
         sys.stderr.write(f"osc2run: error: {_one_line(exc.cli)}\n")
         return EXIT_ERROR
     except Exception as exc:  # the one guard of this entry point
+        if caught.first is not None:  # what the signal cut short failed its own way
+            sys.stderr.write(f"osc2run: interrupted by {signal_name(caught.first)}\n")
+            return exit_status(caught.first)
         if args.debug:
             traceback.print_exc(file=sys.stderr)
         sys.stderr.write(f"osc2run: internal error: {type(exc).__name__}: {exc}\n")
@@ -327,7 +365,12 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         witness=_witness_in_bin(checked, args) if args.bin is not None else None,
     )
     interactive = out.isatty() and not args.quiet
-    files = {"out": args.out, "plot": args.plot, "export": args.export_targets}
+    files = {
+        "out": args.out,
+        "plot": args.plot,
+        "export": args.export_targets,
+        "hard_stop": partial(_hard_exit, out),
+    }
     try:
         if interactive:
             result = _with_progress(prepared, args, partial(execute, **files))
@@ -337,9 +380,23 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         _summary(exc.result, out)
         return exit_status(exc.signum)
     _summary(result, out)
-    if result.outcome.status == "error":  # the physics diverged (a bug is re-raised)
+    if (
+        result.outcome.status == "error"
+    ):  # the physics diverged, the SUT failed (a bug is re-raised)
         return EXIT_ERROR
     return EXIT_OK if result.success else EXIT_FAILURE
+
+
+def _hard_exit(out: TextIO, result: Any, status: int) -> None:
+    """End the process now (a system under test that does not stop: its run's files are
+    written), with the run's summary."""
+    _summary(result, out)
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    os._exit(status)
 
 
 def _witness_in_bin(checked: Any, args: argparse.Namespace) -> Any:

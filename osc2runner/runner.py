@@ -54,7 +54,7 @@ from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for, drive_with_sut
 from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import RunOutcome, TickLoop
-from osc2runner.execution.signals import Interrupts
+from osc2runner.execution.signals import Interrupts, exit_status, signal_name
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.lights import traffic_lights
@@ -65,7 +65,7 @@ from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
 from osc2runner.sim import World, versions
 from osc2runner.sim.vehicle import VehicleParams
-from osc2runner.sut.driver import sut_info
+from osc2runner.sut.driver import SutFault, call_sut, sut_info
 from osc2runner.sut.loading import SutError, SutSpec, choose_actor
 
 __all__ = [
@@ -159,6 +159,7 @@ class Prepared(Compiled):
 
     world: World
     sut: dict[str, str] | None = None  # the system under test: its class and actor
+    sut_fault: str | None = None  # the SUT failed to start (construction, reset): a run error
 
 
 # ---------------------------------------------------------------------- preparation
@@ -272,18 +273,25 @@ def build_world(
     controllers = controllers_for(world, routes, ctx.seed)
     ctx.attach(world, controllers)
     seat: dict[str, str] | None = None
+    fault: str | None = None
     if sut is not None and sut_actor is not None:
         params = world.params(sut_actor)
         assert isinstance(params, VehicleParams)
-        instance = sut.make()
-        reset = getattr(instance, "reset", None)
-        if callable(reset):
-            reset(sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name))
-        drive_with_sut(controllers, world, ctx.states, sut_actor, instance, ctx.record)
         seat = {"class": sut.target, "actor": sut_actor}
+        try:
+            instance = sut.make()
+            reset = getattr(instance, "reset", None)
+            if callable(reset):
+                info = sut_info(sut_actor, params, dt_control, ctx.seed, c.scenario.name)
+                call_sut(type(instance).__name__, "reset", sut.step_timeout, reset, info)
+            drive_with_sut(
+                controllers, world, ctx.states, sut_actor, instance, ctx.record, sut.step_timeout
+            )
+        except SutFault as exc:  # the run ends before its first tick, as an error
+            fault = str(exc)
     for name, fn in c.env.variable_inits:
         ctx.variables[name] = fn()
-    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world, seat)
+    return Prepared(c.uri, c.analysis, c.instance, c.env, c.compiled, world, seat, fault)
 
 
 def _sut_actor(c: Compiled, sut: SutSpec) -> str:
@@ -400,13 +408,19 @@ def execute(
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
     export: ExportTargets | None = None,
+    hard_stop: Callable[[RunResult, int], None] | None = None,
 ) -> RunResult:
     """Tick a prepared scenario to its end and write its files (see :func:`run`), and
     the exports ``export`` names (:mod:`osc2runner.export`), before ``run.json``.
 
     Signals are noted from before the first tick until the files are written
     (:class:`~osc2runner.execution.signals.Interrupts`): the first one ends the
-    loop at a tick boundary, later ones cannot cut a file short.
+    loop at a tick boundary (or where it is, in the system under test's code),
+    later ones cannot cut a file short. With ``hard_stop`` (for a command's own
+    process), a system under test that does not stop (a second signal, or its budget
+    run out twice) is left where it is: the files are written from the signal handler
+    and ``hard_stop(result, status)`` is called with the exit status; it must end the
+    process (``os._exit``).
     """
     world = prepared.world
     seconds = check_duration(duration)
@@ -414,19 +428,30 @@ def execute(
     limit = DEFAULT_TIME_LIMIT if seconds is None else seconds
     if log.isEnabledFor(logging.DEBUG):
         progress = _logging(progress)
-    with Interrupts() as interrupts:
-        loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
+    loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
+
+    def stop_now(status: str, reason: str, signum: int | None) -> None:
+        assert hard_stop is not None
+        interrupts.consumed = True  # nothing more is taken from here on
+        name = signal_name(signum) if signum is not None else None
+        ctx = prepared.ctx
+        outcome = RunOutcome(status, reason, ctx.tick, ctx.time, signal=name)
+        ctx.record("outcome", outcome.status, outcome.reason)
+        result = _finish(prepared, loop.recorder, outcome, 0.0, folder, plot, export)
+        log.error("%s: the run ended at tick %d, its files written", reason, ctx.tick)
+        hard_stop(result, exit_status(signum) if signum is not None else 2)
+
+    with Interrupts(hard_stop=stop_now if hard_stop is not None else None) as interrupts:
         log.debug(
             "ticking scenario %s (signals caught: %s)", prepared.scenario.name, interrupts.installed
         )
-        ticked = loop.run(progress, interrupts)
+        ticked = loop.run(progress, interrupts, fault=prepared.sut_fault)
+        interrupts.writing = True
         result = _finish(
             prepared, ticked.recorder, ticked.outcome, ticked.wall_seconds, folder, plot, export
         )
     if ticked.outcome.status == "interrupted":
-        raise RunInterrupted(result, interrupts.first if interrupts.consumed else None) from (
-            ticked.error
-        )
+        raise RunInterrupted(result, ticked.signum) from ticked.error
     if ticked.error is not None:
         raise ticked.error
     return result

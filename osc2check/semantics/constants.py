@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from osc2check.numbers import NumberOutOfRange, exact_number, representable
 from osc2check.semantics import types as T
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -101,12 +102,13 @@ class NotConstant(Exception):
 
 
 def literal_number(node: ast.IntLiteral | ast.FloatLiteral) -> int | Fraction:
-    """The exact number a numeric literal writes (``1.5`` is 3/2)."""
-    if isinstance(node, ast.IntLiteral):
-        return node.value
+    """The exact number a numeric literal writes (``1.5`` is 3/2); NotConstant beyond
+    the budget of ``osc2check.numbers`` (reported as T209 by the parser)."""
     try:
-        return Fraction(node.text.replace("_", ""))
-    except (ValueError, ZeroDivisionError):
+        return exact_number(node.text or "0")
+    except NumberOutOfRange:
+        raise NotConstant(f"`{node.text}` is out of range", node) from None
+    except ValueError:
         raise NotConstant(f"`{node.text}` has no exact value", node) from None
 
 
@@ -266,7 +268,16 @@ class _Evaluator:
 
 
 def arithmetic(op: str, left: Value, right: Value, node: ast.Node | None = None) -> Value:
-    """``left op right`` for ``+ - * / %`` over exact numbers and quantities."""
+    """``left op right`` for ``+ - * / %`` over exact numbers and quantities; NotConstant
+    for a result beyond the budget (``numbers.representable``)."""
+    result = _arithmetic(op, left, right, node)
+    number = result.si if isinstance(result, Quantity) else _number(result)
+    if number is not None and not representable(number):
+        raise NotConstant("the value is out of the range of numbers", node)
+    return result
+
+
+def _arithmetic(op: str, left: Value, right: Value, node: ast.Node | None) -> Value:
     ln, rn = _number(left), _number(right)
     if ln is not None and rn is not None:
         if op in ("/", "%") and rn == 0:

@@ -15,6 +15,7 @@ from typing import Literal, TypedDict, Unpack, cast
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
+from osc2check.numbers import exact_number
 from osc2check.semantics import types as T
 from osc2check.semantics.enums import resolve_aliases
 from osc2check.semantics.model import Context, Model
@@ -635,12 +636,10 @@ def _is_conditional(symbol: Symbol) -> bool:
 
 def _constant_number(expr: ast.Expr) -> Fraction | None:
     match expr:
-        case ast.IntLiteral():
-            return Fraction(expr.value)
-        case ast.FloatLiteral():
+        case ast.IntLiteral() | ast.FloatLiteral():
             try:
-                return Fraction(expr.text)
-            except (ValueError, ZeroDivisionError):
+                return Fraction(exact_number(expr.text))
+            except ValueError:  # no exact value, or out of range (reported as T209)
                 return None
         case ast.Unary(op="-"):
             inner = _constant_number(expr.operand)

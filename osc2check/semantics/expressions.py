@@ -25,7 +25,7 @@ from osc2check.semantics.calls import bind_builtin, builtin_problems
 from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
-from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.semantics.symbols import IMPLICIT_NAMES, Symbol, SymbolKind
 from osc2check.syntax import ast
 
 # Checks a method call's arguments: (method, parameters, arguments, scope, span of the call).
@@ -320,7 +320,7 @@ class ExpressionChecker:
         if not isinstance(expr, ast.NameRef) or expr.name.namespace is not None:
             return False
         name = expr.name.name.text
-        if name in ("it", "actor") or self.value_symbol(expr.name, scope) is not None:
+        if name in IMPLICIT_NAMES or self.value_symbol(expr.name, scope) is not None:
             return False
         owners = [
             e

@@ -21,6 +21,11 @@ if TYPE_CHECKING:
     from osc2check.semantics.model import Context
 
 
+# Names the language gives in a scope (the subject of a `with:` block, the actor of a
+# behaviour): a declaration of either would be read as the implicit one.
+IMPLICIT_NAMES = ("it", "actor")
+
+
 class SymbolKind(Enum):
     PRIMITIVE = "primitive type"
     PHYSICAL_TYPE = "physical type"

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, TypeVar, overload
 
+from osc2check.numbers import NumberOutOfRange, exact_number
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.lexer import Token
@@ -40,10 +41,12 @@ _ESCAPES = {"n": "\n", "t": "\t", "r": "\r", "\\": "\\", '"': '"', "'": "'", "0"
 
 @dataclass(frozen=True, slots=True)
 class BuildProblem:
-    """Grammatical but meaningless input, such as ``x.y`` where an invocation is expected."""
+    """Grammatical but meaningless input, such as ``x.y`` where an invocation is expected
+    (kind ``invocation``) or a number beyond the budget (kind ``number``, with why)."""
 
     span: Span
     kind: str
+    number: NumberOutOfRange | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -125,10 +128,21 @@ def _has(children: Children, token_type: str) -> bool:
     return any(isinstance(c, Token) and c.type == token_type for c in children)
 
 
-def _report(span: Span, kind: str) -> None:
+def _report(span: Span, kind: str, number: NumberOutOfRange | None = None) -> None:
     problems = _PROBLEMS.get()
     if problems is not None:
-        problems.append(BuildProblem(span, kind))
+        problems.append(BuildProblem(span, kind, number))
+
+
+def _number(text: str, span: Span) -> int | Fraction | None:
+    """The exact value of a literal's number, or None (reported) beyond the budget."""
+    try:
+        return exact_number(text)
+    except NumberOutOfRange as exc:
+        _report(span, "number", exc)
+    except ValueError:  # inf, nan: no exact value
+        pass
+    return None
 
 
 def _unescape(body: str) -> str:
@@ -229,16 +243,16 @@ class Builder:
 
     def int_literal(self, c: Children) -> ast.IntLiteral:
         tok = c[0]
-        text = str(tok)
-        try:
-            value = int(text, 16) if text[:2] in ("0x", "0X") else int(text or "0")
-        except ValueError:
-            value = 0
-        return ast.IntLiteral(_tok_span(tok), value, text)
+        text, span = str(tok), _tok_span(tok)
+        value = _number(text or "0", span)
+        return ast.IntLiteral(span, value if isinstance(value, int) else 0, text)
 
     def float_literal(self, c: Children) -> ast.FloatLiteral:
         tok = c[0]
-        return ast.FloatLiteral(_tok_span(tok), float(str(tok) or "0"), str(tok))
+        text, span = str(tok) or "0", _tok_span(tok)
+        if text[0].isdigit() or text[0] == ".":
+            _number(text, span)  # reported beyond the budget (its value is inf or 0.0)
+        return ast.FloatLiteral(span, float(text), str(tok))
 
     def physical_literal(self, c: Children) -> ast.PhysicalLiteral:
         tok = c[0]
@@ -255,8 +269,12 @@ class Builder:
             unit_start,
             tok.end_pos,
         )
+        number = _number(number_text, span)
         return ast.PhysicalLiteral(
-            span, Fraction(number_text), number_text, ast.Name(unit_span, unit_text)
+            span,
+            number if number is not None else float("nan"),  # no exact value: not folded
+            number_text,
+            ast.Name(unit_span, unit_text),
         )
 
     def string_literal(self, c: Children) -> ast.StringLiteral:

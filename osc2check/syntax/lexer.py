@@ -83,6 +83,8 @@ class LexError:
     length: int
     kind: str  # "character" | "string"
     text: str
+    line: int = 0  # where ``offset`` is (0: unknown)
+    column: int = 0
 
 
 @dataclass(frozen=True, slots=True)
@@ -162,10 +164,10 @@ def tokenize(text: str, pos: int = 0, endpos: int | None = None, line: int = 1) 
             comments.append(Comment(start, line, column, value))
             continue
         if kind == "ERROR":
-            errors.append(LexError(start, 1, "character", value))
+            errors.append(LexError(start, 1, "character", value, line, column))
             continue
         if kind == "BADSTRING":
-            errors.append(LexError(start, end - start, "string", value))
+            errors.append(LexError(start, end - start, "string", value, line, column))
             kind = STRING
         elif kind == "PUNCT" or kind == NAME:
             kind = fixed.get(value, kind)

@@ -138,9 +138,21 @@ def _tok_span(uri: str, tok: Token) -> Span:
     return Span(uri, tok.line, tok.column, tok.end_line, end_col, tok.start_pos, end_pos)
 
 
-def _offset_span(uri: str, text: str, start: int, length: int) -> Span:
-    point = point_span(uri, text, start)
-    return replace(point, end_column=point.column + length, end=start + length)
+def _error_span(uri: str, text: str, err: LexError) -> Span:
+    """The span of a lexical error: its one character, or the first of a string."""
+    length = err.length if err.kind == "character" else 1
+    if err.line:  # the lexer knows where it is (counting lines again is quadratic)
+        return Span(
+            uri,
+            err.line,
+            err.column,
+            err.line,
+            err.column + length,
+            err.offset,
+            err.offset + length,
+        )
+    point = point_span(uri, text, err.offset)
+    return replace(point, end_column=point.column + length, end=err.offset + length)
 
 
 def _previous_tokens(tokens: list[Token]) -> dict[int, Token]:
@@ -268,7 +280,7 @@ def _segment(
 ) -> Segment:
     diagnostics: list[Diagnostic] = []
     for err in lex_errors:
-        span = _offset_span(uri, text, err.offset, err.length if err.kind == "character" else 1)
+        span = _error_span(uri, text, err)
         if err.kind == "string":
             diagnostics.append(messages.unterminated_string(span))
         else:
@@ -322,8 +334,15 @@ def _segment(
                 messages.syntax_error(span, _found(tok), _expected(problem.expected))
             )
     error_lines.update(d.span.line for d in diagnostics)
+    numbers: set[int] = set()  # a fork of the error recovery may build a literal twice
     for built in problems:
-        if built.span.line not in error_lines:
+        if built.number is not None:
+            if built.span.start not in numbers:
+                numbers.add(built.span.start)
+                diagnostics.append(
+                    messages.number_out_of_range(built.span, built.number.text, built.number.digits)
+                )
+        elif built.span.line not in error_lines:
             diagnostics.append(messages.not_an_invocation(built.span))
             error_lines.add(built.span.line)
     declarations = tree.declarations if isinstance(tree, ast.File) else ()

@@ -8,10 +8,12 @@ source lines. ``lower.py`` builds a ``ConstraintProblem`` from the model;
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import TYPE_CHECKING, TypedDict, Unpack
 
+from osc2check.numbers import MAX_VALUE_BITS, bits, representable
 from osc2check.source import Span
 
 if TYPE_CHECKING:
@@ -146,6 +148,55 @@ def is_nonlinear(term: Term) -> bool:
     return False
 
 
+_VARIABLE_BITS = 64  # what a variable's value counts for in ``fits``
+_FOLDED = {"+": operator.add, "-": operator.sub, "*": operator.mul}
+
+
+def fits(term: Term) -> bool:
+    """Whether the exact numbers ``term`` computes stay within the budget of
+    ``osc2check.numbers``: a product adds its factors' sizes, a sum takes the larger
+    and one bit (its variables counted at 64 bits), and the value of each part made of
+    constants alone is ``representable``."""
+    size: dict[int, int] = {}
+    value: dict[int, Fraction | None] = {}  # the parts made of numeric constants alone
+    stack: list[tuple[Term, bool]] = [(term, False)]
+    while stack:
+        t, done = stack.pop()
+        if isinstance(t, Const):
+            number = None if isinstance(t.value, bool) else t.value
+            size[id(t)], value[id(t)] = (1 if number is None else bits(number)), number
+        elif isinstance(t, Ref):
+            size[id(t)], value[id(t)] = _VARIABLE_BITS, None
+        elif not done:
+            stack.append((t, True))
+            stack.extend((a, False) for a in t.args if id(a) not in size)
+        else:
+            sizes = [size[id(a)] for a in t.args]
+            grown = sum(sizes) if t.op in ("*", "/", "%") else max(sizes) + 1
+            folded = (
+                _fold(t.op, [value[id(a)] for a in t.args]) if grown <= MAX_VALUE_BITS else None
+            )
+            if grown > MAX_VALUE_BITS or (folded is not None and not representable(folded)):
+                return False
+            size[id(t)], value[id(t)] = grown, folded
+    return True
+
+
+def _fold(name: str, args: list[Fraction | None]) -> Fraction | None:
+    """The value of ``name`` over constant numbers, or None (not only constants, not
+    arithmetic, a division by zero)."""
+    if any(a is None for a in args):
+        return None
+    numbers = [a for a in args if a is not None]
+    if name == "neg":
+        return -numbers[0]
+    if name in _FOLDED:
+        return Fraction(_FOLDED[name](numbers[0], numbers[1]))
+    if name in ("/", "%") and numbers[1] != 0:
+        return numbers[0] / numbers[1] if name == "/" else numbers[0] % numbers[1]
+    return None
+
+
 def divisors(term: Term) -> list[Term]:
     """The divisors of the ``/`` and ``%`` in ``term`` that are not non-zero constants."""
     found: list[Term] = []
@@ -263,7 +314,13 @@ class ConstraintProblem:
             self.skipped.append(Skipped(span, text, reason))
 
     def add(self, constraint: Constraint) -> None:
-        """Add ``constraint``, made false where it would divide by zero (``guarded``)."""
+        """Add ``constraint``, made false where it would divide by zero (``guarded``);
+        one whose exact numbers could grow past ``numbers.MAX_VALUE_BITS`` is skipped
+        (reported, C411) before anything computes them."""
+        if not fits(constraint.term):
+            reason = "it computes numbers too large to compute exactly, or out of range"
+            self.skip(constraint.span, constraint.text, reason)
+            return
         term = guarded(constraint.term)
         if term is not constraint.term:
             constraint = replace(constraint, term=term)

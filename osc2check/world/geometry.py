@@ -28,7 +28,8 @@ then Newton steps), then scaled so the record ends at its declared ``length``,
 as esmini does. Heading and curvature come from the analytic derivatives.
 
 :func:`sample_spacing` chooses where to sample a record so that the chord of a
-dense polyline stays within ``tolerance`` of the curve (sagitta ``h^2 k / 8``).
+dense polyline stays within ``tolerance`` of the curve (sagitta ``h^2 k / 8``), at
+most one sample a centimetre.
 """
 
 from __future__ import annotations
@@ -41,6 +42,7 @@ from typing import Literal
 import numpy as np
 
 from osc2check.world.arrays import FloatArray
+from osc2check.world.budget import MIN_STEP
 
 __all__ = [
     "Cubic",
@@ -129,11 +131,12 @@ def max_curvature(geometry: Geometry) -> float:
 
 
 def sample_spacing(geometry: Geometry, tolerance: float, max_step: float) -> float:
-    """Step along ``geometry`` that keeps chords within ``tolerance`` of the curve."""
+    """Step along ``geometry`` that keeps chords within ``tolerance`` of the curve, but
+    never under ``budget.MIN_STEP`` (the sampling density is bounded, whatever the bend)."""
     kappa = max_curvature(geometry)
     if kappa <= 0.0:
         return max_step
-    return min(max_step, math.sqrt(8.0 * tolerance / kappa))
+    return max(MIN_STEP, min(max_step, math.sqrt(8.0 * tolerance / kappa)))
 
 
 # ---------------------------------------------------------------- line and arc

@@ -22,7 +22,9 @@ This is where geometry is evaluated, once:
 
 Bad structure (a road without geometry or lane sections, a link to a road or
 junction that does not exist, lane ids that are not ``1..n`` outwards) raises
-:class:`~osc2check.world.errors.MapError` at the record's line. A lane link that
+:class:`~osc2check.world.errors.MapError` at the record's line; so does a record
+beyond what a road can be, or a map beyond the sample budget (:mod:`.budget`):
+both are checked before anything is sampled at their cost. A lane link that
 names a lane that does not exist is skipped with a warning: real files have them
 (the NCAP crossing links border lane 2 to a lane -2 its connecting road lacks).
 """
@@ -35,13 +37,25 @@ from collections import defaultdict
 import numpy as np
 
 from osc2check.world.arrays import FloatArray
+from osc2check.world.budget import (
+    MAX_COORDINATE,
+    MAX_CURVATURE,
+    MAX_ELEVATION,
+    MAX_LATERAL,
+    MAX_ROAD_LENGTH,
+    SampleBudget,
+    beyond,
+    number_text,
+)
 from osc2check.world.errors import MapError, MapWarning
 from osc2check.world.geometry import (
     Geometry,
     cubic_profile,
     evaluate,
+    max_curvature,
     sample_spacing,
 )
+from osc2check.world.grid import MARGIN
 from osc2check.world.network import (
     Junction,
     Lane,
@@ -77,7 +91,8 @@ def build_network(
                 road_spec.column,
             )
         seen.add(road_spec.id)
-    roads = {r.id: _build_road(r, spec.source, tolerance, max_step) for r in spec.roads}
+    budget = SampleBudget(spec.source)
+    roads = {r.id: _build_road(r, spec.source, tolerance, max_step, budget) for r in spec.roads}
     junctions: dict[str, Junction] = {}
     for junction in spec.junctions:
         if junction.id in junctions:
@@ -127,24 +142,32 @@ def lane_width(network: RoadNetwork, ref: LaneRef, s: FloatArray) -> FloatArray:
 # ---------------------------------------------------------------- roads
 
 
-def _build_road(spec: RoadSpec, source: str | None, tolerance: float, max_step: float) -> Road:
+def _build_road(
+    spec: RoadSpec, source: str | None, tolerance: float, max_step: float, budget: SampleBudget
+) -> Road:
+    """The road of ``spec``, sampled. Values that overflow (a record beyond what a road
+    can be) are found and refused by the checks, not warned about on stderr."""
+    with np.errstate(all="ignore"):
+        return _sampled_road(spec, source, tolerance, max_step, budget)
+
+
+def _sampled_road(
+    spec: RoadSpec, source: str | None, tolerance: float, max_step: float, budget: SampleBudget
+) -> Road:
     def fail(problem: str) -> MapError:
         return MapError(f"road `{spec.id}`: {problem}", source, spec.line, spec.column)
 
     if spec.length <= 0.0:
         raise fail(f"length must be > 0, got {spec.length:g}")
+    if spec.length > MAX_ROAD_LENGTH:
+        raise fail(f"length {spec.length:g} m is longer than a road can be ({_LONGEST})")
     if not spec.geometries:
         raise fail("no geometry in <planView>")
     if not spec.sections:
         raise fail("no <laneSection>")
     geometries = tuple(sorted(spec.geometries, key=lambda g: g.s))
     for g in geometries:
-        if g.length <= 0.0:
-            raise MapError(
-                f"road `{spec.id}`: geometry at s={g.s:g} has length {g.length:g} (must be > 0)",
-                source,
-                g.line,
-            )
+        _check_geometry(spec, g, source)
     section_specs = tuple(sorted(spec.sections, key=lambda sec: sec.s))
     for sec in section_specs:
         if not 0.0 <= sec.s < spec.length:
@@ -164,7 +187,7 @@ def _build_road(spec: RoadSpec, source: str | None, tolerance: float, max_step: 
             section_specs[0].column,
         )
     ends = starts[1:] + [spec.length]
-    grid = _sample_grid(spec, geometries, section_specs, ends, tolerance, max_step)
+    grid = _sample_grid(spec, geometries, section_specs, ends, tolerance, max_step, budget)
 
     # One sample array per section, each including both of its ends.
     pieces = []
@@ -173,7 +196,11 @@ def _build_road(spec: RoadSpec, source: str | None, tolerance: float, max_step: 
         pieces.append(np.concatenate(([s0], inner, [s1])))
     s_all = np.concatenate(pieces)
     x, y, heading, curvature = _reference(geometries, s_all)
+    _check_reference(spec, geometries, s_all, (x, y, heading, curvature), source)
     offset = cubic_profile(spec.lane_offsets, s_all)
+    height = beyond(cubic_profile(spec.elevation, s_all), MAX_ELEVATION)
+    if height is not None:
+        raise fail(f"its elevation reaches {number_text(height)} m ({_HIGHEST})")
 
     sections = []
     start = 0
@@ -182,6 +209,17 @@ def _build_road(spec: RoadSpec, source: str | None, tolerance: float, max_step: 
     ):
         stop = start + len(piece)
         lanes, borders = _section_lanes(spec, sec, index, piece - s0, offset[start:stop], source)
+        wide = beyond(borders, MAX_LATERAL)
+        if wide is not None:
+            raise MapError(
+                f"road `{spec.id}`: a lane border of the lane section at s={s0:g} lies "
+                f"{number_text(wide)} m beside the reference line ({_WIDEST})",
+                source,
+                sec.line,
+                sec.column,
+            )
+        spread = float(np.max(borders) - np.min(borders)) + 2 * MARGIN
+        budget.take_area((s1 - s0) * spread, f"road `{spec.id}`", sec.line)
         sections.append(
             LaneSection(
                 road=spec.id,
@@ -219,6 +257,66 @@ def _build_road(spec: RoadSpec, source: str | None, tolerance: float, max_step: 
     )
 
 
+_LONGEST = f"the limit is {MAX_ROAD_LENGTH / 1000:g} km"
+_FURTHEST = f"the limit is {MAX_COORDINATE:g} m from the origin"
+_SHARPEST = f"the limit is {MAX_CURVATURE:g} per metre, a radius of {100 / MAX_CURVATURE:g} cm"
+_WIDEST = f"the limit is {MAX_LATERAL:g} m"
+_HIGHEST = f"the limit is {MAX_ELEVATION / 1000:g} km up or down"
+
+
+def _check_geometry(spec: RoadSpec, g: Geometry, source: str | None) -> None:
+    """A plan-view record within what a road can be (``budget``): its length, where it
+    starts, how sharply it bends."""
+
+    def fail(problem: str) -> MapError:
+        return MapError(f"road `{spec.id}`: the {g.kind} at s={g.s:g} {problem}", source, g.line)
+
+    if g.length <= 0.0:
+        raise fail(f"has length {g.length:g} (must be > 0)")
+    if g.length > MAX_ROAD_LENGTH or abs(g.s) > MAX_ROAD_LENGTH:
+        raise fail(f"is longer or further along than a road can be ({_LONGEST})")
+    if abs(g.x) > MAX_COORDINATE or abs(g.y) > MAX_COORDINATE:
+        raise fail(f"starts at ({g.x:g}, {g.y:g}) ({_FURTHEST})")
+    kappa = max_curvature(g)
+    if not kappa <= MAX_CURVATURE:  # (NaN too)
+        raise fail(
+            f"bends more sharply than a road can: curvature {number_text(kappa)} ({_SHARPEST})"
+        )
+
+
+def _check_reference(
+    spec: RoadSpec,
+    geometries: tuple[Geometry, ...],
+    s: FloatArray,
+    samples: tuple[FloatArray, FloatArray, FloatArray, FloatArray],
+    source: str | None,
+) -> None:
+    """Every sample of the reference line a number within the limits (a polynomial's
+    coefficients may carry it anywhere); the error names the record."""
+    x, y, heading, curvature = samples
+    for values, limit, what in (
+        (x, MAX_COORDINATE, f"reaches x = {{}} m ({_FURTHEST})"),
+        (y, MAX_COORDINATE, f"reaches y = {{}} m ({_FURTHEST})"),
+        (heading, math.inf, "has a heading of {}"),
+        (
+            curvature,
+            MAX_CURVATURE,
+            f"bends more sharply than a road can: curvature {{}} ({_SHARPEST})",
+        ),
+    ):
+        bad = ~np.isfinite(values) | (np.abs(values) > limit)
+        if bad.any():
+            at = int(np.argmax(bad))
+            starts = np.array([g.s for g in geometries])
+            g = geometries[max(int(np.searchsorted(starts, s[at], side="right")) - 1, 0)]
+            raise MapError(
+                f"road `{spec.id}`: the {g.kind} at s={g.s:g} "
+                + what.format(number_text(float(values[at]))),
+                source,
+                g.line,
+            )
+
+
 def _sample_grid(
     spec: RoadSpec,
     geometries: tuple[Geometry, ...],
@@ -226,12 +324,15 @@ def _sample_grid(
     ends: list[float],
     tolerance: float,
     max_step: float,
+    budget: SampleBudget,
 ) -> FloatArray:
-    """Sorted, de-duplicated sample positions over ``[0, length]``."""
+    """Sorted, de-duplicated sample positions over ``[0, length]``; their cost is taken
+    from ``budget`` before they are made."""
     parts: list[FloatArray] = [np.array([0.0, spec.length])]
+    rows = 1 + max(len(sec.lanes) for sec in sections)
     for g in geometries:
-        step = sample_spacing(g, tolerance, max_step)
-        count = max(1, math.ceil(g.length / step))
+        count = max(1, math.ceil(g.length / sample_spacing(g, tolerance, max_step)))
+        budget.take(count + 1, rows, f"road `{spec.id}`", g.line)
         parts.append(np.linspace(g.s, g.s + g.length, count + 1))
     parts.append(np.array([r.s for r in spec.lane_offsets]))
     for sec, end in zip(sections, ends, strict=True):

@@ -6,7 +6,8 @@
 exists; a name that is not a file is looked up among the built-in names (so
 ``Town06.xodr`` without a file gives the Town06 stand-in, as CARLA scenarios
 expect), and an ``.xodr`` name that is neither is a :class:`MapError` ("no such
-file"). Loaded files are cached by path and modification time, so an editor
+file or directory"); a folder, FIFO or device of that name is one too, saying what it
+is (it is never opened). Loaded files are cached by path and modification time, so an editor
 asking on every keystroke reads a map once.
 
 :func:`find_map` is :func:`load_map` for the checker's placement: a
@@ -18,6 +19,7 @@ something asks for it. A built-in map's facts come from the start-up cache
 
 from __future__ import annotations
 
+import os
 import re
 import threading
 from dataclasses import dataclass
@@ -25,6 +27,7 @@ from pathlib import Path
 from urllib.parse import unquote, urlparse
 
 from osc2check import cache
+from osc2check.inputs import InputError, not_regular, probe
 from osc2check.world.builtin import builtin_map, builtin_network
 from osc2check.world.carriageways import Carriageway, carriageways
 from osc2check.world.errors import MapError, UnknownMapError
@@ -69,22 +72,27 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
     path = map_path(name, relative_to)
     if path is None:
         return builtin_network(name)
-    if path.is_file():
-        resolved = path.resolve()
-        key = (str(resolved), path.stat().st_mtime_ns)
-        network = _CACHE.get(key)
-        if network is None:
-            from osc2check.world.opendrive import load_opendrive
-
-            network = load_opendrive(resolved)  # its source is the file's absolute path
-            if len(_CACHE) >= _CACHE_SIZE:
-                _CACHE.pop(next(iter(_CACHE)))
-            _CACHE[key] = network
-        return network
     try:
-        return builtin_network(name)
-    except UnknownMapError:
-        raise MapError(f"no such file (looked for `{path}`)", name) from None
+        status = probe(path)
+    except InputError as missing:
+        try:
+            return builtin_network(name)
+        except UnknownMapError:
+            raise MapError(f"{missing} (looked for `{path}`)", name) from None
+    why = not_regular(status)  # a folder, a FIFO, a device: there, but no map file
+    if why is not None:
+        raise MapError(f"cannot read the map file: {why}", str(path))
+    resolved = path.resolve()
+    key = (str(resolved), status.st_mtime_ns)
+    network = _CACHE.get(key)
+    if network is None:
+        from osc2check.world.opendrive import load_opendrive
+
+        network = load_opendrive(resolved)  # its source is the file's absolute path
+        if len(_CACHE) >= _CACHE_SIZE:
+            _CACHE.pop(next(iter(_CACHE)))
+        _CACHE[key] = network
+    return network
 
 
 @dataclass(frozen=True)
@@ -129,13 +137,14 @@ def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
     """:func:`load_map`, with a built-in map's facts from the start-up cache and its network
     built only when asked for (raises as :func:`load_map` does)."""
     path = map_path(name, relative_to)
-    if path is None or not path.is_file():
+    row = None
+    if path is None or not os.path.lexists(path):
         try:
             row = builtin_map(name)
         except UnknownMapError:
             if path is None:
                 raise
-            raise MapError(f"no such file (looked for `{path}`)", name) from None
+    if row is not None:
         built: list[RoadNetwork] = []
 
         def build() -> MapFacts:
@@ -146,5 +155,5 @@ def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
         if facts is None:
             facts = _FACTS[row.name] = cache.cached("builtin-map", {"map": row.name}, build)
         return FoundMap(facts, built[0] if built else None, row.name)
-    network = load_map(name, relative_to)
+    network = load_map(name, relative_to)  # a file, or load_map's message of why not
     return FoundMap(map_facts(network), network, name)

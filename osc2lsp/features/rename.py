@@ -2,8 +2,8 @@
 
 Renaming is refused for names of the bundled library (``Symbol.library``),
 for implicit names (``it``, ``actor``, event bindings of the language), for
-a new name that is not an identifier or is a reserved keyword, and when the
-new name is already declared in the same scope.
+a new name that is not an identifier, is a reserved keyword or an implicit
+name, and when the new name is already declared in the same scope.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import re
 from collections.abc import Iterable
 
 from osc2check.diagnostics import TextEdit
-from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.semantics.symbols import IMPLICIT_NAMES, Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax.expected import keywords, soft_keywords
 from osc2lsp.features.navigation import declaration_span, references_of, symbol_at
@@ -65,6 +65,8 @@ def _check_name(name: str) -> None:
     reserved = {text for term, text in keywords().items() if term not in soft_keywords()}
     if name in reserved:
         raise RenameError(f"`{name}` is a keyword")
+    if name in IMPLICIT_NAMES:
+        raise RenameError(f"`{name}` is a name the language gives; choose another")
 
 
 def _check_collision(snapshot: Snapshot, sym: Symbol, new_name: str) -> None:

@@ -5,7 +5,10 @@
    (:mod:`osc2runner.campaign.plan`: ``random`` seeds or ``cover`` bins).
 2. With ``resume``, the runs of the folder whose ``record.json`` shows them
    finished are kept and not run again; the folder must hold a campaign of the
-   same text of the same file with the same run options.
+   same text of the same file with the same run options (its files are read as
+   data, :mod:`~osc2runner.campaign.schema`). Without it, a folder that is not
+   empty must hold a campaign of the same scenario (it is written over), unless
+   ``force``: a folder of other files is never written into by mistake.
 3. An engine runs the rest (:class:`~osc2runner.campaign.pool.LocalPool` or
    :class:`~osc2runner.campaign.ray_engine.RayEngine`); each record is written
    to ``runs/<seed>/record.json`` as it arrives and reported to ``progress``.
@@ -32,6 +35,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from osc2check.inputs import InputError, read_bytes
 from osc2runner.campaign.outputs import (
     read_campaign,
     read_records,
@@ -43,6 +47,7 @@ from osc2runner.campaign.outputs import (
 )
 from osc2runner.campaign.parameters import parameter_domains, parameter_equations
 from osc2runner.campaign.plan import CoverPlan, ItemPlan, plan_cover, plan_random
+from osc2runner.campaign.schema import FolderError
 from osc2runner.campaign.steering import cover_items
 from osc2runner.campaign.summary import (
     coverage_table,
@@ -99,15 +104,18 @@ class CampaignOptions:
     plot: bool = False
     resume: bool = False
     export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
+    force: bool = False  # write into a folder of other files (not a campaign of this scenario)
 
     def run_options(self) -> dict[str, Any]:
-        """What makes two runs of one seed the same run (resume compares these)."""
+        """What makes two runs of one seed the same run (resume compares these; the
+        SUT's step budget is recorded with it but is no part of it)."""
+        sut = asdict(self.sut) if self.sut is not None else None
         return {
             "scenario": self.scenario,
             "duration": self.duration,
             "dt_control": self.dt_control,
             "dt_physics": self.dt_physics,
-            "sut": asdict(self.sut) if self.sut is not None else None,
+            "sut": {"target": sut["target"], "actor": sut["actor"]} if sut else None,
             "strategy": self.strategy,
             "seed": self.seed,
         }
@@ -192,11 +200,9 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         warm_up()
     started_at = datetime.now(UTC).isoformat(timespec="seconds")
     try:
-        data = Path(options.file).read_bytes()
-    except OSError as exc:
-        raise ScenarioError(
-            [RunProblem(f"{options.file}: cannot read: {exc.strerror or exc}")]
-        ) from None
+        data = read_bytes(options.file)  # a regular file of at most the checker's size cap
+    except InputError as exc:
+        raise ScenarioError([RunProblem(f"{options.file}: cannot read: {exc}")]) from None
     from osc2check.source import decode_source
 
     text, _ = decode_source(data)
@@ -206,6 +212,8 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     previous: dict[int, RunRecord] = {}
     if options.resume:
         previous = _resumable(folder, options, digest)
+    elif not options.force:
+        _writable(folder, checked.scenario.name)
     jobs = options.jobs or os.cpu_count() or 1
     setup = CampaignSetup(
         options.file,
@@ -254,6 +262,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
             "scenario": checked.scenario.name,
             "options": {
                 **options.run_options(),
+                "sut": asdict(options.sut) if options.sut is not None else None,
                 "runs": options.runs,
                 "jobs": jobs,
                 "engine": options.engine,
@@ -339,8 +348,37 @@ def _bin_text(run: RunTask | RunRecord) -> str | None:
     return run.bin.text if run.bin is not None else None
 
 
+def _writable(folder: Path, scenario: str) -> None:
+    """A folder a new campaign of ``scenario`` may write into: none yet, an empty one, or
+    one holding a campaign of the same scenario (CampaignError otherwise)."""
+    try:
+        if not folder.is_dir() or not any(folder.iterdir()):
+            return
+        document = read_campaign(folder)
+    except FolderError as exc:
+        raise CampaignError(
+            f"--out {folder}: not empty, and its campaign.json is not a campaign ({exc}); "
+            "choose an empty folder, or add --force to write into it"
+        ) from None
+    except OSError as exc:
+        raise CampaignError(f"--out {folder}: cannot read: {exc.strerror or exc}") from None
+    if document is None:
+        raise CampaignError(
+            f"--out {folder}: the folder is not empty and holds no campaign: its files could "
+            "be overwritten; choose an empty folder, or add --force to write into it"
+        )
+    if document["scenario"] != scenario:
+        raise CampaignError(
+            f"--out {folder}: it holds a campaign of scenario `{document['scenario']}`, not "
+            f"`{scenario}`; choose another folder, or add --force to write into it"
+        )
+
+
 def _resumable(folder: Path, options: CampaignOptions, digest: str) -> dict[int, RunRecord]:
-    document = read_campaign(folder)
+    try:
+        document = read_campaign(folder)
+    except FolderError as exc:
+        raise CampaignError(f"--resume {folder}: {exc}") from None
     if document is None:
         return {}
     if document.get("source_sha256") != digest:
@@ -348,7 +386,9 @@ def _resumable(folder: Path, options: CampaignOptions, digest: str) -> dict[int,
             f"--resume {folder}: its campaign ran another text of the file "
             f"({document.get('source')}); use a new folder"
         )
-    stored = document.get("options", {})
+    stored = dict(document["options"])
+    if stored["sut"] is not None:  # its step budget is no part of the run
+        stored["sut"] = {"target": stored["sut"]["target"], "actor": stored["sut"]["actor"]}
     mine = options.run_options()
     changed = [k for k, v in mine.items() if stored.get(k) != v]
     if changed:

@@ -2,7 +2,11 @@
 
 :func:`campaign_arguments` checks the campaign's options (usage errors before
 anything runs; with ``--resume DIR`` the file and the options the command line
-does not give are those of the campaign in ``DIR``, ``--jobs`` excepted);
+does not give are those of the campaign in ``DIR``, ``--jobs`` excepted, read
+through :mod:`~osc2runner.campaign.schema`). A folder is data, never code: the
+system under test its campaign ran is only imported when the command line names
+it (``--sut``, compared with the folder's), or with ``--trust-folder``, which says
+what it imports;
 :func:`run_command` runs it with a progress bar on a terminal (done, failed,
 rate, ETA), one line per run otherwise (``-q``: only the summary), prints the
 summary and returns the exit status: 0 when every run passed, 1 when one did
@@ -13,8 +17,8 @@ campaign (what finished is written).
 from __future__ import annotations
 
 import argparse
-import json
 import math
+import sys
 from pathlib import Path
 from typing import Any, TextIO
 
@@ -41,8 +45,9 @@ def _count(name: str, text: str | None, default: int) -> int:
 
 def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     """Complete ``args`` with the stored campaign's file and options (``--resume DIR``):
-    what the command line does not give is the campaign's own, FILE or not."""
-    opts = stored.get("options", {})
+    what the command line does not give is the campaign's own, FILE or not, but the
+    system under test (code: see the module docstring)."""
+    opts = stored["options"]
     given = args.given
     if args.file is None:
         args.file = stored.get("source")
@@ -61,7 +66,19 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
         args.dt_physics = repr(opts.get("dt_physics", 0.002))
     sut = opts.get("sut")
     if sut and args.sut is None:
+        if not args.trust_folder:
+            raise _usage(
+                f"--resume {args.resume}: its campaign ran the system under test "
+                f"`{sut['target']}`, which would be imported (code); give it again with "
+                "--sut, or add --trust-folder to import what the folder names"
+            )
+        sys.stderr.write(
+            f"osc2run: --trust-folder: importing the system under test `{sut['target']}` "
+            f"that {Path(args.resume) / 'campaign.json'} names\n"
+        )
         args.sut, args.sut_actor = sut["target"], sut.get("actor")
+    if sut and args.step_timeout is None and sut.get("step_timeout") is not None:
+        args.step_timeout = repr(sut["step_timeout"])
     if "--engine" not in given and opts.get("engine") in ("local", "ray"):
         args.engine = opts["engine"]
     if args.address is None and args.engine == "ray":
@@ -75,15 +92,19 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
 
 def campaign_arguments(args: argparse.Namespace) -> None:
     """Check and complete the campaign options of the command line (UsageError)."""
-    stored: dict[str, Any] = {}
+    from osc2runner.campaign.outputs import read_campaign
+    from osc2runner.campaign.schema import FolderError
+
+    if args.trust_folder and args.resume is None:
+        raise _usage("--trust-folder is for --resume DIR")
     if args.resume is not None:
-        path = Path(args.resume) / "campaign.json"
-        if not path.is_file():
-            raise _usage(f"--resume {args.resume}: no campaign.json there")
         try:
-            stored = json.loads(path.read_text(encoding="utf-8"))
-        except (OSError, ValueError) as exc:
-            raise _usage(f"--resume {args.resume}: cannot read campaign.json: {exc}") from None
+            found = read_campaign(Path(args.resume))
+        except FolderError as exc:
+            raise _usage(f"--resume {args.resume}: {exc}") from None
+        if found is None:
+            raise _usage(f"--resume {args.resume}: no campaign.json there")
+        stored = found
         if args.out is not None and Path(args.out).resolve() != Path(args.resume).resolve():
             raise _usage("--resume DIR writes into DIR: leave out --out")
         args.out = args.resume
@@ -131,6 +152,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         plot=args.plot,
         resume=args.resume is not None,
         export=args.export_formats,
+        force=args.force,
     )
     interactive = out.isatty() and not args.quiet
     try:

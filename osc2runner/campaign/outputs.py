@@ -12,7 +12,9 @@ In the campaign folder ``DIR``:
   command that replays it; written at the start (``status: running``) and at
   the end (``complete`` or ``interrupted``);
 * ``runs.csv``: one row a run: seed, bin, outcome, reason, the parameters that
-  vary, the KPIs, the records, wall time, the replay command;
+  vary, the KPIs, the records, wall time, the replay command; a text cell that a
+  spreadsheet would read as a formula (it begins with ``=``, ``+``, ``-``, ``@``, a
+  tab or a carriage return) begins with a ``'`` (``neutral``);
 * ``junit.xml``: one ``testcase`` a run, named by the scenario and the swept
   parameters' values (``my_ccrm[ego_speed=75.8kph,offset=-0.08m]``; with the seed
   when two runs would share a name), the parameters and the seed in
@@ -20,6 +22,10 @@ In the campaign folder ``DIR``:
   ``error``, ``skipped`` for ``interrupted``, its message the outcome and the KPIs
   — the form CI systems read;
 * ``report.html``: :mod:`osc2runner.campaign.report`.
+
+Every JSON file is written with numbers that are not finite as null
+(``schema.finite``); ``record.json`` and ``campaign.json`` are read through
+:mod:`osc2runner.campaign.schema` (a folder is data: nothing in it is trusted).
 """
 
 from __future__ import annotations
@@ -27,6 +33,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import logging
 import shlex
 from collections import Counter
 from collections.abc import Mapping, Sequence
@@ -34,8 +41,10 @@ from pathlib import Path
 from typing import Any
 from xml.etree import ElementTree as ET
 
+from osc2check.inputs import InputError, not_regular, probe, read_bytes
 from osc2runner.campaign.kpis import KPI_UNITS, kpi_text
 from osc2runner.campaign.parameters import compact_text
+from osc2runner.campaign.schema import FolderError, campaign_document, finite, record_from_json
 from osc2runner.campaign.summary import varying
 from osc2runner.campaign.worker import RunRecord
 from osc2runner.output.files import write_atomically
@@ -44,6 +53,7 @@ __all__ = [
     "CAMPAIGN_FILE",
     "CAMPAIGN_FORMAT",
     "RECORD_FILE",
+    "neutral",
     "read_campaign",
     "replay_command",
     "read_records",
@@ -53,13 +63,17 @@ __all__ = [
     "write_runs_csv",
 ]
 
+log = logging.getLogger(__name__)
+
 CAMPAIGN_FILE = "campaign.json"
 RECORD_FILE = "record.json"
 CAMPAIGN_FORMAT = 1
+MAX_RECORD_BYTES = 16 * 1024 * 1024  # far above a record; a file beyond is not one
+MAX_CAMPAIGN_BYTES = 256 * 1024 * 1024
 
 
 def _json(data: Any) -> str:
-    return json.dumps(data, indent=2, allow_nan=False, default=str) + "\n"
+    return json.dumps(finite(data), indent=2, allow_nan=False, default=str) + "\n"
 
 
 def write_record(folder: Path, record: RunRecord) -> Path:
@@ -75,31 +89,55 @@ def write_record(folder: Path, record: RunRecord) -> Path:
 
 
 def read_records(folder: Path) -> dict[int, RunRecord]:
-    """The records of the runs in ``folder/runs`` that have one, by seed."""
+    """The records of the runs in ``folder/runs`` that hold one (``schema``), by seed;
+    one that is not (unreadable, of another shape, of another seed than its folder's
+    name) is left out: the run is done again."""
     found: dict[int, RunRecord] = {}
     runs = folder / "runs"
     if not runs.is_dir():
         return found
     for path in sorted(runs.glob(f"*/{RECORD_FILE}")):
+        where = f"{path.parent.name}/{RECORD_FILE}"
         try:
-            record = RunRecord.from_json(json.loads(path.read_text(encoding="utf-8")))
-        except (OSError, ValueError, KeyError, TypeError):
-            continue  # unreadable: the run is done again
+            data = json.loads(read_bytes(path, MAX_RECORD_BYTES))
+            record = record_from_json(data, where)
+            if str(record.seed) != path.parent.name:
+                raise FolderError(f"{where}: the record of seed {record.seed}")
+        except (InputError, ValueError) as exc:  # (FolderError, JSONDecodeError)
+            log.warning("%s: %s: the run is done again", folder, exc)
+            continue
         found[record.seed] = record
     return found
 
 
 def read_campaign(folder: Path) -> dict[str, Any] | None:
-    """``campaign.json`` of ``folder``, or None when there is none."""
+    """What ``campaign.json`` of ``folder`` holds (``schema.campaign_document``), or None
+    when there is none; FolderError when it cannot be read or is not a campaign."""
     path = folder / CAMPAIGN_FILE
-    if not path.is_file():
+    try:
+        status = probe(path)
+    except InputError:
         return None
-    data: dict[str, Any] = json.loads(path.read_text(encoding="utf-8"))
-    return data
+    try:
+        if not_regular(status):
+            raise InputError(not_regular(status) or "")
+        data = json.loads(read_bytes(path, MAX_CAMPAIGN_BYTES))
+    except (InputError, ValueError) as exc:
+        raise FolderError(f"{path}: cannot read: {exc}") from None
+    return campaign_document(data, str(path))
 
 
 def write_campaign(folder: Path, document: dict[str, Any]) -> Path:
     return write_atomically(folder / CAMPAIGN_FILE, _json(document))
+
+
+_FORMULA = ("=", "+", "-", "@", "\t", "\r")
+
+
+def neutral(text: str) -> str:
+    """``text`` as a spreadsheet shows it, never runs it: a leading ``'`` before a text
+    that begins like a formula (OWASP's advice on CSV injection)."""
+    return "'" + text if text.startswith(_FORMULA) else text
 
 
 def _cell(value: Any) -> str:
@@ -107,9 +145,11 @@ def _cell(value: Any) -> str:
         return ""
     if isinstance(value, bool):
         return "true" if value else "false"
+    if isinstance(value, (int, float)):
+        return str(value)  # a number as written is a number (-3.5), not a formula
     if isinstance(value, (list, dict)):
-        return json.dumps(value)
-    return str(value)
+        return neutral(json.dumps(finite(value)))
+    return neutral(str(value))
 
 
 def write_runs_csv(folder: Path, records: Sequence[RunRecord], replay: dict[int, str]) -> Path:
@@ -129,12 +169,13 @@ def write_runs_csv(folder: Path, records: Sequence[RunRecord], replay: dict[int,
     )
     for r in sorted(records, key=lambda r: r.seed):
         writer.writerow(
-            [r.seed, r.bin.text if r.bin else "", r.status, r.reason, r.time_s]
+            [r.seed, _cell(r.bin.text if r.bin else ""), _cell(r.status), _cell(r.reason)]
+            + [_cell(r.time_s)]
             + [_cell(r.parameters.get(p, {}).get("value")) for p in params]
             + [_cell(r.kpis.get("subject"))]
             + [_cell(r.kpis.get(k)) for k in kpi_names]
             + [_cell(r.records.get(n)) for n in record_names]
-            + [r.wall_s, replay.get(r.seed, "")]
+            + [_cell(r.wall_s), _cell(replay.get(r.seed, ""))]
         )
     return write_atomically(folder / "runs.csv", out.getvalue())
 

@@ -88,7 +88,7 @@ def _serve(conn: Connection, setup: CampaignSetup) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _ignore)
     try:
-        worker = Worker(setup)
+        worker = Worker(setup, send=lambda record: conn.send(("done", record)))
     except BaseException as exc:  # the check failed: say why, then leave
         conn.send(("failed", f"{type(exc).__name__}: {exc}"))
         return

@@ -29,6 +29,7 @@ from typing import Any
 
 from osc2runner.campaign.charts import COLOURS, kpi_figure, kpis_of, pass_fail_map
 from osc2runner.campaign.parameters import compact_text, numeric
+from osc2runner.campaign.schema import file_name
 from osc2runner.campaign.summary import worst_runs
 from osc2runner.campaign.worker import RunRecord
 from osc2runner.export import FILE_NAMES
@@ -191,11 +192,16 @@ def _histograms(records: Sequence[RunRecord]) -> str:
 
 
 def _links(r: RunRecord, folder: Path) -> str:
+    """Links to the files the run wrote (its record's, there now): its plots, whichever
+    it has, then its data and exports. A file the run did not write (one that was in
+    the folder before) is not linked; every link stays inside the run's folder."""
     run_dir = folder / r.folder
-    names = sorted(p.name for p in run_dir.glob("*.png"))  # the run's plots, whichever it has
-    names += [n for n in ("run.json", "telemetry.csv", "events.csv") if (run_dir / n).is_file()]
-    names += [n for n in FILE_NAMES.values() if (run_dir / n).is_file()]  # exports (--export)
-    return " ".join(f'<a href="{_e(r.folder)}/{_e(n)}">{_e(n.split(".")[0])}</a>' for n in names)
+    wrote = {n for n in r.files if file_name(n) and (run_dir / n).is_file()}
+    names = sorted(n for n in wrote if n.endswith(".png"))
+    names += [n for n in ("run.json", "telemetry.csv", "events.csv", *FILE_NAMES.values())]
+    return " ".join(
+        f'<a href="{_e(r.folder)}/{_e(n)}">{_e(n.split(".")[0])}</a>' for n in names if n in wrote
+    )
 
 
 def _kpi_cell(r: RunRecord, name: str) -> str:
@@ -218,7 +224,7 @@ def _runs_table(records: Sequence[RunRecord], params: list[str], folder: Path,
         cells += "".join(f"<td>{_kpi_cell(r, k)}</td>" for k in shown_kpis)
         rows.append(
             f"<tr><td>{r.seed}</td><td>{_e(r.bin.text if r.bin else '')}</td>"
-            f"<td class='st {r.status}'>{r.status}</td><td>{_e(r.reason)}</td>{cells}"
+            f"<td class='st {_e(r.status)}'>{_e(r.status)}</td><td>{_e(r.reason)}</td>{cells}"
             f"<td>{_links(r, folder)}</td>"
             f"<td><code>{_e(replay.get(r.seed, ''))}</code></td></tr>"
         )
@@ -417,10 +423,11 @@ def write_report(folder: Path, document: dict[str, Any], records: Sequence[RunRe
         for k, v in document.get("kpis", {}).items()
     )
     worst = worst_runs(done, 10)
+    unfinished = len(document.get("not_run", [])) + sum(not r.finished for r in records)
     status_note = (
         "" if document["status"] == "complete"
         else f"<p class='failure'>The campaign was <b>{_e(document['status'])}</b>: "
-        f"{len(document.get('not_run', []))} planned runs did not finish "
+        f"{unfinished} planned runs did not finish "
         f"(<code>osc2run --resume {_e(folder)}</code> does them).</p>"
     )  # fmt: skip
     body = f"""

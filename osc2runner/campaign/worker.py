@@ -23,6 +23,7 @@ import shutil
 import tempfile
 import time
 import traceback
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from pathlib import Path
@@ -140,27 +141,6 @@ class RunRecord:
             "error": self.error,
         }
 
-    @classmethod
-    def from_json(cls, data: dict[str, Any]) -> RunRecord:
-        b = data.get("bin")
-        outcome = data["outcome"]
-        return cls(
-            seed=data["seed"],
-            status=outcome["status"],
-            reason=outcome["reason"],
-            bin=BinRef(b["item"], b["index"], b.get("label", "")) if b else None,
-            time_s=outcome.get("time", 0.0),
-            tick=outcome.get("tick", 0),
-            parameters=data.get("parameters", {}),
-            kpis=data.get("kpis", {}),
-            records=data.get("records", {}),
-            coverage=data.get("coverage", {}),
-            wall_s=data.get("wall_seconds", 0.0),
-            folder=data.get("folder", ""),
-            files=data.get("files", []),
-            error=data.get("error"),
-        )
-
 
 def run_folder(seed: int) -> str:
     """The folder of a run's files, relative to the campaign folder."""
@@ -181,11 +161,18 @@ def lost_record(task: RunTask, why: str, default_reason: str) -> RunRecord:
 class Worker:
     """Checks the campaign's file once; runs tasks (see the module docstring).
 
+    ``send`` (a worker process of its own: the local pool's) is how a run's record is
+    sent when the run must end the process: a system under test that does not stop
+    (``runner.execute``'s ``hard_stop``); the record is sent, then the process ends.
+
     Raises ScenarioError when the file has input errors (nothing can run).
     """
 
-    def __init__(self, setup: CampaignSetup) -> None:
+    def __init__(
+        self, setup: CampaignSetup, send: Callable[[RunRecord], None] | None = None
+    ) -> None:
         self.setup = setup
+        self.send = send
         self.checked: Checked = check_file(setup.uri, scenario=setup.scenario, source=setup.text)
         self._items: list[SteerableItem] | None = None
 
@@ -226,6 +213,7 @@ class Worker:
                     duration=setup.duration,
                     plot=setup.plot,
                     export=ExportTargets.in_folder(folder, setup.export),
+                    hard_stop=self._hard_stop(record, prepared.sut, started),
                 )
             except RunInterrupted as exc:
                 result = exc.result
@@ -250,6 +238,26 @@ class Worker:
         if record.bin is not None and not record.bin.label:
             record.bin = self._labelled(record.bin)
         return record
+
+    def _hard_stop(
+        self, record: RunRecord, sut: dict[str, str] | None, started: float
+    ) -> Callable[[RunResult, int], None] | None:
+        """What ends this process when its run's system under test does not stop: the
+        record of what was written is sent first."""
+        send = self.send
+        if send is None:
+            return None
+
+        def stop(result: RunResult, status: int) -> None:
+            describe(record, result, self.checked, sut)
+            record.files = sorted(p.name for p in result.outputs)
+            record.wall_s = round(time.perf_counter() - started, 3)
+            try:
+                send(record)
+            finally:
+                os._exit(status)
+
+        return stop
 
     def _labelled(self, ref: BinRef) -> BinRef:
         entry = next((e for e in self.items() if e.item.name == ref.item), None)

@@ -273,13 +273,15 @@ def drive_with_sut(
     name: str,
     sut: Any,
     log: Log | None = None,
+    budget: float | None = None,
 ) -> None:
     """Put the system under test ``sut`` in the seat of actor ``name``: its controller
     becomes the driver model of a :class:`~osc2runner.sut.driver.SutDriver` (the
     scenario's behaviours set its targets: the SUT's intent), which ``states`` (the
-    run's states of each tick) feed; its interventions go to ``log``."""
+    run's states of each tick) feed; its interventions go to ``log``; each of its steps
+    has ``budget`` wall-clock seconds."""
     from osc2runner.sut.driver import SutDriver
 
     inner = controllers[name]
     assert isinstance(inner, VehicleController)
-    controllers[name] = SutDriver(name, sut, inner, world.network, states, log)
+    controllers[name] = SutDriver(name, sut, inner, world.network, states, log, budget)

@@ -41,7 +41,7 @@ from py_trees.common import Status
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import running_open, tick_child
 from osc2runner.execution.context import RunContext, RunFault
-from osc2runner.execution.signals import Interrupts, signal_name
+from osc2runner.execution.signals import Interrupts, SignalInterrupt, signal_name
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
 from osc2runner.sut.driver import SutFault
@@ -69,13 +69,15 @@ class RunOutcome:
 
 @dataclass
 class Ticked:
-    """What the loop did: its outcome, the telemetry, the wall time, and an exception that
-    stopped it (KeyboardInterrupt or a bug), to re-raise once the files are written."""
+    """What the loop did: its outcome, the telemetry, the wall time, an exception that
+    stopped it (KeyboardInterrupt or a bug), to re-raise once the files are written,
+    and the signal that interrupted it."""
 
     outcome: RunOutcome
     recorder: Recorder
     wall_seconds: float
     error: BaseException | None = None
+    signum: int | None = None
 
 
 class TickLoop:
@@ -141,30 +143,39 @@ class TickLoop:
         self,
         progress: Callable[[float, float, float], None] | None = None,
         interrupts: Interrupts | None = None,
+        fault: str | None = None,
     ) -> Ticked:
         """Step until the run ends; also when it is interrupted or a bug stops it.
 
         ``interrupts.first`` is read before every tick: once a signal has arrived
-        the run ends as ``interrupted`` (at a tick boundary).
+        the run ends as ``interrupted`` (at a tick boundary, or where the signal was
+        raised, in the system under test's code). ``fault`` (a system under test
+        that could not start) ends the run as ``error`` before its first tick.
         """
         ctx, world = self.ctx, self.world
         progress_every = max(1, round(1.0 / world.dt_control))
         start_wall = wallclock.perf_counter()
         outcome: RunOutcome | None = None
         error: BaseException | None = None
+        signum: int | None = None
         try:
-            if (bad := world.diverged()) is not None:  # a start that is not physical
+            if fault is not None:
+                outcome = RunOutcome("error", fault, ctx.tick, ctx.time)
+            elif (bad := world.diverged()) is not None:  # a start that is not physical
                 outcome = _diverged(world, *bad)
             while outcome is None:
                 if interrupts is not None and interrupts.first is not None:
-                    name = signal_name(interrupts.consume() or 0)
-                    outcome = RunOutcome(
-                        "interrupted", f"interrupted by {name}", ctx.tick, ctx.time, signal=name
-                    )
+                    signum = interrupts.consume()
+                    outcome = _interrupted(ctx, signum)
                     break
                 outcome = self.step()
                 if progress is not None and world.tick % progress_every == 0:
                     progress(world.time, self.limit, wallclock.perf_counter() - start_wall)
+        except SignalInterrupt as exc:  # raised where the run was (foreign code, a 2nd signal)
+            if interrupts is not None:
+                interrupts.consume()
+            signum = exc.signum
+            outcome, error = _interrupted(ctx, signum), exc
         except KeyboardInterrupt as exc:
             outcome = RunOutcome("interrupted", "interrupted", ctx.tick, ctx.time)
             error = exc
@@ -175,7 +186,7 @@ class TickLoop:
             error = exc
         wall = wallclock.perf_counter() - start_wall
         ctx.record("outcome", outcome.status, outcome.reason)
-        return Ticked(outcome, self.recorder, wall, error)
+        return Ticked(outcome, self.recorder, wall, error, signum)
 
 
 class _Forever(FastLeaf, py_trees.behaviour.Behaviour):
@@ -183,6 +194,11 @@ class _Forever(FastLeaf, py_trees.behaviour.Behaviour):
 
     def update(self) -> Status:
         return Status.RUNNING
+
+
+def _interrupted(ctx: RunContext, signum: int | None) -> RunOutcome:
+    name = signal_name(signum or 0)
+    return RunOutcome("interrupted", f"interrupted by {name}", ctx.tick, ctx.time, signal=name)
 
 
 def _tree_outcome(

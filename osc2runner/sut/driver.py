@@ -13,10 +13,13 @@ difference. When the SUT's inputs depart from the driver model's (by more than
 agree again it hands back: both go to the event log (kind ``sut``), so plots and
 reports can show when the system acted.
 
-What the SUT does wrong is its own outcome, not a bug of the runner: an
-exception in ``step`` or an answer that is not a finite :class:`Command` or
-:class:`Demand` raises :class:`SutFault`, which the tick loop turns into the
-outcome ``error`` naming the SUT and the tick.
+What the SUT does wrong is its own outcome, not a bug of the runner: whatever
+its construction, ``reset`` or ``step`` raises (``SystemExit`` and
+``KeyboardInterrupt`` included: a SUT does not end the run, let alone the
+command), a call that runs past its wall-clock budget, or an answer that is not
+a finite :class:`Command` or :class:`Demand` raises :class:`SutFault`, which
+becomes the outcome ``error`` naming the SUT and where (:func:`call_sut`). Only
+a genuine signal passes through it (it stops the run).
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from typing import Any
 
 from osc2check.world.network import RoadNetwork
 from osc2check.world.tracking import PathCursor
+from osc2runner.execution.signals import SignalInterrupt, StepTimeout, foreign_code, genuine
 from osc2runner.sim import ActorState, VehicleController, VehicleInput
 from osc2runner.sim.vehicle import GRAVITY, VehicleParams
 from osc2runner.sut import (
@@ -40,7 +44,15 @@ from osc2runner.sut import (
     SystemUnderTest,
 )
 
-__all__ = ["INTERVENTION", "PATH_SPACING", "PATH_POINTS", "SutDriver", "SutFault", "sut_info"]
+__all__ = [
+    "INTERVENTION",
+    "PATH_SPACING",
+    "PATH_POINTS",
+    "SutDriver",
+    "SutFault",
+    "call_sut",
+    "sut_info",
+]
 
 PATH_SPACING = 5.0  # m between the points of RoadAhead.path
 PATH_POINTS = 11  # 0 to 50 m ahead
@@ -51,7 +63,31 @@ Log = Callable[[str, str, str, tuple[str, ...]], None]
 
 
 class SutFault(Exception):
-    """The system under test failed (raised, or answered something that is not an input)."""
+    """The system under test failed (raised, ran past its budget, or answered something
+    that is not an input)."""
+
+
+def call_sut(who: str, what: str, budget: float | None, fn: Callable[..., Any], *args: Any) -> Any:
+    """``fn(*args)``, code of the SUT called ``who`` doing ``what`` (``step at tick 5``),
+    as foreign code with ``budget`` wall-clock seconds (``signals.foreign_code``); any
+    way it fails is a :class:`SutFault` saying so."""
+    seat = f"the system under test ({who})"
+    late = SutFault(f"{seat} did not return from {what} within {budget:g} s")
+    try:
+        with foreign_code(budget, f"{seat} in {what}") as expired:
+            answer = fn(*args)
+    except SignalInterrupt as exc:
+        if genuine(exc):
+            raise
+        raise SutFault(f"{seat} raised KeyboardInterrupt in {what}") from None
+    except StepTimeout:
+        raise late from None
+    except BaseException as exc:
+        detail = f": {exc}" if str(exc) else ""
+        raise SutFault(f"{seat} raised {type(exc).__name__}{detail} in {what}") from exc
+    if expired[0]:  # it caught the timeout and came back late all the same
+        raise late
+    return answer
 
 
 def sut_info(name: str, params: VehicleParams, dt: float, seed: int, scenario: str) -> SutInfo:
@@ -131,10 +167,12 @@ class SutDriver:
         network: RoadNetwork,
         states: Mapping[str, ActorState],
         log: Log | None = None,
+        budget: float | None = None,
     ) -> None:
         self.name = name
         self.log = log
         self.intervening = False
+        self.budget = budget
         self.sut = sut
         self.inner = inner
         self.network = network
@@ -220,13 +258,8 @@ class SutDriver:
         """One tick: the driver model's inputs, the observation, the SUT's answer."""
         driver = self.inner.step(state)
         observation = self.observe(state, driver)
-        try:
-            answer = self.sut.step(observation)
-        except Exception as exc:
-            raise SutFault(
-                f"the system under test ({type(self.sut).__name__}) raised "
-                f"{type(exc).__name__}: {exc} at tick {state.tick}"
-            ) from exc
+        who, what = type(self.sut).__name__, f"step at tick {state.tick}"
+        answer = call_sut(who, what, self.budget, self.sut.step, observation)
         inputs = self.inputs(answer, state, driver)
         self._note(inputs, driver)
         return inputs
@@ -253,7 +286,7 @@ class SutDriver:
         self, answer: Command | Demand, state: ActorState, driver: VehicleInput
     ) -> VehicleInput:
         """The vehicle inputs for the SUT's answer (SutFault when it is not one)."""
-        who = type(self.sut).__name__
+        who = f"the system under test ({type(self.sut).__name__})"
         if isinstance(answer, Command):
             if not _finite(answer.throttle, answer.brake, answer.steer):
                 raise SutFault(f"{who} returned a non-finite command at tick {state.tick}")
@@ -276,6 +309,6 @@ class SutDriver:
                 steer = min(max(delta / self.params.max_steer, -1.0), 1.0)
             return VehicleInput(throttle, brake, steer)
         raise SutFault(
-            f"{who}.step returned {type(answer).__name__}, not a Command or a Demand "
-            f"(tick {state.tick})"
+            f"{who} returned {type(answer).__name__} from step at tick {state.tick}, "
+            "not a Command or a Demand"
         )

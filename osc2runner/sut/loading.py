@@ -9,9 +9,15 @@
   the nearest ``pyproject.toml`` above the scenario file (a file path there is
   relative to that ``pyproject.toml``); the command line wins.
 
-A name that does not import, a class that is not there or has no ``step``, or a
-scenario without the actor is a :class:`SutError` (a ``ValueError``), which the
-command reports as a one-line usage error before anything runs.
+A name that does not import (whatever its import raised, ``SystemExit``
+included), a class that is not there or has no ``step``, or a scenario without
+the actor is a :class:`SutError` (a ``ValueError``), which the command reports as
+a one-line usage error before anything runs.
+
+``step_timeout`` is the wall-clock budget of each call into the SUT (its
+construction, ``reset`` and every ``step``): ``osc2run --step-timeout``, default
+``DEFAULT_STEP_TIMEOUT`` (60 s: generous for a controller that answers in
+milliseconds, short beside a campaign's run limit).
 """
 
 from __future__ import annotations
@@ -25,7 +31,18 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-__all__ = ["SUT_FIELDS", "SutError", "SutSpec", "choose_actor", "configured_sut"]
+from osc2runner.execution.signals import SignalInterrupt, genuine
+
+__all__ = [
+    "DEFAULT_STEP_TIMEOUT",
+    "SUT_FIELDS",
+    "SutError",
+    "SutSpec",
+    "choose_actor",
+    "configured_sut",
+]
+
+DEFAULT_STEP_TIMEOUT = 60.0  # wall-clock seconds of one call into the SUT
 
 #: the scenario fields that mark the system under test, in order of preference
 SUT_FIELDS = ("sut", "ego")
@@ -38,11 +55,13 @@ class SutError(ValueError):
 
 @dataclass(frozen=True, slots=True)
 class SutSpec:
-    """The SUT class (``target``: ``module:Class`` or ``file.py:Class``) and the actor
-    it drives (None: the field named ``sut``, else ``ego``)."""
+    """The SUT class (``target``: ``module:Class`` or ``file.py:Class``), the actor
+    it drives (None: the field named ``sut``, else ``ego``) and the wall-clock budget
+    of each call into it (None: no limit)."""
 
     target: str
     actor: str | None = None
+    step_timeout: float | None = DEFAULT_STEP_TIMEOUT
 
     def __post_init__(self) -> None:
         module, sep, name = self.target.rpartition(":")
@@ -63,7 +82,7 @@ class SutSpec:
         path = Path(module)
         if not path.is_absolute():
             path = (base or Path.cwd()) / path
-        return SutSpec(f"{path.resolve()}:{name}", self.actor)
+        return SutSpec(f"{path.resolve()}:{name}", self.actor, self.step_timeout)
 
     def load(self) -> type[Any]:
         """The class (SutError when it cannot be imported or is not a SUT)."""
@@ -77,7 +96,11 @@ class SutSpec:
                 module = importlib.import_module(module_name)
         except SutError:
             raise
-        except Exception as exc:  # an import that fails, whatever the module raised
+        except SignalInterrupt as exc:
+            if genuine(exc):  # the command was interrupted while it imported
+                raise
+            raise SutError(f"cannot import `{module_name}`: it raised KeyboardInterrupt") from None
+        except BaseException as exc:  # an import that fails, whatever it raised (SystemExit)
             raise SutError(f"cannot import `{module_name}`: {type(exc).__name__}: {exc}") from None
         cls = getattr(module, name, None)
         if not isinstance(cls, type):
@@ -87,12 +110,11 @@ class SutSpec:
         return cls
 
     def make(self) -> Any:
-        """A new instance of the class."""
+        """A new instance of the class (SutFault when constructing it fails: a run error)."""
+        from osc2runner.sut.driver import call_sut
+
         cls = self.load()
-        try:
-            return cls()
-        except Exception as exc:
-            raise SutError(f"`{self.target}()` raised {type(exc).__name__}: {exc}") from None
+        return call_sut(cls.__name__, "its construction", self.step_timeout, cls)
 
 
 def _load_file(path: Path) -> Any:

@@ -9,11 +9,13 @@ from osc2lsp.text import uri_to_key
 from tests.osc2lsp.storms import lsp_lines, units
 
 
-def cli_findings(uri: str, text: str, encoding: str = "utf-16") -> list[tuple]:
-    """``(code, start, end, message)`` of the checker's findings (without the solver),
-    positions as LSP ``(line, character)`` pairs, sorted."""
+def cli_findings(
+    uri: str, text: str, encoding: str = "utf-16", verify: bool = False
+) -> list[tuple]:
+    """``(code, start, end, message)`` of the checker's findings (the solver's too with
+    ``verify``), positions as LSP ``(line, character)`` pairs, sorted."""
     key = uri_to_key(uri)
-    analysis = analyze([SourceInput(key, text)], Config().analysis_options(verify=False))
+    analysis = analyze([SourceInput(key, text)], Config().analysis_options(verify=verify))
     lines = [text[start:end] for start, end in lsp_lines(text)]
 
     def position(line: int, column: int) -> tuple[int, int]:

@@ -21,14 +21,13 @@ from typing import Any
 import pytest
 
 from osc2runner import run
-from osc2runner.execution.signals import Interrupts, exit_status, raising
+from osc2runner.execution.signals import Interrupts, SignalInterrupt, exit_status, raising
 from osc2runner.output import telemetry
 from osc2runner.runner import RunInterrupted
+from tests.osc2runner.processes import POSIX, ROOT, env, wait_for
 
 HERE = Path(__file__).parent
-ROOT = HERE.parents[1]
 EVENTS = HERE / "trees" / "events.osc"
-POSIX = pytest.mark.skipif(os.name != "posix", reason="POSIX signals")
 
 LONG = """\
 import osc.standard
@@ -81,23 +80,6 @@ sys.exit(main(sys.argv[1:]))
 """
 
 
-def _env() -> dict[str, str]:
-    path = os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")])
-    return dict(os.environ, PYTHONPATH=path)
-
-
-def _wait_for(path: Path, marker: str, proc: subprocess.Popen, deadline: float = 120.0) -> None:
-    """Poll ``path`` until it contains ``marker`` (the process is still running then)."""
-    end = time.monotonic() + deadline
-    while marker not in path.read_text(errors="replace"):
-        if proc.poll() is not None:
-            pytest.fail(f"osc2run ended before {marker!r}: {path.read_text()[-2000:]}")
-        if time.monotonic() > end:
-            proc.kill()
-            pytest.fail(f"no {marker!r} from osc2run within {deadline:g} s")
-        time.sleep(0.05)
-
-
 def _check_complete(out: Path, signame: str) -> dict[str, Any]:
     """run.json parses and says interrupted by ``signame``; telemetry.csv has every actor's
     row for every tick up to run.json's steps, and nothing more; no temporary files."""
@@ -138,12 +120,12 @@ def test_a_signal_mid_run_writes_complete_files(tmp_path, signame):
             [*command, "--duration", "1000"],
             stdout=subprocess.PIPE,
             stderr=stderr,
-            env=_env(),
+            env=env(),
             cwd=ROOT,
             text=True,
         )
     try:
-        _wait_for(err, "simulated 1.0 s", proc)
+        wait_for(err, "simulated 1.0 s", proc)
         proc.send_signal(signum)
         stdout, _ = proc.communicate(timeout=120)
     finally:
@@ -164,7 +146,7 @@ def test_a_second_sigint_while_the_files_are_written_does_not_cut_them(tmp_path)
         [sys.executable, "-c", DOUBLE_SIGINT, str(source), "--out", str(out), "-q"],
         capture_output=True,
         text=True,
-        env=_env(),
+        env=env(),
         cwd=ROOT,
         timeout=300,
         check=False,
@@ -282,11 +264,16 @@ def test_a_run_in_another_thread_installs_no_handlers(own_handlers):
 
 
 def test_interrupts_note_signals_and_restore_the_handlers(own_handlers):
+    """The first signal is noted (the loop stops at the tick's end); a second one before
+    the loop stopped raises where the code is."""
     with Interrupts() as interrupts:
         assert interrupts.installed
         os.kill(os.getpid(), signal.SIGTERM)
-        os.kill(os.getpid(), signal.SIGINT)
         assert interrupts.first == signal.SIGTERM
+        with pytest.raises(SignalInterrupt) as second:
+            os.kill(os.getpid(), signal.SIGINT)
+            time.sleep(0)  # let the handler run
+        assert second.value.signum == signal.SIGINT
         assert interrupts.received == [signal.SIGTERM, signal.SIGINT]
         assert interrupts.consume() == signal.SIGTERM
     assert own_handlers[int(signal.SIGTERM)].calls == []

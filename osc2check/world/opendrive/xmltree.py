@@ -5,8 +5,9 @@ every start tag, which ``xml.etree`` drops (and lxml keeps only the line), so
 the OpenDRIVE reader builds its own tree here: :class:`Element` is a tag, its
 attributes, its children and its position. Text content is not kept: OpenDRIVE
 puts its data in attributes (the one exception, ``<geoReference>``'s CDATA, is
-not needed). Anything expat refuses, and a file that cannot be read at all,
-becomes a :class:`~osc2check.world.errors.MapError` at the position expat gives.
+not needed). Anything expat refuses, a file that cannot be read at all, and one
+beyond the size or element limits of :mod:`osc2check.world.budget`, becomes a
+:class:`~osc2check.world.errors.MapError` at the position expat gives.
 
 The attribute helpers (:meth:`Element.number`, :meth:`Element.text`, ...) raise
 ``MapError`` naming the element's line and column and the attribute, so the
@@ -20,6 +21,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from xml.parsers import expat
 
+from osc2check.inputs import InputError, read_bytes
+from osc2check.world.budget import MAX_MAP_BYTES, MAX_MAP_ELEMENTS
 from osc2check.world.errors import MapError
 
 __all__ = ["Element", "parse_xml", "read_xml"]
@@ -114,8 +117,17 @@ class _Builder:
         self.file = file
         self.stack: list[Element] = []
         self.root: Element | None = None
+        self.left = MAX_MAP_ELEMENTS  # elements still allowed
 
     def start(self, tag: str, attrib: dict[str, str]) -> None:
+        self.left -= 1
+        if self.left < 0:
+            raise MapError(
+                f"the map has more than {MAX_MAP_ELEMENTS:,} elements (a map's limit)",
+                self.file,
+                self.parser.CurrentLineNumber,
+                self.parser.CurrentColumnNumber + 1,
+            )
         element = Element(
             tag,
             attrib,
@@ -153,9 +165,13 @@ def parse_xml(data: bytes, file: str | None = None) -> Element:
 
 
 def read_xml(path: Path) -> Element:
-    """Read and parse the file at ``path``; an unreadable file raises MapError."""
+    """Read and parse the file at ``path``; an unreadable file raises MapError.
+
+    It is read as the checker reads its sources (``osc2check.inputs``): a regular file
+    of at most ``MAX_MAP_BYTES``, never a FIFO or a device, never blocking.
+    """
     try:
-        data = path.read_bytes()
-    except OSError as exc:
-        raise MapError(f"cannot read the map file: {exc.strerror or exc}", str(path)) from None
+        data = read_bytes(path, MAX_MAP_BYTES)
+    except InputError as exc:
+        raise MapError(f"cannot read the map file: {exc}", str(path)) from None
     return parse_xml(data, str(path))

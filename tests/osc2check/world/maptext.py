@@ -63,3 +63,26 @@ def xodr(*roads: str, tail: str = "") -> str:
 {tail}
 </OpenDRIVE>
 """
+
+
+def scenario_on(map_file: str, speed: str = "50kph") -> str:
+    """A scenario whose one vehicle drives on the map ``map_file`` (a relative path)."""
+    return f"""import osc.standard
+scenario s:
+    town: map with:
+        keep(it.map_file == "{map_file}")
+    hero: vehicle
+    do hero.drive(duration: 3s) with:
+        speed({speed})
+"""
+
+
+def one_lane(side: str, width: str) -> str:
+    """A lane section with one driving lane of ``width`` on ``side`` (``left``/``right``)."""
+    lane_id = 1 if side == "left" else -1
+    width_record = f'<width sOffset="0" a="{width}" b="0" c="0" d="0"/>'
+    return f"""
+      <laneSection s="0">
+        <{side}><lane id="{lane_id}" type="driving">{width_record}</lane></{side}>
+        <center><lane id="0" type="none"/></center>
+      </laneSection>"""

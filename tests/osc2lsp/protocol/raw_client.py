@@ -13,6 +13,7 @@ import socket
 import subprocess
 import sys
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -127,14 +128,23 @@ class RawClient:
             lambda m: m.get("id") == msg_id and ("result" in m or "error" in m), timeout
         )
 
-    def diagnostics(self, uri: str, version: int | None = None) -> list[dict]:
-        """The pushed diagnostics of ``uri`` (for ``version`` when given): the next push."""
+    def diagnostics(
+        self,
+        uri: str,
+        version: int | None = None,
+        until: Callable[[list[dict]], bool] | None = None,
+        timeout: float = TIMEOUT,
+    ) -> list[dict]:
+        """The pushed diagnostics of ``uri`` (for ``version`` when given, satisfying
+        ``until`` when given): the next such push."""
         found = self.wait_for(
             lambda m: (
                 m.get("method") == "textDocument/publishDiagnostics"
                 and m["params"]["uri"] == uri
                 and (version is None or m["params"].get("version") == version)
-            )
+                and (until is None or until(m["params"]["diagnostics"]))
+            ),
+            timeout,
         )
         return found["params"]["diagnostics"]
 

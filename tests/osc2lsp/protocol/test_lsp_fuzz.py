@@ -133,14 +133,8 @@ def test_edit_storms_end_with_the_clis_findings(raw_server, edits):
     assert text == final_text(STORM_BASE, edits)
     expected = cli_findings(uri, text, raw_server.encoding)
     try:
-        raw_server.wait_for(
-            lambda m: (
-                m.get("method") == "textDocument/publishDiagnostics"
-                and m["params"]["uri"] == uri
-                and m["params"].get("version") == version
-                and lsp_findings(m["params"]["diagnostics"]) == expected
-            ),
-            timeout=30,
+        raw_server.diagnostics(
+            uri, version, until=lambda ds: lsp_findings(ds) == expected, timeout=30
         )
     finally:
         raw_server.notify("textDocument/didClose", {"textDocument": {"uri": uri}})

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import pytest
 
+from osc2lsp.framing import MAX_MESSAGE_BYTES
 from tests.osc2lsp.protocol.raw_client import RawClient
 
 URI = "file:///tmp/osc2lsp-tests/jsonrpc.osc"
@@ -60,6 +61,39 @@ def test_a_notification_with_invalid_params_is_dropped_and_serving_goes_on(serve
     server.notify("textDocument/didChange", {"textDocument": {"uri": URI}, "contentChanges": 5})
     assert "result" in server.call("textDocument/hover", HOVER)
     assert "a notification: not answered" in server.stderr()
+
+
+def test_an_error_for_a_message_whose_id_is_unknown_has_a_null_id(server):
+    """JSON-RPC 2.0: "If there was an error in detecting the id ... it MUST be Null"."""
+    server.send_bytes(b"Content-Length: 5\r\n\r\n{abc}")  # not JSON
+    server.send_bytes(b"Content-Length: 3\r\n\r\n[1]")  # not an object
+    bad_id = b'{"jsonrpc": "2.0", "id": [1], "method": "textDocument/hover"}'
+    server.send_bytes(b"Content-Length: %d\r\n\r\n%s" % (len(bad_id), bad_id))
+    server.call("textDocument/hover", HOVER)
+    errors = [m for m in server.inbox if "error" in m]
+    assert sorted(m["error"]["code"] for m in errors) == [-32700, -32600, -32600]
+    assert all("id" in m and m["id"] is None for m in errors)
+
+
+def test_a_message_over_the_size_limit_is_refused_with_a_clear_error(server):
+    """The header says more than ``MAX_MESSAGE_BYTES``: the body is skipped as it comes
+    (never held), the client gets an error and a message, and serving goes on."""
+    server.send_bytes(b"Content-Length: %d\r\n\r\n" % (MAX_MESSAGE_BYTES + 1))
+    server.send_bytes(b'{"jsonrpc": "2.0", "id": 99, "params": {"text": "' + b"x" * 100_000)
+    assert "result" in server.call("textDocument/hover", HOVER)
+    [error] = [m for m in server.inbox if "error" in m]
+    assert error["id"] is None and "larger than the limit of 64 MiB" in error["error"]["message"]
+    shown = server.wait_for(lambda m: m.get("method") == "window/showMessage")
+    assert "out of date" in shown["params"]["message"]
+
+
+def test_a_rename_to_an_implicit_name_is_refused(server):
+    """``it`` and ``actor`` are names the language gives: a field renamed to ``it``
+    would be read as the subject of a ``with:`` block."""
+    for implicit in ("it", "actor"):
+        answer = server.call("textDocument/rename", dict(HOVER, newName=implicit))
+        assert answer["error"]["code"] == -32803
+        assert f"`{implicit}`" in answer["error"]["message"]
 
 
 def test_a_refused_rename_is_an_error_answer_logged_without_traceback(server):

@@ -38,13 +38,7 @@ def test_eglot_gets_one_push_per_version_and_findings(tmp_path):
     client.diagnostics(clean, 1)
     # The solver's jobs run in order: once b's conflict is reported, a's job is done.
     client.open(conflict, CONFLICT)
-    client.wait_for(
-        lambda m: (
-            m.get("method") == "textDocument/publishDiagnostics"
-            and m["params"]["uri"] == conflict
-            and any(d["code"] == "C401" for d in m["params"]["diagnostics"])
-        )
-    )
+    client.diagnostics(conflict, until=lambda ds: any(d["code"] == "C401" for d in ds))
     # The same settings again: every document is analysed again, to the same findings.
     client.notify("workspace/didChangeConfiguration", {"settings": {"osc2": {"verify": True}}})
     client.open(later, CLEAN.replace("clean", "later"))

@@ -2,10 +2,15 @@
 
 from __future__ import annotations
 
+import contextlib
+import io
+import json
+
 import pytest
 from lsprotocol import types
 from pytest_lsp import LanguageClient
 
+from osc2check import cli
 from tests.osc2lsp.protocol.lsp_session import (
     close_document,
     diagnostics,
@@ -58,4 +63,27 @@ async def test_hover_on_a_non_ascii_name(client: LanguageClient, doc_uri):
     )
     assert "größe_ä" in result.contents.value
     assert result.range.end == position(TEXT, TEXT.index("größe_ä") + len("größe_ä"), client)
+    close_document(client, doc_uri)
+
+
+async def test_a_nul_character_gets_the_findings_osc2check_gives_the_same_bytes(
+    client: LanguageClient, doc_uri, tmp_path
+):
+    """The editor sends the text with its NUL; ``osc2check`` reads the same bytes from
+    the file: both report the same codes at the same places (P004 and the character
+    the parser cannot take)."""
+    text = "import osc.standard\nscenario s:\n    x: int = 1\x00\n    y: int = 2\n"
+    path = tmp_path / "nul.osc"
+    path.write_bytes(text.encode())
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        cli.main([str(path), "--output-format", "json"])
+    cli_found = sorted(
+        (f["code"], f["location"]["start"]["line"] - 1, f["message"])
+        for f in json.loads(out.getvalue())["findings"]
+    )
+    open_document(client, doc_uri, text)
+    found = await diagnostics(client, doc_uri)
+    assert sorted((d.code, d.range.start.line, d.message) for d in found) == cli_found
+    assert [code for code, _, _ in cli_found] == ["P001", "P004"]
     close_document(client, doc_uri)

@@ -163,12 +163,15 @@ def test_the_report_links_every_plot_of_a_run(tmp_path: Path) -> None:
 
     run_dir = tmp_path / "runs" / "3"
     run_dir.mkdir(parents=True)
-    for name in ("braking.png", "world.png", "run.json", "telemetry.csv"):
+    wrote = ["braking.png", "world.png", "run.json", "telemetry.csv", "events.csv"]
+    for name in [*wrote[:-1], "stray.png"]:
         (run_dir / name).write_bytes(b"")
-    links = _links(RunRecord(3, "failure", "collision", folder="runs/3"), tmp_path)
+    record = RunRecord(3, "failure", "collision", folder="runs/3", files=wrote)
+    links = _links(record, tmp_path)
     for name in ("braking.png", "world.png", "run.json", "telemetry.csv"):
         assert f'href="runs/3/{name}"' in links, name
     assert "events.csv" not in links  # not there: not linked
+    assert "stray" not in links  # there, but the run did not write it
 
 
 def test_records_and_coverage(tmp_path: Path) -> None:
@@ -235,7 +238,9 @@ def test_ctrl_c_writes_what_finished_and_resume_does_the_rest(tmp_path: Path) ->
     assert done_before and len(done_before) < 8
     suite = ET.parse(out / "junit.xml").getroot().find("testsuite")
     assert suite is not None and int(suite.get("tests", 0)) == len(doc["runs"])
-    again = osc2run("--resume", str(out))
+    refused = osc2run("--resume", str(out))  # the SUT is code: named again, or trusted
+    assert refused.returncode == 2 and "--trust-folder" in refused.stderr
+    again = osc2run("--resume", str(out), "--sut", f"{SUTS}:Slow")
     assert again.returncode == 0, again.stderr + again.stdout
     assert f"resuming: {len(done_before)} of 8 runs already finished" in again.stdout
     doc = json.loads((out / "campaign.json").read_text())
