@@ -13,8 +13,11 @@ from dataclasses import dataclass, field, replace
 
 from osc2check import cache, messages
 from osc2check.diagnostics import Diagnostic, Severity
+from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
+from osc2check.plugins import PluginError, PluginRegistry, load_plugins
+from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
 from osc2check.source import decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
@@ -47,29 +50,42 @@ class Analysis:
     programs: dict[str, Program] = field(default_factory=dict)
     parses: dict[str, ParseResult] = field(default_factory=dict)
     verified: dict[str, VerifyResult] = field(default_factory=dict)  # by root file
+    options: AnalysisOptions | None = None  # what the files were analysed with
 
 
 class FileCache:
-    """Parse results by path; sources given in memory win over the disk."""
+    """Parse results by path, each as its dialect reads it (``osc2check.dialects``);
+    sources given in memory win over the disk."""
 
-    def __init__(self, sources: dict[str, str], parses: Mapping[str, ParseResult] | None = None):
+    def __init__(
+        self,
+        sources: dict[str, str],
+        parses: Mapping[str, ParseResult] | None = None,
+        dialect: str = DEFAULT_DIALECT,
+    ):
         self.sources = sources
-        self.parses: dict[str, ParseResult] = dict(parses or {})
+        self.given = dict(parses or {})
+        self.parses: dict[str, ParseResult] = {}
+        self.dialect = dialect
 
     def read(self, uri: str) -> ParseResult | None:
         if uri in self.parses:
             return self.parses[uri]
-        text = self.sources.get(uri)
-        if text is None:
-            try:
-                data = read_bytes(uri)  # never blocks, never reads past the size cap
-            except InputError:
-                return None
-            # An imported file's own findings (P004 included) show when it is checked.
-            text, _ = decode_source(data)
-            result = _parse_imported(text, uri)
-        else:
-            result = parse(text, uri)
+        result = self.given.get(uri)
+        if result is None:
+            text = self.sources.get(uri)
+            if text is None:
+                try:
+                    data = read_bytes(uri)  # never blocks, never reads past the size cap
+                except InputError:
+                    return None
+                # An imported file's own findings (P004 included) show when it is checked.
+                text, _ = decode_source(data)
+                result = _parse_imported(text, uri)
+            else:
+                result = parse(text, uri)
+        # a parse from the start-up cache is the file as written: its dialect reads it too
+        result = dialect_reading(result, self.dialect)
         self.parses[uri] = result
         return result
 
@@ -98,8 +114,13 @@ class AnalysisOptions:
     solver (constraints, placement, flow), as editors do between keystrokes.
     ``implicit_imports`` are standard modules every file imports without saying so;
     ``modules`` maps structured import names to files; ``search_paths`` are the
-    folders ``import a.b`` looks in after the importing file's own. ``policy``
-    filters and re-grades one file's diagnostics (``Config.policy``).
+    folders ``import a.b`` looks in after the importing file's own; ``maps`` names
+    map files by the names scenarios give (``Town04`` -> an ``.xodr`` path).
+    ``osc_version`` chooses the standard library (2.1 or 2.2) and ``dialect`` how
+    other tools' forms are read (:mod:`osc2check.semantics.profile`). ``policy``
+    filters and re-grades one file's diagnostics (``Config.policy``). ``plugins``
+    are the plug-in modules (:mod:`osc2check.plugins`) whose implementations run
+    behaviours of the user's libraries.
     """
 
     verify: bool = True
@@ -108,10 +129,19 @@ class AnalysisOptions:
     implicit_imports: tuple[str, ...] = ()
     modules: Mapping[str, str] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()
+    maps: Mapping[str, str] = field(default_factory=dict)
+    osc_version: str = DEFAULT_OSC_VERSION
+    dialect: str = DEFAULT_DIALECT
     default_map: str = "default"
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
+    plugins: tuple[str, ...] = ()
+
+    @property
+    def library(self) -> LibraryChoice:
+        """The standard library these options build programs on."""
+        return LibraryChoice(self.osc_version, self.dialect)
 
 
 def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) -> Analysis:
@@ -119,6 +149,15 @@ def analyze(sources: list[SourceInput], options: AnalysisOptions | None = None) 
     options = options if options is not None else AnalysisOptions()
     with gc_paused():  # analysis builds long-lived tables; collections only cost time
         return _analyze(sources, options)
+
+
+def _plugins(names: tuple[str, ...]) -> PluginRegistry:
+    """The plug-ins' registry; empty when one cannot be loaded (the command lines say why
+    before they analyse: ``Config.plugin_registry``), so their behaviours are A308."""
+    try:
+        return load_plugins(names)
+    except PluginError:
+        return PluginRegistry()
 
 
 def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
@@ -129,8 +168,9 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
         for s in sources
         if s.parse is not None and s.parse.uri == s.uri and s.parse.text == s.text
     }
-    cache = FileCache(texts, given)
+    cache = FileCache(texts, given, options.dialect)
     modules = dict(options.modules)
+    plugins = _plugins(options.plugins) if options.verify else None
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
@@ -140,7 +180,12 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             continue
         try:
             program = build_program(
-                source.uri, cache.read, options.implicit_imports, modules, options.search_paths
+                source.uri,
+                cache.read,
+                options.implicit_imports,
+                modules,
+                options.search_paths,
+                options.library,
             )
         except RecursionError:  # pathological nesting: say so instead of crashing
             found.extend(result.diagnostics)
@@ -163,6 +208,8 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
                     rlimit=options.solver_rlimit,
                     timeout_ms=options.solver_timeout_ms,
                     default_map=options.default_map,
+                    maps=options.maps,
+                    plugins=plugins,
                 )
             except RecursionError:
                 found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
@@ -170,7 +217,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             verified[source.uri] = checked
             found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
     diagnostics = _finish(found, cache, texts, options)
-    return Analysis(diagnostics, texts, programs, cache.parses, verified)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
 
 
 def _clean(source: SourceInput) -> SourceInput:

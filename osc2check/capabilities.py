@@ -14,6 +14,10 @@ with the same code and message, and never meets one of these forms otherwise. Th
 runner's registry is tested against ``NOT_EXECUTED`` (each library entry either
 has an implementation or is listed here, never both), and ``docs/coverage.md``
 is generated from both.
+
+Behaviours of the user's own libraries (an ``action``, a ``modifier``, a method
+``is undefined``) run when a plug-in implements them (:mod:`osc2check.plugins`):
+each call of one that no loaded plug-in implements is A308 too.
 """
 
 from __future__ import annotations
@@ -23,6 +27,7 @@ from dataclasses import dataclass
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
+from osc2check.plugins import Implementation, PluginRegistry
 from osc2check.semantics import types as T
 from osc2check.semantics.members import MemberList, declaration_bodies
 from osc2check.semantics.model import Model
@@ -32,31 +37,31 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 
-__all__ = ["FORMS", "NOT_EXECUTED", "Form", "absent_reason", "label_of", "not_executed"]
+__all__ = [
+    "FORMS",
+    "NOT_EXECUTED",
+    "Form",
+    "absent_reason",
+    "label_of",
+    "not_executed",
+    "plugin_of",
+]
 
-_MAPS = (
-    "paths and trajectories through route or OpenDRIVE points, and relative ones, are not "
-    "built (world-coordinate paths are)"
+_NO_PLUGIN = "no plug-in implements it (docs/plugins.md: --plugin, plugins in [tool.osc2check])"
+_CARLA_WORLD = (
+    "it needs CARLA's world coordinates of the map, which its built-in stand-ins do not have"
 )
-_CROSSINGS = "crossings are OpenDRIVE objects, which the map reader does not read"
 
 #: The library's actions, modifiers and ``is undefined`` methods the runner does not
 #: execute (``owner.name``), and why.
 NOT_EXECUTED: dict[str, str] = {
-    "map.crossing_connects": _CROSSINGS,
-    "map.set_traffic_lights_control_file": (
-        "control files are not read: give the cycles with `play_cycles`"
-    ),
     "physical_object.set_bm": (
         "behavioural models are implementation-defined (and gone in DSL 2.2): each actor "
         "kind has one driver model"
     ),
-    "map.create_path_odr_points": _MAPS,
-    "map.create_path_route_points": _MAPS,
-    "map.create_trajectory_odr_points": _MAPS,
-    "map.create_trajectory_route_points": _MAPS,
-    "map.resolve_relative_path": _MAPS,
-    "map.resolve_relative_trajectory": _MAPS,
+    # CARLA's world (osc2toolkit.carla): the poses and trajectory files of CARLA's maps
+    "vehicle.set_position": _CARLA_WORLD,
+    "follow_trajectory": _CARLA_WORLD,
 }
 
 
@@ -143,22 +148,27 @@ def absent_reason(label: str) -> str:
 
 
 def label_of(symbol: Symbol) -> str:
-    """``owner.name`` of a library action, modifier or method (the table's key)."""
+    """``owner.name`` of a library action, modifier or method (the table's key; ``name``
+    of one without an owner)."""
     owner = symbol.owner if symbol.kind is SymbolKind.METHOD else symbol.actor
-    return f"{owner.name if owner is not None else ''}.{symbol.name}"
+    return f"{owner.name}.{symbol.name}" if owner is not None else symbol.name
 
 
 def not_executed(
     model: Model,
     scenario: Symbol,
     invoked: bool,
+    plugins: PluginRegistry | None = None,
     bodies: Mapping[Symbol, Sequence[MemberList]] | None = None,
 ) -> list[Diagnostic]:
     """A308 for each call of ``scenario``'s own members that the runner does not execute
     (``invoked``: the scenario is invoked by another, whose run collects no coverage of
-    it). ``bodies``: ``declaration_bodies(model)``, when the caller has it (a file's
-    scenarios share it: made once per scenario, it is quadratic in the file's size)."""
+    it; ``plugins``: the plug-ins loaded, which implement behaviours of the user's
+    libraries). ``bodies``: ``declaration_bodies(model)``, when the caller has it (a
+    file's scenarios share it: made once per scenario, it is quadratic in the file's
+    size)."""
     found: list[Diagnostic] = []
+    registry = plugins if plugins is not None else PluginRegistry()
     if bodies is None:
         bodies = declaration_bodies(model)
     for members in bodies.get(scenario, ()):
@@ -166,7 +176,7 @@ def not_executed(
             if invoked and isinstance(member, ast.CoverageDecl):
                 _form(found, member.span, "invoked_coverage")
             for node in walk(member):
-                _node(model, node, found)
+                _node(model, node, found, registry)
     found.sort(key=lambda d: d.sort_key)
     return found
 
@@ -176,7 +186,7 @@ def _form(found: list[Diagnostic], span: Span, key: str) -> None:
     found.append(messages.not_executed(span, form.written, form.reason))
 
 
-def _node(model: Model, node: ast.Node, found: list[Diagnostic]) -> None:
+def _node(model: Model, node: ast.Node, found: list[Diagnostic], plugins: PluginRegistry) -> None:
     binding = model.binding(node)
     if isinstance(node, ast.Composition):
         for key in ("start_to_start", "end_to_end"):
@@ -187,15 +197,18 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic]) -> None:
             if isinstance(item, ast.Invocation):
                 _form(found, item.span, "composition_modifier")
         return
+    if isinstance(node, ast.Call):
+        method = binding.callee if binding is not None else None
+        if isinstance(method, Symbol) and _undefined(method):
+            # a library method the runner lacks (set_bm), or a program's without a plug-in
+            _implemented(model, method, node.callee.span, found, plugins)
+        return
     if not isinstance(node, ast.Invocation) or binding is None:
         return
     callee = binding.callee
     if not isinstance(callee, Symbol):
         return
-    if callee.library or callee.toolkit:
-        reason = absent_reason(label_of(callee))
-        if reason:
-            found.append(messages.not_executed(node.name.span, f"`{label_of(callee)}`", reason))
+    _implemented(model, callee, node.name.span, found, plugins)
     if binding.events:
         _form(found, binding.events[0].span, "event_argument")
     if callee.kind is SymbolKind.SCENARIO:
@@ -209,6 +222,42 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic]) -> None:
         for item in node.with_members:
             if isinstance(item, ast.Invocation):
                 _heading(model, node, item, found)
+
+
+def _implemented(
+    model: Model, callee: Symbol, span: Span, found: list[Diagnostic], plugins: PluginRegistry
+) -> None:
+    """A308 when the runner has no implementation of ``callee`` and no plug-in has one."""
+    if callee.library or callee.toolkit:
+        reason = absent_reason(label_of(callee))
+    elif callee.kind in (SymbolKind.ACTION, SymbolKind.MODIFIER) or _undefined(callee):
+        reason = _NO_PLUGIN
+    else:
+        return
+    if reason and plugin_of(model, callee, plugins) is None:
+        found.append(messages.not_executed(span, f"`{label_of(callee)}`", reason))
+
+
+def _undefined(symbol: Symbol) -> bool:
+    """Whether ``symbol`` is a method declared ``is undefined``."""
+    decl = symbol.decl
+    return (
+        symbol.kind is SymbolKind.METHOD
+        and isinstance(decl, ast.MethodDecl)
+        and decl.kind == "undefined"
+    )
+
+
+def plugin_of(model: Model, callee: Symbol, plugins: PluginRegistry) -> Implementation | None:
+    """The plug-in implementation of the action, modifier or method ``callee``: registered
+    for its actor (its declaring type) or a supertype, or for no actor when it has none."""
+    kinds = {SymbolKind.ACTION: "action", SymbolKind.MODIFIER: "modifier"}
+    kind = kinds.get(callee.kind, "method" if callee.kind is SymbolKind.METHOD else None)
+    if kind is None or not len(plugins):
+        return None
+    owner = callee.owner if callee.kind is SymbolKind.METHOD else callee.actor
+    owners = [s.name for s in model.ancestors(owner)] if owner is not None else [None]
+    return plugins.find(kind, owners, callee.name)  # type: ignore[arg-type]
 
 
 def _heading(

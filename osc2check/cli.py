@@ -32,10 +32,12 @@ from osc2check.config import (
     OUTPUT_FORMATS,
     Config,
     ConfigError,
+    add_language_arguments,
     load_config,
     load_config_file,
     parse_codes,
     parse_severity,
+    with_language_arguments,
 )
 from osc2check.inputs import InputError, InputProblem
 from osc2check.output import render, render_statistics, tool
@@ -143,6 +145,7 @@ def build_parser() -> argparse.ArgumentParser:
         help="lowest severity that makes the exit status 1 (default: error)",
     )
     p.add_argument("--exit-zero", action="store_true", help="exit 0 even when there are findings")
+    add_language_arguments(p)
     p.add_argument("--config", metavar="FILE", help="read the configuration from FILE")
     p.add_argument("--isolated", action="store_true", help="ignore configuration files")
     p.add_argument(
@@ -183,6 +186,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         if args[:1] == ["rule"]:
             return _rule_command(args[1:], sys.stdout)
+        if args[:1] == ["migrate"]:
+            return _migrate_command(args[1:], sys.stdout)
         return _check_command(args, sys.stdout)
     except BrokenPipeError:  # the reader went away (`osc2check . | head`): stop quietly
         devnull = os.open(os.devnull, os.O_WRONLY)
@@ -222,6 +227,50 @@ def _rule_command(argv: list[str], out: TextIO) -> int:
     return EXIT_OK
 
 
+# --- osc2check migrate ------------------------------------------------------------
+
+
+def _migrate_command(argv: list[str], out: TextIO) -> int:
+    p = _ArgumentParser(
+        prog="osc2check migrate",
+        description="Write files of CARLA scenario_runner's OSC2 dialect as standard OSC2 "
+        "(what the toolkit reads them as). Each file's standard text goes to standard "
+        "output, or with --out to a file of the same name in that folder; the forms "
+        "rewritten are listed on standard error.",
+    )
+    p.add_argument("paths", nargs="+", metavar="FILE", help="the .osc files")
+    p.add_argument("--out", metavar="DIR", help="write FILE's name in DIR instead of printing")
+    p.add_argument(
+        "--dialect",
+        choices=("auto", "carla"),
+        default="auto",
+        help="carla: every file is CARLA's; auto (default): the files that import basic.osc",
+    )
+    args = p.parse_args(argv)
+    from osc2check.dialects.migrate import migrate
+
+    folder = Path(args.out) if args.out else None
+    if folder is not None:
+        folder.mkdir(parents=True, exist_ok=True)
+    status = EXIT_OK
+    for name in args.paths:
+        try:
+            data = inputs.read_bytes(name)
+        except InputError as exc:
+            sys.stderr.write(f"osc2check: error: {name}: cannot read: {exc}\n")
+            status = EXIT_ERROR
+            continue
+        text, _ = decode_source(data)
+        migration = migrate(text, name, args.dialect)
+        for form in migration.forms:
+            sys.stderr.write(f"{name}:{form.span.line}:{form.span.column}: {form.code} rewritten\n")
+        if folder is not None:
+            (folder / Path(name).name).write_text(migration.text, encoding="utf-8")
+        else:
+            out.write(migration.text)
+    return status
+
+
 # --- checking ---------------------------------------------------------------------
 
 
@@ -236,6 +285,7 @@ def _check_command(argv: list[str], out: TextIO) -> int:
         cache.set_enabled(False)
     paths = args.paths or ["."]
     config = _with_options(_load_config(args, paths), args)
+    config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs
     sources, problems = _read(_collect(paths, config, args.stdin_filename))
     _report_problems(problems, args.quiet)
     failed = any(p.is_error for p in problems)
@@ -343,7 +393,7 @@ def _with_options(config: Config, args: argparse.Namespace) -> Config:
         changes["fail_on"] = parse_severity(args.fail_on, key="--fail-on")
     if args.output_format is not None:
         changes["output_format"] = FORMAT_ALIASES.get(args.output_format, args.output_format)
-    return replace(config, **changes)
+    return with_language_arguments(replace(config, **changes), args)
 
 
 def _display(path: Path) -> str:

@@ -122,6 +122,12 @@ AMBIGUOUS_NAME = Code(
 ENUM_VALUE_CYCLE = Code(
     "N114", "enum-value-cycle", E, "enum members take their values from each other in a cycle"
 )
+SHADOWED_ENUM_LITERAL = Code(
+    "N115",
+    "shadowed-enum-literal",
+    W,
+    "a declared name is also a member of the enum expected here; the member is taken",
+)
 
 # --- T: types and units ----------------------------------------------------
 DIMENSION_MISMATCH = Code(
@@ -354,6 +360,153 @@ UNQUOTED_FILE_IMPORT = Code(
     "unquoted-file-import",
     W,
     "a file is imported by its name without quotes (`import basic.osc`), as CARLA does",
+)
+
+STRUCT_CONSTRUCTOR_CALL = Code(
+    "D809",
+    "struct-constructor-call",
+    W,
+    "a struct value is built by calling the struct's name (`pose_3d(position_3d(x: 1m))`)",
+)
+TOOL_MODULE = Code(
+    "D810",
+    "tool-module",
+    W,
+    "a module under the standard's reserved name `osc` is another tool's library",
+)
+
+# CARLA scenario_runner's dialect (osc2check.dialects.carla)
+CARLA_WORLD_IMPORT = Code(
+    "D811",
+    "carla-world-import",
+    W,
+    "CARLA's library `basic.osc` is imported: the toolkit reads it as its CARLA world",
+)
+CARLA_WORLD_DECLARATION = Code(
+    "D812",
+    "carla-world-declaration",
+    W,
+    "a declaration of CARLA's library is repeated: the CARLA world's is used",
+)
+CARLA_VELOCITY = Code(
+    "D813",
+    "carla-velocity",
+    W,
+    "CARLA's type `velocity` is used: it is the standard's `speed`",
+)
+CARLA_UNIT_DIMENSION = Code(
+    "D814",
+    "carla-unit-dimension",
+    W,
+    "a unit's SI exponents differ from its type's: CARLA takes the type's",
+)
+CARLA_PATH = Code(
+    "D815",
+    "carla-path",
+    W,
+    "CARLA's `Path` and `set_map` are used: they are the standard's `map` and `set_map_file`",
+)
+CARLA_PATH_CONDITION = Code(
+    "D816",
+    "carla-path-condition",
+    W,
+    "CARLA's path condition (`path_min_driving_lanes`, `path_over_junction`) is used",
+)
+CARLA_DRIVE_PATH = Code(
+    "D817",
+    "carla-drive-path",
+    W,
+    "`drive` is given CARLA's path or `adjust`: the standard's `drive` takes neither",
+)
+CARLA_LANE_NUMBERING = Code(
+    "D818",
+    "carla-lane-numbering",
+    W,
+    "a lane number without `from:`: CARLA counts lanes from the left",
+)
+CARLA_LANE_CHANGES = Code(
+    "D819",
+    "carla-lane-changes",
+    W,
+    "`change_lane(lane_changes: ...)` is CARLA's name of the standard's `lane:`",
+)
+CARLA_SCENARIO_OF_DUT = Code(
+    "D820",
+    "carla-scenario-of-dut",
+    W,
+    "a scenario is declared on CARLA's `dut` and shares the invoking scenario's actors by name",
+)
+CARLA_UNUSED_NAME = Code(
+    "D821",
+    "carla-unused-name",
+    W,
+    "an event or global named as an enum member is declared for CARLA's parser and never used",
+)
+CARLA_ACTOR_ALIAS = Code(
+    "D822",
+    "carla-actor-alias",
+    W,
+    "an actor field whose default is another actor: CARLA's second name for that actor",
+)
+CARLA_SPEED_NAME = Code(
+    "D823",
+    "carla-speed-name",
+    W,
+    "a speed field whose default is a string naming an actor: CARLA reads it as that actor's speed",
+)
+CARLA_DRIVE_DISTANCE = Code(
+    "D824",
+    "carla-drive-distance",
+    W,
+    "CARLA's hard-wired event `drive_distance` is awaited",
+)
+CARLA_ELAPSED_RANGE = Code(
+    "D825",
+    "carla-elapsed-range",
+    W,
+    "`elapsed` is given a range: CARLA waits a time drawn from it",
+)
+CARLA_STATIC_METHOD = Code(
+    "D826",
+    "carla-static-method",
+    W,
+    "a method is called on its struct's name instead of on a value",
+)
+CARLA_EXTERNAL_PYTHON = Code(
+    "D827",
+    "carla-external-python",
+    W,
+    "a method body is CARLA's `external python(module:, name:)`",
+)
+CARLA_WORLD_POSE = Code(
+    "D828",
+    "carla-world-pose",
+    W,
+    "CARLA's `set_position` places an actor at a pose of CARLA's world",
+)
+CARLA_TRAJECTORY_FILE = Code(
+    "D829",
+    "carla-trajectory-file",
+    W,
+    "CARLA's `follow_trajectory(input_file:)` follows a CSV file of CARLA's world",
+)
+CARLA_PHASE_DURATION = Code(
+    "D831",
+    "carla-phase-duration",
+    W,
+    "a drive in a composition with a duration: CARLA gives it the composition's duration",
+)
+CARLA_START_PLACEMENT = Code(
+    "D832",
+    "carla-start-placement",
+    W,
+    "`lane` or `position` `at: start` after time 0: CARLA sets the actor's transform there",
+)
+CARLA_MAP = Code(
+    "D830",
+    "carla-map",
+    W,
+    "a map of CARLA's is named that has no stand-in and no configured file",
 )
 
 # --- S: suppressions and tooling -------------------------------------------

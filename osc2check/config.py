@@ -13,7 +13,7 @@ per-file ignores, severity overrides and ``strict``, then sorts.
 from __future__ import annotations
 
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from fnmatch import fnmatchcase
 from pathlib import Path, PurePosixPath
 from types import MappingProxyType
@@ -23,6 +23,8 @@ from urllib.parse import unquote, urlparse
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+from osc2check.plugins import PluginError, PluginRegistry, load_plugins
+from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, DIALECTS, OSC_VERSIONS
 
 if TYPE_CHECKING:
     from osc2check.analysis import AnalysisOptions
@@ -33,12 +35,15 @@ __all__ = [
     "OUTPUT_FORMATS",
     "Config",
     "ConfigError",
+    "add_language_arguments",
     "config_from_mapping",
+    "config_for",
     "find_config",
     "load_config",
     "load_config_file",
     "parse_codes",
     "parse_severity",
+    "with_language_arguments",
 ]
 
 CONFIG_FILE = "osc2check.toml"
@@ -85,7 +90,21 @@ class Config:
     road: Mapping[str, Any] = field(default_factory=dict)
     solver: Mapping[str, Any] = field(default_factory=dict)
     search_paths: tuple[str, ...] = ()  # folders for `import a.b` (a/b.osc), after the file's own
+    modules: Mapping[str, str] = field(default_factory=dict)  # `import a.b` -> a file (absolute)
+    maps: Mapping[str, str] = field(default_factory=dict)  # a map name -> an .xodr file (absolute)
+    osc_version: str = DEFAULT_OSC_VERSION
+    dialect: str = DEFAULT_DIALECT
+    plugins: tuple[str, ...] = ()  # Python modules implementing behaviours of .osc libraries
     root: Path | None = None
+
+    def __reduce__(self) -> tuple[Any, ...]:
+        """Pickled as plain data (a campaign sends it to its workers); its tables are
+        read-only views, which pickle cannot take."""
+        values = {
+            f.name: dict(v) if isinstance(v := getattr(self, f.name), MappingProxyType) else v
+            for f in fields(self)
+        }
+        return (_config_of, (values,))
 
     def analysis_options(self, **changes: Any) -> AnalysisOptions:
         """The options ``analyze`` runs with under this configuration (``changes`` on top)."""
@@ -94,12 +113,25 @@ class Config:
         road_map = self.road.get("map", "default")
         options = AnalysisOptions(
             search_paths=self.search_paths,
+            modules=self.modules,
+            maps=self.maps,
+            osc_version=self.osc_version,
+            dialect=self.dialect,
             default_map=str(road_map),
             solver_rlimit=_int_or_none(self.solver.get("rlimit")),
             solver_timeout_ms=_int_or_none(self.solver.get("timeout-ms")),
             policy=self.policy,
+            plugins=self.plugins,
         )
         return replace(options, **changes)
+
+    def plugin_registry(self) -> PluginRegistry:
+        """The plug-ins this configuration names (and the installed ones), loaded; a
+        ``ConfigError`` when one cannot be, said before anything is analysed."""
+        try:
+            return load_plugins(self.plugins)
+        except PluginError as exc:
+            raise ConfigError(str(exc), None, "plugins") from None
 
     def enabled(self, code: Code) -> bool:
         """True when ``code`` is selected and not ignored."""
@@ -161,6 +193,14 @@ class Config:
             return Path(path).resolve().relative_to(base.resolve()).as_posix()
         except (ValueError, OSError, RuntimeError):  # RuntimeError: a symlink loop (< 3.13)
             return PurePosixPath(Path(path).as_posix()).as_posix()
+
+
+def _config_of(values: dict[str, Any]) -> Config:
+    """A pickled ``Config`` again (see ``Config.__reduce__``)."""
+    tables: dict[str, Any] = {
+        k: MappingProxyType(v) if isinstance(v, dict) else v for k, v in values.items()
+    }
+    return Config(**tables)
 
 
 def _int_or_none(value: object) -> int | None:
@@ -314,9 +354,42 @@ def _read_solver(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"solver": MappingProxyType(table)}
 
 
+def _base(path: _Where) -> Path:
+    """The folder relative paths in the configuration are taken from: the file's."""
+    return Path(path).resolve().parent if path else Path.cwd()
+
+
 def _read_search_paths(v: object, path: _Where, key: str) -> dict[str, Any]:
-    base = Path(path).resolve().parent if path else Path.cwd()
-    return {"search_paths": tuple(str(base / p) for p in _string_list(v, path, key))}
+    return {"search_paths": tuple(str(_base(path) / p) for p in _string_list(v, path, key))}
+
+
+def _file_table(name: str, what: str) -> _Reader:
+    """A table of names to files, relative to the configuration file (made absolute)."""
+
+    def read(v: object, path: _Where, key: str) -> dict[str, Any]:
+        table = _expect(v, dict, f'a table of {what} = "path"', path, key)
+        files = {}
+        for entry, file in table.items():
+            files[entry] = str(_base(path) / _expect(file, str, "a path", path, f"{key}.{entry}"))
+        return {name: MappingProxyType(files)}
+
+    return read
+
+
+def _choice(name: str, choices: tuple[str, ...]) -> _Reader:
+    def read(v: object, path: _Where, key: str) -> dict[str, Any]:
+        if not isinstance(v, str) or v not in choices:
+            expected = ", ".join(f'"{c}"' for c in choices)
+            raise ConfigError(f"expected one of {expected}, got {v!r}", path, key)
+        return {name: v}
+
+    return read
+
+
+def _read_plugins(v: object, path: _Where, key: str) -> dict[str, Any]:
+    """Modules by name, or ``.py`` files relative to the configuration file."""
+    names = _string_list(v, path, key)
+    return {"plugins": tuple(str(_base(path) / n) if n.endswith(".py") else n for n in names)}
 
 
 _READERS: dict[str, _Reader] = {
@@ -332,6 +405,11 @@ _READERS: dict[str, _Reader] = {
     "road": _raw_table("road"),
     "solver": _read_solver,
     "search-paths": _read_search_paths,
+    "modules": _file_table("modules", "module"),
+    "maps": _file_table("maps", "map name"),
+    "osc-version": _choice("osc_version", OSC_VERSIONS),
+    "dialect": _choice("dialect", DIALECTS),
+    "plugins": _read_plugins,
 }
 
 
@@ -430,3 +508,51 @@ def load_config(start_dir: str | Path) -> tuple[Config, Path | None]:
     if path is None:
         return Config(), None
     return load_config_file(path), path
+
+
+def config_for(scenario: str | Path) -> Config:
+    """The configuration that applies to a scenario file: the nearest above its folder
+    (what ``osc2check FILE`` reads; ``osc2run`` and ``osc2lsp`` read the same)."""
+    config, _ = load_config(Path(scenario).resolve().parent)
+    return config
+
+
+# --- the language options, the same in every command -------------------------------
+
+
+def add_language_arguments(parser: Any) -> None:
+    """``--osc-version``, ``--dialect`` and ``--plugin`` on an ``argparse`` parser
+    (osc2check, osc2run)."""
+    parser.add_argument(
+        "--osc-version",
+        choices=OSC_VERSIONS,
+        help=f"the OSC2 version whose standard library is used (default {DEFAULT_OSC_VERSION}, "
+        "or osc-version in [tool.osc2check])",
+    )
+    parser.add_argument(
+        "--dialect",
+        choices=DIALECTS,
+        help="how other tools' forms are read: carla reads CARLA scenario_runner's; auto "
+        "(the default) does when a file imports CARLA's basic.osc",
+    )
+    parser.add_argument(
+        "--plugin",
+        action="append",
+        metavar="MODULE",
+        help="a Python module (or .py file) implementing actions, modifiers or methods of "
+        "your .osc libraries (docs/plugins.md); repeatable, added to plugins in "
+        "[tool.osc2check]",
+    )
+
+
+def with_language_arguments(config: Config, args: Any) -> Config:
+    """``config`` with the ``--osc-version``, ``--dialect`` and ``--plugin`` given on the
+    command line."""
+    changes: dict[str, Any] = {
+        name: value
+        for name in ("osc_version", "dialect")
+        if (value := getattr(args, name, None)) is not None
+    }
+    if getattr(args, "plugin", None):
+        changes["plugins"] = (*config.plugins, *args.plugin)
+    return replace(config, **changes) if changes else config

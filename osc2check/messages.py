@@ -324,6 +324,39 @@ def unresolved_import(span: Span, target: str, reason: str) -> Diagnostic:
     return _diag(codes.UNRESOLVED_IMPORT, f"cannot import `{target}`: {reason}", span)
 
 
+def tool_module(span: Span, target: str, path: str) -> Diagnostic:
+    """``import osc.helpers`` found in a search path (the module map says so without one)."""
+    return _diag(
+        codes.TOOL_MODULE,
+        f"`{target}` is no module of the standard library (names under `osc` are the "
+        f"standard's); read from `{path}`, found by its name: name the file in the module "
+        f"map (`[tool.osc2check.modules]`) to say it is meant",
+        span,
+    )
+
+
+def shadowed_enum_literal(span: Span, name: str, enum: Symbol, shadow: Symbol) -> Diagnostic:
+    """``at: start`` where ``event start`` (or a ``global start``) is declared too."""
+    what = shadow.kind.value
+    return _diag(
+        codes.SHADOWED_ENUM_LITERAL,
+        f"`{name}` is the member `{enum.name}!{name}` here, where `{enum.name}` is expected, "
+        f"not the {what} `{name}` declared too; write `{enum.name}!{name}` to say so, or "
+        f"rename the {what}",
+        span,
+        fix=Fix(f"write `{enum.name}!{name}`", (TextEdit(span, f"{enum.name}!{name}"),)),
+    )
+
+
+def struct_constructor_call(span: Span, struct: Symbol) -> Diagnostic:
+    return _diag(
+        codes.STRUCT_CONSTRUCTOR_CALL,
+        f"`{struct.name}(...)` builds a `{struct.name}` from its fields, as scenario_execution "
+        "does; the standard has no struct constructor (give a field the value with `keep`)",
+        span,
+    )
+
+
 def reserved_name(span: Span, name: str) -> Diagnostic:
     return _diag(
         codes.RESERVED_NAME,
@@ -1033,5 +1066,248 @@ def recursive_scenario(span: Span, chain: Sequence[str]) -> Diagnostic:
     return _diag(
         codes.RECURSIVE_SCENARIO,
         "scenario invokes itself: " + " -> ".join(f"`{n}`" for n in chain),
+        span,
+    )
+
+
+# --- CARLA scenario_runner's dialect (osc2check.dialects.carla) ----------------------------
+
+_MIGRATE = "`osc2check migrate` writes the standard form"
+
+
+def carla_world_import(span: Span, target: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_WORLD_IMPORT,
+        f"`import {target}` is CARLA's library; it is read as `import osc2toolkit.carla`, the "
+        "toolkit's CARLA world on the standard library (the file itself is not read); " + _MIGRATE,
+        span,
+    )
+
+
+def carla_world_declaration(span: Span, what: str, note: str = "") -> Diagnostic:
+    return _diag(
+        codes.CARLA_WORLD_DECLARATION,
+        f"{what} repeats CARLA's library; the CARLA world's (on the standard library) is "
+        f"used{note}",
+        span,
+    )
+
+
+def carla_velocity(span: Span) -> Diagnostic:
+    return _diag(
+        codes.CARLA_VELOCITY,
+        "`velocity` is CARLA's name of the standard's type `speed`; read as `speed`",
+        span,
+        fix=Fix("write `speed`", (TextEdit(span, "speed"),)),
+    )
+
+
+def carla_unit_dimension(span: Span, unit: str, type_name: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_UNIT_DIMENSION,
+        f"the SI exponents of unit `{unit}` are not those of `{type_name}`; CARLA takes a "
+        f"unit's dimension from its type, and so does this reading (the standard reports it)",
+        span,
+    )
+
+
+def carla_path(span: Span, form: str) -> Diagnostic:
+    if form == "type":
+        text = "CARLA's `Path` is the map the scenario runs on: read as the standard's `map`"
+    else:
+        text = "CARLA's `set_map` chooses the map: read as the standard's `set_map_file`"
+    return _diag(codes.CARLA_PATH, text, span)
+
+
+def carla_path_condition(span: Span, name: str) -> Diagnostic:
+    meaning = {
+        "path_min_driving_lanes": "the actors start on a road with at least that many driving "
+        "lanes in their direction",
+        "path_over_junction": "the actors start before a junction that their road crosses",
+    }.get(name, "a condition on the road")
+    return _diag(
+        codes.CARLA_PATH_CONDITION,
+        f"`{name}` is CARLA's path condition, not the standard's: {meaning} (the CARLA "
+        "world's modifier of the map)",
+        span,
+    )
+
+
+def carla_drive_path(span: Span, dropped: Sequence[str]) -> Diagnostic:
+    return _diag(
+        codes.CARLA_DRIVE_PATH,
+        f"`drive({', '.join(dropped)})` is CARLA's: its path is the map's road the actors are "
+        "placed on, and it ignores `adjust`; read as `drive()`",
+        span,
+    )
+
+
+def carla_phase_duration(span: Span, duration: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_PHASE_DURATION,
+        f"CARLA gives each behaviour of a composition the composition's duration (its "
+        f"timeout): this `drive` lasts {duration}, as if written `drive(duration: {duration})`",
+        span,
+    )
+
+
+def carla_start_placement(span: Span, actor: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_START_PLACEMENT,
+        f"in a phase that may begin after time 0, CARLA sets `{actor}`'s transform where "
+        f"its `at: start` modifiers say when the phase starts: read as "
+        f"`{actor}.assign_position()` with them, then the phase's behaviour",
+        span,
+    )
+
+
+def carla_lane_numbering(span: Span) -> Diagnostic:
+    return _diag(
+        codes.CARLA_LANE_NUMBERING,
+        "CARLA counts lanes from the left (1 = the leftmost in the direction of travel); the "
+        "standard from the right by default: read as `from: left`",
+        span,
+    )
+
+
+def carla_lane_side(span: Span, name: str, side: str) -> Diagnostic:
+    return _diag(
+        codes.SPEC_EXAMPLE_PARAMETER,
+        f"`{name}` is not a parameter of the standard's `lane` (CARLA's and the standard's "
+        f"examples use it): read as `side_of: ..., side: {side}`",
+        span,
+    )
+
+
+def carla_lane_changes(span: Span) -> Diagnostic:
+    return _diag(
+        codes.CARLA_LANE_CHANGES,
+        "`lane_changes` is CARLA's name of the standard `change_lane` modifier's `lane` (how "
+        "many lanes to change); read as `lane`",
+        span,
+        fix=Fix("write `lane`", (TextEdit(span, "lane"),)),
+    )
+
+
+def carla_scenario_of_dut(span: Span, name: str, shared: Sequence[str] | None = None) -> Diagnostic:
+    if shared is None:
+        text = (
+            f"`{name}` is declared on CARLA's `dut` and invoked through the type: read as a "
+            "scenario of no actor whose actors are the invoking scenario's of the same names"
+        )
+    else:
+        given = ", ".join(shared) if shared else "nothing"
+        text = (
+            f"`dut.{name}()` invokes CARLA's scenario through its actor type, its actors shared "
+            f"by name: read as `{name}({given})`"
+        )
+    return _diag(codes.CARLA_SCENARIO_OF_DUT, text, span)
+
+
+def carla_unused_name(span: Span, kind: str, name: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_UNUSED_NAME,
+        f"{kind} `{name}` is declared for CARLA's parser and nothing uses it; left out, so "
+        f"that `{name}` is the enum member it names where one is expected",
+        span,
+    )
+
+
+def carla_actor_alias(span: Span, name: str, target: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_ACTOR_ALIAS,
+        f"`{name}` is CARLA's second name for the actor `{target}`; read as `{target}` (a field "
+        "of an actor type is an actor of its own in the standard)",
+        span,
+    )
+
+
+def carla_speed_name(span: Span, name: str, value: str, actor: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_SPEED_NAME,
+        f'`{name}` is CARLA\'s "{value}": the speed of `{actor}` while it runs; read as '
+        f"`{actor}.speed`",
+        span,
+    )
+
+
+def carla_drive_distance(span: Span) -> Diagnostic:
+    return _diag(
+        codes.CARLA_DRIVE_DISTANCE,
+        "CARLA hard-wires `drive_distance(other_car, distance)`: the wait ends when its "
+        "condition holds and then `other_car` has driven `distance`; read as a `wait` for the "
+        "condition and that car's `drive()` with `distance(...)`",
+        span,
+    )
+
+
+def carla_elapsed_range(span: Span, name: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_ELAPSED_RANGE,
+        f"`elapsed` takes a time; CARLA waits a time drawn from the range: read as the "
+        f"parameter `{name}` kept in the range (chosen by the seed)",
+        span,
+    )
+
+
+def carla_static_method(span: Span, method: str, dropped: bool) -> Diagnostic:
+    if dropped:
+        text = (
+            f"`{method}` is called on its struct's name and its value is dropped (CARLA "
+            "evaluates it and forgets it): left out"
+        )
+    else:
+        text = (
+            f"`{method}` is called on its struct's name; the standard calls methods on a "
+            "value: read as a call on the scenario's field of that struct"
+        )
+    return _diag(codes.CARLA_STATIC_METHOD, text, span)
+
+
+def carla_external_python(span: Span, target: str) -> Diagnostic:
+    return _diag(
+        codes.CARLA_EXTERNAL_PYTHON,
+        f"`external python(module:, name:)` is CARLA's call of a Python function: read as "
+        f"the standard's `external {target}(...)`",
+        span,
+    )
+
+
+def carla_world_pose(span: Span) -> Diagnostic:
+    return _diag(
+        codes.CARLA_WORLD_POSE,
+        "`set_position` places the vehicle at a pose of CARLA's world (degrees whatever the "
+        "unit): it needs CARLA's map in CARLA's coordinates, which the toolkit's stand-ins "
+        "are not; osc2run does not execute it (A308)",
+        span,
+    )
+
+
+def carla_trajectory_file(span: Span) -> Diagnostic:
+    return _diag(
+        codes.CARLA_TRAJECTORY_FILE,
+        "`follow_trajectory(input_file:)` follows the positions of a CSV file in CARLA's "
+        "world: it needs CARLA's map in CARLA's coordinates, which the toolkit's stand-ins "
+        "are not; osc2run does not execute it (A308)",
+        span,
+    )
+
+
+def no_junction_ahead(span: Span, map_name: str) -> Diagnostic:
+    """CARLA's ``path_over_junction`` on a map whose roads lead into no junction."""
+    return _diag(
+        codes.INFEASIBLE_PLACEMENT,
+        f"no road of map `{map_name}` leads into a junction: the actors cannot start before "
+        "one, as `path_over_junction` asks (CARLA's Town03 stand-in has one)",
+        span,
+    )
+
+
+def carla_map(span: Span, name: str, known: Sequence[str]) -> Diagnostic:
+    return _diag(
+        codes.CARLA_MAP,
+        f"CARLA's map `{name}` has no stand-in (built-in: {', '.join(known)}): give its "
+        f'OpenDRIVE file in `[tool.osc2check.maps]` (`{name} = "maps/{name}.xodr"`); until '
+        "then the scenario is placed on the default road and the runner refuses it",
         span,
     )

@@ -199,6 +199,7 @@ class CheckerConfigs:
         if path is not None:
             try:
                 config = load_config_file(path)
+                config.plugin_registry()  # a plug-in that cannot be loaded: said once
             except ConfigError as exc:
                 self._problem(str(exc))
         self._found[folder] = (path, mtime, config)

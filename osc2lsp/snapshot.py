@@ -20,8 +20,9 @@ from osc2check.analysis import Analysis
 from osc2check.diagnostics import Diagnostic
 from osc2check.resources import stdlib_dir
 from osc2check.semantics.model import Model
+from osc2check.semantics.profile import DEFAULT_OSC_VERSION, OSC_VERSIONS
 from osc2check.semantics.program import Program
-from osc2check.semantics.stdlib import standard_library
+from osc2check.semantics.stdlib import StandardLibrary, standard_library
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ParseResult, ast, parse
 from osc2lsp.lazy import cached_property
@@ -99,7 +100,13 @@ class Snapshot:
         program = self.program
         if program is not None:
             return program.model
-        return Model(base=standard_library().model)
+        return Model(base=self.library.model)
+
+    @cached_property
+    def library(self) -> StandardLibrary:
+        """The standard library of this document's program (its OSC2 version's)."""
+        program = self.program
+        return standard_library(program.library.version) if program else standard_library()
 
     @property
     def ast(self) -> ast.File:
@@ -171,7 +178,7 @@ class Snapshot:
         found = self.analysis.parses.get(key)
         if found is not None:
             return found.text
-        library = standard_library().parses.get(key)
+        library = self.library.parses.get(key)
         if library is not None:
             return library.text
         return None
@@ -190,7 +197,7 @@ class Snapshot:
             return self.parse
         found = self.analysis.parses.get(key)
         if found is None:
-            found = standard_library().parses.get(key)
+            found = self.library.parses.get(key)
         return found
 
     def files(self) -> list[str]:
@@ -218,7 +225,10 @@ def library_key(key: str) -> str | None:
     except OSError:
         return None
     library = stdlib_dir()
-    return str(library / path.name) if folder == library.resolve() else None
+    for version_folder in (library, *(library / v for v in OSC_VERSIONS)):
+        if folder == version_folder.resolve():
+            return str(version_folder / path.name)
+    return None
 
 
 def library_snapshot(uri: str, key: str, text: str, version: int | None) -> Snapshot:
@@ -228,11 +238,12 @@ def library_snapshot(uri: str, key: str, text: str, version: int | None) -> Snap
     When the text differs from the shipped file (edited in the editor), it is read
     as text only: outline and folding, no names.
     """
-    library = standard_library()
+    folder = Path(key).parent.name
+    library = standard_library(folder if folder in OSC_VERSIONS else DEFAULT_OSC_VERSION)
     parsed = library.parses.get(key)
     programs: dict[str, Program] = {}
     if parsed is not None and parsed.text == text:
-        programs[key] = Program(key, library.model, {key: parsed})
+        programs[key] = Program(key, library.model, files={key: parsed})
     else:
         parsed = parse(text, key)
     analysis = Analysis([], {key: text}, programs, {key: parsed})

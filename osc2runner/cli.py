@@ -30,6 +30,12 @@ from functools import partial
 from pathlib import Path
 from typing import Any, NoReturn, TextIO
 
+from osc2check.config import (
+    ConfigError,
+    add_language_arguments,
+    config_for,
+    with_language_arguments,
+)
 from osc2runner.errors import ScenarioError
 from osc2runner.execution.signals import (
     Caught,
@@ -140,6 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
         "path/file.py:Class; default: [tool.osc2run] sut in pyproject.toml)",
     )
     p.add_argument("--sut-actor", metavar="NAME", help="the actor the system under test drives")
+    add_language_arguments(p)
     p.add_argument(
         "--step-timeout",
         metavar="S",
@@ -250,6 +257,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         raise OptionError(exc.name, given[exc.name], exc.why) from None  # the text given
     if args.out is not None:
         args.out = check_out(args.out)  # a bad --out is found before the checker runs
+    args.config = _config(args)
     from osc2runner.export.command import export_arguments
 
     export_arguments(args)
@@ -262,6 +270,20 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         except ValueError as exc:
             raise UsageError(f"--bin {exc}") from None
     return args
+
+
+def _config(args: argparse.Namespace) -> Any:
+    """The checker's configuration for FILE (``[tool.osc2check]``, as ``osc2check FILE``
+    reads it) with ``--osc-version`` and ``--dialect`` on top; None without a FILE (a
+    campaign resumed from its folder reads it there)."""
+    if args.file is None:
+        return None
+    try:
+        config = with_language_arguments(config_for(args.file), args)
+        config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs
+        return config
+    except ConfigError as exc:
+        raise UsageError(str(exc)) from None
 
 
 def _sut(args: argparse.Namespace) -> Any:
@@ -355,7 +377,7 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
 
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    checked = check_file(args.file, scenario=args.scenario)
+    checked = check_file(args.file, scenario=args.scenario, config=args.config)
     prepared = prepare_checked(
         checked,
         seed=args.seed,

@@ -3,12 +3,17 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
+from osc2check.codes import Code, Severity
 from osc2check.source import Span
 from osc2check.syntax import ast
 
-__all__ = ["CompileProblem", "RunProblem", "ScenarioError", "problem"]
+if TYPE_CHECKING:
+    from osc2check.analysis import Analysis
+
+__all__ = ["CompileProblem", "RunProblem", "ScenarioError", "problem", "refused_by"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -57,3 +62,20 @@ class CompileProblem(Exception):
     def __init__(self, message: str, node: ast.Node | None = None) -> None:
         super().__init__(message)
         self.problem = problem(message, node)
+
+
+def refused_by(
+    analysis: Analysis, uri: str, code: Code, span: Span | None = None
+) -> ScenarioError | None:
+    """The run refused with the checker's own finding of ``code`` in file ``uri`` (at
+    ``span`` when given): the same code and message the checker warned with, as an error.
+    None when the checker reported none."""
+    found = [
+        d
+        for d in analysis.diagnostics
+        if d.code == code and d.span.uri == uri and (span is None or d.span == span)
+    ]
+    if not found:
+        return None
+    errors = [replace(d, severity=Severity.ERROR) for d in found]
+    return ScenarioError([], diagnostics=errors, texts=analysis.texts)

@@ -39,14 +39,17 @@ import py_trees
 
 from osc2check import codes
 from osc2check.analysis import Analysis, SourceInput, analyze
+from osc2check.config import Config, ConfigError, config_for
 from osc2check.diagnostics import Severity
+from osc2check.plugins import PluginError
 from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_scenario
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import decode_source
 from osc2check.verify.witness import Witness
 from osc2runner.behaviours.towing import hitches_at_start
+from osc2runner.behaviours.traffic import run_plans
 from osc2runner.compile.environment import CompileEnvironment
-from osc2runner.compile.registry import standard_registry
+from osc2runner.compile.registry import MethodRegistry, standard_registry
 from osc2runner.compile.tree import CompiledScenario, compile_scenario
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
@@ -57,13 +60,17 @@ from osc2runner.execution.loop import RunOutcome, TickLoop
 from osc2runner.execution.signals import Interrupts, exit_status, signal_name
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
+from osc2runner.instance.actors import environment_sky
+from osc2runner.instance.light_plans import control_plans
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import check_duration, check_out, check_seed, check_steps
 from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
+from osc2runner.plugin_behaviours import runner_registry
 from osc2runner.sim import World, versions
+from osc2runner.sim.sky import Sky
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sut.driver import SutFault, call_sut, sut_info
 from osc2runner.sut.loading import SutError, SutSpec, choose_actor
@@ -197,15 +204,31 @@ class Checked:
     uri: str
     analysis: Analysis
     scenario: Symbol
+    registry: MethodRegistry = field(default_factory=standard_registry)  # with the plug-ins
 
 
 def check_file(
-    path: str | Path, *, scenario: str | None = None, source: str | None = None
+    path: str | Path,
+    *,
+    scenario: str | None = None,
+    source: str | None = None,
+    config: Config | None = None,
 ) -> Checked:
     """Parse, resolve and verify a file and choose the scenario to run; raises
-    ScenarioError for input errors (error diagnostics, no such scenario)."""
+    ScenarioError for input errors (error diagnostics, no such scenario).
+
+    ``config`` is the checker's configuration (``[tool.osc2check]``: OSC2 version,
+    dialect, maps, search paths, module map, the findings' policy); None reads the
+    one that applies to ``path``, as ``osc2check`` does.
+    """
     uri, text = _read(path, source)
-    analysis = analyze([SourceInput(uri, text)])
+    if config is None:
+        config = config_for(path)
+    try:
+        registry = runner_registry(config.plugin_registry())
+    except (ConfigError, PluginError) as exc:
+        raise ScenarioError([RunProblem(f"{uri}: {exc}")]) from None
+    analysis = analyze([SourceInput(uri, text)], config.analysis_options())
     # an error, or a form the runner does not execute (A308, osc2check.capabilities):
     # refused before tick 0 with the checker's own finding
     refused = [
@@ -215,7 +238,7 @@ def check_file(
     ]
     if refused:
         raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
-    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario))
+    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario), registry)
 
 
 def compile_checked(
@@ -232,14 +255,22 @@ def compile_checked(
     model = analysis.programs[uri].model
     fresh_blackboard()
     run_ctx = RunContext(instance.network, instance.actors, dt=dt_control, seed=seed)
+    run_ctx.schedule = instance.witness.schedule
     lights, problems = traffic_lights(model, instance.scenario, instance.values, instance.network)
-    if problems:
-        raise ScenarioError(problems, texts=analysis.texts)
+    plans, plan_notes, plan_problems = control_plans(
+        model, instance.scenario, lights, Path(uri).parent
+    )
+    if problems or plan_problems:
+        raise ScenarioError(problems + plan_problems, texts=analysis.texts)
     run_ctx.traffic_lights = {light.name: light for light in lights}
-    env = CompileEnvironment(model, instance.values, standard_registry(), run_ctx)
+    run_plans(run_ctx, plans)
+    site, start = environment_sky(instance.actors, instance.values)
+    run_ctx.sky = Sky(site, start, clock=run_ctx.sky.clock)
+    env = CompileEnvironment(model, instance.values, checked.registry, run_ctx)
     compiled = compile_scenario(env, sym, analysis.texts)
     if compiled.problems:
         raise ScenarioError(compiled.problems, texts=analysis.texts)
+    compiled.notes.extend(plan_notes)
     return Compiled(uri, analysis, instance, env, compiled)
 
 
@@ -250,11 +281,12 @@ def compile_file(
     seed: int = 0,
     dt_control: float = 0.05,
     source: str | None = None,
+    config: Config | None = None,
 ) -> Compiled:
     """Check a file, instantiate one of its scenarios and compile it; raises ScenarioError
     for input errors. The blackboard is cleared first: a compiled tree belongs to one run.
     """
-    checked = check_file(path, scenario=scenario, source=source)
+    checked = check_file(path, scenario=scenario, source=source, config=config)
     return compile_checked(checked, seed=seed, dt_control=dt_control)
 
 
@@ -327,9 +359,12 @@ def prepare(
     dt_physics: float = 0.002,
     source: str | None = None,
     sut: SutSpec | None = None,
+    config: Config | None = None,
 ) -> Prepared:
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
-    c = compile_file(path, scenario=scenario, seed=seed, dt_control=dt_control, source=source)
+    c = compile_file(
+        path, scenario=scenario, seed=seed, dt_control=dt_control, source=source, config=config
+    )
     return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
 
 
@@ -349,6 +384,7 @@ def run(
     progress: Callable[[float, float, float], None] | None = None,
     source: str | None = None,
     sut: SutSpec | str | None = None,
+    config: Config | None = None,
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
 
@@ -367,6 +403,9 @@ def run(
         source: the file's text, instead of reading ``path``.
         sut: the system under test (:mod:`osc2runner.sut`): a ``SutSpec``, or
             ``"module:Class"`` for the actor named ``sut`` or ``ego``.
+        config: the checker's configuration (``osc2check.config.Config``: the OSC2
+            version, dialect, maps, search paths, ...); None reads ``[tool.osc2check]``
+            from the nearest configuration file above ``path``, as ``osc2check`` does.
 
     The result's outcome is ``error`` (and the files are written) when the physics
     diverged. Called from the main thread, the run installs handlers for SIGINT,
@@ -396,6 +435,7 @@ def run(
         dt_physics=dt_physics,
         source=source,
         sut=spec,
+        config=config,
     )
     return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 
@@ -570,7 +610,13 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
         "actors": actors,
         "lights": dict(ctx.lights),
         "traffic_lights": {
-            name: {"x": light.x, "y": light.y, "yaw": light.yaw, "group": light.group}
+            name: {
+                "x": light.x,
+                "y": light.y,
+                "yaw": light.yaw,
+                "group": light.group,
+                "placed": light.placed,
+            }
             for name, light in ctx.traffic_lights.items()
         },
         "coverage": {

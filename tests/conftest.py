@@ -10,6 +10,14 @@ import pytest
 SEED_DIR = Path(__file__).resolve().parent / "data" / "seed"
 
 
+def pytest_configure(config: pytest.Config) -> None:
+    """Under ``-n`` (pytest-xdist) the default distribution is ``loadgroup``: the tests of
+    one ``xdist_group`` share a worker, so a module fixture they share (a campaign, a long
+    run) is built once, not once a worker (docs/testing.md)."""
+    if getattr(config.option, "dist", "no") == "load":
+        config.option.dist = "loadgroup"
+
+
 def pytest_addoption(parser: pytest.Parser) -> None:
     parser.addoption(
         "--update-goldens",

@@ -45,12 +45,14 @@ PREDEFINED_EVENTS = ("start", "end", "fail")
 PRIMITIVE_TYPES = ("bool", "int", "uint", "float", "string")
 OVERLAP_KINDS = ("equal", "start", "end", "initial", "final", "inside", "full", "any")
 TYPE_TESTS = ("as", "is")
-#: The structured imports of the standard library (§7.7.5.1).
+#: The structured imports of the standard library (§7.7.5.1), then the toolkit's own
+#: modules (CARLA's world, :mod:`osc2check.dialects.carla`).
 STANDARD_MODULE_NAMES = (
     "osc.standard",
     "osc.standard.all",
     "osc.standard.types",
     "osc.standard.domain",
+    "osc2toolkit.carla",
 )
 
 

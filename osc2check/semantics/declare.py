@@ -32,6 +32,9 @@ _DECL_KINDS = {
     ast.ModifierDecl: SymbolKind.MODIFIER,
 }
 TOOLKIT_NAMESPACE = "osc2toolkit"
+# The toolkit's own library files (its extensions, CARLA's world): they may use what the
+# toolkit adds to the standard without a warning (D803).
+TOOLKIT_NAMESPACES = (TOOLKIT_NAMESPACE, "carla")
 
 # How the structure pass resolves a type reference and a behaviour name (``resolve._Names``).
 TypeResolver = Callable[[ast.TypeRef, Context], T.Type]
@@ -49,6 +52,42 @@ class Unit:
     context: Context
     library: bool = False
     comments: dict[int, str] = field(default_factory=dict)  # line → comment text
+
+
+def si_dimension(
+    args: tuple[ast.Argument, ...],
+    *,
+    for_unit: bool,
+    report: Callable[[Diagnostic], None] | None = None,
+) -> tuple[T.Dimension, Fraction, Fraction]:
+    """The SI exponents, factor and offset of ``SI(m: 1, s: -1, factor: ...)`` (a type's
+    or, with ``for_unit``, a unit's); what is not one of them is reported (T207's
+    neighbours) when ``report`` is given, and left out."""
+    dim = [0] * len(T.BASE_UNITS)
+    factor, offset = Fraction(1), Fraction(0)
+    tell = report or (lambda _: None)
+    for arg in args:
+        if not isinstance(arg, ast.NamedArgument):
+            tell(messages.si_argument(arg.span, None))
+            continue
+        key = arg.name.text
+        number = _constant_number(arg.value)
+        if key in T.BASE_UNITS:
+            if number is None or number.denominator != 1:
+                tell(messages.si_argument(arg.span, key))
+                continue
+            dim[T.BASE_UNITS.index(key)] = int(number)
+        elif for_unit and key in ("factor", "offset"):
+            if number is None:
+                tell(messages.si_argument(arg.span, key))
+                continue
+            if key == "factor":
+                factor = T.snap_factor(number)
+            else:
+                offset = T.snap_factor(number)
+        else:
+            tell(messages.si_argument(arg.name.span, key))
+    return cast(T.Dimension, tuple(dim)), factor, offset  # one exponent per base unit
 
 
 class _SymbolFields(TypedDict, total=False):
@@ -264,30 +303,7 @@ class Declarer:
     def _dimension(
         self, args: tuple[ast.Argument, ...], decl: ast.Node, *, for_unit: bool
     ) -> tuple[T.Dimension, Fraction, Fraction]:
-        dim = [0] * len(T.BASE_UNITS)
-        factor, offset = Fraction(1), Fraction(0)
-        for arg in args:
-            if not isinstance(arg, ast.NamedArgument):
-                self.report(messages.si_argument(arg.span, None))
-                continue
-            key = arg.name.text
-            number = _constant_number(arg.value)
-            if key in T.BASE_UNITS:
-                if number is None or number.denominator != 1:
-                    self.report(messages.si_argument(arg.span, key))
-                    continue
-                dim[T.BASE_UNITS.index(key)] = int(number)
-            elif for_unit and key in ("factor", "offset"):
-                if number is None:
-                    self.report(messages.si_argument(arg.span, key))
-                    continue
-                if key == "factor":
-                    factor = T.snap_factor(number)
-                else:
-                    offset = T.snap_factor(number)
-            else:
-                self.report(messages.si_argument(arg.name.span, key))
-        return cast(T.Dimension, tuple(dim)), factor, offset  # one exponent per base unit
+        return si_dimension(args, for_unit=for_unit, report=self.report)
 
     # ---- pass 2: structure -----------------------------------------------------------
 

@@ -22,6 +22,7 @@ from osc2check.semantics.builtins import (
     Builtin,
 )
 from osc2check.semantics.calls import bind_builtin, builtin_problems
+from osc2check.semantics.declare import TOOLKIT_NAMESPACES
 from osc2check.semantics.model import Model
 from osc2check.semantics.scope import Scope
 from osc2check.semantics.suggest import closest
@@ -262,7 +263,13 @@ class ExpressionChecker:
         if expected is not None and expected.kind is T.Kind.ENUM and qname.namespace is None:
             member = self._enum_member(expected.symbol, name)
             shadow = self.value_symbol(qname, scope)
-            if member is not None and (shadow is None or shadow.kind.is_type):
+            if member is not None and (shadow is None or not self._fits(shadow, expected)):
+                # where an enum is expected its member wins over an event, a string global,
+                # ... of that name (CARLA's `event start` beside `at: start`), with N115
+                if shadow is not None and not shadow.kind.is_type and expected.symbol:
+                    self.report(
+                        messages.shadowed_enum_literal(qname.span, name, expected.symbol, shadow)
+                    )
                 self.model.references[qname.name] = member
                 return expected
         sym = self.value_symbol(qname, scope)
@@ -273,7 +280,7 @@ class ExpressionChecker:
                 return T.UNKNOWN
         if sym is not None:
             self.model.references[qname.name] = sym
-            if sym.toolkit and not scope.context.namespace == "osc2toolkit":
+            if sym.toolkit and scope.context.namespace not in TOOLKIT_NAMESPACES:
                 self.report(messages.toolkit_extension(qname.name.span, sym))
             if sym.kind.is_type:
                 return sym.type or T.UNKNOWN
@@ -314,6 +321,13 @@ class ExpressionChecker:
             )
         )
         return T.UNKNOWN
+
+    @staticmethod
+    def _fits(sym: Symbol, expected: T.Type) -> bool:
+        """Whether the value ``sym`` names is of the ``expected`` type (an event is none)."""
+        if sym.kind is SymbolKind.EVENT or sym.kind.is_type or sym.type is None:
+            return False
+        return T.compatible(expected, sym.type) is T.Compat.OK
 
     def _overloaded_literal(self, expr: ast.Node, scope: Scope) -> bool:
         """Whether ``expr`` is a bare name that only enum members of several enums bear."""
@@ -386,7 +400,7 @@ class ExpressionChecker:
             if found:
                 sym = found[0]
                 self.model.references[expr.member] = sym
-                if sym.toolkit and scope.context.namespace != "osc2toolkit":
+                if sym.toolkit and scope.context.namespace not in TOOLKIT_NAMESPACES:
                     self.report(messages.toolkit_extension(expr.member.span, sym))
                 if sym.kind is SymbolKind.EVENT:
                     return T.UNKNOWN
@@ -438,6 +452,8 @@ class ExpressionChecker:
             sym = self.value_symbol(callee.name, scope)
             if sym is not None and sym.kind is SymbolKind.METHOD:
                 return self._invoke_method(sym, callee.name.name, expr, scope)
+            if sym is not None and sym.kind is SymbolKind.STRUCT:
+                return self._construct(sym, callee.name.name, expr, scope)
             if sym is not None:
                 self.model.references[callee.name.name] = sym
                 self.report(messages.not_callable(callee.span, sym))
@@ -461,11 +477,21 @@ class ExpressionChecker:
         self, method: Symbol, name: ast.Name, expr: ast.Call, scope: Scope
     ) -> T.Type:
         self.model.references[name] = method
-        if method.toolkit and scope.context.namespace != "osc2toolkit":
+        if method.toolkit and scope.context.namespace not in TOOLKIT_NAMESPACES:
             self.report(messages.toolkit_extension(name.span, method))
         if self.check_call is not None:
             self.check_call(method, list(method.parameters), expr.arguments, scope, expr)
         return method.type or T.UNKNOWN
+
+    def _construct(self, struct: Symbol, name: ast.Name, expr: ast.Call, scope: Scope) -> T.Type:
+        """``pose_3d(position_3d(x: 1m))``: a struct value whose fields the arguments give,
+        positional ones in declaration order (inherited first); a dialect form (D809)."""
+        self.model.references[name] = struct
+        self.report(messages.struct_constructor_call(expr.span, struct))
+        if self.check_call is not None:
+            fields = self.model.parameters(struct)
+            self.check_call(struct, fields, expr.arguments, scope, expr)
+        return struct.type or T.UNKNOWN
 
     def _check_arguments_loosely(self, expr: ast.Call, scope: Scope) -> None:
         for value in argument_values(expr.arguments):

@@ -18,7 +18,10 @@
   other action that is not instant ends when its goal is reached.
 * **Ending with the first member**: ``parallel(overlap: equal|end|final|initial|
   inside)`` ends when its first member ends (the others end no later);
-  ``start``, ``any`` and ``full`` end when every member has.
+  ``start``, ``any`` and ``full`` end when every member has. With ``end`` and
+  ``final`` a member of known length starts so that it ends with the others
+  (``STARTS_PLANNED``); with ``equal`` and ``full`` one that is shorter than the first
+  member cannot keep the overlap (``NOT_BEFORE_FIRST``).
 * **Acting and waiting members** of a ``one_of``: a member acts when it invokes
   an action or a scenario; one that only waits (``wait``, ``emit``, ``call``)
   runs alongside the chosen one and may end the composition.
@@ -39,6 +42,8 @@ __all__ = [
     "ENDLESS_ACTIONS",
     "ENDS_WITH_FIRST",
     "INSTANT_ACTIONS",
+    "NOT_BEFORE_FIRST",
+    "STARTS_PLANNED",
     "PHASE_ENDING_MODIFIERS",
     "MODIFIER_TIMINGS",
     "TimeZero",
@@ -74,6 +79,14 @@ PHASE_ENDING_MODIFIERS = frozenset({"distance", "along", "along_trajectory"})
 #: (§7.6.2: ``equal``, ``end``, ``final`` end together with it; ``initial`` and
 #: ``inside`` within it): the composition ends when its first member ends.
 ENDS_WITH_FIRST = frozenset({"equal", "end", "final", "initial", "inside"})
+#: kinds whose members of known length start late so that they end together (§7.3.9.3.3:
+#: ``end``, all members end at the same time, the longest starting first; ``final``, the
+#: others end with the first member and start no earlier than it)
+STARTS_PLANNED = frozenset({"end", "final"})
+#: kinds whose other members end no earlier than the first (``equal``: all start and end
+#: at the same time; ``full``: the others cover the first member): a member of known length
+#: that is shorter than the first cannot keep them
+NOT_BEFORE_FIRST = frozenset({"equal", "full"})
 MODIFIER_TIMINGS = ("start", "end", "all")
 
 

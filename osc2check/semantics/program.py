@@ -6,7 +6,11 @@ importing one is an unresolved import that says what the path is.
 
 ``import osc.standard`` (and the design paper's ``import "domain.osc"``) puts the
 library's namespaces on the file's use list; the other ``osc.standard.*`` modules
-only make them available for qualified names and ``namespace ... use``.
+only make them available for qualified names and ``namespace ... use``. Other
+tools' libraries under the standard's reserved name ``osc`` (scenario_execution's
+``osc.helpers``) are the files the module map gives them, else looked for in the
+search paths (:func:`_tool_module_path`), with a warning (D810) that the module map
+(the user's explicit say) does without.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ from osc2check import inputs, messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.declare import Unit
 from osc2check.semantics.model import Context, Model
+from osc2check.semantics.profile import LibraryChoice
 from osc2check.semantics.resolve import resolve
 from osc2check.semantics.stdlib import (
     AUTO_USE,
@@ -38,6 +43,7 @@ Reader = Callable[[str], ParseResult | None]
 class Program:
     root: str
     model: Model
+    library: LibraryChoice = field(default_factory=LibraryChoice)
     files: dict[str, ParseResult] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     imports: dict[str, list[str]] = field(default_factory=dict)  # uri -> imported uris
@@ -91,6 +97,23 @@ def _module_path(
     return found if found is not None else (first, None)
 
 
+def _is_tool_module(target: str) -> bool:
+    """Whether ``import target`` names a module under ``osc`` that is not the standard's."""
+    return (target == "osc" or target.startswith("osc.")) and target not in STANDARD_MODULES
+
+
+def _tool_module_path(
+    importer: str, target: str, search_paths: tuple[str, ...], read: Reader
+) -> tuple[Path, ParseResult] | None:
+    """The file of another tool's ``import osc.a.b``: ``osc/a/b.osc`` (the standard's
+    reading of the name) or ``a/b.osc`` (a tool's library folder, scenario_execution's
+    ``lib_osc``), beside the importing file or in a search path."""
+    parts = target.split(".")
+    names = ["/".join(parts) + ".osc", *(["/".join(parts[1:]) + ".osc"] if len(parts) > 1 else [])]
+    folders = [_resolve_path(importer, "."), *(Path(folder) for folder in search_paths)]
+    return _first_file([folder / name for folder in folders for name in names], read)
+
+
 def _carla_file(
     importer: str, target: str, search_paths: tuple[str, ...], read: Reader
 ) -> tuple[Path, ParseResult, bool] | None:
@@ -111,6 +134,7 @@ def build_program(
     implicit_imports: tuple[str, ...] = (),
     modules: dict[str, str] | None = None,
     search_paths: tuple[str, ...] = (),
+    library: LibraryChoice | None = None,
 ) -> Program:
     """Resolve the program rooted at ``root``; ``read`` returns a parsed file or None.
 
@@ -119,10 +143,12 @@ def build_program(
     a.b``, §7.7.5.1.2 leaves their resolution to the implementation) name the
     file ``a/b.osc``, looked for beside the importing file and then in each of
     ``search_paths`` in order; a relative search path is taken from the current
-    directory, as any relative path a program is given.
+    directory, as any relative path a program is given. ``library`` chooses the
+    standard library's version (2.1 by default).
     """
+    library = library or LibraryChoice()
     state = _Reading(
-        program=Program(root, Model(base=standard_library().model)),
+        program=Program(root, Model(base=standard_library(library.version).model), library),
         read=read,
         modules=modules or {},
         search_paths=search_paths,
@@ -168,28 +194,35 @@ def _visit(
         target = decl.target
         found: ParseResult | None = None
         if decl.kind == "module" and target in state.modules:
-            path = _resolve_path(uri, state.modules[target])
+            path = _resolve_path(uri, state.modules[target])  # the user's say: no warning
         elif decl.kind == "module":
             if target in STANDARD_MODULES:
-                namespaces, auto = STANDARD_MODULES[target]
+                namespaces, in_use = STANDARD_MODULES[target]
                 state.model.library_namespaces.update(namespaces)
-                if auto:
-                    uses.extend(AUTO_USE)
+                uses.extend(in_use)
                 continue
-            if target == "osc" or target.startswith("osc."):
-                state.program.diagnostics.append(
-                    messages.unresolved_import(
-                        decl.target_span,
-                        target,
-                        "no such module of the standard library "
-                        "(`osc.standard`, `osc.standard.all`, `.types`, `.domain`)",
+            if _is_tool_module(target):
+                tool = _tool_module_path(uri, target, state.search_paths, state.read)
+                if tool is None:
+                    state.program.diagnostics.append(
+                        messages.unresolved_import(
+                            decl.target_span,
+                            target,
+                            "no such module of the standard library (`osc.standard`, "
+                            "`osc.standard.all`, `.types`, `.domain`), and no file for it in "
+                            "the search paths or the module map (`[tool.osc2check.modules]`)",
+                        )
                     )
+                    continue
+                path, found = tool
+                state.program.diagnostics.append(
+                    messages.tool_module(decl.target_span, target, str(path))
                 )
-                continue
-            path, found = _module_path(uri, target, state.search_paths, state.read)
+            else:
+                path, found = _module_path(uri, target, state.search_paths, state.read)
             carla = (
                 None
-                if found is not None
+                if found is not None or _is_tool_module(target)
                 else _carla_file(uri, target, state.search_paths, state.read)
             )
             if carla is not None:

@@ -133,6 +133,15 @@ class Call(Node):
     callee: Expr
     arguments: tuple[Argument, ...]
 
+    @property
+    def callee_name(self) -> Name | None:
+        """The name the callee ends with (``m`` of ``a.b.m(...)`` and of ``m(...)``)."""
+        if isinstance(self.callee, MemberAccess):
+            return self.callee.member
+        if isinstance(self.callee, NameRef):
+            return self.callee.name.name
+        return None
+
 
 @dataclass(frozen=True, slots=True, eq=False)
 class Index(Node):

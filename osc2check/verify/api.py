@@ -45,7 +45,14 @@ def solve(
     if result is None or (
         scenario is not None and not any(r.scenario.name == scenario for r in result.scenarios)
     ):
-        result = verify_program(program, seed=None, scenario=scenario)
+        options = analysis.options
+        result = verify_program(
+            program,
+            seed=None,
+            scenario=scenario,
+            default_map=options.default_map if options is not None else "default",
+            maps=options.maps if options is not None else None,
+        )
     chosen = [r for r in result.scenarios if scenario is None or r.scenario.name == scenario]
     if not chosen:
         return Unsolvable(scenario or "", "not-found", ())

@@ -17,7 +17,7 @@ constraint that lowering could not encode is reported once (C411).
 from __future__ import annotations
 
 import re
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import TYPE_CHECKING
@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 from osc2check import codes, messages
 from osc2check.capabilities import not_executed
 from osc2check.diagnostics import Diagnostic, Related
+from osc2check.plugins import PluginRegistry
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.roots import invokers
@@ -34,7 +35,7 @@ from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import flow, ir, quick
 from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
-from osc2check.verify.placement import Gap
+from osc2check.verify.placement import UNSAID_CATEGORY, Gap
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
@@ -48,6 +49,7 @@ from osc2check.verify.z3_backend import (
     solve,
 )
 from osc2check.world.catalogue import WALKING_SPEED
+from osc2check.world.maps import is_carla_town
 
 if TYPE_CHECKING:
     from osc2check.verify.witness import Witness
@@ -191,13 +193,18 @@ def verify_program(
     rlimit: int | None = None,
     timeout_ms: int | None = None,
     default_map: str = "default",
+    maps: Mapping[str, str] | None = None,
+    plugins: PluginRegistry | None = None,
 ) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
     Witnesses are drawn with ``seed`` when asked for (``ScenarioResult.witness``);
     ``rlimit`` and ``timeout_ms`` bound each solver call (defaults: z3_backend's), and
     the solver checks at most ``MAX_SCENARIOS`` scenarios of a file (each one past
-    them is C408: it is checked alone with ``scenario``).
+    them is C408: it is checked alone with ``scenario``). ``default_map`` is the map
+    of a scenario that names none; ``maps`` gives the files of map names
+    (``[tool.osc2check.maps]``); ``plugins`` the plug-ins that implement behaviours of
+    the user's libraries (the others are A308).
     """
     rlimit = DEFAULT_RLIMIT if rlimit is None else rlimit
     timeout_ms = DEFAULT_TIMEOUT_MS if timeout_ms is None else timeout_ms
@@ -222,11 +229,20 @@ def verify_program(
         standalone = sym not in invoked or scenario is not None
         for d in flow.check_flow(program.model, sym):
             report(d)
-        for d in not_executed(program.model, sym, sym in invoked, decls):
+        for d in not_executed(program.model, sym, sym in invoked, plugins, decls):
             report(d)
-        problem = lower_scenario(program.model, sym, text_of, default_map, decls)
+        problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
         _reversed_ranges(sym, program, text_of, report)
         outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+        if outcome.status == "unsat" and _unsaid_categories(problem):
+            # vehicles nothing says the category of were placed as cars: any category may
+            # do (a car where one fits); when none does, the cars' conflict is reported
+            relaxed = lower_scenario(
+                program.model, sym, text_of, default_map, decls, maps, open_categories=True
+            )
+            again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+            if again.status != "unsat":
+                problem, outcome = relaxed, again
         for skipped in problem.skipped:
             if (skipped.span, skipped.reason) not in unverified:
                 unverified.add((skipped.span, skipped.reason))
@@ -275,6 +291,11 @@ MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's
 # Scenarios of one file the solver checks (about 60 ms each; a file of a thousand took a
 # minute): files in use have a few, and one past them is checked alone with --scenario.
 MAX_SCENARIOS = 100
+
+
+def _unsaid_categories(problem: ir.ConstraintProblem) -> bool:
+    """Whether a vehicle of ``problem`` is a car because nothing says its category."""
+    return any(c.rule == UNSAID_CATEGORY for c in problem.constraints)
 
 
 def _unsafe_gaps(
@@ -387,13 +408,18 @@ def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic
     choice = placement.map
     span = choice.span or problem.span
     if choice.unknown is not None and choice.asked is not None:
-        report(messages.unknown_map(span, choice.asked, choice.unknown))
+        if is_carla_town(choice.asked):  # CARLA's content: a warning, and the runner refuses
+            report(messages.carla_map(span, choice.asked, choice.unknown))
+        else:
+            report(messages.unknown_map(span, choice.asked, choice.unknown))
     if choice.unreadable is not None and choice.asked is not None:
         error = choice.unreadable
         where = None
         if error.line is not None:
             where = f"line {error.line}" + (f", column {error.column}" if error.column else "")
         report(messages.unreadable_map(span, choice.asked, error.problem, where))
+    for span in placement.no_junction:
+        report(messages.no_junction_ahead(span, choice.name))
     for span, name, reference in placement.unplaced_references:
         report(messages.reference_not_placed(span, name, reference))
     for cycle, span in _cycles(placement.edges):

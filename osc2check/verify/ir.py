@@ -18,6 +18,7 @@ from osc2check.source import Span
 
 if TYPE_CHECKING:
     from osc2check.verify.placement import StartPlacement
+    from osc2check.verify.schedule import TimingPlan
 
 
 @dataclass(frozen=True, slots=True)
@@ -300,6 +301,9 @@ class ConstraintProblem:
     # [p1, p2])``): their items, each a struct parameter's path or a constant
     # (``osc2check.verify.structs``)
     lists: dict[str, tuple[ListItem, ...]] = field(default_factory=dict)
+    # the timing model, kept for the schedule of each run (``verify.schedule``); never a
+    # constraint (``verify.timing`` adds those it needs)
+    timing: TimingPlan | None = None
 
     def var(self, name: str, sort: str, span: Span | None = None, **kw: Unpack[VarDetails]) -> Var:
         existing = self.variables.get(name)

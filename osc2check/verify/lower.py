@@ -32,7 +32,7 @@ has no value here (``Lowerer._variable``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
@@ -690,7 +690,7 @@ class Lowerer:
                     return scope.actor
                 if name in scope.locals:
                     return scope.locals[name]
-                sym = self.model.references.get(expr.name.name)
+                sym = self.model.reference(expr.name.name)
                 if sym is None:
                     return None
                 if sym.kind is SymbolKind.GLOBAL:
@@ -700,7 +700,7 @@ class Lowerer:
                 return None
             case ast.MemberAccess():
                 base = self._path(expr.target, scope)
-                sym = self.model.references.get(expr.member)
+                sym = self.model.reference(expr.member)
                 if (
                     base is None
                     or sym is None
@@ -744,9 +744,9 @@ class Lowerer:
         if isinstance(expr, ast.NameRef) and expr.name.name.text == "it" and path == scope.it:
             sym = scope.it_field
         elif isinstance(expr, ast.NameRef):
-            sym = self.model.references.get(expr.name.name)
+            sym = self.model.reference(expr.name.name)
         elif isinstance(expr, ast.MemberAccess):
-            sym = self.model.references.get(expr.member)
+            sym = self.model.reference(expr.member)
         if sym is not None and sym.kind is SymbolKind.VARIABLE and is_scalar(sym.type):
             return self._variable(path, sym)
         if sym is None or not is_scalar(sym.type):
@@ -754,6 +754,12 @@ class Lowerer:
         created = self._scalar_var(path, sym)
         if created is None:
             raise NotEncodable(f"`{path}` cannot be encoded")
+        if sym.kind is SymbolKind.GLOBAL and isinstance(sym.decl, ast.FieldDecl):
+            if sym.decl.default is not None:  # `global min_lane: int = 2`: its default holds
+                root = InstanceScope("", None, None)
+                self.pending_defaults.append(
+                    (path, sym, sym.decl, root, len(self.problem.constraints), self._origin(root))
+                )
         owner = path.rsplit(".", 1)[0] if "." in path else ""
         owner_type = self.instances.get(owner)
         if owner_type is None and sym.owner is not None and owner:
@@ -785,12 +791,12 @@ class Lowerer:
                 self.string_spans.setdefault(expr.value, []).append(expr.span)
                 return ir.const(self.strings.setdefault(expr.value, len(self.strings)))
             case ast.EnumRef():
-                member = self.model.references.get(expr.member)
+                member = self.model.reference(expr.member)
                 if member is None:
                     raise NotEncodable("unknown enum member")
                 return ir.const(member.value)
             case ast.NameRef() | ast.MemberAccess():
-                target = self.model.references.get(
+                target = self.model.reference(
                     expr.name.name if isinstance(expr, ast.NameRef) else expr.member
                 )
                 if target is not None and target.kind is SymbolKind.ENUM_MEMBER:
@@ -1013,22 +1019,29 @@ def lower_scenario(
     text_of: TextOf,
     default_map: str = "default",
     member_decls: Declarations | None = None,
+    maps: Mapping[str, str] | None = None,
+    open_categories: bool = False,
 ) -> ir.ConstraintProblem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 
     ``member_decls`` (from ``member_declarations(model)``) can be shared by the
-    scenarios of one model.
+    scenarios of one model; ``open_categories``: vehicles whose category nothing
+    constrains may be of any category (``placement.PlacementLowerer``).
     """
     from osc2check.verify.placement import lower_placement
-    from osc2check.verify.timing import lower_timing
+    from osc2check.verify.timing import lower_timing, timing_plan
 
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.ConstraintProblem(scenario.name, span)
     lowerer = Lowerer(model, problem, text_of, member_decls)
     lowerer.scenario(scenario)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
-    problem.placement = lower_placement(lowerer, scenario, default_map)
+    problem.placement = lower_placement(
+        lowerer, scenario, default_map, maps, open_categories=open_categories
+    )
     lower_timing(lowerer, scenario)
+    if problem.timing is None:  # (the timing's constraints were left out)
+        problem.timing = timing_plan(lowerer, scenario)
     lowerer.attach_defaults()
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     return problem

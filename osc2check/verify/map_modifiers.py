@@ -2,7 +2,7 @@
 over them, and `along`.
 
 A scenario field of type ``road``, ``route`` (``route_element``,
-``compound_route``), ``lane`` (``compound_lane``) or ``junction`` becomes an
+``compound_route``), ``lane`` (``compound_lane``), ``junction`` or ``crossing`` becomes an
 integer variable whose values are the map's elements of that kind
 (:mod:`osc2check.world.elements`: roads; routes, i.e. a road driven one way;
 driving lanes; junctions). The witness shows each by name (``road 3 (against
@@ -33,8 +33,12 @@ other, make a conflict that names them (L501, C401 machinery):
 * ``start_lane(lane)``, ``end_lane(lane)``: a lane that begins (ends) where the lanes
   beside it go on.
 
-``crossing_connects`` is not modelled: crossings are OpenDRIVE objects, which the
-map reader does not read. Whatever is not modelled is recorded in
+* ``crossing_connects(crossing, start_lane, end_lane, start_angle)``: a crossing of the
+  map (an OpenDRIVE crosswalk, :class:`~osc2check.world.network.Crossing`) that starts
+  in ``start_lane``, ends in ``end_lane`` and leaves the start lane at ``start_angle``
+  (90° by default; within 1°) (``start_s_coord`` is not modelled).
+
+Whatever is not modelled is recorded in
 ``problem.skipped`` with its reason, never silently dropped.
 
 ``along(route: r)`` ties an actor to a route: in an invocation that begins at time
@@ -73,6 +77,7 @@ ELEMENT_KINDS = {
     "route": "route",
     "route_element": "route",
     "compound_route": "route",
+    "crossing": "crossing",
 }
 
 Route = tuple[str, int]
@@ -100,17 +105,20 @@ class ElementField:
 class ElementValue:
     """The element the witness chose for a field: kind plus identity, plain data."""
 
-    kind: str  # road | route | lane | junction
+    kind: str  # road | route | lane | junction | crossing
     road: str = ""
     direction: int = 0
     section: int = 0
     lane: int = 0
     junction: str = ""
+    crossing: str = ""  # a crossing's object id (its road is ``road``)
 
     @property
     def label(self) -> str:
         if self.kind == "junction":
             return f"junction {self.junction}"
+        if self.kind == "crossing":
+            return f"crossing {self.crossing} (road {self.road})"
         if self.kind == "lane":
             return f"road {self.road} lane {self.lane}"
         text = f"road {self.road}"
@@ -126,6 +134,8 @@ class ElementValue:
             data["direction"] = self.direction
         if self.kind == "lane":
             data.update(section=self.section, lane=self.lane)
+        if self.kind == "crossing":
+            data["crossing"] = self.crossing
         return data
 
 
@@ -175,12 +185,13 @@ class MapFields:
             "route": e.routes,
             "lane": e.lanes,
             "junction": e.junctions,
+            "crossing": tuple(c.id for c in self.network.crossings),
         }
         return list(values[kind])
 
     def label(self, kind: str, value: Element) -> str:
-        if kind == "junction":
-            return f"junction {value}"
+        if kind in ("junction", "crossing"):
+            return f"{kind} {value}"
         if kind == "road":
             return f"road {value}"
         if kind == "route":
@@ -238,6 +249,9 @@ class MapFields:
         if item.kind == "junction":
             assert isinstance(chosen, str)
             return ElementValue("junction", junction=chosen)
+        if item.kind == "crossing":
+            road = next((c.road for c in self.network.crossings if c.id == chosen), "")
+            return ElementValue("crossing", road=road, crossing=str(chosen))
         assert isinstance(chosen, str)
         return ElementValue("road", road=chosen)
 
@@ -369,6 +383,8 @@ class MapFields:
         start_offset: ir.Term | None,
     ) -> ir.Term:
         """``along(route: target)``: the actor starts on it (``at_start``), else reaches it."""
+        if target.kind == "crossing":
+            return self._tie_crossing(road, s, target, at_start)
         options: list[ir.Term] = []
         for cw in self.roads.carriageways:
             on_cw = self.roads.on(road, cw)
@@ -405,6 +421,34 @@ class MapFields:
                     else ir.op("==", ir.Ref(target.var), ir.const(i))
                     for i in sorted(indexes)
                 )
+        if not options:
+            return ir.const(False)
+        return options[0] if len(options) == 1 else ir.op("or", *options)
+
+    def _tie_crossing(
+        self, road: ir.Var | None, s: ir.Var, target: ElementField, at_start: bool
+    ) -> ir.Term:
+        """``along(route: c)`` of a crossing: at the start the actor stands where the
+        crossing is (its road, ``s`` within half the crossing's width of its middle; the
+        actor's lane and lateral place are its own modifiers'); later any crossing."""
+        choices = self.choices("crossing")
+        if not at_start:
+            return ir.TRUE if choices else ir.const(False)
+        options: list[ir.Term] = []
+        for index, crossing in enumerate(self.network.crossings):
+            for cw in self.roads.carriageways:
+                for leg in cw.legs:
+                    if leg.road != crossing.road:
+                        continue
+                    middle = leg.carriageway_s(crossing.s)
+                    half = 0.5 * crossing.width
+                    parts = [
+                        self.roads.on(road, cw),
+                        ir.op(">=", ir.Ref(s), ir.const(fraction(middle - half))),
+                        ir.op("<=", ir.Ref(s), ir.const(fraction(middle + half))),
+                        ir.op("==", ir.Ref(target.var), ir.const(index)),
+                    ]
+                    options.append(_all([p for p in parts if p != ir.TRUE]))
         if not options:
             return ir.const(False)
         return options[0] if len(options) == 1 else ir.op("or", *options)
@@ -564,12 +608,29 @@ def _lane_ends(end: str) -> Callable[[MapFields, dict[str, _Argument], ast.Invoc
 
 
 def _crossing(m: MapFields, given: dict[str, _Argument], inv: ast.Invocation) -> Rows | None:
-    m._skip(
-        inv.span,
-        "map.crossing_connects is not modelled: crossings are OpenDRIVE objects, which the "
-        "map reader does not read",
-    )
-    return None
+    # a crossing's geometry needs numpy, which a check without one never imports
+    from osc2check.world.crossings import ANGLE_TOLERANCE, crossing_angle, crossing_lanes
+
+    if "start_s_coord" in given:
+        m._skip(
+            inv.span,
+            "map.crossing_connects(start_s_coord: ...) is not modelled: the crossing's own "
+            "place is taken",
+        )
+    angle = given.get("start_angle")
+    wanted: float | None = None
+    if angle is not None:
+        if not isinstance(angle.term, ir.Const):
+            m._skip(inv.span, "map.crossing_connects(start_angle: ...) must be a constant")
+        else:
+            wanted = float(angle.term.value)
+    rows: Rows = []
+    for crossing in m.network.crossings:
+        if wanted is not None and abs(crossing_angle(crossing) - wanted) > ANGLE_TOLERANCE:
+            continue
+        start, end = crossing_lanes(m.network, crossing)
+        rows.append({"crossing": crossing.id, "start_lane": start, "end_lane": end})
+    return rows
 
 
 _MODIFIERS: dict[str, Callable[[MapFields, dict[str, _Argument], ast.Invocation], Rows | None]] = {

@@ -53,7 +53,7 @@ Conventions (shown in the witness):
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING
@@ -63,10 +63,13 @@ from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_
 from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import enum_word, invocations, modifier_timing, time_zero
+from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
 from osc2check.verify import ir
+from osc2check.verify.lane_steps import LaneSteps, one_of_members
 from osc2check.verify.lower import (
     MAX_DEPTH,
     InstanceScope,
@@ -81,7 +84,14 @@ from osc2check.verify.map_modifiers import ElementField, MapFields
 from osc2check.verify.quick import linear
 from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.verify.room import motion_bounds
-from osc2check.world.catalogue import ACTOR_KINDS, CATEGORIES, ActorRow, kind_row, model_row
+from osc2check.world.catalogue import (
+    ACTOR_KINDS,
+    CATEGORIES,
+    NOT_ON_ROADS,
+    ActorRow,
+    kind_row,
+    model_row,
+)
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.maps import FoundMap, MapFacts, find_map, map_path, scenario_folder
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
@@ -89,10 +99,11 @@ from osc2check.world.numbering import LANE_REFERENCES, lane_side
 if TYPE_CHECKING:
     from osc2check.world.network import RoadNetwork
 
-_POSITIONING = ("lane", "position")
-_DEGREE = Fraction(
-    314159265358979, 18000000000000000
-)  # pi / 180 (a unit factor)  # the modifiers that place an actor (L506)
+_POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+_DEGREE = Fraction(314159265358979, 18000000000000000)  # pi / 180 (a unit factor)
+#: the rule of "a vehicle whose category nothing constrains is a car": a placement that
+#: has no solution with it is tried again with those vehicles of any category
+UNSAID_CATEGORY = "unsaid-category"
 #: the witness prefers starts in this first share of the road: room to drive ahead
 PREFERRED_START_SHARE = Fraction(3, 10)
 
@@ -210,6 +221,7 @@ class StartPlacement:
     unplaced_references: list[tuple[Span, str, str]] = field(default_factory=list)
     gaps: list[Gap] = field(default_factory=list)
     fields: MapFields | None = None  # road, route, lane and junction fields
+    no_junction: list[Span] = field(default_factory=list)  # CARLA's path_over_junction
 
     @property
     def network(self) -> RoadNetwork:
@@ -245,12 +257,23 @@ def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool
 
 
 class PlacementLowerer:
-    def __init__(self, lowerer: Lowerer, scenario: Symbol, default_map: str = "default"):
+    def __init__(
+        self,
+        lowerer: Lowerer,
+        scenario: Symbol,
+        default_map: str = "default",
+        maps: Mapping[str, str] | None = None,
+        open_categories: bool = False,
+    ):
         self.lw = lowerer
+        #: vehicles whose category nothing constrains may be of any category (preferably
+        #: cars): the second try when placing them as cars has no solution
+        self.open_categories = open_categories
         self.model = lowerer.model
         self.problem: ir.ConstraintProblem = lowerer.problem
         self.scenario = scenario
         self.default_map = default_map
+        self.maps = maps or {}  # map names -> files (`[tool.osc2check.maps]`)
         self.lateral: set[str] = set()  # actors with a lateral offset at the start
         self.moving: set[str] = set()  # actors given a speed at the start
         self.applied: set[int] = set()  # ids of the modifiers applied at the start
@@ -280,7 +303,7 @@ class PlacementLowerer:
         self.fields = placement.fields = MapFields(self.lw, choice.found, terms)
         for param, kind in actors:
             placement.actors[param.name] = self._actor(param, kind)
-        self._map_modifiers()
+        self._map_modifiers(placement)
         first: set[str] = set()
         starts = self._start_invocations()
         for inv, scope in starts:  # which modifier kinds each actor gets `at: start`
@@ -407,13 +430,14 @@ class PlacementLowerer:
             path = map_path(self.default_map, folder)
             source = str(path.resolve()) if path is not None and path.is_file() else None
             return MapChoice(self.default_map if source else fallback.name, fallback, source)
+        file = self.maps.get(name, name)  # a name the configuration gives a file
         try:
-            found = find_map(name, folder)
+            found = find_map(file, folder)
         except UnknownMapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unknown=err.known)
         except MapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unreadable=err)
-        path = map_path(name, folder)
+        path = map_path(file, folder)
         source = str(path.resolve()) if path is not None and path.is_file() else None
         return MapChoice(name if source is not None else found.name, found, source, name, span)
 
@@ -424,8 +448,9 @@ class PlacementLowerer:
                 for arg in member.arguments:
                     if isinstance(arg, ast.EventArgument):
                         continue
-                    if isinstance(arg.value, ast.StringLiteral):
-                        return arg.value.value, arg.value.span
+                    literal = self._string_of(arg.value)
+                    if literal is not None:
+                        return literal.value, literal.span
         for var_name in self.problem.variables:
             if var_name.endswith(".map_file"):
                 found = self.constants.get(var_name)
@@ -442,6 +467,18 @@ class PlacementLowerer:
                     return name, spans[0] if spans else within
         return None, None
 
+    def _string_of(self, node: ast.Node) -> ast.StringLiteral | None:
+        """A string literal, or the one a global or field named here has as its default
+        (``global my_map: string = "Town04"``)."""
+        if isinstance(node, ast.StringLiteral):
+            return node
+        if isinstance(node, ast.NameRef):
+            sym = self.model.reference(node.name.name)
+            decl = sym.decl if sym is not None else None
+            if isinstance(decl, ast.FieldDecl) and isinstance(decl.default, ast.StringLiteral):
+                return decl.default
+        return None
+
     def _scenario_members(self) -> Iterator[ast.Member]:
         for members in self.lw.member_decls.get(self.scenario, []):
             yield from members
@@ -457,13 +494,90 @@ class PlacementLowerer:
                 continue
             if any(a.name == "map" and a.library for a in self.model.ancestors(modifier.actor)):
                 found.append((member, modifier))
+        for scenario in self._invoked_scenarios():  # CARLA's path conditions hold for the run
+            for members in self.lw.member_decls.get(scenario, []):
+                for member in members:
+                    modifier = (
+                        self.model.references.get(member.name)
+                        if isinstance(member, ast.Invocation)
+                        else None
+                    )
+                    if modifier is not None and modifier.namespace == CARLA:
+                        found.append((member, modifier))  # type: ignore[arg-type]
         return found
 
-    def _map_modifiers(self) -> None:
-        """Constrain the scenario's element fields as its map modifiers say."""
+    def _invoked_scenarios(self) -> list[Symbol]:
+        """The scenarios the scenario invokes, and those they invoke, once each."""
+        found: list[Symbol] = []
+        stack = [self.scenario]
+        while stack:
+            do = scenario_do(self.model, self.lw.member_decls, stack.pop())
+            for node in walk(do.member) if do is not None else ():
+                sym = (
+                    self.model.references.get(node.name)
+                    if isinstance(node, ast.Invocation)
+                    else None
+                )
+                if sym is not None and sym.kind is SymbolKind.SCENARIO and sym not in found:
+                    found.append(sym)
+                    stack.append(sym)
+        return found
+
+    def _map_modifiers(self, placement: StartPlacement) -> None:
+        """Constrain the scenario's element fields as its map modifiers say; CARLA's path
+        conditions constrain where its actors start."""
         scope = self._root_scope()
         for member, modifier in self._map_modifier_members():
+            if modifier.namespace == CARLA and modifier.name == "path_min_driving_lanes":
+                self._min_driving_lanes(member, placement)
+                continue
+            if modifier.namespace == CARLA and modifier.name == "path_over_junction":
+                self._over_junction(member, placement)
+                continue
             self.fields.modifier(member, modifier, scope, self._require)
+
+    def _over_junction(self, member: ast.Invocation, placement: StartPlacement) -> None:
+        """CARLA's ``path_over_junction``: every vehicle starts before a junction its road
+        leads into, ``distance_before`` ahead of it at most (a range: within the range).
+        The direction through the junction and the distances in and after it are not
+        modelled (recorded as such)."""
+        args = self._args(member)
+        node = args.get("distance_before")
+        if node is None:
+            return
+        if isinstance(node, ast.RangeLiteral):
+            low, high = self._value(node.low), self._value(node.high)
+        else:
+            low, high = ir.const(0), self._value(node)
+        if low is None or high is None:
+            return
+        for actor in placement.actors.values():
+            if actor.kind != "vehicle":
+                continue
+            term = placement.terms.before_junction(actor.road, ir.Ref(actor.s), low, high)
+            if term is None:  # reported where the run starts (an invoker places the actors)
+                placement.no_junction.append(call_span(member))
+                return
+            self._require(term, member)
+        for name in ("direction", "distance_in", "distance_after"):
+            if name in args:
+                self.problem.skip(
+                    args[name].span,
+                    self.lw.text_of(args[name].span),
+                    f"path_over_junction({name}: ...) is not modelled: the route through the "
+                    "junction is the seed's",
+                )
+
+    def _min_driving_lanes(self, member: ast.Invocation, placement: StartPlacement) -> None:
+        """CARLA's ``path_min_driving_lanes(n)``: every vehicle starts where its road has at
+        least ``n`` driving lanes in its direction (CARLA chooses its spawn road so)."""
+        node = self._args(member).get("min_lanes")
+        lanes = self._value(node) if node is not None else None
+        if lanes is None:
+            return
+        for actor in placement.actors.values():
+            if actor.kind == "vehicle":
+                self._require(placement.terms.wide(actor.road, ir.Ref(actor.s), lanes), member)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""
@@ -504,17 +618,21 @@ class PlacementLowerer:
         type_symbol = param.type.symbol if param.type is not None else None
         if row is None and _is_trailer(self.model, type_symbol):
             row = CATEGORIES["trailer"]
-        if row is None and category is not None and not self._mentioned(category):
+        unsaid = row is None and category is not None and not self._mentioned(category)
+        if unsaid and not self.open_categories:
             row = CATEGORIES["car"]  # nothing says otherwise: placed, and run, as a car
         if row is not None:
             if category is not None and not because:
+                text = (
+                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
+                    if row.category == "car"
+                    else f"`{name}` is a {row.category}"
+                )
                 self._implicit(
                     ir.op("==", ir.Ref(category), ir.const(_member(category, row.category))),
                     param.name_span or self.problem.span,
-                    "category",
-                    f"`{name}` is a {row.category} (its vehicle_category is not constrained)"
-                    if row.category == "car"
-                    else f"`{name}` is a {row.category}",
+                    UNSAID_CATEGORY if unsaid else "category",
+                    text,
                 )
             body = ActorBody(kind, row, *self._row_terms(row), category, tuple(because))
         elif category is not None:  # open: the solver chooses the category and the size
@@ -522,23 +640,37 @@ class PlacementLowerer:
             width = _by_category(category, lambda r: r.width)
             top = _by_category(category, lambda r: r.max_speed)
             body = ActorBody(kind, None, length, width, top, category, shown=shown)
-            # without the constraints that mention it, the vehicle would be a car: the
-            # solver holds this while it looks for the lines a conflict cannot do without
-            self.problem.add(
-                ir.Constraint(
-                    ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
-                    param.name_span or self.problem.span,
-                    "placement",
-                    f"`{name}` is a car when nothing says otherwise",
-                    "hard",
-                    category,
-                    f"`{name}` is a car when nothing says otherwise",
-                    "fallback",
+            if unsaid:  # the second try (open_categories): any category, a car preferred
+                car_value = Fraction(_member(category, "car"))
+                self.problem.preferred[category.name] = (car_value, car_value)
+            else:
+                # without the constraints that mention it, the vehicle would be a car: the
+                # solver holds this while it looks for the lines a conflict cannot do without
+                self.problem.add(
+                    ir.Constraint(
+                        ir.op("==", ir.Ref(category), ir.const(_member(category, "car"))),
+                        param.name_span or self.problem.span,
+                        "placement",
+                        f"`{name}` is a car when nothing says otherwise",
+                        "hard",
+                        category,
+                        f"`{name}` is a car when nothing says otherwise",
+                        "fallback",
+                    )
                 )
-            )
         else:  # pragma: no cover - every vehicle has the category parameter
             car = CATEGORIES["car"]
             body = ActorBody(kind, car, *self._row_terms(car))
+        for member, value in category.enum if category is not None else ():
+            if member in NOT_ON_ROADS:  # DSL 2.2's trains, boats and aircraft
+                assert category is not None  # as the loop runs
+                self._implicit(
+                    ir.op("!=", ir.Ref(category), ir.const(value)),
+                    param.name_span or self.problem.span,
+                    "category",
+                    f"`{name}` is no {member}: the world is roads, and its catalogue has "
+                    f"no {member}",
+                )
         body.notes = tuple(notes)
         return self._sized(name, body)
 
@@ -600,16 +732,23 @@ class PlacementLowerer:
         return actor
 
     def _on_road(self, actor: PlacedActor) -> None:
-        """The actor's sides stay on the road (with its lateral offset)."""
+        """The actor's sides stay on the road (with its lateral offset): a vehicle's on
+        the driving lanes, a person's or an animal's on any lane, sidewalks included."""
         body = actor.body
         terms = self.terms
+        walker = actor.kind in ("person", "animal")
         self._implicit(
             terms.across(
-                actor.road, ir.Ref(actor.lane), ir.Ref(actor.t), ir.Ref(actor.s), _half(body.width)
+                actor.road,
+                ir.Ref(actor.lane),
+                ir.Ref(actor.t),
+                ir.Ref(actor.s),
+                _half(body.width),
+                walker,
             ),
             actor.span,
             "road-extent",
-            terms.across_text(actor.name, body.size_text(body.width, "wide")),
+            terms.across_text(actor.name, body.size_text(body.width, "wide"), walker),
             because=body.because,
         )
 
@@ -771,7 +910,13 @@ class PlacementLowerer:
 
     def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
-        the vehicle reaches, whenever the phase runs."""
+        the vehicle reaches, whenever the phase runs; so does a lane change, from the lane
+        the actor is in then (``lane_steps``)."""
+        scenarios = [s.decl for s in self.model.symbols if s.kind is SymbolKind.SCENARIO]
+        rules = placement.map.facts.rules
+        steps = LaneSteps(
+            self.model, self._value, one_of_members(d for d in scenarios if d), rules != {"LHT"}
+        )
         for member in self._bodies(self.scenario):
             for inv, scope in self._all_invocations(member, self._root_scope()):
                 self.scope = scope
@@ -786,7 +931,21 @@ class PlacementLowerer:
                         self._phase_limit(actor, item, placement)
                     elif item.name.text == "along":
                         self._mod_along(actor, self._args(item), item, placement, at_start=False)
+                for change in steps.run(actor.name, actor.lane, inv, self._phase_lane(actor)):
+                    lanes = placement.terms.lanes(None, change.lane, ir.Ref(actor.s), phase=True)
+                    self._implicit(lanes, change.inv.span, "lane-range", change.text)
         self.scope = self._root_scope()
+
+    def _phase_lane(self, actor: PlacedActor) -> Callable[[ast.Invocation], ir.Var | None]:
+        """The variable of the lane a later phase's `lane(k)` gives ``actor`` (None for one
+        applied at the start)."""
+
+        def lane(item: ast.Invocation) -> ir.Var | None:
+            if id(item) in self.applied:
+                return None
+            return self.problem.variables.get(self._phase_name(actor, item, "lane"))
+
+        return lane
 
     def _phase_limit(
         self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement
@@ -1164,10 +1323,15 @@ def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:
 
 
 def lower_placement(
-    lowerer: Lowerer, scenario: Symbol, default_map: str = "default"
+    lowerer: Lowerer,
+    scenario: Symbol,
+    default_map: str = "default",
+    maps: Mapping[str, str] | None = None,
+    open_categories: bool = False,
 ) -> StartPlacement | None:
-    """Add the placement variables and constraints of ``scenario`` to the lowerer's problem."""
-    return PlacementLowerer(lowerer, scenario, default_map).lower()
+    """Add the placement variables and constraints of ``scenario`` to the lowerer's problem
+    (``open_categories``: see ``PlacementLowerer``)."""
+    return PlacementLowerer(lowerer, scenario, default_map, maps, open_categories).lower()
 
 
 def _member(category: ir.Var, name: str) -> int:

@@ -122,6 +122,34 @@ class RoadTerms:
             ],
         )
 
+    def wide(self, road: ir.Var | None, s: ir.Term, lanes: ir.Term) -> ir.Term:
+        """The carriageway has at least ``lanes`` driving lanes where the actor is."""
+        return self._any(
+            road,
+            [
+                (cw, _and(_within(s, p), ir.op("<=", lanes, ir.const(p.count))))
+                for cw in self.carriageways
+                for p in cw.pieces
+                if p.count > 0
+            ],
+        )
+
+    def before_junction(
+        self, road: ir.Var | None, s: ir.Term, low: ir.Term, high: ir.Term
+    ) -> ir.Term | None:
+        """The actor's carriageway leads into a junction between ``low`` and ``high`` ahead
+        of it; None on a map whose carriageways lead into none."""
+        into = [cw for cw in self.carriageways if cw.exit_junction is not None]
+        if not into:
+            return None
+        terms = []
+        for cw in into:
+            ahead = ir.op("-", ir.const(fraction(cw.length)), s)
+            terms.append((cw, ir.op("and", ir.op(">=", ahead, low), ir.op("<=", ahead, high))))
+        if self.single:
+            return terms[0][1]
+        return ir.op("or", *(_and(self.on(road, cw), term) for cw, term in terms))
+
     def lanes_text(self, phase: bool = False) -> str:
         if self.single and self.uniform:
             return f"road `{self.name}` has lanes 1 to {self.most_lanes}"
@@ -130,29 +158,41 @@ class RoadTerms:
         return f"the lane is one that map `{self.name}` has where the actor starts"
 
     def across(
-        self, road: ir.Var | None, lane: ir.Term, t: ir.Term, s: ir.Term, half_width: ir.Term
+        self,
+        road: ir.Var | None,
+        lane: ir.Term,
+        t: ir.Term,
+        s: ir.Term,
+        half_width: ir.Term,
+        walker: bool = False,
     ) -> ir.Term:
         """The actor's sides stay on the carriageway's driving lanes (with its offset ``t``
-        from the lane centre). Lanes are taken as wide as the narrowest driving lane of
-        each stretch: on maps with lanes of several widths this is the cautious side."""
+        from the lane centre); a ``walker`` (a person, an animal) stays on the road, every
+        lane of it, sidewalks and shoulders included. Lanes are taken as wide as the
+        narrowest driving lane of each stretch: on maps with lanes of several widths this
+        is the cautious side."""
         each: list[tuple[Carriageway, ir.Term]] = []
         for cw in self.carriageways:
             for p in cw.pieces:
                 if p.count == 0:
                     continue
                 width = fraction(p.width)
+                right = fraction(p.right) if walker else Fraction(0)
+                left = fraction(p.left) if walker else Fraction(0)
                 centre = ir.op(
                     "+", ir.op("*", ir.const(width), ir.op("-", lane, ir.const(Fraction(1, 2)))), t
                 )
                 inside = ir.op(
                     "and",
-                    ir.op(">=", centre, half_width),
-                    ir.op("<=", centre, ir.minus(ir.const(width * p.count), half_width)),
+                    ir.op(">=", centre, ir.minus(half_width, ir.const(right))),
+                    ir.op("<=", centre, ir.minus(ir.const(width * p.count + left), half_width)),
                 )
                 each.append((cw, inside if self.uniform else _and(_within(s, p), inside)))
         return self._any(road, each)
 
-    def across_text(self, actor: str, size: str) -> str:
+    def across_text(self, actor: str, size: str, walker: bool = False) -> str:
+        if walker:
+            return f"`{actor}` ({size}) stays on the road (any of its lanes, sidewalks included)"
         if self.single and self.uniform:
             p = self.carriageways[0].pieces[0]
             return f"`{actor}` ({size}) stays on the road's {p.count} lanes of {p.width:g} m"

@@ -22,6 +22,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
 
+from osc2check.semantics.builtins import EVENT_FUNCTIONS
 from osc2check.semantics.constants import (
     NotConstant,
     RangeValue,
@@ -30,7 +31,14 @@ from osc2check.semantics.constants import (
     si_number,
 )
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import invocations, is_instant
+from osc2check.semantics.phases import (
+    ENDLESS_ACTIONS,
+    ENDS_WITH_FIRST,
+    PHASE_ENDING_MODIFIERS,
+    enum_word,
+    invocations,
+    is_instant,
+)
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
@@ -95,6 +103,8 @@ def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
             given = _given(model, body, "duration")
             if given is not None:
                 return _number(model, given, lookup)
+            if body.op == "parallel":
+                return _parallel(model, body, lookup)
             lengths = [_duration(model, m.body, lookup) for m in body.members]
             if any(length is None for length in lengths):
                 return None
@@ -107,9 +117,64 @@ def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
             if given is not None:
                 return _number(model, given, lookup)
             return Fraction(0) if is_instant(body) else None
+        case ast.Wait():
+            return _elapsed(model, body.event, lookup)
         case ast.Emit() | ast.CallDirective():
             return Fraction(0)
     return None
+
+
+def _parallel(model: Model, body: ast.Composition, lookup: Lookup) -> Fraction | None:
+    """A ``parallel`` without a duration, as the runner runs it (docs/runner.md,
+    Composition): a member that cannot end on its own (an endless action without
+    ``duration``, ``until`` or a modifier that ends its phase) ends when the others have;
+    ``equal``, ``end``, ``final``, ``initial``, ``inside`` end with their first member."""
+    members = [m.body for m in body.members]
+    ending = [m for m in members if not _open_ended(model, m)]
+    if not ending:
+        return None  # nothing ends it
+    overlap = enum_word(_given(model, body, "overlap")) or "start"
+    if overlap in ENDS_WITH_FIRST and members[0] in ending:
+        return _duration(model, members[0], lookup)
+    lengths = [_duration(model, m, lookup) for m in ending]
+    if any(length is None for length in lengths):
+        return None
+    return max((length for length in lengths if length is not None), default=Fraction(0))
+
+
+def _open_ended(model: Model, body: ast.Node) -> bool:
+    """An invocation of an endless action that nothing ends: no ``duration``, no ``until``,
+    no modifier that ends its phase (``phases``)."""
+    if not isinstance(body, ast.Invocation) or body.name.text not in ENDLESS_ACTIONS:
+        return False
+    if _given(model, body, "duration") is not None:
+        return False
+    for item in body.with_members:
+        if isinstance(item, ast.Until):
+            return False
+        if isinstance(item, ast.Invocation) and (
+            item.name.text in PHASE_ENDING_MODIFIERS
+            or enum_word(_given(model, item, "at")) == "end"
+        ):
+            return False
+    return True
+
+
+def _elapsed(model: Model, event: ast.Node, lookup: Lookup) -> Fraction | None:
+    """The time a ``wait`` takes when its event is ``elapsed(d)`` with a constant ``d``."""
+    if not (
+        isinstance(event, ast.EventCondition)
+        and isinstance(event.expr, ast.Call)
+        and isinstance(event.expr.callee, ast.NameRef)
+        and event.expr.callee.name.namespace is None
+        and event.expr.callee.name.name.text == "elapsed"
+    ):
+        return None
+    given = _given(model, event.expr, EVENT_FUNCTIONS["elapsed"].parameters[0].name)
+    if given is None:
+        return None
+    found = _number(model, given, lookup)
+    return None if found is None else max(found, Fraction(0))
 
 
 def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -> None:

@@ -23,7 +23,7 @@ that tick still runs) or after it (one starting in it runs); ``pre`` chooses.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.source import Span
@@ -195,15 +195,23 @@ def either(condition: ir.Term, a: Time, b: Time) -> Time:
 # ---- phases ---------------------------------------------------------------------------
 
 
+#: a phase as the runner knows it: the path of the scenario instance it is written in
+#: ("" for the root scenario) and the span of its invocation, composition or directive
+PhaseKey = tuple[str, Span]
+
+
 @dataclass(eq=False, kw_only=True)
 class Phase:
     """One phase of the behaviour: where it is written, when it starts, and when it ends
-    on its own (``end``: before anything around it stops it)."""
+    on its own (``end``: before anything around it stops it); ``keys``: the runner's
+    names of it (an invocation without duration or ``until`` of a scenario is the same
+    phase as the scenario's ``do``)."""
 
     name: str
     span: Span
     start: Time
     end: Time
+    keys: list[PhaseKey] = field(default_factory=list)
 
 
 @dataclass(eq=False, kw_only=True)
@@ -243,13 +251,18 @@ class Sequence(Phase):
 
 @dataclass(eq=False, kw_only=True)
 class Together(Phase):
-    """A ``parallel``; ``joined``: when every member has ended or is open-ended."""
+    """A ``parallel``; ``joined``: when every member has ended or is open-ended;
+    ``delays``: how long after the composition each member starts (``overlap: end``,
+    ``final``: a member of known length starts so that it ends with the others)."""
 
     members: list[Phase]
     first_ends: bool
     joined: Time
     where: Span
     text: str
+    delays: list[ir.Term] = field(default_factory=list)
+    kind: str = "start"  # the overlap kind
+    lengths: list[ir.Term | None] = field(default_factory=list)  # each member's, when known
 
 
 @dataclass(eq=False, kw_only=True)

@@ -63,7 +63,9 @@ from osc2check.semantics.phases import (
     ENDLESS_ACTIONS,
     ENDS_WITH_FIRST,
     INSTANT_ACTIONS,
+    NOT_BEFORE_FIRST,
     PHASE_ENDING_MODIFIERS,
+    STARTS_PLANNED,
     enum_word,
     is_acting,
     modifier_timing,
@@ -73,6 +75,7 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir, quick
 from osc2check.verify.lower import MAX_DEPTH, InstanceScope, Lowerer, NotEncodable, join_path
+from osc2check.verify.schedule import Resolver, TimingPlan
 from osc2check.verify.timeline import (
     FALSE,
     NEVER,
@@ -104,10 +107,11 @@ from osc2check.verify.timeline import (
     no_later,
     open_from,
     open_now,
+    plus,
     same_time,
 )
 
-__all__ = ["TIMING_PREFIX", "is_timing_variable", "lower_timing"]
+__all__ = ["TIMING_PREFIX", "is_timing_variable", "lower_timing", "timing_plan"]
 
 #: the names of the timing model's variables begin with this (never a parameter's)
 TIMING_PREFIX = "time:"
@@ -136,6 +140,23 @@ class _Model:
     tracked: list[ir.Constraint] = field(default_factory=list)
     defined: dict[str, ir.Term] = field(default_factory=dict)  # variable -> its value
     canonical: dict[str, ir.Term] = field(default_factory=dict)  # an unknown's first choice
+    #: a written duration or event time -> the term of its value (symbolic models)
+    written: dict[str, ir.Term] = field(default_factory=dict)
+
+    def mark(self) -> tuple[int, int, int, int]:
+        return (len(self.variables), len(self.definitions), len(self.tracked), len(self.written))
+
+    def undo(self, mark: tuple[int, int, int, int]) -> None:
+        """Forget what was added since ``mark`` (a part of the model built again)."""
+        n_vars, n_defs, n_tracked, n_written = mark
+        for name in list(self.variables)[n_vars:]:
+            del self.variables[name]
+            self.defined.pop(name, None)
+            self.canonical.pop(name, None)
+        del self.definitions[n_defs:]
+        del self.tracked[n_tracked:]
+        for name in list(self.written)[n_written:]:
+            del self.written[name]
 
 
 class _Builder:
@@ -151,6 +172,8 @@ class _Builder:
         self.symbolic = symbolic
         self.out = _Model()
         self.expanding: list[Symbol] = []
+        self.resolver = Resolver(self.out.defined, self.out.written)
+        self.root: Phase | None = None
 
     # ---- variables
 
@@ -233,6 +256,7 @@ class _Builder:
                 self.lw.problem.skip(where, text, f"{reason}: its timing is not verified")
                 return None
         var = ir.Ref(self._var(name, "real"))
+        self.out.written[var.var.name] = value
         return var, ir.op("==", var, value)
 
     def _duration(
@@ -307,15 +331,19 @@ class _Builder:
 
     def _member(self, member: ast.DoMember, scope: InstanceScope, start: Time, depth: int) -> Phase:
         body = member.body
+        phase: Phase
         match body:
             case ast.Composition():
-                return self._composition(body, scope, start, depth)
+                phase = self._composition(body, scope, start, depth)
             case ast.Invocation():
-                return self._invocation(body, member.label, scope, start, depth)
+                phase = self._invocation(body, member.label, scope, start, depth)
             case ast.Wait():
-                return self._wait(body, scope, start)
-        name = join_path(scope.prefix, f"{type(body).__name__.lower()}@{_where(body.span)}")
-        return Leaf(name=name, span=body.span, start=start, end=start)  # emit, call
+                phase = self._wait(body, scope, start)
+            case _:
+                name = join_path(scope.prefix, f"{type(body).__name__.lower()}@{_where(body.span)}")
+                phase = Leaf(name=name, span=body.span, start=start, end=start)  # emit, call
+        phase.keys.append((scope.prefix, body.span))  # the runner's name of the phase
+        return phase
 
     def _wait(self, wait: ast.Wait, scope: InstanceScope, start: Time) -> Leaf:
         name = join_path(scope.prefix, f"wait@{_where(wait.span)}")
@@ -377,7 +405,16 @@ class _Builder:
         depth: int,
         name: str,
     ) -> Together:
+        mark = self.out.mark()
         members = [self._member(m, scope, start, depth) for m in comp.members]
+        delays = self._delays(kind, members)
+        if any(not holds_as(compare("==", d, ZERO), True) for d in delays):
+            self.out.undo(mark)  # built again, each member at its own start
+            self.resolver.forget()
+            members = [
+                self._member(m, scope, Time(start.finite, plus(start.at, d)), depth)
+                for m, d in zip(comp.members, delays, strict=True)
+            ]
         first_ends = kind in ENDS_WITH_FIRST
         joined = self._joined(members, name, comp.span) if members else start
         end = joined
@@ -395,7 +432,35 @@ class _Builder:
             joined=joined,
             where=where,
             text=text,
+            delays=delays,
+            kind=kind,
+            lengths=[self.resolver.length(m) for m in members],
         )
+
+    def _delays(self, kind: str, members: list[Phase]) -> list[ir.Term]:
+        """How long after the composition each member starts: with ``overlap: end`` the
+        members of known length end together (the longest starts first), with ``final``
+        they end with the first member (which starts first); otherwise all at once."""
+        zero: list[ir.Term] = [ZERO] * len(members)
+        if kind not in STARTS_PLANNED or len(members) < 2:
+            return zero
+        lengths = [self.resolver.length(m) for m in members]
+        first = lengths[0]
+        if first is None:
+            return zero  # the first member's end is not known before it comes
+        end = first
+        if kind == "end":
+            for length in lengths[1:]:
+                if length is not None:
+                    end = if_then(compare(">=", end, length), end, length)
+        delays: list[ir.Term] = []
+        for length in lengths:
+            if length is None:
+                delays.append(ZERO)
+                continue
+            delay = ir.minus(end, length)
+            delays.append(if_then(compare(">=", delay, ZERO), delay, ZERO))
+        return delays
 
     def _joined(self, members: list[Phase], name: str, span: Span) -> Time:
         """When a ``parallel`` ends by joining: the first time at which one member has
@@ -540,9 +605,12 @@ class _Builder:
         if bounds is not None and duration is not None:
             low, high, values, text = bounds
             last = after(start, high)
-            within = no_later(core.end, last)
-            held = latest(core.end, after(start, low))
-            end = Time(start.finite, if_then(within, held.at, last.at))
+            if low is high:  # one value: the phase ends then, on time or stopped
+                end = Time(start.finite, last.at)
+            else:
+                within = no_later(core.end, last)
+                held = latest(core.end, after(start, low))
+                end = Time(start.finite, if_then(within, held.at, last.at))
             phase = Bounded(
                 name=name,
                 span=span,
@@ -611,6 +679,7 @@ class _Builder:
                         no_later(first, phase.joined),
                     )
                     self._track(implies(due, ended), phase.where, phase.text)
+                self._not_before_first(phase, active, free, checked)
             case Choice():
                 waiting_ends = [w.end for w in phase.waiting]
                 for c, a in zip(phase.chosen, phase.acting, strict=True):
@@ -622,6 +691,21 @@ class _Builder:
                     if phase.acting:
                         rivals.append(phase.chosen_end)
                     self.require(w, active, earliest(free, earliest_of(rivals)), checked)
+
+    def _not_before_first(
+        self, phase: Together, active: ir.Term, free: Time, checked: Time
+    ) -> None:
+        """``equal`` and ``full``: a member of known length ends no earlier than the first
+        member (of known length) ends; a shorter one cannot (a fixed length cannot be
+        held, unlike a goal reached early)."""
+        first = phase.lengths[0] if phase.lengths else None
+        if phase.kind not in NOT_BEFORE_FIRST or first is None:
+            return
+        for member, length in zip(phase.members[1:], phase.lengths[1:], strict=True):
+            if length is None:
+                continue
+            due = _guard(member.end, phase.start, active, free, checked)
+            self._track(implies(due, compare(">=", length, first)), phase.where, phase.text)
 
     def holds_canonically(self) -> bool:
         """Whether every constraint holds with each unknown at its first choice (zero
@@ -670,24 +754,43 @@ def _model(lowerer: Lowerer, scenario: Symbol, symbolic: bool) -> _Builder | Non
     if root is None:
         return None
     builder.require(root, TRUE, NEVER, NEVER)
+    builder.root = root
     return builder
+
+
+def _plan(builder: _Builder | None) -> TimingPlan | None:
+    if builder is None or builder.root is None:
+        return None
+    return TimingPlan.of(builder.root, builder.resolver)
+
+
+def timing_plan(lowerer: Lowerer, scenario: Symbol) -> TimingPlan | None:
+    """The timing model of ``scenario`` kept for the schedule of its runs
+    (``verify.schedule``): with constant durations folded in when they are all constant."""
+    try:
+        return _plan(_model(lowerer, scenario, symbolic=False))
+    except _NotConstant:
+        return _plan(_model(lowerer, scenario, symbolic=True))
 
 
 def lower_timing(lowerer: Lowerer, scenario: Symbol) -> None:
     """Add the timing of ``scenario``'s behaviour to the lowerer's problem, where it can
     matter: when a duration names a parameter, or when the timing cannot obviously be
     kept (see the module docstring)."""
+    problem = lowerer.problem
     try:
         folded = _model(lowerer, scenario, symbolic=False)
     except _NotConstant:
         folded = None
     else:
+        problem.timing = _plan(folded)
         if folded is None or not folded.out.tracked or folded.holds_canonically():
             return
     built = _model(lowerer, scenario, symbolic=True)
+    if problem.timing is None:
+        problem.timing = _plan(built)
     if built is None or not built.out.tracked:
         return
-    problem = lowerer.problem
     for var in built.out.variables.values():
         problem.variables[var.name] = var
     for c in (*built.out.definitions, *built.out.tracked):

@@ -25,6 +25,7 @@ from typing import TYPE_CHECKING
 from osc2check.verify import ir, quick
 from osc2check.verify.map_modifiers import ElementValue
 from osc2check.verify.placement import ActorBody, PlacedActor, StartPlacement
+from osc2check.verify.schedule import Schedule, schedule
 from osc2check.verify.timing import is_timing_variable
 from osc2check.world.carriageways import Carriageway, lane_at
 from osc2check.world.catalogue import CATEGORIES, ActorRow
@@ -137,6 +138,9 @@ class Witness:
     lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
     map_source: str | None = None  # the OpenDRIVE file of the map (absolute), if it is one
     elements: tuple[tuple[str, ElementValue], ...] = ()  # road/route/lane/junction fields
+    #: when each phase must end and each member starts, for the runner's plans
+    #: (``verify.schedule``); the values of its durations are this witness's
+    schedule: Schedule = field(default_factory=Schedule, compare=False, repr=False)
 
     def element(self, path: str) -> ElementValue | None:
         return next((v for p, v in self.elements if p == path), None)
@@ -337,6 +341,7 @@ def build_witness(
         dict(problem.lists),
         source,
         tuple(elements),
+        schedule(problem.timing, values),
     )
 
 

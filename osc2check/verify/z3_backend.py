@@ -519,7 +519,9 @@ class Sampler:
         if var.sort == "bool":
             return rng.random() < 0.5
         if var.enum:
-            return Fraction(rng.choice(var.enum)[1])
+            wanted = self.problem.preferred.get(var.name)
+            members = [v for _, v in var.enum if wanted is None or wanted[0] <= v <= wanted[1]]
+            return Fraction(rng.choice(members or [v for _, v in var.enum]))
         low, high = self.bounds.get(var.name, (None, None))
         plausible = self.problem.preferred.get(var.name)
         if plausible is not None:  # draw in the plausible part of the bounds when there is one

@@ -1,8 +1,8 @@
 """The built-in straight maps: a table of named roads, each built as a road network.
 
 A scenario that names no map runs on ``default``; ``straight_3lane``,
-``highway_4lane`` and ``Town06`` (a stand-in for CARLA's Town06) are the other
-built-in names. Each row of :data:`BUILTIN_MAPS` is a straight, one-directional,
+``highway_4lane``, ``Town06`` and ``Town04`` (stand-ins for CARLA's maps) are the
+other built-in names. Each row of :data:`BUILTIN_MAPS` is a straight, one-directional,
 multi-lane road; :func:`straight_network` writes it as OpenDRIVE would and sends
 it through the same layout step as a file, so a built-in map is a
 :class:`~osc2check.world.network.RoadNetwork` like any other:
@@ -15,8 +15,8 @@ it through the same layout step as a file, so a built-in map is a
 * The lanes are right lanes ``-1 .. -n`` under right-hand traffic; lane ``k``
   counted from the right (1 = rightmost) is OpenDRIVE lane ``-(n + 1 - k)``
   (:func:`builtin_lane`).
-* Town06 counts scenario lanes from the left (``numbering="from_left"``), as
-  CARLA numbers lanes outward from the centre line, so the design paper's
+* Town06 and Town04 count scenario lanes from the left (``numbering="from_left"``),
+  as CARLA numbers lanes outward from the centre line, so the design paper's
   `lane(1)` is the lane next to the median.
 
 Both ends of the road link to nothing: driving past ``length`` is driving past
@@ -27,9 +27,18 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import Literal
 
 from osc2check.world.errors import UnknownMapError
-from osc2check.world.network import LaneRef, Numbering, RoadNetwork
+from osc2check.world.network import (
+    Connection,
+    ContactPoint,
+    Junction,
+    LaneRef,
+    Numbering,
+    RoadLink,
+    RoadNetwork,
+)
 
 __all__ = [
     "BUILTIN_MAPS",
@@ -37,6 +46,7 @@ __all__ = [
     "BuiltinMap",
     "builtin_lane",
     "builtin_map",
+    "builtin_name",
     "builtin_network",
     "map_names",
     "straight_network",
@@ -117,14 +127,39 @@ BUILTIN_MAPS: dict[str, BuiltinMap] = {
         "lanes numbered from the left as in CARLA",
         numbering="from_left",
     ),
+    # Stand-in for CARLA's Town04, the map of most of CARLA's OSC2 examples: one
+    # straight carriageway of its 4-lane highway loop (90 kph), 2000 m, lanes numbered
+    # from the left as CARLA numbers them; no loop, ramps, town streets or oncoming
+    # traffic, and not CARLA's world coordinates.
+    "Town04": BuiltinMap(
+        name="Town04",
+        lane_count=4,
+        length=2000.0,
+        speed_limit=90.0 * _KPH,
+        description="stand-in for CARLA Town04: one straight 4-lane carriageway of its "
+        "highway, 2000 m; lanes numbered from the left as in CARLA",
+        numbering="from_left",
+    ),
 }
 
 _NETWORKS: dict[str, RoadNetwork] = {}
 
+#: Stand-in for CARLA's Town03, for scenarios whose road must cross a junction
+#: (CARLA's ``path_over_junction``): a straight town road with two lanes each way
+#: (3.5 m, 60 kph) in two 600 m arms through a 30 m junction that leads straight on;
+#: no side roads, curves or signals, and not CARLA's world coordinates. Lanes are
+#: numbered from the left as CARLA numbers them.
+TOWN03 = "Town03"
+_TOWN03_ARM, _TOWN03_JUNCTION = 600.0, 30.0
+_TOWN03_DESCRIPTION = (
+    "stand-in for CARLA Town03: a 4-lane two-way town road (2 lanes each way) through a "
+    "junction, two 600 m arms; lanes numbered from the left as in CARLA"
+)
+
 
 def map_names() -> tuple[str, ...]:
     """Names of the built-in maps, in table order."""
-    return tuple(BUILTIN_MAPS)
+    return (*BUILTIN_MAPS, TOWN03)
 
 
 def builtin_map(name: str) -> BuiltinMap:
@@ -144,6 +179,10 @@ def builtin_map(name: str) -> BuiltinMap:
         if known.casefold() == key:
             return row
     raise UnknownMapError(name, map_names())
+
+
+def _is_town03(name: str) -> bool:
+    return name.removesuffix(".xodr").casefold() == TOWN03.casefold()
 
 
 def straight_network(row: BuiltinMap) -> RoadNetwork:
@@ -182,18 +221,126 @@ def straight_network(row: BuiltinMap) -> RoadNetwork:
     )
 
 
+def builtin_name(name: str) -> str:
+    """The name a built-in map is known by (``Town06`` for ``town06.xodr``), matched as
+    :func:`builtin_map` matches, the Town03 stand-in included.
+
+    Raises:
+        UnknownMapError: when no built-in map has that name.
+    """
+    return TOWN03 if _is_town03(name) else builtin_map(name).name
+
+
 def builtin_network(name: str) -> RoadNetwork:
-    """The network of the built-in map ``name`` (matched as :func:`builtin_map` does),
+    """The network of the built-in map ``name`` (matched as :func:`builtin_name` does),
     built once per process and shared (networks are immutable data plus caches).
 
     Raises:
         UnknownMapError: when no built-in map has that name.
     """
-    row = builtin_map(name)
-    network = _NETWORKS.get(row.name)
+    known = builtin_name(name)
+    network = _NETWORKS.get(known)
     if network is None:
-        network = _NETWORKS[row.name] = straight_network(row)
+        built = town03_network() if known == TOWN03 else straight_network(BUILTIN_MAPS[known])
+        network = _NETWORKS[known] = built
     return network
+
+
+def town03_network() -> RoadNetwork:
+    """The Town03 stand-in (see :data:`TOWN03`): roads ``1`` (west arm, x 0..600) and
+    ``2`` (east arm, x 630..1230) along +x, both ways, and junction ``100`` between them,
+    whose connecting roads ``101`` (eastbound) and ``102`` (westbound) lead straight on."""
+    from osc2check.world.geometry import Cubic, Geometry  # as in straight_network
+    from osc2check.world.layout import build_network
+    from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
+
+    arm, gap, width = _TOWN03_ARM, _TOWN03_JUNCTION, 3.5
+    limit = 60.0 * _KPH
+    both_ways = (
+        LaneSpec(id=-1, type="driving", widths=(Cubic(0.0, width),)),
+        LaneSpec(id=-2, type="driving", widths=(Cubic(0.0, width),)),
+        LaneSpec(id=1, type="driving", widths=(Cubic(0.0, width),)),
+        LaneSpec(id=2, type="driving", widths=(Cubic(0.0, width),)),
+    )
+
+    def link(
+        kind: Literal["road", "junction"], to: str, at: ContactPoint | None = None
+    ) -> RoadLink:
+        return RoadLink(kind, to, at)
+
+    def through(pairs: tuple[tuple[int, int], ...]) -> tuple[LaneSpec, ...]:
+        """Lanes -1, -2 of a connecting road, linked to the lanes ``pairs`` name."""
+        return tuple(
+            LaneSpec(
+                id=-n,
+                type="driving",
+                widths=(Cubic(0.0, width),),
+                predecessors=(before,),
+                successors=(after,),
+            )
+            for n, (before, after) in enumerate(pairs, start=1)
+        )
+
+    west = RoadSpec(
+        "1",
+        "west",
+        arm,
+        None,
+        (Geometry("line", 0.0, 0.0, 0.0, 0.0, arm),),
+        (SectionSpec(0.0, both_ways),),
+        successor=link("junction", "100"),
+        speed_limit=limit,
+    )
+    east = RoadSpec(
+        "2",
+        "east",
+        arm,
+        None,
+        (Geometry("line", 0.0, arm + gap, 0.0, 0.0, arm),),
+        (SectionSpec(0.0, both_ways),),
+        predecessor=link("junction", "100"),
+        speed_limit=limit,
+    )
+    eastbound = RoadSpec(
+        "101",
+        "junction east",
+        gap,
+        "100",
+        (Geometry("line", 0.0, arm, 0.0, 0.0, gap),),
+        (SectionSpec(0.0, through(((-1, -1), (-2, -2)))),),
+        predecessor=link("road", "1", "end"),
+        successor=link("road", "2", "start"),
+        speed_limit=limit,
+    )
+    westbound = RoadSpec(
+        "102",
+        "junction west",
+        gap,
+        "100",
+        (Geometry("line", 0.0, arm + gap, 0.0, math.pi, gap),),
+        (SectionSpec(0.0, through(((1, 1), (2, 2)))),),
+        predecessor=link("road", "2", "start"),
+        successor=link("road", "1", "end"),
+        speed_limit=limit,
+    )
+    junction = Junction(
+        "100",
+        "crossing",
+        (
+            Connection("0", "1", "101", "start", ((-1, -1), (-2, -2))),
+            Connection("1", "2", "102", "start", ((1, -1), (2, -2))),
+        ),
+    )
+    return build_network(
+        NetworkSpec(
+            name=TOWN03,
+            roads=(west, east, eastbound, westbound),
+            junctions=(junction,),
+            numbering="from_left",
+            speed_limit=limit,
+            description=_TOWN03_DESCRIPTION,
+        )
+    )
 
 
 def builtin_lane(network: RoadNetwork, lane: int) -> LaneRef:

@@ -76,12 +76,16 @@ class Leg:
 @dataclass(frozen=True, slots=True)
 class LanePiece:
     """A stretch ``[s0, s1]`` of a carriageway with ``count`` driving lanes travelling its
-    way, the narrowest of them ``width`` m wide there."""
+    way, the narrowest of them ``width`` m wide there; ``right`` and ``left`` are how
+    much of the road lies beyond them on each side in the direction of travel (the
+    narrowest along the stretch: sidewalks, shoulders, the other way's lanes, ...)."""
 
     s0: float
     s1: float
     count: int
     width: float
+    right: float = 0.0
+    left: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -218,18 +222,30 @@ def _carriageway(network: RoadNetwork, index: int, chain: list[Way]) -> Carriage
         for section in sections:
             # narrowest width of each driving lane travelling this way (row p of the
             # borders is lane p's left border, row p + 1 its right border)
-            widths = [
-                float((section.borders[p] - section.borders[p + 1]).min())
+            rows = [
+                p
                 for p, lane in enumerate(section.lanes)
                 if lane.drivable and lane.direction == direction
             ]
+            borders = section.borders
+            widths = [float((borders[p] - borders[p + 1]).min()) for p in rows]
             count, width = len(widths), min(widths, default=0.0)
+            above = float((borders[0] - borders[rows[0]]).min()) if rows else 0.0
+            below = float((borders[rows[-1] + 1] - borders[-1]).min()) if rows else 0.0
+            right, left = (below, above) if direction > 0 else (above, below)
             a, b = sorted((leg.carriageway_s(section.s0), leg.carriageway_s(section.s1)))
             if pieces and pieces[-1].count == count and abs(pieces[-1].s1 - a) < 1e-9:
                 last = pieces[-1]
-                pieces[-1] = LanePiece(last.s0, b, last.count, min(last.width, width))
+                pieces[-1] = LanePiece(
+                    last.s0,
+                    b,
+                    last.count,
+                    min(last.width, width),
+                    min(last.right, right),
+                    min(last.left, left),
+                )
             else:
-                pieces.append(LanePiece(a, b, count, width))
+                pieces.append(LanePiece(a, b, count, width, right, left))
         start += road.length
     last_road, last_direction = chain[-1]
     road = network.roads[last_road]

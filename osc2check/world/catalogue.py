@@ -38,7 +38,9 @@ from fractions import Fraction
 __all__ = [
     "ACTOR_KINDS",
     "CATEGORIES",
+    "CATEGORY_ALIASES",
     "MODELS",
+    "NOT_ON_ROADS",
     "UNBRAKED_TRAILER_MASS",
     "WALKING_SPEED",
     "ActorRow",
@@ -140,7 +142,6 @@ def _vehicle(
     )
 
 
-# Generic rows per vehicle category (the 2.1 list of `vehicle_category`).
 def _trailer(
     key: str,
     size: tuple[str, str, str],
@@ -149,15 +150,16 @@ def _trailer(
     hitch_height: str,
     mass: str,
     top_kph: int,
+    category: str = "trailer",
 ) -> ActorRow:
-    """A central-axle trailer: its coupler ``hitch`` behind the front of its box (negative
-    on a drawbar), its axle (group) ``axle`` behind the front; no engine, braking at 6 m/s²
+    """A trailer: its coupler ``hitch`` behind the front of its box (negative on a
+    drawbar), its axle (group) ``axle`` behind the front; no engine, braking at 6 m/s²
     when braked."""
     length, width, height = (_f(v) for v in size)
     return ActorRow(
         key,
         "vehicle",
-        "trailer",
+        category,
         "trailer",
         length,
         width,
@@ -177,6 +179,7 @@ def _trailer(
 #: brake with their tow vehicle (O2 to O4)
 UNBRAKED_TRAILER_MASS = Fraction(750)
 
+# Generic rows per vehicle category (the 2.1 list of `vehicle_category`, then 2.2's).
 _CATEGORY_ROWS = (
     _vehicle("car", "car", "car", ("4.5", "1.8", "1.45"), "2.7", "0.85", "1600", 250, "3", "9"),
     _vehicle("bus", "bus", "bus", ("12", "2.55", "3.2"), "6", "2.7", "13000", 100, "1.5", "6"),
@@ -198,7 +201,27 @@ _CATEGORY_ROWS = (
         "3.5",
     ),
     _vehicle("other", "other", "car", ("4.5", "1.8", "1.45"), "2.7", "0.85", "1600", 250, "3", "9"),
-)
+    # the categories DSL 2.2 adds (a 2.1 program has no such members)
+    _vehicle("van", "van", "car", ("5.3", "2.0", "2.3"), "3.3", "0.9", "2300", 160, "2.5", "8"),
+    _vehicle("semi_tractor", "semi_tractor", "truck", ("6.0", "2.5", "3.9"), "3.8", "1.4",
+             "8000", 90, "1.8", "6"),
+    # a 13.6 m box semi-trailer on its tractor's fifth wheel, 1.2 m up, loaded
+    _trailer("semi_trailer", ("13.6", "2.55", "4.0"), "1.6", "10.8", "1.2", "20000", 90,
+             "semi_trailer"),
+    _vehicle("motorcycle", "motorcycle", "two_wheeler", ("2.1", "0.8", "1.3"), "1.45", "0.35",
+             "250", 180, "5", "8"),
+    _vehicle("bicycle", "bicycle", "two_wheeler", ("1.75", "0.6", "1.75"), "1.05", "0.3", "90",
+             40, "1.5", "3.5"),
+    _vehicle("stand_up_scooter", "stand_up_scooter", "two_wheeler", ("1.15", "0.5", "1.2"),
+             "0.85", "0.15", "90", 25, "1.5", "3"),
+    _vehicle("wheelchair", "wheelchair", "two_wheeler", ("1.1", "0.7", "1.0"), "0.8", "0.15",
+             "120", 15, "1", "2.5"),
+    _vehicle("work_machine", "work_machine", "truck", ("6.5", "2.5", "3.2"), "3.5", "1.2",
+             "12000", 40, "1", "5"),
+    _vehicle("tram", "tram", "bus", ("30", "2.65", "3.5"), "20", "5", "40000", 70, "1.3", "2.5"),
+    _vehicle("land_vehicle", "land_vehicle", "car", ("4.5", "1.8", "1.45"), "2.7", "0.85",
+             "1600", 250, "3", "9"),
+)  # fmt: skip
 
 # Simulator model names (CARLA's blueprint library): the real vehicles they depict.
 _MODEL_ROWS = (
@@ -288,7 +311,12 @@ _KIND_ROWS = (
              _f("1"), _f("1"), _f("100"), Fraction(0), Fraction(0), Fraction(0)),
 )  # fmt: skip
 
+#: 2.2's names for the 2.1 categories (aliases: the same members, the same rows)
+CATEGORY_ALIASES = {"heavy_truck": "truck", "micro_mobility_device": "vru_vehicle"}
+#: 2.2 categories that are no road vehicle: the world has no body for them
+NOT_ON_ROADS = ("train", "watercraft", "aircraft")
 CATEGORIES: dict[str, ActorRow] = {row.key: row for row in _CATEGORY_ROWS}
+CATEGORIES.update({alias: CATEGORIES[name] for alias, name in CATEGORY_ALIASES.items()})
 MODELS: dict[str, ActorRow] = {row.key: row for row in _MODEL_ROWS}
 _KINDS: dict[str, ActorRow] = {row.key: row for row in _KIND_ROWS}
 

@@ -111,6 +111,7 @@ def build_network(
         signals=signals,
         signal_references=references,
         controllers=spec.controllers,
+        crossings=tuple(c for r in spec.roads for c in r.crossings),
         numbering=spec.numbering,
         source=spec.source,
         revision=spec.revision,

@@ -12,8 +12,8 @@ asking on every keystroke reads a map once.
 
 :func:`find_map` is :func:`load_map` for the checker's placement: a
 :class:`FoundMap` gives the few facts placement reads first (:class:`MapFacts`:
-numbering, speed limit, carriageways) at once and builds the network only when
-something asks for it. A built-in map's facts come from the start-up cache
+numbering, speed limit, carriageways, traffic rules) at once and builds the network
+only when something asks for it. A built-in map's facts come from the start-up cache
 (``osc2check.cache``), so checking a scenario on one usually builds no geometry.
 """
 
@@ -28,12 +28,29 @@ from urllib.parse import unquote, urlparse
 
 from osc2check import cache
 from osc2check.inputs import InputError, not_regular, probe
-from osc2check.world.builtin import builtin_map, builtin_network
+from osc2check.world.builtin import builtin_name, builtin_network
 from osc2check.world.carriageways import Carriageway, carriageways
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import Numbering, RoadNetwork
 
-__all__ = ["FoundMap", "MapFacts", "find_map", "load_map", "map_path", "scenario_folder"]
+__all__ = [
+    "FoundMap",
+    "MapFacts",
+    "find_map",
+    "is_carla_town",
+    "load_map",
+    "map_path",
+    "scenario_folder",
+]
+
+# CARLA's maps: Town01 .. Town15, Town10HD and their `_Opt` (layered) variants
+_CARLA_TOWN = re.compile(r"Town\d{2}(HD)?(_Opt)?")
+
+
+def is_carla_town(name: str) -> bool:
+    """Whether ``name`` is one of CARLA's maps (``Town04``, ``Town10HD_Opt``)."""
+    return _CARLA_TOWN.fullmatch(name.removesuffix(".xodr")) is not None
+
 
 _CACHE: dict[tuple[str, int], RoadNetwork] = {}
 _CACHE_SIZE = 8
@@ -103,13 +120,17 @@ class MapFacts:
     numbering: Numbering
     speed_limit: float | None
     carriageways: tuple[Carriageway, ...]
+    rules: frozenset[str]  # the traffic rules of its roads (``RHT``, ``LHT``)
 
 
 _FACTS: dict[str, MapFacts] = {}  # built-in maps' facts, by name, once read
 
 
 def map_facts(network: RoadNetwork) -> MapFacts:
-    return MapFacts(network.name, network.numbering, network.speed_limit, carriageways(network))
+    rules = frozenset(road.rule for road in network.roads.values())
+    return MapFacts(
+        network.name, network.numbering, network.speed_limit, carriageways(network), rules
+    )
 
 
 class FoundMap:
@@ -135,25 +156,26 @@ class FoundMap:
 
 def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
     """:func:`load_map`, with a built-in map's facts from the start-up cache and its network
-    built only when asked for (raises as :func:`load_map` does)."""
+    built only when asked for (raises as :func:`load_map` does). A file is always read
+    by :func:`load_map`: its limits (``world.budget``) refuse it as they do there."""
     path = map_path(name, relative_to)
-    row = None
+    known = None
     if path is None or not os.path.lexists(path):
         try:
-            row = builtin_map(name)
+            known = builtin_name(name)
         except UnknownMapError:
             if path is None:
                 raise
-    if row is not None:
+    if known is not None:
         built: list[RoadNetwork] = []
 
         def build() -> MapFacts:
-            built.append(builtin_network(row.name))
+            built.append(builtin_network(known))
             return map_facts(built[0])
 
-        facts = _FACTS.get(row.name)
+        facts = _FACTS.get(known)
         if facts is None:
-            facts = _FACTS[row.name] = cache.cached("builtin-map", {"map": row.name}, build)
-        return FoundMap(facts, built[0] if built else None, row.name)
+            facts = _FACTS[known] = cache.cached("builtin-map", {"map": known}, build)
+        return FoundMap(facts, built[0] if built else None, known)
     network = load_map(name, relative_to)  # a file, or load_map's message of why not
     return FoundMap(map_facts(network), network, name)

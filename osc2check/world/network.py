@@ -57,6 +57,7 @@ __all__ = [
     "DRIVING_TYPES",
     "Connection",
     "Controller",
+    "Crossing",
     "Junction",
     "Lane",
     "LaneRef",
@@ -328,6 +329,27 @@ class SignalReference:
 
 
 @dataclass(frozen=True, slots=True)
+class Crossing:
+    """An ``<object type="crosswalk">`` of a road: a way across it.
+
+    **Choice** (OpenDRIVE gives a crosswalk's box, not its direction): the crossing runs
+    along the object's length, the object's ``u`` axis at ``hdg`` from the road's
+    direction at ``s`` (a crosswalk across the road has ``hdg`` = ±90°), from
+    ``u = -length/2`` (its start) to ``u = +length/2`` (its end) about ``(s, t)``;
+    ``width`` is across it.
+    """
+
+    id: str
+    road: str
+    s: float
+    t: float
+    hdg: float
+    length: float
+    width: float
+    line: int | None = None
+
+
+@dataclass(frozen=True, slots=True)
 class Controller:
     """A ``<controller>``: signals switched together (a traffic-light group)."""
 
@@ -373,6 +395,7 @@ class RoadNetwork:
     signals: tuple[Signal, ...] = ()
     signal_references: tuple[SignalReference, ...] = ()
     controllers: tuple[Controller, ...] = ()
+    crossings: tuple[Crossing, ...] = ()
     numbering: Numbering = "from_right"
     source: str | None = None
     revision: tuple[int, int] | None = None

@@ -15,6 +15,7 @@ from typing import Literal
 from osc2check.world.geometry import Cubic, Geometry
 from osc2check.world.network import (
     Controller,
+    Crossing,
     Junction,
     Numbering,
     RoadLink,
@@ -70,6 +71,7 @@ class RoadSpec:
     speed_limit: float | None = None
     signals: tuple[Signal, ...] = ()
     signal_references: tuple[SignalReference, ...] = ()
+    crossings: tuple[Crossing, ...] = ()
     line: int | None = None
     column: int | None = None
 

@@ -468,14 +468,7 @@ def enclosing_call(f: Focus) -> tuple[ast.Invocation | ast.Call, Symbol] | None:
             and child is not None
             and any(child is a for a in node.arguments)
         ):
-            callee = node.callee
-            name = (
-                callee.member
-                if isinstance(callee, ast.MemberAccess)
-                else callee.name.name
-                if isinstance(callee, ast.NameRef)
-                else None
-            )
+            name = node.callee_name
             sym = model.references.get(name) if name is not None else None
             return (node, sym) if sym is not None else None
     return None

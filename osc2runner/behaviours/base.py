@@ -31,6 +31,8 @@ from py_trees.common import Status
 from osc2check.semantics.bindings import Binding
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
+from osc2check.verify.schedule import PhasePlan
+from osc2check.verify.timeline import PhaseKey
 from osc2runner.compile.expressions import Closure
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
@@ -122,6 +124,8 @@ class ActionUse:
     behaviour: type | None = None  # the registered class
     starts_scenario: bool = False  # begins at time 0: the witness realised its `at: start`
     binding: Binding | None = None  # the checker's reading of its arguments
+    key: PhaseKey | None = None  # the schedule's name of its phase
+    plan: PhasePlan | None = None  # what the schedule says of it (its deadline)
 
     def given(self, name: str) -> ast.Node | None:
         """The expression written for parameter ``name``; None when it was not given."""
@@ -249,7 +253,9 @@ class ActionBehaviour(ScenarioBehaviour):
         self.actor = use.actor
         self.args: dict[str, Any] = {}
         self.start_tick = 0
-        self.phase: float | None = None  # the phase's planned duration, when known
+        #: how long the phase lasts at most (until its deadline in the schedule: its own
+        #: duration, a composition's around it, an `until elapsed`), when known
+        self.phase: float | None = None
         self.at_scenario_start = False
         self.ended_on_time = False  # stopped by its own duration bound, not pre-empted
 
@@ -268,9 +274,19 @@ class ActionBehaviour(ScenarioBehaviour):
         return (self.ctx.tick - self.start_tick) * self.ctx.dt
 
     def remaining(self) -> float | None:
+        """Seconds until the phase must be done (its deadline), when known."""
         if self.phase is None:
             return None
         return max(self.phase - self.elapsed, 0.0)
+
+    def plan_time(self) -> float | None:
+        """Seconds a plan made now has to arrive: until the deadline less the margin
+        (``ctx.tolerances``), at least one control period; None without a deadline."""
+        left = self.remaining()
+        if left is None:
+            return None
+        ctx = self.ctx
+        return max(left - ctx.tolerances.margin, ctx.dt)
 
     def drives(self, channel: str) -> bool:
         """True when a modifier acting in this phase controls ``longitudinal`` or
@@ -290,9 +306,13 @@ class ActionBehaviour(ScenarioBehaviour):
     def initialise(self) -> None:
         ctx = self.ctx
         self.start_tick = ctx.tick
+        ctx.phase_started(self.use.key)
         self.args = {k: fn() for k, fn in self.use.arguments.items()}
         self.phase = None
-        if self.use.duration is not None:
+        deadline = ctx.deadline(self.use.plan)  # the end of the phase it belongs to
+        if deadline is not None:
+            self.phase = max(deadline - ctx.time, 0.0)
+        elif self.use.duration is not None:
             low, high = self.use.duration()
             self.phase = high if high is not None else low
         self.at_scenario_start = ctx.tick == 0 and self.use.starts_scenario

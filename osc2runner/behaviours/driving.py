@@ -12,7 +12,10 @@ from __future__ import annotations
 import math
 from typing import Any
 
+import numpy as np
+
 from osc2check.world.network import LaneRef
+from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionError
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
@@ -26,6 +29,7 @@ __all__ = [
     "lane_of",
     "lane_width",
     "offset_for_t",
+    "offset_in",
     "profile_for",
     "retarget",
     "set_speed",
@@ -79,13 +83,30 @@ def retarget(ctrl: Any, speed: float) -> None:
         ctrl.speed.target = max(0.0, float(speed))
 
 
-def lane_of(ctx: RunContext, actor: Actor | Any) -> LaneRef:
-    """The driving lane an actor is in now; an action on an actor off the lanes fails."""
+def lane_of(ctx: RunContext, actor: Actor | Any, beside: bool = False) -> LaneRef:
+    """The driving lane an actor is in now; ``beside``: for one on another lane of its
+    road (a person on a sidewalk), the driving lane next to it on its side (its lane
+    1). An action on an actor off the lanes fails."""
     state: ActorState = ctx.states[actor.name]
     ref = state.lane_ref
-    if ref is None or state.lane is None:
-        raise ActionError(f"`{actor.name}` is not in a driving lane")
-    return ref
+    if ref is not None and state.lane is not None:
+        return ref
+    if beside and state.road is not None and state.direction:
+        try:
+            return ctx.network.lane_from_osc2_index(state.road, state.s, 1, state.direction)
+        except (KeyError, ValueError):
+            pass
+    raise ActionError(f"`{actor.name}` is not in a driving lane")
+
+
+def offset_in(ctx: RunContext, state: ActorState, ref: LaneRef, t: float | None = None) -> float:
+    """The offset left of lane ``ref``'s centre, in its direction of travel, of the road
+    coordinate ``t`` (the actor's own by default) where the actor is."""
+    t = state.t if t is None else t
+    if ref == state.lane_ref:
+        return state.offset + (t - state.t) * state.direction
+    centre, _ = lane_centre(ctx.network, ref, np.array([state.s]))
+    return (t - float(centre[0])) * ctx.network.lane(ref).direction
 
 
 def lane_width(ctx: RunContext, state: ActorState) -> float:

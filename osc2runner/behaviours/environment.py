@@ -2,8 +2,9 @@
 
 Rain sets the road friction (1.0 dry, 0.7 light to 0.4 heavy rain) unless a
 friction was set explicitly; ``set_road_friction`` sets it for the whole road.
-Fog is recorded (it has no effect on vehicle dynamics). Air, snow, wind,
-clouds and the sun's position are recorded in the event log only.
+Fog is recorded (it has no effect on vehicle dynamics). Air, snow, wind and
+clouds are recorded in ``env.weather`` and the event log; the sun's and the
+moon's positions in the sky (``sim.sky``: ``env.sun.position``).
 
 A friction outside :data:`FRICTION_RANGE` (0, 2], or a rain intensity that is
 negative or not finite, is an input error at its argument when the argument
@@ -22,6 +23,7 @@ from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
 from osc2runner.compile.expressions import is_constant
 from osc2runner.compile.registry import action
 from osc2runner.errors import CompileProblem
+from osc2runner.sim.sky import LightSource
 
 __all__ = ["FRICTION_RANGE", "Fog", "Rain", "Recorded", "SetRoadFriction", "friction_problem"]
 
@@ -157,6 +159,20 @@ class RecordedClouds(Recorded):
     part = "clouds"
 
 
-@action("environment", "assign_celestial_position", note=_RECORDED)
-class RecordedCelestialPosition(Recorded):
-    """``assign_celestial_position``: recorded in the event log only."""
+@action("environment", "assign_celestial_position", note="readable in env.sun, env.moon")
+class AssignCelestialPosition(Recorded):
+    """``assign_celestial_position(light_source, azimuth, elevation)``: the sun or the moon
+    is there at once (``sim.sky``); an angle not given keeps its value; without a
+    ``light_source`` (mandatory in the standard), the sun."""
+
+    def start(self) -> None:
+        source = self.args.get("light_source", LightSource("sun", self.ctx.sky))
+        if not isinstance(source, LightSource):
+            raise ActionError("`light_source` is not the environment's sun or moon")
+        azimuth, elevation = self.args.get("azimuth"), self.args.get("elevation")
+        source.sky.assign(
+            source.name,
+            None if azimuth is None else float(azimuth),
+            None if elevation is None else float(elevation),
+        )
+        super().start()

@@ -34,20 +34,26 @@ from typing import Any
 import numpy as np
 
 from osc2check.verify.map_modifiers import ElementValue
+from osc2check.world.crossings import crossing_points
 from osc2check.world.network import LaneRef
 from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
 from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
+from osc2runner.sim.tracking import Polyline
 
 __all__ = [
     "CompoundRoute",
     "OdrPoint",
     "RoutePoint",
     "XyzPoint",
+    "crossing_path",
     "follow_route",
     "is_map_route",
+    "map_point_xy",
+    "odr_coordinates",
+    "route_coordinates",
     "route_holds",
 ]
 
@@ -110,8 +116,8 @@ def _route_length(ctx: RunContext, route: ElementValue) -> float:
     return ctx.network.roads[route.road].length
 
 
-def _road_coordinates(ctx: RunContext, point: RoutePoint) -> tuple[str, float, float]:
-    """``(road, s, t)`` of a route point."""
+def route_coordinates(ctx: RunContext, point: RoutePoint) -> tuple[str, float, float]:
+    """``(road, s, t)`` of a route point (a fault when its route is not a road of the map)."""
     route = point.route
     if not route.road:
         raise RunFault(f"{route.label} is not a route")
@@ -127,7 +133,8 @@ def _on_route(ctx: RunContext, road: str, s: float, t: float, direction: int) ->
     return RoutePoint(route, ctx.network.roads[road].length - s, -t)
 
 
-def _odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, float]:
+def odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, float]:
+    """``(road, s, t)`` of an OpenDRIVE point (a fault for a road or lane the map lacks)."""
     road = point.road_id
     if road not in ctx.network.roads:
         raise RunFault(f"the map has no road `{road}`")
@@ -144,6 +151,30 @@ def _odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, floa
     return road, point.s, t
 
 
+def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
+    """World x, y of a route point, an OpenDRIVE point, an ``xyz_point``, a ``pose_3d`` or a
+    ``position_3d``."""
+    if isinstance(point, RoutePoint):
+        pose = ctx.network.to_world(*route_coordinates(ctx, point))
+        return pose.x, pose.y
+    if not isinstance(point, OdrPoint) and hasattr(point, "road_id"):  # a struct parameter
+        point = OdrPoint(
+            str(point.road_id),
+            str(getattr(point, "lane_id", "") or ""),
+            float(getattr(point, "s", 0.0)),
+            float(getattr(point, "t", 0.0)),
+        )
+    if isinstance(point, OdrPoint):
+        pose = ctx.network.to_world(*odr_coordinates(ctx, point))
+        return pose.x, pose.y
+    if hasattr(point, "position") and not hasattr(point, "x"):
+        point = point.position
+    try:
+        return float(point.x), float(point.y)
+    except AttributeError:
+        raise ActionError(f"`{point!r}` is not a position (it has no x and y)") from None
+
+
 def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
     pose = ctx.network.to_world(road, s, t)
     return XyzPoint(SimpleNamespace(x=pose.x, y=pose.y, z=0.0))
@@ -152,9 +183,25 @@ def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
 # ---------------------------------------------------------------------- along
 
 
+def crossing_path(ctx: RunContext, value: object, x: float, y: float) -> Polyline | None:
+    """``along(route: c)`` of a crossing the witness chose, from ``(x, y)``: to the end of
+    the crossing nearer to it, then straight across to the other end (**choice**: a
+    person crosses from the kerb it stands at, either way); None for another value."""
+    if not isinstance(value, ElementValue) or value.kind != "crossing":
+        return None
+    crossing = next(c for c in ctx.network.crossings if c.id == value.crossing)
+    a, b = crossing_points(ctx.network, crossing)
+    if math.hypot(b[0] - x, b[1] - y) < math.hypot(a[0] - x, a[1] - y):
+        a, b = b, a
+    approach = [(x, y)] if math.hypot(a[0] - x, a[1] - y) > 0.1 else []
+    return Polyline([*approach, a, b], "straight_line")
+
+
 def is_map_route(value: object) -> bool:
     """Whether an `along` route is the map's (a road, route, lane, compound route or route
     point) rather than a world path."""
+    if isinstance(value, ElementValue) and value.kind == "crossing":
+        return False  # walked across (crossing_path)
     return bool(roads_of(value)) and not hasattr(value, "points")
 
 
@@ -190,28 +237,31 @@ def route_holds(modifier: Modifier, action: ActionBehaviour) -> str | None:
 _REALISED = "scenario member: the checker chose the map elements"
 
 
-def _realised(name: str) -> type[Modifier]:
+def realised(name: str, note: str = _REALISED, module: str = __name__) -> type[Modifier]:
+    """The runner's entry of ``map.name(...)`` that the witness realises: nothing to do
+    during the run (``module`` is where the entry is registered from)."""
     cls = type(
         "".join(part.title() for part in name.split("_")),
         (Modifier,),
         {
-            "__doc__": f"``map.{name}(...)``: realised by the witness (the checker chose the "
-            "map elements that satisfy it); nothing to do during the run.",
-            "__module__": __name__,
+            "__doc__": f"``map.{name}(...)``: realised by the witness (the checker chose "
+            "where it holds); nothing to do during the run.",
+            "__module__": module,
         },
     )
-    return modifier(name, actor="map", note=_REALISED)(cls)
+    return modifier(name, actor="map", note=note)(cls)
 
 
-NumberOfLanes = _realised("number_of_lanes")
-RoutesAreInSequence = _realised("routes_are_in_sequence")
-RoadsFollowInJunction = _realised("roads_follow_in_junction")
-RoutesOverlap = _realised("routes_overlap")
-RoutesAreOpposite = _realised("routes_are_opposite")
-LaneSide = _realised("lane_side")
-CompoundLaneSide = _realised("compound_lane_side")
-StartLane = _realised("start_lane")
-EndLane = _realised("end_lane")
+NumberOfLanes = realised("number_of_lanes")
+RoutesAreInSequence = realised("routes_are_in_sequence")
+RoadsFollowInJunction = realised("roads_follow_in_junction")
+RoutesOverlap = realised("routes_overlap")
+RoutesAreOpposite = realised("routes_are_opposite")
+LaneSide = realised("lane_side")
+CompoundLaneSide = realised("compound_lane_side")
+StartLane = realised("start_lane")
+EndLane = realised("end_lane")
+CrossingConnects = realised("crossing_connects")
 
 
 # ---------------------------------------------------------------------- map methods
@@ -256,7 +306,7 @@ def create_odr_point(
     ctx: RunContext, subject: object, road_id: str, lane_id: str, s: float, t: float
 ) -> OdrPoint:
     point = OdrPoint(str(road_id), str(lane_id), float(s), float(t))
-    _odr_coordinates(ctx, point)  # a road or lane the map lacks is a fault here
+    odr_coordinates(ctx, point)  # a road or lane the map lacks is a fault here
     return point
 
 
@@ -266,7 +316,7 @@ def odr_to_route_point(
 ) -> RoutePoint:
     """The route point of OpenDRIVE coordinates: on the road, in the direction of travel
     of the lane (of the lane at ``t`` when no lane is given)."""
-    road, s_road, t_road = _odr_coordinates(ctx, OdrPoint(str(road_id), str(lane_id), s, t))
+    road, s_road, t_road = odr_coordinates(ctx, OdrPoint(str(road_id), str(lane_id), s, t))
     pose = ctx.network.to_world(road, s_road, t_road)
     found = ctx.network.to_road(pose.x, pose.y)
     direction = ctx.network.lane(found.lane).direction if found is not None else 1
@@ -288,7 +338,7 @@ def xyz_to_route_point(
 
 @method("map", "route_point_to_xyz")
 def route_point_to_xyz(ctx: RunContext, subject: object, route_point: RoutePoint) -> XyzPoint:
-    return _xyz(ctx, *_road_coordinates(ctx, route_point))
+    return _xyz(ctx, *route_coordinates(ctx, route_point))
 
 
 @method("map", "create_route")
@@ -368,7 +418,7 @@ def distance_to_route_point(
     mode: str = "reference_points",
     route_type: str = "on_road",
 ) -> float:
-    return _distance_to(ctx, subject, *_road_coordinates(ctx, point), direction)
+    return _distance_to(ctx, subject, *route_coordinates(ctx, point), direction)
 
 
 @method("physical_object", "distance_to_odr_point")
@@ -380,7 +430,7 @@ def distance_to_odr_point(
     mode: str = "reference_points",
     route_type: str = "on_road",
 ) -> float:
-    return _distance_to(ctx, subject, *_odr_coordinates(ctx, point), direction)
+    return _distance_to(ctx, subject, *odr_coordinates(ctx, point), direction)
 
 
 def _distance_to(

@@ -25,12 +25,14 @@ from osc2runner.behaviours.driving import (
     lane_of,
     lane_width,
     offset_for_t,
+    offset_in,
     profile_for,
     retarget,
     set_speed,
     side_of,
 )
 from osc2runner.compile.registry import modifier
+from osc2runner.execution.tolerances import MAX_CLOSING_SPEED, Tolerances
 from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState, RateProfile
 
@@ -54,13 +56,6 @@ __all__ = [
 
 #: gain of the longitudinal position tracking (1/s)
 POSITION_GAIN = 0.5
-#: what the checks of ``at: start`` and ``at: end`` allow
-SPEED_TOLERANCE = 0.5 / 3.6  # m/s (0.5 kph)
-GAP_TOLERANCE = 0.5  # m
-LATERAL_TOLERANCE = 0.25  # m
-YAW_TOLERANCE = 0.05  # rad
-#: a gap (``at: end``) is closed at most this fast relative to the reference (m/s)
-MAX_CLOSING_SPEED = 8.0
 
 
 def _lateral(action: ActionBehaviour) -> Any:
@@ -74,6 +69,18 @@ def _lateral(action: ActionBehaviour) -> Any:
 
 def _kph(speed: float) -> str:
     return f"{speed * 3.6:.2f} kph"
+
+
+def _tolerances(action: ActionBehaviour) -> Tolerances:
+    return action.ctx.tolerances
+
+
+def _speed_problem(action: ActionBehaviour, speed: float, want: float) -> str | None:
+    """None when ``speed`` is ``want`` within the tolerance, else both and the tolerance."""
+    tol = _tolerances(action)
+    if abs(speed - want) <= tol.speed:
+        return None
+    return f"the speed is {_kph(speed)}, not {_kph(want)} (tolerance {tol.kph()})"
 
 
 # ---------------------------------------------------------------------- speed
@@ -113,7 +120,7 @@ class Speed(Modifier):
         self.planned = self.at == "end" and bool(action.remaining())
         if self.planned:
             change = v - action.state.speed
-            set_speed(ctrl, v, profile_for("constant", change=change, duration=action.remaining()))
+            set_speed(ctrl, v, profile_for("constant", change=change, duration=action.plan_time()))
         else:
             set_speed(ctrl, v, SPEED_PROFILE)
 
@@ -124,13 +131,10 @@ class Speed(Modifier):
     def finished(self, action: ActionBehaviour) -> bool:
         if self.at != "end" or self.planned:
             return False
-        return abs(action.state.speed - self.target(action)) <= SPEED_TOLERANCE
+        return _speed_problem(action, action.state.speed, self.target(action)) is None
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        v, want = action.state.speed, self.target(action)
-        if abs(v - want) <= SPEED_TOLERANCE:
-            return None
-        return f"the speed is {_kph(v)}, not {_kph(want)}"
+        return _speed_problem(action, action.state.speed, self.target(action))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         pose.speed = self.target(action)
@@ -148,18 +152,17 @@ class ChangeSpeedModifier(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         self.goal = action.state.speed + float(self.args.get("speed", 0.0))
-        remaining = action.remaining()
         profile = (
-            profile_for("constant", change=self.goal - action.state.speed, duration=remaining)
-            if remaining
+            profile_for(
+                "constant", change=self.goal - action.state.speed, duration=action.plan_time()
+            )
+            if action.remaining()
             else RateProfile(SPEED_PROFILE)
         )
         set_speed(action.controller, self.goal, profile)
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        if abs(action.state.speed - self.goal) <= SPEED_TOLERANCE:
-            return None
-        return f"the speed is {_kph(action.state.speed)}, not {_kph(self.goal)}"
+        return _speed_problem(action, action.state.speed, self.goal)
 
 
 @modifier("keep_speed")
@@ -204,8 +207,7 @@ class KeepPosition(Modifier):
         set_speed(action.controller, 0.0, SPEED_PROFILE)
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        speed = action.state.speed
-        return None if abs(speed) <= SPEED_TOLERANCE else f"the speed is {_kph(speed)}"
+        return _speed_problem(action, action.state.speed, 0.0)
 
 
 @modifier("distance")
@@ -274,9 +276,11 @@ class Position(Modifier):
 
     def step(self, action: ActionBehaviour) -> None:
         error, other, sign = self._error(action)
-        if self.at == "end" and action.remaining():
-            remaining = max(action.remaining() or 0.0, 4 * action.ctx.dt)
-            closing = max(-MAX_CLOSING_SPEED, min(MAX_CLOSING_SPEED, error / remaining))
+        left = action.remaining()
+        if self.at == "end" and left:
+            closing = _closing_speed(
+                action, error, -sign * (action.state.speed - other.speed), left
+            )
             retarget(action.controller, other.speed - sign * closing)
         else:
             retarget(action.controller, other.speed - sign * POSITION_GAIN * error)
@@ -285,21 +289,28 @@ class Position(Modifier):
         if self.at != "end" or action.remaining():
             return False
         error, other, _ = self._error(action)
-        return abs(error) <= GAP_TOLERANCE and abs(action.state.speed - other.speed) < 0.3
+        tol = _tolerances(action)
+        return abs(error) <= tol.position and abs(action.state.speed - other.speed) <= tol.speed
 
     def holds(self, action: ActionBehaviour) -> str | None:
         ref, sign = self._reference()
         state = action.state
+        tol = _tolerances(action).position
         if ref is None:
             want = float(self.args.get("distance", 0.0))
             along = state.s if state.direction >= 0 else _road_length(action, state) - state.s
-            if abs(along - want) <= GAP_TOLERANCE:
+            if abs(along - want) <= tol:
                 return None
-            return f"it is at {along:.2f} m along the road, not {want:.2f} m"
+            return (
+                f"it is at {along:.2f} m along the road, not {want:.2f} m (tolerance {tol:.2f} m)"
+            )
         error, _, _ = self._error(action)
-        if abs(error) <= GAP_TOLERANCE:
+        if abs(error) <= tol:
             return None
-        return f"the gap is {error:+.2f} m from the one asked"
+        asked = self._distance(
+            action.state.speed if sign < 0 else action.ctx.states[ref.name].speed
+        )
+        return f"the gap is {asked + error:.2f} m, not {asked:.2f} m (tolerance {tol:.2f} m)"
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         ref, sign = self._reference()
@@ -317,6 +328,20 @@ class Position(Modifier):
         )
         pose.s = other.s + sign * (d + half) * (other.direction or 1)
         pose.reference = other
+
+
+def _closing_speed(action: ActionBehaviour, error: float, closing: float, left: float) -> float:
+    """The closing speed to ask for now so that a gap ``error`` m too wide is closed in
+    ``left`` s, when the actor closes at ``closing`` m/s now and its speed follows what it
+    is asked with the lag of its speed controller (a first-order lag of ``1 / kp``): it
+    passes through the gap at its deadline (no margin: it arrives moving), at most
+    :data:`MAX_CLOSING_SPEED` relative to the reference."""
+    gains = getattr(getattr(action.controller, "speed", None), "gains", None)
+    lag = 1.0 / gains.kp if gains is not None and gains.kp > 0.0 else 1.0
+    # what the closing speed now still covers while it turns into the one asked
+    covered = lag * (1.0 - math.exp(-left / lag))
+    wanted = (error - closing * covered) / max(left - covered, action.ctx.dt)
+    return max(-MAX_CLOSING_SPEED, min(MAX_CLOSING_SPEED, wanted))
 
 
 # ---------------------------------------------------------------------- lanes
@@ -387,8 +412,8 @@ class Lane(Modifier):
             length = lane_change_duration(
                 1, lane_width(action.ctx, action.state), phase=None, rate_peak=None, profile=None
             )
-            remaining = action.remaining() or 0.0
-            self.change_at = action.elapsed + max(0.0, remaining - length)
+            left = action.plan_time() or 0.0
+            self.change_at = action.elapsed + max(0.0, left - length)
             self.step(action)
             return
         self._apply(action, first=True)
@@ -398,7 +423,7 @@ class Lane(Modifier):
             if action.elapsed + 1e-9 >= self.change_at:
                 self.change_at = None
                 target = self._lane(action, self._number(action))
-                duration = max(action.remaining() or 0.0, action.ctx.dt)
+                duration = action.plan_time() or action.ctx.dt
                 _lateral(action).change_lane(action.state, target, duration=duration)
                 self.changing_to = target
             return
@@ -494,7 +519,7 @@ class ChangeLaneModifier(Modifier):
         duration = lane_change_duration(
             n,
             lane_width(ctx, action.state),
-            phase=action.remaining(),
+            phase=action.plan_time(),
             rate_peak=None,
             profile=None,
         )
@@ -542,17 +567,19 @@ class Lateral(Modifier):
             return other.t + sign * d * (other.direction or 1)
         return None
 
-    def _wanted(self, action: ActionBehaviour) -> float:
-        """The offset from the actor's lane centre asked for."""
+    def _wanted(self, action: ActionBehaviour, ref: LaneRef | None = None) -> float:
+        """The offset from the centre of the actor's lane (or of ``ref``) asked for."""
         t = self._target_t(action)
         if t is not None:
-            return offset_for_t(action.state, t)
+            if ref is None:
+                return offset_for_t(action.state, t)
+            return offset_in(action.ctx, action.state, ref, t)
         return float(self.args.get("distance", 0.0))
 
     def realise(self, action: ActionBehaviour) -> None:
         if self.at == "end" and action.remaining():
             lateral = _lateral(action)
-            lateral.move_to(action.state, self._wanted(action), duration=action.remaining())
+            lateral.move_to(action.state, self._wanted(action), duration=action.plan_time())
             return
         self.step(action)
 
@@ -562,7 +589,9 @@ class Lateral(Modifier):
         lateral = _lateral(action)
         state = action.state
         if lateral.route is None or state.lane_ref not in (lateral.route.lanes or ()):
-            lateral.keep_lane(lane_of(action.ctx, action.actor), self._wanted(action))
+            # a person on a sidewalk: from the driving lane beside it, as it was placed
+            ref = lane_of(action.ctx, action.actor, beside=True)
+            lateral.keep_lane(ref, self._wanted(action, ref))
         else:
             lateral.keep_offset(self._wanted(action))
 
@@ -572,11 +601,15 @@ class Lateral(Modifier):
         return self.holds(action) is None
 
     def holds(self, action: ActionBehaviour) -> str | None:
-        want = self._wanted(action)
-        offset = action.state.offset
-        if abs(offset - want) <= LATERAL_TOLERANCE:
+        ref = lane_of(action.ctx, action.actor, beside=True)
+        want = self._wanted(action, ref)
+        offset = offset_in(action.ctx, action.state, ref)
+        tol = _tolerances(action).lateral
+        if abs(offset - want) <= tol:
             return None
-        return f"it is {offset - want:+.2f} m from the lateral position asked"
+        return (
+            f"it is {offset - want:+.2f} m from the lateral position asked (tolerance {tol:.2f} m)"
+        )
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         t = self._target_t(action)
@@ -609,9 +642,13 @@ class _Heading(Modifier):
     def holds(self, action: ActionBehaviour) -> str | None:
         want = lane_heading(action.ctx, action.state) + self.wanted(action)
         diff = (action.state.yaw - want + math.pi) % (2 * math.pi) - math.pi
-        if abs(diff) <= YAW_TOLERANCE:
+        tol = _tolerances(action).heading
+        if abs(diff) <= tol:
             return None
-        return f"the heading differs by {math.degrees(diff):+.1f} deg"
+        return (
+            f"the heading differs by {math.degrees(diff):+.1f} deg "
+            f"(tolerance {math.degrees(tol):.1f} deg)"
+        )
 
 
 @modifier("yaw", note="vehicles: at: start (the witness's heading), else checked; walkers turn")

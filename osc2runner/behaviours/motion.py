@@ -43,8 +43,6 @@ __all__ = [
     "RemainStationary",
 ]
 
-#: speed tolerance at which change_speed has reached its target (m/s)
-SPEED_REACHED = 0.1
 #: gain of gap tracking: speed change per metre of gap error (1/s)
 GAP_GAIN = 0.4
 
@@ -119,15 +117,22 @@ class ChangeSpeed(ActionBehaviour):
             kind,
             float(peak) if peak is not None else None,
             change=target - self.state.speed,
-            duration=self.phase,
+            duration=self.plan_time(),
         )
         set_speed(self.controller, target, profile)
         self.target = target
 
     def step(self) -> Status:
-        if self.controller.speed.reached(self.state, SPEED_REACHED):
+        if self.controller.speed.reached(self.state, self.ctx.tolerances.speed):
             return Status.SUCCESS
         return Status.RUNNING
+
+    def progress(self) -> str:
+        tol = self.ctx.tolerances
+        return (
+            f"the speed is {self.state.speed * 3.6:.2f} kph, not {self.target * 3.6:.2f} kph "
+            f"(tolerance {tol.kph()})"
+        )
 
 
 @action("vehicle", "change_lane")
@@ -172,20 +177,43 @@ class ChangeLane(ActionBehaviour):
         duration = lane_change_duration(
             lanes,
             lane_width(ctx, self.state),
-            phase=self.phase,
+            phase=self.plan_time(),
             rate_peak=float(peak) if peak is not None else None,
             profile=str(args.get("rate_profile", "none")),
         )
         lateral = self.controller.lateral
-        lateral.change_lane(
-            self.state, target, offset=float(args.get("offset", 0.0)), duration=duration
-        )
+        self.offset = float(args.get("offset", 0.0))
+        lateral.change_lane(self.state, target, offset=self.offset, duration=duration)
         self.target_lane = target
+        self.planned = duration
 
     def step(self) -> Status:
-        if self.controller.lateral.done(self.state):
+        # done when the blend is over (the front axle passed its end) or its planned time
+        # is up, and the actor is at the new lane's centre within the tolerance: a blend
+        # passed with the car still in the old lane (a change too quick for the physics)
+        # is not a lane change
+        over = self.controller.lateral.done(self.state) or self.elapsed >= self.planned - 1e-9
+        distance = self._from_centre()
+        if over and distance is not None and abs(distance) <= self.ctx.tolerances.lateral:
             return Status.SUCCESS
         return Status.RUNNING
+
+    def _from_centre(self) -> float | None:
+        """How far the actor is from where it is going in the new lane (None while it
+        is in another lane)."""
+        state = self.state
+        here = state.lane_ref
+        if here is None or (here.road, here.lane) != (self.target_lane.road, self.target_lane.lane):
+            return None
+        return state.offset - self.offset
+
+    def progress(self) -> str:
+        distance = self._from_centre()
+        tol = self.ctx.tolerances.lateral
+        lane = self.ctx.lanes.number(self.target_lane)
+        if distance is None:
+            return f"it is not in lane {lane} yet"
+        return f"it is {abs(distance):.2f} m from the centre of lane {lane} (tolerance {tol:.2f} m)"
 
 
 @action("vehicle", "follow_lane")
@@ -255,14 +283,21 @@ class GapAction(ActionBehaviour):
         distance = self.sign * gap_between(me, other, bumpers=self.bumpers)
         wanted = self.goal * max(me.speed, 0.1) if self.timed else self.goal
         error = distance - wanted  # >0: too far apart
+        self.error = error
         retarget(self.controller, other.speed + self.sign * GAP_GAIN * error)
+        tol = self.ctx.tolerances
         if (
             not self.keep
-            and abs(error) < (0.5 if not self.timed else 0.1 * max(me.speed, 1.0))
-            and abs(me.speed - other.speed) < 0.3
+            and abs(error) <= tol.position
+            and abs(me.speed - other.speed) <= tol.speed
         ):
             return Status.SUCCESS
         return Status.RUNNING
+
+    def progress(self) -> str:
+        tol = self.ctx.tolerances.position
+        error = getattr(self, "error", 0.0)
+        return f"the gap is {error:+.2f} m from the one asked (tolerance {tol:.2f} m)"
 
 
 def _gap(name: str, *, bumpers: bool, timed: bool, keep: bool) -> type[GapAction]:
@@ -346,10 +381,11 @@ class ChangeAcceleration(ActionBehaviour):
             jerk = float(peak)
         else:
             jerk = JERK_BY_PROFILE.get(kind, math.inf)
-        if self.phase and kind in ("none", "constant") and peak is None:
+        plan = self.plan_time()
+        if plan and kind in ("none", "constant") and peak is None:
             # spread over the phase: the change takes the planned duration
             change = float(self.args["target"]) - self.controller.speed.a_ref
-            jerk = max(abs(change) / self.phase, 1e-3) if abs(change) > 1e-9 else math.inf
+            jerk = max(abs(change) / plan, 1e-3) if abs(change) > 1e-9 else math.inf
         self.target = command_acceleration(self, float(self.args["target"]), jerk)
 
     def step(self) -> Status:

@@ -41,6 +41,8 @@ from py_trees.common import Status
 
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
 from osc2runner.behaviours.driving import retarget, set_speed
+from osc2runner.behaviours.maps import map_point_xy
+from osc2runner.behaviours.road_paths import resolve_points, road_line
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
@@ -64,41 +66,12 @@ TRAJECTORY_GAIN = 1.0
 WALKER_ARRIVED = 0.1
 
 
-def _xy(point: Any) -> tuple[float, float]:
-    """World x, y of a ``pose_3d``, ``position_3d`` or ``xyz_point`` value."""
-    if hasattr(point, "position") and not hasattr(point, "x"):
-        point = point.position
-    try:
-        return float(point.x), float(point.y)
-    except AttributeError:
-        raise ActionError(f"`{point!r}` is not a position (it has no x and y)") from None
-
-
-def path_points(value: Any) -> list[tuple[float, float]]:
-    """The world points of a path or trajectory value."""
+def path_points(ctx: RunContext, value: Any) -> list[tuple[float, float]]:
+    """The world points of a path or trajectory value (poses, or points of the map)."""
     points = getattr(value, "points", None)
     if not points:
         raise ActionError("the path has no points")
-    return [_xy(p) for p in points]
-
-
-def _frame(action: ActionBehaviour, reference: Any, transform: str) -> tuple[float, float, float]:
-    """Origin and heading of the frame relative points are given in."""
-    ref = reference if isinstance(reference, Actor) else action.actor
-    st = action.ctx.states[ref.name]
-    if transform == "world_relative":
-        return st.x, st.y, 0.0
-    if transform in ("road_relative", "lane_relative"):
-        from osc2runner.behaviours.driving import lane_heading
-
-        return st.x, st.y, lane_heading(action.ctx, st)
-    return st.x, st.y, st.yaw
-
-
-def _to_world(points: list[tuple[float, float]], frame: tuple[float, float, float]) -> list:
-    x0, y0, yaw = frame
-    c, s = math.cos(yaw), math.sin(yaw)
-    return [(x0 + c * x - s * y, y0 + s * x + c * y) for x, y in points]
+    return [map_point_xy(ctx, p) for p in points]
 
 
 class PathMotion:
@@ -130,7 +103,8 @@ class PathMotion:
         self.progress = self.begin
         state = action.state
         if self.vehicle:
-            ctrl.path = PathTracker(ctrl.params, path, end=self.end)
+            corners = trajectory.corner_speeds() if trajectory is not None else None
+            ctrl.path = PathTracker(ctrl.params, path, end=self.end, corner_speeds=corners)
         else:
             ctrl.path = path
         if exact:  # an exact motion starts on the path
@@ -180,21 +154,26 @@ class PathMotion:
         ctrl.path = None
         state = self.action.state
         if self.vehicle:
-            ctrl.lateral.keep_offset(state.t)
+            ctrl.lateral.hold(state)  # the lane it is in, at its offset from the centre
         else:
             ctrl.yaw = state.yaw
 
 
 def _motion_path(
-    value: Any, timed: bool, points: list[tuple[float, float]] | None = None
+    value: Any, timed: bool, points: list[tuple[float, float]] | None = None, ctx: Any = None
 ) -> tuple[Polyline, Trajectory | None]:
     """The polyline of a path or trajectory value (through ``points`` when given: its
-    points in world coordinates) and, ``timed``, its trajectory over its time stamps."""
+    points in world coordinates; the value's own line when it runs along the road) and,
+    ``timed``, its trajectory over its time stamps."""
     try:
-        path = Polyline(
-            path_points(value) if points is None else points,
-            str(getattr(value, "interpolation", "straight_line")),
-        )
+        line = getattr(value, "line", None) if points is None else None
+        if isinstance(line, Polyline):
+            path = line.follower()
+        else:
+            path = Polyline(
+                path_points(ctx, value) if points is None else points,
+                str(getattr(value, "interpolation", "straight_line")),
+            )
         if not timed:
             return path, None
         stamps = getattr(value, "time_stamps", None)
@@ -231,14 +210,22 @@ class _PathAction(_MotionAction):
         absolute, relative = args.get("absolute"), args.get("relative")
         if (absolute is None) == (relative is None):
             raise ActionError("give exactly one of `absolute` and `relative`")
-        value = absolute if absolute is not None else relative
-        points = path_points(value)
-        if relative is not None:
-            frame = _frame(
-                self, args.get("reference"), str(args.get("transform", "object_relative"))
-            )
-            points = _to_world(points, frame)
-        path, trajectory = _motion_path(value, self.timed, points)
+        if relative is None:
+            path, trajectory = _motion_path(absolute, self.timed, ctx=self.ctx)
+        else:
+            reference = args.get("reference")
+            ref = reference if isinstance(reference, Actor) else self.actor
+            transform = str(args.get("transform", "object_relative"))
+            points, on_road = resolve_points(self.ctx, relative, ref, transform)
+            value = relative
+            if on_road:
+                interpolation = str(getattr(relative, "interpolation", "straight_line"))
+                value = SimpleNamespace(
+                    interpolation=interpolation,
+                    time_stamps=getattr(relative, "time_stamps", None),
+                    line=road_line(self.ctx.network, points, interpolation),
+                )
+            path, trajectory = _motion_path(value, self.timed, None if on_road else points)
         if not self.drives("longitudinal") and not self.timed:
             ctrl = self.controller
             if ctrl is not None and ctrl.speed.target is None:
@@ -280,21 +267,23 @@ class ReplayTrajectory(_PathAction):
     timed = True
 
 
+#: the targets of ``change_position``, exactly one of which is given
+_TARGETS = ("target_position", "target_st", "target_odr", "target_xyz")
+
+
 @action("movable_object", "change_position")
 class ChangePosition(_MotionAction):
-    """``change_position(target_xyz | target_position, interpolation)``: move to the point
-    along a straight line (or a smooth curve leaving along the heading); ends there."""
+    """``change_position(target_position | target_st | target_odr | target_xyz,
+    interpolation, on_road_network)``: move to the point along a straight line (or a
+    smooth curve leaving along the heading), or along the road; ends there."""
 
     def start(self) -> None:
         args = self.args
-        target = args.get("target_position", args.get("target_xyz"))
-        for key in ("target_st", "target_odr"):
-            if key in args:
-                raise ActionError(f"change_position({key}: ...) needs a road network (maps)")
-        if target is None:
-            raise ActionError("give `target_position` or `target_xyz`")
+        given = [k for k in _TARGETS if args.get(k) is not None]
+        if len(given) != 1:
+            raise ActionError("give exactly one of " + ", ".join(f"`{k}`" for k in _TARGETS))
         state = self.state
-        end = _xy(target)
+        end = map_point_xy(self.ctx, args[given[0]])
         smooth = str(args.get("interpolation", "straight_line")) == "smooth"
         points = [(state.x, state.y)]
         if smooth:
@@ -307,10 +296,14 @@ class ChangePosition(_MotionAction):
             set_speed(self.controller, state.speed, "none")
         if state.speed <= 0.01 and not self.drives("longitudinal"):
             raise ActionError("the actor stands still: give a speed() to move it")
-        try:
-            path = Polyline(points, "smooth" if smooth else "straight_line")
-        except ValueError as exc:
-            raise ActionError(str(exc)) from None
+        if bool(args.get("on_road_network", False)):
+            interpolation = "smooth" if smooth else "straight_line"
+            path: Polyline = road_line(self.ctx.network, [points[0], end], interpolation)
+        else:
+            try:
+                path = Polyline(points, "smooth" if smooth else "straight_line")
+            except ValueError as exc:
+                raise ActionError(str(exc)) from None
         self.motion = PathMotion(self, path)
 
 
@@ -327,7 +320,7 @@ class _AlongModifier(Modifier):
                 f"{self.use.name}() needs a {'trajectory' if self.timed else 'path'} with "
                 "points (road routes come with maps)"
             )
-        path, trajectory = _motion_path(value, self.timed)
+        path, trajectory = _motion_path(value, self.timed, ctx=action.ctx)
         self.motion: PathMotion | None = PathMotion(
             action,
             path,
@@ -357,9 +350,14 @@ class Along(_AlongModifier):
     route): the actor's lane following passes its roads (``behaviours.maps``)."""
 
     def realise(self, action: ActionBehaviour) -> None:
-        from osc2runner.behaviours.maps import follow_route, is_map_route
+        from osc2runner.behaviours.maps import crossing_path, follow_route, is_map_route
 
         self.motion = None
+        state = action.state
+        across = crossing_path(action.ctx, self.args.get("route"), state.x, state.y)
+        if across is not None:
+            self.motion = PathMotion(action, across)
+            return
         if is_map_route(self.args.get("route")):
             follow_route(self, action)
             return

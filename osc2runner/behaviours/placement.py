@@ -15,6 +15,7 @@ import numpy as np
 from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
 from osc2runner.behaviours.driving import lane_heading, set_speed
+from osc2runner.behaviours.maps import map_point_xy
 from osc2runner.compile.registry import action
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
@@ -67,8 +68,8 @@ class AssignPosition(InstantAction):
             self._world_position(self.args["position"])
             return
         for key in given:  # a route or OpenDRIVE point (at time 0 too): its world position
-            x, y = _point_in_world(self.ctx, self.args[key])
-            self._world_position(SimpleNamespace(x=x, y=y))
+            x, y = map_point_xy(self.ctx, self.args[key])
+            self._world_position(SimpleNamespace(x=x, y=y), on_map=True)
             return
         if self.at_scenario_start:
             return
@@ -111,11 +112,13 @@ class AssignPosition(InstantAction):
             if getattr(ctrl, "lateral", None) is not None:
                 ctrl.lateral.keep_lane(ref, offset)
 
-    def _world_position(self, position: object) -> None:
+    def _world_position(self, position: object, on_map: bool = False) -> None:
         """``assign_position(position: p)``: the actor's centre at world ``(p.x, p.y)``
         (``z`` is not used: the world is flat); heading and speed are kept, or come from
-        the ``yaw``/``orientation`` and ``speed`` modifiers. At time 0 too: the checker
-        places actors by road coordinates only."""
+        the ``yaw``/``orientation`` and ``speed`` modifiers (a yaw from the road's
+        direction there). A point of the map (``on_map``: a route or OpenDRIVE point)
+        also gives the heading: the direction of travel of the lane there. At time 0
+        too: the checker places actors by road coordinates only."""
         try:
             x, y = float(position.x), float(position.y)  # type: ignore[attr-defined]
         except AttributeError:
@@ -128,7 +131,16 @@ class AssignPosition(InstantAction):
             if modifier.use.name in ("speed", "yaw", "orientation"):
                 modifier.evaluate()
                 modifier.assign(pose, self)
-        yaw = state.yaw if pose.yaw is None else lane_heading(self.ctx, state) + pose.yaw
+        there = self.ctx.network.to_road(x, y)
+        road_yaw = (
+            self.ctx.network.lane_to_world(there.lane, there.s).yaw
+            if there is not None
+            else lane_heading(self.ctx, state)
+        )
+        if pose.yaw is not None:
+            yaw = road_yaw + pose.yaw
+        else:
+            yaw = road_yaw if on_map else state.yaw
         speed = state.speed if pose.speed is None else pose.speed
         self.ctx.place(self.actor.name, x, y, yaw, speed)
         ctrl = self.controller
@@ -138,22 +150,6 @@ class AssignPosition(InstantAction):
                 ctrl.yaw = yaw
             elif ctrl.lateral is not None:
                 ctrl.lateral.hold(self.ctx.states[self.actor.name])
-
-
-def _point_in_world(ctx: object, point: object) -> tuple[float, float]:
-    """World ``(x, y)`` of a route point or an OpenDRIVE point (``behaviours.maps``)."""
-    from osc2runner.behaviours.maps import OdrPoint, RoutePoint, route_point_to_xyz
-
-    if isinstance(point, OdrPoint):
-        from osc2runner.behaviours.maps import _odr_coordinates
-
-        road, s, t = _odr_coordinates(ctx, point)  # type: ignore[arg-type]
-        pose = ctx.network.to_world(road, s, t)  # type: ignore[attr-defined]
-        return pose.x, pose.y
-    if isinstance(point, RoutePoint):
-        xyz = route_point_to_xyz(ctx, None, point)  # type: ignore[arg-type]
-        return float(xyz.position.x), float(xyz.position.y)
-    raise ActionError("this is not a route point or an OpenDRIVE point of the map")
 
 
 @action("movable_object", "assign_speed")

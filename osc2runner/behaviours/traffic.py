@@ -9,6 +9,10 @@ the phases of each cycle in order, each for its ``duration``, from the cycle's
 ``duration``, an ``until`` or its parallel's end; the phases' ``bulbs_state``
 lists set the bulbs of the phase's group, matched by colour and icon.
 
+A control file's plans (``map.set_traffic_lights_control_file``,
+:mod:`osc2runner.instance.light_plans`) are played for the whole run by
+:func:`run_plans`.
+
 Every change is written to the event log (kind ``traffic_light``) with the
 light's semantic state and bulbs, and noted in the light's history (the
 telemetry's ``lights.csv``).
@@ -16,15 +20,17 @@ telemetry's ``lights.csv``).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable
 from types import SimpleNamespace
 from typing import Any
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction
-from osc2runner.compile.registry import action, method
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, Modifier
+from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
+from osc2runner.instance.light_plans import LightPlan
 from osc2runner.instance.lights import SEMANTIC_BULBS, TrafficLight, semantic_of
 
 __all__ = [
@@ -35,6 +41,7 @@ __all__ = [
     "SetGroupState",
     "SetSemanticState",
     "SetState",
+    "run_plans",
     "switch",
 ]
 
@@ -61,7 +68,7 @@ def _with_sync(action: ActionBehaviour, light: TrafficLight) -> list[TrafficLigh
     return [light]
 
 
-def switch(action: ActionBehaviour, lights: Iterable[TrafficLight], change: Any) -> None:
+def switch(ctx: RunContext, lights: Iterable[TrafficLight], change: Any) -> None:
     """Apply ``change(bulb) -> new state or None`` to every bulb of ``lights`` and log
     each light whose bulbs changed."""
     for light in lights:
@@ -72,8 +79,8 @@ def switch(action: ActionBehaviour, lights: Iterable[TrafficLight], change: Any)
                 bulb.state = state
                 changed = True
         if changed:
-            light.changed(action.ctx.tick)
-            action.ctx.record("traffic_light", light.name, light.describe())
+            light.changed(ctx.tick)
+            ctx.record("traffic_light", light.name, light.describe())
 
 
 def _semantic(state: str) -> Any:
@@ -95,7 +102,7 @@ def _by_position(action: ActionBehaviour, lights: list[TrafficLight], states: An
                 f"`{light.name}` has {len(light.bulbs)} bulbs; {len(states)} states were given"
             )
         by_bulb = {id(b): s for b, s in zip(light.bulbs, states, strict=True)}
-        switch(action, [light], lambda bulb, m=by_bulb: m[id(bulb)])
+        switch(action.ctx, [light], lambda bulb, m=by_bulb: m[id(bulb)])
 
 
 def _group_id(value: Any) -> str:
@@ -122,7 +129,7 @@ class SetBulbState(InstantAction):
             list(_lights(self).values()) if given is None else _with_sync(self, _light(self, given))
         )
         change = _bulb(str(args["bulb_color"]), str(args["bulb_kind"]), str(args["bulb_state"]))
-        switch(self, lights, change)
+        switch(self.ctx, lights, change)
 
 
 @action("traffic_light_controller", "set_state")
@@ -140,7 +147,7 @@ class SetSemanticState(InstantAction):
 
     def start(self) -> None:
         light = _light(self, self.args["traffic_light"])
-        switch(self, _with_sync(self, light), _semantic(str(self.args["state"])))
+        switch(self.ctx, _with_sync(self, light), _semantic(str(self.args["state"])))
 
 
 @action("traffic_light_controller", "set_group_bulb_state")
@@ -153,7 +160,7 @@ class SetGroupBulbState(InstantAction):
         light = _light(self, args["traffic_light"])
         lights = _group(self.ctx, light.group) if light.group else [light]
         change = _bulb(str(args["bulb_color"]), str(args["bulb_kind"]), str(args["bulb_state"]))
-        switch(self, lights, change)
+        switch(self.ctx, lights, change)
 
 
 @action("traffic_light_controller", "set_group_state")
@@ -170,7 +177,7 @@ class SetGroupSemanticState(InstantAction):
 
     def start(self) -> None:
         lights = _group_lights(self.ctx, self.args["traffic_light_group"])
-        switch(self, lights, _semantic(str(self.args["state"])))
+        switch(self.ctx, lights, _semantic(str(self.args["state"])))
 
 
 @action("traffic_light_controller", "play_cycles")
@@ -206,7 +213,7 @@ class PlayCycles(ActionBehaviour):
             lights = _group(self.ctx, _group_id(getattr(phase, "group", None)))
             wanted = _bulb_states(getattr(phase, "bulbs_state", ()))
             switch(
-                self,
+                self.ctx,
                 lights,
                 lambda bulb, w=wanted: w.get((str(bulb.color), str(bulb.icon)), "is_off"),
             )
@@ -214,6 +221,60 @@ class PlayCycles(ActionBehaviour):
     def step(self) -> Status:
         self._apply()
         return Status.RUNNING
+
+
+# ---------------------------------------------------------------------- control files
+
+
+class _PlanPlayer:
+    """Plays one controller of a control file (``instance.light_plans``): polled at the
+    start of every tick, it switches the lights when a phase begins and does nothing
+    in between."""
+
+    def __init__(self, ctx: RunContext, plan: LightPlan) -> None:
+        self.ctx = ctx
+        self.plan = plan
+        self.period = plan.period
+        self.current = -1
+        self.next = plan.start  # when the next phase begins (s)
+
+    def __call__(self) -> None:
+        t = self.ctx.time
+        if t + 1e-9 < self.next:
+            return
+        plan = self.plan
+        rounds = math.floor((t - plan.start + 1e-9) / self.period)
+        begun = plan.start + rounds * self.period
+        phases, index = plan.phases, 0
+        while index < len(phases) - 1 and t + 1e-9 >= begun + phases[index].duration:
+            begun += phases[index].duration
+            index += 1
+        phase = phases[index]
+        self.next = begun + phase.duration
+        if index == self.current:
+            return
+        self.current = index
+        for light, states in phase.states:
+            wanted = {id(b): state for b, state in zip(light.bulbs, states, strict=True)}
+            switch(self.ctx, [light], lambda bulb, w=wanted: w[id(bulb)])
+
+
+@modifier(
+    "set_traffic_lights_control_file",
+    actor="map",
+    note="scenario member: its plans are read before the run and played through it",
+)
+class SetTrafficLightsControlFile(Modifier):
+    """``the_map.set_traffic_lights_control_file(file)``: the file's signal plans
+    (``instance.light_plans``) run the scenario's lights from its start
+    (:func:`run_plans`); nothing to do in the tree."""
+
+
+def run_plans(ctx: RunContext, plans: Iterable[LightPlan]) -> None:
+    """Play the control files' plans for the whole run (``instance.light_plans``): a
+    controller's action switches a light at once, the plan again at its next phase."""
+    for plan in plans:
+        ctx.poll(_PlanPlayer(ctx, plan))
 
 
 # ---------------------------------------------------------------------- methods

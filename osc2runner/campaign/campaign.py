@@ -35,6 +35,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any
 
+from osc2check.config import Config, config_for
 from osc2check.inputs import InputError, read_bytes
 from osc2runner.campaign.outputs import (
     read_campaign,
@@ -103,6 +104,7 @@ class CampaignOptions:
     run_timeout: float | None = DEFAULT_RUN_TIMEOUT
     plot: bool = False
     resume: bool = False
+    config: Config | None = None  # the checker's configuration; None: the file's own
     export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
     force: bool = False  # write into a folder of other files (not a campaign of this scenario)
 
@@ -118,7 +120,24 @@ class CampaignOptions:
             "sut": {"target": sut["target"], "actor": sut["actor"]} if sut else None,
             "strategy": self.strategy,
             "seed": self.seed,
+            **self._language(),
         }
+
+    def _language(self) -> dict[str, Any]:
+        """The OSC2 version and dialect, when the configuration says other than the
+        defaults (a campaign of an older folder has neither). Its plug-ins are code, not
+        recorded: a resumed campaign loads those its command line and configuration name."""
+        if self.config is None:
+            return {}
+        language = {"osc_version": self.config.osc_version, "dialect": self.config.dialect}
+        return {k: v for k, v in language.items() if v != getattr(Config(), k)}
+
+    def language_arguments(self) -> list[str]:
+        """The language's command-line options and plug-ins (what a run's replay command
+        repeats)."""
+        args = [f"--{k.replace('_', '-')}={v}" for k, v in self._language().items()]
+        plugins = self.config.plugins if self.config is not None else ()
+        return args + [f"--plugin={p}" for p in plugins]
 
 
 @dataclass
@@ -143,14 +162,16 @@ class CampaignResult:
 Progress = Callable[[str, Any], None]  # progress("plan", total) / ("record", RunRecord)
 
 
-def _engine(options: CampaignOptions, setup: CampaignSetup, jobs: int) -> Any:
+def _engine(
+    options: CampaignOptions, setup: CampaignSetup, jobs: int, clock: Callable[[], float]
+) -> Any:
     if options.engine == "ray":
         from osc2runner.campaign.ray_engine import RayEngine
 
-        return RayEngine(setup, jobs, options.run_timeout, options.address)
+        return RayEngine(setup, jobs, options.run_timeout, options.address, clock)
     from osc2runner.campaign.pool import LocalPool
 
-    return LocalPool(setup, jobs, options.run_timeout)
+    return LocalPool(setup, jobs, options.run_timeout, clock)
 
 
 def _check(options: CampaignOptions) -> None:
@@ -189,9 +210,15 @@ def plan_runs(options: CampaignOptions, checked: Checked) -> CoverPlan:
     return plan
 
 
-def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> CampaignResult:
+def run_campaign(
+    options: CampaignOptions,
+    progress: Progress | None = None,
+    *,
+    clock: Callable[[], float] = time.monotonic,
+) -> CampaignResult:
     """Run a campaign (see the module docstring); raises ScenarioError for input errors,
-    CampaignError for options or a folder that cannot be used."""
+    CampaignError for options or a folder that cannot be used. ``clock`` is the wall clock
+    the engine holds each run to ``run_timeout`` with (a test gives one it controls)."""
     _check(options)
     started = time.perf_counter()
     if options.engine == "local":
@@ -206,7 +233,8 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
     from osc2check.source import decode_source
 
     text, _ = decode_source(data)
-    checked = check_file(options.file, scenario=options.scenario, source=text)
+    config = options.config if options.config is not None else config_for(options.file)
+    checked = check_file(options.file, scenario=options.scenario, source=text, config=config)
     digest = hashlib.sha256(data).hexdigest()
     folder = output_folder(options.out, create=False)  # made once the runs are planned
     previous: dict[int, RunRecord] = {}
@@ -226,9 +254,10 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
         options.plot,
         str(folder),
         ship_files=options.engine == "ray",
+        config=config,
         export=options.export,
     )
-    engine = _engine(options, setup, min(jobs, options.runs))
+    engine = _engine(options, setup, min(jobs, options.runs), clock)
     # the workers start while the runs are planned (none when every run finished)
     engine.start(options.runs - sum(r.finished for r in previous.values()))
     try:
@@ -251,6 +280,7 @@ def run_campaign(options: CampaignOptions, progress: Progress | None = None) -> 
                 dt_physics=options.dt_physics,
                 sut=sut,
                 bin_text=t.bin.text if t.bin else None,
+                language=options.language_arguments(),
             )
             for t in plan.tasks
         }

@@ -86,6 +86,11 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     if args.run_timeout is None and opts.get("run_timeout") is not None:
         args.run_timeout = repr(opts["run_timeout"])
     args.plot = args.plot or bool(opts.get("plot"))
+    for name in ("osc_version", "dialect"):  # the language the campaign was checked in
+        if getattr(args, name, None) is None and opts.get(name) is not None:
+            setattr(args, name, opts[name])
+    # plug-ins are code: a resumed campaign loads those of the command line and of the
+    # configuration, never what its folder lists (docs/security.md)
     if args.export is None and opts.get("export"):
         args.export = ",".join(opts["export"])
 
@@ -151,6 +156,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         run_timeout=args.run_timeout if args.run_timeout is not None else DEFAULT_RUN_TIMEOUT,
         plot=args.plot,
         resume=args.resume is not None,
+        config=args.config,
         export=args.export_formats,
         force=args.force,
     )

@@ -261,9 +261,11 @@ def replay_command(
     dt_physics: float,
     sut: tuple[str, str | None] | None,
     bin_text: str | None,
+    language: Sequence[str] = (),
 ) -> str:
-    """The ``osc2run`` command that replays one run alone (byte-identical telemetry)."""
-    args = ["osc2run", uri, "--seed", str(seed)]
+    """The ``osc2run`` command that replays one run alone (byte-identical telemetry);
+    ``language``: the OSC2 version, dialect and plug-in options it was run with."""
+    args = ["osc2run", uri, "--seed", str(seed), *language]
     if scenario:
         args += ["--scenario", scenario]
     if bin_text:

@@ -27,7 +27,7 @@ from osc2runner.campaign.steering import BinRef, SteerableItem, scenario_result
 from osc2runner.campaign.worker import RunTask
 from osc2runner.runner import Checked
 
-__all__ = ["CANDIDATES_PER_RUN", "CoverPlan", "ItemPlan", "plan_cover", "plan_random"]
+__all__ = ["CANDIDATES_PER_RUN", "CoverPlan", "ItemPlan", "item_plans", "plan_cover", "plan_random"]
 
 CANDIDATES_PER_RUN = 4  # witnesses looked at per planned run (cover strategy)
 MAX_CANDIDATES = 2000
@@ -75,12 +75,10 @@ def plan_random(first_seed: int, runs: int) -> CoverPlan:
     return CoverPlan([RunTask(first_seed + i) for i in range(runs)])
 
 
-def plan_cover(
-    checked: Checked, items: list[SteerableItem], first_seed: int, runs: int
-) -> CoverPlan:
-    """The cover strategy's runs (see the module docstring)."""
+def item_plans(checked: Checked, items: list[SteerableItem]) -> list[ItemPlan]:
+    """Every cover item's plan before any run is chosen: its bucket labels and, for an
+    item that can be steered, each bucket's solver status."""
     plans: list[ItemPlan] = []
-    terms: dict[str, list[Any]] = {}
     for entry in items:
         labels = [b.label for b in entry.item.buckets]
         plan = ItemPlan(entry.item.name, entry.steerable, entry.reason, labels)
@@ -88,12 +86,24 @@ def plan_cover(
         if not entry.steerable:
             continue
         assert entry.problem is not None
-        bucket_terms = [entry.bucket_term(checked, i) for i in range(len(labels))]
-        terms[plan.name] = bucket_terms
+        by_name = {p.name: p for p in plans}
         plan.status = [
-            _status(entry, i, t, {p.name: p for p in plans}) for i, t in enumerate(bucket_terms)
+            _status(entry, i, entry.bucket_term(checked, i), by_name) for i in range(len(labels))
         ]
         plan.planned = [0] * len(labels)
+    return plans
+
+
+def plan_cover(
+    checked: Checked, items: list[SteerableItem], first_seed: int, runs: int
+) -> CoverPlan:
+    """The cover strategy's runs (see the module docstring)."""
+    plans = item_plans(checked, items)
+    terms = {
+        e.item.name: [e.bucket_term(checked, i) for i in range(len(e.item.buckets))]
+        for e in items
+        if e.steerable
+    }
     wanted = {
         (p.name, i)
         for p in plans

@@ -20,7 +20,8 @@ The pool watches every worker:
   tasks and sends SIGTERM to the busy workers: their runs end at a tick
   boundary, written, as ``interrupted`` (done again by ``--resume``).
 
-Wall-clock time is read here only to enforce the limit; runs never read it.
+Wall-clock time is read here only to enforce the limit (through the pool's ``clock``,
+:func:`time.monotonic` unless a test gives its own); runs never read it.
 """
 
 from __future__ import annotations
@@ -124,10 +125,17 @@ class LocalPool:
 
     name = "local"
 
-    def __init__(self, setup: CampaignSetup, jobs: int, run_timeout: float | None) -> None:
+    def __init__(
+        self,
+        setup: CampaignSetup,
+        jobs: int,
+        run_timeout: float | None,
+        clock: Callable[[], float] = time.monotonic,
+    ) -> None:
         self.setup = setup
         self.jobs = max(1, jobs)
         self.run_timeout = run_timeout
+        self.clock = clock  # seconds; only the wall-clock limit and GRACE read it
         self.context = _context()
         self.slots: list[_Slot] = []
         self.stopping = False
@@ -187,7 +195,7 @@ class LocalPool:
                 for slot in self.slots:
                     if slot.ready and slot.task is None and pending and not self.stopping:
                         slot.task = pending.popleft()
-                        slot.started = time.monotonic()
+                        slot.started = self.clock()
                         slot.conn.send(slot.task)
                 waitables: list[Any] = [s.conn for s in self.slots]
                 waitables += [s.process.sentinel for s in self.slots]
@@ -258,7 +266,7 @@ class LocalPool:
         slot.conn.close()
 
     def _enforce_limits(self) -> None:
-        now = time.monotonic()
+        now = self.clock()
         for slot in list(self.slots):
             if slot.task is None:
                 continue
@@ -282,15 +290,16 @@ class LocalPool:
         if self.stopping:
             return
         self.stopping = True
-        now = time.monotonic()
+        now = self.clock()
         for slot in self.slots:
             if slot.task is not None and slot.stopped_at is None:
                 slot.why = "interrupted"
                 self._terminate(slot, now)
 
-    def close(self) -> None:
+    def close(self, wait: float = 5.0) -> None:
         """Stop the workers (idle ones are asked for their peak memory first; one still
-        checking the file reads the stop once it is ready)."""
+        checking the file reads the stop once it is ready); one still alive ``wait``
+        seconds later is killed."""
         self.wait_started()
         for slot in self.slots:
             if slot.task is None:
@@ -303,7 +312,7 @@ class LocalPool:
                 except (EOFError, OSError, BrokenPipeError):
                     pass
         for slot in self.slots:
-            slot.process.join(timeout=5.0)
+            slot.process.join(timeout=wait)
             if slot.process.is_alive():
                 slot.process.kill()
                 slot.process.join(timeout=1.0)

@@ -88,11 +88,13 @@ class RayEngine:
         jobs: int,
         run_timeout: float | None,
         address: str | None = None,
+        clock: Callable[[], float] = time.monotonic,
     ) -> None:
         self.setup = setup
         self.jobs = max(1, jobs)
         self.run_timeout = run_timeout
         self.address = address
+        self.clock = clock  # seconds; only the wall-clock limit reads it
         self.stopping = False
         self.worker_memory: list[int] = []
         self.started_workers = 0
@@ -178,7 +180,7 @@ class RayEngine:
                     actor = idle.pop()
                     task = pending.popleft()
                     ref = actor.run.remote(task)
-                    self._inflight[ref] = (actor, task, time.monotonic(), "")
+                    self._inflight[ref] = (actor, task, self.clock(), "")
                 if not self._inflight and not starting:
                     break
                 if self._inflight or idle:
@@ -272,7 +274,7 @@ class RayEngine:
     def _enforce_limits(self, ray: Any) -> None:
         if self.run_timeout is None:
             return
-        now = time.monotonic()
+        now = self.clock()
         for ref, (actor, task, started, why) in list(self._inflight.items()):
             if not why and now - started > self.run_timeout:
                 self._inflight[ref] = (

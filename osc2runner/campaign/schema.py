@@ -21,6 +21,7 @@ import re
 from collections.abc import Callable
 from typing import Any
 
+from osc2check.semantics.profile import DIALECTS, OSC_VERSIONS
 from osc2runner.campaign.steering import BinRef
 from osc2runner.campaign.worker import RunRecord, run_folder
 from osc2runner.export import FORMATS
@@ -238,6 +239,12 @@ def campaign_document(data: Any, where: str = "campaign.json") -> dict[str, Any]
             _choice(e, f"{w}.export[{i}]", FORMATS)
             for i, e in enumerate(_items(o.get("export", []), f"{w}.export", _text))
         ],
+        # the language the campaign was checked in
+        **{
+            name: _choice(o[name], f"{w}.{name}", allowed)
+            for name, allowed in (("osc_version", OSC_VERSIONS), ("dialect", DIALECTS))
+            if o.get(name) is not None
+        },
     }
     plan = _dict(d.get("plan", {}), f"{where}.plan")
     return {

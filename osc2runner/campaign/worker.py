@@ -29,6 +29,7 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
+from osc2check.config import Config
 from osc2check.verify import ir
 from osc2check.verify.witness import Witness
 from osc2check.world.network import RoadNetwork
@@ -75,6 +76,7 @@ class CampaignSetup:
     plot: bool = False  # plots of every run (else of the runs that did not pass)
     out: str = "."
     ship_files: bool = False
+    config: Config | None = None  # the checker's configuration (None: the file's own)
     export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
 
 
@@ -173,7 +175,9 @@ class Worker:
     ) -> None:
         self.setup = setup
         self.send = send
-        self.checked: Checked = check_file(setup.uri, scenario=setup.scenario, source=setup.text)
+        self.checked: Checked = check_file(
+            setup.uri, scenario=setup.scenario, source=setup.text, config=setup.config
+        )
         self._items: list[SteerableItem] | None = None
 
     def items(self) -> list[SteerableItem]:

@@ -34,7 +34,8 @@ from typing import Any
 import py_trees
 from py_trees.common import ParallelPolicy, Status
 
-from osc2check.semantics.phases import ENDS_WITH_FIRST
+from osc2check.semantics.phases import ENDS_WITH_FIRST, NOT_BEFORE_FIRST
+from osc2check.verify.schedule import PhasePlan
 
 __all__ = [
     "DurationBound",
@@ -72,9 +73,16 @@ def _reset(children: Sequence[Behaviour]) -> None:
 
 class _Fast:
     """``tick()`` as a generator over ``tick_status()``; the execution context from
-    ``tree.setup(context=ctx)``."""
+    ``tree.setup(context=ctx)``; ``phase_key``: the schedule's name of the phase it runs
+    (``osc2check.verify.schedule``), whose start it records."""
 
     ctx: Any = None
+    phase_key: Any = None
+
+    def _started(self) -> None:
+        started = getattr(self.ctx, "phase_started", None)  # (scripted tests' contexts)
+        if started is not None:
+            started(self.phase_key)
 
     def setup(self, **kwargs: Any) -> None:
         self.ctx = kwargs.get("context", self.ctx)
@@ -98,6 +106,7 @@ class Serial(_Fast, py_trees.composites.Sequence):
             _reset(children)
             self.initialise()
             self._index = 0
+            self._started()
         for index in range(self._index, len(children)):
             child = children[index]
             self.current_child = child
@@ -125,8 +134,13 @@ class Parallel(_Fast, py_trees.composites.Parallel):
       planned end if it is open-ended, a failure if it had a goal it had not
       reached. An open-ended first member ends when the others have ended.
 
-    Starting all members together satisfies every kind's rule for the starts.
-    The first failure stops the others and fails the composition.
+    Members start together, except with ``end`` and ``final``: a member whose length
+    is known before it starts (the schedule's, ``osc2check.verify.schedule``) starts
+    so that it ends with the others (``end``: the longest first) or with the first
+    member (``final``). With ``equal`` and ``full`` a member of known length that ends
+    before a first member of known length fails the composition (its phase cannot be
+    held: the members end together, or the others cover the first). The first
+    failure stops the others and fails the composition.
     """
 
     def __init__(
@@ -135,6 +149,7 @@ class Parallel(_Fast, py_trees.composites.Parallel):
         children: Sequence[Behaviour] = (),
         overlap: str = "start",
         where: str = "",
+        plans: Sequence[PhasePlan | None] = (),
     ) -> None:
         super().__init__(
             name, policy=ParallelPolicy.SuccessOnAll(synchronise=True), children=list(children)
@@ -142,6 +157,12 @@ class Parallel(_Fast, py_trees.composites.Parallel):
         self._open = [may_be_open(c) for c in self.children]
         self.overlap = overlap
         self.where = where
+        found = list(plans) or [None] * len(self.children)
+        self._delays = [p.delay if p is not None else 0.0 for p in found]
+        self._lengths = [p.length if p is not None else None for p in found]
+        self._delayed = any(d > 0.0 for d in self._delays)
+        self._not_before_first = overlap in NOT_BEFORE_FIRST and self._lengths[:1] != [None]
+        self._begun = 0.0
 
     def tick_status(self) -> Status:
         children = self.children
@@ -149,14 +170,18 @@ class Parallel(_Fast, py_trees.composites.Parallel):
             _reset(children)
             self.current_child = None
             self.initialise()
+            self._started()
+            self._begun = self.ctx.time if self._delayed else 0.0
         if not children:
             self.stop(SUCCESS)
             return SUCCESS
         done = 0
-        for child in children:
+        for k, child in enumerate(children):
             if child.status == SUCCESS:
                 done += 1
                 continue
+            if self._delayed and child.status != RUNNING and not self._due(k):
+                continue  # it starts later, to end with the others
             status = tick_child(child)
             if status == FAILURE:
                 self.current_child = child
@@ -164,6 +189,13 @@ class Parallel(_Fast, py_trees.composites.Parallel):
                 return FAILURE
             if status == SUCCESS:
                 done += 1
+                if (
+                    k
+                    and self._not_before_first
+                    and self._lengths[k] is not None
+                    and children[0].status == RUNNING
+                ):
+                    return self._ended_before_first(k)
         if done == len(children):
             self.stop(SUCCESS)
             return SUCCESS
@@ -183,6 +215,26 @@ class Parallel(_Fast, py_trees.composites.Parallel):
         self.status = RUNNING
         return RUNNING
 
+    def _due(self, k: int) -> bool:
+        """Whether member ``k`` starts in this tick or has started."""
+        return self.ctx.time - self._begun >= self._delays[k] - 1e-9
+
+    def _ended_before_first(self, k: int) -> Status:
+        child = self.children[k]
+        reason = (
+            f"{self.where}: `{child.name}` ended before the first member of "
+            f"`parallel(overlap: {self.overlap})` (it lasts {self._lengths[k]:g} s, the first "
+            f"member {self._lengths[0]:g} s)"
+        )
+        return self._fail(reason)
+
+    def _fail(self, reason: str) -> Status:
+        if self.ctx is not None:
+            self.ctx.fail(reason)
+        self.feedback_message = reason
+        self.stop(FAILURE)
+        return FAILURE
+
     def _end_with_first(self) -> Status:
         for child in self.children[1:]:
             if child.status != RUNNING:
@@ -192,11 +244,7 @@ class Parallel(_Fast, py_trees.composites.Parallel):
                     f"{self.where}: `{child.name}` had not completed when the first member "
                     f"of `parallel(overlap: {self.overlap})` ended"
                 )
-                if self.ctx is not None:
-                    self.ctx.fail(reason)
-                self.feedback_message = reason
-                self.stop(FAILURE)
-                return FAILURE
+                return self._fail(reason)
             mark_ended_on_time(child)
         self.feedback_message = f"ended with its first member (overlap: {self.overlap})"
         self.stop(SUCCESS)
@@ -251,6 +299,7 @@ class OneOf(_Fast, py_trees.composites.Parallel):
             self.current_child = None
             self.winner = None
             self.initialise()
+            self._started()
             self._choose()
         if not children:
             self.stop(SUCCESS)
@@ -374,7 +423,7 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
             if child.status == RUNNING and not running_endless(child):
                 reason = (
                     f"{self.where}: `{child.name}` did not complete within its duration "
-                    f"({self.high:g} s)"
+                    f"({self.high:g} s)" + progress_of(child)
                 )
                 self.ctx.fail(reason)
                 self.feedback_message = reason
@@ -421,6 +470,21 @@ def running_endless(node: Behaviour) -> bool:
         return False
     running = [c for c in _behaviour_of(node) if c.status == RUNNING]
     return bool(running) and all(running_endless(c) for c in running)
+
+
+def progress_of(node: Behaviour) -> str:
+    """``: <how far>`` from the running action under ``node`` that can say how far it is
+    from its goal (its ``progress()``: the measured value and the tolerance), else ""."""
+    stack = [node]
+    while stack:
+        current = stack.pop()
+        if current.status != RUNNING:
+            continue
+        progress = getattr(current, "progress", None)
+        if callable(progress):
+            return f": {progress()}"
+        stack.extend(reversed(_behaviour_of(current)))
+    return ""
 
 
 def mark_ended_on_time(node: Behaviour) -> None:
@@ -493,6 +557,7 @@ class ScenarioRoot(_Fast, py_trees.composites.Parallel):
     def tick_status(self) -> Status:
         if self.status != RUNNING:
             _reset(self.children)
+            self._started()
             for initialise in self.initialisers:
                 initialise()
             self._emit("start")

@@ -335,12 +335,15 @@ def _reader(behaviour: py_trees.behaviour.Behaviour, watch: Watch) -> None:
 class Wait(_ContextBehaviour):
     """``wait <event>``: running until the event occurs, then success."""
 
+    phase_key: Any = None  # the schedule's name of its phase
+
     def __init__(self, name: str, watch: Watch) -> None:
         super().__init__(name)
         self.watch = watch
         _reader(self, watch)
 
     def initialise(self) -> None:
+        self.ctx.phase_started(self.phase_key)
         self.watch.start()
 
     def update(self) -> Status:

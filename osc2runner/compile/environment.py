@@ -31,6 +31,7 @@ from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import ScenarioValues
 from osc2runner.sim import ActorState, VehicleParams
+from osc2runner.sim.sky import LightSource
 from osc2runner.sim.trailer import TrailerParams
 
 __all__ = ["CompileEnvironment"]
@@ -98,15 +99,12 @@ class CompileEnvironment:
         if actor.kind == "environment" and member == "weather":
             run = self.run
             return lambda: run.weather
+        if actor.kind == "environment" and member in ("sun", "moon"):
+            # its position is read live; one nothing gives is a run fault here
+            return constant(LightSource(member, self.run.sky, lambda why: RunFault(why, node)))
         if actor.kind == "environment" and member == "datetime":
-            # the world's clock runs with the simulation: the witness's start datetime
-            # (0 s, the Unix epoch, when nothing constrains it) plus the simulated time
-            run = self.run
-            given = (
-                to_runtime(actor.attributes["datetime"]) if "datetime" in actor.attributes else 0
-            )
-            start = float(given) if isinstance(given, (int, float)) else 0.0
-            return lambda: start + run.time
+            # the world's clock runs with the simulation (sim.sky, one home)
+            return self.run.sky.now
         if member in actor.attributes:
             return constant(to_runtime(actor.attributes[member]))
         if member == "name":

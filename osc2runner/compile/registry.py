@@ -54,12 +54,14 @@ BEHAVIOUR_MODULES = (
     "osc2runner.behaviours.modifiers",
     "osc2runner.behaviours.placement",
     "osc2runner.behaviours.paths",
+    "osc2runner.behaviours.road_paths",
     "osc2runner.behaviours.environment",
     "osc2runner.behaviours.lights",
     "osc2runner.behaviours.traffic",
     "osc2runner.behaviours.towing",
     "osc2runner.behaviours.methods",
     "osc2runner.behaviours.maps",
+    "osc2runner.behaviours.carla",
 )
 _MARK = "__osc2_entries__"
 
@@ -85,7 +87,7 @@ class MethodRegistry:
     """Actions by (actor type, name), modifiers by name, methods by (type, name)."""
 
     def __init__(self) -> None:
-        self._actions: dict[tuple[str, str], Entry] = {}
+        self._actions: dict[tuple[str | None, str], Entry] = {}
         self._modifiers: dict[tuple[str | None, str], Entry] = {}
         self._methods: dict[tuple[str, str], Entry] = {}
 
@@ -120,7 +122,10 @@ class MethodRegistry:
     # ---- lookup
 
     def find_action(self, model: Model, actor_type: Symbol | None, action: Symbol) -> Entry | None:
-        """The entry for invoking ``action`` on an actor of type ``actor_type``."""
+        """The entry for invoking ``action`` on an actor of type ``actor_type`` (of an action
+        declared without an actor: its registration without one)."""
+        if action.actor is None and actor_type is None:
+            return self._actions.get((None, action.name))
         chains = []
         if actor_type is not None:
             chains.append(model.ancestors(actor_type))

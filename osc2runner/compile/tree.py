@@ -30,6 +30,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify.lower import invocation_path, join_path
+from osc2check.verify.timeline import PhaseKey
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
     DurationBound,
@@ -60,6 +61,7 @@ from osc2runner.compile.expressions import (
     is_constant,
     read_variable,
 )
+from osc2runner.compile.preparation import prepare_starts
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.execution.context import RunContext
@@ -386,6 +388,7 @@ class TreeCompiler:
         node: py_trees.behaviour.Behaviour
         if comp.op == "serial":
             node = Serial(name, children)
+            prepare_starts(comp, self.uses)
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:
@@ -398,11 +401,13 @@ class TreeCompiler:
                         args[key],
                     )
             span = comp.span
-            node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}")
+            plans = [self.run.schedule.get(_phase_key(scope, m.body)) for m in comp.members]
+            node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}", plans)
         elif comp.op == "one_of":
             node = OneOf(name, children, [is_acting(m.body) for m in comp.members])
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
+        node.phase_key = _phase_key(scope, comp)
         untils = self._untils(comp.with_members, "a composition")
         return self._wrap(node, comp, args.get("duration"), untils, scope)
 
@@ -477,6 +482,8 @@ class TreeCompiler:
             return self.scenario_invocation(inv, sym, scope)
         if sym.kind is not SymbolKind.ACTION:
             raise CompileProblem(f"`{inv.name.text}` is a {sym.kind.value}, not an action", inv)
+        if sym.actor is None and inv.actor is None:
+            return self._unbound_action(inv, sym, scope)
         actor = self._actor(inv, scope)
         if not isinstance(actor, Actor):
             raise CompileProblem(
@@ -506,7 +513,9 @@ class TreeCompiler:
             sym.name,
             inv,
         )
-        arguments, duration = self._arguments(inv, inner, path)
+        arguments, duration = self._arguments(
+            inv, inner, path, defaults=getattr(entry.target, "with_defaults", False)
+        )
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
         for wm in inv.with_members:
@@ -519,6 +528,7 @@ class TreeCompiler:
                     f"line {wm.span.line}: `{self._text(wm)}` is left to the "
                     "solver (not enforced at run time)"
                 )
+        key = _phase_key(scope, inv)
         use = ActionUse(
             inv,
             sym,
@@ -528,6 +538,8 @@ class TreeCompiler:
             self._bounds(self.env.compile(duration, inner)) if duration else None,
             starts_scenario=scope.frame is not None and inv in scope.frame.at_start,
             binding=self.model.binding(inv),
+            key=key,
+            plan=self.run.schedule.get(key),
         )
         cls = entry.target
         use.behaviour = cls
@@ -536,6 +548,31 @@ class TreeCompiler:
         behaviour.endless = not cls.finite
         self.uses[inv] = (use, cls)
         return self._wrap(behaviour, inv, duration, untils, inner)
+
+    def _unbound_action(
+        self, inv: ast.Invocation, sym: Symbol, scope: Bindings
+    ) -> py_trees.behaviour.Behaviour:
+        """An action declared without an actor (``action log:``), which a plug-in
+        implements: it takes arguments, ``duration`` and ``until``, no modifiers."""
+        entry = self.env.registry.find_action(self.model, None, sym)
+        if entry is None:
+            raise CompileProblem(
+                f"action `{sym.name}` has no runner behaviour (docs/plugins.md)", inv.name
+            )
+        path = invocation_path(
+            scope.frame.path if scope.frame is not None else "",
+            None,
+            self.labels.get(id(inv)),
+            sym.name,
+            inv,
+        )
+        arguments, duration = self._arguments(inv, scope, path, defaults=True)
+        untils = [wm for wm in inv.with_members if isinstance(wm, ast.Until)]
+        for wm in inv.with_members:
+            if isinstance(wm, ast.Invocation):
+                raise CompileProblem(f"`{sym.name}` has no actor: it takes no modifiers", wm)
+        behaviour = entry.target(node_name(f"{sym.name}()", inv), inv, arguments)
+        return self._wrap(behaviour, inv, duration, untils, scope)
 
     def _actor(self, inv: ast.Invocation, scope: Bindings) -> Actor:
         """The actor an invocation is of: written, or the actor of the enclosing
@@ -629,7 +666,7 @@ class TreeCompiler:
         finally:
             self.invoking.pop()
         labelled_as = outer.qualified(label.text) if label is not None else None
-        node: py_trees.behaviour.Behaviour = InvokedScenario(
+        invoked = InvokedScenario(
             node_name(f"{actor.name + '.' if actor else ''}{sym.name}()", inv),
             main,
             handlers,
@@ -637,8 +674,9 @@ class TreeCompiler:
             initialisers,
             emits_events=labelled_as != path,
         )
+        invoked.phase_key = _phase_key(scope, inv)
         untils = self._untils(inv.with_members, "a scenario invocation")
-        return self._wrap(node, inv, duration, untils, scope)
+        return self._wrap(invoked, inv, duration, untils, scope)
 
     def _scenario_arguments(
         self, sym: Symbol, inv: ast.Invocation, scope: Bindings
@@ -701,25 +739,44 @@ class TreeCompiler:
             ) from None
 
     def _arguments(
-        self, call: ast.Invocation, scope: Bindings, path: str
+        self, call: ast.Invocation, scope: Bindings, path: str, *, defaults: bool = False
     ) -> tuple[dict[str, Closure], ast.Node | None]:
         """The closures of the arguments given to an action or modifier by parameter name
-        (as the checker bound them), and its duration. A range given where a scalar is
-        expected is one value the solver chose from it (``keep(p in r)``): the witness's,
-        under the call's instance ``path`` (as ``verify.lower`` names it)."""
+        (as the checker bound them; with ``defaults``, the declared defaults of those not
+        given too), and its duration. A range given where a scalar is expected is one
+        value the solver chose from it (``keep(p in r)``): the witness's, under the
+        call's instance ``path`` (as ``verify.lower`` names it)."""
         binding = self._binding(call)
         if binding.events:
             raise CompileProblem("event arguments are not supported here", binding.events[0])
         result: dict[str, Closure] = {}
+        declared: dict[str, Closure] = {}
         for bound in binding.arguments:
             if bound.is_default:
+                if defaults:
+                    declared[bound.name] = self.env.compile(bound.value, Bindings())
                 continue
             if bound.range and bound.parameter is not None:
                 result[bound.name] = self._chosen(path, bound.parameter, bound.value)
             else:
                 result[bound.name] = self.env.compile(bound.value, scope)
+        if defaults and isinstance(binding.callee, Symbol):
+            self._kept(binding.callee, path, result)
+            result = {**declared, **result}
         duration = binding.extra("duration")
         return result, duration.value if duration is not None else None
+
+    def _kept(self, callee: Symbol, path: str, result: dict[str, Closure]) -> None:
+        """The parameters of a plug-in's behaviour given no argument whose value the
+        witness chose (a ``keep`` of the invocation's ``with:``; else their defaults)."""
+        for param in self.model.all_members(callee):
+            if param.kind is not SymbolKind.FIELD or param.name in result:
+                continue
+            try:
+                value = to_runtime(self.env.values.value_at(path, param))
+            except NotConstant:
+                continue  # its default, or none: the checker required what has none
+            result[param.name] = constant(value)
 
     def _chosen(self, path: str, param: Symbol, where: ast.Node) -> Closure:
         """The witness's value of parameter ``param`` of the call at ``path``."""
@@ -743,7 +800,12 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 wm.name,
             )
-        arguments, _ = self._arguments(wm, scope, join_path(path, f"{sym.name}@{wm.span.line}"))
+        arguments, _ = self._arguments(
+            wm,
+            scope,
+            join_path(path, f"{sym.name}@{wm.span.line}"),
+            defaults=getattr(entry.target, "with_defaults", False),
+        )
         arguments.setdefault("at", constant("all"))
         if wm.with_members:
             self.notes.append(f"line {wm.span.line}: the with: block of a modifier is ignored")
@@ -753,9 +815,11 @@ class TreeCompiler:
 
     def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
         """``wait <event>``: its event context is the wait (§7.3.10.3)."""
-        return Wait(
+        node = Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
+        node.phase_key = _phase_key(scope, wait)
+        return node
 
     def emit(self, emit: ast.Emit, scope: Bindings) -> py_trees.behaviour.Behaviour:
         name, key, args = self._emission(emit, scope)
@@ -830,6 +894,11 @@ class TreeCompiler:
             if entry is not None:
                 found.append(entry[0])
         return found
+
+
+def _phase_key(scope: Bindings, node: ast.Node) -> PhaseKey:
+    """The schedule's name of the phase ``node`` runs (``osc2check.verify.schedule``)."""
+    return (scope.frame.path if scope.frame is not None else "", node.span)
 
 
 def _overlap_kind(node: ast.Node) -> str:

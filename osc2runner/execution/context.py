@@ -30,10 +30,14 @@ import numpy as np
 import py_trees
 
 from osc2check.syntax import ast
+from osc2check.verify.schedule import PhasePlan, Schedule
+from osc2check.verify.timeline import PhaseKey
 from osc2check.world.network import RoadNetwork
 from osc2runner.execution.coverage import RunCoverage
+from osc2runner.execution.tolerances import Tolerances
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
+from osc2runner.sim.sky import Sky
 
 if TYPE_CHECKING:
     from osc2runner.sim import ActorState, World
@@ -248,11 +252,19 @@ class RunContext:
         self.traffic_lights: dict[str, Any] = {}
         #: ``env.weather`` as the environment actions set it
         self.weather: Any = initial_weather()
+        #: ``env.sun`` and ``env.moon`` (``runner`` gives it the environment's observer)
+        self.sky = Sky(clock=lambda: self.time)
         #: every environment action, in order (what it set, when)
         self.environment_changes: list[EnvironmentChange] = []
         self.collisions_allowed: dict[str, int] = {}
         self.failed: str | None = None
         self.event_names: set[str] = set()
+        #: what a check at a phase boundary allows, and the margin plans keep
+        self.tolerances = Tolerances.for_period(self.dt)
+        #: when each phase must end and each member starts (the checker's, for the witness)
+        self.schedule = Schedule()
+        #: when each phase started last (s), by the schedule's name of it
+        self.phase_starts: dict[PhaseKey, float] = {}
         self._client = py_trees.blackboard.Client(name="osc2runner")
         self._client.register_key(VARIABLES_KEY, access=py_trees.common.Access.WRITE)
         self._client.set(VARIABLES_KEY, self.variables)
@@ -286,6 +298,26 @@ class RunContext:
         """Call ``callback()`` at the start of every tick, after the edge detectors (the
         event functions that ``sample`` and coverage items wait for)."""
         self.background.append(callback)
+
+    # ---- phases
+
+    def phase_started(self, key: PhaseKey | None) -> None:
+        """A phase starts now (the anchors of the schedule's deadlines)."""
+        if key is not None:
+            self.phase_starts[key] = self.time
+
+    def deadline(self, plan: PhasePlan | None) -> float | None:
+        """When a phase with ``plan`` must be done (s of simulated time), from the phases
+        that have started; None when the schedule does not know."""
+        if plan is None:
+            return None
+        found: float | None = None
+        starts = self.phase_starts
+        for anchor, offset in plan.deadlines:
+            begun = starts.get(anchor)
+            if begun is not None and (found is None or begun + offset < found):
+                found = begun + offset
+        return found
 
     # ---- actors
 

@@ -230,7 +230,7 @@ def run_recording(prepared: Prepared, result: RunResult) -> RunRecording:
     lights = tuple(
         LightTrack(
             light.name,
-            str(getattr(light.value, "map_id", "") or ""),
+            str(getattr(light.value, "map_id", "") or "") if light.placed == "signal" else "",
             float(light.x),
             float(light.y),
             float(light.yaw),

@@ -9,19 +9,25 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from osc2check import codes
 from osc2check.analysis import Analysis
 from osc2check.semantics.symbols import Symbol
 from osc2check.verify.api import Unsolvable, solve
 from osc2check.verify.witness import Witness
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import RoadNetwork
-from osc2runner.errors import RunProblem, ScenarioError
+from osc2runner.errors import RunProblem, ScenarioError, refused_by
 from osc2runner.instance.actors import Actor, scenario_actors
 from osc2runner.instance.locations import object_locations
 from osc2runner.instance.roads import network_for
 from osc2runner.instance.values import ScenarioValues
 
-__all__ = ["ScenarioInstance", "instantiate"]
+__all__ = ["CARLA_CONTENT", "ScenarioInstance", "instantiate"]
+
+#: CARLA's content the toolkit has no stand-in for (its maps): the checker warns, and
+#: the runner refuses it with the same code and message (CARLA's world poses and
+#: trajectory files are A308, osc2check.capabilities)
+CARLA_CONTENT = (codes.CARLA_MAP,)
 
 
 @dataclass
@@ -65,6 +71,11 @@ def instantiate(
             texts=analysis.texts,
         )
     witness = drawn
+    # CARLA's content the toolkit has no stand-in for: refused with the checker's finding
+    for code in CARLA_CONTENT:
+        refusal = refused_by(analysis, uri, code)
+        if refusal is not None:
+            raise refusal
     if witness.unused_map is not None:
         raise ScenarioError(
             [

@@ -35,7 +35,7 @@ from osc2check.world.catalogue import MODELS, ActorRow, category_row, kind_row
 from osc2runner.instance.bodies import ActorParams, body_params
 from osc2runner.instance.values import ScenarioValues, scenario_fields
 
-__all__ = ["Actor", "actor_kind", "scenario_actors"]
+__all__ = ["Actor", "actor_kind", "environment_sky", "scenario_actors"]
 
 _KINDS = (
     ("vehicle", "vehicle"),
@@ -121,3 +121,26 @@ def scenario_actors(
                 actor.kind = "trailer"
         actors.append(actor)
     return actors
+
+
+#: the environment's members that place the observer of the sky
+SITE = ("geodetic_position.latitude", "geodetic_position.longitude")
+
+
+def environment_sky(
+    actors: list[Actor], values: ScenarioValues
+) -> tuple[tuple[float, float] | None, float | None]:
+    """The world's place and start time (``sim.sky``): ``(latitude, longitude)`` (radians)
+    of the first environment actor whose constraints give both, and the ``datetime``
+    (Unix seconds) of the first whose constraints give it; None for what none gives."""
+    site: tuple[float, float] | None = None
+    start: float | None = None
+    for actor in actors:
+        if actor.kind != "environment":
+            continue
+        latitude, longitude = (values.constrained_si(f"{actor.name}.{m}") for m in SITE)
+        if site is None and latitude is not None and longitude is not None:
+            site = (latitude, longitude)
+        if start is None:
+            start = values.constrained_si(f"{actor.name}.datetime")
+    return site, start

@@ -181,6 +181,9 @@ def _box_inertia(
 
     ours = box(mass, length, width, height)
     theirs = box(template.mass, template.length, template.width, template.height)
-    return tuple(  # type: ignore[return-value]
-        t * o / b for t, o, b in zip(template.inertia, ours, theirs, strict=True)
-    )
+    roll, pitch, yaw = (t * o / b for t, o, b in zip(template.inertia, ours, theirs, strict=True))
+    # every rigid body's principal moments meet the triangle inequality; the template's
+    # ratios scaled to a much longer body (a 30 m tram from a 12 m bus) can miss it
+    yaw = min(yaw, roll + pitch)
+    pitch = min(pitch, roll + yaw)
+    return roll, pitch, yaw

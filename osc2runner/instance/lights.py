@@ -4,10 +4,12 @@ In the standard a traffic light is a struct (``traffic_light``: a ``pose``, a
 size, a ``group`` and its ``bulbs``), switched by the actions of a
 ``traffic_light_controller``. Every scenario parameter of that type is a light
 in the world, at the world ``x``, ``y`` and yaw of its ``pose`` (the witness's
-values) — or, when its ``map_id`` is set, at the map's ``<signal>`` of that id
-(its pose from the signal's road, ``s``, ``t``, orientation and ``hOffset``,
-facing the traffic it is valid for; the ``pose`` is then not read). A
-``map_id`` that names no dynamic signal of the map stops the run before it
+values) — or, when its ``map_id`` names a dynamic ``<signal>`` of the map, at
+that signal (its pose from the signal's road, ``s``, ``t``, orientation and
+``hOffset``, facing the traffic it is valid for; the ``pose`` is then not
+read). A light whose ``map_id`` the map does not have (a built-in map has no
+signals) is the scenario's own and stands at its ``pose`` when the scenario
+gives the pose's ``x`` and ``y``; without them it stops the run before it
 starts, with the ids the map has. A light on the map without a ``group.map_id``
 is in the group of the map's ``<controller>`` that lists its signal. Its bulbs
 are the ``bulbs`` the scenario lists (``keep(it.bulbs == [red_bulb, ...])``),
@@ -87,6 +89,7 @@ class TrafficLight:
     value: SimpleNamespace
     history: list[LightState] = dataclasses.field(default_factory=list)
     controller: str = ""  # the map's <controller> that switches it, for a light on the map
+    placed: str = "pose"  # where it stands: at its "pose", or at the map's "signal"
 
     def __post_init__(self) -> None:
         if not self.history:
@@ -163,25 +166,34 @@ def traffic_lights(
             for bulb in bulbs:
                 bulb.state = "is_off"
         map_id = str(getattr(value, "map_id", "") or "")
-        if map_id:
-            signal = on_map.get(map_id)
-            if signal is None:
-                have = ", ".join(sorted(on_map)) or "none"
-                problems.append(
-                    RunProblem(
-                        f"traffic light {field.name!r}: map_id {map_id!r} is not a traffic "
-                        f"light of the map (its dynamic signals: {have})",
-                        field.name_span,
-                    )
-                )
-                continue
+        signal = on_map.get(map_id) if map_id else None
+        posed = all(
+            values.constrained_si(f"{field.name}.pose.position.{axis}") is not None
+            for axis in ("x", "y")
+        )
+        if signal is not None:
             where = network.signal_pose(signal)
             x, y, yaw = where.x, where.y, where.yaw
             controller = next((c.id for c in network.controllers if map_id in c.signals), "")
+            placed = "signal"
+        elif map_id and not posed:
+            have = ", ".join(sorted(on_map)) or "none"
+            problems.append(
+                RunProblem(
+                    f"traffic light {field.name!r}: map_id {map_id!r} is not a traffic "
+                    f"light of the map (its dynamic signals: {have}), and its pose is not "
+                    "given (keep(it.pose.position.x == ...), .y) to stand it there instead",
+                    field.name_span,
+                )
+            )
+            continue
         else:
             controller = ""
             pose = value.pose
             x, y = float(pose.position.x), float(pose.position.y)
             yaw = float(pose.orientation.yaw)
-        found.append(TrafficLight(field.name, x, y, yaw, value, controller=controller))
+            placed = "pose"
+        found.append(
+            TrafficLight(field.name, x, y, yaw, value, controller=controller, placed=placed)
+        )
     return found, problems

@@ -158,6 +158,14 @@ class ScenarioValues:
                 values.append(to_runtime(exact(item, element, self.model)))  # type: ignore[arg-type]
         return tuple(values)
 
+    def constrained_si(self, name: str) -> float | None:
+        """The SI value of the witness's parameter ``name`` (``env.datetime``,
+        ``env.geodetic_position.latitude``) when a constraint decides it, else None."""
+        p = self._by_name.get(name)
+        if p is None or not p.constrained or isinstance(p.value, (bool, str)):
+            return None
+        return float(p.value)
+
     def attribute(self, actor: Symbol, member: str) -> Value | None:
         """An actor field's attribute that a constraint decides (``keep(it.model ==
         ...)``), or None: attributes nothing constrains are not chosen by the solver."""

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Iterator
 
-from osc2check.capabilities import FORMS, absent_reason
+from osc2check.capabilities import FORMS, absent_reason, label_of
 from osc2check.semantics.model import Model
 from osc2check.semantics.stdlib import standard_library
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -25,7 +25,8 @@ _HEADER = """\
 
 What `osc2run` executes, for every action, modifier and implemented method of
 the bundled library (ASAM OpenSCENARIO DSL 2.1 `std` plus the toolkit's
-`osc2toolkit` extensions). Generated from the runner's method registry by
+`osc2toolkit` extensions and CARLA's world, `carla`; what plug-ins implement for
+your own libraries is not listed: docs/plugins.md). Generated from the runner's method registry by
 `python -m osc2runner.output.support > docs/coverage.md`; a test checks that this
 file is up to date. Invoking anything marked "no" is an error before the run
 starts, with its location: nothing is skipped silently. The reasons, and the forms
@@ -129,8 +130,7 @@ def _modifiers(model: Model, reg: MethodRegistry) -> list[str]:
         )
         entry = reg.find_modifier(model, mod)
         if entry is None:
-            owner = mod.actor.name if mod.actor else ""
-            why = _escape(absent_reason(f"{owner}.{mod.name}"))
+            why = _escape(absent_reason(label_of(mod)))
             rows.append(f"| `{mod.qualified_name}` | {where} | **no** | | {why} |")
         else:
             rows.append(

@@ -51,7 +51,7 @@ from osc2check.world.paths import LanePath
 from osc2check.world.projection import lane_centre
 from osc2check.world.topology import neighbour_n, side_neighbour
 from osc2check.world.tracking import PathCursor
-from osc2runner.sim.tracking import PathTracker
+from osc2runner.sim.tracking import PathTracker, stanley_steer
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
 from osc2runner.sim.world import ActorState, VehicleInput
@@ -408,17 +408,11 @@ def resolve_lane(network: RoadNetwork, lane: LaneRef | int, state: ActorState | 
 class StanleyController:
     """Lateral control on the front axle along a route of lane centre lines.
 
-    ``delta = atan(L kappa) + (psi_line - psi - asin(L kappa)) - atan(k e / (v_soft + |v|))``
-
-    ``e`` is the front axle's distance left of the line to follow (the route's centre
-    line moved by the offset profile), ``psi_line`` that line's heading where the front
-    axle projects onto it, ``kappa`` its curvature there and ``L`` the wheelbase. The
-    first term feeds the curvature forward (the steering of a car on a circle of
-    radius ``1 / kappa``); the heading error is taken from the heading such a car has
-    when its front axle is on the line (``asin(L kappa)`` less than the line's), so on
-    a curve it is zero when the car steers as it should, and it and the cross-track
-    term only correct what the feed-forward misses. On a straight line this is the
-    classic Stanley law.
+    The steering angle is :func:`~osc2runner.sim.tracking.stanley_steer`'s: Stanley's
+    law with the line's curvature fed forward. ``e`` is the front axle's distance left
+    of the line to follow (the route's centre line moved by the offset profile), the
+    line's heading is taken where the front axle projects onto it, and its curvature
+    there (the centre line's, at the offset).
 
     Parameters:
         params: the vehicle (wheelbase, front axle position, maximum steer angle).
@@ -576,14 +570,15 @@ class StanleyController:
         offset, slope = self.path.at(point.distance)
         self.error = (point.offset - offset) * math.cos(math.atan(slope))
         kappa = point.curvature / max(1.0 - point.curvature * offset, 0.1)
-        bend = min(max(self._wheelbase * kappa, -0.99), 0.99)
-        line = point.heading + math.atan(slope) - math.asin(bend)
-        heading_error = (line - yaw + math.pi) % (2.0 * math.pi) - math.pi
-        speed = abs(state.speed)
-        delta = (
-            math.atan(bend)
-            + heading_error
-            - math.atan2(self.gain * self.error, self.soft_speed + speed)
+        delta = stanley_steer(
+            self._wheelbase,
+            kappa,
+            point.heading + math.atan(slope),
+            yaw,
+            self.error,
+            self.gain,
+            self.soft_speed,
+            state.speed,
         )
         return min(max(delta / self.params.max_steer, -1.0), 1.0)
 
@@ -691,7 +686,7 @@ class VehicleController:
         """One control tick: the vehicle's inputs."""
         throttle, brake = self.speed.step(state)
         if self.path is not None:
-            steer = self.path.step(state.x, state.y, state.yaw, state.speed)
+            steer = self.path.step(state.x, state.y, state.yaw, state.speed, self.speed.target)
         else:
             steer = self.lateral.step(state)
         return VehicleInput(throttle, brake, steer)

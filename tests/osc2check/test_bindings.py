@@ -27,7 +27,7 @@ scenario top:
             lane(1, side: left, side_of: ego)
             until elapsed(3s)
         serial:
-            wait every(1s, offset: 2s)
+            wait every(1s, offset: 3s)
             emit seen(5m)
 """
 

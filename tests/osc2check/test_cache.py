@@ -12,6 +12,7 @@ from pathlib import Path
 import pytest
 
 from osc2check import cache
+from osc2check.semantics.profile import OSC_VERSIONS
 from osc2check.semantics.stdlib import standard_library
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -32,13 +33,17 @@ def folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return tmp_path / "cache"
 
 
-def _check(folder: Path | None, *paths: Path, no_cache: bool = False) -> tuple[int, str]:
+def _check(
+    folder: Path | None, *paths: Path, no_cache: bool = False, version: str | None = None
+) -> tuple[int, str]:
     env = {k: v for k, v in os.environ.items() if k not in ("OSC2_CACHE_DIR", "OSC2_NO_CACHE")}
     if folder is not None:
         env["OSC2_CACHE_DIR"] = str(folder)
     args = [sys.executable, "-m", "osc2check.cli", "--output-format", "concise"]
     if no_cache:
         args.append("--no-cache")
+    if version is not None:
+        args += ["--osc-version", version]
     done = subprocess.run(
         [*args, *map(str, paths)], env=env, capture_output=True, text=True, timeout=300
     )
@@ -105,12 +110,13 @@ def test_old_entries_of_a_kind_are_pruned(folder: Path) -> None:
     assert cache.load("probe-other", {}) == "kept"
 
 
-def test_the_library_from_the_cache_is_the_library_built(folder: Path) -> None:
-    built = standard_library()  # this process's, whichever way it came
-    stored = cache.load("stdlib", _stdlib_key())
+@pytest.mark.parametrize("version", OSC_VERSIONS)
+def test_the_library_from_the_cache_is_the_library_built(folder: Path, version: str) -> None:
+    built = standard_library(version)  # this process's, whichever way it came
+    stored = cache.load("stdlib", _stdlib_key(version))
     if stored is None:  # this process built it with the cache elsewhere: store a copy
-        cache.store("stdlib", _stdlib_key(), built)
-        stored = cache.load("stdlib", _stdlib_key())
+        cache.store("stdlib", _stdlib_key(version), built)
+        stored = cache.load("stdlib", _stdlib_key(version))
     assert stored is not built
     assert [_symbol_row(s) for s in stored.model.symbols] == [
         _symbol_row(s) for s in built.model.symbols
@@ -128,13 +134,14 @@ def test_the_library_from_the_cache_is_the_library_built(folder: Path) -> None:
     assert stored.model.declarations[symbol.decl] is symbol
 
 
-def _stdlib_key() -> dict[str, str]:
-    from osc2check.semantics.stdlib import LIBRARY_FILES
+def _stdlib_key(version: str) -> dict[str, str]:
+    from osc2check.resources import stdlib_dir
+    from osc2check.semantics.stdlib import LIBRARY_FILES, VERSION_FILES
     from osc2check.syntax.grammar import grammar_key
 
-    folder = next(iter(standard_library().parses)).rsplit(os.sep, 1)[0]
-    texts = {f"{folder}{os.sep}{n}": Path(folder, n).read_text("utf-8") for n in LIBRARY_FILES}
-    return {**grammar_key(), "library": cache.digest(*texts, *texts.values())}
+    names = [*LIBRARY_FILES, *VERSION_FILES.get(version, {}).values()]
+    texts = {str(stdlib_dir() / n): (stdlib_dir() / n).read_text("utf-8") for n in names}
+    return {**grammar_key(), "version": version, "library": cache.digest(*texts, *texts.values())}
 
 
 def _symbol_row(symbol) -> tuple[object, ...]:
@@ -200,3 +207,26 @@ def test_a_large_imported_file_is_parsed_once_per_version(
     library.write_text(library.read_text().replace("pose_7:", "pose_seven:"))
     assert findings() == [(4, "N101"), (5, "N101")] and str(library) in parsed
     assert len(list(folder.glob("import-*.bin"))) == 2  # each version kept, a few at most
+
+
+# vehicle_category!van is 2.2's (N106 under 2.1); speed_range a parameter 2.2 adds
+ONLY_2_2 = """\
+import osc.standard
+
+scenario top:
+    delivery: vehicle with:
+        keep(it.vehicle_category == vehicle_category!van)
+    do delivery.drive(duration: 5s) with:
+        speed(speed_range: [20kph..40kph])
+"""
+
+
+def test_each_osc_version_has_its_own_library_in_the_cache(tmp_path: Path) -> None:
+    scenario = tmp_path / "van.osc"
+    scenario.write_text(ONLY_2_2)
+    expected = {v: _check(None, scenario, no_cache=True, version=v) for v in ("2.1", "2.2")}
+    assert "N106" in expected["2.1"][1] and "N106" not in expected["2.2"][1]
+    folder = tmp_path / "cache"
+    # 2.1 fills the cache; 2.2 then finds a library entry that is not its own, and back
+    for version in ("2.1", "2.2", "2.2", "2.1"):
+        assert _check(folder, scenario, version=version) == expected[version], version

@@ -47,11 +47,13 @@ def test_each_form_is_reported_once_with_its_reason(key: str) -> None:
     ]
 
 
-def test_a_library_modifier_the_runner_lacks_is_reported() -> None:
-    found = _a308('    m.set_traffic_lights_control_file(file: "lights.xml")\n')
+def test_a_library_method_the_runner_lacks_is_reported() -> None:
+    found = _a308(
+        "    bm: behavioral_model\n    event go\n    on @go:\n        call car.set_bm(bm)\n"
+    )
     assert found == [
-        "`map.set_traffic_lights_control_file` is not executed by osc2run: "
-        f"{NOT_EXECUTED['map.set_traffic_lights_control_file']} (docs/coverage.md)"
+        "`physical_object.set_bm` is not executed by osc2run: "
+        f"{NOT_EXECUTED['physical_object.set_bm']} (docs/coverage.md)"
     ]
 
 

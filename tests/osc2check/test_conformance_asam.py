@@ -54,6 +54,10 @@ def _outline(node: ast.Node) -> tuple:
     )
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2check/test_conformance_asam")
+
+
 @pytest.fixture(scope="module")
 def analysis():
     config = AnalysisOptions(implicit_imports=(), modules={"osc.types": str(TYPES)})

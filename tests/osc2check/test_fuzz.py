@@ -253,6 +253,7 @@ def check_cli(folder: Path, data: bytes, output_format: str = "concise") -> None
 # --- hypothesis ---------------------------------------------------------------------------
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(ANY_TEXT)
 def test_parse_never_raises(text: str):
@@ -288,6 +289,7 @@ if all(_has_page(c) for c in codes.ALL):
     FORMATS.append("sarif")
 
 
+@pytest.mark.slow
 @SETTINGS
 @given(data=ANY_BYTES, output_format=st.sampled_from(FORMATS))
 def test_cli_exits_0_1_or_2_without_traceback(workdir: Path, data: bytes, output_format: str):
@@ -391,6 +393,7 @@ def test_invalid_utf8_and_nul_are_reported_as_p004():
         assert "P004" in {d.code.code for d in found.diagnostics}, name
 
 
+@pytest.mark.slow
 def test_a_50000_line_file_parses():
     lines = ["import osc.standard", ""]
     record = 0

@@ -14,6 +14,7 @@ import sys
 from dataclasses import fields
 from pathlib import Path
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -100,6 +101,7 @@ def _edit(old: str, start: int, end: int, inserted: str) -> tuple[str, Edit]:
     return new, Edit(start, end, start + len(inserted))
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None)
 @given(edit_chains(BASE))
 def test_a_chain_of_spliced_parses_is_the_whole_parse_of_each_text(chain):
@@ -113,6 +115,7 @@ def test_a_chain_of_spliced_parses_is_the_whole_parse_of_each_text(chain):
         previous = spliced if spliced is not None else whole
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(edit_chains(BASE, max_edits=4))
 def test_the_analysis_of_a_spliced_parse_is_the_analysis_of_the_text(chain):
@@ -129,6 +132,7 @@ def test_the_analysis_of_a_spliced_parse_is_the_analysis_of_the_text(chain):
         previous = from_splice.parses[URI]
 
 
+@pytest.mark.slow
 def test_typing_in_a_large_file_re_parses_one_segment_and_moves_the_rest():
     text = generate(2000)
     previous = parse(text, URI)

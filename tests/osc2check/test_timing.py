@@ -34,6 +34,7 @@ URI = "timing.osc"
 TIMING_FAILURES = (
     "did not complete within its duration",
     "had not completed when the first member",
+    "ended before the first member",
 )
 
 
@@ -81,12 +82,26 @@ RULES = [
     ("overlap any joins too", "parallel(overlap: any, duration: 2s):\n    wait elapsed(1s)\n    wait elapsed(3s)", True),
     # parallel that ends with its first member
     ("overlap equal: a wait outlasts the first", "parallel(overlap: equal):\n    hero.drive(duration: 1s)\n    wait elapsed(2s)", True),
-    ("overlap equal: a wait within the first", "parallel(overlap: equal):\n    hero.drive(duration: 2s)\n    wait elapsed(1s)", False),
+    # §7.3.9.3.3: `equal`, all members start and end at the same time: a member of known
+    # length shorter than the first cannot be held (a goal reached early can)
+    ("overlap equal: a wait shorter than the first", "parallel(overlap: equal):\n    hero.drive(duration: 2s)\n    wait elapsed(1s)", True),
+    ("overlap equal: a goal reached early is held", "parallel(overlap: equal):\n    hero.drive(duration: 2s)\n    hero.change_speed(target: 20kph)", False),
     ("overlap inside: a bounded drive not yet at its lower bound", "parallel(overlap: inside):\n    wait elapsed(2s)\n    hero.drive(duration: 3s)", True),
     ("overlap end: a bounded drive past its lower bound is stopped", "parallel(overlap: end):\n    wait elapsed(2s)\n    hero.drive(duration: [1s..3s])", False),
     ("overlap final: an open-ended drive is stopped", "parallel(overlap: final):\n    wait elapsed(2s)\n    hero.drive()", False),
     ("overlap initial: an open-ended first waits for the others", "serial(duration: 2s):\n    parallel(overlap: initial):\n        hero.drive()\n        wait elapsed(1s)\n    wait elapsed(1s)", False),
-    ("overlap equal: an until is not stopped as planned, but may end early", "parallel(overlap: equal):\n    wait elapsed(1s)\n    hero.drive() with:\n        until elapsed(0.5s)", False),
+    ("overlap equal: an until on an event may end early", "parallel(overlap: equal):\n    wait elapsed(1s)\n    hero.drive() with:\n        until hero.speed > 10kph", False),
+    ("overlap equal: an until elapsed ends before the first", "parallel(overlap: equal):\n    wait elapsed(1s)\n    hero.drive() with:\n        until elapsed(0.5s)", True),
+    # `end`: all members end at the same time, the longest starting first
+    ("overlap end: a longer member starts first", "serial(duration: 5s):\n    parallel(overlap: end):\n        wait elapsed(2s)\n        hero.drive(duration: 5s)", False),
+    ("overlap end: the members end together, after the longest", "serial(duration: 4s):\n    parallel(overlap: end):\n        wait elapsed(2s)\n        hero.drive(duration: 5s)", True),
+    ("overlap end: a shorter member starts late", "serial(duration: 3s):\n    parallel(overlap: end):\n        wait elapsed(3s)\n        hero.drive(duration: 1s)\n    wait elapsed(0s)", False),
+    # `final`: the others end with the first member and start no earlier than it
+    ("overlap final: a member longer than the first", "parallel(overlap: final):\n    wait elapsed(2s)\n    hero.drive(duration: 3s)", True),
+    ("overlap final: a shorter member starts late", "parallel(overlap: final):\n    wait elapsed(3s)\n    hero.drive(duration: 1s)", False),
+    # `full`: the others cover the first member
+    ("overlap full: a member shorter than the first", "parallel(overlap: full):\n    wait elapsed(2s)\n    hero.drive(duration: 1s)", True),
+    ("overlap full: a member that covers the first", "parallel(overlap: full):\n    wait elapsed(1s)\n    hero.drive(duration: 2s)", False),
     ("overlap equal: an until later than the first", "parallel(overlap: equal):\n    wait elapsed(1s)\n    hero.drive() with:\n        until elapsed(2s)", True),
     # one_of: one acting member, the waiting ones run alongside
     ("one_of ends with its waiting member", "serial(duration: 2s):\n    one_of:\n        hero.drive(duration: 3s)\n        wait elapsed(1s)\n    wait elapsed(1s)", False),
@@ -223,7 +238,7 @@ def test_instant_and_endless_actions_are_the_runners():
 
 DURATIONS = ["0.5s", "1s", "1.5s", "2s", "3s"]
 RANGES = ["[0.5s..1s]", "[1s..2s]", "[1.5s..3s]"]
-OVERLAPS = ["start", "equal", "end", "inside", "initial", "final", "any"]
+OVERLAPS = ["start", "equal", "end", "inside", "initial", "final", "full", "any"]
 
 
 @st.composite
@@ -285,6 +300,7 @@ CROSS = settings(
 )
 
 
+@pytest.mark.slow
 @CROSS
 @given(lines=members(2))
 def test_the_checker_reports_b608_exactly_when_the_runner_fails_on_timing(
@@ -305,6 +321,7 @@ def test_the_runner_agrees_with_each_rule(
     assert runner_fails_on_timing(scenario(body), monkeypatch) is infeasible
 
 
+@pytest.mark.slow
 @settings(
     derandomize=True,
     max_examples=60,

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 from fractions import Fraction
 
+import pytest
 import z3
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
@@ -121,6 +122,7 @@ def assert_minimal(problem: ir.ConstraintProblem, members: list[ir.Constraint]) 
         assert satisfiable(problem, members[:i] + members[i + 1 :]), members[i].text
 
 
+@pytest.mark.slow
 @IR_SETTINGS
 @given(modelled())
 def test_a_set_built_from_a_model_is_never_unsatisfiable(case):
@@ -133,6 +135,7 @@ def test_a_set_built_from_a_model_is_never_unsatisfiable(case):
     assert found is None or all(quick.evaluate(t, found) is True for t in terms)
 
 
+@pytest.mark.slow
 @IR_SETTINGS
 @given(modelled(), st.integers(0, 30))
 def test_an_injected_pair_is_exactly_the_conflict(case, gap):
@@ -150,6 +153,7 @@ def test_an_injected_pair_is_exactly_the_conflict(case, gap):
     assert conflict.primary is b  # the last user constraint
 
 
+@pytest.mark.slow
 @IR_SETTINGS
 @given(modelled(), st.data())
 def test_an_injected_bound_is_in_a_minimal_conflict(case, data):
@@ -172,6 +176,7 @@ def test_an_injected_bound_is_in_a_minimal_conflict(case, data):
         assert_minimal(problem, members)
 
 
+@pytest.mark.slow
 @IR_SETTINGS
 @given(modelled())
 def test_two_independent_conflicts_are_both_reported(case):

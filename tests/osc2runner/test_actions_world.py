@@ -466,6 +466,7 @@ def test_traffic_light_states_in_sequence_and_readable(tmp_path):
         "y": -1.0,
         "yaw": 0.0,
         "group": "north",
+        "placed": "pose",
     }
 
 

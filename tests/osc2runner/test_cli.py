@@ -70,6 +70,7 @@ def test_success_exits_0_and_writes_outputs(tmp_path, capsys):
     )
 
 
+@pytest.mark.slow
 def test_plots_are_written(tmp_path, capsys):
     out = tmp_path / "out"
     assert main([str(EVENTS), "--out", str(out), "--plot"]) == 0

@@ -49,6 +49,18 @@ scenario overlapping:
 """
 
 
+def _refused_then_failing(body: str, monkeypatch):
+    """``body`` is refused by the checker (B608, infeasible timing); run anyway (the
+    checker's timing constraints left out), it fails: the failed run's result."""
+    with pytest.raises(ScenarioError) as caught:
+        _run(body)
+    assert [d.code.code for d in caught.value.diagnostics] == ["B608"]
+    monkeypatch.setattr(timing, "lower_timing", lambda lowerer, scenario: None)
+    result = _run(body)
+    assert result.outcome.status == "failure"
+    return result
+
+
 @pytest.mark.parametrize("kind", JOIN)
 def test_join_kinds_end_when_every_member_has_ended(kind):
     result = _run(_overlap(kind, "duration: 5s"))
@@ -62,6 +74,8 @@ def test_join_kinds_end_when_every_member_has_ended(kind):
 
 @pytest.mark.parametrize("kind", ENDS_WITH_FIRST)
 def test_kinds_that_end_with_the_first_member(kind, monkeypatch):
+    if kind == "end":
+        pytest.skip("`end` starts a shorter member late instead (test_overlap_end_*)")
     # an open-ended second member ends as planned with the first
     result = _run(_overlap(kind, ""))
     assert result.outcome.status == "success", result.outcome.reason
@@ -70,21 +84,61 @@ def test_kinds_that_end_with_the_first_member(kind, monkeypatch):
     assert (end - start) * DT == pytest.approx(3.0)
     # a second member with a 5 s phase cannot end no later than the 3 s first one: the
     # checker says so (B608) and nothing runs ...
-    with pytest.raises(ScenarioError) as caught:
-        _run(_overlap(kind, "duration: 5s"))
-    assert [d.code.code for d in caught.value.diagnostics] == ["B608"]
     # ... and the runner, given it anyway (the checker's timing model left out), fails
     # it when the first member ends
-    monkeypatch.setattr(timing, "lower_timing", lambda lowerer, scenario: None)
-    result = _run(_overlap(kind, "duration: 5s"))
-    assert result.outcome.status == "failure"
+    result = _refused_then_failing(_overlap(kind, "duration: 5s"), monkeypatch)
     assert f"parallel(overlap: {kind})" in result.outcome.reason
     (stopped,) = [r.tick for r in result.events if r.kind == "outcome"]
     assert (stopped - start) * DT == pytest.approx(3.0)
 
 
+def test_overlap_end_starts_the_shorter_member_late_so_that_all_end_together():
+    # §7.3.9.3.3 `end`: all members end at the same time. The 3 s first member starts
+    # 2 s after the 5 s second one (on main both started at once and the checker
+    # refused it, B608)
+    result = _run(_overlap("end", "duration: 5s"))
+    assert result.outcome.status == "success", result.outcome.reason
+    (start,) = result.event_ticks("start", "together.start")
+    (end,) = result.event_ticks("end", "together.end")
+    assert (end - start) * DT == pytest.approx(5.0)
+    a_start = result.event_ticks("start", "a.drive")[0]  # (a 1 s drive follows)
+    (b_start,) = result.event_ticks("start", "b.drive")
+    assert (a_start - start) * DT == pytest.approx(2.0)
+    assert b_start == start
+    a_end = result.event_ticks("end", "a.drive")[0]
+    (b_end,) = result.event_ticks("end", "b.drive")
+    assert a_end == b_end == end
+
+
+def test_overlap_final_starts_a_shorter_member_late():
+    # `final`: the others end with the first member and start no earlier than it
+    body = _overlap("final", "duration: 1s")
+    result = _run(body)
+    assert result.outcome.status == "success", result.outcome.reason
+    (start,) = result.event_ticks("start", "together.start")
+    (b_start,) = result.event_ticks("start", "b.drive")
+    (b_end,) = result.event_ticks("end", "b.drive")
+    (end,) = result.event_ticks("end", "together.end")
+    assert (b_start - start) * DT == pytest.approx(2.0)
+    assert b_end == end and (end - start) * DT == pytest.approx(3.0)
+
+
+@pytest.mark.parametrize("kind", ["equal", "full"])
+def test_a_member_shorter_than_the_first_cannot_keep_equal_or_full(kind, monkeypatch):
+    # `equal`: all start and end together; `full`: the others cover the first. A 1 s
+    # member cannot be held as long as a 3 s first one: the checker says so ...
+    # ... and the runner, given it anyway, fails when the short member ends
+    result = _refused_then_failing(_overlap(kind, "duration: 1s"), monkeypatch)
+    assert "ended before the first member" in result.outcome.reason
+
+
 def test_a_member_done_early_is_held_until_the_first_ends():
-    result = _run(_overlap("equal", "duration: 1s"))
+    # a goal reached early is held (its phase may go on); a fixed length cannot be
+    body = _overlap("equal", "").replace(
+        "b.drive() with:\n                speed(40kph)", "b.change_speed(target: 35kph)"
+    )
+    assert "b.change_speed" in body
+    result = _run(body)
     assert result.outcome.status == "success", result.outcome.reason
     (start,) = result.event_ticks("start", "together.start")
     (end,) = result.event_ticks("end", "together.end")

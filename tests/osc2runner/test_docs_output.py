@@ -11,6 +11,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
+
 from osc2runner.cli import main
 from tests.docs_blocks import ROOT, check_block
 
@@ -26,6 +28,7 @@ def normalized(output: str) -> str:
     )
 
 
+@pytest.mark.slow
 def test_readme_quotes_what_the_set_up_command_prints(tmp_path: Path, monkeypatch, capsys) -> None:
     monkeypatch.chdir(tmp_path)
     (tmp_path / "examples").symlink_to(ROOT / "examples")

@@ -16,6 +16,10 @@ SCENARIOS = Path(__file__).parent / "scenarios"
 KPH = 1000.0 / 3600.0
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/test_event_parameters")
+
+
 @pytest.fixture(scope="module")
 def emitted():
     prepared = prepare(SCENARIOS / "event_parameters.osc")

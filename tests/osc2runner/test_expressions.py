@@ -37,6 +37,10 @@ scenario s:
 """
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/test_expressions")
+
+
 @pytest.fixture(scope="module")
 def prepared() -> Prepared:
     return prepare("<expressions>.osc", source=TEXT)

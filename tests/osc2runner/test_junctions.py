@@ -97,6 +97,7 @@ def test_turn_across_path_at_the_euro_ncap_crossing(tmp_path: Path) -> None:
     _turn_across_path(tmp_path, NCAP, 250.0, seed=0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 def test_turn_across_path_at_the_bundled_four_way_junction(tmp_path: Path, seed: int) -> None:
     _turn_across_path(tmp_path, FOUR_WAY, 200.0, seed)

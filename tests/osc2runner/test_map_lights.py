@@ -74,3 +74,45 @@ def test_a_map_id_the_map_does_not_have_is_an_error_at_the_light(tmp_path: Path)
     assert ":9:5: error:" in text and "lights.osc" in text
     assert "map_id 'tl9' is not a traffic light of the map" in text
     assert "tl1, tl2, tl3, tl4" in text
+
+
+def test_a_light_the_map_does_not_have_stands_at_the_pose_the_scenario_gives(tmp_path: Path):
+    """ASAM OpenSCENARIO DSL 2.1 §8.15: ``pose`` is a light's mandatory place, ``map_id``
+    an optional id in the map; a light the map does not have is the scenario's own."""
+    source = tmp_path / "lights.osc"
+    source.write_text(
+        SCENARIO.replace(
+            'keep(it.map_id == "{west}")',
+            'keep(it.map_id == "tl9")\n'
+            "        keep(it.pose.position.x == 12m)\n"
+            "        keep(it.pose.position.y == -7m)\n"
+            "        keep(it.pose.orientation.yaw == 90deg)",
+        )
+    )
+    result = run(source, out=tmp_path / "out")
+    assert result.outcome.status == "success", result.outcome.reason
+    west = result.metadata["traffic_lights"]["west"]
+    assert (west["x"], west["y"], west["placed"]) == (12.0, -7.0, "pose")
+    assert west["yaw"] == pytest.approx(1.5707963, abs=1e-6)
+    assert west["group"] == ""  # in no controller's group: sync does not switch it
+    assert list(result.lights["west"]["semantic"]) == ["off"] * len(result.lights["west"]["tick"])
+    assert result.metadata["traffic_lights"]["east"]["placed"] == "signal"
+
+
+def test_a_light_with_a_map_id_and_a_pose_stands_on_a_built_in_road(tmp_path: Path):
+    source = tmp_path / "lights.osc"
+    source.write_text(
+        "import osc.standard\n\nscenario s:\n    ctrl: traffic_light_controller\n"
+        "    tl: traffic_light with:\n"
+        '        keep(it.map_id == "signal_7")\n'
+        "        keep(it.pose.position.x == 80m)\n"
+        "        keep(it.pose.position.y == -1m)\n"
+        "    do serial:\n"
+        "        ctrl.set_semantic_state(traffic_light: tl, state: stop)\n"
+        "        wait elapsed(0.5s)\n"
+    )
+    result = run(source)
+    assert result.outcome.status == "success", result.outcome.reason
+    tl = result.metadata["traffic_lights"]["tl"]
+    assert (tl["x"], tl["y"], tl["placed"]) == (80.0, -1.0, "pose")
+    assert result.lights["tl"]["semantic"][-1] == "stop"

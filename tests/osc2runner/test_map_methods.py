@@ -57,7 +57,7 @@ def test_xyz_and_route_points_round_trip_on_the_road(rural) -> None:  # noqa: AN
 
 def test_odr_points_measure_t_from_the_lane_centre_when_a_lane_is_given(rural) -> None:  # noqa: ANN001
     point = maps.create_odr_point(rural, None, "1", "-1", 120.0, 0.5)
-    road, s, t = maps._odr_coordinates(rural, point)
+    road, s, t = maps.odr_coordinates(rural, point)
     assert (road, s, t) == ("1", 120.0, pytest.approx(-1.75 + 0.5))
     route = maps.odr_to_route_point(rural, None, "1", "", 120.0, 1.0)
     assert route.route.direction == -1 and route.s == pytest.approx(860.0)

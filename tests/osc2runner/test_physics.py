@@ -262,12 +262,14 @@ def _scripted_run() -> tuple[str, bytes]:
     return digest.hexdigest(), world.state_array().tobytes()
 
 
+@pytest.mark.slow
 def test_two_runs_are_bit_identical():
     first, second = _scripted_run(), _scripted_run()
     assert first[0] == second[0]
     assert first[1] == second[1]
 
 
+@pytest.mark.slow
 def test_a_fresh_process_gives_the_same_run():
     """Same inputs and versions in a new interpreter: the same bits."""
     here = Path(__file__).resolve().parent

@@ -57,6 +57,10 @@ scenario plotted:
 """
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/test_plots")
+
+
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory: pytest.TempPathFactory) -> Path:
     path = tmp_path_factory.mktemp("plotted")

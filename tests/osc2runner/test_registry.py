@@ -28,12 +28,15 @@ import osc.standard
 scenario s:
     hero: vehicle
     box: trailer
-    m: map
+    bm: behavioral_model
+    event go
     do serial:
         hero.connect_trailer(trailer: box)
         box.drive(duration: 2s)
-    m.set_traffic_lights_control_file(file: "lights.xml")
+    on @go:
+        call hero.set_bm(bm)
 """
+SET_BM = "    on @go:\n        call hero.set_bm(bm)\n"
 
 
 def _symbol(kind: str, name: str, actor: str | None = None):
@@ -136,18 +139,16 @@ def test_required_actions_and_modifiers_are_registered():
 
 
 def test_unsupported_action_and_modifier_stop_the_run_with_their_locations():
-    without_lights = UNSUPPORTED.replace(
-        '    m.set_traffic_lights_control_file(file: "lights.xml")\n', ""
-    )
+    without_set_bm = UNSUPPORTED.replace(SET_BM, "")
     with pytest.raises(ScenarioError) as caught:
-        compile_file("<unsupported>.osc", source=without_lights)
+        compile_file("<unsupported>.osc", source=without_set_bm)
     problems = [(p.span.line, p.span.column, p.message) for p in caught.value.problems]
-    trailer = [p for p in problems if p[:2] == (9, 13)]  # a trailer has no driver
+    trailer = [p for p in problems if p[:2] == (10, 13)]  # a trailer has no driver
     assert trailer and "`box` is a trailer" in trailer[0][2] and "`drive`" in trailer[0][2]
     with pytest.raises(ScenarioError) as refused:  # the table's: the checker's finding
         compile_file("<unsupported>.osc", source=UNSUPPORTED)
     found = [(d.code.code, d.span.line, d.span.column) for d in refused.value.diagnostics]
-    assert found == [("A308", 10, 7)]
+    assert found == [("A308", 12, 14)]
 
 
 def test_the_registry_runs_exactly_what_the_capability_table_does_not_exclude():

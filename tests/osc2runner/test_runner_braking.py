@@ -20,6 +20,10 @@ G = 9.81
 V80 = 80 / 3.6
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/test_runner_braking")
+
+
 @pytest.fixture(scope="module")
 def braking() -> RunResult:
     result = run(ROOT / "examples" / "braking_friction.osc", duration=120.0)

@@ -21,6 +21,10 @@ SCENARIOS = Path(__file__).parent / "scenarios"
 KPH = 1000.0 / 3600.0
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/test_sampling")
+
+
 @pytest.fixture(scope="module")
 def sampled():
     prepared = prepare(SCENARIOS / "sampling.osc")

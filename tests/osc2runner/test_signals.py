@@ -104,6 +104,7 @@ def _check_complete(out: Path, signame: str) -> dict[str, Any]:
     return meta
 
 
+@pytest.mark.slow
 @POSIX
 @pytest.mark.parametrize("signame", ["SIGTERM", "SIGHUP", "SIGINT"])
 def test_a_signal_mid_run_writes_complete_files(tmp_path, signame):
@@ -137,6 +138,7 @@ def test_a_signal_mid_run_writes_complete_files(tmp_path, signame):
     assert meta["simulated_time"] >= 1.0
 
 
+@pytest.mark.slow
 @POSIX
 def test_a_second_sigint_while_the_files_are_written_does_not_cut_them(tmp_path):
     source = tmp_path / "long.osc"

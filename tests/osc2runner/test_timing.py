@@ -114,10 +114,14 @@ scenario wrong_start:
 
 
 def test_a_start_that_does_not_hold_in_a_later_phase_fails_the_run():
+    # the drive before it tries (50 kph more in 2 s is beyond a car's acceleration): the
+    # failure is physics, said with the measured speed, the one asked and the tolerance
     result = _run(SPEED_AT_START_LATER)
     assert result.outcome.status == "failure"
     assert "does not hold when the phase starts" in result.outcome.reason
-    assert "not 80.00 kph" in result.outcome.reason
+    assert "not 80.00 kph (tolerance 0.54 kph)" in result.outcome.reason
+    car = result.telemetry["car"]
+    assert car["speed"][result.outcome.tick] > 40 * KPH  # it accelerated towards it
     assert "<timing>.osc:10:9:" in result.outcome.reason  # the invocation's place
     assert result.outcome.time == pytest.approx(2.0)  # when that phase starts
 
@@ -235,3 +239,167 @@ def test_driving_past_the_end_of_the_road_fails_the_run():
     assert "drove past the end of the road" in result.outcome.reason
     car = result.telemetry["car"]
     assert car["x"][-1] > 1000.0 and result.outcome.time < 5.0
+
+
+# ---- plans that know their deadline (docs/runner.md "Deadlines and tolerances")
+
+CHANGE_LANE_TIMED = """\
+scenario move_over:
+    car: vehicle
+    do serial:
+        car.assign_position() with:
+            lane(1, at: start)
+            speed(50kph, at: start)
+        car.change_lane(num_of_lanes: 1, side: left, duration: 3s)
+        car.drive(duration: 1s)
+"""
+
+
+def test_a_change_lane_with_a_duration_finishes_inside_it():
+    # a 3 s change_lane is planned to arrive a margin (two control periods) before its
+    # bound, so the tracking's lag of a tick does not fail it (on main: "did not complete
+    # within its duration (3 s)", 1.5 cm from the new lane's centre)
+    result = _run(CHANGE_LANE_TIMED)
+    assert result.outcome.status == "success", result.outcome.reason
+    car = result.telemetry["car"]
+    start = _tick(result, "start", "car.change_lane")
+    end = _tick(result, "end", "car.change_lane")
+    assert (end - start) * DT <= 3.0 + 1e-9
+    assert (end - start) * DT >= 2.5  # spread over the phase, not done at once
+    assert car["lane"][end] == 2
+    assert car["y"][end] == pytest.approx(1.5 * 3.5, abs=0.175)
+
+
+SPEED_AT_END_IN_PARALLEL = """\
+scenario speed_up:
+    hero: vehicle
+    npc: vehicle
+    do serial:
+        parallel:
+            hero.assign_position() with:
+                lane(1, at: start)
+                speed(30kph, at: start)
+            npc.assign_position() with:
+                lane(2, at: start)
+                speed(30kph, at: start)
+        parallel(duration: 25s):
+            hero.drive() with:
+                speed(80kph, at: end)
+            npc.drive() with:
+                speed(30kph)
+"""
+
+
+def test_speed_at_end_is_planned_against_an_enclosing_parallel_duration():
+    # the drive has no duration of its own: its phase ends when the `parallel(duration:
+    # 25s)` does, and the plan knows that (on main the car never accelerated and the run
+    # failed "does not hold when the phase ends")
+    result = _run(SPEED_AT_END_IN_PARALLEL)
+    assert result.outcome.status == "success", result.outcome.reason
+    hero = result.telemetry["hero"]
+    start, end = _tick(result, "start", "hero.drive"), _tick(result, "end", "hero.drive")
+    assert (end - start) * DT == pytest.approx(25.0)
+    assert hero["speed"][end] == pytest.approx(80 * KPH, abs=0.54 * KPH)
+    # one constant rate that arrives a margin early: 50 kph over 24.9 s, 55 kph half way
+    assert hero["speed"][start + 250] == pytest.approx(55 * KPH, abs=1.0 * KPH)
+
+
+# ---- at: start in a phase that begins later is brought about (docs/runner.md)
+
+START_LATER = """\
+scenario get_ready:
+    car: vehicle
+    do serial:
+        car.assign_position() with:
+            lane(1, at: start)
+            speed(30kph, at: start)
+        car.drive(duration: 6s)
+        car.drive(duration: 2s) with:
+            speed(50kph, at: start)
+            lane(2, at: start)
+"""
+
+
+def test_a_start_in_a_later_phase_is_brought_about_by_the_phase_before():
+    # the drive before it plans to arrive at 50 kph in lane 2 when it ends (on main the
+    # second phase failed "does not hold when the phase starts", as CARLA and Scena
+    # scenarios with a later `at: start` did)
+    result = _run(START_LATER)
+    assert result.outcome.status == "success", result.outcome.reason
+    car = result.telemetry["car"]
+    first, second = _tick(result, "start", "car.drive"), _tick(result, "start", "car.drive", 1)
+    assert (second - first) * DT == pytest.approx(6.0)
+    assert car["speed"][second] == pytest.approx(50 * KPH, abs=0.54 * KPH)
+    assert car["lane"][second] == 2
+    assert car["y"][second] == pytest.approx(1.5 * 3.5, abs=0.175)
+    # planned against the deadline: still near 30 kph and in lane 1 early on
+    assert car["speed"][first + 20] < 35 * KPH
+    assert car["lane"][first + 40] == 1
+
+
+START_LATER_IN_PARALLEL = """\
+scenario get_behind:
+    lead: vehicle
+    car: vehicle
+    do serial:
+        parallel:
+            lead.assign_position() with:
+                lane(1, at: start)
+                position(distance: 150m, at: start)
+                speed(40kph, at: start)
+            car.assign_position() with:
+                lane(1, at: start)
+                position(distance: 60m, behind: lead, at: start)
+                speed(40kph, at: start)
+        parallel(duration: 10s):
+            lead.drive() with:
+                speed(40kph)
+            car.drive()
+        parallel(duration: 2s):
+            lead.drive() with:
+                speed(40kph)
+            car.drive() with:
+                position(distance: 30m, behind: lead, at: start)
+"""
+
+
+def test_a_relative_position_at_a_later_start_is_brought_about():
+    result = _run(START_LATER_IN_PARALLEL)
+    assert result.outcome.status == "success", result.outcome.reason
+    lead, car = result.telemetry["lead"], result.telemetry["car"]
+    third = _tick(result, "start", "car.drive", 1)
+    gap = (lead["x"][third] - 2.25) - (car["x"][third] + 2.25)
+    assert gap == pytest.approx(30.0, abs=0.4)
+
+
+SPEED_AT_END_IN_SERIAL = """\
+scenario speed_up_later:
+    car: vehicle
+    do serial:
+        car.assign_position() with:
+            lane(1, at: start)
+            speed(30kph, at: start)
+        serial(duration: 8s):
+            car.drive(duration: 3s)
+            car.drive() with:
+                speed(60kph, at: end)
+        car.drive() with:
+            speed(40kph, at: end)
+            until elapsed(6s)
+"""
+
+
+def test_speed_at_end_is_planned_against_a_serial_duration_and_an_until_elapsed():
+    # the second drive ends when the 8 s serial does (5 s after it starts); the third
+    # when its `until elapsed(6s)` occurs: each plans its change over its own phase
+    result = _run(SPEED_AT_END_IN_SERIAL)
+    assert result.outcome.status == "success", result.outcome.reason
+    car = result.telemetry["car"]
+    second, third = _tick(result, "start", "car.drive", 1), _tick(result, "start", "car.drive", 2)
+    assert (third - second) * DT == pytest.approx(5.0)
+    assert car["speed"][third] == pytest.approx(60 * KPH, abs=0.54 * KPH)
+    assert car["speed"][second + 50] == pytest.approx(45 * KPH, abs=1.0 * KPH)  # half way
+    end = _tick(result, "stop", "car.drive")  # (an `until` stops its phase)
+    assert (end - third) * DT == pytest.approx(6.0)
+    assert car["speed"][end] == pytest.approx(40 * KPH, abs=0.54 * KPH)
+    assert car["speed"][third + 60] == pytest.approx(50 * KPH, abs=1.0 * KPH)

@@ -11,7 +11,9 @@ What is read, element by element:
   ``<lanes>``: ``<laneOffset>`` records and lane sections with their lanes
   (``id``, ``type``, ``direction``, lane links, ``<width>`` or ``<border>``
   records, the first ``<speed>``); ``<signals>``: ``<signal>`` and
-  ``<signalReference>`` with their ``<validity>``.
+  ``<signalReference>`` with their ``<validity>``; ``<objects>``: each ``<object
+  type="crosswalk">`` (``id``, ``s``, ``t``, ``hdg``, ``length``, ``width``) as a
+  crossing (:class:`~osc2check.world.network.Crossing`).
 * ``<junction>``: ``id``, ``name``, ``type``; connections (``incomingRoad``,
   ``connectingRoad`` or, in direct junctions, ``linkedRoad``, ``contactPoint``)
   and their ``<laneLink from to>``.
@@ -20,7 +22,7 @@ What is read, element by element:
 
 Not read: ``<lateralProfile>`` (superelevation, shape), lane ``<height>``,
 ``<roadMark>``, ``<material>``, ``<visibility>``, ``<access>``, ``<rule>``,
-``<objects>``, ``<surface>``, ``<railroad>``, ``<station>``, ``<geoReference>``,
+other ``<objects>``, ``<surface>``, ``<railroad>``, ``<station>``, ``<geoReference>``,
 ``<offset>``, user data. They change neither where lanes are nor how they link.
 
 Each problem raises :class:`~osc2check.world.errors.MapError` at the element:
@@ -39,6 +41,7 @@ from osc2check.world.geometry import Cubic, Geometry
 from osc2check.world.network import (
     Connection,
     Controller,
+    Crossing,
     Junction,
     RoadLink,
     Signal,
@@ -105,6 +108,7 @@ def _road(e: Element) -> RoadSpec:
         raise e.error(f"road `{road_id}` has no <lanes>")
     elevation = e.find("elevationProfile")
     signals = e.find("signals")
+    objects = e.find("objects")
     return RoadSpec(
         id=road_id,
         name=e.text("name", ""),
@@ -126,6 +130,13 @@ def _road(e: Element) -> RoadSpec:
         signal_references=()
         if signals is None
         else tuple(_signal_reference(x, road_id) for x in signals.findall("signalReference")),
+        crossings=()
+        if objects is None
+        else tuple(
+            _crossing(x, road_id)
+            for x in objects.findall("object")
+            if x.text("type", "") == "crosswalk"
+        ),
         line=e.line,
         column=e.column,
     )
@@ -278,6 +289,19 @@ def _lane(e: Element) -> LaneSpec:
         speed_limit=None if speed is None else _speed(speed),
         line=e.line,
         column=e.column,
+    )
+
+
+def _crossing(e: Element, road: str) -> Crossing:
+    return Crossing(
+        id=e.text("id"),
+        road=road,
+        s=e.number("s"),
+        t=e.number("t"),
+        hdg=e.number("hdg", 0.0),
+        length=e.number("length"),
+        width=e.number("width"),
+        line=e.line,
     )
 
 

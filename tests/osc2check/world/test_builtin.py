@@ -1,5 +1,6 @@
 """The built-in straight maps: their table, and the networks built from it, against the
-closed-form geometry of a straight road (lanes counted from the right, ``s`` from the entry)."""
+closed-form geometry of a straight road (lanes counted from the right, ``s`` from the entry);
+the Town03 stand-in, a road through a junction."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import numpy as np
 import pytest
 
 from osc2check.world.builtin import (
+    BUILTIN_MAPS,
     BuiltinMap,
     builtin_lane,
     builtin_map,
@@ -29,7 +31,7 @@ def _scenario_lane(row: BuiltinMap, lane: int) -> int:
     return row.lane_count + 1 - lane if row.numbering == "from_left" else lane
 
 
-@pytest.mark.parametrize("name", map_names())
+@pytest.mark.parametrize("name", list(BUILTIN_MAPS))
 def test_lane_centres_are_those_of_a_straight_road(name: str) -> None:
     row = builtin_map(name)
     net = builtin_network(name)
@@ -46,7 +48,7 @@ def test_lane_centres_are_those_of_a_straight_road(name: str) -> None:
         assert net.lane_from_scenario("0", 10.0, _scenario_lane(row, lane)) == ref
 
 
-@pytest.mark.parametrize("name", map_names())
+@pytest.mark.parametrize("name", list(BUILTIN_MAPS))
 def test_lane_of_a_point_is_the_lane_between_its_borders(name: str) -> None:
     row = builtin_map(name)
     net = builtin_network(name)
@@ -121,3 +123,22 @@ def test_load_map_prefers_an_existing_file_then_builtin_names(tmp_path) -> None:
         load_map("Town99")
     with pytest.raises(MapError, match="no such file"):
         load_map("nowhere.xodr", tmp_path)
+
+
+def test_the_town03_stand_in_leads_each_way_straight_through_its_junction() -> None:
+    from osc2check.world.carriageways import carriageways
+
+    net = builtin_network("Town03")
+    assert "Town03" in map_names() and load_map("Town03.xodr") is net
+    assert net.numbering == "from_left" and list(net.junctions) == ["100"]
+    ways = {cw.label: cw for cw in carriageways(net)}
+    # eastbound on the west arm and westbound on the east arm run into the junction, with
+    # the other arm ahead of them; two lanes each way everywhere
+    assert ways["road 1"].exit_junction == "100" and ways["road 1"].ahead == 630.0
+    assert ways["road 2 (against s)"].exit_junction == "100"
+    assert ways["road 2"].exit_junction is None and ways["road 1 (against s)"].ahead == 0.0
+    assert {cw.most_lanes for cw in ways.values()} == {2}
+    entry = LaneRef("1", 0, -1)  # next to the centre line: lane 1 counted from the left
+    assert net.scenario_lane(entry) == 1
+    (span,) = [s for s in net.reachable(entry, 600.0, 100.0) if s.lane.road == "2"]
+    assert span.lane == LaneRef("2", 0, -1)

@@ -24,6 +24,10 @@ BUNDLED = sorted(p.name for p in BUNDLED_MAPS.glob("*.xodr"))
 MAPS = ([p.name for p in shared_maps()] or ["esmini_curves.xodr"]) + BUNDLED
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2check/world/test_conformance_maps")
+
+
 @pytest.fixture(scope="module")
 def networks() -> dict[str, RoadNetwork]:
     paths = shared_maps() + [BUNDLED_MAPS / name for name in BUNDLED]

@@ -43,6 +43,10 @@ class _Asking(RoadLocator):
         return True
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2check/world/test_tracking")
+
+
 @pytest.fixture(scope="module")
 def crossing() -> RoadNetwork:
     return load_opendrive(FOUR_WAY)
@@ -58,6 +62,7 @@ def _same(a: RoadPosition, b: RoadPosition) -> bool:
     )
 
 
+@pytest.mark.slow
 def test_a_walk_over_the_junction_gives_what_asking_the_network_gives(
     crossing: RoadNetwork,
 ) -> None:
@@ -74,6 +79,7 @@ def test_a_walk_over_the_junction_gives_what_asking_the_network_gives(
                 assert got.drivable == wanted, (x, y)
 
 
+@pytest.mark.slow
 def test_a_walker_on_a_sidewalk_away_from_the_junction_asks_nothing_of_the_network(
     crossing: RoadNetwork,
 ) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import asyncio
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from lsprotocol import types
@@ -37,6 +38,7 @@ def _steps(target: str):
         yield target[:i]
 
 
+@pytest.mark.slow
 def test_typing_and_deleting_the_seed_never_fails():
     target = seed_path().read_text(encoding="utf-8")
     snap = snapshot("")
@@ -70,6 +72,7 @@ STORM_BASE = (
 STORM_URI = "file:///tmp/osc2lsp-tests/feature-storm.osc"
 
 
+@pytest.mark.slow
 @settings(max_examples=40, deadline=None)
 @given(storms(STORM_BASE, max_edits=10), st.sampled_from(["utf-16", "utf-8", "utf-32"]))
 def test_edit_storms_end_with_the_clis_findings(edits, encoding):

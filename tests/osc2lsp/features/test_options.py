@@ -48,3 +48,34 @@ def test_client_options_apply_over_the_file_configuration(tmp_path):
 def test_apply_options_without_changes_keeps_the_configuration():
     config = Config(fail_on=Severity.WARNING)
     assert apply_options(config, Options()) is config
+
+
+def test_the_plugins_of_the_configuration_are_the_servers_too(tmp_path):
+    """[tool.osc2check] plugins: the server's checker knows what they implement (no A308),
+    and one that cannot be loaded is a configuration problem said once."""
+    from pathlib import Path
+
+    from osc2lsp.state import analyse
+
+    examples = Path(__file__).parents[3] / "examples" / "plugins"
+    for name in ("greeting.osc", "driving.osc", "example_plugin.py"):
+        (tmp_path / name).write_text((examples / name).read_text(encoding="utf-8"))
+    greeting = tmp_path / "greeting.osc"
+    text = greeting.read_text(encoding="utf-8")
+
+    def a308(config: Config) -> list[int]:
+        snapshot = analyse([(greeting.as_uri(), text, 1)], config)[greeting.as_uri()]
+        return [d.span.line for d in snapshot.analysis.diagnostics if d.code.code == "A308"]
+
+    configs = CheckerConfigs()
+    assert a308(configs.for_file(str(greeting), Options())) == [15, 19, 20]
+    (tmp_path / "osc2check.toml").write_text('plugins = ["example_plugin.py"]\n')
+    assert a308(configs.for_file(str(greeting), Options())) == []
+    assert configs.problems == []
+    (tmp_path / "osc2check.toml").write_text('plugins = ["no_such_plugin_xyz"]\n')
+    configs = CheckerConfigs()
+    assert a308(configs.for_file(str(greeting), Options())) == [15, 19, 20]
+    assert configs.problems == [
+        "plugins: plug-in `no_such_plugin_xyz` cannot be imported: "
+        "ModuleNotFoundError: No module named 'no_such_plugin_xyz'"
+    ]

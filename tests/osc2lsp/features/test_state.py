@@ -6,6 +6,8 @@ import asyncio
 import gc
 import weakref
 
+import pytest
+
 from osc2lsp.options import Options
 from osc2lsp.state import MAX_REPLACED, State
 from tests.osc2lsp.cli_findings import cli_findings
@@ -90,6 +92,7 @@ def test_closed_workspace_files_that_mention_a_name_are_analysed(tmp_path):
     assert again[0] is found[0]  # cached until the file changes
 
 
+@pytest.mark.slow
 def test_the_solver_phase_adds_its_findings_after_the_first():
     async def scenario():
         batches: list[list] = []
@@ -104,7 +107,7 @@ def test_the_solver_phase_adds_its_findings_after_the_first():
 
         state = State(Options(debounce=0, verify_delay=0), publish)
         state.open("file:///tmp/conflict.osc", CONFLICT, 1)
-        await asyncio.wait_for(done.wait(), 120)
+        await asyncio.wait_for(done.wait(), 600)  # a hang guard
         await state.shutdown()
         return batches
 
@@ -132,7 +135,7 @@ def test_a_slow_documents_edit_is_previewed_before_it_is_analysed():
         state.open(uri, text, 1)
         await state.fresh(uri)
         state.change(uri, edited, 2)
-        await asyncio.wait_for(analysed.wait(), 60)
+        await asyncio.wait_for(analysed.wait(), 600)  # a hang guard
         await state.shutdown()
         return [p for p in published if p[0] == 2]
 

@@ -3,6 +3,7 @@ offsets between two versions of a text."""
 
 from __future__ import annotations
 
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from lsprotocol import types
@@ -43,6 +44,7 @@ def test_line_starts_follow_the_lsp_specification(text):
 BASE = "# a\fcomment\u2028with\x85separators\nscenario s:\n    x: int\r\n    y: int\rdo\n"
 
 
+@pytest.mark.slow
 @settings(max_examples=200, deadline=None)
 @given(storms(BASE), st.sampled_from(["utf-16", "utf-8", "utf-32"]))
 def test_a_storm_of_client_edits_gives_the_clients_text(edits, encoding):

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import selectors
 import socket
 import subprocess
@@ -20,7 +21,7 @@ from typing import Any
 from osc2lsp.framing import FrameReader, Garbled
 from tests.osc2lsp.lsp_helpers import REPO
 
-TIMEOUT = 60
+TIMEOUT = 300  # s: guards against a hang only (an answer takes seconds, minutes when loaded)
 
 
 class RawClient:
@@ -32,15 +33,16 @@ class RawClient:
         env["PYTHONPATH"] = os.pathsep.join(p for p in (str(REPO), env.get("PYTHONPATH")) if p)
         self.log = log
         self._stderr = open(log, "wb")  # noqa: SIM115 - closed in close()
-        port = _free_port() if tcp else 0
+        if tcp:  # port 0: the system picks a free one, which the server's log names
+            args = (*args, "--log-level", "INFO", "--tcp", "--port", "0")
         self.process = subprocess.Popen(
-            [sys.executable, "-m", "osc2lsp", *args, *(["--tcp", "--port", str(port)] * tcp)],
+            [sys.executable, "-m", "osc2lsp", *args],
             stdin=subprocess.PIPE,
             stdout=subprocess.DEVNULL if tcp else subprocess.PIPE,
             stderr=self._stderr,
             env=env,
         )
-        self._socket = _connect(port, self.process) if tcp else None
+        self._socket = _connect(_listening_port(log, self.process), self.process) if tcp else None
         self._reader = FrameReader()
         self._selector = selectors.DefaultSelector()
         if self._socket is not None:
@@ -206,10 +208,18 @@ class RawClient:
         self._stderr.close()
 
 
-def _free_port() -> int:
-    with socket.socket() as probe:
-        probe.bind(("127.0.0.1", 0))
-        return probe.getsockname()[1]
+def _listening_port(log: Path, process: subprocess.Popen) -> int:
+    """The port a server started with ``--port 0`` listens on, from its log's "serving on"
+    line (a port picked here and freed for the server could be taken meanwhile by another
+    test's server)."""
+    deadline = time.monotonic() + TIMEOUT
+    while True:
+        found = re.search(r"serving on \('127\.0\.0\.1', (\d+)\)", log.read_text(errors="replace"))
+        if found:
+            return int(found.group(1))
+        if process.poll() is not None or time.monotonic() > deadline:
+            raise RuntimeError(f"the server did not say where it listens: {log.read_text()}")
+        time.sleep(0.05)  # the server is still starting
 
 
 def _connect(port: int, process: subprocess.Popen) -> socket.socket:

@@ -15,10 +15,10 @@ def test_a_number_beyond_the_budget_is_a_finding_and_the_server_answers(tmp_path
         client.initialize()
         uri = (tmp_path / "huge.osc").as_uri()
         client.open(uri, HUGE)
-        found = client.diagnostics(uri, 1, timeout=30)
+        found = client.diagnostics(uri, 1)
         assert [d["code"] for d in found] == ["T209"]
         hover = {"textDocument": {"uri": uri}, "position": {"line": 2, "character": 5}}
         assert "far" in client.call("textDocument/hover", hover)["result"]["contents"]["value"]
-        assert client.response(client.request("shutdown"), timeout=30)["result"] is None
+        assert client.response(client.request("shutdown"))["result"] is None
     finally:
         client.close()

@@ -135,6 +135,7 @@ async def test_diagnostics_of_a_document_that_does_not_parse(client: LanguageCli
     close_document(client, doc_uri)
 
 
+@pytest.mark.slow
 async def test_diagnostics_of_the_solver_follow_the_first_ones(client: LanguageClient, doc_uri):
     if pulls(client):
         pytest.skip("this client cannot be asked to pull again (no refresh support)")

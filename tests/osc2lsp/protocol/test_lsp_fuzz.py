@@ -56,6 +56,7 @@ async def _probe(client, uri, text):
     )
 
 
+@pytest.mark.slow
 @pytest.mark.asyncio(loop_scope="session")
 async def test_typing_and_deleting_through_the_protocol(client: LanguageClient, doc_uri):
     seed = seed_text()
@@ -116,6 +117,7 @@ STORM_SETTINGS = {"verify": False, "diagnostics": {"debounce": 5}}
 _storm_count = itertools.count()
 
 
+@pytest.mark.slow
 @settings(
     max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture]
 )
@@ -133,8 +135,6 @@ def test_edit_storms_end_with_the_clis_findings(raw_server, edits):
     assert text == final_text(STORM_BASE, edits)
     expected = cli_findings(uri, text, raw_server.encoding)
     try:
-        raw_server.diagnostics(
-            uri, version, until=lambda ds: lsp_findings(ds) == expected, timeout=30
-        )
+        raw_server.diagnostics(uri, version, until=lambda ds: lsp_findings(ds) == expected)
     finally:
         raw_server.notify("textDocument/didClose", {"textDocument": {"uri": uri}})

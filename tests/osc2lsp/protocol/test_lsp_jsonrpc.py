@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from osc2lsp.framing import MAX_MESSAGE_BYTES
-from tests.osc2lsp.protocol.raw_client import RawClient
+from tests.osc2lsp.protocol.raw_client import TIMEOUT, RawClient
 
 URI = "file:///tmp/osc2lsp-tests/jsonrpc.osc"
 TEXT = "import osc.standard\nscenario s:\n    hero: vehicle\n    x: int = 1\n"
@@ -172,7 +172,7 @@ def test_on_tcp_the_port_stops_listening_once_a_client_connects(tcp_server):
     assert tcp_server._socket is not None
     port = tcp_server._socket.getpeername()[1]
     with pytest.raises(ConnectionRefusedError):
-        socket.create_connection(("127.0.0.1", port), timeout=30).close()
+        socket.create_connection(("127.0.0.1", port), timeout=TIMEOUT).close()
     assert "x" in tcp_server.call("textDocument/hover", HOVER)["result"]["contents"]["value"]
 
 
@@ -189,7 +189,7 @@ def test_on_tcp_a_port_in_use_is_a_clear_error_with_exit_2():
             [sys.executable, "-m", "osc2lsp", "--tcp", "--port", str(port)],
             capture_output=True,
             text=True,
-            timeout=60,
+            timeout=TIMEOUT,  # a hang guard
             stdin=subprocess.DEVNULL,
         )
     assert server.returncode == 2

@@ -44,6 +44,7 @@ def _descendants(pid: int) -> list[int]:
     return found
 
 
+@pytest.mark.slow
 def test_no_resource_tracker_runs_beside_the_server(tmp_path):
     client, worker = _with_solver(tmp_path)
     everyone = _descendants(client.process.pid)
@@ -52,6 +53,7 @@ def test_no_resource_tracker_runs_beside_the_server(tmp_path):
     client.close()
 
 
+@pytest.mark.slow
 def test_the_solver_worker_dies_with_a_killed_server(tmp_path):
     client, worker = _with_solver(tmp_path)
     os.kill(client.process.pid, signal.SIGKILL)
@@ -60,6 +62,7 @@ def test_the_solver_worker_dies_with_a_killed_server(tmp_path):
     client.close()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("how", ["exit", "SIGTERM", "end of input"])
 def test_a_stopped_server_leaves_nothing_behind_and_warns_of_nothing(tmp_path, how):
     client, worker = _with_solver(tmp_path)

@@ -30,6 +30,7 @@ def _uri(tmp_path, name: str) -> str:
     return (tmp_path / name).as_uri()
 
 
+@pytest.mark.slow
 def test_eglot_gets_one_push_per_version_and_findings(tmp_path):
     client = RawClient(tmp_path / "stderr.log", settings={"diagnostics": {"verifyDelay": 0}})
     client.initialize(_emacs())
@@ -105,6 +106,7 @@ def test_hover_and_definition_answer_from_the_last_analysis_while_one_waits(
     assert "float" in ask("textDocument/hover", use)["contents"]["value"]
 
 
+@pytest.mark.slow
 def test_a_pulling_client_gets_the_preview_then_a_refresh_for_the_analysis(tmp_path):
     settings = {"verify": False, "diagnostics": {"previewAfter": 0, "debounce": 60_000}}
     client = RawClient(tmp_path / "stderr.log", settings=settings)

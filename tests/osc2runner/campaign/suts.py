@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import time
+from pathlib import Path
 
 from osc2runner.sut import Command, Demand, Observation, SutInfo
 
@@ -54,15 +55,21 @@ class CrashOnSeed:
         return obs.driver
 
 
-class SlowOnSeed:
-    """Takes 0.05 s of wall clock per tick in seed 1's run (a SUT too slow for the limit)."""
+class StuckOnSeed:
+    """Seed 1's run: from its sixth tick on, touches ``stuck`` beside this file and takes
+    0.5 s of wall clock per tick (a SUT too slow for any limit; 30 s for a 3 s scenario if
+    nothing stops it), so its run has ticks to write when it is stopped. The other seeds'
+    runs are the driver's."""
 
     def reset(self, info: SutInfo) -> None:
-        self.slow = info.seed == 1
+        self.stuck = info.seed == 1
+        self.ticks = 0
 
     def step(self, obs: Observation) -> Command:
-        if self.slow:
-            time.sleep(0.05)
+        self.ticks += 1
+        if self.stuck and self.ticks > 5:
+            Path(__file__).with_name("stuck").touch()
+            time.sleep(0.5)
         return obs.driver
 
 

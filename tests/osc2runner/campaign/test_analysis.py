@@ -66,6 +66,10 @@ scenario two_params:
 """
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/campaign/test_analysis")
+
+
 @pytest.fixture(scope="module")
 def campaign(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, str]:
     """The campaign's folder and the command's output."""
@@ -92,6 +96,7 @@ def records(campaign) -> list:
     return [found[s] for s in sorted(found)]
 
 
+@pytest.mark.slow
 def test_both_parameters_are_swept_and_the_constant_is_not(document) -> None:
     parameters = document["parameters"]
     assert sorted(parameters["swept"]) == ["o", "v"]
@@ -103,6 +108,7 @@ def test_both_parameters_are_swept_and_the_constant_is_not(document) -> None:
     assert 0 < len(failed) < RUNS
 
 
+@pytest.mark.slow
 def test_both_parameters_are_in_every_table(campaign, document, records) -> None:
     folder, _ = campaign
     with (folder / "runs.csv").open() as f:
@@ -127,6 +133,7 @@ def test_both_parameters_are_in_every_table(campaign, document, records) -> None
     assert failures and all("relative_impact_speed_kph" in f.get("message") for f in failures)
 
 
+@pytest.mark.slow
 def test_every_swept_parameter_has_its_kpi_plot_and_the_map_and_triage_are_there(campaign) -> None:
     page = (campaign[0] / "report.html").read_text()
     assert 'alt="KPIs over v, a point a run coloured by its outcome"' in page
@@ -136,6 +143,7 @@ def test_every_swept_parameter_has_its_kpi_plot_and_the_map_and_triage_are_there
     assert 'id="boundary"' in page
 
 
+@pytest.mark.slow
 def test_the_failure_boundary_names_both_parameters(document, records) -> None:
     (region,) = document["failures"]["boundary"]["regions"]
     assert region["failed"] == region["runs"] >= 2
@@ -149,6 +157,7 @@ def test_the_failure_boundary_names_both_parameters(document, records) -> None:
         assert split_.below < split_.threshold < split_.above
 
 
+@pytest.mark.slow
 def test_the_map_shows_the_pair_and_every_run_where_its_values_are(document, records) -> None:
     pair, pairs = best_pair(records, document["parameters"]["swept"])
     assert sorted(pair) == ["o", "v"] and len(pairs) == 1
@@ -171,6 +180,7 @@ def test_the_map_shows_the_pair_and_every_run_where_its_values_are(document, rec
         assert region.contains_point(ax.transData.transform((x, y)))
 
 
+@pytest.mark.slow
 def test_triage_groups_the_failures_with_a_representative_to_replay(document, records) -> None:
     rows = document["failures"]["triage"]
     failed = sorted(r.seed for r in records if r.status == "failure")
@@ -180,6 +190,7 @@ def test_triage_groups_the_failures_with_a_representative_to_replay(document, re
     assert "v is above" in rows[0]["region"]
 
 
+@pytest.mark.slow
 def test_the_summary_prints_the_spread_and_the_boundary(campaign) -> None:
     _, out = campaign
     assert "  swept v over [20..60] kph (constraints): " in out
@@ -188,12 +199,14 @@ def test_the_summary_prints_the_spread_and_the_boundary(campaign) -> None:
     assert "warning:" not in out
 
 
+@pytest.mark.slow
 def test_campaigns_md_quotes_what_the_command_prints(campaign) -> None:
     _, out = campaign
     shown = re.sub(r"[0-9.]+ s wall, [0-9.]+ runs per minute", "… s wall, … runs per minute", out)
     check_block(ROOT / "docs" / "campaigns.md", "campaign-summary", f"```text\n{shown}```")
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(find() is None, reason="no Chromium (apt-get install chromium)")
 def test_the_report_in_a_browser(campaign) -> None:
     folder, _ = campaign
@@ -267,6 +280,7 @@ def test_reasons_group_without_their_numbers_but_with_their_places() -> None:
     )
 
 
+@pytest.mark.slow
 def test_no_boundary_when_every_run_fails_or_none_does(records) -> None:
     passing = [r for r in records if r.passed]
     assert boundary(passing, ["v", "o"], {})["why"] == "no run failed"

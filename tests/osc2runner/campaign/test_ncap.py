@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from osc2runner import run
-from osc2runner.campaign.plan import plan_cover
+from osc2runner.campaign.plan import item_plans
 from osc2runner.campaign.steering import BinRef, cover_items
 from osc2runner.campaign.worker import CampaignSetup, RunTask, Worker
 from osc2runner.runner import check_file
@@ -25,17 +25,18 @@ GRIDS = {
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(GRIDS))
 def test_the_grid_is_the_protocols(name: str) -> None:
     checked = check_file(NCAP / name)
     items = cover_items(checked)
-    plan = plan_cover(checked, items, 0, 1)
-    reachable = {p.name: p.status.count("reachable") for p in plan.items}
+    reachable = {p.name: p.status.count("reachable") for p in item_plans(checked, items)}
     cells, parts = GRIDS[name]
     assert reachable.pop("grid") == cells
     assert reachable == parts
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ["ccrs.osc", "ccrm.osc", "ccrb.osc", "cpna25.osc"])
 def test_each_test_runs_alone_and_without_braking_it_hits(name: str) -> None:
     result = run(NCAP / name, seed=1)
@@ -43,6 +44,7 @@ def test_each_test_runs_alone_and_without_braking_it_hits(name: str) -> None:
     assert result.outcome.reason.startswith("collision: ego and ")
 
 
+@pytest.mark.slow
 def test_the_example_aeb_avoids_at_low_speed_and_mitigates_at_50_kph(tmp_path: Path) -> None:
     path = NCAP / "ccrs.osc"
     worker = Worker(

@@ -45,6 +45,10 @@ class Exported:
     osi: Path
 
 
+# under -n one worker builds the module fixtures for every test here (docs/testing.md)
+pytestmark = pytest.mark.xdist_group("osc2runner/export/test_export_examples")
+
+
 @pytest.fixture(scope="module", params=EXAMPLES, ids=lambda p: p.stem)
 def exported(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Exported:
     path: Path = request.param

@@ -310,6 +310,7 @@ def osc2run(*args: str) -> subprocess.CompletedProcess[str]:
     )  # fmt: skip
 
 
+@pytest.mark.slow
 def test_command_writes_both_exports_and_says_so(tmp_path: Path):
     xosc, osi = tmp_path / "new" / "cut.xosc", tmp_path / "new" / "cut.osi"
     done = osc2run(
@@ -361,6 +362,7 @@ def test_without_the_extra_the_command_names_it(monkeypatch: pytest.MonkeyPatch,
 # ---------------------------------------------------------------------- campaigns
 
 
+@pytest.mark.slow
 def test_campaign_exports_every_run_and_the_report_links_them(tmp_path: Path):
     from osc2runner.campaign import CampaignOptions, run_campaign
 
