@@ -230,3 +230,19 @@ def test_each_osc_version_has_its_own_library_in_the_cache(tmp_path: Path) -> No
     # 2.1 fills the cache; 2.2 then finds a library entry that is not its own, and back
     for version in ("2.1", "2.2", "2.2", "2.1"):
         assert _check(folder, scenario, version=version) == expected[version], version
+
+
+def test_a_map_file_is_never_taken_from_the_cache(folder: Path, tmp_path: Path) -> None:
+    """Built-in maps' facts are cached; a file is read each time, so its limits
+    (``world.budget``) refuse it each time, whatever the cache holds."""
+    from osc2check.world.errors import MapError
+    from osc2check.world.maps import find_map
+    from tests.osc2check.world.maptext import road_xml, xodr
+
+    bad = tmp_path / "Town04.xodr"  # a file of a built-in map's name wins over the name
+    bad.write_text(xodr(road_xml(length=1e300)), encoding="utf-8")
+    assert find_map("Town04").facts.numbering == "from_left"  # the built-in one, cached
+    for _ in range(2):
+        with pytest.raises(MapError, match="longer than a road can be"):
+            find_map("Town04.xodr", tmp_path)
+    assert find_map("Town03").network.junctions  # the stand-in with a junction, by name
