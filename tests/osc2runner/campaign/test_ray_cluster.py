@@ -24,16 +24,19 @@ import socket
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 from collections.abc import Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 pytest.importorskip("ray")
 
 from osc2runner.campaign import CampaignOptions, run_campaign  # noqa: E402
+from osc2runner.campaign.ray_engine import RayEngine  # noqa: E402
 from osc2runner.sut.loading import SutSpec  # noqa: E402
 
 ROOT = Path(__file__).parents[3]
@@ -88,13 +91,16 @@ def _alive_nodes(address: str) -> int:
 
 
 def _stop(process: subprocess.Popen[bytes]) -> None:
-    """Kill a ``ray start --block`` and the node it runs (its own process group): a node
-    that dies, not one that drains (a drained node may finish its run first, and a head
-    draining at the end waits 30 s for itself)."""
-    try:
-        os.killpg(process.pid, signal.SIGKILL)
-    except ProcessLookupError:
-        pass
+    """Kill a ``ray start --block`` and the node it runs, every process of its session: a
+    node that dies, not one that drains (a drained node may finish its run first, and a
+    head draining at the end waits 30 s for itself). Its actors' workers are in process
+    groups of their own: left alive, one may still finish its run after its node died."""
+    for pid in [int(p) for p in os.listdir("/proc") if p.isdigit()]:
+        try:
+            if os.getsid(pid) == process.pid:
+                os.kill(pid, signal.SIGKILL)
+        except (ProcessLookupError, PermissionError):
+            pass
     process.wait(timeout=10)
 
 
@@ -162,9 +168,36 @@ def _outcome(record) -> tuple[object, ...]:
     return record.status, record.reason, record.parameters, record.kpis
 
 
+def _kill_node_2_in_a_run(
+    cluster: Cluster, engines: list[RayEngine], done: threading.Event
+) -> None:
+    """Kill node 2 as soon as the engine has handed a run to the actor on it (a node lost
+    while its actor is still starting, or idle, loses no run)."""
+    import ray
+
+    deadline = time.monotonic() + 300
+    second: set[str] = set()
+    while not done.is_set() and time.monotonic() < deadline:
+        if engines and ray.is_initialized():
+            engine = engines[0]
+            if not second:
+                nodes = [n for n in ray.nodes() if n["Alive"]]
+                second = {
+                    n["NodeID"] for n in nodes if "node:__internal_head__" not in n["Resources"]
+                }
+            try:
+                busy = [engine._nodes.get(entry[0]) for entry in list(engine._inflight.values())]
+            except RuntimeError:  # the engine changed the table while it was read
+                busy = []
+            if second & set(busy):
+                _stop(cluster.node)  # node 2 dies with the run it was given
+                return
+        time.sleep(0.05)
+
+
 def _await_actor_on_node_2() -> None:
-    """Wait until the campaign's actor on the second node is made (its next run then goes
-    to it; a node lost before its actor is made loses no run)."""
+    """Wait until the campaign's actor on the second node is made (the driver waits with
+    it: under load the head's actor could otherwise run every run before it starts)."""
     import ray
     from ray._private import state  # the actor table, without the dashboard's state API
 
@@ -201,15 +234,36 @@ def test_a_campaign_across_two_nodes_gives_the_local_pools_results(
 
 
 def test_the_run_of_a_node_that_dies_is_run_again_on_the_other(
-    cluster: Cluster, local: tuple[Path, dict[int, object]], tmp_path: Path
+    cluster: Cluster,
+    local: tuple[Path, dict[int, object]],
+    tmp_path: Path,
+    monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    def progress(kind: str, payload: object) -> None:
-        if kind == "record" and cluster.node.poll() is None:
-            _await_actor_on_node_2()  # under load it may start after the head's first run
-            _stop(cluster.node)  # node 2 dies in the middle of its run, or of the next one
+    engines: list[RayEngine] = []
+    made = RayEngine.__init__
 
-    result = run_campaign(_options(tmp_path, engine="ray", address=cluster.address), progress)
+    def remembered(self: RayEngine, *args: Any, **kwargs: Any) -> None:
+        made(self, *args, **kwargs)
+        engines.append(self)
+
+    monkeypatch.setattr(RayEngine, "__init__", remembered)
+    done = threading.Event()
+    killer = threading.Thread(target=_kill_node_2_in_a_run, args=(cluster, engines, done))
+    killer.start()
+
+    def progress(kind: str, payload: object) -> None:
+        if kind == "record" and not waited:
+            waited.append(True)
+            _await_actor_on_node_2()
+
+    waited: list[bool] = []
+    try:
+        result = run_campaign(_options(tmp_path, engine="ray", address=cluster.address), progress)
+    finally:
+        done.set()
+        killer.join()
     assert cluster.node.poll() is not None
     retried = result.document["workers"]["retried"]
-    assert retried and set(retried) <= set(range(SEED, SEED + RUNS))
+    assert retried, [(r.seed, r.status, r.reason) for r in result.records]
+    assert set(retried) <= set(range(SEED, SEED + RUNS))
     _same_as_local(result, tmp_path, local)
