@@ -11,11 +11,12 @@ import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
-from osc2check import cache, messages
+from osc2check import cache, memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
@@ -120,7 +121,10 @@ class AnalysisOptions:
     other tools' forms are read (:mod:`osc2check.semantics.profile`). ``policy``
     filters and re-grades one file's diagnostics (``Config.policy``). ``plugins``
     are the plug-in modules (:mod:`osc2check.plugins`) whose implementations run
-    behaviours of the user's libraries.
+    behaviours of the user's libraries. ``memory_limit_mib`` is the memory the check
+    of one file may add to the process (``memory.budget``; None for no budget, as the
+    language server's own process has: its solver worker has one); past it the file
+    has a single finding, S003.
     """
 
     verify: bool = True
@@ -135,6 +139,7 @@ class AnalysisOptions:
     default_map: str = "default"
     solver_rlimit: int | None = None
     solver_timeout_ms: int | None = None
+    memory_limit_mib: int | None = DEFAULT_MEMORY_LIMIT_MIB
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
     plugins: tuple[str, ...] = ()
 
@@ -174,11 +179,57 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
+    if options.memory_limit_mib:
+        _load_once(options)
     for source in sources:
-        result = cache.read(source.uri)
-        if result is None:  # pragma: no cover - sources are always in memory
-            continue
+        start = point_span(source.uri, source.text, 0)
         try:
+            with memory.budget(options.memory_limit_mib):
+                _check_one(source, cache, modules, plugins, options, found, programs, verified)
+        except Exception as exc:  # the budget was hit: say where, check the next file
+            if not memory.is_out_of_memory(exc):
+                raise
+            element = (
+                exc.element
+                if isinstance(exc, memory.BudgetExceeded)
+                else memory.Element(start, "checking the file")
+            )
+            # the finding is the checked file's, at the element when it is in that file
+            span = element.span if element.span.uri == source.uri else start
+            found.append(messages.memory_budget(span, element, options.memory_limit_mib))
+    diagnostics = _finish(found, cache, texts, options)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
+
+
+def _load_once(options: AnalysisOptions) -> None:
+    """Build what the process builds once (the parser, z3) before any file's budget: the
+    first file checked must not pay for it, nor fail to."""
+    dialect_reading(parse("import osc.standard\n", ""), options.dialect)
+    if options.verify:
+        from osc2check.verify.z3_backend import _z3
+
+        _z3()
+
+
+def _check_one(
+    source: SourceInput,
+    cache: FileCache,
+    modules: dict[str, str],
+    plugins: PluginRegistry | None,
+    options: AnalysisOptions,
+    found: list[Diagnostic],
+    programs: dict[str, Program],
+    verified: dict[str, VerifyResult],
+) -> None:
+    """Parse, resolve and verify one root file, adding to ``found``, ``programs`` and
+    ``verified``."""
+    start = point_span(source.uri, source.text, 0)
+    with memory.analysing(start, "parsing the file"):
+        result = cache.read(source.uri)
+    if result is None:  # pragma: no cover - sources are always in memory
+        return
+    try:
+        with memory.analysing(start, "reading its imports and declarations"):
             program = build_program(
                 source.uri,
                 cache.read,
@@ -187,37 +238,35 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
                 options.search_paths,
                 options.library,
             )
-        except RecursionError:  # pathological nesting: say so instead of crashing
-            found.extend(result.diagnostics)
-            found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
-            continue
-        programs[source.uri] = program
+    except RecursionError:  # pathological nesting: say so instead of crashing
         found.extend(result.diagnostics)
-        own = _relevant(program, result, source.uri)
-        found.extend(own)
-        if source.problem:
-            found.append(_encoding_problem(source))
-        if options.verify and not any(
-            d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
-        ):
-            try:
-                checked = verify_program(
-                    program,
-                    seed=options.seed,
-                    scenario=options.scenario,
-                    rlimit=options.solver_rlimit,
-                    timeout_ms=options.solver_timeout_ms,
-                    default_map=options.default_map,
-                    maps=options.maps,
-                    plugins=plugins,
-                )
-            except RecursionError:
-                found.append(messages.nesting_too_deep(point_span(source.uri, source.text, 0)))
-                continue
-            verified[source.uri] = checked
-            found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
-    diagnostics = _finish(found, cache, texts, options)
-    return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
+        found.append(messages.nesting_too_deep(start))
+        return
+    programs[source.uri] = program
+    found.extend(result.diagnostics)
+    own = _relevant(program, result, source.uri)
+    found.extend(own)
+    if source.problem:
+        found.append(_encoding_problem(source))
+    if options.verify and not any(
+        d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
+    ):
+        try:
+            checked = verify_program(
+                program,
+                seed=options.seed,
+                scenario=options.scenario,
+                rlimit=options.solver_rlimit,
+                timeout_ms=options.solver_timeout_ms,
+                default_map=options.default_map,
+                maps=options.maps,
+                plugins=plugins,
+            )
+        except RecursionError:
+            found.append(messages.nesting_too_deep(start))
+            return
+        verified[source.uri] = checked
+        found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
 
 
 def _clean(source: SourceInput) -> SourceInput:

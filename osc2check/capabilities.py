@@ -38,8 +38,10 @@ from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 
 __all__ = [
+    "BODY_TYPES",
     "FORMS",
     "NOT_EXECUTED",
+    "TRAILER_ACTIONS",
     "Form",
     "absent_reason",
     "label_of",
@@ -138,8 +140,64 @@ FORMS: dict[str, Form] = {
             "`yaw`/`orientation` of a vehicle at `end` or `all`",
             "the runner steers vehicles along their lanes or path: give the heading `at: start`",
         ),
+        Form(
+            "trailer_action",
+            "an action of a trailer other than "
+            + " and ".join(f"`{a}`" for a in ("assign_position", "assign_orientation")),
+            "a trailer has no engine or driver: it moves when a vehicle tows it "
+            "(`connect_trailer`)",
+        ),
+        Form(
+            "bodiless_actor",
+            "an action of an actor that is no vehicle, person or animal",
+            "the world builds a body for vehicles, persons, animals and stationary objects "
+            "only: give the actor one of those types",
+        ),
+        Form(
+            "track_projected",
+            "`track: projected`",
+            "a reference's motion is followed as it is (`track: actual`); extrapolating it "
+            "from the phase's start is not executed",
+        ),
+        Form(
+            "modifier_shape",
+            "a movement modifier's `shape`",
+            "shapes (`any_shape`) are not followed: the runner's profiles shape each change",
+        ),
+        Form(
+            "relative_acceleration",
+            "`acceleration(faster_than|slower_than|same_as: ...)`",
+            "an acceleration relative to another actor's is not executed: give it absolute",
+        ),
+        Form(
+            "change_at_start",
+            "`change_speed`, `change_lane`, `distance` or `acceleration` `at: start`",
+            "each is about the motion during its phase, and the world starts every actor at "
+            "a steady speed in its lane: leave `at` out or give `end`",
+        ),
+        Form(
+            "invoked_actor_field",
+            "an actor field of an invoked scenario that the invocation does not pass",
+            "the runner builds the actors of the scenario it runs: pass each actor field of "
+            "the invoked scenario as an argument (`ego: hero`)",
+        ),
+        Form(
+            "position_along_road",
+            "`position(...)` without `ahead_of` or `behind`, other than a distance `at: start`",
+            "a distance along the road places an actor when the scenario starts (or checks "
+            "it when a later phase starts); a time headway needs the actor it is measured to",
+        ),
     )
 }
+
+#: the actions a trailer takes (it has no engine or driver); the runner refuses others
+TRAILER_ACTIONS = ("assign_position", "assign_orientation")
+#: the library actor types whose actors the world builds a body for (their subtypes too)
+BODY_TYPES = ("vehicle", "person", "animal", "stationary_object")
+#: the reference parameters of `acceleration`, which the runner does not execute
+_RELATIVE = ("faster_than", "slower_than", "same_as")
+#: the modifiers of a change over the phase (no constraint at an instant)
+_CHANGES = ("change_speed", "change_lane", "distance", "acceleration")
 
 
 def absent_reason(label: str) -> str:
@@ -212,6 +270,7 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic], plugins: Plugin
     if binding.events:
         _form(found, binding.events[0].span, "event_argument")
     if callee.kind is SymbolKind.SCENARIO:
+        _invoked_actors(model, node, callee, found)
         for item in node.with_members:
             if isinstance(item, ast.Invocation):
                 _form(found, item.span, "scenario_modifier")
@@ -219,9 +278,68 @@ def _node(model: Model, node: ast.Node, found: list[Diagnostic], plugins: Plugin
         if node.with_members:
             _form(found, node.with_members[0].span, "modifier_with")
     if callee.kind is SymbolKind.ACTION:
+        _actor_forms(model, node, callee, found)
         for item in node.with_members:
             if isinstance(item, ast.Invocation):
                 _heading(model, node, item, found)
+                _movement(model, item, found)
+
+
+def _invoked_actors(
+    model: Model, node: ast.Invocation, callee: Symbol, found: list[Diagnostic]
+) -> None:
+    """An invoked scenario's actor fields that the invocation leaves without an actor."""
+    binding = model.binding(node)
+    assert binding is not None  # as `_node` found it
+    for param in model.all_members(callee):
+        t = param.type
+        if (
+            param.kind is SymbolKind.FIELD
+            and t is not None
+            and t.kind is T.Kind.COMPOUND
+            and t.symbol is not None
+            and t.symbol.kind is SymbolKind.ACTOR
+            and binding.given(param.name) is None
+        ):
+            _form(found, node.span, "invoked_actor_field")
+            return
+
+
+def _actor_forms(
+    model: Model, action: ast.Invocation, callee: Symbol, found: list[Diagnostic]
+) -> None:
+    """Actions of actors the world cannot move: trailers, actors without a body."""
+    symbol = _actor_type(model, action)
+    if symbol is None or not callee.library:
+        return
+    names = {a.name for a in model.ancestors(symbol) if a.library}
+    movable = callee.actor is not None and any(
+        a.name == "movable_object" for a in model.ancestors(callee.actor)
+    )
+    if "trailer" in names and callee.name not in TRAILER_ACTIONS:
+        _form(found, action.name.span, "trailer_action")
+    elif movable and not names & set(BODY_TYPES):
+        _form(found, action.name.span, "bodiless_actor")
+
+
+def _movement(model: Model, item: ast.Invocation, found: list[Diagnostic]) -> None:
+    """The forms of the library's movement modifiers the runner does not carry out."""
+    binding = model.binding(item)
+    if binding is None or not isinstance(binding.callee, Symbol) or not binding.callee.library:
+        return
+    given = binding.values(defaults=False)
+    if enum_word(given.get("track")) == "projected":
+        _form(found, binding.argument("track").span, "track_projected")  # type: ignore[union-attr]
+    if "shape" in given:
+        _form(found, binding.argument("shape").span, "modifier_shape")  # type: ignore[union-attr]
+    name = binding.callee.name
+    if name in _CHANGES and modifier_timing(given) == "start":
+        _form(found, item.span, "change_at_start")
+    if name == "acceleration" and any(k in given for k in _RELATIVE):
+        _form(found, item.span, "relative_acceleration")
+    if name == "position" and not ("ahead_of" in given or "behind" in given):
+        if "time" in given or modifier_timing(given) != "start":
+            _form(found, item.span, "position_along_road")
 
 
 def _implemented(
@@ -282,10 +400,15 @@ def _heading(
         _form(found, item.span, "vehicle_heading")
 
 
+def _actor_type(model: Model, action: ast.Invocation) -> Symbol | None:
+    """The actor type of the actor ``action`` is invoked on (None when not known)."""
+    actor_type = model.type_of(action.actor) if action.actor is not None else None
+    if actor_type is None or actor_type.kind is not T.Kind.COMPOUND:
+        return None
+    return actor_type.symbol
+
+
 def _is_vehicle(model: Model, action: ast.Invocation) -> bool:
     """Whether the actor of ``action`` is a vehicle (persons turn at once)."""
-    actor_type = model.type_of(action.actor) if action.actor is not None else None
-    symbol = actor_type.symbol if actor_type is not None else None
-    if symbol is None or actor_type is None or actor_type.kind is not T.Kind.COMPOUND:
-        return False
-    return any(a.name == "vehicle" for a in model.ancestors(symbol))
+    symbol = _actor_type(model, action)
+    return symbol is not None and any(a.name == "vehicle" for a in model.ancestors(symbol))

@@ -40,6 +40,7 @@ from osc2check.config import (
     with_language_arguments,
 )
 from osc2check.inputs import InputError, InputProblem
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.output import render, render_statistics, tool
 from osc2check.source import decode_source
 
@@ -97,6 +98,13 @@ class _Version(argparse.Action):
     def __call__(self, parser: argparse.ArgumentParser, *args: Any, **kwargs: Any) -> NoReturn:
         sys.stdout.write(f"{parser.prog} {tool.version()}\n")
         parser.exit()
+
+
+def _mebibytes(text: str) -> int:
+    """A memory budget in MiB: a non-negative integer (0: no budget)."""
+    if not text.isdigit():
+        raise argparse.ArgumentTypeError(f"expected a number of MiB, got {text!r}")
+    return int(text)
 
 
 def _seed(text: str) -> int:
@@ -173,6 +181,13 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="neither read nor write the start-up cache (the parser's tables and the analysed "
         "standard library, kept in the user's cache folder or OSC2_CACHE_DIR)",
+    )
+    p.add_argument(
+        "--memory-limit",
+        type=_mebibytes,
+        metavar="MIB",
+        help="memory the check of one file may add, in MiB (default "
+        f"{DEFAULT_MEMORY_LIMIT_MIB}; 0: no budget); past it the file is S003",
     )
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     p.add_argument("--version", action=_Version)
@@ -391,6 +406,8 @@ def _with_options(config: Config, args: argparse.Namespace) -> Config:
         changes["strict"] = True
     if args.fail_on is not None:
         changes["fail_on"] = parse_severity(args.fail_on, key="--fail-on")
+    if args.memory_limit is not None:
+        changes["memory_limit_mib"] = args.memory_limit
     if args.output_format is not None:
         changes["output_format"] = FORMAT_ALIASES.get(args.output_format, args.output_format)
     return with_language_arguments(replace(config, **changes), args)

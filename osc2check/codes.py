@@ -516,6 +516,9 @@ UNUSED_SUPPRESSION = Code(
 UNKNOWN_SUPPRESSION_CODE = Code(
     "S002", "unknown-suppression-code", W, "a suppression comment names a code that does not exist"
 )
+MEMORY_BUDGET = Code(
+    "S003", "memory-budget", E, "the check of a file needs more memory than its budget"
+)
 
 ALL: tuple[Code, ...] = tuple(v for v in list(globals().values()) if isinstance(v, Code))
 BY_CODE: dict[str, Code] = {c.code: c for c in ALL}

@@ -23,6 +23,7 @@ from urllib.parse import unquote, urlparse
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, DIALECTS, OSC_VERSIONS
 
@@ -89,6 +90,7 @@ class Config:
     force_exclude: bool = False
     road: Mapping[str, Any] = field(default_factory=dict)
     solver: Mapping[str, Any] = field(default_factory=dict)
+    memory_limit_mib: int = DEFAULT_MEMORY_LIMIT_MIB  # per file checked; 0: no budget
     search_paths: tuple[str, ...] = ()  # folders for `import a.b` (a/b.osc), after the file's own
     modules: Mapping[str, str] = field(default_factory=dict)  # `import a.b` -> a file (absolute)
     maps: Mapping[str, str] = field(default_factory=dict)  # a map name -> an .xodr file (absolute)
@@ -120,6 +122,7 @@ class Config:
             default_map=str(road_map),
             solver_rlimit=_int_or_none(self.solver.get("rlimit")),
             solver_timeout_ms=_int_or_none(self.solver.get("timeout-ms")),
+            memory_limit_mib=self.memory_limit_mib or None,
             policy=self.policy,
             plugins=self.plugins,
         )
@@ -354,6 +357,12 @@ def _read_solver(v: object, path: _Where, key: str) -> dict[str, Any]:
     return {"solver": MappingProxyType(table)}
 
 
+def _read_memory_limit(v: object, path: _Where, key: str) -> dict[str, Any]:
+    if not isinstance(v, int) or isinstance(v, bool) or v < 0:
+        raise ConfigError(f"expected a number of MiB (0: no budget), got {v!r}", path, key)
+    return {"memory_limit_mib": v}
+
+
 def _base(path: _Where) -> Path:
     """The folder relative paths in the configuration are taken from: the file's."""
     return Path(path).resolve().parent if path else Path.cwd()
@@ -405,6 +414,7 @@ _READERS: dict[str, _Reader] = {
     "road": _raw_table("road"),
     "solver": _read_solver,
     "search-paths": _read_search_paths,
+    "memory-limit": _read_memory_limit,
     "modules": _file_table("modules", "module"),
     "maps": _file_table("maps", "map name"),
     "osc-version": _choice("osc_version", OSC_VERSIONS),

@@ -18,6 +18,7 @@ from osc2check.numbers import MAX_DIGITS, MAX_MAGNITUDE
 from osc2check.source import Span
 
 if TYPE_CHECKING:
+    from osc2check.memory import Element
     from osc2check.semantics.builtins import Builtin
     from osc2check.semantics.symbols import Symbol
     from osc2check.semantics.types import Dimension, Type
@@ -154,6 +155,23 @@ def nesting_too_deep(span: Span) -> Diagnostic:
         "expression or the block into named parts",
         span,
     )
+
+
+def memory_budget(span: Span, element: Element, limit_mib: int | None) -> Diagnostic:
+    where = f"{element.span.uri}:{element.span.line}:{element.span.column}"
+    return _diag(
+        codes.MEMORY_BUDGET,
+        f"the check of this file needs more memory than its budget ({_mib(limit_mib)}): it "
+        f"ran out while {element.what} at {where}, and what follows was not checked; raise "
+        "`--memory-limit` (`memory-limit` in the configuration) or split the file",
+        span,
+    )
+
+
+def _mib(limit_mib: int | None) -> str:
+    if limit_mib is None:
+        return "the machine's memory"
+    return f"{limit_mib // 1024} GiB" if limit_mib % 1024 == 0 else f"{limit_mib} MiB"
 
 
 def invalid_encoding(span: Span, problem: str) -> Diagnostic:
@@ -720,8 +738,17 @@ def duplicate_argument(span: Span, name: str) -> Diagnostic:
     return _diag(codes.DUPLICATE_ARGUMENT, f"`{name}` is given more than once", span)
 
 
-def missing_argument(span: Span, callee: Symbol | Builtin, name: str) -> Diagnostic:
-    return _diag(codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{name}`", span)
+def missing_argument(span: Span, callee: Symbol | Builtin, *names: str) -> Diagnostic:
+    """A303: ``callee`` needs the argument ``names[0]`` (or one of ``names``)."""
+    if len(names) == 1:
+        return _diag(
+            codes.MISSING_ARGUMENT, f"{_callee(callee)} needs the argument `{names[0]}`", span
+        )
+    return _diag(
+        codes.MISSING_ARGUMENT,
+        f"{_callee(callee)} needs one of the arguments {_quote_list(names, conj='or')}",
+        span,
+    )
 
 
 def not_executed(span: Span, what: str, reason: str) -> Diagnostic:

@@ -108,7 +108,9 @@ def analyse(
     given = parses or {}
     inputs = [SourceInput(keys[uri], text, parse=given.get(uri)) for uri, text, _ in documents]
     config = config if config is not None else Config()
-    analysis = analyze(inputs, config.analysis_options(verify=verify))
+    # the budget is an address-space limit of the whole process: the server's own would
+    # bound its transport too, so only the solver worker, a process of its own, has it
+    analysis = analyze(inputs, config.analysis_options(verify=verify, memory_limit_mib=None))
     return {
         uri: Snapshot(uri, keys[uri], version, text, analysis, config, verify)
         for uri, text, version in documents

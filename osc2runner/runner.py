@@ -83,6 +83,7 @@ __all__ = [
     "RunOutcome",
     "RunResult",
     "build_world",
+    "check_analysis",
     "check_file",
     "compile_checked",
     "compile_file",
@@ -229,8 +230,20 @@ def check_file(
     except (ConfigError, PluginError) as exc:
         raise ScenarioError([RunProblem(f"{uri}: {exc}")]) from None
     analysis = analyze([SourceInput(uri, text)], config.analysis_options())
-    # an error, or a form the runner does not execute (A308, osc2check.capabilities):
-    # refused before tick 0 with the checker's own finding
+    return check_analysis(analysis, uri, scenario=scenario, registry=registry)
+
+
+def check_analysis(
+    analysis: Analysis,
+    uri: str,
+    *,
+    scenario: str | None = None,
+    registry: MethodRegistry | None = None,
+) -> Checked:
+    """The root scenario of ``uri`` in an analysis the checker made; raises ScenarioError
+    for what stops a run: an error, or a form the runner does not execute (A308,
+    ``osc2check.capabilities``), refused before tick 0 with the checker's own finding.
+    ``registry``: the runner's methods with the plug-ins (the standard ones for None)."""
     refused = [
         d
         for d in analysis.diagnostics
@@ -238,7 +251,8 @@ def check_file(
     ]
     if refused:
         raise ScenarioError([], diagnostics=refused, texts=analysis.texts)
-    return Checked(uri, analysis, _choose_scenario(analysis, uri, scenario), registry)
+    chosen = _choose_scenario(analysis, uri, scenario)
+    return Checked(uri, analysis, chosen, registry if registry is not None else standard_registry())
 
 
 def compile_checked(

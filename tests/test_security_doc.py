@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from osc2check import inputs, numbers
+from osc2check import inputs, memory, numbers
 from osc2check.verify import check, lower, z3_backend
 from osc2check.world import budget
 from osc2lsp import framing
@@ -29,6 +29,8 @@ QUOTED = [
     (f"{numbers.MAX_VALUE_BITS} bits", "MAX_VALUE_BITS"),
     (f"2^±{numbers.MAX_BINARY_MAGNITUDE}", "MAX_BINARY_MAGNITUDE"),
     (f"| {check.MAX_SCENARIOS} (", "MAX_SCENARIOS"),
+    (f"| {memory.DEFAULT_MEMORY_LIMIT_MIB} MiB that", "DEFAULT_MEMORY_LIMIT_MIB"),
+    (f"a context ({_mib(memory.SOLVER_ROOM)},", "SOLVER_ROOM"),
     (f"z3 resource limit {z3_backend.DEFAULT_RLIMIT:,}", "DEFAULT_RLIMIT"),
     (f"and {z3_backend.DEFAULT_TIMEOUT_MS // 1000} s", "DEFAULT_TIMEOUT_MS"),
     (f"| {lower.MAX_DEPTH} deep", "MAX_DEPTH"),

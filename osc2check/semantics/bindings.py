@@ -15,13 +15,23 @@ language server read it (``Model.binding``) and bind nothing themselves.
 Cover and record items (§7.5) have their own table, ``Model.cover_items``:
 each item's name, the expression it samples and its named parameters, as
 the checker read them.
+
+Whether every bound argument is *used* is checked by recording reads
+(:func:`recording_reads`): the stages that realise a call — the start placement
+(the witness the world is built from) and the runner's behaviours — read its
+arguments through :class:`ReadArguments`, which notes each parameter read, and
+the runner notes each action whose phase started. An argument of a started call
+that nothing read was dropped in silence (``tests/osc2runner/differential``).
+Outside :func:`recording_reads` nothing is noted.
 """
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator
-from dataclasses import dataclass
-from typing import TYPE_CHECKING
+from collections.abc import Iterable, Iterator, Mapping
+from contextlib import contextmanager
+from contextvars import ContextVar
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, TypeVar
 
 from osc2check.semantics.builtins import Builtin
 from osc2check.syntax import ast
@@ -32,12 +42,17 @@ if TYPE_CHECKING:
 
 __all__ = [
     "EXTRAS",
+    "ArgumentReads",
     "Binding",
     "BoundArgument",
     "CoverItem",
+    "ReadArguments",
     "argument_values",
     "named_given",
+    "note_read",
+    "note_started",
     "python_arguments",
+    "recording_reads",
 ]
 
 #: The language-level arguments, which no library declaration lists: ``duration`` of
@@ -204,3 +219,81 @@ def named_given(arguments: Iterable[ast.Argument], name: str) -> bool:
     """Whether the language-level argument ``name`` (``duration``) is written, which only a
     name can give; for syntax-level classification that needs no model (``phases``)."""
     return any(isinstance(a, ast.NamedArgument) and a.name.text == name for a in arguments)
+
+
+# ---------------------------------------------------------------------- reads
+
+
+@dataclass
+class ArgumentReads:
+    """What was read while recording: ``(id(call), parameter)`` pairs, and the action
+    invocations whose phase started (by ``id``; the calls outlive the recording)."""
+
+    read: set[tuple[int, str]] = field(default_factory=set)
+    started: set[int] = field(default_factory=set)
+
+    def was_read(self, call: ast.Node, name: str) -> bool:
+        return (id(call), name) in self.read
+
+
+_READS: ContextVar[ArgumentReads | None] = ContextVar("argument_reads", default=None)
+
+
+@contextmanager
+def recording_reads(reads: ArgumentReads | None = None) -> Iterator[ArgumentReads]:
+    """Record which arguments are read while the block runs (see the module docstring),
+    into ``reads`` when given (to go on recording), else into a new record."""
+    reads = reads if reads is not None else ArgumentReads()
+    token = _READS.set(reads)
+    try:
+        yield reads
+    finally:
+        _READS.reset(token)
+
+
+def note_read(call: ast.Node, name: str) -> None:
+    """Parameter ``name`` of ``call`` was read (realised), when reads are recorded."""
+    reads = _READS.get()
+    if reads is not None:
+        reads.read.add((id(call), name))
+
+
+def note_started(call: ast.Node) -> None:
+    """The phase of action invocation ``call`` started, when reads are recorded."""
+    reads = _READS.get()
+    if reads is not None:
+        reads.started.add(id(call))
+
+
+_V = TypeVar("_V")
+
+
+class ReadArguments(dict[str, _V]):
+    """A call's arguments by parameter name; reading one (``[name]``, ``get``, or all of
+    them with ``items``/``values``) notes it (:func:`note_read`). ``name in args``
+    notes nothing: knowing an argument is given is not using it."""
+
+    __slots__ = ("call",)
+
+    def __init__(self, call: ast.Node, values: Mapping[str, _V] | None = None) -> None:
+        super().__init__(values or {})
+        self.call = call
+
+    def __getitem__(self, name: str) -> _V:
+        note_read(self.call, name)
+        return super().__getitem__(name)
+
+    def get(self, name: str, default: Any = None) -> Any:  # noqa: D102 - dict's
+        if name in self:
+            note_read(self.call, name)
+        return super().get(name, default)
+
+    def items(self) -> Any:
+        for name in self:
+            note_read(self.call, name)
+        return super().items()
+
+    def values(self) -> Any:
+        for name in self:
+            note_read(self.call, name)
+        return super().values()

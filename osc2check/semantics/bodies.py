@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import replace
 
-from osc2check import messages
+from osc2check import memory, messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics import types as T
 from osc2check.semantics.bindings import argument_values
@@ -60,12 +60,13 @@ class BodyChecker:
         try:
             for p in pending:
                 decl = p.decl
-                if isinstance(decl, ast.StructuredDecl) and p.symbol is not None:
-                    self._structured(p.symbol, decl, p.context)
-                elif isinstance(decl, ast.GlobalDecl):
-                    self._field(decl.field, Scope(p.context), None)
-                elif isinstance(decl, ast.EnumDecl):
-                    self._enum_values(decl, p.context)
+                with memory.analysing(*_element(p)):  # named if the memory budget runs out
+                    if isinstance(decl, ast.StructuredDecl) and p.symbol is not None:
+                        self._structured(p.symbol, decl, p.context)
+                    elif isinstance(decl, ast.GlobalDecl):
+                        self._field(decl.field, Scope(p.context), None)
+                    elif isinstance(decl, ast.EnumDecl):
+                        self._enum_values(decl, p.context)
             for p in extensions:
                 if isinstance(p.decl, ast.ExtendDecl):
                     target = self.model.declarations.get(p.decl)
@@ -600,3 +601,11 @@ class BodyChecker:
         for key in keys:
             pool.extend(s.name for s in self.model.modifiers_of(key))
         self.report(messages.unknown_modifier(inv.name.span, name, closest(name, pool)))
+
+
+def _element(p: Pending) -> tuple[Span, str]:
+    """Where a declaration is and what it is, for ``memory.analysing``."""
+    sym = p.symbol
+    if sym is not None and sym.name_span is not None:
+        return sym.name_span, f"checking {sym.kind.value} `{sym.qualified_name}`"
+    return p.decl.span, "checking a declaration"

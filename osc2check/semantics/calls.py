@@ -22,6 +22,7 @@ from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
 
 if TYPE_CHECKING:
     from osc2check.semantics.expressions import ExpressionChecker
@@ -32,17 +33,40 @@ EXCLUSIVE: dict[str, list[frozenset[str]]] = {
     "speed": [frozenset({"faster_than", "slower_than", "same_as"})],
     "acceleration": [frozenset({"faster_than", "slower_than", "same_as"})],
     "lateral": [frozenset({"left_of", "right_of", "same_as", "side_of"})],
-    "lane": [frozenset({"same_as", "side_of", "left_of", "right_of"})],
+    "lane": [
+        frozenset({"same_as", "side_of", "left_of", "right_of"}),
+        # a lane counted from a road side, or relative to another actor's
+        *(frozenset({"from", k}) for k in ("same_as", "side_of", "left_of", "right_of")),
+    ],
     "assign_position": [frozenset({"position", "route_point", "odr_point"})],
     "replay_path": [frozenset({"absolute", "relative"})],
     "replay_trajectory": [frozenset({"absolute", "relative"})],
     "follow_path": [frozenset({"absolute", "relative"})],
     "follow_trajectory": [frozenset({"absolute", "relative"})],
 }
+# Arguments of standard-library actions of which one must be given: what the runner
+# moves along, or to, has no value the solver can choose.
+ONE_OF: dict[str, list[frozenset[str]]] = {
+    "replay_path": [frozenset({"absolute", "relative"})],
+    "replay_trajectory": [frozenset({"absolute", "relative"})],
+    "follow_path": [frozenset({"absolute", "relative"})],
+    "follow_trajectory": [frozenset({"absolute", "relative"})],
+    "change_position": [frozenset({"target_position", "target_st", "target_odr", "target_xyz"})],
+    # the gap or headway to another actor: which actor, the runner cannot choose
+    **{
+        f"{verb}_{what}": [frozenset({"reference"})]
+        for verb in ("change", "keep")
+        for what in ("time_gap", "space_gap", "time_headway", "space_headway")
+    },
+    # what to move along
+    "along": [frozenset({"route"})],
+    "along_trajectory": [frozenset({"trajectory"})],
+}
 # An argument that needs another one: (behaviour, argument) -> the argument it needs.
 REQUIRES: dict[tuple[str, str], str] = {
     ("lane", "side"): "side_of",
     ("lane", "side_of"): "side",
+    ("lateral", "side_of"): "side",
 }
 # Parameters that the standard's own examples use but its library does not declare.
 SPEC_EXAMPLE_PARAMETERS: dict[str, set[str]] = {"lane": {"left_of", "right_of"}}
@@ -144,6 +168,7 @@ class CallChecker:
             rejected.append(arg)
         if library_rules:
             self._groups(callee, bound, node.span)
+            self._mandatory(callee, params, bound, node)
         if callee.kind in (SymbolKind.METHOD, SymbolKind.EVENT):  # all arguments needed
             for param in params:
                 if param.name not in bound and not param.has_default:
@@ -173,6 +198,24 @@ class CallChecker:
         )
         return allow_range and actual.kind is T.Kind.RANGE and expected.kind is not T.Kind.RANGE
 
+    def _mandatory(
+        self,
+        callee: Symbol,
+        params: list[Symbol],
+        bound: dict[str, BoundArgument],
+        node: ast.Node,
+    ) -> None:
+        """A303 for a group of arguments of which a call must give one (``ONE_OF``),
+        given neither as an argument nor by a ``keep`` of the call's own ``with:``
+        (which leaves it to the solver). A group holds for a callee that declares its
+        members: a dialect's behaviour of the same name (CARLA's ``follow_trajectory``)
+        has parameters of its own."""
+        kept = _kept_members(node)
+        declared = {p.name for p in params}
+        for group in ONE_OF.get(callee.name, ()):
+            if group <= declared and not group & (bound.keys() | kept):
+                self.report(messages.missing_argument(node.span, callee, *sorted(group)))
+
     def _groups(self, callee: Symbol, bound: dict[str, BoundArgument], span: Span) -> None:
         for group in EXCLUSIVE.get(callee.name, ()):
             given = [n for n in bound if n in group]
@@ -181,6 +224,22 @@ class CallChecker:
         for (behaviour, arg), needed in REQUIRES.items():
             if behaviour == callee.name and arg in bound and needed not in bound:
                 self.report(messages.incomplete_arguments(bound[arg].span, callee, arg, needed))
+
+
+def _kept_members(node: ast.Node) -> set[str]:
+    """The names ``n`` of ``it.n`` in the ``keep``s of a call's own ``with:``."""
+    found: set[str] = set()
+    for member in getattr(node, "with_members", ()):
+        if not isinstance(member, ast.KeepConstraint):
+            continue
+        for sub in walk(member.expr):
+            if (
+                isinstance(sub, ast.MemberAccess)
+                and isinstance(sub.target, ast.NameRef)
+                and sub.target.name.name.text == "it"
+            ):
+                found.add(sub.member.text)
+    return found
 
 
 def _default(param: Symbol) -> BoundArgument | None:

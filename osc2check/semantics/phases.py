@@ -7,7 +7,9 @@
   scenario's ``do`` (after instant members and ``emit``/``call``), any member of
   a ``parallel`` that begins at time 0, or the first member of a ``serial`` that
   does. The members of a ``one_of`` are alternatives: none of them is known to
-  run at time 0 (:attr:`TimeZero.alternatives` lists them).
+  run at time 0 (:attr:`TimeZero.alternatives` lists them; :attr:`TimeZero.options`
+  says which acting member of which ``one_of`` each belongs to, so the placement
+  can place the actors for the member the run chooses).
 * **Modifier timing** (§8.9, the ``at`` argument of movement modifiers):
   ``start`` constrains the start of the phase only, ``end`` its end (reached
   when the phase ends), ``all`` (the default) the whole phase.
@@ -40,12 +42,14 @@ from osc2check.syntax import ast
 
 __all__ = [
     "ENDLESS_ACTIONS",
+    "acting_members",
     "ENDS_WITH_FIRST",
     "INSTANT_ACTIONS",
     "NOT_BEFORE_FIRST",
     "STARTS_PLANNED",
     "PHASE_ENDING_MODIFIERS",
     "MODIFIER_TIMINGS",
+    "Guard",
     "TimeZero",
     "enum_word",
     "invocations",
@@ -144,40 +148,55 @@ def modifier_timing(arguments: Mapping[str, ast.Node]) -> str:
     return word if word in MODIFIER_TIMINGS else "all"
 
 
+#: the ``one_of`` choices an alternative depends on: (``one_of``, index of the acting
+#: member) from the outermost in
+Guard = tuple[tuple[ast.Composition, int], ...]
+
+
 @dataclass
 class TimeZero:
     """The invocations of a ``do`` tree that begin at time 0, in source order."""
 
     starts: list[ast.Invocation] = field(default_factory=list)
     alternatives: list[ast.Invocation] = field(default_factory=list)  # inside a one_of
+    #: each alternative with the choices under which it begins at time 0
+    options: list[tuple[Guard, ast.Invocation]] = field(default_factory=list)
 
 
 def time_zero(body: ast.Node) -> TimeZero:
     """What of ``body`` (a ``do`` member's body) begins at time 0 (see the module docs)."""
     found = TimeZero()
-    _collect(body, found.starts, found)
+    _collect(body, found.starts, found, ())
     return found
 
 
-def _collect(body: ast.Node, starts: list[ast.Invocation], found: TimeZero) -> bool:
-    """Add the time-0 invocations of ``body``; True when ``body`` takes no time."""
+def acting_members(comp: ast.Composition) -> list[ast.DoMember]:
+    """The members of a ``one_of`` that act (:func:`is_acting`), the ones chosen from."""
+    return [m for m in comp.members if is_acting(m.body)]
+
+
+def _collect(body: ast.Node, starts: list[ast.Invocation], found: TimeZero, guard: Guard) -> bool:
+    """Add the time-0 invocations of ``body`` (under the choices ``guard``); True when
+    ``body`` takes no time."""
     match body:
         case ast.Composition(op="serial"):
             for member in body.members:
-                if not _collect(member.body, starts, found):
+                if not _collect(member.body, starts, found, guard):
                     return False
             return not _has_duration(body.arguments)
         case ast.Composition(op="one_of"):
-            for member in body.members:
-                _collect(member.body, found.alternatives, found)
+            for index, member in enumerate(acting_members(body)):
+                _collect(member.body, found.alternatives, found, (*guard, (body, index)))
             return False
         case ast.Composition():
             instant = True
             for member in body.members:
-                instant = _collect(member.body, starts, found) and instant
+                instant = _collect(member.body, starts, found, guard) and instant
             return instant and not _has_duration(body.arguments)
         case ast.Invocation():
             starts.append(body)
+            if guard:
+                found.options.append((guard, body))
             return is_instant(body)
         case ast.Emit() | ast.CallDirective():
             return True

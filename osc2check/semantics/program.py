@@ -20,7 +20,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from osc2check import inputs, messages
+from osc2check import inputs, memory, messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.declare import Unit
 from osc2check.semantics.model import Context, Model
@@ -235,7 +235,8 @@ def _visit(
         key = str(path)
         imported_result = found
         if imported_result is None and _not_a_source(path) is None:
-            imported_result = state.read(key)
+            with memory.analysing(decl.span, f"reading the import of `{target}`"):
+                imported_result = state.read(key)
         if imported_result is None:
             if decl.kind == "file" and Path(target).name in STANDARD_FILE_NAMES:
                 state.program.diagnostics.append(messages.standard_file_import(decl.span, target))

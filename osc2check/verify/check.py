@@ -18,11 +18,12 @@ from __future__ import annotations
 
 import re
 from collections.abc import Callable, Iterator, Mapping
+from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
-from osc2check import codes, messages
+from osc2check import codes, memory, messages
 from osc2check.capabilities import not_executed
 from osc2check.diagnostics import Diagnostic, Related
 from osc2check.plugins import PluginRegistry
@@ -225,65 +226,78 @@ def verify_program(
             # the file's budget: its cost grows with every scenario
             report(messages.scenario_budget(sym.name_span, sym.name, MAX_SCENARIOS))
             continue
-        # an invoked scenario's actors are its invoker's: its start is checked there
-        standalone = sym not in invoked or scenario is not None
-        for d in flow.check_flow(program.model, sym):
-            report(d)
-        for d in not_executed(program.model, sym, sym in invoked, plugins, decls):
-            report(d)
-        problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
-        _reversed_ranges(sym, program, text_of, report)
-        outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
-        if outcome.status == "unsat" and _unsaid_categories(problem):
-            # vehicles nothing says the category of were placed as cars: any category may
-            # do (a car where one fits); when none does, the cars' conflict is reported
-            relaxed = lower_scenario(
-                program.model, sym, text_of, default_map, decls, maps, open_categories=True
-            )
-            again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
-            if again.status != "unsat":
-                problem, outcome = relaxed, again
-        for skipped in problem.skipped:
-            if (skipped.span, skipped.reason) not in unverified:
-                unverified.add((skipped.span, skipped.reason))
-                report(_unverified(skipped, sym))
-        if standalone:
-            _placement_notes(problem, report)
-        if outcome.status == "unsat":
-            for conflict in outcome.conflicts:
-                report(_conflict(conflict, sym))
-        elif outcome.status == "unknown":
-            report(
-                messages.solver_inconclusive(
-                    sym.name_span or problem.span, sym.name, outcome.reason or "unknown"
-                )
-            )
-        else:
-            active = active_constraints(problem, SolverOutcome("sat"))
-            for c in _vacuous(problem, active, rlimit, session):
-                report(messages.vacuous_constraint(c))
-            gaps = _unsafe_gaps(problem, active, outcome, rlimit) if standalone else ()
-            for gap in gaps:
-                report(
-                    messages.unsafe_gap(gap.span, gap.text, gap.follower, gap.leader, MIN_TIME_GAP)
-                )
-            for c, person in _running_persons(problem, active, outcome, rlimit):
-                report(messages.person_faster_than_walking(c.span, c.text, person, WALKING_SPEED))
-        for default, by in outcome.overridden:
-            if by is not None and by.kind == "argument":
-                continue  # an invocation's argument: what a parameter's default is for
-            if _user_written(default, program) and (by is None or _user_written(by, program)):
-                report(messages.default_overridden(default, by))
-        for later, earlier in outcome.conflicting_defaults:
-            if _user_written(later, program):
-                report(messages.conflicting_defaults(later, earlier))
-        for c in outcome.nonlinear:
-            if _user_written(c, program):
-                report(messages.nonlinear_constraint(c))
-        invokers_of = () if standalone else tuple(s.name for s in invoked[sym])
-        result.scenarios.append(
-            ScenarioResult(sym, problem, outcome, seed, rlimit, timeout_ms, invoked_by=invokers_of)
+        where = sym.name_span
+        scope = (
+            memory.analysing(where, f"solving scenario `{sym.name}`") if where else nullcontext()
         )
+        with scope:
+            # an invoked scenario's actors are its invoker's: its start is checked there
+            standalone = sym not in invoked or scenario is not None
+            for d in flow.check_flow(program.model, sym):
+                report(d)
+            for d in not_executed(program.model, sym, sym in invoked, plugins, decls):
+                report(d)
+            problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
+            _reversed_ranges(sym, program, text_of, report)
+            outcome = check(problem, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+            if outcome.status == "unsat" and _unsaid_categories(problem):
+                # vehicles nothing says the category of were placed as cars: any category may
+                # do (a car where one fits); when none does, the cars' conflict is reported
+                relaxed = lower_scenario(
+                    program.model, sym, text_of, default_map, decls, maps, open_categories=True
+                )
+                again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+                if again.status != "unsat":
+                    problem, outcome = relaxed, again
+            for skipped in problem.skipped:
+                if (skipped.span, skipped.reason) not in unverified:
+                    unverified.add((skipped.span, skipped.reason))
+                    report(_unverified(skipped, sym))
+            if standalone:
+                _placement_notes(problem, report)
+            if outcome.status == "unsat":
+                for conflict in outcome.conflicts:
+                    report(_conflict(conflict, sym))
+            elif outcome.status == "unknown":
+                if outcome.reason == memory.OUT_OF_MEMORY:
+                    raise MemoryError(outcome.reason)  # z3 could not allocate: the budget
+                report(
+                    messages.solver_inconclusive(
+                        sym.name_span or problem.span, sym.name, outcome.reason or "unknown"
+                    )
+                )
+            else:
+                active = active_constraints(problem, SolverOutcome("sat"))
+                for c in _vacuous(problem, active, rlimit, session):
+                    report(messages.vacuous_constraint(c))
+                gaps = _unsafe_gaps(problem, active, outcome, rlimit) if standalone else ()
+                for gap in gaps:
+                    report(
+                        messages.unsafe_gap(
+                            gap.span, gap.text, gap.follower, gap.leader, MIN_TIME_GAP
+                        )
+                    )
+                for c, person in _running_persons(problem, active, outcome, rlimit):
+                    report(
+                        messages.person_faster_than_walking(c.span, c.text, person, WALKING_SPEED)
+                    )
+            for default, by in outcome.overridden:
+                if by is not None and by.kind == "argument":
+                    continue  # an invocation's argument: what a parameter's default is for
+                if _user_written(default, program) and (by is None or _user_written(by, program)):
+                    report(messages.default_overridden(default, by))
+            for later, earlier in outcome.conflicting_defaults:
+                if _user_written(later, program):
+                    report(messages.conflicting_defaults(later, earlier))
+            for c in outcome.nonlinear:
+                if _user_written(c, program):
+                    report(messages.nonlinear_constraint(c))
+            invokers_of = () if standalone else tuple(s.name for s in invoked[sym])
+            result.scenarios.append(
+                ScenarioResult(
+                    sym, problem, outcome, seed, rlimit, timeout_ms, invoked_by=invokers_of
+                )
+            )
     return result
 
 
@@ -572,10 +586,10 @@ def _holds_always(
     rlimit: int,
     session: Session | None,
 ) -> bool:
-    from osc2check.verify.z3_backend import _Encoder, _z3
+    from osc2check.verify.z3_backend import _Encoder, _z3, new_context
 
     z3 = _z3()
-    ctx = session.ctx if session is not None else z3.Context()
+    ctx = session.ctx if session is not None else new_context()
     enc = _Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
     s.set("rlimit", rlimit)

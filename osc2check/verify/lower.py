@@ -88,6 +88,22 @@ def join_path(prefix: str, name: str) -> str:
     return f"{prefix}.{name}" if prefix else name
 
 
+def one_of_choice(prefix: str, comp: ast.Composition) -> str:
+    """The witness's variable of which acting member the ``one_of`` ``comp`` of the
+    instance at ``prefix`` runs (0 for the first): the placement places the actors for
+    that member, and the runner's ``OneOf`` runs it."""
+    return join_path(prefix, f"one_of@{comp.span.line}:{comp.span.column}{_CHOICE}")
+
+
+_CHOICE = ".member"
+
+
+def is_one_of_choice(name: str) -> bool:
+    """Whether ``name`` is a variable :func:`one_of_choice` names."""
+    last = name.rsplit(".", 2)[-2:]
+    return name.endswith(_CHOICE) and len(last) == 2 and last[0].startswith("one_of@")
+
+
 def invocation_path(
     prefix: str, actor_path: str | None, label: ast.Name | None, name: str, inv: ast.Invocation
 ) -> str:

@@ -26,8 +26,11 @@ Conventions (shown in the witness):
 * Time 0: an invocation begins at time 0 when it is the first member of a
   top-level ``serial`` (after instantaneous members such as
   ``assign_position``, ``rain`` and ``emit``) or any member of a
-  ``parallel``; the members of a ``one_of`` are alternatives and none of them
-  fixes the start (an actor they place is not reported as unplaced).
+  ``parallel``. The acting members of a ``one_of`` that begins at time 0 are
+  alternatives: an integer variable (``lower.one_of_choice``) says which one the
+  run chooses, and each member's start modifiers hold when it is the one chosen
+  (``choice == k => ...``), so the solver proves that some member can be placed
+  and the witness places the actors for the member the runner then runs.
 * The start state: the modifiers with ``at: start`` of every invocation that
   begins at time 0, and the modifiers without ``at`` (``at: all``, which holds
   at the start too) of each actor's first such invocation, unless the actor
@@ -59,10 +62,18 @@ from fractions import Fraction
 from typing import TYPE_CHECKING
 
 from osc2check.semantics import types as T
+from osc2check.semantics.bindings import ReadArguments
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import enum_word, invocations, modifier_timing, time_zero
+from osc2check.semantics.phases import (
+    Guard,
+    acting_members,
+    enum_word,
+    invocations,
+    modifier_timing,
+    time_zero,
+)
 from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -79,6 +90,7 @@ from osc2check.verify.lower import (
     coerce,
     in_range,
     join_path,
+    one_of_choice,
 )
 from osc2check.verify.map_modifiers import ElementField, MapFields
 from osc2check.verify.quick import linear
@@ -100,6 +112,8 @@ if TYPE_CHECKING:
     from osc2check.world.network import RoadNetwork
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
+#: actions whose actor stands still throughout
+_STANDING = ("remain_stationary",)
 _DEGREE = Fraction(314159265358979, 18000000000000000)  # pi / 180 (a unit factor)
 #: the rule of "a vehicle whose category nothing constrains is a car": a placement that
 #: has no solution with it is tried again with those vehicles of any category
@@ -277,7 +291,12 @@ class PlacementLowerer:
         self.lateral: set[str] = set()  # actors with a lateral offset at the start
         self.moving: set[str] = set()  # actors given a speed at the start
         self.applied: set[int] = set()  # ids of the modifiers applied at the start
-        self.alternatives: list[tuple[ast.Invocation, InstanceScope]] = []  # inside a one_of
+        #: time-0 invocations inside a ``one_of``, with the choice under which they run
+        self.alternatives: list[tuple[ast.Invocation, InstanceScope, ir.Term]] = []
+        self.guard: ir.Term | None = None  # the choice the modifiers being applied need
+        #: actors given a speed or a lateral offset at the start only under a choice
+        self.moving_when: dict[str, list[ir.Term]] = {}
+        self.lateral_when: dict[str, list[ir.Term]] = {}
         self.scope = self._root_scope()  # the instance whose members are being placed
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
 
@@ -305,39 +324,25 @@ class PlacementLowerer:
             placement.actors[param.name] = self._actor(param, kind)
         self._map_modifiers(placement)
         first: set[str] = set()
-        starts = self._start_invocations()
-        for inv, scope in starts:  # which modifier kinds each actor gets `at: start`
-            self.scope = scope
-            started = self._actor_at(inv, placement)
-            for item in inv.with_members:
-                if (
-                    isinstance(item, ast.Invocation)
-                    and modifier_timing(self._args(item)) == "start"
-                ):
-                    self.explicit.add((started.name if started else None, item.name.text))
-        for inv, scope in starts:
-            self.scope = scope
-            self._modifiers(inv, placement, first)
-        for inv, scope in self.alternatives:
-            self.scope = scope
-            actor = self._actor_at(inv, placement)
-            if actor is not None and any(
-                isinstance(m, ast.Invocation) and m.name.text in _POSITIONING
-                for m in inv.with_members
-            ):
-                actor.placed = True
+        self._apply_starts(self._start_invocations(), placement, first)
+        self._alternatives(placement, first)
         self._phase_limits(placement)
         for actor in placement.actors.values():
             if actor.name not in self.lateral:
                 self._implicit(
-                    ir.op("==", ir.Ref(actor.t), ir.const(0)),
+                    _unless(
+                        self.lateral_when.get(actor.name), ir.op("==", ir.Ref(actor.t), ir.const(0))
+                    ),
                     actor.span,
                     "lane-centre",
                     f"`{actor.name}` starts on its lane centre (no `lateral(..., at: start)`)",
                 )
             if actor.name not in self.moving:
                 self._implicit(
-                    ir.op("==", ir.Ref(actor.speed), ir.const(0)),
+                    _unless(
+                        self.moving_when.get(actor.name),
+                        ir.op("==", ir.Ref(actor.speed), ir.const(0)),
+                    ),
                     actor.span,
                     "at-rest",
                     f"`{actor.name}` starts at rest (no `speed(..., at: start)`)",
@@ -351,6 +356,69 @@ class PlacementLowerer:
         self._room(placement)
         self._preferences(placement)
         return placement
+
+    def _alternatives(self, placement: StartPlacement, first: set[str]) -> None:
+        """Apply the start modifiers of the time-0 invocations of ``one_of`` members, each
+        under the choice of its member: the modifiers of each member's invocations apply
+        as those of the scenario's own time-0 invocations do (``_modifiers``), to the
+        actors' state after those."""
+        members: dict[ir.Term, list[tuple[ast.Invocation, InstanceScope]]] = {}
+        for inv, scope, guard in self.alternatives:
+            members.setdefault(guard, []).append((inv, scope))
+        moving, lateral = set(self.moving), set(self.lateral)
+        for guard, invs in members.items():
+            self.guard = guard
+            explicit = set(self.explicit)
+            self._apply_starts(invs, placement, set(first))
+            self.explicit = explicit
+            for name in self.moving - moving:
+                self.moving_when.setdefault(name, []).append(guard)
+            for name in self.lateral - lateral:
+                self.lateral_when.setdefault(name, []).append(guard)
+            self.moving, self.lateral = set(moving), set(lateral)
+        self.guard = None
+        self.scope = self._root_scope()
+
+    def _apply_starts(
+        self,
+        starts: list[tuple[ast.Invocation, InstanceScope]],
+        placement: StartPlacement,
+        first: set[str],
+    ) -> None:
+        """Apply the start modifiers of time-0 invocations (``_modifiers``), having noted
+        which modifier kinds each actor gets ``at: start``."""
+        for inv, scope in starts:
+            self.scope = scope
+            started = self._actor_at(inv, placement)
+            for item in inv.with_members:
+                if (
+                    isinstance(item, ast.Invocation)
+                    and modifier_timing(self._args(item)) == "start"
+                ):
+                    self.explicit.add((started.name if started else None, item.name.text))
+        for inv, scope in starts:
+            self.scope = scope
+            self._modifiers(inv, placement, first)
+
+    def _choice(self, guard: Guard, scope: InstanceScope) -> ir.Term:
+        """The term "the run chooses these members" of the ``one_of`` choices ``guard``."""
+        chosen: list[ir.Term] = []
+        for comp, index in guard:
+            name = one_of_choice(scope.prefix, comp)
+            known = name in self.problem.variables
+            var = self.problem.var(name, "int", span=comp.span)
+            if not known:
+                count = len(acting_members(comp))
+                self.problem.add(
+                    ir.Constraint(
+                        in_range(ir.Ref(var), ir.const(0), ir.const(count - 1)),
+                        comp.span,
+                        "domain",
+                        f"one member of the `one_of` (1 to {count}) runs",
+                    )
+                )
+            chosen.append(ir.op("==", ir.Ref(var), ir.const(index)))
+        return chosen[0] if len(chosen) == 1 else ir.op("and", *chosen)
 
     # ---- room to drive, and plausible values -------------------------------------------
 
@@ -811,7 +879,7 @@ class PlacementLowerer:
         the scenario's own, and those of the scenarios it invokes at time 0."""
         found: list[tuple[ast.Invocation, InstanceScope]] = []
         for member in self._bodies(self.scenario):
-            self._zero(member, self._root_scope(), found, 0)
+            self._zero(member, self._root_scope(), found, 0, None)
         return found
 
     def _zero(
@@ -820,19 +888,26 @@ class PlacementLowerer:
         scope: InstanceScope,
         found: list[tuple[ast.Invocation, InstanceScope]],
         depth: int,
+        guard: ir.Term | None,
     ) -> None:
+        """Collect the time-0 invocations of ``member`` (run under the choice ``guard``,
+        when it is inside a ``one_of``): into ``found``, or, inside a ``one_of``, into
+        ``alternatives`` with the choice of their member."""
         zero = time_zero(member.body)
         labels = _labels(member)
-        for inv in zero.starts:
+        options = [(inv, guard) for inv in zero.starts]
+        for choices, inv in zero.options:
+            chosen = self._choice(choices, scope)
+            options.append((inv, chosen if guard is None else ir.op("and", guard, chosen)))
+        for inv, when in options:
             inner = self._invoked(inv, scope, labels, depth)
-            if inner is None:
+            if inner is not None:
+                for body in self._bodies(inner[0]):
+                    self._zero(body, inner[1], found, depth + 1, when)
+            elif when is None:
                 found.append((inv, scope))
             else:
-                for body in self._bodies(inner[0]):
-                    self._zero(body, inner[1], found, depth + 1)
-        # alternatives of a one_of: none of them is known to run at time 0, so none fixes a
-        # start; an actor one of them places counts as placed
-        self.alternatives.extend((inv, scope) for inv in zero.alternatives)
+                self.alternatives.append((inv, scope, when))
 
     def _invoked(
         self,
@@ -880,9 +955,11 @@ class PlacementLowerer:
         is_first = actor.name not in first
         first.add(actor.name)
         if inv.name.text == "assign_speed":  # an instant action: its speed is the start speed
-            given = self._args(inv)
+            given = self._args(inv, realised=True)
             if "speed" in given:
                 self._mod_speed(actor, {"speed": given["speed"]}, inv, placement)
+        if inv.name.text in _STANDING:  # it stands: its speed is 0, whatever else says
+            self._require(ir.op("==", ir.Ref(actor.speed), ir.const(0)), inv)
         handlers = {
             "lane": self._mod_lane,
             "position": self._mod_position,
@@ -895,7 +972,9 @@ class PlacementLowerer:
         for item in inv.with_members:
             if not isinstance(item, ast.Invocation):
                 continue
-            args = self._args(item)
+            args = self._args(item, realised=True)
+            if item.name.text == "change_lane":  # a change from the start lane
+                self._lane_change(actor, args, item, placement)
             at = modifier_timing(args)
             if not (
                 at == "start"
@@ -907,6 +986,33 @@ class PlacementLowerer:
                 actor.placed = actor.placed or item.name.text in _POSITIONING
                 self.applied.add(id(item))
                 handler(actor, args, item, placement)
+
+    def _lane_change(
+        self,
+        actor: PlacedActor,
+        args: dict[str, ast.Node],
+        item: ast.Invocation,
+        placement: StartPlacement,
+    ) -> None:
+        """``change_lane(n, side)`` in a phase that starts the scenario: the road has a
+        lane ``n`` lanes to ``side`` of the start lane (to either side without one, as
+        the runner then draws one of those that exist); ``n`` from a range is the
+        solver's, which the runner changes by."""
+        node = args.get("lane")
+        count = self._value(node) if node is not None else ir.const(1)
+        if count is None:
+            return
+        count = coerce(actor.lane, count)
+        side = enum_word(args.get("side"))
+        beside = []
+        for sign, name in ((1, "left"), (-1, "right")):
+            if side not in (None, name):
+                continue
+            step = count if sign > 0 else ir.op("neg", count)
+            target = ir.op("+", ir.Ref(actor.lane), step)
+            beside.append(placement.terms.lanes(actor.road, target, ir.Ref(actor.s)))
+        if beside:
+            self._require(beside[0] if len(beside) == 1 else ir.op("or", *beside), item)
 
     def _phase_limits(self, placement: StartPlacement) -> None:
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
@@ -928,7 +1034,7 @@ class PlacementLowerer:
                     if not isinstance(item, ast.Invocation) or id(item) in self.applied:
                         continue
                     if item.name.text in ("lane", "speed"):
-                        self._phase_limit(actor, item, placement)
+                        self._phase_limit(actor, item, placement, inv.name.text in _STANDING)
                     elif item.name.text == "along":
                         self._mod_along(actor, self._args(item), item, placement, at_start=False)
                 for change in steps.run(actor.name, actor.lane, inv, self._phase_lane(actor)):
@@ -948,8 +1054,14 @@ class PlacementLowerer:
         return lane
 
     def _phase_limit(
-        self, actor: PlacedActor, item: ast.Invocation, placement: StartPlacement
+        self,
+        actor: PlacedActor,
+        item: ast.Invocation,
+        placement: StartPlacement,
+        standing: bool = False,
     ) -> None:
+        """The lane or speed a modifier gives in its phase is one the road has and the
+        vehicle reaches (``standing``: the phase's action stands, so the speed is 0)."""
         args = self._args(item)
         name = item.name.text
         if name == "lane" and "lane" in args and not any(k in args for k in LANE_REFERENCES):
@@ -976,6 +1088,8 @@ class PlacementLowerer:
             try:
                 self._speed_range(actor)
                 self._mod_speed(actor, args, item, placement)
+                if standing:
+                    self._require(ir.op("==", ir.Ref(speed), ir.const(0)), item)
             finally:
                 actor.speed = saved
 
@@ -984,10 +1098,15 @@ class PlacementLowerer:
         one for each instance of an invoked scenario."""
         return join_path(self.scope.prefix, f"{actor.name}@{item.span.line}.{what}")
 
-    def _args(self, inv: ast.Invocation) -> dict[str, ast.Node]:
-        """The arguments given to modifier ``inv``, by parameter (as the checker bound them)."""
+    def _args(self, inv: ast.Invocation, realised: bool = False) -> dict[str, ast.Node]:
+        """The arguments given to modifier ``inv``, by parameter (as the checker bound them);
+        ``realised``: the start placement realises them, and notes what it reads
+        (``bindings.recording_reads``)."""
         binding = self.model.binding(inv)
-        return dict(binding.values(defaults=False)) if binding is not None else {}
+        given: dict[str, ast.Node] = (
+            dict(binding.values(defaults=False)) if binding is not None else {}
+        )
+        return ReadArguments(inv, given) if realised else given
 
     def _value(self, node: ast.Node) -> ir.Term | None:
         chosen = self._chosen(node)
@@ -1023,6 +1142,8 @@ class PlacementLowerer:
 
     def _require(self, term: ir.Term, item: ast.Invocation) -> None:
         span = call_span(item)
+        if self.guard is not None:  # a `one_of` member's: it holds when that one runs
+            term = ir.op("or", ir.op("not", self.guard), term)
         self.problem.add(ir.Constraint(term, span, "modifier", self.lw.text_of(span)))
 
     def _mod_lane(
@@ -1219,8 +1340,30 @@ class PlacementLowerer:
         node = args.get("distance")
         value = self._value(node) if node is not None else None
         self.lateral.add(actor.name)
+        for key, sign in (("left_of", 1), ("right_of", -1), ("same_as", 0), ("side_of", 0)):
+            if key not in args:
+                continue
+            other = self._reference(args[key], actor, placement, item.span)
+            if other is None:
+                return
+            if key == "side_of":
+                sign = -1 if enum_word(args.get("side")) == "right" else 1
+            offset = value if value is not None and sign else ir.const(0)
+            if sign < 0:
+                offset = ir.op("neg", offset)
+            relation = placement.terms.beside(
+                actor.road,
+                ir.Ref(actor.s),
+                ir.Ref(actor.lane),
+                ir.Ref(actor.t),
+                ir.Ref(other.lane),
+                ir.Ref(other.t),
+                offset,
+            )
+            self._require(_with(relation, placement.terms.same(actor.road, other.road)), item)
+            return
         if value is not None:
-            if enum_word(args.get("side")) == "right" and "side_of" not in args:
+            if enum_word(args.get("side")) == "right":
                 value = ir.op("neg", value)  # an offset to the right of the lane centre
             self._require(ir.op("==", ir.Ref(actor.t), value), item)
 
@@ -1316,6 +1459,13 @@ def _labels(member: ast.DoMember) -> dict[int, ast.Name]:
         if isinstance(m.body, ast.Composition):
             stack.extend(m.body.members)
     return found
+
+
+def _unless(guards: list[ir.Term] | None, term: ir.Term) -> ir.Term:
+    """``term`` where none of the choices ``guards`` holds (it always does without any)."""
+    if not guards:
+        return term
+    return ir.op("or", *guards, term)
 
 
 def _with(relation: ir.Term, also: ir.Term | None) -> ir.Term:

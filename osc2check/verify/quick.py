@@ -139,7 +139,9 @@ class _Atom:
     """One conjunct: ``form op 0`` (linear), a finite set of values of one variable,
     a boolean literal, or anything else (only checked at the end). An equation that is
     not linear keeps its ``term``: once all but one of its unknowns have values it may
-    be (``gap == closing * headway`` with the closing speed and the headway drawn)."""
+    be (``gap == closing * headway`` with the closing speed and the headway drawn); so
+    does a disjunction, which may then be one equation (``choice != 1 or lane == 2``,
+    a ``one_of`` member's start, with the member drawn)."""
 
     __slots__ = ("kind", "form", "op", "var", "values", "names", "unknown", "term")
 
@@ -232,7 +234,7 @@ def _atom(term: ir.Term) -> _Atom:
                 values.append(alt.args[1].value)
             else:
                 return _Atom("set", names, var=names[0], values=tuple(values))
-        if term.op == "==":
+        if term.op in ("==", "or"):
             return _Atom("other", names, term=term)
     return _Atom("other", names)
 
@@ -298,10 +300,13 @@ class Prepared:
     chosen by a keep gives its speed an upper bound to draw under, and a product with a
     constant field is linear. The original conjuncts are what a model is checked
     against. Variables are drawn in the order they are first mentioned, those in
-    ``last`` (which equations define from the others) after the rest.
+    ``first`` (choices that others depend on) before the rest and those in ``last``
+    (which equations define from the others) after it.
     """
 
-    def __init__(self, terms: list[ir.Term], last: Collection[str] = ()):
+    def __init__(
+        self, terms: list[ir.Term], last: Collection[str] = (), first: Collection[str] = ()
+    ):
         self.conjuncts: list[ir.Term] = []
         for t in terms:
             _conjuncts(t, self.conjuncts)
@@ -316,7 +321,9 @@ class Prepared:
                     self.by_var[name] = []
                     order.append(name)
                 self.by_var[name].append(a)
-        self.order = [n for n in order if n not in last] + [n for n in order if n in last]
+        ahead = [n for n in order if n in first]
+        self.order = ahead + [n for n in order if n not in last and n not in first]
+        self.order += [n for n in order if n in last and n not in first]
 
 
 def find_model(

@@ -190,6 +190,34 @@ class RoadTerms:
                 each.append((cw, inside if self.uniform else _and(_within(s, p), inside)))
         return self._any(road, each)
 
+    def beside(
+        self,
+        road: ir.Var | None,
+        s: ir.Term,
+        lane: ir.Term,
+        t: ir.Term,
+        other_lane: ir.Term,
+        other_t: ir.Term,
+        offset: ir.Term,
+    ) -> ir.Term:
+        """An actor in ``lane`` at ``t`` from its centre is ``offset`` to the left of one
+        in ``other_lane`` at ``other_t`` on the same carriageway (lanes counted from the
+        right, ``t`` to the left): the lane width times the lanes between them, plus the
+        offsets, where the actor is."""
+        each: list[tuple[Carriageway, ir.Term]] = []
+        for cw in self.carriageways:
+            for p in cw.pieces:
+                if p.count == 0:
+                    continue
+                across = ir.op(
+                    "+",
+                    ir.op("*", ir.const(fraction(p.width)), ir.op("-", lane, other_lane)),
+                    ir.op("-", t, other_t),
+                )
+                relation = ir.op("==", across, offset)
+                each.append((cw, relation if self.uniform else _and(_within(s, p), relation)))
+        return self._any(road, each)
+
     def across_text(self, actor: str, size: str, walker: bool = False) -> str:
         if walker:
             return f"`{actor}` ({size}) stays on the road (any of its lanes, sidewalks included)"

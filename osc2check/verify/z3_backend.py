@@ -21,7 +21,9 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
+from osc2check import memory
 from osc2check.verify import ir, quick
+from osc2check.verify.lower import is_one_of_choice
 
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
@@ -63,6 +65,13 @@ class SolverOutcome:
     method: str = "z3"  # "z3" | "propagation": what decided the status
 
 
+def new_context() -> Z3Context:
+    """A new z3 context, or ``MemoryError`` when the memory budget has no room for one
+    (z3 does not check that its context was made, and crashes)."""
+    memory.room_for_solver()
+    return _z3().Context()
+
+
 class Session:
     """The z3 context that the scenarios of one analysis share, made when first needed."""
 
@@ -72,7 +81,7 @@ class Session:
     @property
     def ctx(self) -> Z3Context:
         if self._ctx is None:
-            self._ctx = _z3().Context()
+            self._ctx = new_context()
         return self._ctx
 
 
@@ -275,7 +284,7 @@ def check(
         outcome.values = model
         outcome.method = "propagation"
         return outcome
-    ctx = session.ctx if session is not None else _z3().Context()
+    ctx = session.ctx if session is not None else new_context()
     return _solve(problem, outcome, active, None, rlimit, timeout_ms, ctx)
 
 
@@ -299,7 +308,7 @@ def solve(
         seed,
         rlimit,
         timeout_ms,
-        ctx if ctx is not None else _z3().Context(),
+        ctx if ctx is not None else new_context(),
     )
 
 
@@ -486,7 +495,9 @@ class Sampler:
         # are drawn first
         follows = _dependent(self.folded, fixed)
         self.aimed = [n for n in self.linked if n not in follows]
-        self.terms = quick.Prepared(self.folded)
+        # which `one_of` member runs is drawn first: the start it needs follows from it
+        choices = [n for n in self.order if is_one_of_choice(n)]
+        self.terms = quick.Prepared(self.folded, first=choices)
 
     def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
@@ -494,7 +505,7 @@ class Sampler:
             return self.opt
         z3 = _z3()
         if self.enc is None:
-            self.enc = _Encoder(self.problem, z3.Context())
+            self.enc = _Encoder(self.problem, new_context())
         enc = self.enc
         opt = self.opt = z3.Optimize(ctx=enc.ctx)
         opt.set("timeout", self.timeout_ms)
@@ -630,7 +641,7 @@ def never_holds(
 ) -> bool:
     """Whether ``term`` is false in every model of the active constraints."""
     z3 = _z3()
-    ctx = z3.Context()
+    ctx = new_context()
     enc = _Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("rlimit", rlimit)

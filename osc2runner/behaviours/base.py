@@ -28,7 +28,7 @@ from typing import TYPE_CHECKING, Any
 import py_trees
 from py_trees.common import Status
 
-from osc2check.semantics.bindings import Binding
+from osc2check.semantics.bindings import Binding, ReadArguments, note_started
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 from osc2check.verify.schedule import PhasePlan
@@ -179,12 +179,19 @@ class Modifier:
         self.use = use
         self.args: dict[str, Any] = {}
         self.at = "all"
+        self.movement_mode = "other"
+        self.track = "actual"
 
     # ---- helpers
 
     def evaluate(self) -> dict[str, Any]:
-        self.args = {k: fn() for k, fn in self.use.arguments.items()}
+        self.args = ReadArguments(self.node, {k: fn() for k, fn in self.use.arguments.items()})
         self.at = str(self.args.get("at", "all"))
+        # every motion the runner makes is physical and rate-limited, so `monotonous`
+        # holds as `other` does; a reference's motion is followed as it is (`track:
+        # projected` is the checker's A308)
+        self.movement_mode = str(self.args.get("movement_mode", "other"))
+        self.track = str(self.args.get("track", "actual"))
         return self.args
 
     @property
@@ -244,8 +251,6 @@ class ActionBehaviour(ScenarioBehaviour):
     finite = True
     #: the action realises its modifiers itself (assign_position): they are not begun
     modifiers_realised = False
-    #: a trailer (no engine, no driver) may be its actor
-    for_trailers = False
 
     def __init__(self, name: str, use: ActionUse) -> None:
         super().__init__(name)
@@ -306,8 +311,9 @@ class ActionBehaviour(ScenarioBehaviour):
     def initialise(self) -> None:
         ctx = self.ctx
         self.start_tick = ctx.tick
+        note_started(self.use.node)
         ctx.phase_started(self.use.key)
-        self.args = {k: fn() for k, fn in self.use.arguments.items()}
+        self.args = ReadArguments(self.use.node, {k: fn() for k, fn in self.use.arguments.items()})
         self.phase = None
         deadline = ctx.deadline(self.use.plan)  # the end of the phase it belongs to
         if deadline is not None:

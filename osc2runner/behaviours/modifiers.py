@@ -531,17 +531,21 @@ class ChangeLaneModifier(Modifier):
 
 @modifier("keep_lane")
 class KeepLane(Modifier):
-    """``keep_lane()``: stay in the lane the phase starts in (at its centre)."""
+    """``keep_lane()``: stay in the lane the phase starts in (at its centre, or at the
+    offset a ``lateral`` of the phase asks for)."""
 
     lateral = True
 
     def realise(self, action: ActionBehaviour) -> None:
+        if any(isinstance(m, Lateral) and m.at != "start" for m in action.use.modifiers):
+            return  # a `lateral` of the phase keeps the lane, at its offset from the centre
         _lateral(action).keep_lane(lane_of(action.ctx, action.actor))
 
 
 @modifier("lateral")
 class Lateral(Modifier):
-    """``lateral(distance: d)``: ``d`` to the left of the lane centre; with a reference,
+    """``lateral(distance: d)``: ``d`` to the left of the lane centre (to the right with
+    ``side: right``); with a reference,
     ``d`` to its ``left_of``/``right_of``/``side_of`` side (``same_as``: aligned), on the
     road the actor is on.
 
@@ -567,6 +571,12 @@ class Lateral(Modifier):
             return other.t + sign * d * (other.direction or 1)
         return None
 
+    def _offset(self) -> float:
+        """The offset from the lane centre asked for without a reference: ``distance`` to
+        the left, or to the right with ``side: right`` (as the checker places it)."""
+        d = float(self.args.get("distance", 0.0))
+        return -d if str(self.args.get("side", "left")) == "right" else d
+
     def _wanted(self, action: ActionBehaviour, ref: LaneRef | None = None) -> float:
         """The offset from the centre of the actor's lane (or of ``ref``) asked for."""
         t = self._target_t(action)
@@ -574,7 +584,7 @@ class Lateral(Modifier):
             if ref is None:
                 return offset_for_t(action.state, t)
             return offset_in(action.ctx, action.state, ref, t)
-        return float(self.args.get("distance", 0.0))
+        return self._offset()
 
     def realise(self, action: ActionBehaviour) -> None:
         if self.at == "end" and action.remaining():
@@ -614,7 +624,7 @@ class Lateral(Modifier):
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         t = self._target_t(action)
         if t is None:
-            pose.offset = float(self.args.get("distance", 0.0))
+            pose.offset = self._offset()
         else:
             pose.t = t
 
@@ -697,7 +707,12 @@ class AvoidCollisions(Modifier):
 
 @modifier("physical_movement", note="always physical; accepted, no effect")
 class PhysicalMovement(Modifier):
-    """``physical_movement(...)``: every movement in this runner is physical; nothing to do."""
+    """``physical_movement(option)``: every movement in this runner is physical, which
+    each option allows (``prefer_non_physical`` asks for exact motion only where the
+    implementation has it): nothing to change."""
+
+    def begin(self, action: ActionBehaviour) -> None:
+        self.option = str(self.args.get("option", "prefer_physical"))
 
 
 @modifier(

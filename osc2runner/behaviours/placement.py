@@ -58,7 +58,6 @@ class AssignPosition(InstantAction):
     world or the map (at time 0 too: the checker places actors by their modifiers)."""
 
     modifiers_realised = True
-    for_trailers = True
 
     def start(self) -> None:
         given = [k for k in ("position", "route_point", "odr_point") if k in self.args]
@@ -169,8 +168,6 @@ class AssignOrientation(InstantAction):
     """``assign_orientation(orientation)``: the heading at once, the world yaw of the
     ``orientation_3d`` (roll and pitch are not used: the world is flat). Walkers walk on
     in the new heading; vehicles keep their lateral position on the road."""
-
-    for_trailers = True
 
     def start(self) -> None:
         _not_hitched(self)

@@ -6,8 +6,9 @@
 * :class:`Parallel` starts all members together and ends as its ``overlap``
   says: when all have ended (``start``, ``any``, ``full``), or with its first
   member (``equal``, ``end``, ``final``, ``initial``, ``inside``).
-* :class:`OneOf`: exactly one acting member runs (chosen with the run's seed,
-  recorded); members that only wait run alongside and may end it.
+* :class:`OneOf`: exactly one acting member runs (the witness's choice, else
+  one drawn with the run's seed; recorded); members that only wait run
+  alongside and may end it.
 * :class:`DurationBound` bounds its child in simulated time: it succeeds at
   the upper bound (stopping the child), and holds an early success until the
   lower bound.
@@ -256,8 +257,10 @@ class OneOf(_Fast, py_trees.composites.Parallel):
 
     Members that only wait (they invoke no action or scenario: ``wait``, ``emit``,
     ``call``) command nothing and run alongside; among the members that act, one
-    is chosen when the composition starts, with the run's seed, and recorded in
-    the event log (``choice``); the others never start. The first of the running
+    is chosen when the composition starts and recorded in the event log
+    (``choice``): the one the checker's witness chose (``chosen``, an index among
+    the acting members; the witness placed the actors for it), else one drawn with
+    the run's seed; the others never start. The first of the running
     members to succeed ends the composition (a waiting member ends the chosen
     behaviour: the design paper's ``one_of: drive() / wait fall(...)``). With no
     acting member, the waiting members race. A failing chosen member fails it.
@@ -268,9 +271,11 @@ class OneOf(_Fast, py_trees.composites.Parallel):
         name: str,
         children: Sequence[Behaviour] = (),
         acting: Sequence[bool] | None = None,
+        chosen: int | None = None,
     ) -> None:
         super().__init__(name, policy=ParallelPolicy.SuccessOnOne(), children=list(children))
         self.acting = list(acting) if acting is not None else [True] * len(self.children)
+        self.choice = chosen  # the witness's choice among the acting members
         self.winner: Behaviour | None = None
         self.chosen: Behaviour | None = None
         self.running: list[Behaviour] = []
@@ -281,7 +286,10 @@ class OneOf(_Fast, py_trees.composites.Parallel):
         self.chosen = None
         if acting:
             rng = getattr(self.ctx, "rng", None)
-            index = int(rng.integers(len(acting))) if rng is not None else 0
+            if self.choice is not None and 0 <= self.choice < len(acting):
+                index = self.choice
+            else:
+                index = int(rng.integers(len(acting))) if rng is not None else 0
             self.chosen = acting[index]
             if self.ctx is not None:
                 position = self.children.index(self.chosen) + 1

@@ -20,8 +20,9 @@ from typing import Any
 
 import py_trees
 
+from osc2check.capabilities import TRAILER_ACTIONS
 from osc2check.semantics import types as T
-from osc2check.semantics.bindings import Binding, CoverItem
+from osc2check.semantics.bindings import Binding, CoverItem, note_read
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies, last_do, scenario_members
@@ -29,7 +30,7 @@ from osc2check.semantics.phases import enum_word, is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify.lower import invocation_path, join_path
+from osc2check.verify.lower import invocation_path, join_path, one_of_choice
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
@@ -404,12 +405,22 @@ class TreeCompiler:
             plans = [self.run.schedule.get(_phase_key(scope, m.body)) for m in comp.members]
             node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}", plans)
         elif comp.op == "one_of":
-            node = OneOf(name, children, [is_acting(m.body) for m in comp.members])
+            acting = [is_acting(m.body) for m in comp.members]
+            node = OneOf(name, children, acting, self._chosen_member(comp, scope))
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
         node.phase_key = _phase_key(scope, comp)
         untils = self._untils(comp.with_members, "a composition")
         return self._wrap(node, comp, args.get("duration"), untils, scope)
+
+    def _chosen_member(self, comp: ast.Composition, scope: Bindings) -> int | None:
+        """The acting member of a ``one_of`` the witness chose (the placement placed the
+        actors for it: ``verify.lower.one_of_choice``), or None (the seed chooses)."""
+        path = scope.frame.path if scope.frame is not None else ""
+        chosen = self.env.values.witness.parameter(one_of_choice(path, comp))
+        if chosen is None or isinstance(chosen.value, bool):
+            return None
+        return int(chosen.value)
 
     def _untils(self, with_members: tuple[ast.WithMember, ...], what: str) -> list[ast.Until]:
         """The ``until``s of the ``with:`` block of ``what`` (a composition, a scenario
@@ -497,7 +508,7 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 inv.name,
             )
-        if actor.kind == "trailer" and not getattr(entry.target, "for_trailers", False):
+        if actor.kind == "trailer" and sym.name not in TRAILER_ACTIONS:
             raise CompileProblem(
                 f"`{actor.name}` is a trailer: it has no engine or driver and moves only when "
                 f"a vehicle tows it (`connect_trailer`), so `{sym.name}` cannot act on it",
@@ -592,6 +603,15 @@ class TreeCompiler:
             )
         return actor
 
+    def _actor_type(self, node: ast.Node) -> bool:
+        """Whether ``node`` names an actor type, not an actor (``dut.cut_in()`` with
+        ``actor dut``): the scenario of that type is invoked with no actor of its own,
+        as the checker reads it (docs/runner.md)."""
+        if not isinstance(node, ast.NameRef):
+            return False
+        sym = self.model.references.get(node.name.name)
+        return isinstance(sym, Symbol) and sym.kind is SymbolKind.ACTOR
+
     def scenario_invocation(
         self, inv: ast.Invocation, sym: Symbol, scope: Bindings
     ) -> py_trees.behaviour.Behaviour:
@@ -610,7 +630,7 @@ class TreeCompiler:
         outer = scope.frame
         assert outer is not None
         actor: Actor | None = None
-        if inv.actor is not None:
+        if inv.actor is not None and not self._actor_type(inv.actor):
             actor = self._actor(inv, scope)
         elif sym.actor is not None:
             implicit = scope.lookup("actor")
@@ -760,10 +780,21 @@ class TreeCompiler:
                 result[bound.name] = self._chosen(path, bound.parameter, bound.value)
             else:
                 result[bound.name] = self.env.compile(bound.value, scope)
-        if defaults and isinstance(binding.callee, Symbol):
-            self._kept(binding.callee, path, result)
+        callee = binding.callee
+        if isinstance(callee, Symbol) and callee.kind is SymbolKind.ACTION:
+            # a parameter that a `keep` of the call's `with:` gives: the witness's value
+            for param in self.model.parameters(callee):
+                if param.name in result or binding.given(param.name) is not None:
+                    continue
+                kept = self.env.values.kept(path, param)
+                if kept is not None:
+                    result[param.name] = constant(to_runtime(kept))
+        if defaults and isinstance(callee, Symbol):
+            self._kept(callee, path, result)
             result = {**declared, **result}
         duration = binding.extra("duration")
+        if duration is not None:  # the phase's bound (``_wrap``) and the plans' (ActionUse)
+            note_read(call, "duration")
         return result, duration.value if duration is not None else None
 
     def _kept(self, callee: Symbol, path: str, result: dict[str, Closure]) -> None:

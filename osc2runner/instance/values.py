@@ -107,6 +107,35 @@ class ScenarioValues:
             )
         return exact(p.value, field.type, self.model)
 
+    def kept(self, path: str, field: Symbol) -> Value | None:
+        """The value a ``keep`` gave parameter ``field`` of the call at ``path``
+        (``car.assign_speed@9`` with ``keep(it.speed == 30kph)``), or None when no
+        constraint mentions it. A struct has the leaves the constraints mention; the
+        others are 0 (the world is flat and the standard leaves them open)."""
+        where = f"{path}.{field.name}"
+        if not is_struct(field.type):
+            p = self._by_name.get(where)
+            if p is None or not p.constrained:
+                return None
+            return exact(p.value, field.type, self.model)
+        struct = field.type.symbol if field.type is not None else None
+        assert struct is not None
+        leaves = struct_leaves(self.model, struct)
+        if not any(f"{where}.{leaf}" in self._by_name for leaf, _ in leaves):
+            return None
+        root = SimpleNamespace()
+        for leaf, sym in leaves:
+            p = self._by_name.get(f"{where}.{leaf}")
+            value = to_runtime(exact(p.value, sym.type, self.model)) if p is not None else 0.0
+            *parents, name = leaf.split(".")
+            node = root
+            for part in parents:
+                if getattr(node, part, None) is None:
+                    setattr(node, part, SimpleNamespace())
+                node = getattr(node, part)
+            setattr(node, name, value)
+        return root  # type: ignore[return-value]
+
     def struct(self, path: str, field: Symbol) -> SimpleNamespace:
         """The struct value of the parameter at ``path``: nested namespaces of run-time
         values (SI floats, enum members by name), one per struct member."""

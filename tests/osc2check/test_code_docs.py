@@ -88,6 +88,8 @@ def test_examples_parse_with_only_their_own_syntax_code(code):
 
 # Pages whose example the checker does not report yet (remove a code once it does).
 PENDING: dict[str, str] = {}
+# Options the example and the fix of a page are checked with; the page says so.
+OPTIONS: dict[str, tuple[str, ...]] = {"S003": ("--memory-limit", "16")}
 
 
 def check_example(code, section, tmp_path, monkeypatch, capsys) -> set[tuple[int, str, str]]:
@@ -102,7 +104,8 @@ def check_example(code, section, tmp_path, monkeypatch, capsys) -> set[tuple[int
     for f in files:
         (tmp_path / f.name).write_bytes(f.data)
     monkeypatch.chdir(tmp_path)
-    status = cli.main([files[0].name, "--isolated", "--output-format", "json"])
+    options = OPTIONS.get(own.code, ())
+    status = cli.main([files[0].name, "--isolated", "--output-format", "json", *options])
     out, err = capsys.readouterr()
     assert status in (0, 1), err
     return {
@@ -130,6 +133,14 @@ def test_checker_reports_exactly_the_marked_findings(code, tmp_path, monkeypatch
     }
     assert check_example(code, "Example", tmp_path / "example", monkeypatch, capsys) == want
     assert check_example(code, "Fix", tmp_path / "fix", monkeypatch, capsys) == set()
+
+
+@pytest.mark.parametrize("code", sorted(OPTIONS), ids=str)
+def test_a_page_checked_with_options_says_so(code):
+    sections = rules.page_sections(rules.page_text(code))
+    said = f"`{' '.join(OPTIONS[code])}`"
+    assert said in sections["Example"]
+    assert OPTIONS[code][-1] in sections["Fix"]
 
 
 def test_p004_example_is_not_utf8_and_its_fix_is():

@@ -75,6 +75,27 @@ def test_a_lane_count_range_changes_by_the_chosen_count(tmp_path):
     assert lanes[0] == 1 and lanes[-1] == 1 + chosen
 
 
+@pytest.mark.parametrize("side", ["", ", side: left", ", side: right"])
+def test_a_lane_change_from_a_free_start_lane_starts_where_the_change_exists(tmp_path, side):
+    """The start lane is the witness's: one from which the chosen count of lanes exists
+    to the side (either side without one), so the runner never finds no such lane."""
+    result = _run(
+        tmp_path,
+        f"""\
+    npc: vehicle
+    do npc.drive(duration: 8s) with:
+        speed(40kph)
+        change_lane(lane: [1..2]{side})
+""",
+    )
+    chosen = _chosen(result, "change_lane", ".lane")
+    lanes = result.telemetry["npc"]["lane"]
+    assert result.outcome.status == "success", result.outcome.reason
+    assert abs(lanes[-1] - lanes[0]) == chosen
+    if side:
+        assert np.sign(lanes[-1] - lanes[0]) == (1 if "left" in side else -1)
+
+
 def test_a_start_gap_range_places_the_follower_behind(tmp_path):
     result = _run(
         tmp_path,

@@ -180,6 +180,48 @@ def test_one_of_choices_spread_over_seeds():
     assert outcomes == {1, 2}
 
 
+PLACED_CHOICE = """\
+scenario placed_choice:
+    a: vehicle
+    do one_of:
+        a.drive(duration: 2s) with:
+            lane(1, at: start)
+        a.drive(duration: 2s) with:
+            speed(20kph, at: start)
+            position(distance: 60m, at: start)
+            lane(2, at: start)
+"""
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_one_of_start_placement_follows_the_chosen_member(seed):
+    """§8.9 ``at: start``: the witness places the actor for the member the run chooses,
+    so each member's start holds when it starts at time 0 (docs/runner.md)."""
+    result = _run(PLACED_CHOICE, seed=seed)
+    assert result.outcome.status == "success", result.outcome.reason
+    (choice,) = [r for r in result.events if r.kind == "choice"]
+    a = result.telemetry["a"]
+    if "member 1 of 2" in choice.detail:
+        assert (a["lane"][0], a["speed"][0]) == (1, 0)
+    else:
+        assert "member 2 of 2" in choice.detail
+        assert a["lane"][0] == 2 and a["speed"][0] == pytest.approx(20 * KPH, abs=0.01)
+        assert a["s"][0] == pytest.approx(60.0, abs=0.01)
+
+
+def test_one_of_start_placement_choices_spread_over_seeds():
+    chosen = {_run(PLACED_CHOICE, seed=seed).telemetry["a"]["lane"][0] for seed in range(4)}
+    assert chosen == {1, 2}
+
+
+def test_one_of_members_that_cannot_be_placed_are_never_chosen():
+    body = PLACED_CHOICE.replace("lane(1, at: start)", "lane(7, at: start)")
+    for seed in range(3):
+        result = _run(body, seed=seed)
+        assert result.outcome.status == "success", result.outcome.reason
+        assert result.telemetry["a"]["lane"][0] == 2
+
+
 WAITING = """\
 scenario until_fast:
     a: vehicle

@@ -230,7 +230,10 @@ scenario top:
 """
     with pytest.raises(ScenarioError) as caught:
         _run(text)
-    assert "the runner needs the actor parameter `other`" in str(caught.value.problems)
+    assert not caught.value.problems  # the checker's finding (A308), refused with it
+    found = [(d.code.code, d.span.line) for d in caught.value.diagnostics]
+    assert found == [("A308", 9)]  # `a.follow_me()`, after _run's import header
+    assert "an actor field of an invoked scenario" in caught.value.diagnostics[0].message
 
 
 def test_a_modifier_of_an_invoked_scenario_is_reported():
