@@ -12,6 +12,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from osc2check import classcode
+
+classcode.install()  # before the modules that declare dataclasses are imported
+
 if TYPE_CHECKING:  # what __getattr__ gives, as type checkers should see it
     from osc2check.analysis import AnalysisOptions, SourceInput, analyze
     from osc2check.syntax import parse

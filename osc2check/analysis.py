@@ -11,7 +11,7 @@ import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 
-from osc2check import memory, messages
+from osc2check import cache, memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
@@ -82,10 +82,27 @@ class FileCache:
                     return None
                 # An imported file's own findings (P004 included) show when it is checked.
                 text, _ = decode_source(data)
-            result = parse(text, uri)
+                result = _parse_imported(text, uri)
+            else:
+                result = parse(text, uri)
+        # a parse from the start-up cache is the file as written: its dialect reads it too
         result = dialect_reading(result, self.dialect)
         self.parses[uri] = result
         return result
+
+
+#: an imported file at least this long (characters) is parsed once per version: its parse
+#: is kept in the start-up cache (about 500 lines; smaller ones parse as fast as they load)
+IMPORT_CACHE_SIZE = 20_000
+
+
+def _parse_imported(text: str, uri: str) -> ParseResult:
+    """The parse of a file read from disk; a large one from the start-up cache (an
+    unchanged library file a project imports), keyed by its name and text."""
+    if len(text) < IMPORT_CACHE_SIZE:
+        return parse(text, uri)
+    kind = "import-" + cache.digest(uri)[:8]  # the newest few versions of each file
+    return cache.cached(kind, {"uri": uri, "text": cache.digest(text)}, lambda: parse(text, uri))
 
 
 @dataclass(frozen=True)

@@ -22,13 +22,14 @@ each call of one that no loaded plug-in implements is A308 too.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.plugins import Implementation, PluginRegistry
 from osc2check.semantics import types as T
-from osc2check.semantics.members import declaration_bodies
+from osc2check.semantics.members import MemberList, declaration_bodies
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import enum_word, modifier_timing
 from osc2check.semantics.symbols import Symbol, SymbolKind
@@ -212,16 +213,23 @@ def label_of(symbol: Symbol) -> str:
 
 
 def not_executed(
-    model: Model, scenario: Symbol, invoked: bool, plugins: PluginRegistry | None = None
+    model: Model,
+    scenario: Symbol,
+    invoked: bool,
+    plugins: PluginRegistry | None = None,
+    bodies: Mapping[Symbol, Sequence[MemberList]] | None = None,
 ) -> list[Diagnostic]:
     """A308 for each call of ``scenario``'s own members that the runner does not execute
     (``invoked``: the scenario is invoked by another, whose run collects no coverage of
     it; ``plugins``: the plug-ins loaded, which implement behaviours of the user's
-    libraries)."""
+    libraries). ``bodies``: ``declaration_bodies(model)``, when the caller has it (a
+    file's scenarios share it: made once per scenario, it is quadratic in the file's
+    size)."""
     found: list[Diagnostic] = []
     registry = plugins if plugins is not None else PluginRegistry()
-    bodies = declaration_bodies(model).get(scenario, [])
-    for members in bodies:
+    if bodies is None:
+        bodies = declaration_bodies(model)
+    for members in bodies.get(scenario, ()):
         for member in members:
             if invoked and isinstance(member, ast.CoverageDecl):
                 _form(found, member.span, "invoked_coverage")

@@ -25,7 +25,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, NoReturn, TextIO
 
-from osc2check import codes, inputs, rules
+from osc2check import cache, codes, inputs
 from osc2check.codes import Severity
 from osc2check.config import (
     FORMAT_ALIASES,
@@ -83,6 +83,21 @@ class _ArgumentParser(argparse.ArgumentParser):
 
     def error(self, message: str) -> NoReturn:
         raise UsageError(message)
+
+
+class _Version(argparse.Action):
+    """``--version``: the installed version, looked up only when asked for (the lookup
+    imports ``importlib.metadata``, a good part of a small check's start-up)."""
+
+    def __init__(self, option_strings: Sequence[str], dest: str, **kwargs: Any) -> None:
+        super().__init__(
+            option_strings, dest=argparse.SUPPRESS, default=argparse.SUPPRESS, nargs=0,
+            help="show program's version number and exit",
+        )  # fmt: skip
+
+    def __call__(self, parser: argparse.ArgumentParser, *args: Any, **kwargs: Any) -> NoReturn:
+        sys.stdout.write(f"{parser.prog} {tool.version()}\n")
+        parser.exit()
 
 
 def _mebibytes(text: str) -> int:
@@ -162,6 +177,12 @@ def build_parser() -> argparse.ArgumentParser:
         "seeds, different witnesses",
     )
     p.add_argument(
+        "--no-cache",
+        action="store_true",
+        help="neither read nor write the start-up cache (the parser's tables and the analysed "
+        "standard library, kept in the user's cache folder or OSC2_CACHE_DIR)",
+    )
+    p.add_argument(
         "--memory-limit",
         type=_mebibytes,
         metavar="MIB",
@@ -169,7 +190,7 @@ def build_parser() -> argparse.ArgumentParser:
         f"{DEFAULT_MEMORY_LIMIT_MIB}; 0: no budget); past it the file is S003",
     )
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
-    p.add_argument("--version", action="version", version=f"%(prog)s {tool.version()}")
+    p.add_argument("--version", action=_Version)
     return p
 
 
@@ -215,6 +236,8 @@ def _rule_command(argv: list[str], out: TextIO) -> int:
     code = codes.lookup(args.code)
     if code is None:
         raise UsageError(f"unknown code {args.code!r} (osc2check rule lists them)")
+    from osc2check import rules
+
     out.write(rules.page_text(code))
     return EXIT_OK
 
@@ -273,6 +296,8 @@ def _check_command(argv: list[str], out: TextIO) -> int:
         format="osc2check: %(levelname)s: %(name)s: %(message)s",
         stream=sys.stderr,
     )
+    if args.no_cache:
+        cache.set_enabled(False)
     paths = args.paths or ["."]
     config = _with_options(_load_config(args, paths), args)
     config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs

@@ -12,8 +12,6 @@ per-file ignores, severity overrides and ``strict``, then sorts.
 
 from __future__ import annotations
 
-import difflib
-import tomllib
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from fnmatch import fnmatchcase
@@ -439,6 +437,8 @@ def config_from_mapping(
         key = f"{prefix}{raw_key}"
         reader = _READERS.get(name)
         if reader is None:
+            import difflib
+
             close = difflib.get_close_matches(name, _READERS, n=1)
             hint = f"; did you mean {close[0]!r}?" if close else ""
             raise ConfigError(f"unknown key{hint}", path, key)
@@ -447,6 +447,8 @@ def config_from_mapping(
 
 
 def _read_toml(path: Path) -> dict[str, Any]:
+    import tomllib  # only where a configuration file is found
+
     try:
         with path.open("rb") as f:
             return tomllib.load(f)
@@ -489,9 +491,22 @@ def find_config(start_dir: str | Path) -> Path | None:
         if own.is_file():
             return own
         pyproject = directory / "pyproject.toml"
-        if pyproject.is_file() and _tool_table(_read_toml(pyproject), pyproject) is not None:
+        if (
+            pyproject.is_file()
+            and _mentions_us(pyproject)
+            and _tool_table(_read_toml(pyproject), pyproject) is not None
+        ):
             return pyproject
     return None
+
+
+def _mentions_us(path: Path) -> bool:
+    """Whether a ``pyproject.toml`` can hold our table at all: most do not even name us,
+    and are then not parsed (reading TOML is a good part of a small check's start-up)."""
+    try:
+        return b"osc2check" in path.read_bytes()
+    except OSError:
+        return True  # reading it again says why it cannot be read
 
 
 def load_config(start_dir: str | Path) -> tuple[Config, Path | None]:

@@ -209,6 +209,12 @@ def build_parser() -> argparse.ArgumentParser:
 
     add_export_options(p)
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar, summary only")
+    p.add_argument(
+        "--no-cache",
+        action="store_true",
+        help="neither read nor write the start-up cache (the parser's tables, the analysed "
+        "standard library; OSC2_CACHE_DIR says where it is); a campaign's workers follow",
+    )
     p.add_argument("--version", action="version", version=f"%(prog)s {_version()}")
     p.add_argument("--debug", action="store_true", help="log details; show tracebacks")
     return p
@@ -217,6 +223,10 @@ def build_parser() -> argparse.ArgumentParser:
 def _parse(argv: list[str]) -> argparse.Namespace:
     """The command line, every option checked (UsageError, OptionError)."""
     args = build_parser().parse_args(argv)
+    if args.no_cache:
+        from osc2check import cache
+
+        cache.set_enabled(False)  # in the environment too: the workers inherit it
     args.given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}
     args.campaign = args.runs is not None or args.resume is not None
     if args.campaign:

@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from osc2check.config import OUTPUT_FORMATS
 from osc2check.diagnostics import Diagnostic
 from osc2check.inputs import InputProblem
-from osc2check.output import concise, full, github, json, sarif
+from osc2check.output import concise, full
 from osc2check.output.summary import statistics, summary_line
 
 __all__ = ["FORMATS", "HUMAN_FORMATS", "render", "render_statistics"]
@@ -48,11 +48,17 @@ def render(
         body = full.render(diagnostics, texts_by_uri)
     elif fmt == "concise":
         body = concise.render(diagnostics)
-    elif fmt == "json":
+    elif fmt == "json":  # the tool formats are imported when asked for
+        from osc2check.output import json
+
         return json.render(diagnostics, scenarios, problems)
     elif fmt == "sarif":
+        from osc2check.output import sarif
+
         return sarif.render(diagnostics, problems)
     elif fmt == "github":
+        from osc2check.output import github
+
         return github.render(diagnostics, problems)
     else:
         raise ValueError(f"unknown output format {fmt!r}")

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from importlib import metadata
-
 NAME = "osc2check"
 DISTRIBUTION = "osc2-toolkit"
 
 
 def version() -> str:
     """The installed version of the distribution, or ``0+unknown`` when not installed."""
+    from importlib import metadata  # about 20 ms to import: only when a version is asked
+
     try:
         return metadata.version(DISTRIBUTION)
     except metadata.PackageNotFoundError:

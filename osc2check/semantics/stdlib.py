@@ -15,6 +15,7 @@ from __future__ import annotations
 import threading
 from dataclasses import dataclass, replace
 
+from osc2check import cache
 from osc2check.diagnostics import Diagnostic
 from osc2check.resources import stdlib_dir
 from osc2check.semantics.builtins import STANDARD_MODULE_NAMES
@@ -23,6 +24,7 @@ from osc2check.semantics.model import Context, Model
 from osc2check.semantics.profile import DEFAULT_OSC_VERSION, OSC_VERSIONS
 from osc2check.semantics.resolve import resolve
 from osc2check.syntax import ParseResult, ast, parse
+from osc2check.syntax.grammar import grammar_key
 
 LIBRARY_FILES = ("types.osc", "domain.osc", "osc2toolkit.osc", "carla.osc")
 # What a version adds to the 2.1 files: the file that it merges into (see the docstring).
@@ -93,23 +95,38 @@ def merged_with(base: ast.File, additions: ast.File) -> tuple[ast.File, ast.File
 
 def standard_library(version: str = DEFAULT_OSC_VERSION) -> StandardLibrary:
     """The library's model for OSC2 ``version``; built on first use, then shared (it is
-    never modified)."""
+    never modified).
+
+    It comes from the start-up cache (``osc2check.cache``) when an entry for this
+    toolkit, grammar, version, library text and Python is there; otherwise it is built
+    and stored for the next process. The dialect is not in the key: it changes how a
+    file is read, not the library (``semantics.profile.LibraryChoice``).
+    """
     if version not in OSC_VERSIONS:
         raise ValueError(f"no standard library for OSC2 version {version!r}")
     with _lock:
         found = _cached.get(version)
         if found is None:
-            found = _cached[version] = _build(version)
+            folder = stdlib_dir()
+            names = [*LIBRARY_FILES, *VERSION_FILES.get(version, {}).values()]
+            texts = {str(folder / n): (folder / n).read_text("utf-8") for n in names}
+            key = {
+                **grammar_key(),
+                "version": version,
+                "library": cache.digest(*texts, *texts.values()),  # its file names are in spans
+            }
+            found = _cached[version] = cache.cached("stdlib", key, lambda: _build(version, texts))
         return found
 
 
-def _build(version: str) -> StandardLibrary:
+def _build(version: str, texts: dict[str, str]) -> StandardLibrary:
+    """The library of ``version`` from its files' ``texts`` (by path)."""
     folder = stdlib_dir()
     parses: dict[str, ParseResult] = {}
 
     def read(name: str) -> ParseResult:
         uri = str(folder / name)
-        parses[uri] = result = parse((folder / name).read_text(encoding="utf-8"), uri)
+        parses[uri] = result = parse(texts[uri], uri)
         return result
 
     def unit(result: ParseResult, file: ast.File) -> Unit:

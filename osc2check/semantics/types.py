@@ -110,6 +110,10 @@ class Type:
             raise ReferenceError("the declaration of this type was freed with its analysis")
         return symbol
 
+    def __reduce__(self) -> tuple[type[Type], tuple[object, ...]]:
+        # the declaration is held weakly, which pickle cannot store: store the symbol
+        return Type, (self.kind, self.symbol, self.dimension, self.element)
+
     def __repr__(self) -> str:
         return (
             f"Type(kind={self.kind!r}, symbol={self.symbol!r}, "

@@ -1,4 +1,4 @@
-"""Build AST nodes from lark's parse callbacks: one method per rule or alias.
+"""Build AST nodes from the parser's callbacks: one method per rule or alias.
 
 The builder runs inline in the LALR parser (no intermediate lark ``Tree``), so
 it must be pure: error recovery forks the parser and may call a method on
@@ -15,8 +15,6 @@ from contextvars import ContextVar
 from dataclasses import dataclass
 from fractions import Fraction
 from typing import Any, TypeVar, overload
-
-from lark import Transformer
 
 from osc2check.numbers import NumberOutOfRange, exact_number
 from osc2check.source import Span
@@ -203,8 +201,10 @@ def _climb(operands: Children, ops: list[str], pos: list[int], min_prec: int) ->
     return left
 
 
-class Builder(Transformer[Token, ast.File]):
-    """Lark callbacks that return ``ast`` nodes."""
+class Builder:
+    """Parse callbacks that return ``ast`` nodes: the method named after a rule (or its
+    alias) is called with the rule's children as lark's tree builder passes them
+    (``tables.RuleShape``; lark's own recovering parser calls the same methods)."""
 
     # ---- names ---------------------------------------------------------------
 

@@ -16,12 +16,12 @@ import re
 from functools import cache
 from typing import Literal
 
-from lark.lexer import PatternStr
-from lark.parsers.lalr_analysis import Shift
+from osc2check.syntax.tables import parse_tables
 
-from osc2check.syntax.grammar import lark_parser
-from osc2check.syntax.recover import MAX_REPAIR, REPAIR_ALPHABET
-
+# Terminals a repair may insert, tried in this order, at most MAX_REPAIR of them (the
+# checker's recovery, ``recover.py``, repairs with the same alphabet and depth).
+REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_DEDENT")
+MAX_REPAIR = 3
 _BOUNDARIES = frozenset({"_NL", "_DEDENT"})
 _MAX_TRIALS = 400  # repair candidates tried at one boundary (as recovery's fork limit)
 _IDENTIFIER = re.compile(r"[^\W\d]\w*")
@@ -32,36 +32,36 @@ _Entry = tuple[Literal[True], int] | tuple[Literal[False], tuple[int, str]]
 
 @cache
 def _table() -> tuple[dict[int, dict[str, _Entry]], int]:
-    ip = lark_parser().parse_interactive(start="start")
-    table = ip.parser_state.parse_conf.parse_table
+    tables = parse_tables()
+    rules = tables.rules
     states: dict[int, dict[str, _Entry]] = {}
-    for state, row in table.states.items():
+    for state, row in tables.rows.items():
         states[state] = {
-            ttype: (True, arg)
-            if action is Shift
-            else (False, (len(arg.expansion), arg.origin.name))
-            for ttype, (action, arg) in row.items()
+            ttype: (True, entry)
+            if entry >= 0
+            else (False, (len(rules[~entry].symbols), rules[~entry].origin))
+            for ttype, entry in row.items()
         }
-    return states, table.start_states["start"]
+    return states, tables.start
 
 
 @cache
 def keywords() -> dict[str, str]:
     """Keyword terminals (``SCENARIO``) and their text (``scenario``)."""
-    found: dict[str, str] = {}
-    for term in lark_parser().terminals:
-        if isinstance(term.pattern, PatternStr) and _IDENTIFIER.fullmatch(term.pattern.value):
-            found[term.name] = term.pattern.value
-    return found
+    return {
+        name: value
+        for name, value in parse_tables().literals.items()
+        if _IDENTIFIER.fullmatch(value)
+    }
 
 
 @cache
 def soft_keywords() -> frozenset[str]:
     """Keywords that may also be names (the alternatives of the grammar rule ``name``)."""
     return frozenset(
-        r.expansion[0].name
-        for r in lark_parser().rules
-        if r.origin.name == "name" and len(r.expansion) == 1 and r.expansion[0].name != "NAME"
+        r.symbols[0]
+        for r in parse_tables().rules
+        if r.origin == "name" and len(r.symbols) == 1 and r.symbols[0] != "NAME"
     )
 
 

@@ -1,28 +1,13 @@
-"""Load the OSC2 grammar once per process and build the LALR parser from it."""
+"""The OSC2 grammar's text, and what the parser's behaviour depends on (for caches)."""
 
 from __future__ import annotations
 
-import hashlib
+import importlib.util
 import os
-import tempfile
 from functools import cache
-from pathlib import Path
 
-from lark import Lark
-
+from osc2check.cache import digest
 from osc2check.resources import grammar_path
-
-
-def _cache_file(text: str) -> str | None:
-    """A per-user cache file for lark's analysed grammar, keyed by the grammar text."""
-    digest = hashlib.sha256(text.encode()).hexdigest()[:16]
-    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
-    folder = Path(base) / "osc2check"
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-    except OSError:
-        folder = Path(tempfile.gettempdir())
-    return str(folder / f"osc2-grammar-{digest}.lark-cache")
 
 
 @cache
@@ -31,13 +16,13 @@ def grammar_text() -> str:
 
 
 @cache
-def lark_parser(transformer: object | None = None) -> Lark:
-    """The LALR parser. Tokens are produced by our own lexer, so lark's is unused."""
-    text = grammar_text()
-    kwargs: dict[str, object] = dict(parser="lalr", lexer="basic", maybe_placeholders=True)
-    if transformer is not None:
-        kwargs["transformer"] = transformer
-    try:
-        return Lark(text, cache=_cache_file(text), **kwargs)
-    except OSError:
-        return Lark(text, **kwargs)
+def grammar_key() -> dict[str, str]:
+    """What the parser's behaviour depends on besides the toolkit's code: the grammar's
+    text and the installed lark (the size and time of its ``__init__``, not its import)."""
+    spec = importlib.util.find_spec("lark")
+    origin = spec.origin if spec is not None else None
+    lark = ""
+    if origin:
+        st = os.stat(origin)
+        lark = f"{origin}:{st.st_size}:{st.st_mtime_ns}"
+    return {"grammar": digest(grammar_text()), "lark": lark}

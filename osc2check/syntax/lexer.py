@@ -13,10 +13,8 @@ import re
 from dataclasses import dataclass
 from functools import cache
 
-from lark.lexer import PatternStr
-
 from osc2check.source import LINE_BREAK
-from osc2check.syntax.grammar import lark_parser
+from osc2check.syntax.tables import parse_tables
 
 NEWLINE = "NEWLINE"
 STRING = "STRING"
@@ -106,16 +104,15 @@ class LexResult:
 
 @cache
 def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
-    terminals = {t.name: t for t in lark_parser().terminals}
+    tables = parse_tables()
+    patterns = tables.patterns
     keywords: dict[str, str] = {}
     punctuation: dict[str, str] = {}
-    name_re = re.compile(terminals["NAME"].pattern.value)
-    for term in terminals.values():
-        if isinstance(term.pattern, PatternStr):
-            value = term.pattern.value
-            (keywords if name_re.fullmatch(value) else punctuation)[value] = term.name
+    name_re = re.compile(patterns["NAME"])
+    for name, value in tables.literals.items():
+        (keywords if name_re.fullmatch(value) else punctuation)[value] = name
     for op in _OPERATOR_TERMINALS:
-        source = terminals[op].pattern.value
+        source = patterns[op]
         inner = source[3:-1] if source.startswith("(?:") else source
         for alternative in inner.split("|"):
             punctuation[re.sub(r"\\(.)", r"\1", alternative)] = op
@@ -126,7 +123,7 @@ def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
         r"(?P<COMMENT>#[^\r\n]*)",
     ]
     for name in _REGEX_ORDER:
-        parts.append(f"(?P<{name}>{terminals[name].pattern.value})")
+        parts.append(f"(?P<{name}>{patterns[name]})")
     parts.append(r"""(?P<BADSTRING>\"\"\"[\s\S]*|'''[\s\S]*|"[^\r\n]*|'[^\r\n]*)""")
     ordered = sorted(punctuation, key=len, reverse=True)
     parts.append("(?P<PUNCT>" + "|".join(re.escape(p) for p in ordered) + ")")

@@ -6,8 +6,7 @@ import bisect
 from collections.abc import Iterable
 from dataclasses import dataclass, replace
 from functools import cache
-
-from lark import Lark
+from typing import Any
 
 from osc2check import messages
 from osc2check.diagnostics import Diagnostic
@@ -15,10 +14,10 @@ from osc2check.gc_pause import gc_paused
 from osc2check.source import Span, point_span
 from osc2check.syntax import ast
 from osc2check.syntax.build import _PROBLEMS, _URI, Builder, BuildProblem
-from osc2check.syntax.grammar import grammar_text, lark_parser
+from osc2check.syntax.grammar import grammar_text
 from osc2check.syntax.indent import IndentError, indent
 from osc2check.syntax.lexer import Comment, LexError, Token, tokenize
-from osc2check.syntax.recover import parse_tokens
+from osc2check.syntax.tables import Callback, callbacks, drive, finish, lark_parser, parse_tables
 
 # How terminals read in messages.
 _DESCRIPTIONS = {
@@ -85,16 +84,33 @@ class ParseResult:
 @cache
 def _terminal_text() -> dict[str, str]:
     table = dict(_DESCRIPTIONS)
-    for term in lark_parser().terminals:
-        value = getattr(term.pattern, "value", "")
-        if term.name not in table and type(term.pattern).__name__ == "PatternStr":
-            table[term.name] = f"`{value}`"
+    for name, value in parse_tables().literals.items():
+        table.setdefault(name, f"`{value}`")
     return table
 
 
+_BUILDER = Builder()  # pure: one for every parse (the file is in a context variable)
+
+
 @cache
-def _builder_parser() -> Lark:
-    return lark_parser(Builder())
+def _callbacks() -> list[Callback]:
+    return callbacks(parse_tables(), _BUILDER)
+
+
+def _parse_tokens(tokens: list[Token]) -> tuple[object, list[Any]]:
+    """The tree of laid-out ``tokens`` and the syntax problems (``recover.SyntaxProblem``):
+    by the parse tables while they take the tokens, then by lark's recovering parser."""
+    tables, calls = parse_tables(), _callbacks()
+    states: list[int] = [tables.start]
+    values: list[Any] = []
+    taken = drive(tables, calls, states, values, tokens)
+    if taken == len(tokens):
+        done, tree = finish(tables, calls, states, values)
+        if done:
+            return tree, []
+    from osc2check.syntax.recover import parse_tokens  # imports lark
+
+    return parse_tokens(lark_parser(_BUILDER), tokens, states, values, taken)
 
 
 def _describe(kind: str) -> str:
@@ -286,7 +302,7 @@ def _segment(
     problems: list[BuildProblem] = []
     problems_token = _PROBLEMS.set(problems)
     try:
-        tree, syntax = parse_tokens(_builder_parser(), tokens) if tokens else (None, [])
+        tree, syntax = _parse_tokens(tokens) if tokens else (None, [])
     finally:
         _PROBLEMS.reset(problems_token)
     reported_lines = {d.span.line for d in diagnostics}

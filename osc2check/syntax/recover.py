@@ -17,22 +17,20 @@ On a token the parser cannot take:
 
 One error is recorded per statement, so N broken statements give N errors.
 Forks use ``copy(deepcopy_values=False)``: subtrees are immutable, so sharing
-them is safe and recovery stays cheap.
+them is safe and recovery stays cheap. Sound text never comes here: the parse
+tables (``tables.drive``) take it without lark, which is imported with this module.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
 from lark import Lark
 from lark.exceptions import UnexpectedInput
-from lark.grammar import Rule
-from lark.parsers.lalr_analysis import Shift
-from lark.parsers.lalr_parser_state import ParseConf
 
 from osc2check.syntax import ast
+from osc2check.syntax.expected import MAX_REPAIR, REPAIR_ALPHABET
 from osc2check.syntax.lexer import Token
 
 BOUNDARIES = frozenset({"_NL", "_DEDENT", "$END"})
@@ -44,10 +42,6 @@ NOT_IN_WITH = frozenset(
 # Terminals that only the start of a `with:` member expects.
 _WITH_MEMBER_START = frozenset({"KEEP", "REMOVE_DEFAULT", "UNTIL"})
 _TYPE_NODES = (ast.NamedType, ast.ListType, ast.RangeType)
-# Terminals a repair may insert, tried in this order, at most MAX_REPAIR of them
-# (the language server's ``expected.run`` repairs with the same alphabet and depth).
-REPAIR_ALPHABET = ("RPAR", "RSQB", "COLON", "NAME", "INT", "_NL", "_INDENT", "_DEDENT")
-MAX_REPAIR = 3
 _MAX_FORKS = 400
 
 # lark's interactive LALR parser (what ``Lark.parse_interactive`` returns). Typed as Any:
@@ -158,90 +152,6 @@ def _resync(ip: _Interactive, following: Token | None) -> _Interactive | None:
     return None
 
 
-# A row entry of the fast table: the state a shift goes to, or a reduction (the rule's
-# size, its callback or None when the rule passes its child through, the rule's name).
-_Reduce = tuple[int, Callable[[list[Any]], object] | None, str]
-_FastTable = dict[int, dict[str, int | _Reduce]]
-
-_TABLES: dict[int, _FastTable] = {}
-
-
-def _passes_through(rule: Rule) -> bool:
-    """A `?rule` alternative of one kept symbol and no alias: its value is its child's."""
-    if len(rule.expansion) != 1 or rule.alias or not rule.options.expand1:
-        return False
-    symbol = rule.expansion[0]
-    return not symbol.is_term or not getattr(symbol, "filter_out", False)
-
-
-def _table(conf: ParseConf[int]) -> _FastTable:
-    """The LALR table with rules replaced by (size, callback, goto-symbol) tuples.
-
-    Lark keys its callbacks by ``Rule`` objects, whose hashing costs more than the
-    parsing step itself; this form needs no hashing in the loop.
-    """
-    key = id(conf.states)
-    table = _TABLES.get(key)
-    if table is None:
-        callbacks = conf.callbacks
-        table = {}
-        for state, row in conf.states.items():
-            table[state] = {
-                ttype: (
-                    arg
-                    if action is Shift
-                    else (
-                        len(arg.expansion),
-                        None if _passes_through(arg) else callbacks[arg],
-                        arg.origin.name,
-                    )
-                )
-                for ttype, (action, arg) in row.items()
-            }
-        _TABLES[key] = table
-    return table
-
-
-def _fast_prefix(ip: _Interactive, tokens: list[Token]) -> int:
-    """Feed tokens in a tight loop until the first one the parser cannot take.
-
-    Returns how many tokens were consumed. It works on the interactive
-    parser's own stacks, so recovery can take over where it stopped.
-    """
-    state = ip.parser_state
-    table = _table(state.parse_conf)
-    states, values = state.state_stack, state.value_stack
-    consumed = 0
-    row = table[states[-1]]
-    for tok in tokens:
-        ttype = tok.type
-        while True:
-            entry = row.get(ttype)
-            if entry is None:
-                return consumed
-            if isinstance(entry, int):
-                states.append(entry)
-                values.append(tok)
-                row = table[entry]
-                break
-            size, callback, origin = entry
-            if callback is None:  # `?rule: other` with one child: the child is the value
-                states.pop()
-            elif size:
-                children = values[-size:]
-                del states[-size:]
-                del values[-size:]
-                values.append(callback(children))
-            else:
-                values.append(callback([]))
-            goto = table[states[-1]][origin]
-            assert isinstance(goto, int)  # a rule's name is only ever shifted
-            states.append(goto)
-            row = table[goto]
-        consumed += 1
-    return consumed
-
-
 def _matching_dedent(tokens: list[Token], i: int) -> int:
     """Index of the _DEDENT that closes the _INDENT at ``i`` (or the last index)."""
     depth = 0
@@ -255,14 +165,19 @@ def _matching_dedent(tokens: list[Token], i: int) -> int:
 
 
 def parse_tokens(
-    lark: Lark, tokens: list[Token], start: str = "start"
+    lark: Lark, tokens: list[Token], states: list[int], values: list[Any], i: int
 ) -> tuple[object, list[SyntaxProblem]]:
-    """Parse ``tokens``; returns (tree or None, problems). Never raises on bad input."""
+    """Go on parsing ``tokens`` from the ``i``-th, the first the parse tables could not
+    take (``tables.drive``), in ``lark``'s interactive parser, whose stacks start as
+    ``states`` and ``values``; returns (tree or None, problems). Never raises on bad
+    input."""
     problems: list[SyntaxProblem] = []
-    ip: _Interactive = lark.parse_interactive(start=start)
+    ip: _Interactive = lark.parse_interactive(start="start")
+    ip.parser_state.state_stack[:] = states
+    ip.parser_state.value_stack[:] = values
     in_error = False
     at_statement_start = True
-    i, n = _fast_prefix(ip, tokens), len(tokens)
+    n = len(tokens)
     end = tokens[-1] if tokens else Token("$END", "", 0, 1, 1, 1, 1, 0)
     eof = Token(
         "$END",

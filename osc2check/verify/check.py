@@ -21,6 +21,7 @@ from collections.abc import Callable, Iterator, Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from osc2check import codes, memory, messages
 from osc2check.capabilities import not_executed
@@ -36,7 +37,6 @@ from osc2check.syntax.walk import walk
 from osc2check.verify import flow, ir, quick
 from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
 from osc2check.verify.placement import UNSAID_CATEGORY, Gap
-from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
@@ -51,6 +51,9 @@ from osc2check.verify.z3_backend import (
 )
 from osc2check.world.catalogue import WALKING_SPEED
 from osc2check.world.maps import is_carla_town
+
+if TYPE_CHECKING:
+    from osc2check.verify.witness import Witness
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -104,6 +107,8 @@ class ScenarioResult:
                 )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
+        from osc2check.verify.witness import build_witness  # only a witness asked for
+
         return build_witness(self.problem, values, active, seed, _rounded(active, values))
 
 
@@ -230,7 +235,7 @@ def verify_program(
             standalone = sym not in invoked or scenario is not None
             for d in flow.check_flow(program.model, sym):
                 report(d)
-            for d in not_executed(program.model, sym, sym in invoked, plugins):
+            for d in not_executed(program.model, sym, sym in invoked, plugins, decls):
                 report(d)
             problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
             _reversed_ranges(sym, program, text_of, report)

@@ -59,12 +59,12 @@ from osc2check.syntax import ast
 from osc2check.verify import ir
 from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.world.carriageways import AHEAD_CAP
-from osc2check.world.crossings import ANGLE_TOLERANCE, crossing_angle, crossing_lanes
-from osc2check.world.elements import MapElements, map_elements
+from osc2check.world.maps import FoundMap
 from osc2check.world.network import LaneRef, RoadNetwork
 
 if TYPE_CHECKING:
     from osc2check.verify.lower import InstanceScope, Lowerer
+    from osc2check.world.elements import MapElements
 
 __all__ = ["ELEMENT_KINDS", "ElementField", "ElementValue", "MapFields", "element_kind"]
 
@@ -153,15 +153,28 @@ class MapFields:
     """The element fields of one scenario on one map, and what constrains them."""
 
     lw: Lowerer
-    network: RoadNetwork
+    found: FoundMap  # the map: its network is built when a map modifier first asks
     roads: RoadTerms
     fields: dict[str, ElementField] = field(default_factory=dict)
     along: dict[str, list[ElementField]] = field(default_factory=dict)  # actor -> targets
 
     def __post_init__(self) -> None:
-        self.elements: MapElements = map_elements(self.network)
+        self._elements: MapElements | None = None
         self.problem: ir.ConstraintProblem = self.lw.problem
         self.model: Model = self.lw.model
+
+    @property
+    def network(self) -> RoadNetwork:
+        return self.found.network
+
+    @property
+    def elements(self) -> MapElements:
+        """The map's roads, routes, lanes and junctions (made on first use)."""
+        if self._elements is None:
+            from osc2check.world.elements import map_elements  # routes need numpy
+
+            self._elements = map_elements(self.network)
+        return self._elements
 
     # ---- variables
 
@@ -595,6 +608,9 @@ def _lane_ends(end: str) -> Callable[[MapFields, dict[str, _Argument], ast.Invoc
 
 
 def _crossing(m: MapFields, given: dict[str, _Argument], inv: ast.Invocation) -> Rows | None:
+    # a crossing's geometry needs numpy, which a check without one never imports
+    from osc2check.world.crossings import ANGLE_TOLERANCE, crossing_angle, crossing_lanes
+
     if "start_s_coord" in given:
         m._skip(
             inv.span,

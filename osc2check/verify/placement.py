@@ -59,6 +59,7 @@ from __future__ import annotations
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from osc2check.semantics import types as T
 from osc2check.semantics.bindings import ReadArguments
@@ -95,7 +96,6 @@ from osc2check.verify.map_modifiers import ElementField, MapFields
 from osc2check.verify.quick import linear
 from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.verify.room import motion_bounds
-from osc2check.world.builtin import builtin_network
 from osc2check.world.catalogue import (
     ACTOR_KINDS,
     CATEGORIES,
@@ -105,9 +105,11 @@ from osc2check.world.catalogue import (
     model_row,
 )
 from osc2check.world.errors import MapError, UnknownMapError
-from osc2check.world.maps import load_map, map_path, scenario_folder
-from osc2check.world.network import RoadNetwork
+from osc2check.world.maps import FoundMap, MapFacts, find_map, map_path, scenario_folder
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
+
+if TYPE_CHECKING:
+    from osc2check.world.network import RoadNetwork
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 #: actions whose actor stands still throughout
@@ -201,17 +203,27 @@ class Gap:
 
 @dataclass
 class MapChoice:
-    """The map a scenario is placed on (``name``, ``network``), the name the scenario
-    gives (``asked``) and where (``span``, the `map_file` string), and why that one could
-    not be used when it could not (the default map is used instead)."""
+    """The map a scenario is placed on (``name``, ``found``: its facts, its network on
+    first use), the name the scenario gives (``asked``) and where (``span``, the
+    `map_file` string), and why that one could not be used when it could not (the
+    default map is used instead)."""
 
     name: str
-    network: RoadNetwork
+    found: FoundMap
     source: str | None = None  # the file read, for an OpenDRIVE map
     asked: str | None = None
     span: Span | None = None
     unknown: tuple[str, ...] | None = None  # not a map: the known built-in names
     unreadable: MapError | None = None  # a file that cannot be read
+
+    @property
+    def facts(self) -> MapFacts:
+        return self.found.facts
+
+    @property
+    def network(self) -> RoadNetwork:
+        """The road network (built here when the facts came from the start-up cache)."""
+        return self.found.network
 
 
 @dataclass
@@ -305,9 +317,9 @@ class PlacementLowerer:
             if c.kind not in ("domain", "placement"):
                 self.written |= ir.names(c.term)
         choice = self._map()
-        self.terms = terms = RoadTerms(choice.network, choice.name)
+        self.terms = terms = RoadTerms(choice.facts.carriageways, choice.name)
         placement = StartPlacement(choice, terms)
-        self.fields = placement.fields = MapFields(self.lw, choice.network, terms)
+        self.fields = placement.fields = MapFields(self.lw, choice.found, terms)
         for param, kind in actors:
             placement.actors[param.name] = self._actor(param, kind)
         self._map_modifiers(placement)
@@ -455,11 +467,9 @@ class PlacementLowerer:
         """Plausible values where the constraints leave a choice (the witness draws there
         when it can): starts near the road's entry, leaving room to drive; speeds within
         the road's limit and the vehicle's top speed."""
-        network = placement.network
+        speed_limit = placement.map.facts.speed_limit
         preferred = self.problem.preferred
-        limit = (
-            Fraction(network.speed_limit).limit_denominator(1000) if network.speed_limit else None
-        )
+        limit = Fraction(speed_limit).limit_denominator(1000) if speed_limit else None
         for actor in placement.actors.values():
             half = _largest(actor.body.length) / 2
             room = fraction(placement.terms.longest) - 2 * half
@@ -481,23 +491,23 @@ class PlacementLowerer:
         name, span = self._map_name()
         folder = scenario_folder(span.uri if span is not None else self.problem.span.uri)
         try:  # the configured default map (`[tool.osc2check.road] map`), a name or a file
-            fallback = load_map(self.default_map, folder)
+            fallback = find_map(self.default_map, folder)
         except (MapError, UnknownMapError):
-            fallback = builtin_network("default")
+            fallback = find_map("default")
         if name is None:
             path = map_path(self.default_map, folder)
             source = str(path.resolve()) if path is not None and path.is_file() else None
             return MapChoice(self.default_map if source else fallback.name, fallback, source)
         file = self.maps.get(name, name)  # a name the configuration gives a file
         try:
-            network = load_map(file, folder)
+            found = find_map(file, folder)
         except UnknownMapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unknown=err.known)
         except MapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unreadable=err)
         path = map_path(file, folder)
         source = str(path.resolve()) if path is not None and path.is_file() else None
-        return MapChoice(name if source is not None else network.name, network, source, name, span)
+        return MapChoice(name if source is not None else found.name, found, source, name, span)
 
     def _map_name(self) -> tuple[str | None, Span | None]:
         """The map name the scenario gives and the span of the string that gives it."""
@@ -1009,7 +1019,7 @@ class PlacementLowerer:
         the vehicle reaches, whenever the phase runs; so does a lane change, from the lane
         the actor is in then (``lane_steps``)."""
         scenarios = [s.decl for s in self.model.symbols if s.kind is SymbolKind.SCENARIO]
-        rules = {road.rule for road in placement.network.roads.values()}
+        rules = placement.map.facts.rules
         steps = LaneSteps(
             self.model, self._value, one_of_members(d for d in scenarios if d), rules != {"LHT"}
         )
@@ -1169,7 +1179,7 @@ class PlacementLowerer:
             return
         if "lane" not in args:
             return
-        from_left = placement.network.numbering == "from_left"
+        from_left = placement.map.facts.numbering == "from_left"
         side = enum_word(args.get("from"))
         if side in ("left", "right"):
             from_left = side == "left"

@@ -19,8 +19,7 @@ from __future__ import annotations
 from fractions import Fraction
 
 from osc2check.verify import ir
-from osc2check.world.carriageways import Carriageway, LanePiece, carriageways
-from osc2check.world.network import RoadNetwork
+from osc2check.world.carriageways import Carriageway, LanePiece
 
 __all__ = ["RoadTerms", "fraction"]
 
@@ -34,14 +33,13 @@ class RoadTerms:
     """Terms of one map for placement (see the module docstring).
 
     Parameters:
-        network: the map.
+        carriageways: the map's (``world.carriageways``).
         name: how messages name it (``default``, ``rural_curves``).
     """
 
-    def __init__(self, network: RoadNetwork, name: str) -> None:
-        self.network = network
+    def __init__(self, carriageways: tuple[Carriageway, ...], name: str) -> None:
         self.name = name
-        self.carriageways = carriageways(network)
+        self.carriageways = carriageways
         self.single = len(self.carriageways) == 1
         self.most_lanes = max((cw.most_lanes for cw in self.carriageways), default=0)
         self.longest = max((cw.length for cw in self.carriageways), default=0.0)

@@ -20,6 +20,7 @@ import zlib
 from collections.abc import Iterable
 from dataclasses import dataclass, field
 from fractions import Fraction
+from typing import TYPE_CHECKING
 
 from osc2check.verify import ir, quick
 from osc2check.verify.map_modifiers import ElementValue
@@ -29,7 +30,9 @@ from osc2check.verify.timing import is_timing_variable
 from osc2check.world.carriageways import Carriageway, lane_at
 from osc2check.world.catalogue import CATEGORIES, ActorRow
 from osc2check.world.network import LaneRef, RoadNetwork
-from osc2check.world.projection import WorldPose
+
+if TYPE_CHECKING:
+    from osc2check.world.projection import WorldPose
 
 ROUTE_AHEAD = 500.0  # m: how far past its carriageway an actor's route is planned
 

@@ -30,8 +30,6 @@ from dataclasses import dataclass
 from typing import Literal
 
 from osc2check.world.errors import UnknownMapError
-from osc2check.world.geometry import Cubic, Geometry
-from osc2check.world.layout import build_network
 from osc2check.world.network import (
     Connection,
     ContactPoint,
@@ -41,7 +39,6 @@ from osc2check.world.network import (
     RoadLink,
     RoadNetwork,
 )
-from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
 
 __all__ = [
     "BUILTIN_MAPS",
@@ -49,6 +46,7 @@ __all__ = [
     "BuiltinMap",
     "builtin_lane",
     "builtin_map",
+    "builtin_name",
     "builtin_network",
     "map_names",
     "straight_network",
@@ -189,6 +187,11 @@ def _is_town03(name: str) -> bool:
 
 def straight_network(row: BuiltinMap) -> RoadNetwork:
     """The road network of one straight road."""
+    # the geometry needs numpy, which a check on a cached map never imports
+    from osc2check.world.geometry import Cubic, Geometry
+    from osc2check.world.layout import build_network
+    from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
+
     n = row.lane_count
     if row.direction == 1:
         geometry = Geometry("line", 0.0, 0.0, row.width, 0.0, row.length)
@@ -218,22 +221,28 @@ def straight_network(row: BuiltinMap) -> RoadNetwork:
     )
 
 
+def builtin_name(name: str) -> str:
+    """The name a built-in map is known by (``Town06`` for ``town06.xodr``), matched as
+    :func:`builtin_map` matches, the Town03 stand-in included.
+
+    Raises:
+        UnknownMapError: when no built-in map has that name.
+    """
+    return TOWN03 if _is_town03(name) else builtin_map(name).name
+
+
 def builtin_network(name: str) -> RoadNetwork:
-    """The network of the built-in map ``name`` (matched as :func:`builtin_map` does),
+    """The network of the built-in map ``name`` (matched as :func:`builtin_name` does),
     built once per process and shared (networks are immutable data plus caches).
 
     Raises:
         UnknownMapError: when no built-in map has that name.
     """
-    if _is_town03(name):
-        network = _NETWORKS.get(TOWN03)
-        if network is None:
-            network = _NETWORKS[TOWN03] = town03_network()
-        return network
-    row = builtin_map(name)
-    network = _NETWORKS.get(row.name)
+    known = builtin_name(name)
+    network = _NETWORKS.get(known)
     if network is None:
-        network = _NETWORKS[row.name] = straight_network(row)
+        built = town03_network() if known == TOWN03 else straight_network(BUILTIN_MAPS[known])
+        network = _NETWORKS[known] = built
     return network
 
 
@@ -241,6 +250,10 @@ def town03_network() -> RoadNetwork:
     """The Town03 stand-in (see :data:`TOWN03`): roads ``1`` (west arm, x 0..600) and
     ``2`` (east arm, x 630..1230) along +x, both ways, and junction ``100`` between them,
     whose connecting roads ``101`` (eastbound) and ``102`` (westbound) lead straight on."""
+    from osc2check.world.geometry import Cubic, Geometry  # as in straight_network
+    from osc2check.world.layout import build_network
+    from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
+
     arm, gap, width = _TOWN03_ARM, _TOWN03_JUNCTION, 3.5
     limit = 60.0 * _KPH
     both_ways = (

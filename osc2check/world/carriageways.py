@@ -25,14 +25,14 @@ not junctions.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import cast
-
-import numpy as np
+from typing import TYPE_CHECKING, cast
 
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.numbering import driving_lanes_right_to_left
-from osc2check.world.projection import WorldPose
 from osc2check.world.topology import Way, end_lanes, linked_ways, travel_ways, way_label
+
+if TYPE_CHECKING:
+    from osc2check.world.projection import WorldPose
 
 __all__ = [
     "AHEAD_CAP",
@@ -228,10 +228,10 @@ def _carriageway(network: RoadNetwork, index: int, chain: list[Way]) -> Carriage
                 if lane.drivable and lane.direction == direction
             ]
             borders = section.borders
-            widths = [float(np.min(borders[p] - borders[p + 1])) for p in rows]
+            widths = [float((borders[p] - borders[p + 1]).min()) for p in rows]
             count, width = len(widths), min(widths, default=0.0)
-            above = float(np.min(borders[0] - borders[rows[0]])) if rows else 0.0
-            below = float(np.min(borders[rows[-1] + 1] - borders[-1])) if rows else 0.0
+            above = float((borders[0] - borders[rows[0]]).min()) if rows else 0.0
+            below = float((borders[rows[-1] + 1] - borders[-1]).min()) if rows else 0.0
             right, left = (below, above) if direction > 0 else (above, below)
             a, b = sorted((leg.carriageway_s(section.s0), leg.carriageway_s(section.s1)))
             if pieces and pieces[-1].count == count and abs(pieces[-1].s1 - a) < 1e-9:

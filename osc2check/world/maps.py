@@ -9,21 +9,39 @@ expect), and an ``.xodr`` name that is neither is a :class:`MapError` ("no such
 file or directory"); a folder, FIFO or device of that name is one too, saying what it
 is (it is never opened). Loaded files are cached by path and modification time, so an editor
 asking on every keystroke reads a map once.
+
+:func:`find_map` is :func:`load_map` for the checker's placement: a
+:class:`FoundMap` gives the few facts placement reads first (:class:`MapFacts`:
+numbering, speed limit, carriageways, traffic rules) at once and builds the network
+only when something asks for it. A built-in map's facts come from the start-up cache
+(``osc2check.cache``), so checking a scenario on one usually builds no geometry.
 """
 
 from __future__ import annotations
 
+import os
 import re
+import threading
+from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
+from osc2check import cache
 from osc2check.inputs import InputError, not_regular, probe
-from osc2check.world.builtin import builtin_network
+from osc2check.world.builtin import builtin_name, builtin_network
+from osc2check.world.carriageways import Carriageway, carriageways
 from osc2check.world.errors import MapError, UnknownMapError
-from osc2check.world.network import RoadNetwork
-from osc2check.world.opendrive import load_opendrive
+from osc2check.world.network import Numbering, RoadNetwork
 
-__all__ = ["is_carla_town", "load_map", "map_path", "scenario_folder"]
+__all__ = [
+    "FoundMap",
+    "MapFacts",
+    "find_map",
+    "is_carla_town",
+    "load_map",
+    "map_path",
+    "scenario_folder",
+]
 
 # CARLA's maps: Town01 .. Town15, Town10HD and their `_Opt` (layered) variants
 _CARLA_TOWN = re.compile(r"Town\d{2}(HD)?(_Opt)?")
@@ -85,8 +103,79 @@ def load_map(name: str, relative_to: str | Path | None = None) -> RoadNetwork:
     key = (str(resolved), status.st_mtime_ns)
     network = _CACHE.get(key)
     if network is None:
+        from osc2check.world.opendrive import load_opendrive
+
         network = load_opendrive(resolved)  # its source is the file's absolute path
         if len(_CACHE) >= _CACHE_SIZE:
             _CACHE.pop(next(iter(_CACHE)))
         _CACHE[key] = network
     return network
+
+
+@dataclass(frozen=True)
+class MapFacts:
+    """What placement reads from a map before it asks anything of its geometry."""
+
+    name: str
+    numbering: Numbering
+    speed_limit: float | None
+    carriageways: tuple[Carriageway, ...]
+    rules: frozenset[str]  # the traffic rules of its roads (``RHT``, ``LHT``)
+
+
+_FACTS: dict[str, MapFacts] = {}  # built-in maps' facts, by name, once read
+
+
+def map_facts(network: RoadNetwork) -> MapFacts:
+    rules = frozenset(road.rule for road in network.roads.values())
+    return MapFacts(
+        network.name, network.numbering, network.speed_limit, carriageways(network), rules
+    )
+
+
+class FoundMap:
+    """A map found by name: its :class:`MapFacts` now, its network on first use."""
+
+    def __init__(self, facts: MapFacts, network: RoadNetwork | None, name: str) -> None:
+        self.facts = facts
+        self._network = network
+        self._name = name  # a built-in map's name, to build its network from
+        self._lock = threading.Lock()
+
+    @property
+    def name(self) -> str:
+        return self.facts.name
+
+    @property
+    def network(self) -> RoadNetwork:
+        with self._lock:
+            if self._network is None:
+                self._network = builtin_network(self._name)
+            return self._network
+
+
+def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
+    """:func:`load_map`, with a built-in map's facts from the start-up cache and its network
+    built only when asked for (raises as :func:`load_map` does). A file is always read
+    by :func:`load_map`: its limits (``world.budget``) refuse it as they do there."""
+    path = map_path(name, relative_to)
+    known = None
+    if path is None or not os.path.lexists(path):
+        try:
+            known = builtin_name(name)
+        except UnknownMapError:
+            if path is None:
+                raise
+    if known is not None:
+        built: list[RoadNetwork] = []
+
+        def build() -> MapFacts:
+            built.append(builtin_network(known))
+            return map_facts(built[0])
+
+        facts = _FACTS.get(known)
+        if facts is None:
+            facts = _FACTS[known] = cache.cached("builtin-map", {"map": known}, build)
+        return FoundMap(facts, built[0] if built else None, known)
+    network = load_map(name, relative_to)  # a file, or load_map's message of why not
+    return FoundMap(map_facts(network), network, name)

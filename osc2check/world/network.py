@@ -40,13 +40,12 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Literal
 
-import numpy as np
-
-from osc2check.world.arrays import BoolArray, FloatArray, IntArray
 from osc2check.world.errors import MapWarning
-from osc2check.world.geometry import Cubic, Geometry, cubic_profile
 
-if TYPE_CHECKING:
+if TYPE_CHECKING:  # numpy and the geometry are imported where used: the checker's
+    # placement on a built-in map reads the start-up cache and needs neither
+    from osc2check.world.arrays import BoolArray, FloatArray, IntArray
+    from osc2check.world.geometry import Cubic, Geometry
     from osc2check.world.grid import SpatialIndex
     from osc2check.world.paths import LanePath
     from osc2check.world.projection import Projection, RoadPoint, WorldPose
@@ -243,6 +242,10 @@ class Road:
 
     def elevation_at(self, s: FloatArray | float) -> FloatArray:
         """Height of the reference line at ``s`` from the elevation profile (0 without one)."""
+        import numpy as np
+
+        from osc2check.world.geometry import cubic_profile
+
         return cubic_profile(self.elevation, np.asarray(s, dtype=np.float64), before=0.0)
 
     def lanes(self) -> Iterator[Lane]:
@@ -448,6 +451,8 @@ class RoadNetwork:
 
     def width(self, ref: LaneRef, s: FloatArray | float) -> FloatArray:
         """Width of lane ``ref`` at road coordinate(s) ``s`` (exact, from its records)."""
+        import numpy as np
+
         from osc2check.world.layout import lane_width
 
         return lane_width(self, ref, np.asarray(s, dtype=np.float64))
@@ -493,6 +498,8 @@ class RoadNetwork:
         self, road: IntArray | int, s: FloatArray, t: FloatArray
     ) -> tuple[FloatArray, FloatArray, FloatArray]:
         """Vectorised road → world: road numbers (see :meth:`road_number`), s, t → x, y, heading."""
+        import numpy as np
+
         from osc2check.world.projection import road_to_world
 
         return road_to_world(self, np.asarray(road), s, t)

@@ -221,6 +221,10 @@ def run_campaign(
     the engine holds each run to ``run_timeout`` with (a test gives one it controls)."""
     _check(options)
     started = time.perf_counter()
+    if options.engine == "local":
+        from osc2runner.campaign.pool import warm_up
+
+        warm_up()
     started_at = datetime.now(UTC).isoformat(timespec="seconds")
     try:
         data = read_bytes(options.file)  # a regular file of at most the checker's size cap
@@ -316,7 +320,16 @@ def run_campaign(
         if progress is not None:
             progress("plan", {"total": len(plan.tasks), "done": list(kept.values())})
 
+        spare_core = (os.cpu_count() or 1) > jobs
+        preloading: list[threading.Thread] = []
+
         def on_record(record: RunRecord) -> None:
+            # the report's modules are imported on a core no worker needs: one left spare,
+            # or the one freed when fewer runs are left than workers
+            left = len(todo) - len(records.keys() - kept.keys()) - 1
+            if not preloading and (spare_core or left < jobs):
+                preloading.append(threading.Thread(target=_preload_report, daemon=True))
+                preloading[0].start()
             write_record(folder, record)
             record.shipped = {}
             records[record.seed] = record
@@ -350,6 +363,15 @@ def run_campaign(
     result = finish(folder, document, plan, records, replay, wall, status, engine)
     result.signum = stop_signal[0] if stop_signal else None
     return result
+
+
+def _preload_report() -> None:
+    from osc2runner.campaign.report import preload
+
+    try:
+        preload()
+    except Exception:  # the report says what is wrong when it is written
+        log.debug("the report's modules could not be imported ahead", exc_info=True)
 
 
 def _bin_text(run: RunTask | RunRecord) -> str | None:
@@ -440,6 +462,7 @@ def finish(
             "workers": {
                 "engine": engine.name,
                 "started": getattr(engine, "started_workers", None),
+                "retried": getattr(engine, "retried", []),  # runs again: their node died
                 "peak_memory_mb": [
                     round(m / 2**20, 1) for m in getattr(engine, "worker_memory", [])
                 ],

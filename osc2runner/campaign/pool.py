@@ -30,6 +30,7 @@ import logging
 import multiprocessing
 import os
 import signal
+import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterable
@@ -46,7 +47,7 @@ from osc2runner.campaign.worker import (
     process_memory,
 )
 
-__all__ = ["GRACE", "EngineError", "LocalPool"]
+__all__ = ["GRACE", "EngineError", "LocalPool", "warm_up"]
 
 log = logging.getLogger(__name__)
 
@@ -62,6 +63,15 @@ def _context() -> Any:
     context = multiprocessing.get_context("forkserver")
     context.set_forkserver_preload(["osc2runner.campaign.worker"])
     return context
+
+
+def warm_up() -> None:
+    """Start the fork server now: it imports the runner (seconds), which then overlaps
+    the campaign's own checking and planning instead of delaying the first worker."""
+    if _context().get_start_method() == "forkserver":
+        from multiprocessing import forkserver
+
+        forkserver.ensure_running()
 
 
 class EngineError(RuntimeError):
@@ -132,12 +142,35 @@ class LocalPool:
         self.worker_memory: list[int] = []  # peak RSS of each worker that ended, bytes
         self.started_workers = 0
         self.startup_failures: list[str] = []
+        self._starting: threading.Thread | None = None
+        self._start_error: BaseException | None = None
 
     def start(self, count: int) -> None:
-        """Start ``count`` workers now, at most ``jobs`` (they check the file while the
-        campaign plans); none when nothing is left to run."""
-        while len(self.slots) < min(self.jobs, count):
-            self.slots.append(self._start())
+        """Start ``count`` workers, at most ``jobs`` (none when nothing is left to run), on
+        a thread of their own: the first start waits for the fork server to import the
+        runner, and the campaign plans meanwhile; the workers check the file meanwhile."""
+        wanted = min(self.jobs, count)
+        if wanted > len(self.slots) and self._starting is None:
+            self._starting = threading.Thread(
+                target=self._start_all, args=(wanted,), name="osc2run-pool-start", daemon=True
+            )
+            self._starting.start()
+
+    def _start_all(self, wanted: int) -> None:
+        try:
+            while len(self.slots) < wanted:
+                self.slots.append(self._start())
+        except BaseException as exc:  # raised where the campaign waits for the start
+            self._start_error = exc
+
+    def wait_started(self) -> None:
+        """Wait until the workers asked for by :meth:`start` are started (not yet ready)."""
+        if self._starting is not None:
+            self._starting.join()
+            self._starting = None
+        error, self._start_error = self._start_error, None
+        if error is not None:
+            raise error
 
     def _start(self) -> _Slot:
         parent, child = self.context.Pipe()
@@ -153,7 +186,9 @@ class LocalPool:
         """Run ``tasks``, calling ``on_record`` with each record as it arrives, until all
         are done or :meth:`stop` was called and the busy workers have answered."""
         pending = deque(tasks)
+        self.wait_started()
         self.start(len(pending))
+        self.wait_started()
         failures = self.startup_failures
         try:
             while self.slots and (pending and not self.stopping or self._busy()):
@@ -265,6 +300,7 @@ class LocalPool:
         """Stop the workers (idle ones are asked for their peak memory first; one still
         checking the file reads the stop once it is ready); one still alive ``wait``
         seconds later is killed."""
+        self.wait_started()
         for slot in self.slots:
             if slot.task is None:
                 try:

@@ -72,6 +72,13 @@ def _png(fig: Any, caption: str) -> str:
     )
 
 
+def preload() -> None:
+    """Import the plotting modules ahead of the report (the campaign does it on a thread
+    of its own while its runs go on: matplotlib takes seconds to import)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg  # noqa: F401
+    from matplotlib.figure import Figure  # noqa: F401
+
+
 def _figure(width: float, height: float) -> Any:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

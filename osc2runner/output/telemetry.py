@@ -199,6 +199,11 @@ class Recorder:
 
 
 def _number(value: float | str) -> str:
+    kind = type(value)
+    if kind is float:  # nearly every value: repr gives `nan` and `inf` as the cases below
+        return repr(value)
+    if kind is str:
+        return value  # type: ignore[return-value]  # narrowed by the test of its type
     if isinstance(value, str):
         return value
     if isinstance(value, (int, np.integer)):
@@ -213,8 +218,14 @@ def write_telemetry(path: Path, recorder: Recorder) -> None:
         f.write("actor," + ",".join(CHANNELS) + "\n")
         clock = [f"{tick},{_number(time)}," for tick, time in recorder.clock]
         for name, rows in recorder.rows.items():
+            lines: list[str] = []
+            row_before: object = None
+            text = ""
             for when, row in zip(clock, rows, strict=True):
-                f.write(name + "," + when + ",".join(_number(v) for v in row) + "\n")
+                if row is not row_before:  # a standing actor repeats one row object
+                    text, row_before = ",".join(map(_number, row)), row
+                lines.append(f"{name},{when}{text}\n")
+            f.write("".join(lines))
 
 
 def write_events(path: Path, records: Iterable[LogRecord], dt: float) -> None:

@@ -386,7 +386,8 @@ def test_closing_the_pool_stops_a_worker_still_checking_the_file(tmp_path: Path)
 
     path = _short(tmp_path)
     pool = LocalPool(CampaignSetup(str(path), SHORT, out=str(tmp_path)), 1, None)
-    pool.start(1)
+    pool.start(1)  # on a thread of its own
+    pool.wait_started()
     (slot,) = pool.slots
     assert not slot.ready
     # the stop waits in the pipe: the worker leaves once ready, not killed (however long
