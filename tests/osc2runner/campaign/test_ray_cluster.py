@@ -11,7 +11,8 @@ Token authentication is off for this cluster, in its nodes and in the driver ali
 (``RAY_AUTH_MODE=disabled``, Ray's own switch): left unset, a ``ray start`` of recent
 Ray (2.60) turns it on whenever a token exists in ``~/.ray`` (one local ``ray.init``
 writes one, as ``test_ray.py`` does before this in CI), while a driver that joins an
-address does not, and the campaign could never connect. The cluster listens on
+address does not, and the campaign could never connect. This process's Ray is made to
+read the mode again, since it read it at its first ``ray.init``. The cluster listens on
 127.0.0.1 only. Node 2 is killed, not stopped: it dies with its run.
 """
 
@@ -112,7 +113,25 @@ def cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
         # defaults: 3 s apart); a busy node still has 5 s to answer each
         env.setenv("RAY_health_check_period_ms", "1000")
         env.setenv("RAY_health_check_timeout_ms", "5000")
-        yield from _cluster(tmp_path_factory)
+        _reread_ray_auth_mode()
+        try:
+            yield from _cluster(tmp_path_factory)
+        finally:
+            env.undo()
+            _reread_ray_auth_mode()
+
+
+def _reread_ray_auth_mode() -> None:
+    """Make this process's Ray read ``RAY_AUTH_MODE`` again. Ray reads it once per process,
+    at its first ``ray.init``: after a local instance of the default mode in this process
+    (``test_ray.py`` before this one), the driver would keep using a token, and every actor
+    it asks this cluster for is cancelled before it starts. A Ray without token
+    authentication has nothing to re-read."""
+    try:
+        from ray._private.authentication_test_utils import reset_auth_token_state
+    except ImportError:
+        return
+    reset_auth_token_state()
 
 
 def _cluster(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Cluster]:
