@@ -546,7 +546,8 @@ def _read(entries: list[_Input | InputProblem]) -> tuple[list[SourceInput], list
             problems.append(InputProblem(entry.uri, f"cannot read: {exc}"))
             continue
         text, problem = decode_source(data)
-        sources.append(SourceInput(uri=entry.uri, text=text, problem=problem))
+        on_disk = entry.path is not None  # standard input is not kept
+        sources.append(SourceInput(uri=entry.uri, text=text, problem=problem, on_disk=on_disk))
     return sources, problems
 
 
