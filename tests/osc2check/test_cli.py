@@ -36,6 +36,7 @@ class FakeSource:
     uri: str
     text: str
     problem: str | None = None
+    on_disk: bool = False
 
 
 @dataclass
@@ -109,6 +110,17 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
 def test_clean_file_exits_0(project, capsys):
     write(project / "a.osc", CLEAN)
     assert run(capsys, "a.osc") == (0, "All checks passed (1 file)\n", "")
+
+
+def test_files_are_checked_as_saved_and_standard_input_is_not(
+    project, capsys, monkeypatch, analysis
+):
+    """A file's text is the file as saved (a large one's parse may be kept); stdin's not."""
+    write(project / "a.osc", CLEAN)
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(CLEAN.encode())))
+    assert run(capsys, "a.osc")[0] == 0 and run(capsys, "-")[0] == 0
+    (first, _), (second, _) = analysis.calls
+    assert [s.on_disk for s in first] == [True] and [s.on_disk for s in second] == [False]
 
 
 def test_error_exits_1_with_full_output(project, capsys):
