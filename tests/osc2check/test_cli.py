@@ -727,3 +727,23 @@ def test_the_cli_imports_neither_pygls_nor_mujoco():
         [sys.executable, "-c", code], cwd=root, capture_output=True, text=True, check=True
     )
     assert done.stdout.strip() == "[]"
+
+
+def test_the_command_exits_with_its_status_its_output_whole_and_its_cache_written(tmp_path):
+    """``run`` (the command) skips freeing the process's objects at exit: the status, every
+    byte of a long output through a pipe and what the exit handlers store still arrive."""
+    root = Path(__file__).resolve().parents[2]
+    broken = "\n".join(
+        f"scenario s{i}:\n    hero: vehicle\n    do hreo.drive()\n" for i in range(300)
+    )
+    write(tmp_path / "many.osc", "import osc.standard\n" + broken)
+    env = {**os.environ, "OSC2_CACHE_DIR": str(tmp_path / "cache")}
+    env.pop("OSC2_NO_CACHE", None)
+    command = [sys.executable, "-m", "osc2check.cli", "--output-format", "json", "many.osc"]
+    done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, timeout=300)
+    assert done.returncode == 1, done.stderr
+    assert len(json.loads(done.stdout)["findings"]) == 300 and done.stderr == b""
+    assert list((tmp_path / "cache").glob("dataclass-code-*.bin"))  # stored at exit
+    clean = [*command[:-1], str(root / "examples" / "cut_in_and_stop.osc")]
+    done = subprocess.run(clean, cwd=tmp_path, env=env, capture_output=True, timeout=300)
+    assert done.returncode == 0 and json.loads(done.stdout)["findings"] == [], done.stderr
