@@ -17,7 +17,8 @@ driven by pygls' client, with its default settings), typing words into names:
   highest).
 
 ``python bench/bench_lsp.py LINES`` prints the detailed report for one size
-(what follows), unless marked "in process":
+(what follows), unless marked "in process"; ``python bench/bench_lsp.py startup
+[RUNS]`` the start-up alone, on the small example (RUNS new processes, default 5):
 
 * start-up: process start → `initialize` answered, and → first diagnostics of
   the document (grammar, library and analysis included);
@@ -430,10 +431,13 @@ def compare(sizes: list[int], words: int) -> None:
 
 
 def main() -> None:
+    if sys.argv[1:2] == ["startup"]:  # start-up alone: `bench_lsp.py startup [RUNS]`
+        asyncio.run(startup(int(sys.argv[2]) if len(sys.argv) > 2 else 5))
+        return
     if len(sys.argv) > 1:
         if not sys.argv[1].isdigit():
             print(__doc__)
-            print("usage: python bench/bench_lsp.py [LINES]")
+            print("usage: python bench/bench_lsp.py [LINES | startup [RUNS]]")
             sys.exit(0 if sys.argv[1] in ("-h", "--help") else 2)
         lines = int(sys.argv[1])
         text = generate(lines)
