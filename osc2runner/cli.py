@@ -44,7 +44,17 @@ from osc2runner.execution.signals import (
     raising,
     signal_name,
 )
-from osc2runner.options import OptionError, check_out, check_seed, check_steps, check_time
+from osc2runner.options import (
+    DT_CONTROL,
+    DT_PHYSICS,
+    TIME_LIMIT,
+    OptionError,
+    RunOptions,
+    check_out,
+    check_seed,
+    check_steps,
+    check_time,
+)
 
 __all__ = [
     "EXIT_ERROR",
@@ -118,7 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--duration",
         metavar="T",
-        help="time limit in simulated seconds, positive (default 600)",
+        help=f"time limit in simulated seconds, positive (default {TIME_LIMIT:g})",
     )
     p.add_argument(
         "--out",
@@ -129,15 +139,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", action="store_true", help="also write PNG plots (needs --out)")
     p.add_argument(
         "--dt-control",
-        default="0.05",
+        default=repr(DT_CONTROL),
         metavar="S",
-        help="control period: one tree tick (default 0.05); a whole multiple of --dt-physics",
+        help=f"control period: one tree tick (default {DT_CONTROL:g}); a whole multiple of "
+        "--dt-physics",
     )
     p.add_argument(
         "--dt-physics",
-        default="0.002",
+        default=repr(DT_PHYSICS),
         metavar="S",
-        help="physics step (default 0.002)",
+        help=f"physics step (default {DT_PHYSICS:g})",
     )
     p.add_argument(
         "--sut",
@@ -269,6 +280,16 @@ def _parse(argv: list[str]) -> argparse.Namespace:
             args.bin = bin_ref(args.bin)
         except ValueError as exc:
             raise UsageError(f"--bin {exc}") from None
+    args.options = RunOptions(
+        scenario=args.scenario,
+        seed=args.seed,
+        duration=args.duration,
+        dt_control=args.dt_control,
+        dt_physics=args.dt_physics,
+        sut=args.sut_spec,
+        config=args.config,
+        plot=args.plot,
+    )  # checked above, each value with the text given
     return args
 
 
@@ -373,31 +394,26 @@ def _main(args_list: list[str], caught: Caught) -> int:
 
 
 def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
-    from osc2runner.runner import RunInterrupted, check_file, execute, prepare_checked
+    from osc2runner.runner import RunInterrupted, check_file, execute, prepare_run
 
+    options: RunOptions = args.options
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    checked = check_file(args.file, scenario=args.scenario, config=args.config)
-    prepared = prepare_checked(
-        checked,
-        seed=args.seed,
-        dt_control=args.dt_control,
-        dt_physics=args.dt_physics,
-        sut=args.sut_spec,
-        witness=_witness_in_bin(checked, args) if args.bin is not None else None,
-    )
+    checked = check_file(args.file, scenario=options.scenario, config=options.config)
+    witness = _witness_in_bin(checked, options, args.bin) if args.bin is not None else None
+    prepared = prepare_run(checked, options, witness=witness)
     interactive = out.isatty() and not args.quiet
     files = {
         "out": args.out,
-        "plot": args.plot,
+        "plot": options.plot,
         "export": args.export_targets,
         "hard_stop": partial(_hard_exit, out),
     }
     try:
         if interactive:
-            result = _with_progress(prepared, args, partial(execute, **files))
+            result = _with_progress(prepared, options, partial(execute, **files))
         else:
-            result = execute(prepared, duration=args.duration, **files)
+            result = execute(prepared, duration=options.duration, **files)
     except RunInterrupted as exc:
         _summary(exc.result, out)
         return exit_status(exc.signum)
@@ -421,18 +437,18 @@ def _hard_exit(out: TextIO, result: Any, status: int) -> None:
     os._exit(status)
 
 
-def _witness_in_bin(checked: Any, args: argparse.Namespace) -> Any:
+def _witness_in_bin(checked: Any, options: RunOptions, where: Any) -> Any:
     """The witness drawn inside the cover bin ``--bin``, as a campaign's directed run's is."""
     from osc2runner.campaign.steering import cover_items, directed_witness
 
-    items = cover_items(checked, dt_control=args.dt_control)
-    return directed_witness(checked, items, args.bin, args.seed)
+    items = cover_items(checked, dt_control=options.dt_control)
+    return directed_witness(checked, items, where, options.seed)
 
 
-def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any:
+def _with_progress(prepared: Any, options: RunOptions, execute: Any) -> Any:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    limit = args.duration if args.duration is not None else 600.0
+    limit = options.time_limit
     columns = (
         TextColumn("[bold]{task.description}"),
         BarColumn(),
@@ -447,7 +463,7 @@ def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any
             rtf = f"{sim / wall:.0f}x real time" if wall > 0 else ""
             progress.update(task, completed=sim, sim=f"{sim:.1f}", rtf=rtf)
 
-        return execute(prepared, duration=args.duration, progress=report)
+        return execute(prepared, duration=options.duration, progress=report)
 
 
 def _summary(result: Any, out: TextIO) -> None:

@@ -60,9 +60,9 @@ from osc2runner.campaign.summary import (
 from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.signals import SIGNALS, signal_name
+from osc2runner.options import RunOptions
 from osc2runner.output.files import output_folder
 from osc2runner.runner import Checked, check_file
-from osc2runner.sut.loading import SutSpec
 
 __all__ = [
     "ENGINES",
@@ -84,9 +84,11 @@ class CampaignError(ValueError):
     """A campaign that cannot start (a bad option, a folder holding another campaign)."""
 
 
-@dataclass(frozen=True)
-class CampaignOptions:
-    """Everything a campaign is asked to do (the command's options)."""
+@dataclass(frozen=True, slots=True)
+class CampaignOptions(RunOptions):
+    """Everything a campaign is asked to do (the command's options): the options of its
+    runs (:class:`~osc2runner.options.RunOptions`, keywords; ``seed`` is the first run's,
+    ``plot`` draws every run's plots) and the campaign's own."""
 
     file: str
     runs: int
@@ -94,17 +96,9 @@ class CampaignOptions:
     jobs: int = 0  # 0: one worker per processor
     engine: str = "local"
     address: str | None = None
-    seed: int = 0
     strategy: str = "random"
-    scenario: str | None = None
-    duration: float | None = None
-    dt_control: float = 0.05
-    dt_physics: float = 0.002
-    sut: SutSpec | None = None
     run_timeout: float | None = DEFAULT_RUN_TIMEOUT
-    plot: bool = False
     resume: bool = False
-    config: Config | None = None  # the checker's configuration; None: the file's own
     export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
     force: bool = False  # write into a folder of other files (not a campaign of this scenario)
 
@@ -246,16 +240,10 @@ def run_campaign(
     setup = CampaignSetup(
         options.file,
         text,
-        options.scenario,
-        options.duration,
-        options.dt_control,
-        options.dt_physics,
-        options.sut,
-        options.plot,
         str(folder),
         ship_files=options.engine == "ray",
-        config=config,
         export=options.export,
+        **{**options.run_fields(), "config": config},
     )
     engine = _engine(options, setup, min(jobs, options.runs), clock)
     # the workers start while the runs are planned (none when every run finished)
@@ -269,16 +257,10 @@ def run_campaign(
             if s in planned and r.finished and _bin_text(r) == _bin_text(planned[s])
         }
         todo = [t for t in plan.tasks if t.seed not in kept]
-        sut = (options.sut.target, options.sut.actor) if options.sut is not None else None
         replay = {
             t.seed: replay_command(
                 options.file,
-                t.seed,
-                scenario=options.scenario,
-                duration=options.duration,
-                dt_control=options.dt_control,
-                dt_physics=options.dt_physics,
-                sut=sut,
+                options.for_seed(t.seed),
                 bin_text=t.bin.text if t.bin else None,
                 language=options.language_arguments(),
             )

@@ -22,6 +22,8 @@ import sys
 from pathlib import Path
 from typing import Any, TextIO
 
+from osc2runner.options import DT_CONTROL, DT_PHYSICS
+
 __all__ = ["campaign_arguments", "run_command"]
 
 
@@ -61,9 +63,9 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     if args.duration is None and opts.get("duration") is not None:
         args.duration = repr(opts["duration"])
     if "--dt-control" not in given:
-        args.dt_control = repr(opts.get("dt_control", 0.05))
+        args.dt_control = repr(opts.get("dt_control", DT_CONTROL))
     if "--dt-physics" not in given:
-        args.dt_physics = repr(opts.get("dt_physics", 0.002))
+        args.dt_physics = repr(opts.get("dt_physics", DT_PHYSICS))
     sut = opts.get("sut")
     if sut and args.sut is None:
         if not args.trust_folder:
@@ -146,19 +148,12 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         jobs=args.jobs,
         engine=args.engine,
         address=args.address,
-        seed=args.seed,
         strategy=args.strategy,
-        scenario=args.scenario,
-        duration=args.duration,
-        dt_control=args.dt_control,
-        dt_physics=args.dt_physics,
-        sut=args.sut_spec,
         run_timeout=args.run_timeout if args.run_timeout is not None else DEFAULT_RUN_TIMEOUT,
-        plot=args.plot,
         resume=args.resume is not None,
-        config=args.config,
         export=args.export_formats,
         force=args.force,
+        **args.options.run_fields(),  # the run's options, as the command line made them
     )
     interactive = out.isatty() and not args.quiet
     try:

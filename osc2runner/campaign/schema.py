@@ -25,6 +25,7 @@ from osc2check.semantics.profile import DIALECTS, OSC_VERSIONS
 from osc2runner.campaign.steering import BinRef
 from osc2runner.campaign.worker import RunRecord, run_folder
 from osc2runner.export import FORMATS
+from osc2runner.options import DT_CONTROL, DT_PHYSICS
 
 __all__ = [
     "STATUSES",
@@ -225,8 +226,8 @@ def campaign_document(data: Any, where: str = "campaign.json") -> dict[str, Any]
     options = {
         "scenario": _optional_text(o.get("scenario"), f"{w}.scenario", limit=200),
         "duration": _number(o.get("duration"), f"{w}.duration", positive=True),
-        "dt_control": _number(o.get("dt_control", 0.05), f"{w}.dt_control", positive=True),
-        "dt_physics": _number(o.get("dt_physics", 0.002), f"{w}.dt_physics", positive=True),
+        "dt_control": _number(o.get("dt_control", DT_CONTROL), f"{w}.dt_control", positive=True),
+        "dt_physics": _number(o.get("dt_physics", DT_PHYSICS), f"{w}.dt_physics", positive=True),
         "sut": sut,
         "strategy": _choice(o.get("strategy", "random"), f"{w}.strategy", STRATEGIES),
         "seed": _int(o.get("seed", 0), f"{w}.seed"),

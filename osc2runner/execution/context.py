@@ -37,6 +37,7 @@ from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.tolerances import Tolerances
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
+from osc2runner.options import DT_CONTROL
 from osc2runner.sim.sky import Sky
 
 if TYPE_CHECKING:
@@ -227,7 +228,7 @@ class RunContext:
         network: RoadNetwork,
         actors: list[Actor],
         *,
-        dt: float = 0.05,
+        dt: float = DT_CONTROL,
         seed: int = 0,
     ) -> None:
         self.network = network
