@@ -28,7 +28,7 @@ import traceback
 from collections.abc import Callable, Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any, NoReturn, TextIO
+from typing import TYPE_CHECKING, NoReturn, TextIO, TypeVar
 
 from osc2check.config import (
     ConfigError,
@@ -55,6 +55,14 @@ from osc2runner.options import (
     check_steps,
     check_time,
 )
+
+if TYPE_CHECKING:
+    from osc2check.config import Config
+    from osc2check.verify.witness import Witness
+    from osc2runner.campaign.steering import BinRef
+    from osc2runner.errors import RunProblem
+    from osc2runner.runner import Checked, Prepared, RunResult
+    from osc2runner.sut.loading import SutSpec
 
 __all__ = [
     "EXIT_ERROR",
@@ -89,12 +97,17 @@ def _number(text: str) -> float | str:
         return text
 
 
-def _checked(text: str | None, parse: Callable[[str], Any], check: Callable[[Any], Any]) -> Any:
+Checked_ = TypeVar("Checked_")
+
+
+def _checked(
+    text: str | None, parse: Callable[[str], object], check: Callable[[object], Checked_]
+) -> Checked_ | None:
     """An option's text parsed and checked; an OptionError quotes the text as given."""
     if text is None:
         return None
     try:
-        value: Any = parse(text)
+        value: object = parse(text)
     except ValueError:
         value = text
     try:
@@ -293,7 +306,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
     return args
 
 
-def _config(args: argparse.Namespace) -> Any:
+def _config(args: argparse.Namespace) -> Config | None:
     """The checker's configuration for FILE (``[tool.osc2check]``, as ``osc2check FILE``
     reads it) with ``--osc-version`` and ``--dialect`` on top; None without a FILE (a
     campaign resumed from its folder reads it there)."""
@@ -307,7 +320,7 @@ def _config(args: argparse.Namespace) -> Any:
         raise UsageError(str(exc)) from None
 
 
-def _sut(args: argparse.Namespace) -> Any:
+def _sut(args: argparse.Namespace) -> SutSpec | None:
     """The system under test of the command line or ``[tool.osc2run]``; checked by
     importing it (a usage error when it cannot be used)."""
     from osc2runner.sut.loading import SutError, SutSpec, configured_sut
@@ -425,7 +438,7 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     return EXIT_OK if result.success else EXIT_FAILURE
 
 
-def _hard_exit(out: TextIO, result: Any, status: int) -> None:
+def _hard_exit(out: TextIO, result: RunResult, status: int) -> None:
     """End the process now (a system under test that does not stop: its run's files are
     written), with the run's summary."""
     _summary(result, out)
@@ -437,7 +450,7 @@ def _hard_exit(out: TextIO, result: Any, status: int) -> None:
     os._exit(status)
 
 
-def _witness_in_bin(checked: Any, options: RunOptions, where: Any) -> Any:
+def _witness_in_bin(checked: Checked, options: RunOptions, where: BinRef) -> Witness:
     """The witness drawn inside the cover bin ``--bin``, as a campaign's directed run's is."""
     from osc2runner.campaign.steering import cover_items, directed_witness
 
@@ -445,7 +458,9 @@ def _witness_in_bin(checked: Any, options: RunOptions, where: Any) -> Any:
     return directed_witness(checked, items, where, options.seed)
 
 
-def _with_progress(prepared: Any, options: RunOptions, execute: Any) -> Any:
+def _with_progress(
+    prepared: Prepared, options: RunOptions, execute: Callable[..., RunResult]
+) -> RunResult:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
     limit = options.time_limit
@@ -466,7 +481,7 @@ def _with_progress(prepared: Any, options: RunOptions, execute: Any) -> Any:
         return execute(prepared, duration=options.duration, progress=report)
 
 
-def _summary(result: Any, out: TextIO) -> None:
+def _summary(result: RunResult, out: TextIO) -> None:
     """The run's summary: outcome, system under test, collisions, what was simulated, the
     events emitted, the files; the wall time and the real-time factor (this machine's)
     on a line of their own."""
@@ -503,7 +518,7 @@ def _summary(result: Any, out: TextIO) -> None:
     out.flush()
 
 
-def _impacts(result: Any) -> list[str]:
+def _impacts(result: RunResult) -> list[str]:
     """One line per collision: who, when, each one's speed and the closing speed."""
     import numpy as np
 
@@ -533,7 +548,7 @@ def _one_line(message: str) -> str:
     return " ".join(message.split())
 
 
-def _problem(message: str) -> Any:
+def _problem(message: str) -> RunProblem:
     from osc2runner.errors import RunProblem
 
     return RunProblem(message)
@@ -559,7 +574,7 @@ def _print_input_errors(exc: ScenarioError, err: TextIO) -> None:
     err.flush()
 
 
-def _source_line(problem: Any, texts: dict[str, str]) -> str | None:
+def _source_line(problem: RunProblem, texts: dict[str, str]) -> str | None:
     span = problem.span
     if span is None or span.uri not in texts:
         return None

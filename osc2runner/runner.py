@@ -56,7 +56,8 @@ from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for, drive_with_sut
 from osc2runner.execution.initializer import start_specs
-from osc2runner.execution.loop import RunOutcome, TickLoop
+from osc2runner.execution.loop import TickLoop
+from osc2runner.execution.outcome import OutcomeStatus, RunOutcome
 from osc2runner.execution.signals import Interrupts, exit_status, signal_name
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
@@ -503,7 +504,7 @@ def execute(
         progress = _logging(progress)
     loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
 
-    def stop_now(status: str, reason: str, signum: int | None) -> None:
+    def stop_now(status: OutcomeStatus, reason: str, signum: int | None) -> None:
         assert hard_stop is not None
         interrupts.consumed = True  # nothing more is taken from here on
         name = signal_name(signum) if signum is not None else None

@@ -33,10 +33,11 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, get_args
 
 from osc2check.config import Config, config_for
 from osc2check.inputs import InputError, read_bytes
+from osc2runner.campaign.engine import Engine, EngineName
 from osc2runner.campaign.outputs import (
     read_campaign,
     read_records,
@@ -48,7 +49,7 @@ from osc2runner.campaign.outputs import (
 )
 from osc2runner.campaign.parameters import parameter_domains, parameter_equations
 from osc2runner.campaign.plan import CoverPlan, ItemPlan, plan_cover, plan_random
-from osc2runner.campaign.schema import FolderError
+from osc2runner.campaign.schema import CampaignStatus, FolderError
 from osc2runner.campaign.steering import cover_items
 from osc2runner.campaign.summary import (
     coverage_table,
@@ -75,7 +76,7 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-ENGINES = ("local", "ray")
+ENGINES: tuple[EngineName, ...] = get_args(EngineName)
 STRATEGIES = ("random", "cover")
 DEFAULT_RUN_TIMEOUT = 600.0  # wall-clock seconds per run
 
@@ -94,7 +95,7 @@ class CampaignOptions(RunOptions):
     runs: int
     out: str
     jobs: int = 0  # 0: one worker per processor
-    engine: str = "local"
+    engine: EngineName = "local"
     address: str | None = None
     strategy: str = "random"
     run_timeout: float | None = DEFAULT_RUN_TIMEOUT
@@ -143,7 +144,7 @@ class CampaignResult:
     records: list[RunRecord]
     summary: dict[str, Any]
     folder: Path
-    status: str
+    status: CampaignStatus
     signum: int | None = None
     outputs: list[Path] = field(default_factory=list)
     document: dict[str, Any] = field(default_factory=dict)
@@ -158,7 +159,7 @@ Progress = Callable[[str, Any], None]  # progress("plan", total) / ("record", Ru
 
 def _engine(
     options: CampaignOptions, setup: CampaignSetup, jobs: int, clock: Callable[[], float]
-) -> Any:
+) -> Engine:
     if options.engine == "ray":
         from osc2runner.campaign.ray_engine import RayEngine
 
@@ -341,7 +342,7 @@ def run_campaign(
     finally:
         engine.close()
     wall = time.perf_counter() - started
-    status = "interrupted" if stop_signal else "complete"
+    status: CampaignStatus = "interrupted" if stop_signal else "complete"
     result = finish(folder, document, plan, records, replay, wall, status, engine)
     result.signum = stop_signal[0] if stop_signal else None
     return result
@@ -424,8 +425,8 @@ def finish(
     records: dict[int, RunRecord],
     replay: dict[int, str],
     wall: float,
-    status: str,
-    engine: Any,
+    status: CampaignStatus,
+    engine: Engine,
 ) -> CampaignResult:
     """Write the campaign's outputs from its records (also after an interrupt)."""
     tasks = plan.tasks

@@ -19,10 +19,14 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
 
 from osc2runner.options import DT_CONTROL, DT_PHYSICS
+
+if TYPE_CHECKING:
+    from osc2runner.campaign.campaign import CampaignOptions, CampaignResult, Progress
 
 __all__ = ["campaign_arguments", "run_command"]
 
@@ -170,7 +174,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     return 0 if result.passed else 1
 
 
-def _lines(out: TextIO) -> Any:
+def _lines(out: TextIO) -> Progress:
     total = [0]
     done = [0]
 
@@ -193,7 +197,10 @@ def _lines(out: TextIO) -> Any:
     return progress
 
 
-def _with_bar(options: Any, run_campaign: Any) -> Any:
+def _with_bar(
+    options: CampaignOptions,
+    run_campaign: Callable[[CampaignOptions, Progress], CampaignResult],
+) -> CampaignResult:
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -233,7 +240,7 @@ def _with_bar(options: Any, run_campaign: Any) -> Any:
         return run_campaign(options, progress)
 
 
-def _summary(result: Any, out: TextIO) -> None:
+def _summary(result: CampaignResult, out: TextIO) -> None:
     s = result.summary
     doc = result.document
     rate = "–" if s["pass_rate"] is None else f"{100 * s['pass_rate']:.1f} %"

@@ -41,6 +41,7 @@ from osc2runner.campaign.steering import (
     scenario_result,
 )
 from osc2runner.errors import ScenarioError
+from osc2runner.execution.outcome import OutcomeStatus
 from osc2runner.export import ExportTargets
 from osc2runner.options import RunOptions
 from osc2runner.output.gaps import subject_actor
@@ -89,7 +90,7 @@ class RunRecord:
     ``runs.csv``, one testcase of ``junit.xml``)."""
 
     seed: int
-    status: str  # success, failure, timeout, interrupted, error
+    status: OutcomeStatus
     reason: str
     bin: BinRef | None = None
     time_s: float = 0.0
@@ -147,6 +148,7 @@ def lost_record(task: RunTask, why: str, default_reason: str) -> RunRecord:
     """The record of a run whose worker did not answer: ``interrupted`` when the engine
     stopped it for an interrupt (``why`` is ``"interrupted"``), else ``error`` with the
     engine's ``why`` (over the wall-clock limit) or ``default_reason`` (the worker died)."""
+    status: OutcomeStatus
     if why == "interrupted":
         status, reason = "interrupted", "the campaign was interrupted"
     else:
