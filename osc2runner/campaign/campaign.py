@@ -33,7 +33,7 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, get_args
+from typing import Any, Literal, get_args
 
 from osc2check.config import Config, config_for
 from osc2check.inputs import InputError, read_bytes
@@ -154,7 +154,8 @@ class CampaignResult:
         return self.status == "complete" and self.summary["failed"] == 0
 
 
-Progress = Callable[[str, Any], None]  # progress("plan", total) / ("record", RunRecord)
+#: progress("plan", {"total": runs, "done": records kept}) once, then ("record", RunRecord)
+Progress = Callable[[Literal["plan", "record"], Any], None]
 
 
 def _engine(
