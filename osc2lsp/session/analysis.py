@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
+from osc2check.config import Config
 from osc2lsp.text import uri_to_key
 
 if TYPE_CHECKING:
@@ -26,7 +27,6 @@ def analyse(
     # imported on first use: the analysis and the snapshot (163 ms measured after
     # osc2lsp.server) are not needed to answer `initialize`
     from osc2check.analysis import SourceInput, analyze
-    from osc2check.config import Config
     from osc2lsp.snapshot import Snapshot
 
     keys = {uri: uri_to_key(uri) for uri, _, _ in documents}

@@ -30,6 +30,7 @@ from pathlib import Path
 from types import MappingProxyType
 from typing import TYPE_CHECKING, Any
 
+from osc2check.config import Config
 from osc2lsp.transport.lifeline import die_with_parent
 
 if TYPE_CHECKING:
@@ -71,7 +72,6 @@ def solver_findings(
     # imported on first use: the analysis (163 ms measured after osc2lsp.server) is
     # needed in the worker only, not in the server that imports this module
     from osc2check.analysis import SourceInput, analyze
-    from osc2check.config import Config
 
     options = (config if config is not None else Config()).analysis_options()
     analysis = analyze([SourceInput(key, text) for key, text in documents], options)
