@@ -253,7 +253,7 @@ def in_process(text: str) -> None:
     from osc2lsp.features.completion import complete
     from osc2lsp.features.hover import hover
     from osc2lsp.features.navigation import definition
-    from osc2lsp.state import analyse, snapshot_of
+    from osc2lsp.session.analysis import analyse, snapshot_of
 
     print("\nin process (the feature functions alone):")
     analysis = []
@@ -289,7 +289,8 @@ def in_process(text: str) -> None:
 def _after_keystroke(snap, text: str) -> list[float]:
     """The first phase after one letter typed into names across the document, the parse
     made from the snapshot's as the server makes it (``Revision.parse``)."""
-    from osc2lsp.state import Revision, analyse
+    from osc2lsp.session.analysis import analyse
+    from osc2lsp.session.documents import Revision
 
     times = []
     for m in list(re.finditer(r"keep\(top_", text))[::7][:10]:
