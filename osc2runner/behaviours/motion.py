@@ -63,7 +63,7 @@ def _hold(action: ActionBehaviour) -> None:
 class Drive(ActionBehaviour):
     """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane."""
 
-    own_motions: frozenset[str] | None = frozenset()
+    own_motions = frozenset[str]()
     finite = False
 
     def start(self) -> None:
@@ -74,14 +74,10 @@ class Drive(ActionBehaviour):
 class Move(Drive):
     """``move()``: as ``drive`` for any movable object."""
 
-    own_motions = None  # not yet: only vehicles bring about a later start
-
 
 @action("person", "walk")
 class Walk(Drive):
     """``walk()``: as ``drive`` for persons (kinematic pedestrian)."""
-
-    own_motions = None
 
 
 @action("movable_object", "keep_speed")

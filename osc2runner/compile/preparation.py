@@ -10,15 +10,15 @@ timing"):
   ``position(..., ahead_of|behind: ...)`` modifiers ``at: start`` (directly, or
   as the first invocations of a ``parallel``/``serial``/``one_of`` member), and
   the member before it ends with an action of the same actor that can carry the
-  target (``ActionBehaviour.own_motions``: a ``drive()``, or a vehicle action such
-  as ``change_speed`` or ``change_lane``) and does not drive that motion itself
+  target (a vehicle's, whose ``ActionBehaviour.own_motions`` is set: ``drive()``,
+  ``change_speed``, ``change_lane``, ...) and does not drive that motion itself
   (neither by its own nature nor by a modifier of its own acting there), that
   action takes the constraint as a target for its end: planned against its
   deadline (the schedule's, less the margin) like an ``at: end``, or reached at
   the usual rate when the deadline is not known, an action that reaches its own
-  goal first then running on until it holds. It is not checked there: the next
-  phase checks it when it starts, with the tolerances, and fails saying by how
-  much when physics did not allow it.
+  goal first then running on until it holds (:data:`PREPARATION_WAIT` at most).
+  It is not checked there: the next phase checks it when it starts, with the
+  tolerances, and fails saying by how much when physics did not allow it.
 * A previous action that drives the same motion itself (``change_speed`` before
   ``speed(v, at: start)``) has the scenario's end state for it: the start is
   checked only, and fails with the measured value when the two differ.
@@ -41,11 +41,14 @@ from osc2check.syntax import ast
 from osc2runner.behaviours.base import ActionBehaviour, ActionUse, Modifier
 from osc2runner.compile.composites import OneOf
 
-__all__ = ["PREPARED_MODIFIERS", "Choices", "Preparing", "prepare_starts"]
+__all__ = ["PREPARATION_WAIT", "PREPARED_MODIFIERS", "Choices", "Preparing", "prepare_starts"]
 
 #: the ``at: start`` modifiers a previous phase brings about
 PREPARED_MODIFIERS = frozenset({"speed", "lane", "position"})
 _MOTIONS = ("longitudinal", "lateral")
+#: how long (s) an action that reached its own goal runs on for the next start at most:
+#: the longest change a start asks at the usual rates (0 to 130 kph at 2.5 m/s², 14.4 s)
+PREPARATION_WAIT = 15.0
 
 Uses = Mapping[ast.Invocation, tuple[ActionUse, type]]
 
@@ -67,6 +70,7 @@ class Preparing(Modifier):
         return self.args
 
     def begin(self, action: ActionBehaviour) -> None:
+        self.waiting_since: float | None = None
         self.inner.realise(action)
 
     def step(self, action: ActionBehaviour) -> None:
@@ -74,9 +78,14 @@ class Preparing(Modifier):
 
     def pending(self, action: ActionBehaviour) -> bool:
         # without a deadline an action that reached its own goal (a change_speed at its
-        # speed) runs on until the next phase's start holds; with one, the plan
+        # speed) runs on until the next phase's start holds, for PREPARATION_WAIT at
+        # most (then the next phase says what does not hold); with a deadline, the plan
         # arrives by then and the next phase checks it
-        return action.remaining() is None and self.inner.holds(action) is not None
+        if action.remaining() is not None or self.inner.holds(action) is None:
+            return False
+        if self.waiting_since is None:
+            self.waiting_since = action.elapsed
+        return action.elapsed - self.waiting_since < PREPARATION_WAIT
 
     def end(self, action: ActionBehaviour) -> None:
         self.inner.end(action)
@@ -175,7 +184,9 @@ def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices) -> None:
 
 
 def _carries(use: ActionUse) -> bool:
-    return getattr(use.behaviour, "own_motions", None) is not None
+    """Whether ``use`` can bring about a next start (a vehicle's: persons' and objects'
+    controllers carry no such target yet)."""
+    return use.actor.kind == "vehicle" and getattr(use.behaviour, "own_motions", None) is not None
 
 
 def _realised(use: ActionUse) -> bool:
