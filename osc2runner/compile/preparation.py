@@ -9,16 +9,18 @@ timing"):
 * In a ``serial``, when a member starts actions with ``speed``, ``lane`` or
   ``position(..., ahead_of|behind: ...)`` modifiers ``at: start`` (directly, or
   as the first invocations of a ``parallel``/``serial``/``one_of`` member), and
-  the member before it ends with an action of the same actor that can carry the
-  target (a vehicle's, whose ``ActionBehaviour.own_motions`` is set: ``drive()``,
-  ``change_speed``, ``change_lane``, ...) and does not drive that motion itself
-  (neither by its own nature nor by a modifier of its own acting there), that
-  action takes the constraint as a target for its end: planned against its
-  deadline (the schedule's, less the margin) like an ``at: end``, or reached at
-  the usual rate when the deadline is not known, an action that reaches its own
-  goal first then running on until it holds (:data:`PREPARATION_WAIT` at most).
-  It is not checked there: the next phase checks it when it starts, with the
-  tolerances, and fails saying by how much when physics did not allow it.
+  the member before it ends with an action of the same actor (itself, the last of
+  a ``serial``, one of a ``parallel``, the chosen ``one_of`` member's) that can
+  carry the target (a vehicle's, whose ``ActionBehaviour.own_motions`` is set:
+  ``drive()``, ``change_speed``, ``change_lane``, ...) and does not drive that
+  motion itself (neither by its own nature nor by a modifier of its own acting
+  there), that action takes the constraint as a target for its end: planned
+  against its deadline (the schedule's, less the margin) like an ``at: end``, or
+  reached at the usual rate when the deadline is not known, an action that
+  reaches its own goal first then running on until it holds
+  (:data:`PREPARATION_WAIT` at most). It is not checked there: the next phase
+  checks it when it starts, with the tolerances, and fails saying by how much
+  when physics did not allow it.
 * A previous action that drives the same motion itself (``change_speed`` before
   ``speed(v, at: start)``) has the scenario's end state for it: the start is
   checked only, and fails with the measured value when the two differ.
@@ -151,12 +153,22 @@ def _at(modifier: Modifier) -> str:
     return (enum_word(node) or "all") if node is not None else "all"
 
 
-def _last_invocations(body: ast.Node) -> list[ast.Invocation]:
-    """The invocations running when ``body`` ends (itself, or a ``parallel``'s)."""
-    if isinstance(body, ast.Invocation):
-        return [body]
-    if isinstance(body, ast.Composition) and body.op == "parallel":
-        return [m.body for m in body.members if isinstance(m.body, ast.Invocation)]
+def _last_invocations(body: ast.Node, choices: Choices) -> list[ast.Invocation]:
+    """The invocations running when ``body`` ends: itself, a ``serial``'s last member's,
+    each ``parallel`` member's, the chosen ``one_of`` member's."""
+    match body:
+        case ast.Invocation():
+            return [body]
+        case ast.Composition(op="serial") if body.members:
+            return _last_invocations(body.members[-1].body, choices)
+        case ast.Composition(op="parallel"):
+            return [inv for m in body.members for inv in _last_invocations(m.body, choices)]
+        case ast.Composition(op="one_of") if body in choices:
+            members = acting_members(body)
+            index = choices.get(body)
+            if index is None:  # not chosen yet: the same draw as Choices.finish
+                index = choices.choose(body, [True] * len(members))
+            return _last_invocations(members[index].body, choices)
     return []
 
 
@@ -168,7 +180,7 @@ def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices) -> None:
     for before, after in zip(bodies, bodies[1:], strict=False):
         previous = [
             found[0]
-            for inv in _last_invocations(before)
+            for inv in _last_invocations(before, choices)
             if (found := uses.get(inv)) is not None and _carries(found[0])
         ]
         zero = time_zero(after)

@@ -12,6 +12,7 @@ from __future__ import annotations
 import pytest
 
 from osc2runner import run
+from osc2runner.runner import compile_file
 
 KPH = 1 / 3.6
 DT = 0.05
@@ -125,6 +126,26 @@ def test_a_start_against_the_end_state_of_the_action_before_fails_at_the_phase_s
     assert measured == pytest.approx(50.0, abs=0.54)
 
 
+LANE_AFTER_ONE_OF = _then(
+    "one_of:",
+    "    car.change_speed(target: 50kph)",
+    "    serial:",
+    "        car.drive(duration: 1s)",
+    "        car.keep_speed(duration: 2s)",
+    "car.drive(duration: 1s) with: lane(2, at: start)",
+)
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_a_start_is_brought_about_by_the_last_action_of_the_member_chosen_before(seed):
+    # the phase before ends with the chosen member's change_speed, or with the
+    # keep_speed that ends its serial: either drives the speed only
+    result, car = _succeeds(LANE_AFTER_ONE_OF, seed=seed)
+    (then,) = _starts(result, "car.drive")[-1:]
+    assert car["lane"][then] == 2
+    assert car["y"][then] == pytest.approx(1.5 * LANE_WIDTH, abs=0.175)
+
+
 # ---- the member a later one_of runs
 
 
@@ -151,6 +172,15 @@ def test_the_start_of_the_member_a_later_one_of_chooses_is_brought_about(seed):
     lane = 1 + _member(result)  # member 1 asks for lane 2, member 2 for lane 3
     assert car["lane"][then] == lane
     assert car["y"][then] == pytest.approx((lane - 0.5) * LANE_WIDTH, abs=0.175)
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_the_choice_is_made_once_in_the_compiled_plan_and_run_as_recorded(seed):
+    source = "import osc.standard\n\n" + LATER_ONE_OF
+    compiled = compile_file("<preparation>.osc", source=source, seed=seed).compiled
+    ((name, index),) = compiled.choices.items()
+    assert name.startswith("one_of@") and name.endswith(".member")
+    assert _member(_run(LATER_ONE_OF, seed=seed)) == index + 1
 
 
 def test_later_one_of_choices_spread_over_seeds():
