@@ -38,6 +38,8 @@ from typing import Any
 
 import numpy as np
 
+from osc2check.semantics.constants import NotConstant, evaluate
+from osc2check.semantics.model import Model
 from osc2check.semantics.phases import TimeZero, acting_members, enum_word, time_zero
 from osc2check.syntax import ast
 from osc2runner.behaviours.base import ActionBehaviour, ActionUse, Modifier
@@ -172,7 +174,7 @@ def _last_invocations(body: ast.Node, choices: Choices) -> list[ast.Invocation]:
     return []
 
 
-def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices) -> None:
+def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices, model: Model) -> None:
     """Choose the ``one_of`` members that start after each member of ``comp`` (a
     ``serial``), and give the actions that end each member the ``at: start`` targets
     of the next (see the module docstring)."""
@@ -184,7 +186,7 @@ def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices) -> None:
             if (found := uses.get(inv)) is not None and _carries(found[0])
         ]
         zero = time_zero(after)
-        _choose(zero, previous, uses, choices)
+        _choose(zero, previous, uses, choices, model)
         for inv in _started(zero, choices):
             following = uses.get(inv)
             if following is None or _realised(following[0]):
@@ -213,9 +215,11 @@ def _started(zero: TimeZero, choices: Choices) -> list[ast.Invocation]:
     return [*zero.starts, *chosen]
 
 
-def _choose(zero: TimeZero, previous: list[ActionUse], uses: Uses, choices: Choices) -> None:
+def _choose(
+    zero: TimeZero, previous: list[ActionUse], uses: Uses, choices: Choices, model: Model
+) -> None:
     """Choose each ``one_of`` starting with the phase (outer ones first), preferring the
-    members whose every ``at: start`` the ``previous`` actions bring about."""
+    members whose every ``at: start`` the ``previous`` actions bring about or hold."""
     for guard, _ in zero.options:
         for comp, _ in guard:
             if comp not in choices or choices.get(comp) is not None:
@@ -228,17 +232,59 @@ def _choose(zero: TimeZero, previous: list[ActionUse], uses: Uses, choices: Choi
                     if (comp, index) in g
                     and all(choices.get(c) in (None, i) for c, i in g if c is not comp)
                 ]
-                ready.append(all(_ready(uses.get(inv), previous) for inv in invs))
+                ready.append(all(_ready(uses.get(inv), previous, model) for inv in invs))
             choices.choose(comp, ready)
 
 
-def _ready(found: tuple[ActionUse, type] | None, previous: list[ActionUse]) -> bool:
+def _ready(
+    found: tuple[ActionUse, type] | None, previous: list[ActionUse], model: Model
+) -> bool:
     """Whether every ``at: start`` of an invocation holds by the ``previous`` actions'
     doing (or is the action's own to realise)."""
     if found is None or _realised(found[0]):
         return True
     use = found[0]
-    return all(_preparer(m, use, previous) is not None for m in use.modifiers if _at(m) == "start")
+    return all(
+        _preparer(m, use, previous) is not None or _held(m, use, previous, model)
+        for m in use.modifiers
+        if _at(m) == "start"
+    )
+
+
+def _held(
+    modifier: Modifier, following: ActionUse, previous: list[ActionUse], model: Model
+) -> bool:
+    """Whether a ``previous`` action of the same actor ends holding ``modifier`` (``at:
+    start`` of ``following``) already: it has a modifier of the same name, ``at: all`` or
+    ``at: end``, whose other arguments are the same constants (``lane(1)`` then
+    ``lane(1, at: start)``)."""
+    wanted = _constant_arguments(modifier, model)
+    if wanted is None:
+        return False
+    return any(
+        use.actor is following.actor
+        and m.use.name == modifier.use.name
+        and _at(m) in ("all", "end")
+        and _constant_arguments(m, model) == wanted
+        for use in previous
+        for m in use.modifiers
+    )
+
+
+def _constant_arguments(modifier: Modifier, model: Model) -> dict[str, object] | None:
+    """The exact values of a modifier's arguments other than ``at`` (defaults included);
+    None when one is not a constant."""
+    binding = modifier.use.binding
+    if binding is None:
+        return None
+    try:
+        return {
+            name: evaluate(expr, model)
+            for name, expr in binding.values().items()
+            if name != "at"
+        }
+    except NotConstant:
+        return None
 
 
 def _preparer(

@@ -397,7 +397,7 @@ class TreeCompiler:
         node: py_trees.behaviour.Behaviour
         if comp.op == "serial":
             node = Serial(name, children)
-            prepare_starts(comp, self.uses, self.choices)
+            prepare_starts(comp, self.uses, self.choices, self.model)
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:

@@ -203,3 +203,21 @@ def test_a_member_whose_start_the_phase_before_cannot_bring_about_is_not_chosen(
     assert _member(result) == 2
     then = _starts(result, "car.drive")[0]
     assert car["speed"][then] == pytest.approx(50 * KPH, abs=SPEED_TOLERANCE)
+
+
+HELD_MEMBER = _then(
+    "car.drive(duration: 3s) with: lane(1)",
+    "one_of:",
+    "    car.drive(duration: 1s) with: lane(1, at: start)",
+    "    car.drive(duration: 1s) with: lane(2, at: start)",
+)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_member_whose_start_the_phase_before_holds_already_is_chosen(seed):
+    # the drive keeps lane 1 throughout (its own lane motion: it cannot bring about lane
+    # 2), so the member that starts in lane 1 always runs, never the one that would fail
+    result, car = _succeeds(HELD_MEMBER, seed=seed)
+    assert _member(result) == 1
+    then = _starts(result, "car.drive")[1]
+    assert car["lane"][then] == 1
