@@ -236,9 +236,7 @@ def _choose(
             choices.choose(comp, ready)
 
 
-def _ready(
-    found: tuple[ActionUse, type] | None, previous: list[ActionUse], model: Model
-) -> bool:
+def _ready(found: tuple[ActionUse, type] | None, previous: list[ActionUse], model: Model) -> bool:
     """Whether every ``at: start`` of an invocation holds by the ``previous`` actions'
     doing (or is the action's own to realise)."""
     if found is None or _realised(found[0]):
@@ -279,9 +277,7 @@ def _constant_arguments(modifier: Modifier, model: Model) -> dict[str, object] |
         return None
     try:
         return {
-            name: evaluate(expr, model)
-            for name, expr in binding.values().items()
-            if name != "at"
+            name: evaluate(expr, model) for name, expr in binding.values().items() if name != "at"
         }
     except NotConstant:
         return None
