@@ -28,7 +28,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 from osc2check.verify.lower import InstanceScope, Lowerer, NotEncodable, TextOf
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
@@ -179,7 +179,7 @@ def term_value(
         else:
             values[p.name] = p.value
     try:
-        value = quick.evaluate(term, values)
+        value = propagate.evaluate(term, values)
     except (KeyError, TypeError, ZeroDivisionError):
         return None
     return value if isinstance(value, (bool, Fraction)) else Fraction(value)

@@ -34,7 +34,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify import flow, ir, quick
+from osc2check.verify import flow, ir, propagate
 from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
 from osc2check.verify.placement import UNSAID_CATEGORY, Gap
 from osc2check.verify.z3_backend import (
@@ -117,7 +117,7 @@ def _rounded(active: list[ir.Constraint], values: dict[str, Fraction | bool]) ->
     of non-linear constraints may be irrational (``x * x == 2``), and shows rounded."""
     notes = []
     for c in active:
-        if not quick.holds(c.term, values):
+        if not propagate.holds(c.term, values):
             notes.append(f"`{c.text}` holds for irrational values, which the witness shows rounded")
     return notes
 
@@ -337,7 +337,7 @@ def _in_no_model(
 ) -> bool:
     """Whether ``term`` holds in no model of the active constraints: not in the model at
     hand (checked first, without the solver), and not in any other."""
-    if quick.holds(term, outcome.values):
+    if propagate.holds(term, outcome.values):
         return False
     return never_holds(problem, active, term, rlimit)
 
@@ -570,7 +570,7 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
                 else:
                     values[v.name] = value
             try:
-                if all(quick.evaluate(d, values) for d in limits) and not quick.evaluate(
+                if all(propagate.evaluate(d, values) for d in limits) and not propagate.evaluate(
                     term, values
                 ):
                     return True

@@ -93,7 +93,7 @@ from osc2check.verify.lower import (
     one_of_choice,
 )
 from osc2check.verify.map_modifiers import ElementField, MapFields
-from osc2check.verify.quick import linear
+from osc2check.verify.propagate import linear
 from osc2check.verify.road_terms import RoadTerms, fraction
 from osc2check.verify.room import motion_bounds
 from osc2check.world.catalogue import (

@@ -73,7 +73,7 @@ from osc2check.semantics.phases import (
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 from osc2check.verify.lower import MAX_DEPTH, InstanceScope, Lowerer, NotEncodable, join_path
 from osc2check.verify.schedule import Resolver, TimingPlan
 from osc2check.verify.timeline import (
@@ -717,10 +717,10 @@ class _Builder:
                 term = self.out.defined.get(name, self.out.canonical.get(name))
                 if term is None:
                     return False
-                value = quick.evaluate(term, values)
+                value = propagate.evaluate(term, values)
                 values[name] = value if isinstance(value, bool) else Fraction(value)
             return all(
-                quick.evaluate(c.term, values) is True
+                propagate.evaluate(c.term, values) is True
                 for c in (*self.out.definitions, *self.out.tracked)
             )
         except (KeyError, TypeError, ZeroDivisionError):

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 from osc2check.verify.map_modifiers import ElementValue
 from osc2check.verify.placement import ActorBody, PlacedActor, StartPlacement
 from osc2check.verify.schedule import Schedule, schedule
@@ -221,7 +221,7 @@ def _row(body: ActorBody, values: dict[str, Fraction | bool]) -> ActorRow:
 
 
 def _size(term: ir.Term, values: dict[str, Fraction | bool]) -> Fraction:
-    value = quick.evaluate(term, values)
+    value = propagate.evaluate(term, values)
     return value if isinstance(value, Fraction) else Fraction(0)
 
 

@@ -1,7 +1,7 @@
 """Solve a ``ConstraintProblem`` with z3: satisfiability, minimal conflicts, defaults, samples.
 
 ``check`` decides a problem for the analysis: a model found by propagation
-(``quick``) settles a plainly satisfiable problem without z3 (z3 is not even
+(``propagate``) settles a plainly satisfiable problem without z3 (z3 is not even
 loaded); anything else goes to z3, which reports minimal conflicts.
 ``solve`` always asks z3, and with a seed returns a sample (the witness).
 
@@ -22,7 +22,7 @@ from fractions import Fraction
 from typing import Any
 
 from osc2check import memory
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 from osc2check.verify.lower import is_one_of_choice
 
 DEFAULT_RLIMIT = 20_000_000
@@ -146,8 +146,8 @@ def nonlinear(active: list[ir.Constraint]) -> list[ir.Constraint]:
     that equations fix to a constant (its declaration's ``ttc0: time = 4s`` while no
     keep overrides it, ``keep(ttc0 == 4s)``) is a constant, as the sampler takes it:
     ``gap == closing * ttc0`` is linear then."""
-    fixed = quick.determined([c.term for c in active])
-    return [c for c in active if ir.is_nonlinear(quick.fold(c.term, fixed))]
+    fixed = propagate.determined([c.term for c in active])
+    return [c for c in active if ir.is_nonlinear(propagate.fold(c.term, fixed))]
 
 
 def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
@@ -279,7 +279,7 @@ def check(
     outcome = SolverOutcome("sat")
     active = active_constraints(problem, outcome)
     outcome.nonlinear = nonlinear(active)
-    model = quick.find_model(problem.variables, [c.term for c in active])
+    model = propagate.find_model(problem.variables, [c.term for c in active])
     if model is not None:
         outcome.values = model
         outcome.method = "propagation"
@@ -399,9 +399,9 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
     found: dict[str, list[Fraction | None]] = {}
     conjuncts: list[ir.Term] = []
     for constraint in active:
-        quick._conjuncts(constraint.term, conjuncts)
+        propagate.split_conjuncts(constraint.term, conjuncts)
     for term in conjuncts:
-        atom = quick._atom(term)
+        atom = propagate.atom_of(term)
         if len(atom.names) != 1:
             continue
         name = atom.names[0]
@@ -414,7 +414,7 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
             coeffs, constant = atom.form
             c = coeffs[name]
             bound = -constant / c
-            op = atom.op if c > 0 else quick._FLIP[atom.op]
+            op = atom.op if c > 0 else propagate.FLIPPED[atom.op]
             candidates = (
                 [(bound, ">="), (bound, "<=")]
                 if op == "=="
@@ -444,7 +444,7 @@ class Sampler:
     satisfies them; one that equations fix keeps its value, and is a constant in the
     other constraints (``ttc0: time = 4s`` makes ``gap == closing * ttc0`` linear). The
     others ("linked") are drawn by propagation, each at random inside the bounds that
-    the values drawn before leave it (``quick.find_model`` with a seeded generator: no
+    the values drawn before leave it (``propagate.find_model`` with a seeded generator: no
     solver, and checked exactly); a variable that an equation defines from others
     (``gap`` there) is drawn last, so it follows from the values drawn for the others
     instead of cornering them on a bound. Only when that fails does z3 come in:
@@ -484,12 +484,12 @@ class Sampler:
                 self.alone.setdefault(next(iter(names)), []).append(c.term)
             else:
                 linked.update(names)
-        fixed = self.fixed = quick.determined([c.term for c in active])
+        fixed = self.fixed = propagate.determined([c.term for c in active])
         self.linked = [n for n in self.order if n in linked and n not in fixed]
         self.linked_set = set(self.linked)
         # constants (a field's `= value`, `keep(p == 4s)`) are folded in: a product with
         # one is linear, for the propagation and for z3
-        self.folded = [quick.fold(c.term, fixed) for c in active]
+        self.folded = [propagate.fold(c.term, fixed) for c in active]
         # an equation between unknowns makes one of them follow from the others: only
         # the others get a target (fewer terms to minimise, the same spread), and they
         # are drawn first
@@ -497,7 +497,7 @@ class Sampler:
         self.aimed = [n for n in self.linked if n not in follows]
         # which `one_of` member runs is drawn first: the start it needs follows from it
         choices = [n for n in self.order if is_one_of_choice(n)]
-        self.terms = quick.Prepared(self.folded, first=choices)
+        self.terms = propagate.Prepared(self.folded, first=choices)
 
     def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
@@ -566,12 +566,12 @@ class Sampler:
                 values[name] = Fraction(-1) if is_string else targets[name]  # -1: any string
                 continue
             own = self.alone.get(name, ())
-            if all(quick.evaluate(t, {name: targets[name]}) is True for t in own):
+            if all(propagate.evaluate(t, {name: targets[name]}) is True for t in own):
                 values[name] = targets[name]
         if not self.linked:
             return values
         for attempt in range(self.TRIES):
-            drawn = quick.find_model(
+            drawn = propagate.find_model(
                 self.problem.variables,
                 self.terms,
                 random.Random(f"{seed}/{attempt}"),
@@ -608,12 +608,12 @@ def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[s
     one side that the other side does not mention."""
     conjuncts: list[ir.Term] = []
     for t in terms:
-        quick._conjuncts(t, conjuncts)
+        propagate.split_conjuncts(t, conjuncts)
     dependent: set[str] = set()
     for term in conjuncts:
         if not (isinstance(term, ir.Op) and term.op == "=="):
             continue
-        atom = quick._atom(term)
+        atom = propagate.atom_of(term)
         free = [n for n in atom.names if n not in fixed and n not in dependent]
         if not free:  # none left: it follows from unknowns that follow from others
             continue

@@ -19,7 +19,7 @@ from hypothesis import strategies as st
 
 from osc2check.analysis import SourceInput, analyze
 from osc2check.source import Span
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 from osc2check.verify.lower import in_range
 from osc2check.verify.z3_backend import _Encoder, check, solve
 
@@ -92,7 +92,7 @@ def modelled(draw):
             items = [model[v.name], *(Fraction(o) for o in others)]
             items = draw(st.permutations(items))
             term = ir.op("or", *(ir.op("==", ir.Ref(v), ir.const(x)) for x in items))
-        assert quick.evaluate(term, model) is True
+        assert propagate.evaluate(term, model) is True
         problem.add(ir.Constraint(term, Span("t.osc", line, 5, line, 9), "keep", f"c{line}"))
         line += 1
     return problem, model
@@ -130,9 +130,9 @@ def test_a_set_built_from_a_model_is_never_unsatisfiable(case):
     terms = [c.term for c in problem.constraints]
     for outcome in (check(problem), solve(problem), solve(problem, seed=7)):
         assert outcome.status == "sat"
-        assert all(quick.evaluate(t, outcome.values) is True for t in terms)
-    found = quick.find_model(problem.variables, terms)
-    assert found is None or all(quick.evaluate(t, found) is True for t in terms)
+        assert all(propagate.evaluate(t, outcome.values) is True for t in terms)
+    found = propagate.find_model(problem.variables, terms)
+    assert found is None or all(propagate.evaluate(t, found) is True for t in terms)
 
 
 @pytest.mark.slow
@@ -303,4 +303,4 @@ def test_quotients_and_remainders_are_the_evaluators(a, b, sort, bound):
     assert values["n"] != 0
     assert values["q"] == arithmetic("/", a, values["n"])
     assert values["r"] == arithmetic("%", a, values["n"])
-    assert all(quick.evaluate(c.term, values) is True for c in problem.constraints)
+    assert all(propagate.evaluate(c.term, values) is True for c in problem.constraints)
