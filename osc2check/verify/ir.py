@@ -2,7 +2,7 @@
 
 Terms are small immutable trees over exact rationals. Every constraint keeps
 the span and text it came from, so a solver's unsatisfiable core maps back to
-source lines. ``lower.py`` builds a ``ConstraintProblem`` from the model;
+source lines. ``pipeline.py`` builds a ``ConstraintProblem`` from the model;
 ``z3_backend.py`` solves it.
 """
 

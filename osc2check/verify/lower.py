@@ -32,7 +32,7 @@ has no value here (``Lowerer._variable``).
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Literal
@@ -1027,37 +1027,3 @@ def member_declarations(model: Model) -> Declarations:
     result = Declarations()
     result.update(declaration_bodies(model))
     return result
-
-
-def lower_scenario(
-    model: Model,
-    scenario: Symbol,
-    text_of: TextOf,
-    default_map: str = "default",
-    member_decls: Declarations | None = None,
-    maps: Mapping[str, str] | None = None,
-    open_categories: bool = False,
-) -> ir.ConstraintProblem:
-    """The constraint problem of ``scenario`` as a top-level instance, placement included.
-
-    ``member_decls`` (from ``member_declarations(model)``) can be shared by the
-    scenarios of one model; ``open_categories``: vehicles whose category nothing
-    constrains may be of any category (``placement.PlacementLowerer``).
-    """
-    from osc2check.verify.placement import lower_placement
-    from osc2check.verify.timing import lower_timing, timing_plan
-
-    span = scenario.name_span or Span("", 1, 1, 1, 1)
-    problem = ir.ConstraintProblem(scenario.name, span)
-    lowerer = Lowerer(model, problem, text_of, member_decls)
-    lowerer.scenario(scenario)
-    problem.strings = {v: k for k, v in lowerer.strings.items()}
-    problem.placement = lower_placement(
-        lowerer, scenario, default_map, maps, open_categories=open_categories
-    )
-    lower_timing(lowerer, scenario)
-    if problem.timing is None:  # (the timing's constraints were left out)
-        problem.timing = timing_plan(lowerer, scenario)
-    lowerer.attach_defaults()
-    problem.strings = {v: k for k, v in lowerer.strings.items()}
-    return problem
