@@ -98,6 +98,12 @@ def one_of_choice(prefix: str, comp: ast.Composition) -> str:
 _CHOICE = ".member"
 
 
+def one_of_variable(prefix: str, comp: ast.Composition) -> ir.Var:
+    """The variable :func:`one_of_choice` names: one per ``one_of``, which the placement
+    (the members' starts) and the timing (their durations) share."""
+    return ir.Var(one_of_choice(prefix, comp), "int", span=comp.span)
+
+
 def is_one_of_choice(name: str) -> bool:
     """Whether ``name`` is a variable :func:`one_of_choice` names."""
     last = name.rsplit(".", 2)[-2:]

@@ -90,7 +90,7 @@ from osc2check.verify.lower import (
     coerce,
     in_range,
     join_path,
-    one_of_choice,
+    one_of_variable,
 )
 from osc2check.verify.map_modifiers import ElementField, MapFields
 from osc2check.verify.propagate import linear
@@ -404,9 +404,9 @@ class PlacementLowerer:
         """The term "the run chooses these members" of the ``one_of`` choices ``guard``."""
         chosen: list[ir.Term] = []
         for comp, index in guard:
-            name = one_of_choice(scope.prefix, comp)
-            known = name in self.problem.variables
-            var = self.problem.var(name, "int", span=comp.span)
+            shared = one_of_variable(scope.prefix, comp)
+            known = shared.name in self.problem.variables
+            var = self.problem.variables.setdefault(shared.name, shared)
             if not known:
                 count = len(acting_members(comp))
                 self.problem.add(

@@ -74,7 +74,14 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import MAX_DEPTH, InstanceScope, Lowerer, NotEncodable, join_path
+from osc2check.verify.lower import (
+    MAX_DEPTH,
+    InstanceScope,
+    Lowerer,
+    NotEncodable,
+    join_path,
+    one_of_variable,
+)
 from osc2check.verify.schedule import Resolver, TimingPlan
 from osc2check.verify.timeline import (
     FALSE,
@@ -495,7 +502,10 @@ class _Builder:
             (acting if is_acting(m.body) else waiting).append(self._member(m, scope, start, depth))
         chosen: list[ir.Term] = [TRUE] * len(acting)
         if len(acting) > 1:
-            choice = self._unknown(f"{name}.chosen", "int", comp.span, ZERO)
+            shared = one_of_variable(scope.prefix, comp)  # the placement's too
+            self.out.variables[shared.name] = shared
+            self.out.canonical[shared.name] = ZERO
+            choice: ir.Term = ir.Ref(shared)
             self._rule(
                 all_of(compare(">=", choice, ZERO), compare("<", choice, ir.const(len(acting)))),
                 comp.span,
