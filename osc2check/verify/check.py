@@ -1,8 +1,9 @@
-"""Verify the scenarios of a program: constraints, placement, flow; and witnesses.
+"""Verify the scenarios of a program: constraints, placement, timing; and witnesses.
 
 ``verify_program`` lowers every scenario declared in the program's root file,
 decides it (``z3_backend.check``: by propagation when that finds a model, else
-by z3), and turns the outcome into diagnostics (C, L and B codes). The
+by z3), and turns the outcome into diagnostics (C, L and B codes). The behaviour
+flow's checks (``flow``) need no solver: the analysis runs them, with or without this. The
 witness of a satisfiable scenario is drawn with the seed when it is first asked
 for (``ScenarioResult.witness``, ``z3_backend.Sampler``), so an analysis that
 prints no witness never pays for one.
@@ -34,7 +35,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify import flow, ir, propagate
+from osc2check.verify import ir, propagate
 from osc2check.verify.lower import TextOf, member_declarations
 from osc2check.verify.pipeline import lower_scenario
 from osc2check.verify.placement import UNSAID_CATEGORY, Gap
@@ -234,8 +235,6 @@ def verify_program(
         with scope:
             # an invoked scenario's actors are its invoker's: its start is checked there
             standalone = sym not in invoked or scenario is not None
-            for d in flow.check_flow(program.model, sym):
-                report(d)
             for d in not_executed(program.model, sym, sym in invoked, plugins, decls):
                 report(d)
             problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)

@@ -150,6 +150,27 @@ def test_ranges_hold_in_either_order_even_with_parameter_bounds():
     assert solve(p).status == "sat"
 
 
+FLOW = """\
+import osc.standard
+
+scenario top:
+    hero: vehicle
+    event stop_signal
+    do serial:
+        hero.drive(duration: 2s) with:
+            lane(1, at: start)
+        wait @stop_signal
+"""
+
+
+@pytest.mark.parametrize("verify", [True, False])
+def test_flow_findings_come_once_with_or_without_the_solver(verify: bool):
+    # the flow needs no solver: the editor's analysis between keystrokes has it too
+    analysis = analyze([SourceInput("flow.osc", FLOW)], AnalysisOptions(verify=verify))
+    assert [(str(d.code), d.span.line) for d in analysis.diagnostics] == [("B601", 9)]
+    assert ("flow.osc" in analysis.verified) is verify
+
+
 def test_override_rule_on_the_ir():
     """A default yields to a hard `==`/`in` on its parameter alone and to remove_default."""
     x, y, z_ = ir.Var("x", "real"), ir.Var("y", "real"), ir.Var("z", "real")
