@@ -208,9 +208,9 @@ def _load_once(options: AnalysisOptions) -> None:
     first file checked must not pay for it, nor fail to."""
     dialect_reading(parse("import osc.standard\n", ""), options.dialect)
     if options.verify:
-        from osc2check.verify.z3_backend import _z3
+        from osc2check.verify.z3_backend import load_z3
 
-        _z3()
+        load_z3()
 
 
 def _check_one(

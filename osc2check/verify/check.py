@@ -22,7 +22,6 @@ from collections.abc import Callable, Iterator, Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import TYPE_CHECKING
 
 from osc2check import codes, memory, messages
 from osc2check.capabilities import not_executed
@@ -39,23 +38,24 @@ from osc2check.verify import ir, propagate
 from osc2check.verify.lower import TextOf, member_declarations
 from osc2check.verify.pipeline import lower_scenario
 from osc2check.verify.placement import UNSAID_CATEGORY, Gap
+from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
     Conflict,
+    Encoder,
     Sampler,
     Session,
     SolverOutcome,
     active_constraints,
     check,
+    load_z3,
     never_holds,
+    new_context,
     solve,
 )
 from osc2check.world.catalogue import WALKING_SPEED
 from osc2check.world.maps import is_carla_town
-
-if TYPE_CHECKING:
-    from osc2check.verify.witness import Witness
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -109,8 +109,6 @@ class ScenarioResult:
                 )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
-        from osc2check.verify.witness import build_witness  # only a witness asked for
-
         return build_witness(self.problem, values, active, seed, _rounded(active, values))
 
 
@@ -547,8 +545,6 @@ def _vacuous(
 
 def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Term]) -> bool:
     """Whether one of a few assignments inside the domains makes ``term`` false."""
-    from fractions import Fraction
-
     numbers = {Fraction(0), Fraction(1), Fraction(-1), Fraction(10**6), Fraction(-(10**6))}
     stack = [term]
     while stack:
@@ -586,11 +582,9 @@ def _holds_always(
     rlimit: int,
     session: Session | None,
 ) -> bool:
-    from osc2check.verify.z3_backend import _Encoder, _z3, new_context
-
-    z3 = _z3()
+    z3 = load_z3()
     ctx = session.ctx if session is not None else new_context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
     s.set("rlimit", rlimit)
     for d in limits:

@@ -241,7 +241,7 @@ class Lowerer:
         condition = sym.condition
         written = self.text_of(decl.inherits.span)
         try:
-            term = self._term(condition, scope)
+            term = self.term(condition, scope)
         except NotEncodable as reason:
             self.problem.skip(condition.span, written, str(reason))
             return
@@ -265,7 +265,7 @@ class Lowerer:
                 case ast.KeepConstraint():
                     self._keep(member, scope, "keep")
                 case ast.RemoveDefault():
-                    path = self._path(member.target, scope)
+                    path = self.path(member.target, scope)
                     if path is not None:
                         self.problem.removed_defaults.add(path)
                 case ast.DoDirective():
@@ -306,7 +306,7 @@ class Lowerer:
                     if isinstance(item, ast.KeepConstraint):
                         self._keep(item, inner, "keep")
                     elif isinstance(item, ast.RemoveDefault):
-                        target = self._path(item.target, inner)
+                        target = self.path(item.target, inner)
                         if target is not None:
                             self.problem.removed_defaults.add(target)
 
@@ -327,7 +327,7 @@ class Lowerer:
             assert decl.default is not None  # only fields with a value are pending
             span = _up_to(decl.span, decl.default.span)
             try:
-                value = coerce(var, self._term(decl.default, scope))
+                value = coerce(var, self.term(decl.default, scope))
             except NotEncodable as reason:
                 self.problem.skip(span, self.text_of(span), str(reason))
                 continue
@@ -359,7 +359,7 @@ class Lowerer:
         if keep.strength != "default" and self._list_binding(keep.expr, scope):
             return
         try:
-            term = self._term(keep.expr, scope)
+            term = self.term(keep.expr, scope)
         except NotEncodable as reason:
             self.problem.skip(keep.span, self.text_of(keep.span), str(reason))
             return
@@ -381,7 +381,7 @@ class Lowerer:
     def _subject(self, expr: ast.Node, scope: InstanceScope) -> ir.Var | None:
         """The parameter alone on the left of `==` or `in` (the override rule's form)."""
         if isinstance(expr, ast.Binary) and expr.op in ("==", "in"):
-            path = self._path(expr.left, scope)
+            path = self.path(expr.left, scope)
             if path is not None:
                 return self.problem.variables.get(path)
         return None
@@ -408,7 +408,7 @@ class Lowerer:
         behaviour = self.model.references.get(inv.name)
         if behaviour is None or not behaviour.kind.is_behaviour:
             return None
-        actor_path = self._path(inv.actor, scope) if inv.actor is not None else scope.actor
+        actor_path = self.path(inv.actor, scope) if inv.actor is not None else scope.actor
         path = invocation_path(scope.prefix, actor_path, label, behaviour.name, inv)
         return behaviour, InstanceScope(path, behaviour, path, behaviour, actor_path)
 
@@ -448,7 +448,7 @@ class Lowerer:
             target = _type_symbol(param) if param is not None and not bound.is_default else None
             if target is None or target.kind is not SymbolKind.ACTOR:
                 continue
-            actual = self._path(bound.value, scope)
+            actual = self.path(bound.value, scope)
             if actual is not None:
                 self.aliases[join_path(path, bound.name)] = actual
 
@@ -510,7 +510,7 @@ class Lowerer:
         """``var == value`` (an argument is a constraint), or ``var in value`` for a range."""
         if isinstance(value, ast.RangeLiteral):
             return self._in_range(ir.Ref(var), value, scope)
-        return ir.op("==", ir.Ref(var), coerce(var, self._term(value, scope)))
+        return ir.op("==", ir.Ref(var), coerce(var, self.term(value, scope)))
 
     # ---- paths and variables ------------------------------------------------------------
 
@@ -544,7 +544,7 @@ class Lowerer:
                 scope = InstanceScope(owner, owner_type, owner, owner_type, actor=actor)
                 self.opening.add(path)
                 try:
-                    value = self._term(default, scope)
+                    value = self.term(default, scope)
                 except NotEncodable:
                     why = "its value is known only at run time"
                 finally:
@@ -584,14 +584,14 @@ class Lowerer:
         member = self.model.references.get(expr.left.member)
         if member is None or member.type is None or member.type.kind is not T.Kind.LIST:
             return False
-        path = self._path(expr.left, scope)
+        path = self.path(expr.left, scope)
         if path is None:
             return False
         element = member.type.element
         items: list[ir.ListItem] = []
         for item in expr.right.items:
             if is_struct(element):
-                ref = self._path(item, scope)
+                ref = self.path(item, scope)
                 if ref is None:
                     return False
                 items.append(("ref", ref))
@@ -605,7 +605,7 @@ class Lowerer:
                 items.append(("value", name))
                 continue
             try:
-                term = self._term(item, scope)
+                term = self.term(item, scope)
             except NotEncodable:
                 return False
             if not isinstance(term, ir.Const):
@@ -701,7 +701,7 @@ class Lowerer:
                 text = f"`{sym.name}` is a uint"
         return sort, kw, domain, text
 
-    def _path(self, expr: ast.Node | None, scope: InstanceScope) -> str | None:
+    def path(self, expr: ast.Node | None, scope: InstanceScope) -> str | None:
         """The instance path an expression names, or None if it names no parameter."""
         match expr:
             case ast.NameRef():
@@ -721,7 +721,7 @@ class Lowerer:
                     return self._aliased(self._member_path(scope, sym))
                 return None
             case ast.MemberAccess():
-                base = self._path(expr.target, scope)
+                base = self.path(expr.target, scope)
                 sym = self.model.reference(expr.member)
                 if (
                     base is None
@@ -793,9 +793,6 @@ class Lowerer:
     def term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
         """``expr`` as a solver term in the instance ``scope`` (parameters become the
         variables of their paths; NotEncodable when the solver cannot take it)."""
-        return self._term(expr, scope)
-
-    def _term(self, expr: ast.Node, scope: InstanceScope) -> ir.Term:
         match expr:
             case ast.IntLiteral() | ast.FloatLiteral() | ast.PhysicalLiteral():
                 try:
@@ -825,12 +822,12 @@ class Lowerer:
                     return ir.const(target.value)
                 if target is not None and target in self.bound:
                     return self.bound[target]  # a parameter of a method being inlined
-                path = self._path(expr, scope)
+                path = self.path(expr, scope)
                 if path is None:
                     raise NotEncodable(f"`{self.text_of(expr.span)}` is not a parameter")
                 return ir.Ref(self._var_at(path, expr, scope))
             case ast.Unary():
-                inner = self._term(expr.operand, scope)
+                inner = self.term(expr.operand, scope)
                 if expr.op == "not":
                     return ir.op("not", inner)
                 if (
@@ -847,9 +844,9 @@ class Lowerer:
             case ast.Ternary():
                 return ir.op(
                     "ite",
-                    self._term(expr.condition, scope),
-                    self._term(expr.then, scope),
-                    self._term(expr.otherwise, scope),
+                    self.term(expr.condition, scope),
+                    self.term(expr.then, scope),
+                    self.term(expr.otherwise, scope),
                 )
         raise NotEncodable(f"`{self.text_of(expr.span)}` cannot be solved for")
 
@@ -876,7 +873,7 @@ class Lowerer:
         if len(self.inlining) >= MAX_DEPTH:
             raise NotEncodable(f"`{self.text_of(call.span)}` calls methods too deeply")
         if isinstance(callee, ast.MemberAccess):
-            owner = self._path(callee.target, scope)
+            owner = self.path(callee.target, scope)
             if owner is None:
                 raise NotEncodable(f"`{self.text_of(callee.target.span)}` is not an instance")
         else:
@@ -887,7 +884,7 @@ class Lowerer:
         given: dict[Symbol, ir.Term] = {}
         for bound in binding.arguments if binding is not None else ():
             if bound.parameter is not None:  # a default is read in the method's instance
-                given[bound.parameter] = self._term(
+                given[bound.parameter] = self.term(
                     bound.value, inner if bound.is_default else scope
                 )
         for param in method.parameters:
@@ -897,7 +894,7 @@ class Lowerer:
         self.bound.update(given)
         self.inlining.append(method)
         try:
-            return self._term(decl.body, inner)
+            return self.term(decl.body, inner)
         finally:
             self.inlining.pop()
             self.bound = saved
@@ -916,23 +913,23 @@ class Lowerer:
             numbered = target.kind is T.Kind.ENUM and result.kind in (T.Kind.INT, T.Kind.UINT)
             widened = target.kind in (T.Kind.INT, T.Kind.UINT) and result.kind is T.Kind.FLOAT
             if same or numbered or widened:
-                return self._term(callee.target, scope)
+                return self.term(callee.target, scope)
         raise NotEncodable(
             f"`{self.text_of(call.span)}`: only conversions that keep the value are encoded"
         )
 
     def _binary(self, expr: ast.Binary, scope: InstanceScope) -> ir.Term:
         if expr.op == "in":
-            left = self._term(expr.left, scope)
+            left = self.term(expr.left, scope)
             if isinstance(expr.right, ast.RangeLiteral):
                 return self._in_range(left, expr.right, scope)
             if isinstance(expr.right, ast.ListLiteral):
                 return ir.op(
-                    "or", *(ir.op("==", left, self._term(i, scope)) for i in expr.right.items)
+                    "or", *(ir.op("==", left, self.term(i, scope)) for i in expr.right.items)
                 )
             raise NotEncodable("`in` needs a range or a list written in place")
-        left = self._term(expr.left, scope)
-        right = self._term(expr.right, scope)
+        left = self.term(expr.left, scope)
+        right = self.term(expr.right, scope)
         if expr.op in ("and", "or", "=>"):
             return ir.op(expr.op, left, right)
         if expr.op in _CMP or expr.op in ("+", "-"):
@@ -953,7 +950,7 @@ class Lowerer:
 
     def _in_range(self, target: ir.Term, rng: ast.RangeLiteral, scope: InstanceScope) -> ir.Term:
         """``target in [low..high]``; the bounds of a range may come in either order."""
-        low, high = self._term(rng.low, scope), self._term(rng.high, scope)
+        low, high = self.term(rng.low, scope), self.term(rng.high, scope)
         return in_range(target, low, high)
 
 

@@ -58,7 +58,7 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
 from osc2check.verify.road_terms import RoadTerms, fraction
-from osc2check.world.carriageways import AHEAD_CAP
+from osc2check.world.carriageways import AHEAD_CAP, Carriageway
 from osc2check.world.maps import FoundMap
 from osc2check.world.network import LaneRef, RoadNetwork
 
@@ -211,7 +211,7 @@ class MapFields:
         if sym is None or sym.type is None:
             return None
         kind = element_kind(self.model, sym.type.symbol)
-        path = self.lw._path(node, scope)
+        path = self.lw.path(node, scope)
         if kind is None or path is None:
             return None
         known = self.fields.get(path)
@@ -322,7 +322,7 @@ class MapFields:
                 found[param.name] = _Argument(param.name, word=member)
                 continue
             try:
-                term = self.lw._term(node, scope)
+                term = self.lw.term(node, scope)
                 found[param.name] = _Argument(param.name, term=term, enum=enum)
             except NotEncodable as reason:
                 self._skip(node.span, f"map.{modifier.name}({param.name}: ...): {reason}")
@@ -466,8 +466,6 @@ class MapFields:
 
     def _reachable(self, cw: object) -> list[Element]:
         """Routes and lanes on a carriageway or reachable after its exit."""
-        from osc2check.world.carriageways import Carriageway
-
         assert isinstance(cw, Carriageway)
         cache: dict[int, list[Element]] = self.network.cache.setdefault(  # type: ignore[assignment]
             "reachable_after", {}

@@ -942,7 +942,7 @@ class PlacementLowerer:
         if inv.actor is None:
             path = self.scope.actor
         else:
-            path = self.lw._path(inv.actor, self.scope)
+            path = self.lw.path(inv.actor, self.scope)
         return placement.actors.get(path) if path is not None else None
 
     def _modifiers(self, inv: ast.Invocation, placement: StartPlacement, first: set[str]) -> None:
@@ -1113,7 +1113,7 @@ class PlacementLowerer:
         if chosen is not None:
             return chosen
         try:
-            return self.lw._term(node, self.scope)
+            return self.lw.term(node, self.scope)
         except NotEncodable as reason:
             self.problem.skip(node.span, self.lw.text_of(node.span), str(reason))
             return None
@@ -1131,7 +1131,7 @@ class PlacementLowerer:
     ) -> PlacedActor | None:
         if not isinstance(node, (ast.NameRef, ast.MemberAccess)):
             return None
-        path = self.lw._path(node, self.scope)
+        path = self.lw.path(node, self.scope)
         other = placement.actors.get(path) if path is not None else None
         if other is None:
             written = node.name.name.text if isinstance(node, ast.NameRef) else str(path)

@@ -40,7 +40,7 @@ Z3Context = Any
 Z3Expr = Any
 
 
-def _z3() -> Any:
+def load_z3() -> Any:
     """z3, imported when first needed (the import takes about 0.1 s)."""
     import z3
 
@@ -69,7 +69,7 @@ def new_context() -> Z3Context:
     """A new z3 context, or ``MemoryError`` when the memory budget has no room for one
     (z3 does not check that its context was made, and crashes)."""
     memory.room_for_solver()
-    return _z3().Context()
+    return load_z3().Context()
 
 
 class Session:
@@ -162,9 +162,9 @@ def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> lis
     return [c for c in problem.constraints if c.rule == FALLBACK and id(c) not in kept]
 
 
-class _Encoder:
+class Encoder:
     def __init__(self, problem: ir.ConstraintProblem, ctx: Z3Context):
-        z3 = _z3()
+        z3 = load_z3()
         self.z3 = z3
         self.ctx = ctx
         self.vars: dict[str, Z3Expr] = {}
@@ -250,7 +250,7 @@ class _Encoder:
 
 
 def _value(expr: Z3Expr) -> Fraction | bool:
-    z3 = _z3()
+    z3 = load_z3()
     if z3.is_true(expr):
         return True
     if z3.is_false(expr):
@@ -321,8 +321,8 @@ def _solve(
     timeout_ms: int,
     ctx: Z3Context,
 ) -> SolverOutcome:
-    z3 = _z3()
-    enc = _Encoder(problem, ctx)
+    z3 = load_z3()
+    enc = Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("core.minimize", True)
     solver.set("rlimit", rlimit)
@@ -382,7 +382,7 @@ def _solve(
 
 def _minimal_core(solver: Any, core: list[Z3Expr]) -> list[Z3Expr]:
     """Drop core members one by one while the rest stays unsatisfiable."""
-    z3 = _z3()
+    z3 = load_z3()
     needed = list(core)
     i = 0
     while i < len(needed) and len(needed) > 1:
@@ -466,7 +466,7 @@ class Sampler:
         *,
         timeout_ms: int = DEFAULT_TIMEOUT_MS,
         rlimit: int = DEFAULT_RLIMIT,
-        enc: _Encoder | None = None,
+        enc: Encoder | None = None,
     ):
         self.problem = problem
         self.active = active
@@ -503,9 +503,9 @@ class Sampler:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
         if self.opt is not None:
             return self.opt
-        z3 = _z3()
+        z3 = load_z3()
         if self.enc is None:
-            self.enc = _Encoder(self.problem, new_context())
+            self.enc = Encoder(self.problem, new_context())
         enc = self.enc
         opt = self.opt = z3.Optimize(ctx=enc.ctx)
         opt.set("timeout", self.timeout_ms)
@@ -580,7 +580,7 @@ class Sampler:
             if drawn is not None:
                 values.update((name, drawn[name]) for name in self.linked)
                 return values
-        z3 = _z3()
+        z3 = load_z3()
         opt = self._optimizer()
         assert self.enc is not None  # made with the optimizer
         opt.push()
@@ -640,9 +640,9 @@ def never_holds(
     rlimit: int = DEFAULT_RLIMIT,
 ) -> bool:
     """Whether ``term`` is false in every model of the active constraints."""
-    z3 = _z3()
+    z3 = load_z3()
     ctx = new_context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("rlimit", rlimit)
     for c in active:

@@ -30,7 +30,7 @@ from osc2check.semantics.phases import ENDLESS_ACTIONS, ENDS_WITH_FIRST, INSTANT
 from osc2check.verify import timing
 from osc2check.verify.api import solve
 from osc2check.verify.witness import Witness
-from osc2check.verify.z3_backend import DEFINITION, SolverOutcome, _Encoder, active_constraints
+from osc2check.verify.z3_backend import DEFINITION, Encoder, SolverOutcome, active_constraints
 
 URI = "timing.osc"
 TIMING_FAILURES = (
@@ -228,7 +228,7 @@ def minimal(text: str) -> None:
         assert all(c.kind != DEFINITION for c in members)
         for left_out in members:
             ctx = z3.Context()
-            enc = _Encoder(problem, ctx)
+            enc = Encoder(problem, ctx)
             solver = z3.Solver(ctx=ctx)
             for c in [*definitions, *(m for m in members if m is not left_out)]:
                 solver.add(enc.term(c.term))

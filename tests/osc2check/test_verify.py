@@ -683,9 +683,9 @@ def test_samples_reuse_one_optimizer_and_keep_free_variables_in_their_bounds():
         variables=(x, y, free),
     )
     first = solve(p, seed=1).values
-    from osc2check.verify.z3_backend import _Encoder
+    from osc2check.verify.z3_backend import Encoder
 
-    enc = _Encoder(p, z3.Context())
+    enc = Encoder(p, z3.Context())
     active = active_constraints(p, SolverOutcome("sat"))
     sampler = Sampler(p, active, first, enc=enc)
     samples = [sampler.sample(seed) for seed in range(8)]

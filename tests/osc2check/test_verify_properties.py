@@ -21,7 +21,7 @@ from osc2check.analysis import SourceInput, analyze
 from osc2check.source import Span
 from osc2check.verify import ir, propagate
 from osc2check.verify.lower import in_range
-from osc2check.verify.z3_backend import _Encoder, check, solve
+from osc2check.verify.z3_backend import Encoder, check, solve
 
 IR_SETTINGS = settings(
     derandomize=True, max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow]
@@ -107,7 +107,7 @@ def add(problem: ir.ConstraintProblem, term: ir.Term, text: str) -> ir.Constrain
 
 def satisfiable(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> bool:
     ctx = z3.Context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
     for c in members:
         s.add(enc.term(c.term))
