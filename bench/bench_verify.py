@@ -23,8 +23,8 @@ sys.path.insert(0, str(ROOT))
 
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze  # noqa: E402
 from osc2check.verify.check import scenarios_of, source_text  # noqa: E402
-from osc2check.verify.lower import member_declarations  # noqa: E402
 from osc2check.verify.pipeline import lower_scenario  # noqa: E402
+from osc2check.verify.terms import member_declarations  # noqa: E402
 from osc2check.verify.z3_backend import (  # noqa: E402
     Encoder,
     Sampler,

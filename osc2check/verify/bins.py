@@ -29,7 +29,8 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import InstanceScope, Lowerer, NotEncodable, TextOf
+from osc2check.verify.parameters import Lowerer
+from osc2check.verify.terms import InstanceScope, NotEncodable, TextOf
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,

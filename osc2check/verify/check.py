@@ -35,9 +35,9 @@ from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import TextOf, member_declarations
 from osc2check.verify.pipeline import lower_scenario
 from osc2check.verify.placement import UNSAID_CATEGORY, Gap
+from osc2check.verify.terms import TextOf, member_declarations
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,

@@ -58,12 +58,12 @@ from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
 from osc2check.verify.road_terms import RoadTerms, fraction
+from osc2check.verify.terms import InstanceScope, NotEncodable, TermEncoder
 from osc2check.world.carriageways import AHEAD_CAP, Carriageway
 from osc2check.world.maps import FoundMap
 from osc2check.world.network import LaneRef, RoadNetwork
 
 if TYPE_CHECKING:
-    from osc2check.verify.lower import InstanceScope, Lowerer
     from osc2check.world.elements import MapElements
 
 __all__ = ["ELEMENT_KINDS", "ElementField", "ElementValue", "MapFields", "element_kind"]
@@ -152,7 +152,7 @@ class _Argument:
 class MapFields:
     """The element fields of one scenario on one map, and what constrains them."""
 
-    lw: Lowerer
+    lw: TermEncoder
     found: FoundMap  # the map: its network is built when a map modifier first asks
     roads: RoadTerms
     fields: dict[str, ElementField] = field(default_factory=dict)
@@ -298,8 +298,6 @@ class MapFields:
     def _arguments(
         self, modifier: Symbol, scope: InstanceScope, inv: ast.Invocation
     ) -> dict[str, _Argument] | None:
-        from osc2check.verify.lower import NotEncodable
-
         found: dict[str, _Argument] = {}
         binding = self.model.binding(inv)
         for bound in binding.arguments if binding is not None else ():

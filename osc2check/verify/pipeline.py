@@ -1,5 +1,5 @@
 """The lowering of one scenario, its steps in order: the instance tree with its
-parameters and constraints (``lower``), the actors' start placement with the map
+parameters and constraints (``parameters``), the actors' start placement with the map
 modifiers (``placement``), the timing of its behaviour (``timing``), then the fields'
 defaults, attached to the variables the steps created.
 """
@@ -12,8 +12,9 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span
 from osc2check.verify import ir, timing
-from osc2check.verify.lower import Declarations, Lowerer, TextOf
+from osc2check.verify.parameters import lower_parameters
 from osc2check.verify.placement import lower_placement
+from osc2check.verify.terms import Declarations, TextOf
 
 
 def lower_scenario(
@@ -33,8 +34,7 @@ def lower_scenario(
     """
     span = scenario.name_span or Span("", 1, 1, 1, 1)
     problem = ir.ConstraintProblem(scenario.name, span)
-    lowerer = Lowerer(model, problem, text_of, member_decls)
-    lowerer.scenario(scenario)
+    lowerer = lower_parameters(model, scenario, problem, text_of, member_decls)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     problem.placement = lower_placement(
         lowerer, scenario, default_map, maps, open_categories=open_categories

@@ -27,7 +27,7 @@ Conventions (shown in the witness):
   top-level ``serial`` (after instantaneous members such as
   ``assign_position``, ``rain`` and ``emit``) or any member of a
   ``parallel``. The acting members of a ``one_of`` that begins at time 0 are
-  alternatives: an integer variable (``lower.one_of_choice``) says which one the
+  alternatives: an integer variable (``terms.one_of_choice``) says which one the
   run chooses, and each member's start modifiers hold when it is the one chosen
   (``choice == k => ...``), so the solver proves that some member can be placed
   and the witness places the actors for the member the runner then runs.
@@ -81,10 +81,14 @@ from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir
 from osc2check.verify.lane_steps import LaneSteps, one_of_members
-from osc2check.verify.lower import (
+from osc2check.verify.map_modifiers import ElementField, MapFields
+from osc2check.verify.parameters import Lowerer
+from osc2check.verify.propagate import linear
+from osc2check.verify.road_terms import RoadTerms, fraction
+from osc2check.verify.room import motion_bounds
+from osc2check.verify.terms import (
     MAX_DEPTH,
     InstanceScope,
-    Lowerer,
     NotEncodable,
     call_span,
     coerce,
@@ -92,10 +96,6 @@ from osc2check.verify.lower import (
     join_path,
     one_of_variable,
 )
-from osc2check.verify.map_modifiers import ElementField, MapFields
-from osc2check.verify.propagate import linear
-from osc2check.verify.road_terms import RoadTerms, fraction
-from osc2check.verify.room import motion_bounds
 from osc2check.world.catalogue import (
     ACTOR_KINDS,
     CATEGORIES,

@@ -74,15 +74,15 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import (
+from osc2check.verify.parameters import Lowerer
+from osc2check.verify.schedule import Resolver, TimingPlan
+from osc2check.verify.terms import (
     MAX_DEPTH,
     InstanceScope,
-    Lowerer,
     NotEncodable,
     join_path,
     one_of_variable,
 )
-from osc2check.verify.schedule import Resolver, TimingPlan
 from osc2check.verify.timeline import (
     FALSE,
     NEVER,

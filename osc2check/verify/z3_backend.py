@@ -23,7 +23,7 @@ from typing import Any
 
 from osc2check import memory
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import is_one_of_choice
+from osc2check.verify.terms import is_one_of_choice
 
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
@@ -92,7 +92,7 @@ def _position(c: ir.Constraint) -> tuple[str, int, int]:
 def active_constraints(
     problem: ir.ConstraintProblem, outcome: SolverOutcome
 ) -> list[ir.Constraint]:
-    """The constraints that hold after the override rule (see module ``lower``).
+    """The constraints that hold after the override rule (see module ``parameters``).
 
     A default on a parameter yields to a hard constraint that has the parameter
     alone on the left of `==` or `in` (an argument is such a constraint), and to

@@ -23,7 +23,7 @@ import osc2check
 from osc2check import cli
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import in_range
+from osc2check.verify.terms import in_range
 from osc2check.verify.z3_backend import Sampler, SolverOutcome, active_constraints, check, solve
 
 CASES = Path(__file__).resolve().parent / "cases"

@@ -20,7 +20,7 @@ from hypothesis import strategies as st
 from osc2check.analysis import SourceInput, analyze
 from osc2check.source import Span
 from osc2check.verify import ir, propagate
-from osc2check.verify.lower import in_range
+from osc2check.verify.terms import in_range
 from osc2check.verify.z3_backend import Encoder, check, solve
 
 IR_SETTINGS = settings(
