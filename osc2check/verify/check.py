@@ -36,7 +36,9 @@ from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir, propagate
 from osc2check.verify.pipeline import lower_scenario
-from osc2check.verify.placement import UNSAID_CATEGORY, Gap
+from osc2check.verify.placement import UNSAID_CATEGORY
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.starts import Gap
 from osc2check.verify.terms import TextOf, member_declarations
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
@@ -72,7 +74,7 @@ class ScenarioResult:
     """One verified scenario: its problem, the outcome, and (on demand) its witness."""
 
     scenario: Symbol
-    problem: ir.ConstraintProblem
+    problem: ConstraintProblem
     outcome: SolverOutcome
     seed: int | None = None
     rlimit: int = DEFAULT_RLIMIT
@@ -305,13 +307,13 @@ MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's
 MAX_SCENARIOS = 100
 
 
-def _unsaid_categories(problem: ir.ConstraintProblem) -> bool:
+def _unsaid_categories(problem: ConstraintProblem) -> bool:
     """Whether a vehicle of ``problem`` is a car because nothing says its category."""
     return any(c.rule == UNSAID_CATEGORY for c in problem.constraints)
 
 
 def _unsafe_gaps(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     outcome: SolverOutcome,
     rlimit: int,
@@ -327,7 +329,7 @@ def _unsafe_gaps(
 
 
 def _in_no_model(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     outcome: SolverOutcome,
     term: ir.Term,
@@ -345,7 +347,7 @@ _ASKED_SPEED = re.compile(r"^(?P<actor>[^.@]+)\.[^.@]+@\d+\.(?:speed@\d+\.speed|
 
 
 def _running_persons(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     outcome: SolverOutcome,
     rlimit: int,
@@ -413,7 +415,7 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     return found
 
 
-def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic], None]) -> None:
+def _placement_notes(problem: ConstraintProblem, report: Callable[[Diagnostic], None]) -> None:
     placement = problem.placement
     if placement is None:
         return
@@ -515,7 +517,7 @@ def _bound(node: ast.Node, program: Program) -> Fraction | None:
 
 
 def _vacuous(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     rlimit: int,
     session: Session | None = None,
@@ -576,7 +578,7 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
 
 
 def _holds_always(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     c: ir.Constraint,
     limits: list[ir.Term],
     rlimit: int,

@@ -21,6 +21,7 @@ from dataclasses import dataclass
 from fractions import Fraction
 
 from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.z3_backend import SolverOutcome, active_constraints, bounds
 
 __all__ = ["MAX_VALUES", "Domain", "domains", "equations"]
@@ -38,11 +39,11 @@ class Domain:
     values: tuple[Fraction | bool, ...] | None = None
 
 
-def _active(problem: ir.ConstraintProblem) -> list[ir.Constraint]:
+def _active(problem: ConstraintProblem) -> list[ir.Constraint]:
     return active_constraints(problem, SolverOutcome("sat"))
 
 
-def domains(problem: ir.ConstraintProblem) -> dict[str, Domain]:
+def domains(problem: ConstraintProblem) -> dict[str, Domain]:
     """Every variable's :class:`Domain` (see the module docstring)."""
     active = _active(problem)
     found = bounds(active)
@@ -84,7 +85,7 @@ def _floor(x: Fraction) -> int:
     return x.numerator // x.denominator
 
 
-def equations(problem: ir.ConstraintProblem) -> list[frozenset[str]]:
+def equations(problem: ConstraintProblem) -> list[frozenset[str]]:
     """The unknowns of each equation that relates two or more of them, the constants
     (values that equations fix from constants alone) folded in."""
     active = _active(problem)

@@ -39,6 +39,7 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.structs import is_scalar, is_struct, struct_leaves
 from osc2check.verify.terms import (
     MAX_DEPTH,
@@ -471,7 +472,7 @@ def _type_symbol(sym: Symbol) -> Symbol | None:
 def lower_parameters(
     model: Model,
     scenario: Symbol,
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     text_of: TextOf,
     member_decls: Declarations | None = None,
 ) -> Lowerer:

@@ -11,9 +11,10 @@ from collections.abc import Mapping
 from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span
-from osc2check.verify import ir, timing
+from osc2check.verify import timing
 from osc2check.verify.parameters import lower_parameters
 from osc2check.verify.placement import lower_placement
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.terms import Declarations, TextOf
 
 
@@ -25,7 +26,7 @@ def lower_scenario(
     member_decls: Declarations | None = None,
     maps: Mapping[str, str] | None = None,
     open_categories: bool = False,
-) -> ir.ConstraintProblem:
+) -> ConstraintProblem:
     """The constraint problem of ``scenario`` as a top-level instance, placement included.
 
     ``member_decls`` (from ``member_declarations(model)``) can be shared by the
@@ -33,7 +34,7 @@ def lower_scenario(
     constrains may be of any category (``placement.PlacementLowerer``).
     """
     span = scenario.name_span or Span("", 1, 1, 1, 1)
-    problem = ir.ConstraintProblem(scenario.name, span)
+    problem = ConstraintProblem(scenario.name, span)
     lowerer = lower_parameters(model, scenario, problem, text_of, member_decls)
     problem.strings = {v: k for k, v in lowerer.strings.items()}
     problem.placement = lower_placement(

@@ -57,7 +57,6 @@ Conventions (shown in the witness):
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Mapping
-from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
@@ -81,11 +80,20 @@ from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir
 from osc2check.verify.lane_steps import LaneSteps, one_of_members
-from osc2check.verify.map_modifiers import ElementField, MapFields
+from osc2check.verify.map_modifiers import MapFields
 from osc2check.verify.parameters import Lowerer
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.propagate import linear
-from osc2check.verify.road_terms import RoadTerms, fraction
+from osc2check.verify.road_terms import RoadTerms, between, fraction
 from osc2check.verify.room import motion_bounds
+from osc2check.verify.starts import (
+    ActorBody,
+    Gap,
+    MapChoice,
+    PlacedActor,
+    StartPlacement,
+    largest,
+)
 from osc2check.verify.terms import (
     MAX_DEPTH,
     InstanceScope,
@@ -105,11 +113,11 @@ from osc2check.world.catalogue import (
     model_row,
 )
 from osc2check.world.errors import MapError, UnknownMapError
-from osc2check.world.maps import FoundMap, MapFacts, find_map, map_path, scenario_folder
+from osc2check.world.maps import find_map, map_path, scenario_folder
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
 
 if TYPE_CHECKING:
-    from osc2check.world.network import RoadNetwork
+    pass
 
 _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 #: actions whose actor stands still throughout
@@ -120,126 +128,6 @@ _DEGREE = Fraction(314159265358979, 18000000000000000)  # pi / 180 (a unit facto
 UNSAID_CATEGORY = "unsaid-category"
 #: the witness prefers starts in this first share of the road: room to drive ahead
 PREFERRED_START_SHARE = Fraction(3, 10)
-
-
-@dataclass
-class ActorBody:
-    """What an actor is for placement: its catalogue row and its size and top speed as terms.
-
-    ``row`` is the catalogue row the actor is placed with; when a constraint of the
-    scenario mentions a vehicle's category (``keep(it.vehicle_category in [car,
-    truck])``, ``keep(it.vehicle_category == truck)``, a conditional inheritance),
-    ``row`` is None and the terms depend on the category variable, so the solver
-    chooses a category and a footprint that agree, and a conflict that the category
-    takes part in names the constraint that chose it (and no other). ``shown`` is the
-    row a constraint fixes the category to, for the texts. A declared
-    ``bounding_box.length`` or ``.width`` replaces the row's. ``because`` holds the
-    constraints that chose a constant row (the keep that names a simulator model),
-    which a conflict involving the row's size or speed names too.
-    """
-
-    kind: str
-    row: ActorRow | None
-    length: ir.Term
-    width: ir.Term
-    max_speed: ir.Term
-    category: ir.Var | None = None  # the vehicle_category variable, for vehicles
-    because: tuple[ir.Constraint, ...] = ()
-    notes: tuple[str, ...] = ()
-    shown: ActorRow | None = None
-
-    def widest(self) -> Fraction:
-        """The largest width the actor may have (its width when known)."""
-        return _largest(self.width)
-
-    def size_text(self, term: ir.Term, what: str) -> str:
-        """``4.5 m long``, or how the size is decided when it is not a constant."""
-        if isinstance(term, ir.Const) and not isinstance(term.value, bool):
-            return f"{float(term.value):g} m {what}"
-        if isinstance(term, ir.Ref):
-            return f"`{term.var.name}` {what}"
-        if self.shown is not None:
-            size = self.shown.length if what == "long" else self.shown.width
-            return f"{what} as its vehicle_category: a {self.shown.category}, {float(size):g} m"
-        return f"{what} as its vehicle_category"
-
-
-def _largest(term: ir.Term) -> Fraction:
-    if isinstance(term, ir.Const) and not isinstance(term.value, bool):
-        return term.value
-    if isinstance(term, ir.Op) and term.op == "ite":
-        return max(_largest(term.args[1]), _largest(term.args[2]))
-    return Fraction(10**6)
-
-
-@dataclass
-class PlacedActor:
-    name: str
-    kind: str
-    body: ActorBody
-    span: Span
-    lane: ir.Var
-    s: ir.Var
-    t: ir.Var
-    speed: ir.Var
-    road: ir.Var | None = None  # its carriageway, on a map with several
-    placed: bool = False  # a start `lane` or `position` modifier places it
-    acts: bool = False  # the scenario invokes an action of it
-    along: list[ElementField] = field(default_factory=list)  # routes `along` names, in order
-    heading: ir.Var | None = None  # its start heading from the lane's, given by `yaw` (rad)
-
-
-@dataclass(frozen=True)
-class Gap:
-    """A start gap written with `position(..., behind|ahead_of: ...)` (for L511)."""
-
-    follower: str
-    leader: str
-    gap: ir.Term  # m, bumper to bumper
-    speed: ir.Term  # the follower's start speed
-    span: Span
-    text: str
-
-
-@dataclass
-class MapChoice:
-    """The map a scenario is placed on (``name``, ``found``: its facts, its network on
-    first use), the name the scenario gives (``asked``) and where (``span``, the
-    `map_file` string), and why that one could not be used when it could not (the
-    default map is used instead)."""
-
-    name: str
-    found: FoundMap
-    source: str | None = None  # the file read, for an OpenDRIVE map
-    asked: str | None = None
-    span: Span | None = None
-    unknown: tuple[str, ...] | None = None  # not a map: the known built-in names
-    unreadable: MapError | None = None  # a file that cannot be read
-
-    @property
-    def facts(self) -> MapFacts:
-        return self.found.facts
-
-    @property
-    def network(self) -> RoadNetwork:
-        """The road network (built here when the facts came from the start-up cache)."""
-        return self.found.network
-
-
-@dataclass
-class StartPlacement:
-    map: MapChoice
-    terms: RoadTerms
-    actors: dict[str, PlacedActor] = field(default_factory=dict)
-    edges: list[tuple[str, str, Span]] = field(default_factory=list)  # a placed relative to b
-    unplaced_references: list[tuple[Span, str, str]] = field(default_factory=list)
-    gaps: list[Gap] = field(default_factory=list)
-    fields: MapFields | None = None  # road, route, lane and junction fields
-    no_junction: list[Span] = field(default_factory=list)  # CARLA's path_over_junction
-
-    @property
-    def network(self) -> RoadNetwork:
-        return self.map.network
 
 
 def actor_kind(model: Model, sym: Symbol | None) -> str | None:
@@ -254,7 +142,7 @@ def _is_trailer(model: Model, sym: Symbol | None) -> bool:
     return any(a.name == "trailer" and a.library for a in model.ancestors(sym))
 
 
-def _constants(problem: ir.ConstraintProblem) -> dict[str, tuple[Fraction | bool, ir.Constraint]]:
+def _constants(problem: ConstraintProblem) -> dict[str, tuple[Fraction | bool, ir.Constraint]]:
     """The constant that the first hard `==` gives each variable, and that constraint."""
     found: dict[str, tuple[Fraction | bool, ir.Constraint]] = {}
     for c in problem.constraints:
@@ -284,7 +172,7 @@ class PlacementLowerer:
         #: cars): the second try when placing them as cars has no solution
         self.open_categories = open_categories
         self.model = lowerer.model
-        self.problem: ir.ConstraintProblem = lowerer.problem
+        self.problem: ConstraintProblem = lowerer.problem
         self.scenario = scenario
         self.default_map = default_map
         self.maps = maps or {}  # map names -> files (`[tool.osc2check.maps]`)
@@ -319,7 +207,8 @@ class PlacementLowerer:
         choice = self._map()
         self.terms = terms = RoadTerms(choice.facts.carriageways, choice.name)
         placement = StartPlacement(choice, terms)
-        self.fields = placement.fields = MapFields(self.lw, choice.found, terms)
+        self.fields = MapFields(choice.found, terms, lw=self.lw)
+        placement.fields = self.fields
         for param, kind in actors:
             placement.actors[param.name] = self._actor(param, kind)
         self._map_modifiers(placement)
@@ -471,10 +360,10 @@ class PlacementLowerer:
         preferred = self.problem.preferred
         limit = Fraction(speed_limit).limit_denominator(1000) if speed_limit else None
         for actor in placement.actors.values():
-            half = _largest(actor.body.length) / 2
+            half = largest(actor.body.length) / 2
             room = fraction(placement.terms.longest) - 2 * half
             preferred[actor.s.name] = (half, half + room * PREFERRED_START_SHARE)
-            top = _largest(actor.body.max_speed)
+            top = largest(actor.body.max_speed)
             plausible = min(top, limit) if limit is not None else top
             for var in self.problem.variables.values():
                 if var.unit == "kph" and var.name.startswith(f"{actor.name}@"):
@@ -765,6 +654,22 @@ class PlacementLowerer:
         """Whether a constraint of the scenario (not a domain or placement rule) mentions it."""
         return var.name in self.written
 
+    def _road_var(self, name: str, span: Span) -> ir.Var | None:
+        """The variable of an actor's start carriageway (None on a one-carriageway map)."""
+        terms = self.terms
+        if terms.single:
+            return None
+        labels = tuple((cw.label, cw.index) for cw in terms.carriageways)
+        var = self.problem.var(name, "int", enum=labels, span=span)
+        count = len(terms.carriageways)
+        text = f"one of the {count} carriageways of map `{terms.name}`"
+        self.problem.add(
+            ir.Constraint(
+                between(ir.Ref(var), 0, count - 1), span, "domain", text, explanation=text
+            )
+        )
+        return var
+
     def _actor(self, param: Symbol, kind: str) -> PlacedActor:
         body = self._body(param, kind)
         span = param.name_span or self.problem.span
@@ -785,7 +690,7 @@ class PlacementLowerer:
                 unit_factor=Fraction(5, 18),
                 span=span,
             ),
-            terms.road_var(p, f"{param.name}@start.road", span),
+            self._road_var(f"{param.name}@start.road", span),
         )
         half = _half(body.length)
         self._lane_range(actor)
@@ -1376,8 +1281,7 @@ class PlacementLowerer:
         at_start: bool = True,
     ) -> None:
         """`along(route: r)`: the actor starts on ``r`` at time 0, else reaches it later."""
-        fields = placement.fields
-        assert fields is not None  # made with the placement
+        fields = self.fields  # made with the placement
         target = fields.field_of(args.get("route"), self.scope)
         if target is None:
             return  # a world path (``behaviours.paths``): it moves the actor, places nothing

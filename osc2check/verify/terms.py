@@ -30,6 +30,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.structs import is_scalar
 
 MAX_DEPTH = 8  # scenario invocations nested deeper than this are not lowered
@@ -114,7 +115,7 @@ class TermEncoder(ABC):
     def __init__(
         self,
         model: Model,
-        problem: ir.ConstraintProblem,
+        problem: ConstraintProblem,
         text_of: TextOf,
         member_decls: Declarations | None = None,
     ):

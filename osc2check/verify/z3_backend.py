@@ -23,6 +23,7 @@ from typing import Any
 
 from osc2check import memory
 from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.terms import is_one_of_choice
 
 DEFAULT_RLIMIT = 20_000_000
@@ -89,9 +90,7 @@ def _position(c: ir.Constraint) -> tuple[str, int, int]:
     return (c.span.uri, c.span.line, c.span.column)
 
 
-def active_constraints(
-    problem: ir.ConstraintProblem, outcome: SolverOutcome
-) -> list[ir.Constraint]:
+def active_constraints(problem: ConstraintProblem, outcome: SolverOutcome) -> list[ir.Constraint]:
     """The constraints that hold after the override rule (see module ``parameters``).
 
     A default on a parameter yields to a hard constraint that has the parameter
@@ -150,7 +149,7 @@ def nonlinear(active: list[ir.Constraint]) -> list[ir.Constraint]:
     return [c for c in active if ir.is_nonlinear(propagate.fold(c.term, fixed))]
 
 
-def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
+def fallbacks(problem: ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
     """The fallbacks (``rule == "fallback"``: a vehicle is a car when nothing says
     otherwise) that do not hold because constraints of ``active`` mention their variable.
 
@@ -163,7 +162,7 @@ def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> lis
 
 
 class Encoder:
-    def __init__(self, problem: ir.ConstraintProblem, ctx: Z3Context):
+    def __init__(self, problem: ConstraintProblem, ctx: Z3Context):
         z3 = load_z3()
         self.z3 = z3
         self.ctx = ctx
@@ -265,7 +264,7 @@ def _value(expr: Z3Expr) -> Fraction | bool:
 
 
 def check(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     *,
     rlimit: int = DEFAULT_RLIMIT,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
@@ -289,7 +288,7 @@ def check(
 
 
 def solve(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     *,
     seed: int | None = None,
     rlimit: int = DEFAULT_RLIMIT,
@@ -313,7 +312,7 @@ def solve(
 
 
 def _solve(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     outcome: SolverOutcome,
     active: list[ir.Constraint],
     seed: int | None,
@@ -460,7 +459,7 @@ class Sampler:
 
     def __init__(
         self,
-        problem: ir.ConstraintProblem,
+        problem: ConstraintProblem,
         active: list[ir.Constraint],
         base: dict[str, Fraction | bool],
         *,
@@ -634,7 +633,7 @@ def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[s
 
 
 def never_holds(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     term: ir.Term,
     rlimit: int = DEFAULT_RLIMIT,

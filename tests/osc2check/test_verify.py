@@ -23,6 +23,7 @@ import osc2check
 from osc2check import cli
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.terms import in_range
 from osc2check.verify.z3_backend import Sampler, SolverOutcome, active_constraints, check, solve
 
@@ -65,8 +66,8 @@ HEADER = "import osc.standard\n\n"
 # --- the IR and the backend ---------------------------------------------------------------
 
 
-def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ir.ConstraintProblem:
-    p = ir.ConstraintProblem("p", span(1))
+def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ConstraintProblem:
+    p = ConstraintProblem("p", span(1))
     for v in variables:
         p.variables[v.name] = v
     for line, (term, kind) in enumerate(constraints, start=2):
@@ -174,7 +175,7 @@ def test_flow_findings_come_once_with_or_without_the_solver(verify: bool):
 def test_override_rule_on_the_ir():
     """A default yields to a hard `==`/`in` on its parameter alone and to remove_default."""
     x, y, z_ = ir.Var("x", "real"), ir.Var("y", "real"), ir.Var("z", "real")
-    p = ir.ConstraintProblem("p", span(1))
+    p = ConstraintProblem("p", span(1))
     for v in (x, y, z_):
         p.variables[v.name] = v
     dx = ir.Constraint(ir.op("==", ir.Ref(x), ir.const(1)), span(2), "default", "dx", "default", x)

@@ -20,6 +20,7 @@ from hypothesis import strategies as st
 from osc2check.analysis import SourceInput, analyze
 from osc2check.source import Span
 from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.terms import in_range
 from osc2check.verify.z3_backend import Encoder, check, solve
 
@@ -43,7 +44,7 @@ def holds(op: str, a: Fraction, b: Fraction) -> bool:
 @st.composite
 def modelled(draw):
     """(problem, model): a random constraint set and values that satisfy it."""
-    problem = ir.ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
+    problem = ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
     model: dict[str, Fraction] = {}
     variables = []
     for i in range(draw(st.integers(1, 4))):  # physical parameters (speeds, in m/s)
@@ -98,14 +99,14 @@ def modelled(draw):
     return problem, model
 
 
-def add(problem: ir.ConstraintProblem, term: ir.Term, text: str) -> ir.Constraint:
+def add(problem: ConstraintProblem, term: ir.Term, text: str) -> ir.Constraint:
     line = len(problem.constraints) + 2
     c = ir.Constraint(term, Span("t.osc", line, 5, line, 9), "keep", text)
     problem.add(c)
     return c
 
 
-def satisfiable(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> bool:
+def satisfiable(problem: ConstraintProblem, members: list[ir.Constraint]) -> bool:
     ctx = z3.Context()
     enc = Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
@@ -116,7 +117,7 @@ def satisfiable(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> 
     return result == z3.sat
 
 
-def assert_minimal(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> None:
+def assert_minimal(problem: ConstraintProblem, members: list[ir.Constraint]) -> None:
     assert not satisfiable(problem, members)
     for i in range(len(members)):
         assert satisfiable(problem, members[:i] + members[i + 1 :]), members[i].text
@@ -287,7 +288,7 @@ def test_quotients_and_remainders_are_the_evaluators(a, b, sort, bound):
     divides by zero, and ``n`` fixed to 0 makes the constraints unsatisfiable."""
     from osc2check.semantics.constants import arithmetic
 
-    problem = ir.ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
+    problem = ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
     n = problem.var("n", sort)
     q = problem.var("q", "real")
     r = problem.var("r", sort)
