@@ -35,8 +35,8 @@ from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir, propagate
+from osc2check.verify.actor_bodies import UNSAID_CATEGORY
 from osc2check.verify.pipeline import lower_scenario
-from osc2check.verify.placement import UNSAID_CATEGORY
 from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.starts import Gap
 from osc2check.verify.terms import TextOf, member_declarations
