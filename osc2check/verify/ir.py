@@ -1,4 +1,4 @@
-"""The constraint problem of one scenario instance, independent of any solver.
+"""The terms, variables and constraints of a constraint problem, independent of any solver.
 
 Terms are small immutable trees over exact rationals. Every constraint keeps
 the span and text it came from, so a solver's unsatisfiable core maps back to
