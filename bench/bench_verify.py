@@ -22,7 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze  # noqa: E402
-from osc2check.verify.check import scenarios_of, source_text  # noqa: E402
+from osc2check.verify.check import source_text  # noqa: E402
+from osc2check.verify.flow import scenarios_of  # noqa: E402
 from osc2check.verify.pipeline import lower_scenario  # noqa: E402
 from osc2check.verify.terms import member_declarations  # noqa: E402
 from osc2check.verify.z3_backend import (  # noqa: E402

@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 from osc2check import cache, memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
@@ -23,8 +24,10 @@ from osc2check.semantics.program import Program, build_program
 from osc2check.source import Span, decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
-from osc2check.verify.check import VerifyResult, scenarios_of, verify_program
-from osc2check.verify.flow import check_flow
+from osc2check.verify.flow import check_flow, scenarios_of
+
+if TYPE_CHECKING:
+    from osc2check.verify.check import VerifyResult
 
 log = logging.getLogger(__name__)
 
@@ -254,6 +257,9 @@ def _check_one(
     if clean:  # the behaviour flow (B codes): no solver, so in every analysis
         found.extend(_flow(program, options.scenario, start))
     if options.verify and clean:
+        # the solver's phase (lowering, z3) is imported by the analyses that run it
+        from osc2check.verify.check import verify_program
+
         try:
             checked = verify_program(
                 program,

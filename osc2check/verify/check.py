@@ -30,12 +30,13 @@ from osc2check.plugins import PluginRegistry
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.roots import invokers
-from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir, propagate
 from osc2check.verify.actor_bodies import UNSAID_CATEGORY
+from osc2check.verify.flow import scenarios_of
 from osc2check.verify.pipeline import lower_scenario
 from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.starts import Gap
@@ -176,16 +177,6 @@ def _open_brackets(text: str) -> int:
         elif ch in ")]":
             depth -= 1
     return depth
-
-
-def scenarios_of(program: Program) -> list[Symbol]:
-    """Scenarios declared in the root file, in source order."""
-    model = program.model
-    return [
-        s
-        for s in model.symbols
-        if s.kind is SymbolKind.SCENARIO and s.uri == program.root and s.decl is not None
-    ]
 
 
 def verify_program(
