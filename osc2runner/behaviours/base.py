@@ -34,7 +34,7 @@ from osc2check.syntax import ast
 from osc2check.verify.schedule import PhasePlan
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.compile.expressions import Closure
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, ended_kind
 from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
@@ -357,7 +357,7 @@ class ActionBehaviour(ScenarioBehaviour):
     def terminate(self, new_status: Status) -> None:
         if new_status == Status.INVALID and self.status != Status.RUNNING:
             return
-        how = {Status.SUCCESS: "end", Status.FAILURE: "fail"}.get(new_status, "stop")
+        how = ended_kind(new_status)
         if new_status == Status.INVALID and self.ended_on_time:
             how = "end"
         self.ctx.record(how, self.use.label, actors=(self.actor.name,))
