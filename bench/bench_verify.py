@@ -22,15 +22,17 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze  # noqa: E402
-from osc2check.verify.check import scenarios_of, source_text  # noqa: E402
-from osc2check.verify.lower import lower_scenario, member_declarations  # noqa: E402
+from osc2check.verify.check import source_text  # noqa: E402
+from osc2check.verify.flow import scenarios_of  # noqa: E402
+from osc2check.verify.pipeline import lower_scenario  # noqa: E402
+from osc2check.verify.terms import member_declarations  # noqa: E402
 from osc2check.verify.z3_backend import (  # noqa: E402
+    Encoder,
     Sampler,
     SolverOutcome,
-    _Encoder,
-    _z3,
     active_constraints,
     check,
+    load_z3,
     solve,
 )
 
@@ -116,7 +118,7 @@ def lowered(text: str, name: str):
 
 def main() -> None:
     start = time.perf_counter()
-    _z3()
+    load_z3()
     print(
         f"import z3: {(time.perf_counter() - start) * 1000:.0f} ms (once per process, "
         "only when a scenario needs the solver)"
@@ -172,8 +174,8 @@ def main() -> None:
         f"best {best:.1f} ms   (target < 10 ms; {len(spread)} distinct starts of a0 "
         "in 10 seeds)"
     )
-    ctx = _z3().Context()
-    enc = _Encoder(problem, ctx)
+    ctx = load_z3().Context()
+    enc = Encoder(problem, ctx)
     fallback = Sampler(problem, active, base, enc=enc)
     fallback.TRIES = 0  # straight to z3.Optimize
     fallback.sample(0)

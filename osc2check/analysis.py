@@ -10,6 +10,7 @@ from __future__ import annotations
 import logging
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 from osc2check import cache, memory, messages
 from osc2check.diagnostics import Diagnostic, Severity
@@ -20,10 +21,13 @@ from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
-from osc2check.source import decode_source, point_span, without_nul
+from osc2check.source import Span, decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
-from osc2check.verify.check import VerifyResult, verify_program
+from osc2check.verify.flow import check_flow, scenarios_of
+
+if TYPE_CHECKING:
+    from osc2check.verify.check import VerifyResult
 
 log = logging.getLogger(__name__)
 
@@ -121,7 +125,8 @@ class AnalysisOptions:
     ``seed`` picks the witness among the many that satisfy a scenario (the same seed
     always gives the same one; None takes the solver's first model, the cheapest);
     ``scenario`` limits verification to one scenario; ``verify=False`` leaves out the
-    solver (constraints, placement, flow), as editors do between keystrokes.
+    solver (constraints, placement, timing), as editors do between keystrokes; the
+    behaviour flow's checks (B codes that need no solver) run either way.
     ``implicit_imports`` are standard modules every file imports without saying so;
     ``modules`` maps structured import names to files; ``search_paths`` are the
     folders ``import a.b`` looks in after the importing file's own; ``maps`` names
@@ -216,9 +221,9 @@ def _load_once(options: AnalysisOptions) -> None:
     first file checked must not pay for it, nor fail to."""
     dialect_reading(parse("import osc.standard\n", ""), options.dialect)
     if options.verify:
-        from osc2check.verify.z3_backend import _z3
+        from osc2check.verify.z3_backend import load_z3
 
-        _z3()
+        load_z3()
 
 
 def _check_one(
@@ -258,9 +263,13 @@ def _check_one(
     found.extend(own)
     if source.problem:
         found.append(_encoding_problem(source))
-    if options.verify and not any(
-        d.severity is Severity.ERROR for d in [*result.diagnostics, *own]
-    ):
+    clean = not any(d.severity is Severity.ERROR for d in [*result.diagnostics, *own])
+    if clean:  # the behaviour flow (B codes): no solver, so in every analysis
+        found.extend(_flow(program, options.scenario, start))
+    if options.verify and clean:
+        # the solver's phase (lowering, z3) is imported by the analyses that run it
+        from osc2check.verify.check import verify_program
+
         try:
             checked = verify_program(
                 program,
@@ -277,6 +286,19 @@ def _check_one(
             return
         verified[source.uri] = checked
         found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
+
+
+def _flow(program: Program, scenario: str | None, start: Span) -> list[Diagnostic]:
+    """The flow findings, in the root file, of the scenarios declared there (or of the one
+    named); ``start`` is the file's start."""
+    found: list[Diagnostic] = []
+    for sym in scenarios_of(program):
+        if scenario is not None and sym.name != scenario:
+            continue
+        where = sym.name_span or start
+        with memory.analysing(where, f"checking the flow of scenario `{sym.name}`"):
+            found.extend(d for d in check_flow(program.model, sym) if d.span.uri == start.uri)
+    return found
 
 
 def _clean(source: SourceInput) -> SourceInput:

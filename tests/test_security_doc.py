@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from osc2check import inputs, memory, numbers
-from osc2check.verify import check, lower, z3_backend
+from osc2check.verify import check, terms, z3_backend
 from osc2check.world import budget
 from osc2lsp.transport import framing
 from osc2runner.campaign import campaign, outputs
@@ -33,7 +33,7 @@ QUOTED = [
     (f"a context ({_mib(memory.SOLVER_ROOM)},", "SOLVER_ROOM"),
     (f"z3 resource limit {z3_backend.DEFAULT_RLIMIT:,}", "DEFAULT_RLIMIT"),
     (f"and {z3_backend.DEFAULT_TIMEOUT_MS // 1000} s", "DEFAULT_TIMEOUT_MS"),
-    (f"| {lower.MAX_DEPTH} deep", "MAX_DEPTH"),
+    (f"| {terms.MAX_DEPTH} deep", "MAX_DEPTH"),
     (f"| {_mib(budget.MAX_MAP_BYTES)} of XML", "MAX_MAP_BYTES"),
     (f"| {budget.MAX_MAP_ELEMENTS:,} |", "MAX_MAP_ELEMENTS"),
     (f"| {budget.MAX_ROAD_LENGTH / 1000:g} km |", "MAX_ROAD_LENGTH"),

@@ -28,8 +28,10 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify import ir, quick
-from osc2check.verify.lower import InstanceScope, Lowerer, NotEncodable, TextOf
+from osc2check.verify import ir, propagate
+from osc2check.verify.parameters import Lowerer
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.terms import InstanceScope, NotEncodable, TextOf
 from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
@@ -77,10 +79,10 @@ def _runtime_reference(model: Model, expr: ast.Node) -> str | None:
 def cover_term(
     model: Model,
     scenario: Symbol,
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     expr: ast.Node,
     text_of: TextOf,
-) -> tuple[ir.ConstraintProblem, ir.Term]:
+) -> tuple[ConstraintProblem, ir.Term]:
     """The solver's term of a cover item's expression, in SI units, over the scenario's
     parameters, and the problem it is a term of (a copy of ``problem`` when the
     expression needs variables the problem did not have); NotSteerable otherwise."""
@@ -103,7 +105,7 @@ def cover_term(
     return own, term
 
 
-def _copy(problem: ir.ConstraintProblem) -> ir.ConstraintProblem:
+def _copy(problem: ConstraintProblem) -> ConstraintProblem:
     own = copy.copy(problem)
     own.variables = dict(problem.variables)
     own.constraints = list(problem.constraints)
@@ -123,8 +125,8 @@ def is_value(term: ir.Term, value: Fraction | bool) -> ir.Term:
 
 
 def with_constraint(
-    problem: ir.ConstraintProblem, term: ir.Term, text: str, span: Span | None = None
-) -> ir.ConstraintProblem:
+    problem: ConstraintProblem, term: ir.Term, text: str, span: Span | None = None
+) -> ConstraintProblem:
     """A copy of ``problem`` with the hard constraint ``term`` added (``text`` names it)."""
     own = _copy(problem)
     own.add(ir.Constraint(term, span or problem.span, "keep", text))
@@ -132,7 +134,7 @@ def with_constraint(
 
 
 def bin_status(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     term: ir.Term,
     *,
     rlimit: int = DEFAULT_RLIMIT,
@@ -146,7 +148,7 @@ def bin_status(
 
 
 def witness_in(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     term: ir.Term,
     seed: int,
     *,
@@ -164,7 +166,7 @@ def witness_in(
 
 
 def term_value(
-    term: ir.Term, problem: ir.ConstraintProblem, witness: Witness
+    term: ir.Term, problem: ConstraintProblem, witness: Witness
 ) -> Fraction | bool | None:
     """The value of ``term`` in ``witness`` (None when it reads a value the witness lacks)."""
     values: dict[str, Fraction | bool] = {}
@@ -179,7 +181,7 @@ def term_value(
         else:
             values[p.name] = p.value
     try:
-        value = quick.evaluate(term, values)
+        value = propagate.evaluate(term, values)
     except (KeyError, TypeError, ZeroDivisionError):
         return None
     return value if isinstance(value, (bool, Fraction)) else Fraction(value)

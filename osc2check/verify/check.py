@@ -1,8 +1,9 @@
-"""Verify the scenarios of a program: constraints, placement, flow; and witnesses.
+"""Verify the scenarios of a program: constraints, placement, timing; and witnesses.
 
 ``verify_program`` lowers every scenario declared in the program's root file,
 decides it (``z3_backend.check``: by propagation when that finds a model, else
-by z3), and turns the outcome into diagnostics (C, L and B codes). The
+by z3), and turns the outcome into diagnostics (C, L and B codes). The behaviour
+flow's checks (``flow``) need no solver: the analysis runs them, with or without this. The
 witness of a satisfiable scenario is drawn with the seed when it is first asked
 for (``ScenarioResult.witness``, ``z3_backend.Sampler``), so an analysis that
 prints no witness never pays for one.
@@ -21,7 +22,6 @@ from collections.abc import Callable, Iterator, Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
-from typing import TYPE_CHECKING
 
 from osc2check import codes, memory, messages
 from osc2check.capabilities import not_executed
@@ -30,30 +30,35 @@ from osc2check.plugins import PluginRegistry
 from osc2check.semantics.constants import NotConstant, Quantity, evaluate
 from osc2check.semantics.program import Program
 from osc2check.semantics.roots import invokers
-from osc2check.semantics.symbols import Symbol, SymbolKind
+from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span, strip_comment
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify import flow, ir, quick
-from osc2check.verify.lower import TextOf, lower_scenario, member_declarations
-from osc2check.verify.placement import UNSAID_CATEGORY, Gap
+from osc2check.verify import ir, propagate
+from osc2check.verify.actor_bodies import UNSAID_CATEGORY
+from osc2check.verify.flow import scenarios_of
+from osc2check.verify.pipeline import lower_scenario
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.starts import Gap
+from osc2check.verify.terms import TextOf, member_declarations
+from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
     Conflict,
+    Encoder,
     Sampler,
     Session,
     SolverOutcome,
     active_constraints,
     check,
+    load_z3,
     never_holds,
+    new_context,
     solve,
 )
 from osc2check.world.catalogue import WALKING_SPEED
 from osc2check.world.maps import is_carla_town
-
-if TYPE_CHECKING:
-    from osc2check.verify.witness import Witness
 
 _PLACEMENT_CODES = {
     "lane-range": codes.LANE_OUT_OF_RANGE,
@@ -70,7 +75,7 @@ class ScenarioResult:
     """One verified scenario: its problem, the outcome, and (on demand) its witness."""
 
     scenario: Symbol
-    problem: ir.ConstraintProblem
+    problem: ConstraintProblem
     outcome: SolverOutcome
     seed: int | None = None
     rlimit: int = DEFAULT_RLIMIT
@@ -107,8 +112,6 @@ class ScenarioResult:
                 )
                 sample = drawn.values if drawn.status == "sat" else None
             values = sample if sample is not None else values
-        from osc2check.verify.witness import build_witness  # only a witness asked for
-
         return build_witness(self.problem, values, active, seed, _rounded(active, values))
 
 
@@ -117,7 +120,7 @@ def _rounded(active: list[ir.Constraint], values: dict[str, Fraction | bool]) ->
     of non-linear constraints may be irrational (``x * x == 2``), and shows rounded."""
     notes = []
     for c in active:
-        if not quick.holds(c.term, values):
+        if not propagate.holds(c.term, values):
             notes.append(f"`{c.text}` holds for irrational values, which the witness shows rounded")
     return notes
 
@@ -176,16 +179,6 @@ def _open_brackets(text: str) -> int:
     return depth
 
 
-def scenarios_of(program: Program) -> list[Symbol]:
-    """Scenarios declared in the root file, in source order."""
-    model = program.model
-    return [
-        s
-        for s in model.symbols
-        if s.kind is SymbolKind.SCENARIO and s.uri == program.root and s.decl is not None
-    ]
-
-
 def verify_program(
     program: Program,
     *,
@@ -233,8 +226,6 @@ def verify_program(
         with scope:
             # an invoked scenario's actors are its invoker's: its start is checked there
             standalone = sym not in invoked or scenario is not None
-            for d in flow.check_flow(program.model, sym):
-                report(d)
             for d in not_executed(program.model, sym, sym in invoked, plugins, decls):
                 report(d)
             problem = lower_scenario(program.model, sym, text_of, default_map, decls, maps)
@@ -307,13 +298,13 @@ MIN_TIME_GAP = Fraction(1)  # s: a start gap shorter than this at the follower's
 MAX_SCENARIOS = 100
 
 
-def _unsaid_categories(problem: ir.ConstraintProblem) -> bool:
+def _unsaid_categories(problem: ConstraintProblem) -> bool:
     """Whether a vehicle of ``problem`` is a car because nothing says its category."""
     return any(c.rule == UNSAID_CATEGORY for c in problem.constraints)
 
 
 def _unsafe_gaps(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     outcome: SolverOutcome,
     rlimit: int,
@@ -329,7 +320,7 @@ def _unsafe_gaps(
 
 
 def _in_no_model(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     outcome: SolverOutcome,
     term: ir.Term,
@@ -337,7 +328,7 @@ def _in_no_model(
 ) -> bool:
     """Whether ``term`` holds in no model of the active constraints: not in the model at
     hand (checked first, without the solver), and not in any other."""
-    if quick.holds(term, outcome.values):
+    if propagate.holds(term, outcome.values):
         return False
     return never_holds(problem, active, term, rlimit)
 
@@ -347,7 +338,7 @@ _ASKED_SPEED = re.compile(r"^(?P<actor>[^.@]+)\.[^.@]+@\d+\.(?:speed@\d+\.speed|
 
 
 def _running_persons(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     outcome: SolverOutcome,
     rlimit: int,
@@ -415,7 +406,7 @@ def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
     return found
 
 
-def _placement_notes(problem: ir.ConstraintProblem, report: Callable[[Diagnostic], None]) -> None:
+def _placement_notes(problem: ConstraintProblem, report: Callable[[Diagnostic], None]) -> None:
     placement = problem.placement
     if placement is None:
         return
@@ -517,7 +508,7 @@ def _bound(node: ast.Node, program: Program) -> Fraction | None:
 
 
 def _vacuous(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     rlimit: int,
     session: Session | None = None,
@@ -547,8 +538,6 @@ def _vacuous(
 
 def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Term]) -> bool:
     """Whether one of a few assignments inside the domains makes ``term`` false."""
-    from fractions import Fraction
-
     numbers = {Fraction(0), Fraction(1), Fraction(-1), Fraction(10**6), Fraction(-(10**6))}
     stack = [term]
     while stack:
@@ -570,7 +559,7 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
                 else:
                     values[v.name] = value
             try:
-                if all(quick.evaluate(d, values) for d in limits) and not quick.evaluate(
+                if all(propagate.evaluate(d, values) for d in limits) and not propagate.evaluate(
                     term, values
                 ):
                     return True
@@ -580,17 +569,15 @@ def _broken_by_probe(term: ir.Term, variables: list[ir.Var], limits: list[ir.Ter
 
 
 def _holds_always(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     c: ir.Constraint,
     limits: list[ir.Term],
     rlimit: int,
     session: Session | None,
 ) -> bool:
-    from osc2check.verify.z3_backend import _Encoder, _z3, new_context
-
-    z3 = _z3()
+    z3 = load_z3()
     ctx = session.ctx if session is not None else new_context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
     s.set("rlimit", rlimit)
     for d in limits:

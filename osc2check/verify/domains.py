@@ -20,7 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from fractions import Fraction
 
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.z3_backend import SolverOutcome, active_constraints, bounds
 
 __all__ = ["MAX_VALUES", "Domain", "domains", "equations"]
@@ -38,20 +39,20 @@ class Domain:
     values: tuple[Fraction | bool, ...] | None = None
 
 
-def _active(problem: ir.ConstraintProblem) -> list[ir.Constraint]:
+def _active(problem: ConstraintProblem) -> list[ir.Constraint]:
     return active_constraints(problem, SolverOutcome("sat"))
 
 
-def domains(problem: ir.ConstraintProblem) -> dict[str, Domain]:
+def domains(problem: ConstraintProblem) -> dict[str, Domain]:
     """Every variable's :class:`Domain` (see the module docstring)."""
     active = _active(problem)
     found = bounds(active)
     sets: dict[str, set[Fraction | bool]] = {}
     conjuncts: list[ir.Term] = []
     for c in active:
-        quick._conjuncts(c.term, conjuncts)
+        propagate.split_conjuncts(c.term, conjuncts)
     for term in conjuncts:
-        atom = quick._atom(term)
+        atom = propagate.atom_of(term)
         if atom.kind == "set" and len(atom.names) == 1:
             name = atom.names[0]
             sets[name] = set(atom.values) & sets[name] if name in sets else set(atom.values)
@@ -84,15 +85,15 @@ def _floor(x: Fraction) -> int:
     return x.numerator // x.denominator
 
 
-def equations(problem: ir.ConstraintProblem) -> list[frozenset[str]]:
+def equations(problem: ConstraintProblem) -> list[frozenset[str]]:
     """The unknowns of each equation that relates two or more of them, the constants
     (values that equations fix from constants alone) folded in."""
     active = _active(problem)
-    fixed = quick.determined([c.term for c in active])
+    fixed = propagate.determined([c.term for c in active])
     found: list[frozenset[str]] = []
     for c in active:
         conjuncts: list[ir.Term] = []
-        quick._conjuncts(quick.fold(c.term, fixed), conjuncts)
+        propagate.split_conjuncts(propagate.fold(c.term, fixed), conjuncts)
         for term in conjuncts:
             if isinstance(term, ir.Op) and term.op == "==":
                 names = frozenset(ir.names(term))

@@ -12,6 +12,7 @@ from osc2check.semantics.builtins import PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, si_number
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import invocations
+from osc2check.semantics.program import Program
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -24,6 +25,16 @@ def _do_trees(sym: Symbol) -> list[ast.Node]:
     if not isinstance(decl, ast.StructuredDecl):
         return []
     return [m for m in decl.members if isinstance(m, (ast.DoDirective, ast.OnDirective))]
+
+
+def scenarios_of(program: Program) -> list[Symbol]:
+    """Scenarios declared in the root file, in source order."""
+    model = program.model
+    return [
+        s
+        for s in model.symbols
+        if s.kind is SymbolKind.SCENARIO and s.uri == program.root and s.decl is not None
+    ]
 
 
 def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:

@@ -48,7 +48,7 @@ start); in a later one, ``r`` is reachable ahead of the actor's start.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -57,48 +57,22 @@ from osc2check.semantics.symbols import Symbol
 from osc2check.source import Span
 from osc2check.syntax import ast
 from osc2check.verify import ir
-from osc2check.verify.road_terms import RoadTerms, fraction
-from osc2check.world.carriageways import AHEAD_CAP
-from osc2check.world.maps import FoundMap
-from osc2check.world.network import LaneRef, RoadNetwork
+from osc2check.verify.element_fields import (
+    Element,
+    ElementField,
+    ElementFields,
+    element_kind,
+)
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.road_terms import fraction
+from osc2check.verify.terms import InstanceScope, NotEncodable, TermEncoder
+from osc2check.world.carriageways import AHEAD_CAP, Carriageway
+from osc2check.world.network import LaneRef
 
 if TYPE_CHECKING:
-    from osc2check.verify.lower import InstanceScope, Lowerer
-    from osc2check.world.elements import MapElements
+    pass
 
-__all__ = ["ELEMENT_KINDS", "ElementField", "ElementValue", "MapFields", "element_kind"]
-
-#: OSC2 type name -> the kind of map element a field of that type is
-ELEMENT_KINDS = {
-    "junction": "junction",
-    "road": "road",
-    "lane": "lane",
-    "compound_lane": "lane",
-    "route": "route",
-    "route_element": "route",
-    "compound_route": "route",
-    "crossing": "crossing",
-}
-
-Route = tuple[str, int]
-Element = str | Route | LaneRef  # a road or junction id, a route, a lane
-
-
-def element_kind(model: Model, type_symbol: Symbol | None) -> str | None:
-    """The map element kind of a type (its own name first, then its ancestors')."""
-    for ancestor in model.ancestors(type_symbol):
-        if ancestor.library and ancestor.name in ELEMENT_KINDS:
-            return ELEMENT_KINDS[ancestor.name]
-    return None
-
-
-@dataclass(frozen=True, slots=True)
-class ElementField:
-    """A scenario field whose value is a map element, and its variable."""
-
-    path: str
-    kind: str
-    var: ir.Var
+__all__ = ["ElementValue", "MapFields", "element_value"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -149,56 +123,15 @@ class _Argument:
 
 
 @dataclass
-class MapFields:
+class MapFields(ElementFields):
     """The element fields of one scenario on one map, and what constrains them."""
 
-    lw: Lowerer
-    found: FoundMap  # the map: its network is built when a map modifier first asks
-    roads: RoadTerms
-    fields: dict[str, ElementField] = field(default_factory=dict)
-    along: dict[str, list[ElementField]] = field(default_factory=dict)  # actor -> targets
+    lw: TermEncoder = field(kw_only=True)
 
     def __post_init__(self) -> None:
-        self._elements: MapElements | None = None
-        self.problem: ir.ConstraintProblem = self.lw.problem
+        super().__post_init__()
+        self.problem: ConstraintProblem = self.lw.problem
         self.model: Model = self.lw.model
-
-    @property
-    def network(self) -> RoadNetwork:
-        return self.found.network
-
-    @property
-    def elements(self) -> MapElements:
-        """The map's roads, routes, lanes and junctions (made on first use)."""
-        if self._elements is None:
-            from osc2check.world.elements import map_elements  # routes need numpy
-
-            self._elements = map_elements(self.network)
-        return self._elements
-
-    # ---- variables
-
-    def choices(self, kind: str) -> list[Element]:
-        e = self.elements
-        values: dict[str, Iterable[Element]] = {
-            "road": e.roads,
-            "route": e.routes,
-            "lane": e.lanes,
-            "junction": e.junctions,
-            "crossing": tuple(c.id for c in self.network.crossings),
-        }
-        return list(values[kind])
-
-    def label(self, kind: str, value: Element) -> str:
-        if kind in ("junction", "crossing"):
-            return f"{kind} {value}"
-        if kind == "road":
-            return f"road {value}"
-        if kind == "route":
-            assert isinstance(value, tuple)
-            return self.elements.route_label(value)
-        assert isinstance(value, LaneRef)
-        return self.elements.lane_label(value)
 
     def field_of(self, node: ast.Node | None, scope: InstanceScope) -> ElementField | None:
         """The element field a modifier argument names, made on first use (None when the
@@ -211,7 +144,7 @@ class MapFields:
         if sym is None or sym.type is None:
             return None
         kind = element_kind(self.model, sym.type.symbol)
-        path = self.lw._path(node, scope)
+        path = self.lw.path(node, scope)
         if kind is None or path is None:
             return None
         known = self.fields.get(path)
@@ -235,38 +168,6 @@ class MapFields:
         )
         found = self.fields[path] = ElementField(path, kind, var)
         return found
-
-    def value(self, item: ElementField, number: int) -> ElementValue:
-        """The element a solver value of ``item``'s variable stands for."""
-        choices = self.choices(item.kind)
-        chosen = choices[min(max(number, 0), len(choices) - 1)] if choices else ""
-        if item.kind == "route":
-            assert isinstance(chosen, tuple)
-            return ElementValue("route", road=chosen[0], direction=chosen[1])
-        if item.kind == "lane":
-            assert isinstance(chosen, LaneRef)
-            return ElementValue("lane", chosen.road, section=chosen.section, lane=chosen.lane)
-        if item.kind == "junction":
-            assert isinstance(chosen, str)
-            return ElementValue("junction", junction=chosen)
-        if item.kind == "crossing":
-            road = next((c.road for c in self.network.crossings if c.id == chosen), "")
-            return ElementValue("crossing", road=road, crossing=str(chosen))
-        assert isinstance(chosen, str)
-        return ElementValue("road", road=chosen)
-
-    def _index(self, item: ElementField, value: Element) -> int | None:
-        """The index of ``value`` in ``item``'s choices (a route given to a road field is
-        its road; None when it has no counterpart)."""
-        if item.kind == "road" and isinstance(value, tuple):
-            value = value[0]
-        elif item.kind == "road" and isinstance(value, LaneRef):
-            value = value.road
-        choices = self.choices(item.kind)
-        try:
-            return choices.index(value)
-        except ValueError:
-            return None
 
     # ---- modifiers
 
@@ -298,8 +199,6 @@ class MapFields:
     def _arguments(
         self, modifier: Symbol, scope: InstanceScope, inv: ast.Invocation
     ) -> dict[str, _Argument] | None:
-        from osc2check.verify.lower import NotEncodable
-
         found: dict[str, _Argument] = {}
         binding = self.model.binding(inv)
         for bound in binding.arguments if binding is not None else ():
@@ -322,7 +221,7 @@ class MapFields:
                 found[param.name] = _Argument(param.name, word=member)
                 continue
             try:
-                term = self.lw._term(node, scope)
+                term = self.lw.term(node, scope)
                 found[param.name] = _Argument(param.name, term=term, enum=enum)
             except NotEncodable as reason:
                 self._skip(node.span, f"map.{modifier.name}({param.name}: ...): {reason}")
@@ -341,7 +240,7 @@ class MapFields:
                     continue
                 value = row[name]
                 if arg.element is not None:
-                    index = self._index(arg.element, value)  # type: ignore[arg-type]
+                    index = self.index_of(arg.element, value)  # type: ignore[arg-type]
                     if index is None:
                         ok = False
                         break
@@ -391,7 +290,7 @@ class MapFields:
             if at_start:
                 for leg in cw.legs:
                     for value in self._on_leg(target.kind, leg.road, leg.direction):
-                        index = self._index(target, value)
+                        index = self.index_of(target, value)
                         if index is None:
                             continue
                         begin = ir.const(fraction(leg.start))
@@ -413,7 +312,7 @@ class MapFields:
                 indexes = {
                     i
                     for value in self._reachable(cw)
-                    if (i := self._index(target, value)) is not None
+                    if (i := self.index_of(target, value)) is not None
                 }
                 options.extend(
                     ir.op("and", on_cw, ir.op("==", ir.Ref(target.var), ir.const(i)))
@@ -466,8 +365,6 @@ class MapFields:
 
     def _reachable(self, cw: object) -> list[Element]:
         """Routes and lanes on a carriageway or reachable after its exit."""
-        from osc2check.world.carriageways import Carriageway
-
         assert isinstance(cw, Carriageway)
         cache: dict[int, list[Element]] = self.network.cache.setdefault(  # type: ignore[assignment]
             "reachable_after", {}
@@ -645,3 +542,23 @@ _MODIFIERS: dict[str, Callable[[MapFields, dict[str, _Argument], ast.Invocation]
     "end_lane": _lane_ends("end"),
     "crossing_connects": _crossing,
 }
+
+
+def element_value(fields: ElementFields, item: ElementField, number: int) -> ElementValue:
+    """The element a solver value of ``item``'s variable stands for (the witness's)."""
+    choices = fields.choices(item.kind)
+    chosen = choices[min(max(number, 0), len(choices) - 1)] if choices else ""
+    if item.kind == "route":
+        assert isinstance(chosen, tuple)
+        return ElementValue("route", road=chosen[0], direction=chosen[1])
+    if item.kind == "lane":
+        assert isinstance(chosen, LaneRef)
+        return ElementValue("lane", chosen.road, section=chosen.section, lane=chosen.lane)
+    if item.kind == "junction":
+        assert isinstance(chosen, str)
+        return ElementValue("junction", junction=chosen)
+    if item.kind == "crossing":
+        road = next((c.road for c in fields.network.crossings if c.id == chosen), "")
+        return ElementValue("crossing", road=road, crossing=str(chosen))
+    assert isinstance(chosen, str)
+    return ElementValue("road", road=chosen)

@@ -48,25 +48,6 @@ class RoadTerms:
 
     # ---- the choice of carriageway
 
-    def road_var(self, problem: ir.ConstraintProblem, name: str, span: object) -> ir.Var | None:
-        """The variable of an actor's start carriageway (None on a one-carriageway map)."""
-        if self.single:
-            return None
-        labels = tuple((cw.label, cw.index) for cw in self.carriageways)
-        var = problem.var(name, "int", enum=labels, span=span)  # type: ignore[arg-type]
-        ref = ir.Ref(var)
-        problem.add(
-            ir.Constraint(
-                _between(ref, 0, len(self.carriageways) - 1),
-                span or problem.span,  # type: ignore[arg-type]
-                "domain",
-                f"one of the {len(self.carriageways)} carriageways of map `{self.name}`",
-                explanation=f"one of the {len(self.carriageways)} carriageways of map "
-                f"`{self.name}`",
-            )
-        )
-        return var
-
     @staticmethod
     def on(road: ir.Var | None, cw: Carriageway) -> ir.Term:
         return ir.TRUE if road is None else ir.op("==", ir.Ref(road), ir.const(cw.index))
@@ -111,11 +92,11 @@ class RoadTerms:
         """The lane number is one the carriageway has where the actor is (``phase``: one
         some road of the map has: a later phase may be anywhere)."""
         if phase or self.uniform:
-            return _between(lane, 1, self.most_lanes)
+            return between(lane, 1, self.most_lanes)
         return self._any(
             road,
             [
-                (cw, _and(_within(s, p), _between(lane, 1, p.count)))
+                (cw, _and(_within(s, p), between(lane, 1, p.count)))
                 for cw in self.carriageways
                 for p in cw.pieces
                 if p.count > 0
@@ -283,7 +264,7 @@ def _within(s: ir.Term, piece: LanePiece) -> ir.Term:
     )
 
 
-def _between(term: ir.Term, low: int, high: int) -> ir.Term:
+def between(term: ir.Term, low: int, high: int) -> ir.Term:
     return ir.op("and", ir.op(">=", term, ir.const(low)), ir.op("<=", term, ir.const(high)))
 
 

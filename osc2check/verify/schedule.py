@@ -34,7 +34,7 @@ from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, field
 from fractions import Fraction
 
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 from osc2check.verify.timeline import (
     Bounded,
     Choice,
@@ -104,16 +104,16 @@ class Resolver:
     def difference(self, later: ir.Term, earlier: ir.Term) -> ir.Term | None:
         """``later - earlier`` as a term of written values only, or None when it depends on
         what only the run knows."""
-        linear = quick.linear(ir.minus(later, earlier))
+        linear = propagate.linear(ir.minus(later, earlier))
         if linear is not None and not linear[0]:
             return ir.const(linear[1])
         expanded = self.expand(ir.minus(later, earlier))
         if expanded is None:
             return None
-        linear = quick.linear(expanded)
+        linear = propagate.linear(expanded)
         if linear is not None and not linear[0]:
             return ir.const(linear[1])
-        folded = quick.fold(expanded, {})
+        folded = propagate.fold(expanded, {})
         return folded if self.known(folded) else None
 
     def always(self, flag: ir.Term, given: ir.Term) -> bool:
@@ -221,7 +221,7 @@ def schedule(plan: TimingPlan | None, values: Mapping[str, Fraction | bool]) -> 
     known: dict[str, Fraction | bool] = {}
     for name, term in resolver.written.items():
         try:
-            value = quick.evaluate(term, values)
+            value = propagate.evaluate(term, values)
         except (KeyError, TypeError, ZeroDivisionError):
             continue
         known[name] = value if isinstance(value, bool) else Fraction(value)
@@ -229,7 +229,7 @@ def schedule(plan: TimingPlan | None, values: Mapping[str, Fraction | bool]) -> 
     def seconds(term: ir.Term | None) -> float | None:
         if term is None:
             return None
-        folded = quick.fold(term, known)
+        folded = propagate.fold(term, known)
         if isinstance(folded, ir.Const) and not isinstance(folded.value, bool):
             return float(folded.value)
         return None

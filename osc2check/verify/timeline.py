@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.source import Span
-from osc2check.verify import ir, quick
+from osc2check.verify import ir, propagate
 
 TRUE, FALSE = ir.const(True), ir.const(False)
 ZERO = ir.const(0)
@@ -106,13 +106,13 @@ def compare(op: str, a: ir.Term, b: ir.Term) -> ir.Term:
     """``a op b``, computed when it does not depend on the unknowns (``s < s + 3``)."""
     if a is b:
         return ir.const(op in ("<=", ">=", "=="))
-    left, right = quick.linear(a), quick.linear(b)
+    left, right = propagate.linear(a), propagate.linear(b)
     if left is not None and right is not None:
         difference = dict(left[0])
         for name, c in right[0].items():
             difference[name] = difference.get(name, Fraction(0)) - c
         if not any(difference.values()):
-            value = quick.evaluate(ir.Op(op, (ir.const(left[1]), ir.const(right[1]))), {})
+            value = propagate.evaluate(ir.Op(op, (ir.const(left[1]), ir.const(right[1]))), {})
             return ir.const(bool(value))
     return ir.Op(op, (a, b))
 

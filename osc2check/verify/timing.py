@@ -73,9 +73,16 @@ from osc2check.semantics.phases import (
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2check.verify import ir, quick
-from osc2check.verify.lower import MAX_DEPTH, InstanceScope, Lowerer, NotEncodable, join_path
+from osc2check.verify import ir, propagate
+from osc2check.verify.parameters import Lowerer
 from osc2check.verify.schedule import Resolver, TimingPlan
+from osc2check.verify.terms import (
+    MAX_DEPTH,
+    InstanceScope,
+    NotEncodable,
+    join_path,
+    one_of_variable,
+)
 from osc2check.verify.timeline import (
     FALSE,
     NEVER,
@@ -495,7 +502,10 @@ class _Builder:
             (acting if is_acting(m.body) else waiting).append(self._member(m, scope, start, depth))
         chosen: list[ir.Term] = [TRUE] * len(acting)
         if len(acting) > 1:
-            choice = self._unknown(f"{name}.chosen", "int", comp.span, ZERO)
+            shared = one_of_variable(scope.prefix, comp)  # the placement's too
+            self.out.variables[shared.name] = shared
+            self.out.canonical[shared.name] = ZERO
+            choice: ir.Term = ir.Ref(shared)
             self._rule(
                 all_of(compare(">=", choice, ZERO), compare("<", choice, ir.const(len(acting)))),
                 comp.span,
@@ -717,10 +727,10 @@ class _Builder:
                 term = self.out.defined.get(name, self.out.canonical.get(name))
                 if term is None:
                     return False
-                value = quick.evaluate(term, values)
+                value = propagate.evaluate(term, values)
                 values[name] = value if isinstance(value, bool) else Fraction(value)
             return all(
-                quick.evaluate(c.term, values) is True
+                propagate.evaluate(c.term, values) is True
                 for c in (*self.out.definitions, *self.out.tracked)
             )
         except (KeyError, TypeError, ZeroDivisionError):

@@ -22,10 +22,11 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import TYPE_CHECKING
 
-from osc2check.verify import ir, quick
-from osc2check.verify.map_modifiers import ElementValue
-from osc2check.verify.placement import ActorBody, PlacedActor, StartPlacement
+from osc2check.verify import ir, propagate
+from osc2check.verify.map_modifiers import ElementValue, element_value
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.schedule import Schedule, schedule
+from osc2check.verify.starts import ActorBody, PlacedActor, StartPlacement
 from osc2check.verify.timing import is_timing_variable
 from osc2check.world.carriageways import Carriageway, lane_at
 from osc2check.world.catalogue import CATEGORIES, ActorRow
@@ -134,7 +135,7 @@ class Witness:
     unused_map: str | None = None  # a map the scenario names that placement could not use
     #: constraints left out of the problem (C411): the values need not satisfy them
     unverified: tuple[ir.Skipped, ...] = ()
-    # list members of struct parameters: their items (``ir.ConstraintProblem.lists``)
+    # list members of struct parameters: their items (``ConstraintProblem.lists``)
     lists: dict[str, tuple[ir.ListItem, ...]] = field(default_factory=dict)
     map_source: str | None = None  # the OpenDRIVE file of the map (absolute), if it is one
     elements: tuple[tuple[str, ElementValue], ...] = ()  # road/route/lane/junction fields
@@ -221,7 +222,7 @@ def _row(body: ActorBody, values: dict[str, Fraction | bool]) -> ActorRow:
 
 
 def _size(term: ir.Term, values: dict[str, Fraction | bool]) -> Fraction:
-    value = quick.evaluate(term, values)
+    value = propagate.evaluate(term, values)
     return value if isinstance(value, Fraction) else Fraction(0)
 
 
@@ -250,7 +251,7 @@ def _number(value: Fraction) -> str:
 
 
 def build_witness(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     values: dict[str, Fraction | bool],
     active: Iterable[ir.Constraint],
     seed: int | None,
@@ -279,7 +280,7 @@ def build_witness(
         if placement.fields is not None:
             for path, item in sorted(placement.fields.fields.items()):
                 number = int(values.get(item.var.name, Fraction(0)))
-                elements.append((path, placement.fields.value(item, number)))
+                elements.append((path, element_value(placement.fields, item, number)))
         for a in placement.actors.values():
             row = _row(a.body, values)
             s = Fraction(values.get(a.s.name, Fraction(0)))

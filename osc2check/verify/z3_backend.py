@@ -1,7 +1,7 @@
 """Solve a ``ConstraintProblem`` with z3: satisfiability, minimal conflicts, defaults, samples.
 
 ``check`` decides a problem for the analysis: a model found by propagation
-(``quick``) settles a plainly satisfiable problem without z3 (z3 is not even
+(``propagate``) settles a plainly satisfiable problem without z3 (z3 is not even
 loaded); anything else goes to z3, which reports minimal conflicts.
 ``solve`` always asks z3, and with a seed returns a sample (the witness).
 
@@ -22,8 +22,9 @@ from fractions import Fraction
 from typing import Any
 
 from osc2check import memory
-from osc2check.verify import ir, quick
-from osc2check.verify.lower import is_one_of_choice
+from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.terms import is_one_of_choice
 
 DEFAULT_RLIMIT = 20_000_000
 DEFAULT_TIMEOUT_MS = 10_000
@@ -40,7 +41,7 @@ Z3Context = Any
 Z3Expr = Any
 
 
-def _z3() -> Any:
+def load_z3() -> Any:
     """z3, imported when first needed (the import takes about 0.1 s)."""
     import z3
 
@@ -69,7 +70,7 @@ def new_context() -> Z3Context:
     """A new z3 context, or ``MemoryError`` when the memory budget has no room for one
     (z3 does not check that its context was made, and crashes)."""
     memory.room_for_solver()
-    return _z3().Context()
+    return load_z3().Context()
 
 
 class Session:
@@ -89,10 +90,8 @@ def _position(c: ir.Constraint) -> tuple[str, int, int]:
     return (c.span.uri, c.span.line, c.span.column)
 
 
-def active_constraints(
-    problem: ir.ConstraintProblem, outcome: SolverOutcome
-) -> list[ir.Constraint]:
-    """The constraints that hold after the override rule (see module ``lower``).
+def active_constraints(problem: ConstraintProblem, outcome: SolverOutcome) -> list[ir.Constraint]:
+    """The constraints that hold after the override rule (see module ``parameters``).
 
     A default on a parameter yields to a hard constraint that has the parameter
     alone on the left of `==` or `in` (an argument is such a constraint), and to
@@ -146,11 +145,11 @@ def nonlinear(active: list[ir.Constraint]) -> list[ir.Constraint]:
     that equations fix to a constant (its declaration's ``ttc0: time = 4s`` while no
     keep overrides it, ``keep(ttc0 == 4s)``) is a constant, as the sampler takes it:
     ``gap == closing * ttc0`` is linear then."""
-    fixed = quick.determined([c.term for c in active])
-    return [c for c in active if ir.is_nonlinear(quick.fold(c.term, fixed))]
+    fixed = propagate.determined([c.term for c in active])
+    return [c for c in active if ir.is_nonlinear(propagate.fold(c.term, fixed))]
 
 
-def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
+def fallbacks(problem: ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:
     """The fallbacks (``rule == "fallback"``: a vehicle is a car when nothing says
     otherwise) that do not hold because constraints of ``active`` mention their variable.
 
@@ -162,9 +161,9 @@ def fallbacks(problem: ir.ConstraintProblem, active: list[ir.Constraint]) -> lis
     return [c for c in problem.constraints if c.rule == FALLBACK and id(c) not in kept]
 
 
-class _Encoder:
-    def __init__(self, problem: ir.ConstraintProblem, ctx: Z3Context):
-        z3 = _z3()
+class Encoder:
+    def __init__(self, problem: ConstraintProblem, ctx: Z3Context):
+        z3 = load_z3()
         self.z3 = z3
         self.ctx = ctx
         self.vars: dict[str, Z3Expr] = {}
@@ -250,7 +249,7 @@ class _Encoder:
 
 
 def _value(expr: Z3Expr) -> Fraction | bool:
-    z3 = _z3()
+    z3 = load_z3()
     if z3.is_true(expr):
         return True
     if z3.is_false(expr):
@@ -265,7 +264,7 @@ def _value(expr: Z3Expr) -> Fraction | bool:
 
 
 def check(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     *,
     rlimit: int = DEFAULT_RLIMIT,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
@@ -279,7 +278,7 @@ def check(
     outcome = SolverOutcome("sat")
     active = active_constraints(problem, outcome)
     outcome.nonlinear = nonlinear(active)
-    model = quick.find_model(problem.variables, [c.term for c in active])
+    model = propagate.find_model(problem.variables, [c.term for c in active])
     if model is not None:
         outcome.values = model
         outcome.method = "propagation"
@@ -289,7 +288,7 @@ def check(
 
 
 def solve(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     *,
     seed: int | None = None,
     rlimit: int = DEFAULT_RLIMIT,
@@ -313,7 +312,7 @@ def solve(
 
 
 def _solve(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     outcome: SolverOutcome,
     active: list[ir.Constraint],
     seed: int | None,
@@ -321,8 +320,8 @@ def _solve(
     timeout_ms: int,
     ctx: Z3Context,
 ) -> SolverOutcome:
-    z3 = _z3()
-    enc = _Encoder(problem, ctx)
+    z3 = load_z3()
+    enc = Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("core.minimize", True)
     solver.set("rlimit", rlimit)
@@ -382,7 +381,7 @@ def _solve(
 
 def _minimal_core(solver: Any, core: list[Z3Expr]) -> list[Z3Expr]:
     """Drop core members one by one while the rest stays unsatisfiable."""
-    z3 = _z3()
+    z3 = load_z3()
     needed = list(core)
     i = 0
     while i < len(needed) and len(needed) > 1:
@@ -399,9 +398,9 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
     found: dict[str, list[Fraction | None]] = {}
     conjuncts: list[ir.Term] = []
     for constraint in active:
-        quick._conjuncts(constraint.term, conjuncts)
+        propagate.split_conjuncts(constraint.term, conjuncts)
     for term in conjuncts:
-        atom = quick._atom(term)
+        atom = propagate.atom_of(term)
         if len(atom.names) != 1:
             continue
         name = atom.names[0]
@@ -414,7 +413,7 @@ def bounds(active: list[ir.Constraint]) -> dict[str, tuple[Fraction | None, Frac
             coeffs, constant = atom.form
             c = coeffs[name]
             bound = -constant / c
-            op = atom.op if c > 0 else quick._FLIP[atom.op]
+            op = atom.op if c > 0 else propagate.FLIPPED[atom.op]
             candidates = (
                 [(bound, ">="), (bound, "<=")]
                 if op == "=="
@@ -444,7 +443,7 @@ class Sampler:
     satisfies them; one that equations fix keeps its value, and is a constant in the
     other constraints (``ttc0: time = 4s`` makes ``gap == closing * ttc0`` linear). The
     others ("linked") are drawn by propagation, each at random inside the bounds that
-    the values drawn before leave it (``quick.find_model`` with a seeded generator: no
+    the values drawn before leave it (``propagate.find_model`` with a seeded generator: no
     solver, and checked exactly); a variable that an equation defines from others
     (``gap`` there) is drawn last, so it follows from the values drawn for the others
     instead of cornering them on a bound. Only when that fails does z3 come in:
@@ -460,13 +459,13 @@ class Sampler:
 
     def __init__(
         self,
-        problem: ir.ConstraintProblem,
+        problem: ConstraintProblem,
         active: list[ir.Constraint],
         base: dict[str, Fraction | bool],
         *,
         timeout_ms: int = DEFAULT_TIMEOUT_MS,
         rlimit: int = DEFAULT_RLIMIT,
-        enc: _Encoder | None = None,
+        enc: Encoder | None = None,
     ):
         self.problem = problem
         self.active = active
@@ -484,12 +483,12 @@ class Sampler:
                 self.alone.setdefault(next(iter(names)), []).append(c.term)
             else:
                 linked.update(names)
-        fixed = self.fixed = quick.determined([c.term for c in active])
+        fixed = self.fixed = propagate.determined([c.term for c in active])
         self.linked = [n for n in self.order if n in linked and n not in fixed]
         self.linked_set = set(self.linked)
         # constants (a field's `= value`, `keep(p == 4s)`) are folded in: a product with
         # one is linear, for the propagation and for z3
-        self.folded = [quick.fold(c.term, fixed) for c in active]
+        self.folded = [propagate.fold(c.term, fixed) for c in active]
         # an equation between unknowns makes one of them follow from the others: only
         # the others get a target (fewer terms to minimise, the same spread), and they
         # are drawn first
@@ -497,15 +496,15 @@ class Sampler:
         self.aimed = [n for n in self.linked if n not in follows]
         # which `one_of` member runs is drawn first: the start it needs follows from it
         choices = [n for n in self.order if is_one_of_choice(n)]
-        self.terms = quick.Prepared(self.folded, first=choices)
+        self.terms = propagate.Prepared(self.folded, first=choices)
 
     def _optimizer(self) -> Any:
         """The ``Optimize`` of the fallback, with |x - target| for each aimed real x."""
         if self.opt is not None:
             return self.opt
-        z3 = _z3()
+        z3 = load_z3()
         if self.enc is None:
-            self.enc = _Encoder(self.problem, new_context())
+            self.enc = Encoder(self.problem, new_context())
         enc = self.enc
         opt = self.opt = z3.Optimize(ctx=enc.ctx)
         opt.set("timeout", self.timeout_ms)
@@ -566,12 +565,12 @@ class Sampler:
                 values[name] = Fraction(-1) if is_string else targets[name]  # -1: any string
                 continue
             own = self.alone.get(name, ())
-            if all(quick.evaluate(t, {name: targets[name]}) is True for t in own):
+            if all(propagate.evaluate(t, {name: targets[name]}) is True for t in own):
                 values[name] = targets[name]
         if not self.linked:
             return values
         for attempt in range(self.TRIES):
-            drawn = quick.find_model(
+            drawn = propagate.find_model(
                 self.problem.variables,
                 self.terms,
                 random.Random(f"{seed}/{attempt}"),
@@ -580,7 +579,7 @@ class Sampler:
             if drawn is not None:
                 values.update((name, drawn[name]) for name in self.linked)
                 return values
-        z3 = _z3()
+        z3 = load_z3()
         opt = self._optimizer()
         assert self.enc is not None  # made with the optimizer
         opt.push()
@@ -608,12 +607,12 @@ def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[s
     one side that the other side does not mention."""
     conjuncts: list[ir.Term] = []
     for t in terms:
-        quick._conjuncts(t, conjuncts)
+        propagate.split_conjuncts(t, conjuncts)
     dependent: set[str] = set()
     for term in conjuncts:
         if not (isinstance(term, ir.Op) and term.op == "=="):
             continue
-        atom = quick._atom(term)
+        atom = propagate.atom_of(term)
         free = [n for n in atom.names if n not in fixed and n not in dependent]
         if not free:  # none left: it follows from unknowns that follow from others
             continue
@@ -634,15 +633,15 @@ def _dependent(terms: list[ir.Term], fixed: dict[str, Fraction | bool]) -> set[s
 
 
 def never_holds(
-    problem: ir.ConstraintProblem,
+    problem: ConstraintProblem,
     active: list[ir.Constraint],
     term: ir.Term,
     rlimit: int = DEFAULT_RLIMIT,
 ) -> bool:
     """Whether ``term`` is false in every model of the active constraints."""
-    z3 = _z3()
+    z3 = load_z3()
     ctx = new_context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     solver.set("rlimit", rlimit)
     for c in active:

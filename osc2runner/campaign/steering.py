@@ -28,6 +28,7 @@ from osc2check.syntax import ast
 from osc2check.syntax.ast import NameRef as _NameRef
 from osc2check.verify import bins, ir
 from osc2check.verify.check import ScenarioResult, source_text
+from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.witness import Witness
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.coverage import CoverageBucket, CoverageItem
@@ -66,7 +67,7 @@ class SteerableItem:
     (``reason`` says why not otherwise)."""
 
     item: CoverageItem
-    problem: ir.ConstraintProblem | None = None
+    problem: ConstraintProblem | None = None
     term: ir.Term | None = None
     reason: str = ""
     components: list[SteerableItem] = field(default_factory=list)  # of a cross item

@@ -53,7 +53,7 @@ class Frame:
     """One scenario instance being compiled: the root scenario, or one that it invokes.
 
     ``path`` names the instance as the checker's witness does (``""`` for the root,
-    ``hero.cut_in@12`` for an invocation: ``osc2check.verify.lower.invocation_path``);
+    ``hero.cut_in@12`` for an invocation: ``osc2check.verify.terms.invocation_path``);
     ``fields`` are the closures of the instance's own parameters, actor parameters
     and variables; ``at_start`` the invocations of its behaviour that begin at time 0
     (the witness realised their ``at: start`` modifiers).

@@ -30,7 +30,7 @@ from osc2check.semantics.phases import enum_word, is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify.lower import invocation_path, join_path, one_of_choice
+from osc2check.verify.terms import invocation_path, join_path, one_of_choice
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
 from osc2runner.compile.composites import (
@@ -426,7 +426,7 @@ class TreeCompiler:
 
     def _chosen_member(self, name: str) -> int | None:
         """The acting member of a ``one_of`` the witness chose (the placement placed the
-        actors for it: ``verify.lower.one_of_choice``), or None (the seed chooses)."""
+        actors for it: ``verify.terms.one_of_choice``), or None (the seed chooses)."""
         chosen = self.env.values.witness.parameter(name)
         if chosen is None or isinstance(chosen.value, bool):
             return None
@@ -775,7 +775,7 @@ class TreeCompiler:
         (as the checker bound them; with ``defaults``, the declared defaults of those not
         given too), and its duration. A range given where a scalar is expected is one
         value the solver chose from it (``keep(p in r)``): the witness's, under the
-        call's instance ``path`` (as ``verify.lower`` names it)."""
+        call's instance ``path`` (as ``verify.terms`` names it)."""
         binding = self._binding(call)
         if binding.events:
             raise CompileProblem("event arguments are not supported here", binding.events[0])

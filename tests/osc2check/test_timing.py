@@ -28,7 +28,9 @@ from hypothesis import strategies as st
 from osc2check.analysis import SourceInput, analyze
 from osc2check.semantics.phases import ENDLESS_ACTIONS, ENDS_WITH_FIRST, INSTANT_ACTIONS
 from osc2check.verify import timing
-from osc2check.verify.z3_backend import DEFINITION, SolverOutcome, _Encoder, active_constraints
+from osc2check.verify.api import solve
+from osc2check.verify.witness import Witness
+from osc2check.verify.z3_backend import DEFINITION, Encoder, SolverOutcome, active_constraints
 
 URI = "timing.osc"
 TIMING_FAILURES = (
@@ -145,6 +147,29 @@ def test_a_conflict_with_a_parameter_names_its_keep():
     assert "`hero.drive(duration: d)`" in found.message
 
 
+def test_timing_and_placement_share_the_choice_of_a_one_of():
+    """Only the second member of the `one_of` fits in the serial's 2 s, and each member
+    starts ``hero`` in its own lane: every witness chooses the second member once, for
+    the timing and the start placement alike (one choice variable)."""
+    text = scenario(
+        "serial(duration: 2s):\n"
+        "    one_of:\n"
+        "        hero.drive(duration: 3s) with:\n"
+        "            lane(1, at: start)\n"
+        "        hero.drive(duration: 1s) with:\n"
+        "            lane(2, at: start)"
+    )
+    analysis, errors = check(text)
+    assert not errors
+    for seed in range(6):
+        witness = solve(analysis, seed=seed)
+        assert isinstance(witness, Witness)
+        choices = [p for p in witness.parameters if p.name.startswith("one_of@")]
+        assert [(p.name, p.text) for p in choices] == [("one_of@6:9.member", "1")], seed
+        hero = witness.actor("hero")
+        assert hero is not None and hero.lane == 2, seed
+
+
 def test_a_parallel_start_offset_is_not_verified():
     text = scenario("parallel(start_to_start: 1s):\n    wait elapsed(1s)\n    wait elapsed(2s)")
     analysis, errors = check(text)
@@ -203,7 +228,7 @@ def minimal(text: str) -> None:
         assert all(c.kind != DEFINITION for c in members)
         for left_out in members:
             ctx = z3.Context()
-            enc = _Encoder(problem, ctx)
+            enc = Encoder(problem, ctx)
             solver = z3.Solver(ctx=ctx)
             for c in [*definitions, *(m for m in members if m is not left_out)]:
                 solver.add(enc.term(c.term))

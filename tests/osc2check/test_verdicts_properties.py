@@ -42,7 +42,7 @@ from osc2check.verify import ir
 from osc2check.verify.api import solve
 from osc2check.verify.check import with_reasons
 from osc2check.verify.witness import Witness
-from osc2check.verify.z3_backend import SolverOutcome, _Encoder, active_constraints, fallbacks
+from osc2check.verify.z3_backend import Encoder, SolverOutcome, active_constraints, fallbacks
 from osc2check.world.catalogue import CATEGORIES
 
 SETTINGS = settings(
@@ -265,7 +265,7 @@ def satisfiable(problem, members) -> bool:
     """Whether ``members`` can hold together, with the fallbacks that hold when no member
     mentions their variable (a vehicle is a car when nothing says otherwise)."""
     ctx = z3.Context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     solver = z3.Solver(ctx=ctx)
     for c in members:
         solver.add(enc.term(c.term))

@@ -22,8 +22,9 @@ import z3
 import osc2check
 from osc2check import cli
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
-from osc2check.verify import ir, quick
-from osc2check.verify.lower import in_range
+from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.terms import in_range
 from osc2check.verify.z3_backend import Sampler, SolverOutcome, active_constraints, check, solve
 
 CASES = Path(__file__).resolve().parent / "cases"
@@ -65,8 +66,8 @@ HEADER = "import osc.standard\n\n"
 # --- the IR and the backend ---------------------------------------------------------------
 
 
-def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ir.ConstraintProblem:
-    p = ir.ConstraintProblem("p", span(1))
+def problem_of(*constraints: tuple[ir.Term, str], variables=()) -> ConstraintProblem:
+    p = ConstraintProblem("p", span(1))
     for v in variables:
         p.variables[v.name] = v
     for line, (term, kind) in enumerate(constraints, start=2):
@@ -119,21 +120,20 @@ def test_check_finds_easy_models_without_z3_and_sends_the_rest_to_it():
 def test_quick_holds_is_true_false_or_none_when_the_term_cannot_be_evaluated():
     x = ir.Var("x", "real")
     positive = ir.op(">", ir.Ref(x), ir.const(0))
-    assert quick.holds(positive, {"x": Fraction(1)}) is True
-    assert quick.holds(positive, {"x": Fraction(-1)}) is False
-    assert quick.holds(positive, {}) is None  # x has no value
+    assert propagate.holds(positive, {"x": Fraction(1)}) is True
+    assert propagate.holds(positive, {"x": Fraction(-1)}) is False
+    assert propagate.holds(positive, {}) is None  # x has no value
+    reciprocal = ir.op(">", ir.op("/", ir.const(1), ir.Ref(x)), ir.const(0))
+    assert propagate.holds(reciprocal, {"x": 0}) is None
     assert (
-        quick.holds(ir.op(">", ir.op("/", ir.const(1), ir.Ref(x)), ir.const(0)), {"x": 0}) is None
-    )
-    assert (
-        quick.holds(ir.op("+", ir.Ref(x), ir.const(1)), {"x": Fraction(0)}) is False
+        propagate.holds(ir.op("+", ir.Ref(x), ir.const(1)), {"x": Fraction(0)}) is False
     )  # 1, not True
 
 
 def test_an_integer_equation_with_a_fractional_solution_is_not_a_quick_model():
     n = ir.Var("n", "int")
     terms = [ir.op("==", ir.op("*", ir.const(2), ir.Ref(n)), ir.const(3))]
-    assert quick.find_model({"n": n}, terms) is None
+    assert propagate.find_model({"n": n}, terms) is None
     p = problem_of((terms[0], "keep"), variables=(n,))
     assert check(p).status == "unsat"
 
@@ -151,10 +151,31 @@ def test_ranges_hold_in_either_order_even_with_parameter_bounds():
     assert solve(p).status == "sat"
 
 
+FLOW = """\
+import osc.standard
+
+scenario top:
+    hero: vehicle
+    event stop_signal
+    do serial:
+        hero.drive(duration: 2s) with:
+            lane(1, at: start)
+        wait @stop_signal
+"""
+
+
+@pytest.mark.parametrize("verify", [True, False])
+def test_flow_findings_come_once_with_or_without_the_solver(verify: bool):
+    # the flow needs no solver: the editor's analysis between keystrokes has it too
+    analysis = analyze([SourceInput("flow.osc", FLOW)], AnalysisOptions(verify=verify))
+    assert [(str(d.code), d.span.line) for d in analysis.diagnostics] == [("B601", 9)]
+    assert ("flow.osc" in analysis.verified) is verify
+
+
 def test_override_rule_on_the_ir():
     """A default yields to a hard `==`/`in` on its parameter alone and to remove_default."""
     x, y, z_ = ir.Var("x", "real"), ir.Var("y", "real"), ir.Var("z", "real")
-    p = ir.ConstraintProblem("p", span(1))
+    p = ConstraintProblem("p", span(1))
     for v in (x, y, z_):
         p.variables[v.name] = v
     dx = ir.Constraint(ir.op("==", ir.Ref(x), ir.const(1)), span(2), "default", "dx", "default", x)
@@ -663,9 +684,9 @@ def test_samples_reuse_one_optimizer_and_keep_free_variables_in_their_bounds():
         variables=(x, y, free),
     )
     first = solve(p, seed=1).values
-    from osc2check.verify.z3_backend import _Encoder
+    from osc2check.verify.z3_backend import Encoder
 
-    enc = _Encoder(p, z3.Context())
+    enc = Encoder(p, z3.Context())
     active = active_constraints(p, SolverOutcome("sat"))
     sampler = Sampler(p, active, first, enc=enc)
     samples = [sampler.sample(seed) for seed in range(8)]

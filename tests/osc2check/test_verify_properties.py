@@ -19,9 +19,10 @@ from hypothesis import strategies as st
 
 from osc2check.analysis import SourceInput, analyze
 from osc2check.source import Span
-from osc2check.verify import ir, quick
-from osc2check.verify.lower import in_range
-from osc2check.verify.z3_backend import _Encoder, check, solve
+from osc2check.verify import ir, propagate
+from osc2check.verify.problem import ConstraintProblem
+from osc2check.verify.terms import in_range
+from osc2check.verify.z3_backend import Encoder, check, solve
 
 IR_SETTINGS = settings(
     derandomize=True, max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow]
@@ -43,7 +44,7 @@ def holds(op: str, a: Fraction, b: Fraction) -> bool:
 @st.composite
 def modelled(draw):
     """(problem, model): a random constraint set and values that satisfy it."""
-    problem = ir.ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
+    problem = ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
     model: dict[str, Fraction] = {}
     variables = []
     for i in range(draw(st.integers(1, 4))):  # physical parameters (speeds, in m/s)
@@ -92,22 +93,22 @@ def modelled(draw):
             items = [model[v.name], *(Fraction(o) for o in others)]
             items = draw(st.permutations(items))
             term = ir.op("or", *(ir.op("==", ir.Ref(v), ir.const(x)) for x in items))
-        assert quick.evaluate(term, model) is True
+        assert propagate.evaluate(term, model) is True
         problem.add(ir.Constraint(term, Span("t.osc", line, 5, line, 9), "keep", f"c{line}"))
         line += 1
     return problem, model
 
 
-def add(problem: ir.ConstraintProblem, term: ir.Term, text: str) -> ir.Constraint:
+def add(problem: ConstraintProblem, term: ir.Term, text: str) -> ir.Constraint:
     line = len(problem.constraints) + 2
     c = ir.Constraint(term, Span("t.osc", line, 5, line, 9), "keep", text)
     problem.add(c)
     return c
 
 
-def satisfiable(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> bool:
+def satisfiable(problem: ConstraintProblem, members: list[ir.Constraint]) -> bool:
     ctx = z3.Context()
-    enc = _Encoder(problem, ctx)
+    enc = Encoder(problem, ctx)
     s = z3.Solver(ctx=ctx)
     for c in members:
         s.add(enc.term(c.term))
@@ -116,7 +117,7 @@ def satisfiable(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> 
     return result == z3.sat
 
 
-def assert_minimal(problem: ir.ConstraintProblem, members: list[ir.Constraint]) -> None:
+def assert_minimal(problem: ConstraintProblem, members: list[ir.Constraint]) -> None:
     assert not satisfiable(problem, members)
     for i in range(len(members)):
         assert satisfiable(problem, members[:i] + members[i + 1 :]), members[i].text
@@ -130,9 +131,9 @@ def test_a_set_built_from_a_model_is_never_unsatisfiable(case):
     terms = [c.term for c in problem.constraints]
     for outcome in (check(problem), solve(problem), solve(problem, seed=7)):
         assert outcome.status == "sat"
-        assert all(quick.evaluate(t, outcome.values) is True for t in terms)
-    found = quick.find_model(problem.variables, terms)
-    assert found is None or all(quick.evaluate(t, found) is True for t in terms)
+        assert all(propagate.evaluate(t, outcome.values) is True for t in terms)
+    found = propagate.find_model(problem.variables, terms)
+    assert found is None or all(propagate.evaluate(t, found) is True for t in terms)
 
 
 @pytest.mark.slow
@@ -287,7 +288,7 @@ def test_quotients_and_remainders_are_the_evaluators(a, b, sort, bound):
     divides by zero, and ``n`` fixed to 0 makes the constraints unsatisfiable."""
     from osc2check.semantics.constants import arithmetic
 
-    problem = ir.ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
+    problem = ConstraintProblem("p", Span("t.osc", 1, 1, 1, 2))
     n = problem.var("n", sort)
     q = problem.var("q", "real")
     r = problem.var("r", sort)
@@ -303,4 +304,4 @@ def test_quotients_and_remainders_are_the_evaluators(a, b, sort, bound):
     assert values["n"] != 0
     assert values["q"] == arithmetic("/", a, values["n"])
     assert values["r"] == arithmetic("%", a, values["n"])
-    assert all(quick.evaluate(c.term, values) is True for c in problem.constraints)
+    assert all(propagate.evaluate(c.term, values) is True for c in problem.constraints)

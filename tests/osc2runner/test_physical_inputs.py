@@ -91,14 +91,14 @@ def test_the_runner_refuses_constants_that_the_checker_did_not_see(tmp_path, mon
     """Its own check at compile time stays: a witness made elsewhere may carry any value.
     With the checker's argument limits left out, the runner refuses the constant at the
     argument, before anything runs."""
-    from osc2check.verify import lower
+    from osc2check.verify import parameters
     from osc2runner.behaviours.environment import friction_problem
 
     assert friction_problem(1e9) == "road friction must be in (0, 2], got 1e+09"
     assert friction_problem(0.0) == "road friction must be in (0, 2], got 0"
     assert friction_problem(2.0) is None and friction_problem(0.05) is None
     assert friction_problem(float("nan")) is not None
-    monkeypatch.setattr(lower, "ARGUMENT_LIMITS", {})
+    monkeypatch.setattr(parameters, "ARGUMENT_LIMITS", {})
     for action, column, message in (
         ("set_road_friction(value: 1e9)", 38, "road friction must be in (0, 2], got 1e+09"),
         ("rain(intensity: -5mmph)", 29, "rain intensity must be finite and not negative"),

@@ -24,7 +24,8 @@ from fractions import Fraction
 from osc2check.verify import ir
 
 Linear = tuple[dict[str, Fraction], Fraction]  # sum of coefficient * variable, plus constant
-_FLIP = {"<": ">", "<=": ">=", ">": "<", ">=": "<=", "==": "==", "!=": "!="}
+# each comparison with its sides swapped
+FLIPPED = {"<": ">", "<=": ">=", ">": "<", ">=": "<=", "==": "==", "!=": "!="}
 _MAX_STEPS = 10_000
 _ZERO, _ONE = Fraction(0), Fraction(1)
 
@@ -135,7 +136,7 @@ def evaluate(term: ir.Term, values: Mapping[str, Fraction | bool]) -> Fraction |
     raise ValueError(f"unknown operator {op}")
 
 
-class _Atom:
+class Atom:
     """One conjunct: ``form op 0`` (linear), a finite set of values of one variable,
     a boolean literal, or anything else (only checked at the end). An equation that is
     not linear keeps its ``term``: once all but one of its unknowns have values it may
@@ -165,16 +166,18 @@ class _Atom:
         self.term = term
 
 
-def _conjuncts(term: ir.Term, out: list[ir.Term]) -> None:
+def split_conjuncts(term: ir.Term, out: list[ir.Term]) -> None:
+    """Append the conjuncts of ``term`` (its arguments, when it is an `and`) to ``out``."""
     if isinstance(term, ir.Op) and term.op == "and":
         for a in term.args:
-            _conjuncts(a, out)
+            split_conjuncts(a, out)
     else:
         out.append(term)
 
 
-def _atom(term: ir.Term) -> _Atom:
-    if isinstance(term, ir.Op) and term.op in _FLIP:  # the common `x op constant`
+def atom_of(term: ir.Term) -> Atom:
+    """``term`` as an :class:`Atom`."""
+    if isinstance(term, ir.Op) and term.op in FLIPPED:  # the common `x op constant`
         left, right = term.args
         if (
             isinstance(left, ir.Ref)
@@ -183,7 +186,7 @@ def _atom(term: ir.Term) -> _Atom:
             and not isinstance(right.value, bool)
         ):
             name = left.var.name
-            return _Atom(
+            return Atom(
                 "eq" if term.op == "==" else "cmp",
                 (name,),
                 form=({name: _ONE}, -right.value),
@@ -191,15 +194,15 @@ def _atom(term: ir.Term) -> _Atom:
             )
     names = tuple(sorted(ir.names(term)))
     if isinstance(term, ir.Ref) and term.var.sort == "bool":
-        return _Atom("bool", names, var=term.var.name, values=(True,))
+        return Atom("bool", names, var=term.var.name, values=(True,))
     if isinstance(term, ir.Op):
         if (
             term.op == "not"
             and isinstance(term.args[0], ir.Ref)
             and term.args[0].var.sort == "bool"
         ):
-            return _Atom("bool", names, var=term.args[0].var.name, values=(False,))
-        if term.op in _FLIP:
+            return Atom("bool", names, var=term.args[0].var.name, values=(False,))
+        if term.op in FLIPPED:
             left, right = term.args
             if (
                 term.op == "=="
@@ -208,14 +211,14 @@ def _atom(term: ir.Term) -> _Atom:
                 and isinstance(right, ir.Const)
                 and isinstance(right.value, bool)
             ):
-                return _Atom("bool", names, var=left.var.name, values=(right.value,))
+                return Atom("bool", names, var=left.var.name, values=(right.value,))
             a, b = linear(left), linear(right)
             if a is not None and b is not None:
                 form = dict(a[0])
                 for v, c in b[0].items():
                     form[v] = form.get(v, _ZERO) - c
                 form = {v: c for v, c in form.items() if c}
-                return _Atom(
+                return Atom(
                     "eq" if term.op == "==" else "cmp",
                     tuple(sorted(form)),
                     form=(form, a[1] - b[1]),
@@ -233,10 +236,10 @@ def _atom(term: ir.Term) -> _Atom:
                     break
                 values.append(alt.args[1].value)
             else:
-                return _Atom("set", names, var=names[0], values=tuple(values))
+                return Atom("set", names, var=names[0], values=tuple(values))
         if term.op in ("==", "or"):
-            return _Atom("other", names, term=term)
-    return _Atom("other", names)
+            return Atom("other", names, term=term)
+    return Atom("other", names)
 
 
 def _van_der_corput(k: int) -> Fraction:
@@ -309,11 +312,11 @@ class Prepared:
     ):
         self.conjuncts: list[ir.Term] = []
         for t in terms:
-            _conjuncts(t, self.conjuncts)
-        self.atoms = [_atom(t) for t in self.conjuncts]
+            split_conjuncts(t, self.conjuncts)
+        self.atoms = [atom_of(t) for t in self.conjuncts]
         if any(a.kind == "other" for a in self.atoms):
             self.atoms = _folded(self.conjuncts, self.atoms)
-        self.by_var: dict[str, list[_Atom]] = {}
+        self.by_var: dict[str, list[Atom]] = {}
         order: list[str] = []
         for a in self.atoms:
             for name in a.names:
@@ -386,7 +389,7 @@ def find_model(
                 continue
             if a.kind == "other":  # an equation linear in its last unknown, or left to check
                 assert a.term is not None  # only equations are made ready
-                solved = _atom(fold(a.term, values))
+                solved = atom_of(fold(a.term, values))
                 if solved.kind != "eq" or solved.names != (name,):
                     continue
                 a = solved
@@ -419,7 +422,7 @@ def find_model(
 def _choose(
     var: ir.Var | None,
     name: str,
-    atoms: list[_Atom],
+    atoms: list[Atom],
     values: dict[str, Fraction | bool],
     where: Fraction,
     rng: random.Random | None = None,
@@ -456,7 +459,7 @@ def _choose(
         else:
             rest = constant + sum(k * values[v] for v, k in coeffs.items() if v != name)
             bound = -rest / c
-        op = a.op if c > 0 else _FLIP[a.op]
+        op = a.op if c > 0 else FLIPPED[a.op]
         if op == "!=":
             excluded.add(bound)
         elif op == "==":
@@ -507,7 +510,7 @@ def _choose(
     return next((x for x in candidates if fits(x)), None)
 
 
-def _folded(conjuncts: list[ir.Term], atoms: list[_Atom]) -> list[_Atom]:
+def _folded(conjuncts: list[ir.Term], atoms: list[Atom]) -> list[Atom]:
     """``atoms`` with each non-linear one replaced by the atoms of its conjunct folded with
     the values that equations fix (``determined``): constants, for what follows."""
     known = _propagated([a for a in atoms if a.kind in ("eq", "bool")])
@@ -515,14 +518,15 @@ def _folded(conjuncts: list[ir.Term], atoms: list[_Atom]) -> list[_Atom]:
         a.unknown = len(a.names)  # as propagation found them
     if not known:
         return atoms
-    result: list[_Atom] = []
+    result: list[Atom] = []
     for c, a in zip(conjuncts, atoms, strict=True):
         if a.kind != "other" or not any(n in known for n in a.names):
             result.append(a)
             continue
         parts: list[ir.Term] = []
-        _conjuncts(fold(c, known), parts)
-        result.extend(_atom(p) for p in parts if not (isinstance(p, ir.Const) and p.value is True))
+        split_conjuncts(fold(c, known), parts)
+        kept = (p for p in parts if not (isinstance(p, ir.Const) and p.value is True))
+        result.extend(atom_of(p) for p in kept)
     return result
 
 
@@ -530,13 +534,13 @@ def determined(terms: list[ir.Term]) -> dict[str, Fraction | bool]:
     """The values that equations fix by propagation from constants alone (no choices)."""
     conjuncts: list[ir.Term] = []
     for t in terms:
-        _conjuncts(t, conjuncts)
-    return _propagated([a for a in map(_atom, conjuncts) if a.kind in ("eq", "bool")])
+        split_conjuncts(t, conjuncts)
+    return _propagated([a for a in map(atom_of, conjuncts) if a.kind in ("eq", "bool")])
 
 
-def _propagated(atoms: list[_Atom]) -> dict[str, Fraction | bool]:
+def _propagated(atoms: list[Atom]) -> dict[str, Fraction | bool]:
     """The values that the equations and boolean literals ``atoms`` fix by propagation."""
-    by_var: dict[str, list[_Atom]] = {}
+    by_var: dict[str, list[Atom]] = {}
     for a in atoms:
         for name in a.names:
             by_var.setdefault(name, []).append(a)
