@@ -35,15 +35,8 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from osc2runner.sim.vehicle import (
-    GRAVITY,
-    _f,
-    _vec,
-    corner_xml,
-    drag_forces,
-    free_body_state,
-    yaw_quat,
-)
+from osc2runner.sim.mjcf import GRAVITY, corner_xml, num, vec, yaw_quat
+from osc2runner.sim.vehicle import drag_forces, free_body_state
 
 __all__ = [
     "TRAILER_WHEELS",
@@ -153,17 +146,17 @@ def trailer_body_xml(
     load = p.static_wheel_load
     support_z = SUPPORT_CLEARANCE + SUPPORT_RADIUS - p.h_cog
     lines = [
-        f'<body name="{prefix}" pos="{_vec(x, y, p.h_cog)}" quat="{_vec(*yaw_quat(yaw))}">',
+        f'<body name="{prefix}" pos="{vec(x, y, p.h_cog)}" quat="{vec(*yaw_quat(yaw))}">',
         f'  <freejoint name="{prefix}_root"/>',
-        f'  <inertial pos="{_vec(p.cog, 0, 0)}" mass="{_f(p.chassis_mass)}" '
-        f'diaginertia="{_vec(*p.inertia)}"/>',
-        f'  <geom name="{prefix}_chassis" type="box" size="{_vec(*chassis_half)}" '
-        f'pos="{_vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
+        f'  <inertial pos="{vec(p.cog, 0, 0)}" mass="{num(p.chassis_mass)}" '
+        f'diaginertia="{vec(*p.inertia)}"/>',
+        f'  <geom name="{prefix}_chassis" type="box" size="{vec(*chassis_half)}" '
+        f'pos="{vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
         f'group="1" mass="0"/>',
-        f'  <site name="{prefix}_coupler" pos="{_vec(p.coupler, 0, p.coupler_height - p.h_cog)}"/>',
-        f'  <geom name="{prefix}_support" type="sphere" size="{_f(SUPPORT_RADIUS)}" '
-        f'pos="{_vec(p.coupler - 0.3, 0, support_z)}" condim="3" priority="1" contype="1" '
-        f'conaffinity="0" friction="{_f(SUPPORT_FRICTION)} 0.005 0.0001" group="2" mass="0"/>',
+        f'  <site name="{prefix}_coupler" pos="{vec(p.coupler, 0, p.coupler_height - p.h_cog)}"/>',
+        f'  <geom name="{prefix}_support" type="sphere" size="{num(SUPPORT_RADIUS)}" '
+        f'pos="{vec(p.coupler - 0.3, 0, support_z)}" condim="3" priority="1" contype="1" '
+        f'conaffinity="0" friction="{num(SUPPORT_FRICTION)} 0.005 0.0001" group="2" mass="0"/>',
     ]
     for wheel, side in zip(TRAILER_WHEELS, (1.0, -1.0), strict=True):
         lines += corner_xml(f"{prefix}_{wheel}", p, p.axle, side * 0.5 * p.track, load)
@@ -176,7 +169,7 @@ def hitch_equality_xml(tow: str, trailer: str, active: bool) -> str:
     return (
         f'<connect name="{tow}_tows_{trailer}" site1="{tow}_receiver" '
         f'site2="{trailer}_coupler" active="{str(active).lower()}" '
-        f'solref="{_f(HITCH_TIMECONST)} 1"/>'
+        f'solref="{num(HITCH_TIMECONST)} 1"/>'
     )
 
 
