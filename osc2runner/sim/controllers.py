@@ -54,7 +54,7 @@ from osc2check.world.tracking import PathCursor
 from osc2runner.sim.tracking import PathTracker, stanley_steer
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
-from osc2runner.sim.world import ActorState, VehicleInput
+from osc2runner.sim.state import ActorState, VehicleInput
 
 __all__ = [
     "LateralPath",

@@ -28,19 +28,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numpy as np
-
 from osc2runner.sim.mjcf import GRAVITY, SteerHinge, corner_xml, num, vec, yaw_quat
 
 __all__ = [
     "GRAVITY",
     "WHEELS",
-    "FreeBodyState",
     "ObstacleParams",
     "PedestrianParams",
     "VehicleParams",
-    "drag_forces",
-    "free_body_state",
     "hgv",
     "obstacle_xml",
     "pedestrian_xml",
@@ -306,40 +301,6 @@ def vehicle_body_xml(
         lines += corner_xml(f"{prefix}_{wheel}", p, cx, cy, load, hinge)
     lines.append("</body>")
     return "\n".join(lines)
-
-
-#: planar state of n free-joint bodies, arrays of n rows: position (n, 2), yaw, world
-#: velocity (n, 3), yaw rate, cos and sin of yaw, speed along the heading and left of it
-FreeBodyState = tuple[
-    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
-]
-
-
-def free_body_state(q: np.ndarray, v: np.ndarray) -> FreeBodyState:
-    """The planar state from free-joint ``qpos`` rows ``q`` (n, 7) and ``qvel`` rows ``v``
-    (n, 6): yaw from the quaternion, speeds along and across the heading (see
-    :data:`FreeBodyState` for the order)."""
-    w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
-    yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-    c, s = np.cos(yaw), np.sin(yaw)
-    # a plain tuple: read per tick, and a named one costs more to make
-    return (
-        q[:, :2],
-        yaw,
-        v[:, :3],
-        v[:, 5],
-        c,
-        s,
-        v[:, 0] * c + v[:, 1] * s,
-        -v[:, 0] * s + v[:, 1] * c,
-    )
-
-
-def drag_forces(coefficient: np.ndarray, vel: np.ndarray) -> np.ndarray:
-    """Aerodynamic drag (n, 2) on bodies moving at world velocities ``vel`` (n, >= 2):
-    ``coefficient`` (0.5 rho Cd A per body) times the speed squared, against the motion."""
-    result: np.ndarray = -(coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
-    return result
 
 
 def vehicle_actuator_xml(prefix: str, p: VehicleParams) -> str:
