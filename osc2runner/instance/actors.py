@@ -83,8 +83,10 @@ class Actor:
 
 def actor_kind(model: Model, type_symbol: Symbol) -> str:
     """``vehicle``, ``pedestrian``, ``obstacle``, ``environment``, ``map`` or ``other`` (a
-    vehicle whose catalogue row is a trailer becomes ``trailer`` once it has its row)."""
-    names = [s.name for s in model.ancestors(type_symbol)]
+    vehicle whose catalogue row is a trailer becomes ``trailer`` once it has its row). Only
+    the standard library's types count, as for the checker's placement: a file's own
+    ``actor vehicle`` is ``other``, an actor without a body."""
+    names = [s.name for s in model.ancestors(type_symbol) if s.library]
     for base, kind in _KINDS:
         if base in names:
             return kind

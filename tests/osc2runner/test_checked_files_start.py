@@ -82,31 +82,10 @@ def test_example_compiles_and_starts_or_is_refused_with_the_checkers_findings(pa
     _agree(path)
 
 
-#: Known disagreements, not fixed yet (strict: a fix makes the test say so). Scena's
-#: DSL 2.2 cases declare their own actor types without the standard library: the
-#: witness places no actor of such a type, and the runner refuses to start one.
-_NO_START = "the runner refuses an actor of a user actor type the witness does not place"
-KNOWN = {
-    **{
-        f"scena-2.2/cases/resolve_{n}.osc": _NO_START
-        for n in ("0031", "0032", "0038", "0040", "0041", "0043", "0058")
-    },
-    **{
-        f"scena-2.2/expr/host_{n}.osc": _NO_START
-        for n in ("001", "002", "006", "007", "009", "023")
-    },
-}
-
-
-def _conformance(path: Path):  # type: ignore[no-untyped-def]
-    known = KNOWN.get(str(path.relative_to(CONFORMANCE)))
-    return pytest.param(path, marks=pytest.mark.xfail(reason=known, strict=True)) if known else path
-
-
 @pytest.mark.skipif(not CONFORMANCE_FILES, reason=f"no conformance files at {CONFORMANCE}")
 @pytest.mark.parametrize(
     "path",
-    [_conformance(p) for p in CONFORMANCE_FILES],
+    CONFORMANCE_FILES,
     ids=lambda p: str(p.relative_to(CONFORMANCE)),
 )
 def test_conformance_file_compiles_and_starts_or_is_refused_with_the_checkers_findings(

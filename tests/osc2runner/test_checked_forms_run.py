@@ -193,3 +193,25 @@ def test_an_actor_field_initialised_with_another_actor_names_it(tmp_path):
     assert [a["name"] for a in result.metadata["witness"]["actors"]] == ["ego", "npc"]
     assert result.telemetry["npc"]["speed"][-1] == pytest.approx(40 * KPH, abs=0.5 * KPH)
     assert result.telemetry["npc"]["lane"][0] == 2
+
+
+def test_a_files_own_vehicle_type_without_the_library_is_an_actor_without_a_body(tmp_path):
+    """Only the standard library's `vehicle`, `person`, ... are bodies the checker places
+    (Scena's DSL 2.2 cases declare their own `actor vehicle`): the runner makes no body for
+    a type of the same name, where it used to refuse to start (no witness start)."""
+    text = """\
+actor vehicle:
+    length: float
+actor car inherits vehicle
+scenario host:
+    v: list of vehicle
+    c: car
+"""
+    source = tmp_path / "own.osc"
+    source.write_text(text)
+    analysis = analyze([SourceInput(str(source), text)], AnalysisOptions())
+    assert not [d.message for d in analysis.diagnostics if d.severity.name == "ERROR"]
+    result = run(source, duration=5)
+    assert result.outcome.status == "success", result.outcome.reason
+    assert result.telemetry == {}
+    assert result.metadata["witness"]["actors"] == []
