@@ -8,7 +8,7 @@ made of a whole number of physics steps (2 ms by default):
 
 1. the inputs of this tick go through the actuator layer (rate limits, ABS,
    TCS, Ackermann) and are written into the model; trailers brake with their
-   tow vehicles (``sim/trailer.py``);
+   tow vehicles (``sim/trailer_bank.py``);
 2. pedestrians move along their commanded velocity (kinematic);
 3. ``mj_step`` runs the physics sub-steps;
 4. the state of every actor is read out, with its road coordinates (road,
