@@ -149,7 +149,7 @@ class World:
             of(k) for k in ("vehicle", "trailer", "pedestrian", "obstacle")
         )
         # every (tow vehicle, trailer) pair that may hitch, by world index
-        self._pairs = [(v, t) for t in trailers for v in vehicles if self.can_tow(names[v])]
+        pairs = [(v, t) for t in trailers for v in vehicles if self.can_tow(names[v])]
         body_poses = list(self._initial)
         for t in trailers:  # a trailer that starts towed starts on its hitch
             tow = self.specs[t].towed_by
@@ -158,7 +158,7 @@ class World:
         self.xml = model_xml(
             self.specs,
             body_poses,
-            [(v, t, self.specs[t].towed_by == names[v]) for v, t in self._pairs],
+            [(v, t, self.specs[t].towed_by == names[v]) for v, t in pairs],
             network.bounds(),
             self.dt_physics,
             physical_collisions,
@@ -179,7 +179,7 @@ class World:
             (names[v], names[t]): mujoco.mj_name2id(
                 m, mujoco.mjtObj.mjOBJ_EQUALITY, f"{prefix(v)}_tows_{prefix(t)}"
             )
-            for v, t in self._pairs
+            for v, t in pairs
         }
         is_static = np.array([k == "obstacle" for k in self._kinds])
         self._events = EventDetector(
