@@ -17,7 +17,8 @@ driven by pygls' client, with its default settings), typing words into names:
   highest).
 
 ``python bench/bench_lsp.py LINES`` prints the detailed report for one size
-(what follows), unless marked "in process":
+(what follows), unless marked "in process"; ``python bench/bench_lsp.py startup
+[RUNS]`` the start-up alone, on the small example (RUNS new processes, default 5):
 
 * start-up: process start → `initialize` answered, and → first diagnostics of
   the document (grammar, library and analysis included);
@@ -252,7 +253,7 @@ def in_process(text: str) -> None:
     from osc2lsp.features.completion import complete
     from osc2lsp.features.hover import hover
     from osc2lsp.features.navigation import definition
-    from osc2lsp.state import analyse, snapshot_of
+    from osc2lsp.session.analysis import analyse, snapshot_of
 
     print("\nin process (the feature functions alone):")
     analysis = []
@@ -288,7 +289,8 @@ def in_process(text: str) -> None:
 def _after_keystroke(snap, text: str) -> list[float]:
     """The first phase after one letter typed into names across the document, the parse
     made from the snapshot's as the server makes it (``Revision.parse``)."""
-    from osc2lsp.state import Revision, analyse
+    from osc2lsp.session.analysis import analyse
+    from osc2lsp.session.documents import Revision
 
     times = []
     for m in list(re.finditer(r"keep\(top_", text))[::7][:10]:
@@ -430,10 +432,13 @@ def compare(sizes: list[int], words: int) -> None:
 
 
 def main() -> None:
+    if sys.argv[1:2] == ["startup"]:  # start-up alone: `bench_lsp.py startup [RUNS]`
+        asyncio.run(startup(int(sys.argv[2]) if len(sys.argv) > 2 else 5))
+        return
     if len(sys.argv) > 1:
         if not sys.argv[1].isdigit():
             print(__doc__)
-            print("usage: python bench/bench_lsp.py [LINES]")
+            print("usage: python bench/bench_lsp.py [LINES | startup [RUNS]]")
             sys.exit(0 if sys.argv[1] in ("-h", "--help") else 2)
         lines = int(sys.argv[1])
         text = generate(lines)

@@ -35,13 +35,16 @@ class SourceInput:
     ``parse`` is the parse of ``text`` when the caller has one (the language server
     splices the re-parsed segments of an edit into its last parse,
     ``syntax.incremental.splice``); it is used instead of parsing again when its
-    name and text are the input's.
+    name and text are the input's. ``on_disk``: the text is the file as saved (not an
+    editor's buffer), so a large one's parse is kept in the start-up cache as an
+    imported file's is (``IMPORT_CACHE_SIZE``): checking it again unchanged reads it.
     """
 
     uri: str
     text: str
     problem: str | None = None  # why the file's bytes were not clean UTF-8 (P004)
     parse: ParseResult | None = None
+    on_disk: bool = False
 
 
 @dataclass
@@ -63,8 +66,10 @@ class FileCache:
         sources: dict[str, str],
         parses: Mapping[str, ParseResult] | None = None,
         dialect: str = DEFAULT_DIALECT,
+        saved: frozenset[str] = frozenset(),
     ):
         self.sources = sources
+        self.saved = saved  # sources that are files as saved: their parse may be kept
         self.given = dict(parses or {})
         self.parses: dict[str, ParseResult] = {}
         self.dialect = dialect
@@ -82,7 +87,9 @@ class FileCache:
                     return None
                 # An imported file's own findings (P004 included) show when it is checked.
                 text, _ = decode_source(data)
-                result = _parse_imported(text, uri)
+                result = _parse_saved(text, uri)
+            elif uri in self.saved:
+                result = _parse_saved(text, uri)
             else:
                 result = parse(text, uri)
         # a parse from the start-up cache is the file as written: its dialect reads it too
@@ -91,14 +98,16 @@ class FileCache:
         return result
 
 
-#: an imported file at least this long (characters) is parsed once per version: its parse
-#: is kept in the start-up cache (about 500 lines; smaller ones parse as fast as they load)
+#: a file read from disk at least this long (characters) is parsed once per version: its
+#: parse is kept in the start-up cache (about 500 lines; smaller ones parse as fast as they
+#: load)
 IMPORT_CACHE_SIZE = 20_000
 
 
-def _parse_imported(text: str, uri: str) -> ParseResult:
+def _parse_saved(text: str, uri: str) -> ParseResult:
     """The parse of a file read from disk; a large one from the start-up cache (an
-    unchanged library file a project imports), keyed by its name and text."""
+    unchanged library file a project imports, a file checked again), keyed by its name
+    and text."""
     if len(text) < IMPORT_CACHE_SIZE:
         return parse(text, uri)
     kind = "import-" + cache.digest(uri)[:8]  # the newest few versions of each file
@@ -173,7 +182,8 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
         for s in sources
         if s.parse is not None and s.parse.uri == s.uri and s.parse.text == s.text
     }
-    cache = FileCache(texts, given, options.dialect)
+    saved = frozenset(s.uri for s in sources if s.on_disk)
+    cache = FileCache(texts, given, options.dialect, saved)
     modules = dict(options.modules)
     plugins = _plugins(options.plugins) if options.verify else None
     verified: dict[str, VerifyResult] = {}

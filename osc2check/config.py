@@ -128,13 +128,24 @@ class Config:
         )
         return replace(options, **changes)
 
-    def plugin_registry(self) -> PluginRegistry:
+    def plugin_registry(self, *, installed: bool = True) -> PluginRegistry:
         """The plug-ins this configuration names (and the installed ones), loaded; a
-        ``ConfigError`` when one cannot be, said before anything is analysed."""
+        ``ConfigError`` when one cannot be, said before anything is analysed.
+        ``installed=False``: the installed ones are left to load when the registry is
+        first asked (``plugin_failure`` then says whether one could not be)."""
         try:
-            return load_plugins(self.plugins)
+            registry = load_plugins(self.plugins)
+            if installed:
+                registry.load_installed()
         except PluginError as exc:
             raise ConfigError(str(exc), None, "plugins") from None
+        return registry
+
+    def plugin_failure(self) -> ConfigError | None:
+        """The installed plug-in that could not be loaded when the registry was asked
+        (None when it was not asked, or all loaded)."""
+        failure = load_plugins(self.plugins).failure
+        return ConfigError(str(failure), None, "plugins") if failure is not None else None
 
     def enabled(self, code: Code) -> bool:
         """True when ``code`` is selected and not ignored."""

@@ -22,7 +22,9 @@ file), in the configuration (``plugins = ["my_plugin"]`` under
 ``[tool.osc2check]``, a file relative to the configuration file) and by
 installed distributions in the entry point group ``osc2toolkit.plugins`` (an
 entry point names a module), and collects what they mark into a
-:class:`PluginRegistry`.
+:class:`PluginRegistry`. The installed ones are looked up when the registry is
+first asked (finding them reads every installed distribution's metadata: tens of
+milliseconds that a file calling no behaviour of the user's libraries never needs).
 
 The checker reads the registry to know which declared behaviours run (the
 capability table, :mod:`osc2check.capabilities`); the runner executes them
@@ -36,9 +38,9 @@ from __future__ import annotations
 import importlib
 import importlib.util
 import sys
+import threading
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
-from importlib.metadata import entry_points
 from pathlib import Path
 from types import ModuleType
 from typing import Any, Literal, TypeVar
@@ -114,11 +116,25 @@ def method(owner: str, name: str) -> Callable[[_T], _T]:
 
 
 class PluginRegistry:
-    """The marked implementations of the plug-in modules loaded, by (kind, owner, name)."""
+    """The marked implementations of the plug-in modules loaded, by (kind, owner, name).
 
-    def __init__(self) -> None:
+    ``installed``: a function naming more modules (the installed distributions'), imported
+    when the registry is first asked (``find``, iterating, ``len``, ``modules``). A module
+    among them that cannot be imported leaves the registry with what was loaded before it
+    and is kept in ``failure``; ``load_installed`` raises it."""
+
+    def __init__(self, installed: Callable[[], Iterable[str]] | None = None) -> None:
         self._entries: dict[tuple[str, str | None, str], Implementation] = {}
-        self.modules: list[str] = []
+        self._modules: list[str] = []
+        self._installed = installed
+        self._lock = threading.Lock()
+        self.failure: PluginError | None = None
+
+    @property
+    def modules(self) -> list[str]:
+        """The names of the modules loaded, in order."""
+        self._settle()
+        return self._modules
 
     def collect(self, module: Any) -> None:
         """Register what ``module`` marks (what it defines, not what it imports)."""
@@ -127,7 +143,30 @@ class PluginRegistry:
                 continue
             for kind, owner, name in getattr(value, _MARK, ()):
                 self._add(Implementation(kind, owner, name, value, module.__name__))
-        self.modules.append(module.__name__)
+        self._modules.append(module.__name__)
+
+    def load_installed(self) -> None:
+        """Import the installed plug-in modules now, if not done yet; ``PluginError`` when one
+        cannot be imported (this call and every later one)."""
+        self._settle()
+        if self.failure is not None:
+            raise self.failure
+
+    def _settle(self) -> None:
+        if self._installed is None:
+            return
+        with self._lock:  # another thread reads the entries once they are all there
+            names = self._installed
+            if names is None:
+                return
+            try:
+                for name in names():
+                    if name not in self._modules:
+                        self.collect(_load(name))
+            except PluginError as exc:
+                self.failure = exc
+            finally:
+                self._installed = None
 
     def _add(self, entry: Implementation) -> None:
         key = (entry.kind, entry.owner, entry.name)
@@ -142,6 +181,7 @@ class PluginRegistry:
     def find(self, kind: Kind, owners: Iterable[str | None], name: str) -> Implementation | None:
         """The implementation of ``name`` for the first of ``owners`` that has one (an
         actor type and its supertypes, nearest first)."""
+        self._settle()
         for owner in owners:
             found = self._entries.get((kind, owner, name))
             if found is not None:
@@ -149,40 +189,56 @@ class PluginRegistry:
         return None
 
     def __iter__(self) -> Iterator[Implementation]:
+        self._settle()
         return iter(self._entries.values())
 
     def __len__(self) -> int:
+        self._settle()
         return len(self._entries)
+
+
+def entry_points(group: str) -> list[Any]:
+    """The entry points installed distributions declare in ``group`` (``importlib.metadata``
+    is imported here only: about 20 ms)."""
+    from importlib import metadata
+
+    return list(metadata.entry_points(group=group))
+
+
+def _installed_modules() -> list[str]:
+    return [ep.value.split(":")[0] for ep in entry_points(group=ENTRY_POINT_GROUP)]
 
 
 _loaded: dict[tuple[tuple[str, ...], bool], PluginRegistry] = {}
 
 
 def load_plugins(modules: Iterable[str] = (), *, installed: bool = True) -> PluginRegistry:
-    """The registry of the plug-in ``modules`` (imported by name) and, with ``installed``,
-    of the modules installed distributions name in :data:`ENTRY_POINT_GROUP`; loaded once
-    per process for the same modules."""
+    """The registry of the plug-in ``modules`` (imported by name, now) and, with
+    ``installed``, of the modules installed distributions name in
+    :data:`ENTRY_POINT_GROUP` (imported when the registry is first asked:
+    ``PluginRegistry``); made once per process for the same modules."""
     names = tuple(dict.fromkeys(modules))
     key = (names, installed)
     found = _loaded.get(key)
     if found is not None:
         return found
-    registry = PluginRegistry()
-    wanted = list(names)
-    if installed:
-        wanted += [ep.value.split(":")[0] for ep in entry_points(group=ENTRY_POINT_GROUP)]
-    for name in dict.fromkeys(wanted):
-        try:
-            module = _import(name)
-        except PluginError:
-            raise
-        except Exception as exc:  # the user's module: said with its name, never a traceback
-            raise PluginError(
-                f"plug-in `{name}` cannot be imported: {type(exc).__name__}: {exc}"
-            ) from None
-        registry.collect(module)
+    registry = PluginRegistry(_installed_modules if installed else None)
+    for name in names:
+        registry.collect(_load(name))
     _loaded[key] = registry
     return registry
+
+
+def _load(name: str) -> ModuleType:
+    """The plug-in module ``name``; ``PluginError`` saying why it cannot be imported."""
+    try:
+        return _import(name)
+    except PluginError:
+        raise
+    except Exception as exc:  # the user's module: said with its name, never a traceback
+        raise PluginError(
+            f"plug-in `{name}` cannot be imported: {type(exc).__name__}: {exc}"
+        ) from None
 
 
 def _import(name: str) -> ModuleType:

@@ -15,14 +15,14 @@ import re
 from collections.abc import Callable, Iterable
 from functools import cache
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from lsprotocol import types
 from pygls.workspace.position_codec import PositionCodec
 
 import osc2check
 from osc2check import rules
-from osc2check.codes import Severity
+from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic, TextEdit
 from osc2check.source import Span
 from osc2lsp.text import LineIndex, key_to_uri
@@ -170,7 +170,7 @@ def to_lsp_location(
 
 
 @cache
-def docs_href(code, docs_url: str = "") -> str:
+def docs_href(code: Code, docs_url: str = "") -> str:
     """The address of a code's section of ``docs/checks.md`` (``rules.doc_url``): under
     ``docs_url`` when the client set one, else the checkout's file, else the code's page
     inside the installed package."""
@@ -193,7 +193,7 @@ def to_lsp_diagnostic(
         )
         for r in d.related
     ]
-    data: dict = {"code": d.code.code}
+    data: dict[str, Any] = {"code": d.code.code}
     if d.data.get("suggestion"):
         data["suggestion"] = d.data["suggestion"]
     if d.fix is not None:

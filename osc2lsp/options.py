@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import logging
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
@@ -58,13 +59,13 @@ def _snake(name: str) -> str:
     return re.sub(r"(?<=[a-z0-9])([A-Z])", r"_\1", name).lower()
 
 
-def _normalise(settings: Any) -> dict:
+def _normalise(settings: Any) -> dict[str, Any]:
     """Nested snake_case keys from nested or dotted camelCase ones."""
     if not isinstance(settings, dict):
         return {}
     if SECTION in settings and isinstance(settings[SECTION], dict):
         settings = settings[SECTION]
-    result: dict = {}
+    result: dict[str, Any] = {}
     for key, value in settings.items():
         parts = [_snake(p) for p in str(key).split(".")]
         if parts and parts[0] == SECTION:
@@ -90,10 +91,10 @@ def from_settings(settings: Any, base: Options | None = None) -> tuple[Options, 
 
     def take(
         key: str,
-        kind,
-        check=None,
-        target: dict = values,
-        source: dict = data,
+        kind: Any,
+        check: Callable[[Any], str | None] | None = None,
+        target: dict[str, Any] = values,
+        source: dict[str, Any] = data,
         name: str | None = None,
     ) -> None:
         if key not in source:
@@ -123,7 +124,7 @@ def from_settings(settings: Any, base: Options | None = None) -> tuple[Options, 
                 return
         target[key] = value
 
-    def codes_ok(value) -> str | None:
+    def codes_ok(value: Any) -> str | None:
         try:
             parse_codes(value)
         except ConfigError as exc:

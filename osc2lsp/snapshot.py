@@ -15,6 +15,7 @@ from __future__ import annotations
 import bisect
 from dataclasses import dataclass, field, replace
 from pathlib import Path
+from typing import Any
 
 from osc2check.analysis import Analysis
 from osc2check.diagnostics import Diagnostic
@@ -52,7 +53,7 @@ class NameEntry:
     symbol: Symbol
 
 
-def symbol_key(symbol: Symbol) -> tuple:
+def symbol_key(symbol: Symbol) -> tuple[object, ...]:
     """Identity of a declaration across analyses (each program builds its own symbols)."""
     span = symbol.name_span
     return (
@@ -80,7 +81,7 @@ class Snapshot:
     config: object = None
     verified: bool = True  # the findings include the solver's checks (C, L, B codes)
     findings: tuple[Diagnostic, ...] | None = None  # all findings, from the solver process
-    _cache: dict = field(default_factory=dict, repr=False, compare=False)
+    _cache: dict[str, Any] = field(default_factory=dict, repr=False, compare=False)
 
     @cached_property
     def lines(self) -> LineIndex:
@@ -190,7 +191,8 @@ class Snapshot:
         if key not in cache:
             text = self.text_of(key)
             cache[key] = LineIndex(text) if text is not None else None
-        return cache[key]
+        found: LineIndex | None = cache[key]
+        return found
 
     def parse_of(self, key: str) -> ParseResult | None:
         if key == self.key:

@@ -28,7 +28,7 @@ import traceback
 from collections.abc import Callable, Sequence
 from functools import partial
 from pathlib import Path
-from typing import Any, NoReturn, TextIO
+from typing import TYPE_CHECKING, NoReturn, TextIO, TypeVar
 
 from osc2check.config import (
     ConfigError,
@@ -44,7 +44,25 @@ from osc2runner.execution.signals import (
     raising,
     signal_name,
 )
-from osc2runner.options import OptionError, check_out, check_seed, check_steps, check_time
+from osc2runner.options import (
+    DT_CONTROL,
+    DT_PHYSICS,
+    TIME_LIMIT,
+    OptionError,
+    RunOptions,
+    check_out,
+    check_seed,
+    check_steps,
+    check_time,
+)
+
+if TYPE_CHECKING:
+    from osc2check.config import Config
+    from osc2check.verify.witness import Witness
+    from osc2runner.campaign.steering import BinRef
+    from osc2runner.errors import RunProblem
+    from osc2runner.runner import Checked, Prepared, RunResult
+    from osc2runner.sut.loading import SutSpec
 
 __all__ = [
     "EXIT_ERROR",
@@ -79,12 +97,17 @@ def _number(text: str) -> float | str:
         return text
 
 
-def _checked(text: str | None, parse: Callable[[str], Any], check: Callable[[Any], Any]) -> Any:
+Checked_ = TypeVar("Checked_")
+
+
+def _checked(
+    text: str | None, parse: Callable[[str], object], check: Callable[[object], Checked_]
+) -> Checked_ | None:
     """An option's text parsed and checked; an OptionError quotes the text as given."""
     if text is None:
         return None
     try:
-        value: Any = parse(text)
+        value: object = parse(text)
     except ValueError:
         value = text
     try:
@@ -118,7 +141,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--duration",
         metavar="T",
-        help="time limit in simulated seconds, positive (default 600)",
+        help=f"time limit in simulated seconds, positive (default {TIME_LIMIT:g})",
     )
     p.add_argument(
         "--out",
@@ -129,15 +152,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", action="store_true", help="also write PNG plots (needs --out)")
     p.add_argument(
         "--dt-control",
-        default="0.05",
+        default=repr(DT_CONTROL),
         metavar="S",
-        help="control period: one tree tick (default 0.05); a whole multiple of --dt-physics",
+        help=f"control period: one tree tick (default {DT_CONTROL:g}); a whole multiple of "
+        "--dt-physics",
     )
     p.add_argument(
         "--dt-physics",
-        default="0.002",
+        default=repr(DT_PHYSICS),
         metavar="S",
-        help="physics step (default 0.002)",
+        help=f"physics step (default {DT_PHYSICS:g})",
     )
     p.add_argument(
         "--sut",
@@ -269,10 +293,20 @@ def _parse(argv: list[str]) -> argparse.Namespace:
             args.bin = bin_ref(args.bin)
         except ValueError as exc:
             raise UsageError(f"--bin {exc}") from None
+    args.options = RunOptions(
+        scenario=args.scenario,
+        seed=args.seed,
+        duration=args.duration,
+        dt_control=args.dt_control,
+        dt_physics=args.dt_physics,
+        sut=args.sut_spec,
+        config=args.config,
+        plot=args.plot,
+    )  # checked above, each value with the text given
     return args
 
 
-def _config(args: argparse.Namespace) -> Any:
+def _config(args: argparse.Namespace) -> Config | None:
     """The checker's configuration for FILE (``[tool.osc2check]``, as ``osc2check FILE``
     reads it) with ``--osc-version`` and ``--dialect`` on top; None without a FILE (a
     campaign resumed from its folder reads it there)."""
@@ -286,7 +320,7 @@ def _config(args: argparse.Namespace) -> Any:
         raise UsageError(str(exc)) from None
 
 
-def _sut(args: argparse.Namespace) -> Any:
+def _sut(args: argparse.Namespace) -> SutSpec | None:
     """The system under test of the command line or ``[tool.osc2run]``; checked by
     importing it (a usage error when it cannot be used)."""
     from osc2runner.sut.loading import SutError, SutSpec, configured_sut
@@ -373,31 +407,26 @@ def _main(args_list: list[str], caught: Caught) -> int:
 
 
 def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
-    from osc2runner.runner import RunInterrupted, check_file, execute, prepare_checked
+    from osc2runner.runner import RunInterrupted, check_file, execute, prepare_run
 
+    options: RunOptions = args.options
     if not Path(args.file).exists():
         raise ScenarioError([_problem(f"{args.file}: no such file")])
-    checked = check_file(args.file, scenario=args.scenario, config=args.config)
-    prepared = prepare_checked(
-        checked,
-        seed=args.seed,
-        dt_control=args.dt_control,
-        dt_physics=args.dt_physics,
-        sut=args.sut_spec,
-        witness=_witness_in_bin(checked, args) if args.bin is not None else None,
-    )
+    checked = check_file(args.file, scenario=options.scenario, config=options.config)
+    witness = _witness_in_bin(checked, options, args.bin) if args.bin is not None else None
+    prepared = prepare_run(checked, options, witness=witness)
     interactive = out.isatty() and not args.quiet
     files = {
         "out": args.out,
-        "plot": args.plot,
+        "plot": options.plot,
         "export": args.export_targets,
         "hard_stop": partial(_hard_exit, out),
     }
     try:
         if interactive:
-            result = _with_progress(prepared, args, partial(execute, **files))
+            result = _with_progress(prepared, options, partial(execute, **files))
         else:
-            result = execute(prepared, duration=args.duration, **files)
+            result = execute(prepared, duration=options.duration, **files)
     except RunInterrupted as exc:
         _summary(exc.result, out)
         return exit_status(exc.signum)
@@ -409,7 +438,7 @@ def _run(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     return EXIT_OK if result.success else EXIT_FAILURE
 
 
-def _hard_exit(out: TextIO, result: Any, status: int) -> None:
+def _hard_exit(out: TextIO, result: RunResult, status: int) -> None:
     """End the process now (a system under test that does not stop: its run's files are
     written), with the run's summary."""
     _summary(result, out)
@@ -421,18 +450,20 @@ def _hard_exit(out: TextIO, result: Any, status: int) -> None:
     os._exit(status)
 
 
-def _witness_in_bin(checked: Any, args: argparse.Namespace) -> Any:
+def _witness_in_bin(checked: Checked, options: RunOptions, where: BinRef) -> Witness:
     """The witness drawn inside the cover bin ``--bin``, as a campaign's directed run's is."""
     from osc2runner.campaign.steering import cover_items, directed_witness
 
-    items = cover_items(checked, dt_control=args.dt_control)
-    return directed_witness(checked, items, args.bin, args.seed)
+    items = cover_items(checked, dt_control=options.dt_control)
+    return directed_witness(checked, items, where, options.seed)
 
 
-def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any:
+def _with_progress(
+    prepared: Prepared, options: RunOptions, execute: Callable[..., RunResult]
+) -> RunResult:
     from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
 
-    limit = args.duration if args.duration is not None else 600.0
+    limit = options.time_limit
     columns = (
         TextColumn("[bold]{task.description}"),
         BarColumn(),
@@ -447,10 +478,10 @@ def _with_progress(prepared: Any, args: argparse.Namespace, execute: Any) -> Any
             rtf = f"{sim / wall:.0f}x real time" if wall > 0 else ""
             progress.update(task, completed=sim, sim=f"{sim:.1f}", rtf=rtf)
 
-        return execute(prepared, duration=args.duration, progress=report)
+        return execute(prepared, duration=options.duration, progress=report)
 
 
-def _summary(result: Any, out: TextIO) -> None:
+def _summary(result: RunResult, out: TextIO) -> None:
     """The run's summary: outcome, system under test, collisions, what was simulated, the
     events emitted, the files; the wall time and the real-time factor (this machine's)
     on a line of their own."""
@@ -487,7 +518,7 @@ def _summary(result: Any, out: TextIO) -> None:
     out.flush()
 
 
-def _impacts(result: Any) -> list[str]:
+def _impacts(result: RunResult) -> list[str]:
     """One line per collision: who, when, each one's speed and the closing speed."""
     import numpy as np
 
@@ -517,7 +548,7 @@ def _one_line(message: str) -> str:
     return " ".join(message.split())
 
 
-def _problem(message: str) -> Any:
+def _problem(message: str) -> RunProblem:
     from osc2runner.errors import RunProblem
 
     return RunProblem(message)
@@ -543,7 +574,7 @@ def _print_input_errors(exc: ScenarioError, err: TextIO) -> None:
     err.flush()
 
 
-def _source_line(problem: Any, texts: dict[str, str]) -> str | None:
+def _source_line(problem: RunProblem, texts: dict[str, str]) -> str | None:
     span = problem.span
     if span is None or span.uri not in texts:
         return None

@@ -12,6 +12,7 @@ from osc2check.syntax import ast
 
 if TYPE_CHECKING:
     from osc2check.analysis import Analysis
+    from osc2check.diagnostics import Diagnostic
 
 __all__ = ["CompileProblem", "RunProblem", "ScenarioError", "problem", "refused_by"]
 
@@ -44,7 +45,7 @@ class ScenarioError(Exception):
     def __init__(
         self,
         problems: Sequence[RunProblem],
-        diagnostics: Sequence = (),
+        diagnostics: Sequence[Diagnostic] = (),
         texts: dict[str, str] | None = None,
     ) -> None:
         self.problems = list(problems)

@@ -1,5 +1,11 @@
 """The options of a run, checked before anything runs (the command's and ``run()``'s).
 
+:class:`RunOptions` holds them, made once by each command line and by ``run()``
+(:meth:`RunOptions.checked`) and read by every stage; a campaign's options extend
+it (:class:`osc2runner.campaign.campaign.CampaignOptions`), a run's replay command
+is written from it. Their defaults are written here and nowhere else
+(:data:`DT_CONTROL`, :data:`DT_PHYSICS`, :data:`TIME_LIMIT`).
+
 Each check returns the value to use or raises :class:`OptionError`, which the
 command prints as one line ``osc2run: error: --name VALUE: why`` (exit
 status 2) and the Python API raises as it is (a ``ValueError``):
@@ -20,13 +26,23 @@ from __future__ import annotations
 
 import math
 import os
+from dataclasses import dataclass, fields
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from osc2runner.output.files import FolderError, output_folder
 
+if TYPE_CHECKING:
+    from osc2check.config import Config
+    from osc2runner.sut.loading import SutSpec
+
 __all__ = [
+    "DT_CONTROL",
+    "DT_PHYSICS",
     "MAX_SUBSTEPS",
+    "TIME_LIMIT",
     "OptionError",
+    "RunOptions",
     "check_duration",
     "check_out",
     "check_seed",
@@ -36,6 +52,72 @@ __all__ = [
 
 #: most physics steps per control tick (a smaller physics step is a mistyped option)
 MAX_SUBSTEPS = 100_000
+#: the control period (one tick of the behaviour tree), s
+DT_CONTROL = 0.05
+#: the physics step, s
+DT_PHYSICS = 0.002
+#: the time limit of a run without ``duration``, s of simulated time
+TIME_LIMIT = 600.0
+
+
+@dataclass(frozen=True, slots=True, kw_only=True)
+class RunOptions:
+    """What one run is asked to do, whatever asks (the command, ``run()``, a campaign):
+    two runs of one file with equal options and seed tick the same.
+
+    ``config`` is the checker's configuration (None: the one that applies to the file);
+    ``sut`` the system under test, loaded; ``plot`` also writes PNG plots.
+    Made with :meth:`checked` where the values come from a user."""
+
+    scenario: str | None = None
+    seed: int = 0
+    duration: float | None = None  # None: TIME_LIMIT
+    dt_control: float = DT_CONTROL
+    dt_physics: float = DT_PHYSICS
+    sut: SutSpec | None = None
+    config: Config | None = None
+    plot: bool = False
+
+    @classmethod
+    def checked(
+        cls,
+        *,
+        scenario: str | None = None,
+        seed: object = 0,
+        duration: object = None,
+        dt_control: object = DT_CONTROL,
+        dt_physics: object = DT_PHYSICS,
+        sut: SutSpec | None = None,
+        config: Config | None = None,
+        plot: bool = False,
+    ) -> RunOptions:
+        """The options with each value checked (:class:`OptionError`, in the order the
+        checks have always run: seed, steps, duration)."""
+        good_seed = check_seed(seed)
+        control, physics = check_steps(dt_control, dt_physics)
+        return cls(
+            scenario=scenario,
+            seed=good_seed,
+            duration=check_duration(duration),
+            dt_control=control,
+            dt_physics=physics,
+            sut=sut,
+            config=config,
+            plot=plot,
+        )
+
+    @property
+    def time_limit(self) -> float:
+        """The simulated seconds the run may take: ``duration``, else :data:`TIME_LIMIT`."""
+        return TIME_LIMIT if self.duration is None else self.duration
+
+    def run_fields(self) -> dict[str, Any]:
+        """The run's options alone, by name (what a class that extends these passes on)."""
+        return {f.name: getattr(self, f.name) for f in fields(RunOptions)}
+
+    def for_seed(self, seed: int) -> RunOptions:
+        """The run's options alone, for ``seed`` (one run of a campaign)."""
+        return RunOptions(**{**self.run_fields(), "seed": seed})
 
 
 class OptionError(ValueError):

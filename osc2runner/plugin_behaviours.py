@@ -42,7 +42,7 @@ from osc2runner.behaviours.base import (
 from osc2runner.behaviours.driving import SPEED_PROFILE, profile_for, set_speed
 from osc2runner.compile.expressions import Closure
 from osc2runner.compile.registry import Entry, MethodRegistry, load_registry, standard_registry
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, ended_kind
 from osc2runner.instance.actors import Actor
 
 __all__ = ["ActorView", "PluginRun", "add_plugins", "runner_registry"]
@@ -200,8 +200,7 @@ class UnboundPluginAction(ScenarioBehaviour):
     def terminate(self, new_status: Status) -> None:
         if new_status == Status.INVALID and self.status != Status.RUNNING:
             return
-        how = {Status.SUCCESS: "end", Status.FAILURE: "fail"}.get(new_status, "stop")
-        self.ctx.record(how, self.label)
+        self.ctx.record(ended_kind(new_status), self.label)
 
 
 def _arguments(args: dict[str, Any], ctx: RunContext) -> dict[str, Any]:

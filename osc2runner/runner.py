@@ -30,7 +30,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -56,7 +56,8 @@ from osc2runner.execution.context import LogRecord, RunContext, fresh_blackboard
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.drivers import controllers_for, drive_with_sut
 from osc2runner.execution.initializer import start_specs
-from osc2runner.execution.loop import RunOutcome, TickLoop
+from osc2runner.execution.loop import TickLoop
+from osc2runner.execution.outcome import OutcomeStatus, RunOutcome
 from osc2runner.execution.signals import Interrupts, exit_status, signal_name
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
@@ -64,7 +65,13 @@ from osc2runner.instance.actors import environment_sky
 from osc2runner.instance.light_plans import control_plans
 from osc2runner.instance.lights import traffic_lights
 from osc2runner.instance.roads import LaneNumbers
-from osc2runner.options import check_duration, check_out, check_seed, check_steps
+from osc2runner.options import (
+    DT_CONTROL,
+    DT_PHYSICS,
+    RunOptions,
+    check_duration,
+    check_out,
+)
 from osc2runner.output.coverage import write_coverage
 from osc2runner.output.lights import light_arrays, write_lights
 from osc2runner.output.telemetry import Recorder, tick_time, write_data, write_metadata
@@ -90,12 +97,11 @@ __all__ = [
     "execute",
     "prepare",
     "prepare_checked",
+    "prepare_run",
     "run",
 ]
 
 log = logging.getLogger(__name__)
-
-DEFAULT_TIME_LIMIT = 600.0  # s of simulated time
 
 
 @dataclass
@@ -259,7 +265,7 @@ def compile_checked(
     checked: Checked,
     *,
     seed: int = 0,
-    dt_control: float = 0.05,
+    dt_control: float = DT_CONTROL,
     witness: Witness | None = None,
 ) -> Compiled:
     """Instantiate the checked scenario for ``seed`` (or with ``witness``) and compile it.
@@ -293,7 +299,7 @@ def compile_file(
     *,
     scenario: str | None = None,
     seed: int = 0,
-    dt_control: float = 0.05,
+    dt_control: float = DT_CONTROL,
     source: str | None = None,
     config: Config | None = None,
 ) -> Compiled:
@@ -305,7 +311,11 @@ def compile_file(
 
 
 def build_world(
-    c: Compiled, *, dt_control: float = 0.05, dt_physics: float = 0.002, sut: SutSpec | None = None
+    c: Compiled,
+    *,
+    dt_control: float = DT_CONTROL,
+    dt_physics: float = DT_PHYSICS,
+    sut: SutSpec | None = None,
 ) -> Prepared:
     """The world of a compiled scenario at the witness's starts, its controllers (the
     system under test in its actor's seat when ``sut`` is given) and its variables."""
@@ -354,14 +364,25 @@ def prepare_checked(
     checked: Checked,
     *,
     seed: int = 0,
-    dt_control: float = 0.05,
-    dt_physics: float = 0.002,
+    dt_control: float = DT_CONTROL,
+    dt_physics: float = DT_PHYSICS,
     sut: SutSpec | None = None,
     witness: Witness | None = None,
 ) -> Prepared:
     """Compile a checked scenario for ``seed`` and build its world (see :func:`prepare`)."""
-    c = compile_checked(checked, seed=seed, dt_control=dt_control, witness=witness)
-    return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+    options = RunOptions(seed=seed, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+    return prepare_run(checked, options, witness=witness)
+
+
+def prepare_run(
+    checked: Checked, options: RunOptions, *, witness: Witness | None = None
+) -> Prepared:
+    """Compile a checked scenario for ``options.seed`` (or with ``witness``) and build
+    its world with the options' steps and system under test."""
+    c = compile_checked(checked, seed=options.seed, dt_control=options.dt_control, witness=witness)
+    return build_world(
+        c, dt_control=options.dt_control, dt_physics=options.dt_physics, sut=options.sut
+    )
 
 
 def prepare(
@@ -369,17 +390,16 @@ def prepare(
     *,
     scenario: str | None = None,
     seed: int = 0,
-    dt_control: float = 0.05,
-    dt_physics: float = 0.002,
+    dt_control: float = DT_CONTROL,
+    dt_physics: float = DT_PHYSICS,
     source: str | None = None,
     sut: SutSpec | None = None,
     config: Config | None = None,
 ) -> Prepared:
     """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
-    c = compile_file(
-        path, scenario=scenario, seed=seed, dt_control=dt_control, source=source, config=config
-    )
-    return build_world(c, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+    checked = check_file(path, scenario=scenario, source=source, config=config)
+    options = RunOptions(seed=seed, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+    return prepare_run(checked, options)
 
 
 # ---------------------------------------------------------------------- running
@@ -392,8 +412,8 @@ def run(
     seed: int = 0,
     out: str | Path | None = None,
     duration: float | None = None,
-    dt_control: float = 0.05,
-    dt_physics: float = 0.002,
+    dt_control: float = DT_CONTROL,
+    dt_physics: float = DT_PHYSICS,
     plot: bool = False,
     progress: Callable[[float, float, float], None] | None = None,
     source: str | None = None,
@@ -432,26 +452,27 @@ def run(
         SutError: the system under test cannot be loaded (a ``ValueError``; nothing ran).
         RunInterrupted: a signal or Ctrl-C; its ``result`` has what was recorded (and written).
     """
-    check_seed(seed)
-    check_steps(dt_control, dt_physics)
-    check_duration(duration)
+    options = RunOptions.checked(
+        scenario=scenario,
+        seed=seed,
+        duration=duration,
+        dt_control=dt_control,
+        dt_physics=dt_physics,
+        config=config,
+        plot=plot,
+    )
     if out is not None:
         check_out(out)
     spec = SutSpec(sut) if isinstance(sut, str) else sut
     if spec is not None:
         spec = spec.resolved()
         spec.load()
-    prepared = prepare(
-        path,
-        scenario=scenario,
-        seed=seed,
-        dt_control=dt_control,
-        dt_physics=dt_physics,
-        source=source,
-        sut=spec,
-        config=config,
+        options = replace(options, sut=spec)
+    checked = check_file(path, scenario=options.scenario, source=source, config=options.config)
+    prepared = prepare_run(checked, options)
+    return execute(
+        prepared, out=out, duration=options.duration, plot=options.plot, progress=progress
     )
-    return execute(prepared, out=out, duration=duration, plot=plot, progress=progress)
 
 
 def execute(
@@ -477,14 +498,13 @@ def execute(
     process (``os._exit``).
     """
     world = prepared.world
-    seconds = check_duration(duration)
+    limit = RunOptions(duration=check_duration(duration)).time_limit
     folder = check_out(out) if out is not None else None
-    limit = DEFAULT_TIME_LIMIT if seconds is None else seconds
     if log.isEnabledFor(logging.DEBUG):
         progress = _logging(progress)
     loop = TickLoop(prepared.root, prepared.ctx, world, limit=limit)
 
-    def stop_now(status: str, reason: str, signum: int | None) -> None:
+    def stop_now(status: OutcomeStatus, reason: str, signum: int | None) -> None:
         assert hard_stop is not None
         interrupts.consumed = True  # nothing more is taken from here on
         name = signal_name(signum) if signum is not None else None

@@ -9,7 +9,7 @@ import pytest
 from osc2check import inputs, memory, numbers
 from osc2check.verify import check, lower, z3_backend
 from osc2check.world import budget
-from osc2lsp import framing
+from osc2lsp.transport import framing
 from osc2runner.campaign import campaign, outputs
 from osc2runner.sut import loading
 

@@ -434,7 +434,7 @@ def _arguments(out: _Collector, f: Focus, cursor: Cursor) -> None:
             )
 
 
-def _arguments_of(node: ast.Node) -> tuple:
+def _arguments_of(node: ast.Node) -> tuple[ast.Node, ...]:
     return getattr(node, "arguments", ())
 
 

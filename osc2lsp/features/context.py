@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import re
+from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -287,7 +288,9 @@ def _placeholder_text(cursor: Cursor) -> str:
     return ""
 
 
-_LAST: list = []  # the latest focus: completion and signature help often ask for the same
+_LAST: list[
+    tuple[Snapshot | None, str, int, Focus]
+] = []  # the latest focus: completion and signature help often ask for the same
 
 
 def focus(snapshot: Snapshot | None, text: str, offset: int, cursor: Cursor | None = None) -> Focus:
@@ -326,7 +329,13 @@ def _focus(snapshot: Snapshot | None, text: str, offset: int, cursor: Cursor) ->
     return Focus(cursor, ast.File(result.ast.span, chunk_decls), program.model, bool(insert))
 
 
-def _splice(snapshot: Snapshot, text: str, start: int, end: int, chunk_decls) -> list:
+def _splice(
+    snapshot: Snapshot,
+    text: str,
+    start: int,
+    end: int,
+    chunk_decls: tuple[ast.Declaration, ...],
+) -> list[ast.Declaration]:
     """The snapshot's declarations outside the chunk (as skeletons), with the chunk's
     own declarations in their place."""
     cache = snapshot._cache.setdefault("skeleton", {})
@@ -338,7 +347,7 @@ def _splice(snapshot: Snapshot, text: str, start: int, end: int, chunk_decls) ->
     old_start = map_offset(old, text, start, change)
     old_end = map_offset(old, text, end, change)
     kept = _relevant(skeletons, text[start:end], old_start, old_end)
-    result = []
+    result: list[ast.Declaration] = []
     inserted = False
     for decl, skel in skeletons:
         span = decl.span
@@ -367,7 +376,7 @@ _ALWAYS = (
 )
 
 
-def _type_names(ref) -> list[str]:
+def _type_names(ref: object) -> list[str]:
     match ref:
         case ast.NamedType():
             return [ref.name.name.text]
@@ -400,7 +409,12 @@ def _mentions(decl: ast.Node) -> set[str]:
     return names
 
 
-def _relevant(skeletons, chunk_text: str, old_start: int, old_end: int) -> set[int]:
+def _relevant(
+    skeletons: list[tuple[ast.Declaration, ast.Declaration]],
+    chunk_text: str,
+    old_start: int,
+    old_end: int,
+) -> set[int]:
     """The declarations the chunk can reach: those it names, the behaviours and
     extensions of what it names, and what those name in turn (fields' types,
     parents). Resolving only these keeps the focus cheap in a large file."""
@@ -439,7 +453,9 @@ def _relevant(skeletons, chunk_text: str, old_start: int, old_end: int) -> set[i
     return kept
 
 
-def _reader(snapshot: Snapshot | None, key: str, root: ParseResult):
+def _reader(
+    snapshot: Snapshot | None, key: str, root: ParseResult
+) -> Callable[[str], ParseResult | None]:
     def read(uri: str) -> ParseResult | None:
         if uri == key:
             return root
@@ -447,7 +463,8 @@ def _reader(snapshot: Snapshot | None, key: str, root: ParseResult):
             return None
         cache = snapshot._cache.setdefault("skeleton", {})
         if uri in cache:
-            return cache[uri]
+            cached: ParseResult | None = cache[uri]
+            return cached
         found = snapshot.analysis.parses.get(uri)
         if found is None:
             try:
@@ -456,7 +473,7 @@ def _reader(snapshot: Snapshot | None, key: str, root: ParseResult):
                 cache[uri] = None
                 return None
             found = parse(decode_source(data)[0], uri)
-        cache[uri] = _skeleton_parse(found)
-        return cache[uri]
+        skeletal = cache[uri] = _skeleton_parse(found)
+        return skeletal
 
     return read

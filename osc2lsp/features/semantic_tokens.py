@@ -11,9 +11,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from osc2check.semantics.symbols import Symbol, SymbolKind
-from osc2check.syntax.lexer import tokenize
+from osc2check.syntax.lexer import Token, tokenize
 from osc2lsp.features.legend import TOKEN_MODIFIERS, TOKEN_TYPES
-from osc2lsp.snapshot import Snapshot
+from osc2lsp.snapshot import NameEntry, Snapshot
+from osc2lsp.text import LineIndex
 
 __all__ = ["TOKEN_MODIFIERS", "TOKEN_TYPES", "SemanticToken", "semantic_tokens"]
 
@@ -102,7 +103,7 @@ def semantic_tokens(
     return out
 
 
-def _physical(tok, by_start, lines) -> list[SemanticToken]:
+def _physical(tok: Token, by_start: dict[int, NameEntry], lines: LineIndex) -> list[SemanticToken]:
     value = tok.value
     number = len(value)
     for i, ch in enumerate(value):

@@ -108,7 +108,7 @@ def _declaration(decl: ast.Node) -> DocSymbol | None:
     return None
 
 
-def _members(members) -> list[DocSymbol]:
+def _members(members: Iterable[ast.Node]) -> list[DocSymbol]:
     result: list[DocSymbol] = []
     for member in members:
         match member:

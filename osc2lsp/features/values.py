@@ -81,7 +81,7 @@ def dimension_units(dim: Dimension) -> str:
     top = [(b, e) for b, e in zip(BASE_UNITS, dim, strict=True) if e > 0]
     bottom = [(b, -e) for b, e in zip(BASE_UNITS, dim, strict=True) if e < 0]
 
-    def part(items):
+    def part(items: list[tuple[str, int]]) -> str:
         return "*".join(b if e == 1 else f"{b}^{e}" for b, e in items)
 
     if not top and not bottom:

@@ -34,7 +34,7 @@ from osc2check.syntax import ast
 from osc2check.verify.schedule import PhasePlan
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.compile.expressions import Closure
-from osc2runner.execution.context import RunContext
+from osc2runner.execution.context import RunContext, ended_kind
 from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
@@ -224,6 +224,11 @@ class Modifier:
         """True when the modifier ends the phase (``distance``; ``at: end`` reached)."""
         return False
 
+    def pending(self, action: ActionBehaviour) -> bool:
+        """True while the modifier keeps an action that reached its own goal from ending
+        (the next phase's start it brings about, :mod:`osc2runner.compile.preparation`)."""
+        return False
+
     def holds(self, action: ActionBehaviour) -> str | None:
         """None when the constraint holds now, else what is wrong (``speed 76.3 kph``)."""
         return None
@@ -251,6 +256,10 @@ class ActionBehaviour(ScenarioBehaviour):
     finite = True
     #: the action realises its modifiers itself (assign_position): they are not begun
     modifiers_realised = False
+    #: the motions (``longitudinal``, ``lateral``) the action drives itself, when it can
+    #: bring about the next phase's ``at: start`` in the others while it runs
+    #: (:mod:`osc2runner.compile.preparation`); None when it cannot
+    own_motions: frozenset[str] | None = None
 
     def __init__(self, name: str, use: ActionUse) -> None:
         super().__init__(name)
@@ -338,6 +347,7 @@ class ActionBehaviour(ScenarioBehaviour):
         acting = [m for m in modifiers if m.drives]
         self._stepping = [m for m in acting if type(m).step is not Modifier.step]
         self._finishing = [m for m in acting if type(m).finished is not Modifier.finished]
+        self._pending = [m for m in acting if type(m).pending is not Modifier.pending]
 
     def update(self) -> Status:
         if self._failure is not None:
@@ -346,6 +356,8 @@ class ActionBehaviour(ScenarioBehaviour):
             for modifier in self._stepping:
                 modifier.step(self)
             status = self.step()
+            if status == Status.SUCCESS and any(m.pending(self) for m in self._pending):
+                status = Status.RUNNING
         except ActionError as exc:
             return self.fail(str(exc))
         if status == Status.RUNNING:
@@ -357,7 +369,7 @@ class ActionBehaviour(ScenarioBehaviour):
     def terminate(self, new_status: Status) -> None:
         if new_status == Status.INVALID and self.status != Status.RUNNING:
             return
-        how = {Status.SUCCESS: "end", Status.FAILURE: "fail"}.get(new_status, "stop")
+        how = ended_kind(new_status)
         if new_status == Status.INVALID and self.ended_on_time:
             how = "end"
         self.ctx.record(how, self.use.label, actors=(self.actor.name,))

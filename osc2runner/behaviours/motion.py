@@ -63,6 +63,7 @@ def _hold(action: ActionBehaviour) -> None:
 class Drive(ActionBehaviour):
     """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane."""
 
+    own_motions = frozenset[str]()
     finite = False
 
     def start(self) -> None:
@@ -83,6 +84,7 @@ class Walk(Drive):
 class KeepSpeed(ActionBehaviour):
     """``keep_speed()``: hold the speed the actor has when the phase starts."""
 
+    own_motions = frozenset({"longitudinal"})
     finite = False
 
     def start(self) -> None:
@@ -107,6 +109,8 @@ class ChangeSpeed(ActionBehaviour):
 
     With a ``duration`` and no profile the change is spread evenly over it.
     """
+
+    own_motions = frozenset({"longitudinal"})
 
     def start(self) -> None:
         _hold(self)
@@ -146,6 +150,8 @@ class ChangeLane(ActionBehaviour):
     the time a ``rate_peak`` lateral speed gives, or over 4 s (2.5 s for
     ``asap``); it ends when the front axle reaches the end of the blend.
     """
+
+    own_motions = frozenset({"lateral"})
 
     def start(self) -> None:
         ctx = self.ctx
@@ -220,6 +226,7 @@ class ChangeLane(ActionBehaviour):
 class FollowLane(ActionBehaviour):
     """``follow_lane(offset)``: keep the lane of the start at ``offset`` from its centre."""
 
+    own_motions = frozenset({"lateral"})
     finite = False
 
     def start(self) -> None:
@@ -246,6 +253,7 @@ class GapAction(ActionBehaviour):
     match; ``keep_*`` actions hold the gap they start with.
     """
 
+    own_motions = frozenset({"longitudinal"})
     finite = True
     bumpers = True  # space gap (bounding boxes) vs headway (reference points)
     timed = False  # time gap/headway vs distance
@@ -374,6 +382,8 @@ class ChangeAcceleration(ActionBehaviour):
     without a peak: 10 m/s³; ``asap``: 50 m/s³); ends when the commanded acceleration has
     reached it (or the speed a bound); the acceleration then persists."""
 
+    own_motions = frozenset({"longitudinal"})
+
     def start(self) -> None:
         peak = self.args.get("rate_peak")
         kind = str(self.args.get("rate_profile", "none"))
@@ -398,6 +408,7 @@ class ChangeAcceleration(ActionBehaviour):
 class KeepAcceleration(ActionBehaviour):
     """``keep_acceleration()``: hold the acceleration the actor has when the phase starts."""
 
+    own_motions = frozenset({"longitudinal"})
     finite = False
 
     def start(self) -> None:

@@ -33,10 +33,11 @@ from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal, get_args
 
 from osc2check.config import Config, config_for
 from osc2check.inputs import InputError, read_bytes
+from osc2runner.campaign.engine import Engine, EngineName
 from osc2runner.campaign.outputs import (
     read_campaign,
     read_records,
@@ -48,7 +49,7 @@ from osc2runner.campaign.outputs import (
 )
 from osc2runner.campaign.parameters import parameter_domains, parameter_equations
 from osc2runner.campaign.plan import CoverPlan, ItemPlan, plan_cover, plan_random
-from osc2runner.campaign.schema import FolderError
+from osc2runner.campaign.schema import CampaignStatus, FolderError
 from osc2runner.campaign.steering import cover_items
 from osc2runner.campaign.summary import (
     coverage_table,
@@ -60,9 +61,9 @@ from osc2runner.campaign.summary import (
 from osc2runner.campaign.worker import CampaignSetup, RunRecord, RunTask
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.signals import SIGNALS, signal_name
+from osc2runner.options import RunOptions
 from osc2runner.output.files import output_folder
 from osc2runner.runner import Checked, check_file
-from osc2runner.sut.loading import SutSpec
 
 __all__ = [
     "ENGINES",
@@ -75,7 +76,7 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-ENGINES = ("local", "ray")
+ENGINES: tuple[EngineName, ...] = get_args(EngineName)
 STRATEGIES = ("random", "cover")
 DEFAULT_RUN_TIMEOUT = 600.0  # wall-clock seconds per run
 
@@ -84,27 +85,21 @@ class CampaignError(ValueError):
     """A campaign that cannot start (a bad option, a folder holding another campaign)."""
 
 
-@dataclass(frozen=True)
-class CampaignOptions:
-    """Everything a campaign is asked to do (the command's options)."""
+@dataclass(frozen=True, slots=True)
+class CampaignOptions(RunOptions):
+    """Everything a campaign is asked to do (the command's options): the options of its
+    runs (:class:`~osc2runner.options.RunOptions`, keywords; ``seed`` is the first run's,
+    ``plot`` draws every run's plots) and the campaign's own."""
 
     file: str
     runs: int
     out: str
     jobs: int = 0  # 0: one worker per processor
-    engine: str = "local"
+    engine: EngineName = "local"
     address: str | None = None
-    seed: int = 0
     strategy: str = "random"
-    scenario: str | None = None
-    duration: float | None = None
-    dt_control: float = 0.05
-    dt_physics: float = 0.002
-    sut: SutSpec | None = None
     run_timeout: float | None = DEFAULT_RUN_TIMEOUT
-    plot: bool = False
     resume: bool = False
-    config: Config | None = None  # the checker's configuration; None: the file's own
     export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
     force: bool = False  # write into a folder of other files (not a campaign of this scenario)
 
@@ -149,7 +144,7 @@ class CampaignResult:
     records: list[RunRecord]
     summary: dict[str, Any]
     folder: Path
-    status: str
+    status: CampaignStatus
     signum: int | None = None
     outputs: list[Path] = field(default_factory=list)
     document: dict[str, Any] = field(default_factory=dict)
@@ -159,12 +154,13 @@ class CampaignResult:
         return self.status == "complete" and self.summary["failed"] == 0
 
 
-Progress = Callable[[str, Any], None]  # progress("plan", total) / ("record", RunRecord)
+#: progress("plan", {"total": runs, "done": records kept}) once, then ("record", RunRecord)
+Progress = Callable[[Literal["plan", "record"], Any], None]
 
 
 def _engine(
     options: CampaignOptions, setup: CampaignSetup, jobs: int, clock: Callable[[], float]
-) -> Any:
+) -> Engine:
     if options.engine == "ray":
         from osc2runner.campaign.ray_engine import RayEngine
 
@@ -246,16 +242,10 @@ def run_campaign(
     setup = CampaignSetup(
         options.file,
         text,
-        options.scenario,
-        options.duration,
-        options.dt_control,
-        options.dt_physics,
-        options.sut,
-        options.plot,
         str(folder),
         ship_files=options.engine == "ray",
-        config=config,
         export=options.export,
+        **{**options.run_fields(), "config": config},
     )
     engine = _engine(options, setup, min(jobs, options.runs), clock)
     # the workers start while the runs are planned (none when every run finished)
@@ -269,16 +259,10 @@ def run_campaign(
             if s in planned and r.finished and _bin_text(r) == _bin_text(planned[s])
         }
         todo = [t for t in plan.tasks if t.seed not in kept]
-        sut = (options.sut.target, options.sut.actor) if options.sut is not None else None
         replay = {
             t.seed: replay_command(
                 options.file,
-                t.seed,
-                scenario=options.scenario,
-                duration=options.duration,
-                dt_control=options.dt_control,
-                dt_physics=options.dt_physics,
-                sut=sut,
+                options.for_seed(t.seed),
                 bin_text=t.bin.text if t.bin else None,
                 language=options.language_arguments(),
             )
@@ -359,7 +343,7 @@ def run_campaign(
     finally:
         engine.close()
     wall = time.perf_counter() - started
-    status = "interrupted" if stop_signal else "complete"
+    status: CampaignStatus = "interrupted" if stop_signal else "complete"
     result = finish(folder, document, plan, records, replay, wall, status, engine)
     result.signum = stop_signal[0] if stop_signal else None
     return result
@@ -442,8 +426,8 @@ def finish(
     records: dict[int, RunRecord],
     replay: dict[int, str],
     wall: float,
-    status: str,
-    engine: Any,
+    status: CampaignStatus,
+    engine: Engine,
 ) -> CampaignResult:
     """Write the campaign's outputs from its records (also after an interrupt)."""
     tasks = plan.tasks

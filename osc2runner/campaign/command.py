@@ -19,8 +19,14 @@ from __future__ import annotations
 import argparse
 import math
 import sys
+from collections.abc import Callable
 from pathlib import Path
-from typing import Any, TextIO
+from typing import TYPE_CHECKING, Any, TextIO
+
+from osc2runner.options import DT_CONTROL, DT_PHYSICS
+
+if TYPE_CHECKING:
+    from osc2runner.campaign.campaign import CampaignOptions, CampaignResult, Progress
 
 __all__ = ["campaign_arguments", "run_command"]
 
@@ -61,9 +67,9 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
     if args.duration is None and opts.get("duration") is not None:
         args.duration = repr(opts["duration"])
     if "--dt-control" not in given:
-        args.dt_control = repr(opts.get("dt_control", 0.05))
+        args.dt_control = repr(opts.get("dt_control", DT_CONTROL))
     if "--dt-physics" not in given:
-        args.dt_physics = repr(opts.get("dt_physics", 0.002))
+        args.dt_physics = repr(opts.get("dt_physics", DT_PHYSICS))
     sut = opts.get("sut")
     if sut and args.sut is None:
         if not args.trust_folder:
@@ -146,19 +152,12 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
         jobs=args.jobs,
         engine=args.engine,
         address=args.address,
-        seed=args.seed,
         strategy=args.strategy,
-        scenario=args.scenario,
-        duration=args.duration,
-        dt_control=args.dt_control,
-        dt_physics=args.dt_physics,
-        sut=args.sut_spec,
         run_timeout=args.run_timeout if args.run_timeout is not None else DEFAULT_RUN_TIMEOUT,
-        plot=args.plot,
         resume=args.resume is not None,
-        config=args.config,
         export=args.export_formats,
         force=args.force,
+        **args.options.run_fields(),  # the run's options, as the command line made them
     )
     interactive = out.isatty() and not args.quiet
     try:
@@ -175,7 +174,7 @@ def run_command(args: argparse.Namespace, out: TextIO, err: TextIO) -> int:
     return 0 if result.passed else 1
 
 
-def _lines(out: TextIO) -> Any:
+def _lines(out: TextIO) -> Progress:
     total = [0]
     done = [0]
 
@@ -198,7 +197,10 @@ def _lines(out: TextIO) -> Any:
     return progress
 
 
-def _with_bar(options: Any, run_campaign: Any) -> Any:
+def _with_bar(
+    options: CampaignOptions,
+    run_campaign: Callable[[CampaignOptions, Progress], CampaignResult],
+) -> CampaignResult:
     from rich.progress import (
         BarColumn,
         MofNCompleteColumn,
@@ -238,7 +240,7 @@ def _with_bar(options: Any, run_campaign: Any) -> Any:
         return run_campaign(options, progress)
 
 
-def _summary(result: Any, out: TextIO) -> None:
+def _summary(result: CampaignResult, out: TextIO) -> None:
     s = result.summary
     doc = result.document
     rate = "–" if s["pass_rate"] is None else f"{100 * s['pass_rate']:.1f} %"

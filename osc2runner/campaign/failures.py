@@ -274,7 +274,9 @@ def _scaled(records: Sequence[RunRecord], swept: Sequence[str]) -> dict[str, Any
     return spans
 
 
-def _distance(a: RunRecord, b: RunRecord, swept: Sequence[str], spans: Mapping) -> float:
+def _distance(
+    a: RunRecord, b: RunRecord, swept: Sequence[str], spans: Mapping[str, tuple[float, float]]
+) -> float:
     total = 0.0
     for name in swept:
         x, y = _value(a, name), _value(b, name)

@@ -47,6 +47,7 @@ from osc2runner.campaign.parameters import compact_text
 from osc2runner.campaign.schema import FolderError, campaign_document, finite, record_from_json
 from osc2runner.campaign.summary import varying
 from osc2runner.campaign.worker import RunRecord
+from osc2runner.options import DT_CONTROL, DT_PHYSICS, RunOptions
 from osc2runner.output.files import write_atomically
 
 __all__ = [
@@ -253,31 +254,27 @@ def write_junit(
 
 def replay_command(
     uri: str,
-    seed: int,
+    options: RunOptions,
     *,
-    scenario: str | None,
-    duration: float | None,
-    dt_control: float,
-    dt_physics: float,
-    sut: tuple[str, str | None] | None,
     bin_text: str | None,
     language: Sequence[str] = (),
 ) -> str:
-    """The ``osc2run`` command that replays one run alone (byte-identical telemetry);
-    ``language``: the OSC2 version, dialect and plug-in options it was run with."""
-    args = ["osc2run", uri, "--seed", str(seed), *language]
-    if scenario:
-        args += ["--scenario", scenario]
+    """The ``osc2run`` command that replays the run of ``options`` alone (byte-identical
+    telemetry); ``language``: the OSC2 version, dialect and plug-in options it was run
+    with (``options.config`` is not written out)."""
+    args = ["osc2run", uri, "--seed", str(options.seed), *language]
+    if options.scenario:
+        args += ["--scenario", options.scenario]
     if bin_text:
         args += ["--bin", bin_text]
-    if duration is not None:
-        args += ["--duration", f"{duration:g}"]
-    if dt_control != 0.05:
-        args += ["--dt-control", repr(dt_control)]
-    if dt_physics != 0.002:
-        args += ["--dt-physics", repr(dt_physics)]
-    if sut is not None:
-        args += ["--sut", sut[0]]
-        if sut[1]:
-            args += ["--sut-actor", sut[1]]
+    if options.duration is not None:
+        args += ["--duration", f"{options.duration:g}"]
+    if options.dt_control != DT_CONTROL:
+        args += ["--dt-control", repr(options.dt_control)]
+    if options.dt_physics != DT_PHYSICS:
+        args += ["--dt-physics", repr(options.dt_physics)]
+    if options.sut is not None:
+        args += ["--sut", options.sut.target]
+        if options.sut.actor:
+            args += ["--sut-actor", options.sut.actor]
     return shlex.join(args)

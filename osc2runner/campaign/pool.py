@@ -38,6 +38,7 @@ from dataclasses import dataclass
 from multiprocessing.connection import Connection, wait
 from typing import Any
 
+from osc2runner.campaign.engine import EngineName
 from osc2runner.campaign.worker import (
     CampaignSetup,
     RunRecord,
@@ -123,7 +124,7 @@ class _Slot:
 class LocalPool:
     """Runs tasks on ``jobs`` worker processes (see the module docstring)."""
 
-    name = "local"
+    name: EngineName = "local"
 
     def __init__(
         self,

@@ -34,6 +34,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from typing import Any
 
+from osc2runner.campaign.engine import EngineName
 from osc2runner.campaign.pool import EngineError
 from osc2runner.campaign.worker import (
     CampaignSetup,
@@ -80,7 +81,7 @@ class _RayWorker:
 class RayEngine:
     """Runs tasks on Ray actors (see the module docstring)."""
 
-    name = "ray"
+    name: EngineName = "ray"
 
     def __init__(
         self,

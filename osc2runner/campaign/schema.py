@@ -19,15 +19,18 @@ from __future__ import annotations
 import math
 import re
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal, TypeVar, get_args
 
 from osc2check.semantics.profile import DIALECTS, OSC_VERSIONS
 from osc2runner.campaign.steering import BinRef
 from osc2runner.campaign.worker import RunRecord, run_folder
+from osc2runner.execution.outcome import OUTCOME_STATUSES
 from osc2runner.export import FORMATS
+from osc2runner.options import DT_CONTROL, DT_PHYSICS
 
 __all__ = [
     "STATUSES",
+    "CampaignStatus",
     "FolderError",
     "campaign_document",
     "file_name",
@@ -35,8 +38,12 @@ __all__ = [
     "record_from_json",
 ]
 
-STATUSES = ("success", "failure", "timeout", "interrupted", "error")
-CAMPAIGN_STATUSES = ("running", "complete", "interrupted")
+STATUSES = OUTCOME_STATUSES
+#: a campaign's ``status``: running (its ``campaign.json`` before the runs end), complete
+#: or interrupted
+CampaignStatus = Literal["running", "complete", "interrupted"]
+CAMPAIGN_STATUSES: tuple[CampaignStatus, ...] = get_args(CampaignStatus)
+Choice = TypeVar("Choice", bound=str)
 _SHA256 = re.compile(r"[0-9a-f]{64}")
 _FILE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]{0,120}")
 _SCALAR = (str, int, float, bool, type(None))
@@ -103,10 +110,11 @@ def _optional_text(value: Any, where: str, limit: int = 10_000) -> str | None:
     return None if value is None else _text(value, where, limit)
 
 
-def _choice(value: Any, where: str, allowed: tuple[str, ...]) -> str:
-    if value not in allowed:
-        raise _fail(where, f"not one of {', '.join(allowed)}")
-    return str(value)
+def _choice(value: Any, where: str, allowed: tuple[Choice, ...]) -> Choice:
+    for choice in allowed:
+        if value == choice:
+            return choice
+    raise _fail(where, f"not one of {', '.join(allowed)}")
 
 
 def _items(value: Any, where: str, check: Callable[[Any, str], Any]) -> list[Any]:
@@ -225,8 +233,8 @@ def campaign_document(data: Any, where: str = "campaign.json") -> dict[str, Any]
     options = {
         "scenario": _optional_text(o.get("scenario"), f"{w}.scenario", limit=200),
         "duration": _number(o.get("duration"), f"{w}.duration", positive=True),
-        "dt_control": _number(o.get("dt_control", 0.05), f"{w}.dt_control", positive=True),
-        "dt_physics": _number(o.get("dt_physics", 0.002), f"{w}.dt_physics", positive=True),
+        "dt_control": _number(o.get("dt_control", DT_CONTROL), f"{w}.dt_control", positive=True),
+        "dt_physics": _number(o.get("dt_physics", DT_PHYSICS), f"{w}.dt_physics", positive=True),
         "sut": sut,
         "strategy": _choice(o.get("strategy", "random"), f"{w}.strategy", STRATEGIES),
         "seed": _int(o.get("seed", 0), f"{w}.seed"),

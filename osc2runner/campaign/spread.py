@@ -87,7 +87,7 @@ def ks_p_value(d: float, n: int) -> float:
     if n <= 0 or d <= 0.0:
         return 1.0
     lam = (math.sqrt(n) + 0.12 + 0.11 / math.sqrt(n)) * d
-    total = sum((-1) ** (k - 1) * math.exp(-2.0 * k * k * lam * lam) for k in range(1, 101))
+    total: float = sum((-1) ** (k - 1) * math.exp(-2.0 * k * k * lam * lam) for k in range(1, 101))
     return min(max(2.0 * total, 0.0), 1.0)
 
 

@@ -31,6 +31,7 @@ from osc2check.verify.check import ScenarioResult, source_text
 from osc2check.verify.witness import Witness
 from osc2runner.errors import RunProblem, ScenarioError
 from osc2runner.execution.coverage import CoverageBucket, CoverageItem
+from osc2runner.options import DT_CONTROL
 from osc2runner.runner import Checked, compile_checked
 
 __all__ = [
@@ -125,7 +126,7 @@ def scenario_result(checked: Checked) -> ScenarioResult:
 
 
 def cover_items(
-    checked: Checked, *, seed: int = 0, dt_control: float = 0.05
+    checked: Checked, *, seed: int = 0, dt_control: float = DT_CONTROL
 ) -> list[SteerableItem]:
     """The scenario's ``cover`` items (compiled for ``seed``) with their terms."""
     compiled = compile_checked(checked, seed=seed, dt_control=dt_control).compiled

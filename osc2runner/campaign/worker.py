@@ -29,7 +29,6 @@ from fractions import Fraction
 from pathlib import Path
 from typing import Any
 
-from osc2check.config import Config
 from osc2check.verify import ir
 from osc2check.verify.witness import Witness
 from osc2check.world.network import RoadNetwork
@@ -42,7 +41,9 @@ from osc2runner.campaign.steering import (
     scenario_result,
 )
 from osc2runner.errors import ScenarioError
+from osc2runner.execution.outcome import OutcomeStatus
 from osc2runner.export import ExportTargets
+from osc2runner.options import RunOptions
 from osc2runner.output.gaps import subject_actor
 from osc2runner.output.telemetry import tick_time
 from osc2runner.runner import (
@@ -51,16 +52,17 @@ from osc2runner.runner import (
     RunResult,
     check_file,
     execute,
-    prepare_checked,
+    prepare_run,
 )
-from osc2runner.sut.loading import SutSpec
 
 __all__ = ["CampaignSetup", "RunRecord", "RunTask", "Worker", "lost_record", "run_folder"]
 
 
-@dataclass(frozen=True)
-class CampaignSetup:
-    """What every worker of a campaign needs (plain data, sent to other processes).
+@dataclass(frozen=True, slots=True)
+class CampaignSetup(RunOptions):
+    """What every worker of a campaign needs (plain data, sent to other processes): the
+    options of its runs (keywords; ``plot``: plots of every run, else of the runs that
+    did not pass; each run has its task's seed) and where the file and folder are.
 
     ``uri`` is the file as named on the command line and ``text`` its content when
     the campaign started (every worker runs that text); ``out`` the campaign folder.
@@ -68,15 +70,8 @@ class CampaignSetup:
 
     uri: str
     text: str
-    scenario: str | None = None
-    duration: float | None = None
-    dt_control: float = 0.05
-    dt_physics: float = 0.002
-    sut: SutSpec | None = None
-    plot: bool = False  # plots of every run (else of the runs that did not pass)
     out: str = "."
     ship_files: bool = False
-    config: Config | None = None  # the checker's configuration (None: the file's own)
     export: tuple[str, ...] = ()  # formats written into every run's folder (osc2runner.export)
 
 
@@ -95,7 +90,7 @@ class RunRecord:
     ``runs.csv``, one testcase of ``junit.xml``)."""
 
     seed: int
-    status: str  # success, failure, timeout, interrupted, error
+    status: OutcomeStatus
     reason: str
     bin: BinRef | None = None
     time_s: float = 0.0
@@ -153,6 +148,7 @@ def lost_record(task: RunTask, why: str, default_reason: str) -> RunRecord:
     """The record of a run whose worker did not answer: ``interrupted`` when the engine
     stopped it for an interrupt (``why`` is ``"interrupted"``), else ``error`` with the
     engine's ``why`` (over the wall-clock limit) or ``default_reason`` (the worker died)."""
+    status: OutcomeStatus
     if why == "interrupted":
         status, reason = "interrupted", "the campaign was interrupted"
     else:
@@ -202,14 +198,7 @@ class Worker:
         record = RunRecord(task.seed, "error", "", task.bin, folder=rel)
         try:
             witness = self.witness(task)
-            prepared = prepare_checked(
-                self.checked,
-                seed=task.seed,
-                dt_control=setup.dt_control,
-                dt_physics=setup.dt_physics,
-                sut=setup.sut,
-                witness=witness,
-            )
+            prepared = prepare_run(self.checked, setup.for_seed(task.seed), witness=witness)
             try:
                 result = execute(
                     prepared,

@@ -257,10 +257,11 @@ class OneOf(_Fast, py_trees.composites.Parallel):
 
     Members that only wait (they invoke no action or scenario: ``wait``, ``emit``,
     ``call``) command nothing and run alongside; among the members that act, one
-    is chosen when the composition starts and recorded in the event log
-    (``choice``): the one the checker's witness chose (``chosen``, an index among
-    the acting members; the witness placed the actors for it), else one drawn with
-    the run's seed; the others never start. The first of the running
+    runs, recorded in the event log (``choice``) when the composition starts: the
+    compiled plan's choice (``chosen``, an index among the acting members, from
+    ``compile.preparation.Choices``: the witness's, else drawn with the seed before
+    the phase before it was planned), else, for a ``one_of`` built by hand, one
+    drawn with the run's seed when it starts; the others never start. The first of the running
     members to succeed ends the composition (a waiting member ends the chosen
     behaviour: the design paper's ``one_of: drive() / wait fall(...)``). With no
     acting member, the waiting members race. A failing chosen member fails it.

@@ -62,7 +62,7 @@ from osc2runner.compile.expressions import (
     is_constant,
     read_variable,
 )
-from osc2runner.compile.preparation import prepare_starts
+from osc2runner.compile.preparation import Choices, prepare_starts
 from osc2runner.compile.sampling import on_occurrence
 from osc2runner.errors import CompileProblem, RunProblem
 from osc2runner.execution.context import RunContext
@@ -85,6 +85,8 @@ class CompiledScenario:
     notes: list[str] = field(default_factory=list)
     #: each run-time coverage item with the checker's reading of its ``cover``/``record``
     cover_items: list[tuple[CoverageItem, CoverItem]] = field(default_factory=list)
+    #: which acting member each ``one_of`` runs, by its instance's name (``Choices``)
+    choices: dict[str, int] = field(default_factory=dict)
 
 
 def node_name(text: str, node: ast.Node) -> str:
@@ -173,6 +175,7 @@ class TreeCompiler:
         self.invoking: list[Symbol] = []  # the scenarios being compiled, outermost first
         self.bodies = declaration_bodies(self.model)
         self._argument_scope: dict[int, Bindings] = {}
+        self.choices = Choices(self.run.seed)
 
     # ---- helpers
 
@@ -238,7 +241,12 @@ class TreeCompiler:
             handlers,
         )
         return CompiledScenario(
-            root, self._start_uses(do), self.problems, self.notes, self.cover_items
+            root,
+            self._start_uses(do),
+            self.problems,
+            self.notes,
+            self.cover_items,
+            self.choices.finish(),
         )
 
     def _event_names(self, scenario: Symbol) -> frozenset[str]:
@@ -389,7 +397,7 @@ class TreeCompiler:
         node: py_trees.behaviour.Behaviour
         if comp.op == "serial":
             node = Serial(name, children)
-            prepare_starts(comp, self.uses)
+            prepare_starts(comp, self.uses, self.choices, self.model)
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:
@@ -406,18 +414,20 @@ class TreeCompiler:
             node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}", plans)
         elif comp.op == "one_of":
             acting = [is_acting(m.body) for m in comp.members]
-            node = OneOf(name, children, acting, self._chosen_member(comp, scope))
+            node = OneOf(name, children, acting)
+            path = scope.frame.path if scope.frame is not None else ""
+            choice = one_of_choice(path, comp)
+            self.choices.add(comp, choice, node, self._chosen_member(choice))
         else:
             raise CompileProblem(f"unknown composition `{comp.op}`", comp)
         node.phase_key = _phase_key(scope, comp)
         untils = self._untils(comp.with_members, "a composition")
         return self._wrap(node, comp, args.get("duration"), untils, scope)
 
-    def _chosen_member(self, comp: ast.Composition, scope: Bindings) -> int | None:
+    def _chosen_member(self, name: str) -> int | None:
         """The acting member of a ``one_of`` the witness chose (the placement placed the
         actors for it: ``verify.lower.one_of_choice``), or None (the seed chooses)."""
-        path = scope.frame.path if scope.frame is not None else ""
-        chosen = self.env.values.witness.parameter(one_of_choice(path, comp))
+        chosen = self.env.values.witness.parameter(name)
         if chosen is None or isinstance(chosen.value, bool):
             return None
         return int(chosen.value)

@@ -24,7 +24,7 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass
 from types import SimpleNamespace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
 import py_trees
@@ -33,10 +33,12 @@ from osc2check.syntax import ast
 from osc2check.verify.schedule import PhasePlan, Schedule
 from osc2check.verify.timeline import PhaseKey
 from osc2check.world.network import RoadNetwork
+from osc2runner.execution.controls import Controller
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.execution.tolerances import Tolerances
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
+from osc2runner.options import DT_CONTROL
 from osc2runner.sim.sky import Sky
 
 if TYPE_CHECKING:
@@ -46,6 +48,8 @@ __all__ = [
     "EVENT_ROOT",
     "EdgeDetector",
     "EnvironmentChange",
+    "EventKind",
+    "ended_kind",
     "LogRecord",
     "Occurrence",
     "PeriodicDetector",
@@ -81,13 +85,51 @@ class Occurrence:
     args: dict[str, Any]
 
 
+#: what a line of the event log (``events.csv``) records: the scenario's events
+#: (``emit``; ``event``: a declared event that occurred; ``start``, ``end``, ``fail``:
+#: a phase's, ``stop``: a phase stopped), what the world detected (``collision``,
+#: ``off_road``), what the runner did (``choice``: a ``one_of``'s member; ``limit``:
+#: a bound an action was held to; ``environment``, ``lights``, ``traffic_light``,
+#: ``trailer``, ``sut``, ``coverage``, ``log``) and the ``outcome``
+EventKind = Literal[
+    "emit",
+    "event",
+    "start",
+    "end",
+    "fail",
+    "stop",
+    "choice",
+    "collision",
+    "off_road",
+    "limit",
+    "environment",
+    "lights",
+    "traffic_light",
+    "trailer",
+    "sut",
+    "coverage",
+    "log",
+    "outcome",
+]
+
+
+def ended_kind(status: py_trees.common.Status) -> EventKind:
+    """How a behaviour that terminates with ``status`` is logged: ``end`` (it succeeded),
+    ``fail`` (it failed) or ``stop`` (it was stopped)."""
+    if status == py_trees.common.Status.SUCCESS:
+        return "end"
+    if status == py_trees.common.Status.FAILURE:
+        return "fail"
+    return "stop"
+
+
 @dataclass(frozen=True, slots=True)
 class LogRecord:
     """One line of the run's event log."""
 
     tick: int
     time: float
-    kind: str  # emit, start, end, fail, collision, off_road, environment, lights, outcome, ...
+    kind: EventKind
     name: str
     detail: str = ""
     actors: tuple[str, ...] = ()
@@ -227,7 +269,7 @@ class RunContext:
         network: RoadNetwork,
         actors: list[Actor],
         *,
-        dt: float = 0.05,
+        dt: float = DT_CONTROL,
         seed: int = 0,
     ) -> None:
         self.network = network
@@ -239,7 +281,7 @@ class RunContext:
         self.tick = 0
         self.time = 0.0
         self.world: World | None = None
-        self.controllers: dict[str, Any] = {}
+        self.controllers: dict[str, Controller] = {}
         self.states: dict[str, ActorState] = {}
         self.variables: dict[str, Any] = {}
         self.detectors: list[EdgeDetector] = []
@@ -356,7 +398,7 @@ class RunContext:
             raise RuntimeError("the run context has no world attached yet")
         return self.world
 
-    def attach(self, world: World, controllers: dict[str, Any]) -> None:
+    def attach(self, world: World, controllers: dict[str, Controller]) -> None:
         """Connect the world and the controllers built by the initializer."""
         self.world = world
         self.controllers = controllers
@@ -375,14 +417,17 @@ class RunContext:
     # ---- events
 
     def occurrences(self, name: str) -> tuple[Occurrence, ...]:
-        return py_trees.blackboard.Blackboard.storage.get(event_key(name), ())
+        found: tuple[Occurrence, ...] = py_trees.blackboard.Blackboard.storage.get(
+            event_key(name), ()
+        )
+        return found
 
     def emit(
         self,
         name: str,
         args: dict[str, Any] | None = None,
         *,
-        kind: str = "emit",
+        kind: EventKind = "emit",
         client: py_trees.blackboard.Client | None = None,
         key: str | None = None,
     ) -> None:
@@ -407,7 +452,9 @@ class RunContext:
         for callback in self.listeners.get(name, ()):
             callback(occurrence)
 
-    def record(self, kind: str, name: str, detail: str = "", actors: tuple[str, ...] = ()) -> None:
+    def record(
+        self, kind: EventKind, name: str, detail: str = "", actors: tuple[str, ...] = ()
+    ) -> None:
         """Add a line to the event log at the current tick."""
         self.records.append(LogRecord(self.tick, self.time, kind, name, detail, actors))
 

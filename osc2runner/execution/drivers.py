@@ -23,6 +23,7 @@ import numpy as np
 
 from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
+from osc2runner.execution.controls import Controller
 from osc2runner.sim import ActorState, PedestrianInput, RateProfile, VehicleController, World
 from osc2runner.sim.controllers import resolve_lane
 
@@ -232,13 +233,13 @@ class PedestrianController:
 
 def controllers_for(
     world: World, routes: Mapping[str, Sequence[str]] | None = None, seed: int = 0
-) -> dict[str, Any]:
+) -> dict[str, Controller]:
     """One controller per vehicle and pedestrian, holding the initial speed and lane.
 
     ``routes`` gives a vehicle the roads its lane following passes (the witness's
     route); ``seed`` (with the actor's name) picks the forks nothing decides.
     """
-    controllers: dict[str, Any] = {}
+    controllers: dict[str, Controller] = {}
     routes = routes or {}
     for name in world.names:
         kind = world.kind(name)
@@ -267,7 +268,7 @@ def controllers_for(
 
 
 def drive_with_sut(
-    controllers: dict[str, Any],
+    controllers: dict[str, Controller],
     world: World,
     states: Any,
     name: str,

@@ -41,30 +41,14 @@ from py_trees.common import Status
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import running_open, tick_child
 from osc2runner.execution.context import RunContext, RunFault
+from osc2runner.execution.controls import Controller
+from osc2runner.execution.outcome import RunOutcome
 from osc2runner.execution.signals import Interrupts, SignalInterrupt, signal_name
 from osc2runner.output.telemetry import Recorder
 from osc2runner.sim import World
 from osc2runner.sut.driver import SutFault
 
 __all__ = ["RunOutcome", "TickLoop", "Ticked"]
-
-
-@dataclass(frozen=True, slots=True)
-class RunOutcome:
-    """How a run ended: ``success``, ``failure``, ``timeout``, ``interrupted`` or ``error``.
-
-    ``signal`` names the signal that interrupted the run (``SIGTERM``), when one did.
-    """
-
-    status: str
-    reason: str
-    tick: int
-    time: float
-    signal: str | None = None
-
-    @property
-    def ok(self) -> bool:
-        return self.status == "success"
 
 
 @dataclass
@@ -108,7 +92,7 @@ class TickLoop:
 
     @classmethod
     def without_scenario(
-        cls, world: World, controllers: dict[str, Any], *, record: bool = False
+        cls, world: World, controllers: dict[str, Controller], *, record: bool = False
     ) -> TickLoop:
         """A loop that steps ``controllers`` and ``world`` under a tree that never ends
         (physics measurements; it records no telemetry unless asked)."""

@@ -52,6 +52,8 @@ from collections.abc import Callable, Iterator
 from types import FrameType, TracebackType
 from typing import Any
 
+from osc2runner.execution.outcome import OutcomeStatus
+
 __all__ = [
     "SIGNALS",
     "Caught",
@@ -68,7 +70,7 @@ __all__ = [
 #: seconds after a budget ran out before it is taken to have run out a second time
 OVERRUN_GRACE = 2.0
 #: ``hard_stop(status, reason, signum)``: write the files with this outcome, end the process
-HardStop = Callable[[str, str, "int | None"], None]
+HardStop = Callable[[OutcomeStatus, str, "int | None"], None]
 
 #: the signals that interrupt a run: SIGINT, SIGTERM, and SIGHUP where it exists
 SIGNALS: tuple[int, ...] = tuple(

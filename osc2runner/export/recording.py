@@ -169,15 +169,16 @@ def _track(prepared: Prepared, result: RunResult, name: str) -> ActorTrack:
     actor = prepared.ctx.actors.get(name)
     row = actor.row if actor is not None else None
     channels = result.telemetry[name]
-    category = row.category if row is not None else str(getattr(p, "category", spec.kind))
-    model = row.key if row is not None else str(getattr(p, "model", spec.kind))
+    category = row.category if row is not None else p.category
+    model = row.key if row is not None else p.model
     rear, axles = 0.0, tuple[Axle, ...]()
-    mass = float(getattr(p, "mass", 0.0))
-    max_speed = float(getattr(p, "max_speed", 0.0))
+    mass, max_speed = 0.0, 0.0  # an obstacle's
     if isinstance(p, (VehicleParams, TrailerParams)):
         rear, axles = _axles(p)
+        mass, max_speed = float(p.mass), float(p.max_speed)
     elif isinstance(p, PedestrianParams):
         mass = float(row.mass) if row is not None else 75.0
+        max_speed = float(p.max_speed)
     return ActorTrack(
         name=name,
         kind=spec.kind,

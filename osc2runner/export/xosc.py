@@ -110,7 +110,8 @@ def xml_bytes(element: ET.Element) -> bytes:
     """An XML document's bytes: UTF-8 with its declaration, indented one space a level
     (a trajectory nests fifteen levels deep: wider indents double the file)."""
     ET.indent(element, space=" ")
-    return ET.tostring(element, encoding="utf-8", xml_declaration=True) + b"\n"
+    data: bytes = ET.tostring(element, encoding="utf-8", xml_declaration=True)
+    return data + b"\n"
 
 
 def _copy(source: Path, target: Path) -> None:

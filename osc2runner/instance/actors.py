@@ -24,6 +24,7 @@ width), so the body the world builds has the footprint the checker placed.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Literal
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import Value
@@ -35,9 +36,14 @@ from osc2check.world.catalogue import MODELS, ActorRow, category_row, kind_row
 from osc2runner.instance.bodies import ActorParams, body_params
 from osc2runner.instance.values import ScenarioValues, scenario_fields
 
-__all__ = ["Actor", "actor_kind", "environment_sky", "scenario_actors"]
+__all__ = ["BODY_KINDS", "Actor", "ActorKind", "actor_kind", "environment_sky", "scenario_actors"]
 
-_KINDS = (
+#: what an actor is in the world (the table of the module docstring)
+ActorKind = Literal["vehicle", "trailer", "pedestrian", "obstacle", "environment", "map", "other"]
+#: the kinds the world builds a body for
+BODY_KINDS: tuple[ActorKind, ...] = ("vehicle", "trailer", "pedestrian", "obstacle")
+
+_KINDS: tuple[tuple[str, ActorKind], ...] = (
     ("vehicle", "vehicle"),
     ("person", "pedestrian"),
     ("animal", "pedestrian"),
@@ -60,7 +66,7 @@ class Actor:
     name: str
     symbol: Symbol
     type: Symbol
-    kind: str
+    kind: ActorKind
     params: ActorParams | None = None
     attributes: dict[str, Value] = field(default_factory=dict)
     row: ActorRow | None = None
@@ -70,7 +76,7 @@ class Actor:
 
     @property
     def has_body(self) -> bool:
-        return self.kind in ("vehicle", "trailer", "pedestrian", "obstacle")
+        return self.kind in BODY_KINDS
 
     @property
     def blueprint(self) -> str | None:
@@ -81,7 +87,7 @@ class Actor:
         return f"<actor {self.name}: {self.type.name}>"
 
 
-def actor_kind(model: Model, type_symbol: Symbol) -> str:
+def actor_kind(model: Model, type_symbol: Symbol) -> ActorKind:
     """``vehicle``, ``pedestrian``, ``obstacle``, ``environment``, ``map`` or ``other`` (a
     vehicle whose catalogue row is a trailer becomes ``trailer`` once it has its row). Only
     the standard library's types count, as for the checker's placement: a file's own

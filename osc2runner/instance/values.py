@@ -184,7 +184,7 @@ class ScenarioValues:
             elif element is not None and element.kind is T.Kind.ENUM:
                 values.append(item)
             else:
-                values.append(to_runtime(exact(item, element, self.model)))  # type: ignore[arg-type]
+                values.append(to_runtime(exact(item, element, self.model)))
         return tuple(values)
 
     def constrained_si(self, name: str) -> float | None:

@@ -50,7 +50,8 @@ class Boxes:
     def signed_gap(self) -> np.ndarray:
         """The bumper-to-bumper gap, positive ahead of ``me``, negative behind, 0 while
         the boxes overlap lengthwise (alongside, or in contact)."""
-        return np.sign(self.rel_x) * np.maximum(self.gap, 0.0)
+        gap: np.ndarray = np.sign(self.rel_x) * np.maximum(self.gap, 0.0)
+        return gap
 
 
 def boxes(

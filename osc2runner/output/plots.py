@@ -38,6 +38,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch
 
 from osc2check.world.network import RoadNetwork
+from osc2runner.options import DT_CONTROL
 from osc2runner.output.files import atomic_open
 from osc2runner.output.gaps import boxes, subject_actor
 from osc2runner.output.stops import BRAKE_ONSET, MOVING, STANDSTILL
@@ -111,7 +112,7 @@ def run_marks(result: Any) -> Marks:
               default=0.0)  # fmt: skip
     open_phases: dict[str, float] = {}
     intervening: float | None = None
-    dt = result.metadata.get("dt_control", 0.05)
+    dt = result.metadata.get("dt_control", DT_CONTROL)
     for e in (replace(e, time=tick_time(e.time, dt)) for e in result.events):
         if e.kind == "emit":
             marks.emits.append((e.time, e.name))

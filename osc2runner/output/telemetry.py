@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from osc2runner.execution.context import LogRecord
+from osc2runner.execution.controls import Controller
 from osc2runner.output.files import atomic_open, write_atomically
 from osc2runner.sim import ActorState
 
@@ -113,7 +114,7 @@ class Recorder:
         states: Mapping[str, ActorState],
         tick: int,
         time: float,
-        controllers: Mapping[str, Any] | None = None,
+        controllers: Mapping[str, Controller] | None = None,
     ) -> None:
         """Add this tick's row of every actor (``controllers`` give the path errors)."""
         window = self.window
@@ -123,9 +124,9 @@ class Recorder:
         for name in self.names:
             s = states[name]
             ctrl = controllers.get(name)
-            lateral = getattr(ctrl, "lateral", None)
+            lateral = ctrl.lateral if ctrl is not None else None
             error = lateral.error if lateral is not None and lateral.path is not None else math.nan
-            tracker = getattr(ctrl, "path", None)  # a world path followed (follow_path)
+            tracker = ctrl.path if ctrl is not None else None  # a world path (follow_path)
             if tracker is not None and hasattr(tracker, "error"):
                 error = tracker.error
             rows = self.rows[name]

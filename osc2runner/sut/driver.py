@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from osc2check.world.network import RoadNetwork
 from osc2check.world.tracking import PathCursor
@@ -44,6 +44,9 @@ from osc2runner.sut import (
     SystemUnderTest,
 )
 
+if TYPE_CHECKING:
+    from osc2runner.execution.context import EventKind
+
 __all__ = [
     "INTERVENTION",
     "PATH_SPACING",
@@ -59,7 +62,7 @@ PATH_POINTS = 11  # 0 to 50 m ahead
 INTERVENTION = 0.02  # a pedal or steering difference from the driver model that intervenes
 
 #: what the event log is told: ``log(kind, name, detail, actors)``
-Log = Callable[[str, str, str, tuple[str, ...]], None]
+Log = Callable[["EventKind", str, str, tuple[str, ...]], None]
 
 
 class SutFault(Exception):

@@ -27,6 +27,7 @@ import importlib.util
 import os
 import sys
 import tomllib
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -136,7 +137,7 @@ def _load_file(path: Path) -> Any:
     return module
 
 
-def choose_actor(fields: dict[str, str], wanted: str | None) -> str:
+def choose_actor(fields: Mapping[str, str], wanted: str | None) -> str:
     """The SUT actor among the scenario's actor fields (``name -> kind``): ``wanted``,
     else the field named ``sut``, else ``ego``; SutError when there is none or it
     is not a vehicle."""

@@ -209,6 +209,38 @@ def test_a_large_imported_file_is_parsed_once_per_version(
     assert len(list(folder.glob("import-*.bin"))) == 2  # each version kept, a few at most
 
 
+def test_a_large_checked_file_as_saved_is_parsed_once_per_version(
+    folder: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from osc2check import analysis
+    from osc2check.analysis import IMPORT_CACHE_SIZE, SourceInput, analyze
+
+    structs = [f"struct pose_{i}:\n    x: length = {i}m\n" for i in range(600)]
+    text = "import osc.standard\n\n" + "\n".join(structs) + "\nscenario s:\n    p: pose_x\n"
+    assert len(text) >= IMPORT_CACHE_SIZE
+    root = str(tmp_path / "root.osc")
+    parsed: list[str] = []
+    real_parse = analysis.parse
+    # (the parse of "" is what each check makes first: analysis._load_once)
+    monkeypatch.setattr(analysis, "parse", lambda t, u: u and parsed.append(u) or real_parse(t, u))
+
+    def findings(given: str, on_disk: bool) -> list[tuple[int, str]]:
+        found = analyze([SourceInput(root, given, on_disk=on_disk)]).diagnostics
+        return [(d.span.line, d.code.code) for d in found]
+
+    first = findings(text, on_disk=True)
+    assert first == [(text.count("\n"), "N101")] and parsed == [root]
+    parsed.clear()
+    assert findings(text, on_disk=True) == first and parsed == []  # its parse, read back
+    edited = text.replace("pose_x", "pose_7")
+    assert findings(edited, on_disk=True) == [] and parsed == [root]
+    # an editor's buffer (not on disk) is parsed each time and not kept
+    parsed.clear()
+    before = sorted(folder.glob("import-*.bin"))
+    assert findings(text + "\n", on_disk=False) == first and parsed == [root]
+    assert sorted(folder.glob("import-*.bin")) == before
+
+
 # vehicle_category!van is 2.2's (N106 under 2.1); speed_range a parameter 2.2 adds
 ONLY_2_2 = """\
 import osc.standard

@@ -36,6 +36,7 @@ class FakeSource:
     uri: str
     text: str
     problem: str | None = None
+    on_disk: bool = False
 
 
 @dataclass
@@ -109,6 +110,17 @@ def run(capsys, *argv: str) -> tuple[int, str, str]:
 def test_clean_file_exits_0(project, capsys):
     write(project / "a.osc", CLEAN)
     assert run(capsys, "a.osc") == (0, "All checks passed (1 file)\n", "")
+
+
+def test_files_are_checked_as_saved_and_standard_input_is_not(
+    project, capsys, monkeypatch, analysis
+):
+    """A file's text is the file as saved (a large one's parse may be kept); stdin's not."""
+    write(project / "a.osc", CLEAN)
+    monkeypatch.setattr(sys, "stdin", io.TextIOWrapper(io.BytesIO(CLEAN.encode())))
+    assert run(capsys, "a.osc")[0] == 0 and run(capsys, "-")[0] == 0
+    (first, _), (second, _) = analysis.calls
+    assert [s.on_disk for s in first] == [True] and [s.on_disk for s in second] == [False]
 
 
 def test_error_exits_1_with_full_output(project, capsys):
@@ -715,3 +727,23 @@ def test_the_cli_imports_neither_pygls_nor_mujoco():
         [sys.executable, "-c", code], cwd=root, capture_output=True, text=True, check=True
     )
     assert done.stdout.strip() == "[]"
+
+
+def test_the_command_exits_with_its_status_its_output_whole_and_its_cache_written(tmp_path):
+    """``run`` (the command) skips freeing the process's objects at exit: the status, every
+    byte of a long output through a pipe and what the exit handlers store still arrive."""
+    root = Path(__file__).resolve().parents[2]
+    broken = "\n".join(
+        f"scenario s{i}:\n    hero: vehicle\n    do hreo.drive()\n" for i in range(300)
+    )
+    write(tmp_path / "many.osc", "import osc.standard\n" + broken)
+    env = {**os.environ, "OSC2_CACHE_DIR": str(tmp_path / "cache")}
+    env.pop("OSC2_NO_CACHE", None)
+    command = [sys.executable, "-m", "osc2check.cli", "--output-format", "json", "many.osc"]
+    done = subprocess.run(command, cwd=tmp_path, env=env, capture_output=True, timeout=300)
+    assert done.returncode == 1, done.stderr
+    assert len(json.loads(done.stdout)["findings"]) == 300 and done.stderr == b""
+    assert list((tmp_path / "cache").glob("dataclass-code-*.bin"))  # stored at exit
+    clean = [*command[:-1], str(root / "examples" / "cut_in_and_stop.osc")]
+    done = subprocess.run(clean, cwd=tmp_path, env=env, capture_output=True, timeout=300)
+    assert done.returncode == 0 and json.loads(done.stdout)["findings"] == [], done.stderr

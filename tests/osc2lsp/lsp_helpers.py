@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from osc2lsp.state import snapshot_of
+from osc2lsp.session.analysis import snapshot_of
 
 REPO = Path(__file__).resolve().parents[2]
 SEED = REPO / "tests" / "data" / "seed" / "cut_in_and_stop.osc"  # vendored

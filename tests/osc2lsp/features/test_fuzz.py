@@ -24,7 +24,7 @@ from osc2lsp.features.completion import complete
 from osc2lsp.features.hover import hover
 from osc2lsp.features.signature_help import signature_help
 from osc2lsp.options import Options
-from osc2lsp.state import State
+from osc2lsp.session.scheduler import State
 from osc2lsp.text import LineIndex, key_to_uri
 from tests.osc2lsp.cli_findings import cli_findings, lsp_findings
 from tests.osc2lsp.lsp_helpers import seed_path, snapshot

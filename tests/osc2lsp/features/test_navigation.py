@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from osc2check.resources import stdlib_dir
 from osc2lsp.features.navigation import definition, highlights, references, type_definition
-from osc2lsp.state import analyse
+from osc2lsp.session.analysis import analyse
 from tests.osc2lsp.lsp_helpers import cursor, line_of, seed_text, snapshot
 
 

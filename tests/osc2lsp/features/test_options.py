@@ -55,7 +55,7 @@ def test_the_plugins_of_the_configuration_are_the_servers_too(tmp_path):
     and one that cannot be loaded is a configuration problem said once."""
     from pathlib import Path
 
-    from osc2lsp.state import analyse
+    from osc2lsp.session.analysis import analyse
 
     examples = Path(__file__).parents[3] / "examples" / "plugins"
     for name in ("greeting.osc", "driving.osc", "example_plugin.py"):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from osc2lsp.features.rename import RenameError, prepare_rename, rename
-from osc2lsp.state import analyse
+from osc2lsp.session.analysis import analyse
 from tests.osc2lsp.lsp_helpers import cursor, seed_text, snapshot
 
 

@@ -18,7 +18,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from osc2lsp.framing import FrameReader, Garbled
+from osc2lsp.transport.framing import FrameReader, Garbled
 from tests.osc2lsp.lsp_helpers import REPO
 
 TIMEOUT = 300  # s: guards against a hang only (an answer takes seconds, minutes when loaded)

@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import pytest
 
-from osc2lsp.framing import MAX_MESSAGE_BYTES
+from osc2lsp.transport.framing import MAX_MESSAGE_BYTES
 from tests.osc2lsp.protocol.raw_client import TIMEOUT, RawClient
 
 URI = "file:///tmp/osc2lsp-tests/jsonrpc.osc"

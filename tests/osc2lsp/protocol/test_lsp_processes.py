@@ -32,7 +32,9 @@ def _with_solver(tmp_path) -> tuple[RawClient, int]:
             and any(d["code"] == "C401" for d in m["params"]["diagnostics"])
         )
     )
-    workers = [p for p in children(client.process.pid) if "osc2lsp.solver" in command_line(p)]
+    workers = [
+        p for p in children(client.process.pid) if "osc2lsp.session.solver" in command_line(p)
+    ]
     assert len(workers) == 1
     return client, workers[0]
 

@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-from osc2lsp.solver import SolverWorker
+from osc2lsp.session.solver import SolverWorker
 from tests.osc2lsp.cli_findings import cli_findings, lsp_findings
 from tests.osc2lsp.lsp_helpers import CONFLICT
 from tests.osc2lsp.protocol.raw_client import RawClient

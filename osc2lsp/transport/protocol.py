@@ -3,9 +3,9 @@
 pygls' ``LanguageServerProtocol`` does the dispatching; this subclass changes
 what it does wrong for an editor that must never lose its server:
 
-* **Frames** are read by ``framing.FrameReader``, on stdio and on ``--tcp`` alike,
-  which re-synchronises after a frame with a wrong ``Content-Length`` (pygls'
-  reader stays silent forever).
+* **Frames** are read by ``framing.FrameReader`` (``serving.py``), on stdio and
+  on ``--tcp`` alike, which re-synchronises after a frame with a wrong
+  ``Content-Length`` (pygls' reader stays silent forever).
 * **Invalid params** of a request are answered with ``-32602`` (pygls logs the
   error and never answers, so the client waits forever); a value of the wrong
   JSON type (``"newName": null``, a number for a URI) is invalid instead of
@@ -16,7 +16,7 @@ what it does wrong for an editor that must never lose its server:
 * **Refusals** (``Refusal``: a rename of a library name, a keyword as new name)
   are answered with their message and logged at info level, without the
   traceback pygls logs for any exception of a handler.
-* **Documents** are kept by ``state.State`` with LSP's line semantics, so the
+* **Documents** are kept by ``osc2lsp.session`` with LSP's line semantics, so the
   built-in document handlers no longer update pygls' own copy (which splits
   lines with ``str.splitlines()``).
 """
@@ -27,12 +27,10 @@ import asyncio
 import inspect
 import json
 import logging
-import os
 import re
-import threading
-from collections.abc import Awaitable, Callable, Generator
+from collections.abc import Callable, Generator
 from concurrent.futures import Future
-from typing import TYPE_CHECKING, Any, BinaryIO
+from typing import TYPE_CHECKING, Any
 
 from cattrs.errors import ClassValidationError, IterableValidationError
 from cattrs.v import format_exception, transform_error
@@ -52,7 +50,7 @@ from pygls.protocol.json_rpc import (
 )
 from pygls.protocol.language_server import lsp_method
 
-from osc2lsp.framing import FrameReader, Garbled
+from osc2lsp.transport.framing import Garbled
 
 if TYPE_CHECKING:
     from cattrs import Converter
@@ -75,7 +73,7 @@ class InvalidParams(JsonRpcInvalidParams):
 # ---- params of the right JSON type ----------------------------------------------------
 
 
-def _strict(kind: type, name: str):
+def _strict(kind: type, name: str) -> Callable[[Any, Any], Any]:
     def structure(value: Any, _: Any) -> Any:
         if isinstance(value, kind) and not (kind is int and isinstance(value, bool)):
             return value
@@ -105,7 +103,7 @@ def converter() -> Converter:
     ``null`` new name became the name ``"None"``, the string ``"false"`` became
     true.
     """
-    conv = default_converter()
+    conv: Converter = default_converter()  # type: ignore[no-untyped-call]  # pygls: unannotated
     conv.register_structure_hook(str, _strict(str, "a string"))
     conv.register_structure_hook(int, _strict(int, "an integer"))
     conv.register_structure_hook(bool, _strict(bool, "a boolean"))
@@ -255,7 +253,7 @@ class Osc2Protocol(LanguageServerProtocol):
                 return
         super()._send_handler_result(future, msg_id=msg_id)
 
-    # ---- documents: kept by osc2lsp.state, not by pygls' workspace ----------------------
+    # ---- documents: kept by osc2lsp.session, not by pygls' workspace --------------------
 
     @lsp_method(types.TEXT_DOCUMENT_DID_OPEN)
     def lsp_text_document__did_open(self, params: Any) -> Generator[Any, Any, None]:
@@ -278,69 +276,10 @@ def _valid_id(value: Any) -> bool:
     return isinstance(value, (str, int, float)) and not isinstance(value, bool)
 
 
-# ---- reading stdin ---------------------------------------------------------------------
-
-
-async def serve(protocol: Osc2Protocol, stdin: BinaryIO) -> None:
-    """Read frames from ``stdin`` and dispatch them until end of input.
-
-    A daemon thread reads (so that exiting never waits for a blocked read); the
-    event loop parses and dispatches.
-    """
-    loop = asyncio.get_running_loop()
-    chunks: asyncio.Queue[bytes] = asyncio.Queue()
-    fd = stdin.fileno()
-
-    def read() -> None:
-        while True:
-            try:
-                data = os.read(fd, 1 << 16)
-            except OSError:
-                data = b""
-            loop.call_soon_threadsafe(chunks.put_nowait, data)
-            if not data:
-                return
-
-    threading.Thread(target=read, name="osc2lsp-stdin", daemon=True).start()
-    await _dispatch_frames(protocol, chunks.get)
-
-
-async def serve_stream(protocol: Osc2Protocol, stream: asyncio.StreamReader) -> None:
-    """Read frames from a connection (``--tcp``) and dispatch them until it ends."""
-
-    async def read() -> bytes:
-        try:
-            return await stream.read(1 << 16)
-        except OSError:  # reset by the client
-            return b""
-
-    await _dispatch_frames(protocol, read)
-
-
-async def _dispatch_frames(protocol: Osc2Protocol, read: Callable[[], Awaitable[bytes]]) -> None:
-    """Frames of the chunks ``read`` gives, dispatched, until an empty chunk (the end);
-    a damaged frame is skipped and reading goes on from the next one."""
-    reader = FrameReader()
-    while True:
-        data = await read()
-        if not data:
-            log.info("end of input: stopping")
-            return
-        events = reader.feed(data)
-        for event in events:
-            if not isinstance(event, Garbled):
-                protocol.dispatch(event)
-        for event in events:
-            if isinstance(event, Garbled):
-                protocol.garbled(event)
-
-
 __all__ = [
     "InvalidParams",
     "Osc2Protocol",
     "REQUEST_FAILED",
     "Refusal",
     "converter",
-    "serve",
-    "serve_stream",
 ]

@@ -9,7 +9,8 @@ import weakref
 import pytest
 
 from osc2lsp.options import Options
-from osc2lsp.state import MAX_REPLACED, State
+from osc2lsp.session.memory import MAX_REPLACED
+from osc2lsp.session.scheduler import State
 from tests.osc2lsp.cli_findings import cli_findings
 from tests.osc2lsp.lsp_helpers import CONFLICT
 
@@ -224,7 +225,7 @@ def test_requests_only_see_snapshots_whose_indexes_are_built():
 
 
 def test_the_solvers_snapshot_keeps_the_built_indexes():
-    from osc2lsp.state import snapshot_of
+    from osc2lsp.session.analysis import snapshot_of
 
     snap = snapshot_of("scenario s:\n    x: int = 1\n").prepare()
     verified = snap.with_findings([])

@@ -5,7 +5,7 @@ from __future__ import annotations
 import asyncio
 import logging
 
-from osc2lsp.server import guarded
+from osc2lsp.transport.guard import guarded
 
 
 class _Client:

@@ -5,7 +5,7 @@ every scenario) can take seconds; it runs in its own process so that it never
 competes with the next keystroke's analysis for the interpreter lock, and it
 sends back only the findings.
 
-The worker is a plain ``python -m osc2lsp.solver <server pid>`` child talking
+The worker is a plain ``python -m osc2lsp.session.solver <server pid>`` child talking
 over its stdin and stdout (length-prefixed pickles: both ends are this
 package). An earlier version used a ``multiprocessing`` pool; its
 semaphores made ``multiprocessing`` start a resource tracker process, and
@@ -13,7 +13,7 @@ when the server was stopped abruptly (an editor kills a server that does not
 exit within a moment of ``exit``) the tracker printed "leaked semaphore"
 warnings into the editor's log, and when the server was killed the worker
 and the tracker stayed behind. A plain child has neither: it ends when the
-server does (``lifeline.die_with_parent``), whatever way the server ended.
+server does (``transport.lifeline.die_with_parent``), whatever way the server ended.
 """
 
 from __future__ import annotations
@@ -28,7 +28,13 @@ import traceback
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from types import MappingProxyType
-from typing import Any
+from typing import TYPE_CHECKING, Any
+
+from osc2check.config import Config
+from osc2lsp.transport.lifeline import die_with_parent
+
+if TYPE_CHECKING:
+    from osc2check.diagnostics import Diagnostic
 
 log = logging.getLogger(__name__)
 
@@ -56,17 +62,20 @@ class SolverAnswer:
 
     job: int
     versions: dict[str, int | None]
-    findings: dict[str, list]
+    findings: dict[str, list[Diagnostic]]
 
 
-def solver_findings(documents: list[tuple[str, str]], config: Any = None) -> dict[str, list]:
+def solver_findings(
+    documents: list[tuple[str, str]], config: Any = None
+) -> dict[str, list[Diagnostic]]:
     """The full findings, solver included, of documents given as ``(key, text)``."""
+    # imported on first use: the analysis (163 ms measured after osc2lsp.server) is
+    # needed in the worker only, not in the server that imports this module
     from osc2check.analysis import SourceInput, analyze
-    from osc2check.config import Config
 
     options = (config if config is not None else Config()).analysis_options()
     analysis = analyze([SourceInput(key, text) for key, text in documents], options)
-    found: dict[str, list] = {key: [] for key, _ in documents}
+    found: dict[str, list[Diagnostic]] = {key: [] for key, _ in documents}
     for d in analysis.diagnostics:
         if d.span.uri in found:
             found[d.span.uri].append(d)
@@ -98,10 +107,12 @@ class SolverWorker:
 
     def __init__(self) -> None:
         self._process: asyncio.subprocess.Process | None = None
-        self._reading: asyncio.Task | None = None
+        self._reading: asyncio.Task[None] | None = None
         self._lock: asyncio.Lock | None = None
         self._jobs = itertools.count(1)
-        self._running: tuple[int, asyncio.Future] | None = None  # the job the worker is on
+        self._running: tuple[int, asyncio.Future[SolverAnswer]] | None = (
+            None  # the job the worker is on
+        )
 
     @property
     def pid(self) -> int | None:
@@ -117,7 +128,7 @@ class SolverWorker:
             process = await self._started()
             assert process.stdin is not None
             job = next(self._jobs)
-            answer: asyncio.Future = asyncio.get_running_loop().create_future()
+            answer: asyncio.Future[SolverAnswer] = asyncio.get_running_loop().create_future()
             self._running = (job, answer)
             versions = {key: version for key, version, _ in documents}
             texts = [(key, text) for key, _, text in documents]
@@ -153,12 +164,14 @@ class SolverWorker:
     async def _started(self) -> asyncio.subprocess.Process:
         if self._process is None or self._process.returncode is not None:
             env = dict(os.environ)
-            here = str(Path(__file__).resolve().parent.parent)  # so `-m osc2lsp.solver` imports
+            here = str(
+                Path(__file__).resolve().parents[2]
+            )  # so `-m osc2lsp.session.solver` imports
             env["PYTHONPATH"] = os.pathsep.join(p for p in (here, env.get("PYTHONPATH")) if p)
             self._process = await asyncio.create_subprocess_exec(
                 sys.executable,
                 "-m",
-                "osc2lsp.solver",
+                "osc2lsp.session.solver",
                 str(os.getpid()),
                 stdin=asyncio.subprocess.PIPE,
                 stdout=asyncio.subprocess.PIPE,
@@ -184,7 +197,7 @@ class SolverWorker:
             if self._process is process:
                 self.kill()
 
-    def _answer(self, job: int, versions: dict, result: Any) -> None:
+    def _answer(self, job: int, versions: dict[str, int | None], result: Any) -> None:
         running = self._running
         if running is None or running[0] != job:
             log.warning("an answer of the solver worker for job %d, which is not running", job)
@@ -246,9 +259,7 @@ def _read_exactly(stream: Any, size: int) -> bytes | None:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m osc2lsp.solver <server pid>``: serve jobs until the server goes."""
-    from osc2lsp.lifeline import die_with_parent
-
+    """``python -m osc2lsp.session.solver <server pid>``: serve jobs until the server goes."""
     args = sys.argv[1:] if argv is None else argv
     parent = int(args[0]) if args else os.getppid()
     die_with_parent(parent)
@@ -271,10 +282,10 @@ def main(argv: list[str] | None = None) -> int:
         out.flush()
 
 
-def _serve(payload: bytes) -> tuple[int, dict, Any]:
+def _serve(payload: bytes) -> tuple[int, dict[str, int | None], Any]:
     """The answer to one job: its number, its documents' versions, their findings (or
     the failure, as text)."""
-    job, versions = 0, {}
+    job, versions = 0, dict[str, int | None]()
     try:
         job, versions, documents, config = pickle.loads(payload)
         return job, versions, solver_findings(documents, config)
@@ -284,7 +295,7 @@ def _serve(payload: bytes) -> tuple[int, dict, Any]:
 
 if __name__ == "__main__":
     # Run the module's own ``main`` (not this ``__main__`` copy): what it pickles must
-    # name classes the server can find (``osc2lsp.solver._Failed``).
-    from osc2lsp.solver import main as _main
+    # name classes the server can find (``osc2lsp.session.solver._Failed``).
+    from osc2lsp.session.solver import main as _main
 
     raise SystemExit(_main())

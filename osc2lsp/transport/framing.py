@@ -24,7 +24,7 @@ source file, JSON-escaped) is skipped as it arrives, never held, and reported
 ``FrameReader.feed(data)`` returns what the new bytes completed: parsed
 messages and ``Garbled`` records (for logging; a request in a garbled frame
 cannot be answered since its id is unknown). No asyncio here: the server's
-loop (``protocol.py``) feeds it.
+loop (``serving.py``) feeds it.
 """
 
 from __future__ import annotations

@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from osc2lsp.framing import FrameReader, Garbled
+from osc2lsp.transport.framing import FrameReader, Garbled
 
 MESSAGES = [
     {"jsonrpc": "2.0", "id": n, "method": "m", "params": {"text": "a\r\nb" * n}} for n in range(5)
@@ -108,7 +108,7 @@ def test_a_large_message_in_small_chunks_is_read_in_linear_work(monkeypatch, len
     """Each chunk used to search the whole body again for the next header, and to parse
     it whole whenever it ended with a bracket: 20 MB took tens of seconds. The bytes
     searched and parsed are now a small multiple of the message's size."""
-    import osc2lsp.framing as framing
+    import osc2lsp.transport.framing as framing
 
     work = [0]
     for name in ("_NEXT_FRAME", "_JSON_TOKEN", "_STRING_REST"):
@@ -130,7 +130,7 @@ def test_a_large_message_in_small_chunks_is_read_in_linear_work(monkeypatch, len
 
 
 def test_a_message_over_the_size_limit_is_skipped_and_the_next_read(monkeypatch):
-    monkeypatch.setattr("osc2lsp.framing.MAX_MESSAGE_BYTES", 10_000)
+    monkeypatch.setattr("osc2lsp.transport.framing.MAX_MESSAGE_BYTES", 10_000)
     big = {"jsonrpc": "2.0", "id": 1, "method": "m", "params": {"text": "x" * 20_000}}
     messages, garbled = read(frame(big) + frame(MESSAGES[2]), 1000)
     assert messages == [MESSAGES[2]]
@@ -140,7 +140,7 @@ def test_a_message_over_the_size_limit_is_skipped_and_the_next_read(monkeypatch)
 
 def test_a_body_without_end_is_skipped_once_past_the_size_limit(monkeypatch):
     """A length shorter than the body, and the body goes on: never held whole."""
-    monkeypatch.setattr("osc2lsp.framing.MAX_MESSAGE_BYTES", 10_000)
+    monkeypatch.setattr("osc2lsp.transport.framing.MAX_MESSAGE_BYTES", 10_000)
     reader = FrameReader()
     events = reader.feed(b"Content-Length: 10\r\n\r\n[")
     for _ in range(30):
@@ -179,7 +179,7 @@ def test_framing_storm_every_well_framed_message_is_read_and_none_invented(segme
             message["params"]["text"] = "x" * (limit + 100 * value)
             stream += frame(message)
         sent_ids.add(n)
-    import osc2lsp.framing as framing
+    import osc2lsp.transport.framing as framing
 
     original = framing.MAX_MESSAGE_BYTES
     framing.MAX_MESSAGE_BYTES = limit

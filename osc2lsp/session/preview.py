@@ -26,9 +26,9 @@ from osc2check.suppress import apply_suppressions, find_suppressions
 from osc2check.syntax.incremental import Edit, Region, reparse
 from osc2check.syntax.lexer import Comment
 from osc2check.syntax.parser import ParseResult
+from osc2lsp.session.view import moved
 from osc2lsp.snapshot import Snapshot
 from osc2lsp.text import LineIndex, TextMap
-from osc2lsp.view import moved
 
 _OWN = (UNUSED_SUPPRESSION, UNKNOWN_SUPPRESSION_CODE)
 _DIRECTIVES = ("noqa", "osc2check")

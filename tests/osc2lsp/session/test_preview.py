@@ -9,7 +9,7 @@ import pytest
 
 from osc2check.syntax import parse
 from osc2check.syntax.incremental import Edit, reparse
-from osc2lsp.preview import preview
+from osc2lsp.session.preview import preview
 from osc2lsp.text import LineIndex, TextMap
 from tests.osc2lsp.lsp_helpers import REPO, snapshot
 

@@ -38,210 +38,37 @@ touched are parsed again and spliced into it (``Revision.parse``,
 
 A new snapshot's findings are published as soon as the analysis ends; requests see
 the snapshot once the indexes they use are built, on the analysis thread
-(``_settle``), and the previous snapshot answers meanwhile.
+(``memory.settle``), and the previous snapshot answers meanwhile.
 
-A replaced snapshot is freed by reference counting (the checker's analyses hold
-no reference cycles), on the analysis thread: freeing a 10,000-line document's
-analysis holds the interpreter lock for a few tens of milliseconds, which a
-request would wait for. So replaced snapshots are kept until the documents have
-been quiet (no edit, no analysis) for ``QUIET_FREE`` seconds, a pause in
-typing, and at most ``MAX_REPLACED`` of them: beyond that the oldest are freed
-after the next analysis (``_settle``). The collector is paused while an
-analysis runs and what it made is frozen without a scan (``_freeze``); every
-generation is collected once the documents have been quiet for
-``QUIET_COLLECTION`` seconds.
+Replaced snapshots are freed, and the collector runs, when the documents are
+quiet (``memory.py``). The documents are ``documents.py``; closed files of the
+workspace that references reach into are read by ``workspace.py``.
 """
 
 from __future__ import annotations
 
 import asyncio
-import gc
 import logging
-import re
 import time
-from collections.abc import Callable, Mapping
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from osc2check.gc_pause import gc_paused
 from osc2lsp.options import CheckerConfigs, Options
-from osc2lsp.solver import SolverWorker
-from osc2lsp.text import LineIndex, TextMap, uri_to_key
-from osc2lsp.view import View
+from osc2lsp.session.analysis import analyse
+from osc2lsp.session.documents import Document, Findings, Revision, findings_of, newer
+from osc2lsp.session.memory import Replaced, freeze, settle
+from osc2lsp.session.solver import SolverWorker
+from osc2lsp.session.view import View
+from osc2lsp.session.workspace import workspace_sources
+from osc2lsp.text import LineIndex, TextMap
 
 if TYPE_CHECKING:
-    from osc2check.diagnostics import Diagnostic
-    from osc2check.syntax import ParseResult
     from osc2lsp.snapshot import Snapshot
 
 log = logging.getLogger(__name__)
-
-# The interpreter lock passes between threads every SWITCH seconds (Python's default is
-# 5 ms): a request waiting for the analysis thread to give it up waits that long, and
-# it waits several times per request (reading, answering).
-SWITCH = 0.001
-QUIET_FREE = 0.5  # seconds without edits or analyses before replaced snapshots are freed
-MAX_REPLACED = 3  # replaced snapshots kept until then, at most (about 13 MB each at 10,000 lines)
-QUIET_COLLECTION = 30.0  # seconds without edits or analyses before a full collection
-
-LinesOf = Callable[[str], "LineIndex | None"]
-
-
-def analyse(
-    documents: list[tuple[str, str, int | None]],
-    config=None,
-    verify: bool = True,
-    parses: Mapping[str, ParseResult] | None = None,
-) -> dict[str, Snapshot]:
-    """Analyse documents given as ``(uri, text, version)``; a snapshot for each.
-
-    Without ``verify`` the solver's checks (C, L and B codes) are left out.
-    ``parses`` has parses of documents' texts by uri, to use instead of parsing.
-    """
-    from osc2check.analysis import SourceInput, analyze  # heavy: imported on first use
-    from osc2check.config import Config
-    from osc2lsp.snapshot import Snapshot
-
-    keys = {uri: uri_to_key(uri) for uri, _, _ in documents}
-    given = parses or {}
-    inputs = [SourceInput(keys[uri], text, parse=given.get(uri)) for uri, text, _ in documents]
-    config = config if config is not None else Config()
-    # the budget is an address-space limit of the whole process: the server's own would
-    # bound its transport too, so only the solver worker, a process of its own, has it
-    analysis = analyze(inputs, config.analysis_options(verify=verify, memory_limit_mib=None))
-    return {
-        uri: Snapshot(uri, keys[uri], version, text, analysis, config, verify)
-        for uri, text, version in documents
-    }
-
-
-def snapshot_of(
-    text: str, uri: str = "file:///tmp/osc2lsp/document.osc", version: int | None = 1, config=None
-) -> Snapshot:
-    """A snapshot of one text (for tests and scripts)."""
-    return analyse([(uri, text, version)], config)[uri]
-
-
-@dataclass(frozen=True, eq=False)
-class Findings:
-    """The diagnostics to show for one version of one document."""
-
-    uri: str
-    key: str
-    version: int | None
-    diagnostics: tuple[Diagnostic, ...]
-    lines_of: LinesOf  # the text of each file the findings point into
-    final: bool = True  # False: a preview; the analysis follows
-    verified: bool = False  # the solver's checks are included
-
-
-def findings_of(snapshot: Snapshot) -> Findings:
-    return Findings(
-        snapshot.uri,
-        snapshot.key,
-        snapshot.version,
-        tuple(snapshot.diagnostics),
-        snapshot.lines_of,
-        True,
-        snapshot.verified,
-    )
-
-
-@dataclass(eq=False)
-class Document:
-    uri: str
-    text: str
-    version: int | None
-    key: str = ""
-    library: bool = False  # a file of the bundled library: analysed as the library
-    snapshot: Snapshot | None = None  # the latest analysis, maybe of an older version
-    timer: asyncio.Task | None = None  # the debounce, until the analysis starts
-    waiting: bool = False  # the timer has not started its analysis yet (may be cancelled)
-    verify_timer: asyncio.Task | None = None  # the quiet period before the solver runs
-    waiters: list[tuple[int | None, asyncio.Future]] = field(default_factory=list)
-    stale: bool = False  # a file it imports changed since its snapshot was made
-    preview: Findings | None = None  # the preview of the current version, if one was made
-    delivered: tuple[int | None, str] | None = None  # (version, result id) the client has
-    analysis_seconds: float = 0.0  # how long its last analysis took
-    _lines: LineIndex | None = field(default=None, repr=False)
-    _map: tuple[Snapshot, str, TextMap] | None = field(default=None, repr=False)
-
-    def __post_init__(self):
-        if not self.key:
-            from osc2lsp.snapshot import library_key
-
-            key = uri_to_key(self.uri)
-            library = library_key(key)
-            self.key, self.library = (library, True) if library else (key, False)
-
-    @property
-    def lines(self) -> LineIndex:
-        """The line index of the current text (computed once per text)."""
-        if self._lines is None or self._lines.text is not self.text:
-            self._lines = LineIndex(self.text)
-        return self._lines
-
-    def replace_snapshot(self, snapshot: Snapshot) -> None:
-        """Make ``snapshot`` the latest, and forget what referred to the one before."""
-        self.snapshot = snapshot
-        self._map = None
-        if self.preview is not None and self.preview.version == snapshot.version:
-            self.preview = None  # the analysis of its version replaces it
-
-    def set_text(self, text: str, version: int | None, lines: LineIndex | None = None) -> None:
-        self.text, self.version = text, version
-        self._lines = lines if lines is not None and lines.text is text else None
-        if self.preview is not None and self.preview.version != version:
-            self.preview = None
-
-    @property
-    def current(self) -> bool:
-        return (
-            self.snapshot is not None and self.snapshot.version == self.version and not self.stale
-        )
-
-    def changes(self) -> TextMap | None:
-        """How the current text differs from the latest snapshot's (None: no snapshot)."""
-        snap = self.snapshot
-        if snap is None:
-            return None
-        if self._map is None or self._map[0] is not snap or self._map[1] is not self.text:
-            self._map = (snap, self.text, TextMap(snap.text, self.text))
-        return self._map[2]
-
-
-@dataclass(frozen=True)
-class Revision:
-    """What the analysis of one document reads, taken on the event loop (the
-    document changes there meanwhile)."""
-
-    uri: str
-    key: str
-    text: str
-    version: int | None
-    library: bool
-    previous: Snapshot | None  # the latest snapshot, maybe of an older text
-
-    @classmethod
-    def of(cls, doc: Document) -> Revision:
-        return cls(doc.uri, doc.key, doc.text, doc.version, doc.library, doc.snapshot)
-
-    def parse(self) -> ParseResult | None:
-        """The parse of ``text`` made from the previous snapshot's: that parse when the
-        text is the same, else with the segments the edits touched parsed again (None:
-        parse it whole)."""
-        from osc2check.syntax.incremental import Edit, splice
-
-        previous = self.previous
-        if previous is None or previous.key != self.key:
-            return None
-        parsed = previous.parse
-        if previous.text == self.text:
-            return parsed
-        change = TextMap(previous.text, self.text)
-        return splice(parsed, self.text, Edit(change.prefix, change.old_end, change.new_end))
 
 
 Publisher = Callable[[str, list[Findings]], None]
@@ -266,9 +93,8 @@ class State:
         self._solver = SolverWorker()
         self._closed: dict[str, tuple[float, str, Snapshot | None]] = {}  # workspace files
         self._lock: asyncio.Lock | None = None
-        self._tasks: set[asyncio.Task] = set()
-        self._replaced: list[Snapshot] = []  # replaced snapshots, freed once all is quiet
-        self._quiet: asyncio.Task | None = None  # what is done once all is quiet
+        self._tasks: set[asyncio.Task[Any]] = set()
+        self._replaced = Replaced(self._executor, self._tasks)  # freed once all is quiet
 
     # ---- documents -------------------------------------------------------------
 
@@ -285,7 +111,7 @@ class State:
             self.open(uri, text, version)
             return
         doc.set_text(text, version, lines)
-        self._when_quiet()
+        self._replaced.when_quiet()
         if doc.verify_timer is not None:
             doc.verify_timer.cancel()
         for other in self.documents.values():
@@ -322,7 +148,7 @@ class State:
             return None
         if doc.current:
             return doc.snapshot
-        future = asyncio.get_running_loop().create_future()
+        future: asyncio.Future[Snapshot | None] = asyncio.get_running_loop().create_future()
         doc.waiters.append((doc.version, future))
         timer = doc.timer
         if timer is None or timer.done() or doc.waiting:
@@ -383,12 +209,11 @@ class State:
         """``analysed``, then free the replaced snapshots at once, as a quiet spell
         does (for tests and benchmarks)."""
         await self.analysed()
-        if self._replaced:
-            freed, self._replaced = self._replaced, []
-            await asyncio.get_running_loop().run_in_executor(self._executor, freed.clear)
+        await self._replaced.free_now()
 
     def delivered(self, uri: str, findings: Findings) -> None:
         """Note that the client has received ``findings`` (pulled them)."""
+        # imported on first use (see ``_publish``)
         from osc2lsp.features.diagnostics import result_id
 
         doc = self.documents.get(uri)
@@ -439,8 +264,7 @@ class State:
             batch = [doc] if doc.library else self._batch(doc)
             for member in batch:
                 member.stale = False
-            if self._quiet is not None:
-                self._quiet.cancel()  # not quiet
+            self._replaced.busy()
             loop = asyncio.get_running_loop()
             began = time.perf_counter()
             revisions = [Revision.of(d) for d in batch]
@@ -459,58 +283,35 @@ class State:
                     continue
                 if d.snapshot is None:
                     d.replace_snapshot(snap)  # nothing older to answer from meanwhile
-                elif not _newer(d.snapshot.version, snap.version):
+                elif not newer(d.snapshot.version, snap.version):
                     taken.append((d, snap))
                 if snap.version == d.version:
                     published.append(findings_of(snap))
             self._publish(uri, published)
             # Requests see the new snapshots once their indexes are built (on the
             # analysis thread); until then the previous ones answer.
-            replaced = self._replaced
-            oldest = replaced[: max(len(replaced) + len(taken) - MAX_REPLACED, 0)]
-            del replaced[: len(oldest)]
+            oldest = self._replaced.oldest(len(taken))
             if snapshots or oldest:
                 built = list(snapshots.values())
                 try:
-                    await loop.run_in_executor(self._executor, _settle, built, oldest)
+                    await loop.run_in_executor(self._executor, settle, built, oldest)
                 except Exception:  # requests build what is missing
                     log.exception("preparing the snapshots of %s failed", uri)
             for d, snap in taken:
                 if self.documents.get(d.uri) is d and d.snapshot is not None:
-                    self._replaced.append(d.snapshot)  # (a quiet spell may have renewed it)
+                    self._replaced.keep(d.snapshot)  # (a quiet spell may have renewed it)
                     d.replace_snapshot(snap)
             for d in batch:
                 if d.uri in snapshots and self.documents.get(d.uri) is d:
                     self._wake(d)
             if self.options.verify and published and not doc.library:
                 self._schedule_solver(uri)
-            self._when_quiet()
-
-    def _when_quiet(self) -> None:
-        """(Re)start the wait for a quiet spell: after ``QUIET_FREE`` seconds without
-        edits or analyses the replaced snapshots are freed, after ``QUIET_COLLECTION``
-        every generation is collected once."""
-        if self._quiet is not None:
-            self._quiet.cancel()
-        try:
-            loop = asyncio.get_running_loop()
-        except RuntimeError:
-            return
-
-        async def after_quiet() -> None:
-            await asyncio.sleep(QUIET_FREE)
-            if self._replaced:
-                freed, self._replaced = self._replaced, []
-                await loop.run_in_executor(self._executor, freed.clear)
-            await asyncio.sleep(QUIET_COLLECTION - QUIET_FREE)
-            await loop.run_in_executor(self._executor, _collect_all)
-
-        self._quiet = task = loop.create_task(after_quiet())
-        self._tasks.add(task)
-        task.add_done_callback(self._tasks.discard)
+            self._replaced.when_quiet()
 
     def _analyse(self, batch: list[Revision]) -> dict[str, Snapshot]:
         """Snapshots of the batch's texts (on the analysis thread)."""
+        # imported on first use: the snapshot brings the analysis (136 ms measured after
+        # osc2lsp.server), not needed to answer `initialize`
         from osc2lsp.snapshot import library_snapshot
 
         doc = batch[0]
@@ -520,11 +321,13 @@ class State:
         with gc_paused():
             parses = {r.uri: p for r in batch if (p := r.parse()) is not None}
             found = analyse([(r.uri, r.text, r.version) for r in batch], config, False, parses)
-            _freeze()
+            freeze()
         return found
 
     def _publish(self, trigger: str, findings: list[Findings]) -> None:
         """Hand findings the client does not have yet to the publisher."""
+        # imported on first use: the feature brings the analysis (88 ms measured after
+        # osc2lsp.server), not needed to answer `initialize`
         from osc2lsp.features.diagnostics import result_id
 
         news = []
@@ -559,7 +362,9 @@ class State:
         )
 
     async def _preview(self, doc: Document) -> None:
-        from osc2lsp.preview import preview
+        # imported on first use: the preview brings the analysis (157 ms measured after
+        # osc2lsp.server), not needed to answer `initialize`
+        from osc2lsp.session.preview import preview
 
         snap, lines, version = doc.snapshot, doc.lines, doc.version
         assert snap is not None
@@ -640,7 +445,7 @@ class State:
         for version, future in doc.waiters:
             if future.done():
                 continue
-            if doc.snapshot.version == doc.version or not _newer(version, doc.snapshot.version):
+            if doc.snapshot.version == doc.version or not newer(version, doc.snapshot.version):
                 future.set_result(doc.snapshot)
             else:
                 remaining.append((version, future))
@@ -684,7 +489,7 @@ class State:
         known = {key: (mtime, text) for key, (mtime, text, _) in self._closed.items()}
         loop = asyncio.get_running_loop()
         read = await loop.run_in_executor(
-            None, _workspace_sources, Path(self.root), limit, open_keys, known, mentioning
+            None, workspace_sources, Path(self.root), limit, open_keys, known, mentioning
         )
         found: list[Snapshot] = []
         for key, mtime, text, mentions in read:
@@ -717,109 +522,3 @@ class State:
     def kill(self) -> None:
         """Stop the solver worker now (the server is leaving without a shutdown)."""
         self._solver.kill()
-
-
-def _settle(snapshots: list[Snapshot], replaced: list[Snapshot]) -> None:
-    """After an analysis, on its thread: ``replaced`` freed (it holds their last
-    references) and what requests will need of ``snapshots`` built now."""
-    replaced.clear()
-    with gc_paused():
-        for snap in snapshots:
-            snap.prepare()
-            _warm_features(snap)
-        _freeze()
-
-
-def _freeze() -> None:
-    """Exempt every object made so far from the collector's scans, without a scan.
-
-    An analysis makes its objects with the collector paused; when the pause ended,
-    the first allocation would start a collection that scans them all at once (tenths
-    of a second on a 10,000-line document, holding the interpreter lock while a
-    request waits). Analyses hold no reference cycles, so nothing is lost by not
-    scanning them: a frozen object is still freed when its last reference goes.
-    What cycles other code left meanwhile are collected when the documents are
-    quiet (``_collect_all``).
-    """
-    gc.freeze()
-
-
-def _collect_all() -> None:
-    """Collect every generation, the frozen objects included, then freeze the survivors
-    (after a quiet period: it holds the interpreter lock for tenths of a second)."""
-    gc.unfreeze()
-    gc.collect()
-    gc.freeze()
-
-
-def _warm_features(snap: Snapshot) -> None:
-    """Ask for a completion and a hover once, on the analysis thread: what they keep
-    per snapshot (or load on first use) is then ready for the requests that follow."""
-    from osc2lsp.features.completion import complete
-    from osc2lsp.features.hover import hover
-
-    try:
-        complete(snap, snap.text, 0)
-        names = snap.names
-        if names:
-            hover(snap, names[len(names) // 2].start)
-    except Exception:  # the request itself will report it
-        log.debug("warming the features failed", exc_info=True)
-
-
-def _workspace_sources(
-    root: Path,
-    limit: int,
-    open_keys: set[str],
-    known: dict[str, tuple[float, str]],
-    mentioning: str,
-) -> list[tuple[str, float, str, bool]]:
-    """``(key, mtime, text, mentions)`` of the first ``limit`` sources below ``root``
-    that are not open (the text of ``known`` when the file has not changed since), as
-    ``osc2check`` walks and reads them; the folders it skips by default, hidden ones and
-    the bundled library are left out. ``mentions``: the text has ``mentioning`` as a
-    whole word. On a thread: it reads files."""
-    from osc2check.config import DEFAULT_EXCLUDE
-    from osc2check.inputs import InputError, read_bytes, walk
-    from osc2check.resources import stdlib_dir
-    from osc2check.source import decode_source
-
-    library = stdlib_dir().resolve()
-
-    def excluded(path: Path) -> bool:
-        name = path.name
-        if name.endswith(".osc"):
-            return False
-        return name in DEFAULT_EXCLUDE or name.startswith(".") or path.resolve() == library
-
-    if not root.is_dir():
-        return []
-    word = re.compile(rf"(?<!\w){re.escape(mentioning)}(?!\w)")
-    found = []
-    for met in walk(root, excluded):
-        if met.why is not None:
-            log.debug("workspace search: %s left out: %s", met.path, met.why)
-            continue
-        key = str(met.path)
-        if key in open_keys:
-            continue
-        try:
-            mtime = met.path.stat().st_mtime
-            cached = known.get(key)
-            if cached is not None and cached[0] == mtime:
-                text = cached[1]
-            else:
-                text, _ = decode_source(read_bytes(met.path))
-        except (OSError, InputError) as exc:
-            log.debug("workspace search: %s left out: %s", met.path, exc)
-            continue
-        found.append((key, mtime, text, bool(word.search(text))))
-        if len(found) >= limit:
-            break
-    return found
-
-
-def _newer(a: int | None, b: int | None) -> bool:
-    if a is None or b is None:
-        return True
-    return a > b
