@@ -2,11 +2,19 @@
 
 Modules, each one idea:
 
-* ``vehicle``: actor parameters (sedan, HGV, pedestrian, obstacle) -> MJCF;
+* ``vehicle``, ``trailer``: actor parameters (sedan, HGV, pedestrian, obstacle,
+  trailer) -> MJCF, with ``mjcf`` the MJCF text they share;
+* ``state``: actor specs, inputs, weather and the actors' states;
+* ``assembly``: the world's MJCF from its actors;
 * ``actuators``: the ECU layer (rate limits, ABS, TCS, Ackermann);
-* ``world``: the MuJoCo world, stepped in fixed control steps;
+* ``vehicle_bank``, ``trailer_bank``, ``walker_bank``, ``obstacle_bank``: one bank
+  per body kind, owning its model indices, inputs and read-out;
+* ``free_body``, ``locating``, ``divergence``: free-body read-out and placing, road
+  positions, MuJoCo's divergence warnings;
+* ``world``: the MuJoCo world, stepped in fixed control steps, orchestrating the banks;
 * ``events``: collisions and road departures from the actors' bounding boxes;
-* ``controllers``: speed PID with rate profiles, Stanley lateral control.
+* ``controllers``, ``tracking``: speed PID with rate profiles, Stanley lateral control;
+* ``sky``: sun and moon positions.
 
 The one loop that ticks them with a scenario is ``osc2runner.execution.loop``.
 

@@ -1,7 +1,7 @@
 """Driver models: longitudinal speed control and lateral (Stanley) control.
 
 Controllers are plain objects stepped once per control tick with the actor's
-:class:`~osc2runner.sim.world.ActorState`; they keep their own small state
+:class:`~osc2runner.sim.state.ActorState`; they keep their own small state
 (reference, integrator) and never read a clock.
 
 Longitudinal: a **rate profile** turns a target speed into a reference
@@ -51,10 +51,10 @@ from osc2check.world.paths import LanePath
 from osc2check.world.projection import lane_centre
 from osc2check.world.topology import neighbour_n, side_neighbour
 from osc2check.world.tracking import PathCursor
+from osc2runner.sim.state import ActorState, VehicleInput
 from osc2runner.sim.tracking import PathTracker, stanley_steer
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
-from osc2runner.sim.world import ActorState, VehicleInput
 
 __all__ = [
     "LateralPath",

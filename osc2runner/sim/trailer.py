@@ -22,32 +22,20 @@ capped by ABS at ``0.9 * mu * N * r`` like the vehicles'; once disconnected its
 brakes are applied (the parking/breakaway brake). An unbraked trailer only has
 rolling resistance. Aerodynamic drag acts on its chassis.
 
-:class:`TrailerBank` keeps the trailers' model indices and does, vectorised
-over the trailers, what the world does each tick: brakes, drag, read-out.
+:class:`~osc2runner.sim.trailer_bank.TrailerBank` keeps the trailers' model
+indices and does, vectorised over the trailers, what the world does each tick:
+brakes, drag, read-out.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
-import mujoco
-import numpy as np
-
-from osc2runner.sim.vehicle import (
-    GRAVITY,
-    _f,
-    _vec,
-    corner_xml,
-    drag_forces,
-    free_body_state,
-    yaw_quat,
-)
+from osc2runner.sim.mjcf import GRAVITY, corner_xml, num, vec, yaw_quat
 
 __all__ = [
     "TRAILER_WHEELS",
-    "TrailerBank",
     "TrailerParams",
     "articulation",
     "hitch_equality_xml",
@@ -153,17 +141,17 @@ def trailer_body_xml(
     load = p.static_wheel_load
     support_z = SUPPORT_CLEARANCE + SUPPORT_RADIUS - p.h_cog
     lines = [
-        f'<body name="{prefix}" pos="{_vec(x, y, p.h_cog)}" quat="{_vec(*yaw_quat(yaw))}">',
+        f'<body name="{prefix}" pos="{vec(x, y, p.h_cog)}" quat="{vec(*yaw_quat(yaw))}">',
         f'  <freejoint name="{prefix}_root"/>',
-        f'  <inertial pos="{_vec(p.cog, 0, 0)}" mass="{_f(p.chassis_mass)}" '
-        f'diaginertia="{_vec(*p.inertia)}"/>',
-        f'  <geom name="{prefix}_chassis" type="box" size="{_vec(*chassis_half)}" '
-        f'pos="{_vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
+        f'  <inertial pos="{vec(p.cog, 0, 0)}" mass="{num(p.chassis_mass)}" '
+        f'diaginertia="{vec(*p.inertia)}"/>',
+        f'  <geom name="{prefix}_chassis" type="box" size="{vec(*chassis_half)}" '
+        f'pos="{vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
         f'group="1" mass="0"/>',
-        f'  <site name="{prefix}_coupler" pos="{_vec(p.coupler, 0, p.coupler_height - p.h_cog)}"/>',
-        f'  <geom name="{prefix}_support" type="sphere" size="{_f(SUPPORT_RADIUS)}" '
-        f'pos="{_vec(p.coupler - 0.3, 0, support_z)}" condim="3" priority="1" contype="1" '
-        f'conaffinity="0" friction="{_f(SUPPORT_FRICTION)} 0.005 0.0001" group="2" mass="0"/>',
+        f'  <site name="{prefix}_coupler" pos="{vec(p.coupler, 0, p.coupler_height - p.h_cog)}"/>',
+        f'  <geom name="{prefix}_support" type="sphere" size="{num(SUPPORT_RADIUS)}" '
+        f'pos="{vec(p.coupler - 0.3, 0, support_z)}" condim="3" priority="1" contype="1" '
+        f'conaffinity="0" friction="{num(SUPPORT_FRICTION)} 0.005 0.0001" group="2" mass="0"/>',
     ]
     for wheel, side in zip(TRAILER_WHEELS, (1.0, -1.0), strict=True):
         lines += corner_xml(f"{prefix}_{wheel}", p, p.axle, side * 0.5 * p.track, load)
@@ -176,7 +164,7 @@ def hitch_equality_xml(tow: str, trailer: str, active: bool) -> str:
     return (
         f'<connect name="{tow}_tows_{trailer}" site1="{tow}_receiver" '
         f'site2="{trailer}_coupler" active="{str(active).lower()}" '
-        f'solref="{_f(HITCH_TIMECONST)} 1"/>'
+        f'solref="{num(HITCH_TIMECONST)} 1"/>'
     )
 
 
@@ -184,96 +172,3 @@ def articulation(tow_yaw: float, trailer_yaw: float) -> float:
     """The articulation angle: the tow vehicle's heading less the trailer's, in (-pi, pi]."""
     angle = math.remainder(tow_yaw - trailer_yaw, 2.0 * math.pi)
     return math.pi if angle == -math.pi else angle
-
-
-class TrailerBank:
-    """The trailers of one world: model indices, brakes, drag and read-out, vectorised.
-
-    Parameters:
-        model: the compiled MuJoCo model.
-        prefixes: each trailer's body name, in world order.
-        params: each trailer's parameters.
-    """
-
-    def __init__(
-        self, model: mujoco.MjModel, prefixes: Sequence[str], params: Sequence[TrailerParams]
-    ) -> None:
-        def jid(name: str) -> int:
-            return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
-
-        def id_of(kind: mujoco.mjtObj, name: str) -> int:
-            return mujoco.mj_name2id(model, kind, name)
-
-        n = self.count = len(prefixes)
-        self.params = tuple(params)
-        self.body = np.array([id_of(mujoco.mjtObj.mjOBJ_BODY, p) for p in prefixes], dtype=int)
-        root = [jid(f"{p}_root") for p in prefixes]
-        self.qadr = np.array([model.jnt_qposadr[j] for j in root], dtype=int)
-        self.vadr = np.array([model.jnt_dofadr[j] for j in root], dtype=int)
-        self.spin_dof = np.array(
-            [[model.jnt_dofadr[jid(f"{p}_{w}_spin")] for w in TRAILER_WHEELS] for p in prefixes],
-            dtype=int,
-        ).reshape(n, 2)
-        self.wheel_body = np.array(
-            [
-                [id_of(mujoco.mjtObj.mjOBJ_BODY, f"{p}_{w}_wheel") for w in TRAILER_WHEELS]
-                for p in prefixes
-            ],
-            dtype=int,
-        ).reshape(n, 2)
-        self.tire = np.array(
-            [
-                [id_of(mujoco.mjtObj.mjOBJ_GEOM, f"{p}_{w}_tire") for w in TRAILER_WHEELS]
-                for p in prefixes
-            ],
-            dtype=int,
-        ).reshape(n, 2)
-        radius = np.array([p.wheel_radius for p in params])
-        self.radius = radius
-        self.brake_max = np.repeat(
-            np.array([0.5 * p.max_brake_torque for p in params])[:, None], 2, axis=1
-        )
-        load = np.array([p.static_wheel_load for p in params])
-        self.static_load = np.repeat(load[:, None], 2, axis=1)
-        self.rolling_torque = (
-            np.array([p.rolling_resistance for p in params])[:, None]
-            * self.static_load
-            * radius[:, None]
-        )
-        self.abs_cap = (np.array([p.abs_margin for p in params]) * radius)[:, None]
-        self.drag = np.array([0.5 * p.air_density * p.drag_area for p in params])
-        self._q7 = self.qadr[:, None] + np.arange(7)
-        self._v6 = self.vadr[:, None] + np.arange(6)
-        self.reset()
-
-    def reset(self) -> None:
-        """No brake applied, nothing read yet."""
-        n = self.count
-        self.brake = np.zeros(n)  # applied brake, fraction of the maximum
-        self.pos = np.zeros((n, 2))
-        self.yaw = np.zeros(n)
-        self.vel = np.zeros((n, 3))
-        self.speed = np.zeros(n)
-        self.lat_speed = np.zeros(n)
-        self.yaw_rate = np.zeros(n)
-        self.accel = np.zeros(n)
-
-    def apply(self, model: mujoco.MjModel, data: mujoco.MjData, mu: np.ndarray) -> None:
-        """Write this tick's brake torques (``self.brake``, ABS-capped with friction ``mu``,
-        shape (n, 2)) and drag forces into the model."""
-        brake = self.brake[:, None] * self.brake_max
-        np.minimum(brake, self.abs_cap * mu * self.static_load, out=brake)
-        model.dof_frictionloss[self.spin_dof] = brake + self.rolling_torque
-        data.xfrc_applied[self.body, :2] = drag_forces(self.drag, self.vel)
-
-    def read(self, data: mujoco.MjData, dt: float | None = None) -> None:
-        """Read every trailer's pose and velocity; with ``dt``, its acceleration over it."""
-        q = data.qpos[self._q7]
-        v = data.qvel[self._v6]
-        prev = self.vel
-        self.pos, self.yaw, self.vel, self.yaw_rate, c, s, self.speed, self.lat_speed = (
-            free_body_state(q, v)
-        )
-        if dt is not None:
-            dv = (self.vel - prev) / dt
-            self.accel = dv[:, 0] * c + dv[:, 1] * s

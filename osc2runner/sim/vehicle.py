@@ -27,31 +27,23 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
-import numpy as np
-
-if TYPE_CHECKING:
-    from osc2runner.sim.trailer import TrailerParams
+from osc2runner.sim.mjcf import GRAVITY, SteerHinge, corner_xml, num, vec, yaw_quat
 
 __all__ = [
+    "GRAVITY",
     "WHEELS",
-    "FreeBodyState",
     "ObstacleParams",
     "PedestrianParams",
     "VehicleParams",
-    "corner_xml",
-    "drag_forces",
-    "free_body_state",
     "hgv",
     "obstacle_xml",
     "pedestrian_xml",
     "sedan",
+    "yaw_quat",
     "vehicle_actuator_xml",
     "vehicle_body_xml",
 ]
-
-GRAVITY = 9.81
 
 #: Wheel order used by every per-wheel array: front-left, front-right, rear-left, rear-right.
 WHEELS: tuple[str, str, str, str] = ("fl", "fr", "rl", "rr")
@@ -271,20 +263,6 @@ class ObstacleParams:
 # ---------------------------------------------------------------------- MJCF
 
 
-def _f(value: float) -> str:
-    """A float as MJCF text, round-trippable."""
-    return repr(float(value))
-
-
-def _vec(*values: float) -> str:
-    return " ".join(_f(v) for v in values)
-
-
-def yaw_quat(yaw: float) -> tuple[float, float, float, float]:
-    """Unit quaternion (w, x, y, z) of a rotation by ``yaw`` about z."""
-    return (math.cos(0.5 * yaw), 0.0, 0.0, math.sin(0.5 * yaw))
-
-
 def vehicle_body_xml(
     prefix: str, p: VehicleParams, x: float, y: float, yaw: float, collide: bool = False
 ) -> str:
@@ -305,106 +283,24 @@ def vehicle_body_xml(
         (p.rear_axle_x, -0.5 * p.track),
     )
     lines = [
-        f'<body name="{prefix}" pos="{_vec(x, y, p.h_cog)}" quat="{_vec(*yaw_quat(yaw))}">',
+        f'<body name="{prefix}" pos="{vec(x, y, p.h_cog)}" quat="{vec(*yaw_quat(yaw))}">',
         f'  <freejoint name="{prefix}_root"/>',
-        f'  <inertial pos="{_vec(p.cog_x, 0, 0)}" mass="{_f(p.chassis_mass)}" '
-        f'diaginertia="{_vec(*p.inertia)}"/>',
-        f'  <geom name="{prefix}_chassis" type="box" size="{_vec(*chassis_half)}" '
-        f'pos="{_vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
+        f'  <inertial pos="{vec(p.cog_x, 0, 0)}" mass="{num(p.chassis_mass)}" '
+        f'diaginertia="{vec(*p.inertia)}"/>',
+        f'  <geom name="{prefix}_chassis" type="box" size="{vec(*chassis_half)}" '
+        f'pos="{vec(0, 0, chassis_z)}" contype="{bits}" conaffinity="{bits}" condim="3" '
         f'group="1" mass="0"/>',
     ]
     if p.receiver_x is not None:
         lines.append(
             f'  <site name="{prefix}_receiver" '
-            f'pos="{_vec(p.receiver_x, 0, p.hitch_height - p.h_cog)}"/>'
+            f'pos="{vec(p.receiver_x, 0, p.hitch_height - p.h_cog)}"/>'
         )
     for wheel, (cx, cy), steer, load in zip(WHEELS, corners, steered, loads, strict=True):
-        lines += corner_xml(f"{prefix}_{wheel}", p, cx, cy, load, p.max_steer if steer else None)
+        hinge = SteerHinge(p.max_steer, p.steer_damping, p.steer_armature) if steer else None
+        lines += corner_xml(f"{prefix}_{wheel}", p, cx, cy, load, hinge)
     lines.append("</body>")
     return "\n".join(lines)
-
-
-#: planar state of n free-joint bodies, arrays of n rows: position (n, 2), yaw, world
-#: velocity (n, 3), yaw rate, cos and sin of yaw, speed along the heading and left of it
-FreeBodyState = tuple[
-    np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray
-]
-
-
-def free_body_state(q: np.ndarray, v: np.ndarray) -> FreeBodyState:
-    """The planar state from free-joint ``qpos`` rows ``q`` (n, 7) and ``qvel`` rows ``v``
-    (n, 6): yaw from the quaternion, speeds along and across the heading (see
-    :data:`FreeBodyState` for the order)."""
-    w, qx, qy, qz = q[:, 3], q[:, 4], q[:, 5], q[:, 6]
-    yaw = np.arctan2(2.0 * (w * qz + qx * qy), 1.0 - 2.0 * (qy * qy + qz * qz))
-    c, s = np.cos(yaw), np.sin(yaw)
-    # a plain tuple: read per tick, and a named one costs more to make
-    return (
-        q[:, :2],
-        yaw,
-        v[:, :3],
-        v[:, 5],
-        c,
-        s,
-        v[:, 0] * c + v[:, 1] * s,
-        -v[:, 0] * s + v[:, 1] * c,
-    )
-
-
-def drag_forces(coefficient: np.ndarray, vel: np.ndarray) -> np.ndarray:
-    """Aerodynamic drag (n, 2) on bodies moving at world velocities ``vel`` (n, >= 2):
-    ``coefficient`` (0.5 rho Cd A per body) times the speed squared, against the motion."""
-    result: np.ndarray = -(coefficient * np.hypot(vel[:, 0], vel[:, 1]))[:, None] * vel[:, :2]
-    return result
-
-
-def corner_xml(
-    name: str,
-    p: VehicleParams | TrailerParams,
-    x: float,
-    y: float,
-    load: float,
-    max_steer: float | None = None,
-) -> list[str]:
-    """The MJCF lines of one wheel corner of a vehicle or trailer body (indented for it):
-    a knuckle body on a suspension slide sprung for the corner's static ``load`` (N) at
-    ``(x, y)`` of the chassis frame, a steering hinge when ``max_steer`` is given, and
-    the wheel with its spin hinge and sphere tire."""
-    r = p.wheel_radius
-    i_spin = 0.5 * p.wheel_mass * r * r
-    i_side = 0.25 * p.wheel_mass * r * r
-    # sprung load of this corner: the wheel's static load minus unsprung masses
-    sprung = load - (p.wheel_mass + p.knuckle_mass) * GRAVITY
-    corner_mass = sprung / GRAVITY
-    k = corner_mass * (2.0 * math.pi * p.susp_frequency) ** 2
-    c = 2.0 * p.susp_damping_ratio * math.sqrt(k * corner_mass)
-    lines = [
-        f'  <body name="{name}_knuckle" pos="{_vec(x, y, r - p.h_cog)}">',
-        f'    <inertial pos="0 0 0" mass="{_f(p.knuckle_mass)}" '
-        f'diaginertia="{_vec(0.05, 0.05, 0.05)}"/>',
-        f'    <joint name="{name}_susp" type="slide" axis="0 0 1" stiffness="{_f(k)}" '
-        f'springref="{_f(-sprung / k)}" damping="{_f(c)}" armature="1" '
-        f'range="{_vec(-p.susp_travel, p.susp_travel)}"/>',
-    ]
-    if max_steer is not None:
-        assert isinstance(p, VehicleParams)
-        lines.append(
-            f'    <joint name="{name}_steer" type="hinge" axis="0 0 1" '
-            f'damping="{_f(p.steer_damping)}" armature="{_f(p.steer_armature)}" '
-            f'range="{_vec(-max_steer, max_steer)}"/>'
-        )
-    return lines + [
-        f'    <body name="{name}_wheel">',
-        f'      <inertial pos="0 0 0" mass="{_f(p.wheel_mass)}" '
-        f'diaginertia="{_vec(i_side, i_spin, i_side)}"/>',
-        f'      <joint name="{name}_spin" type="hinge" axis="0 1 0" '
-        f'damping="{_f(p.spin_damping)}"/>',
-        f'      <geom name="{name}_tire" type="sphere" size="{_f(r)}" condim="3" '
-        f'priority="1" contype="1" conaffinity="0" friction="1 0.005 0.0001" '
-        f'group="2" mass="0"/>',
-        "    </body>",
-        "  </body>",
-    ]
 
 
 def vehicle_actuator_xml(prefix: str, p: VehicleParams) -> str:
@@ -413,8 +309,8 @@ def vehicle_actuator_xml(prefix: str, p: VehicleParams) -> str:
     for wheel in WHEELS[:2]:
         name = f"{prefix}_{wheel}"
         lines.append(
-            f'<position name="{name}_steer" joint="{name}_steer" kp="{_f(p.steer_kp)}" '
-            f'ctrlrange="{_vec(-p.max_steer, p.max_steer)}"/>'
+            f'<position name="{name}_steer" joint="{name}_steer" kp="{num(p.steer_kp)}" '
+            f'ctrlrange="{vec(-p.max_steer, p.max_steer)}"/>'
         )
     limit = p.max_drive_force * p.wheel_radius
     for wheel, driven in zip(WHEELS, p.driven, strict=True):
@@ -422,7 +318,7 @@ def vehicle_actuator_xml(prefix: str, p: VehicleParams) -> str:
             name = f"{prefix}_{wheel}"
             lines.append(
                 f'<motor name="{name}_drive" joint="{name}_spin" gear="1" '
-                f'ctrlrange="{_vec(-limit, limit)}"/>'
+                f'ctrlrange="{vec(-limit, limit)}"/>'
             )
     return "\n".join(lines)
 
@@ -431,9 +327,9 @@ def pedestrian_xml(prefix: str, p: PedestrianParams, x: float, y: float, yaw: fl
     """A mocap body with a capsule that collides with nothing (events only)."""
     half = max(0.5 * p.height - p.radius, 0.01)
     return (
-        f'<body name="{prefix}" mocap="true" pos="{_vec(x, y, 0.5 * p.height)}" '
-        f'quat="{_vec(*yaw_quat(yaw))}">\n'
-        f'  <geom name="{prefix}_body" type="capsule" size="{_vec(p.radius, half)}" '
+        f'<body name="{prefix}" mocap="true" pos="{vec(x, y, 0.5 * p.height)}" '
+        f'quat="{vec(*yaw_quat(yaw))}">\n'
+        f'  <geom name="{prefix}_body" type="capsule" size="{vec(p.radius, half)}" '
         f'contype="0" conaffinity="0" group="1"/>\n'
         "</body>"
     )
@@ -445,10 +341,10 @@ def obstacle_xml(
     """A static box; with ``collide`` it has physical contacts with chassis."""
     bits = 2 if collide else 0
     return (
-        f'<body name="{prefix}" pos="{_vec(x, y, 0.5 * p.height)}" '
-        f'quat="{_vec(*yaw_quat(yaw))}">\n'
+        f'<body name="{prefix}" pos="{vec(x, y, 0.5 * p.height)}" '
+        f'quat="{vec(*yaw_quat(yaw))}">\n'
         f'  <geom name="{prefix}_box" type="box" '
-        f'size="{_vec(0.5 * p.length, 0.5 * p.width, 0.5 * p.height)}" '
+        f'size="{vec(0.5 * p.length, 0.5 * p.width, 0.5 * p.height)}" '
         f'contype="{bits}" conaffinity="{bits}" group="1"/>\n'
         "</body>"
     )

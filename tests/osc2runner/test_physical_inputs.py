@@ -147,7 +147,7 @@ def test_a_diverged_physics_ends_the_run_as_error_and_writes_the_files(
 
     def step_into_nan(self: World, inputs=None):  # the physics blows up at tick 30
         if self.tick == 30:
-            self.data.qvel[self._vadr[0]] = math.nan
+            self.data.qvel[self.vehicles.vadr[0]] = math.nan
         return real_step(self, inputs)
 
     monkeypatch.setattr(World, "step_control", step_into_nan)
@@ -168,15 +168,16 @@ def test_a_diverged_physics_ends_the_run_as_error_and_writes_the_files(
 
 
 def test_a_non_finite_read_out_ends_the_run_as_error(tmp_path, monkeypatch):
-    real_read = World._read
+    real_step = World.step_control
 
-    def read_nan(self: World) -> None:
-        real_read(self)
+    def step_to_inf(self: World, inputs=None):  # the read-out of tick 12 is not finite
+        events = real_step(self, inputs)
         if self.tick == 12:
-            self._speed = self._speed.copy()
-            self._speed[1] = math.inf
+            self.vehicles.speed = self.vehicles.speed.copy()
+            self.vehicles.speed[1] = math.inf
+        return events
 
-    monkeypatch.setattr(World, "_read", read_nan)
+    monkeypatch.setattr(World, "step_control", step_to_inf)
     result = run(_write(tmp_path, TWO_CARS))
     assert result.outcome.status == "error"
     assert result.outcome.tick == 12
