@@ -38,6 +38,7 @@ from osc2check.syntax import ast
 from osc2runner.compile.conditions import NamedEventWatch, compile_watch
 from osc2runner.compile.expressions import Bindings
 from osc2runner.compile.sampling import on_occurrence
+from osc2runner.compile.text import unparse
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.coverage import (
     CoverageBucket,
@@ -60,8 +61,6 @@ def compile_coverage(env: CompileEnvironment, source: CoverItem, notes: list[str
     """The item of one ``cover``/``record`` (as the checker read it) and its collector
     (registered with the run); raises CompileProblem for what cannot be collected as
     written."""
-    from osc2runner.compile.tree import unparse
-
     decl = source.decl
     named = dict(source.parameters)
     for key, given in source.parameters:

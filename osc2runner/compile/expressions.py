@@ -27,6 +27,7 @@ from osc2check.semantics.constants import NotConstant, physical_literal, to_runt
 from osc2check.semantics.members import actor_alias
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
+from osc2runner.compile.text import unparse
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import RunFault
 from osc2runner.external import ExternalLoadError, ExternalRegistry
@@ -392,7 +393,6 @@ class ExpressionCompiler:
         """``sample(expression, event[, default])`` and ``range(low, high)``."""
         if fname == "sample":
             from osc2runner.compile.sampling import compile_sample
-            from osc2runner.compile.tree import unparse
 
             read, sampler = compile_sample(self.env, e, scope, unparse(e))
             self.samplers.append(sampler)
