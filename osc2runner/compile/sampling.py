@@ -27,13 +27,12 @@ from typing import TYPE_CHECKING, Any
 from osc2check.semantics.builtins import VALUE_FUNCTIONS
 from osc2check.syntax import ast
 from osc2runner.compile.conditions import NamedEventWatch, Watch, compile_watch
-from osc2runner.compile.expressions import Bindings, Closure
+from osc2runner.compile.expressions import Bindings, Closure, Environment
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import RunContext, RunFault
 
 if TYPE_CHECKING:
     from osc2check.semantics.model import Model
-    from osc2runner.compile.environment import CompileEnvironment
 
 __all__ = ["Sampler", "compile_sample", "on_occurrence", "sample_arguments"]
 
@@ -95,7 +94,7 @@ def sample_arguments(model: Model, call: ast.Call) -> dict[str, ast.Node]:
 
 
 def compile_sample(
-    env: CompileEnvironment, call: ast.Call, scope: Bindings, text: str
+    env: Environment, call: ast.Call, scope: Bindings, text: str
 ) -> tuple[Closure, Sampler]:
     """The closure reading ``sample(...)`` and its sampler (registered with the run)."""
     args = sample_arguments(env.model, call)
