@@ -59,7 +59,10 @@ __all__ = [
     "Until",
     "Wait",
     "Watch",
+    "calls",
     "compile_watch",
+    "emits",
+    "emits_now",
     "event_path",
 ]
 
@@ -461,6 +464,39 @@ class OnHandler(_ContextBehaviour):
     def _run(self) -> None:
         for member in self.members:
             member(self)
+
+
+# the members of an `on` handler: each called with the handler when it fires
+
+
+def emits(run: RunContext, name: str) -> Callable[[Any], None]:
+    """An ``on`` handler's member that emits ``name`` (an ``event e is <spec>``)."""
+
+    def fire(handler: Any) -> None:
+        run.emit(name, kind="event")
+
+    return fire
+
+
+def emits_now(
+    run: RunContext, name: str, key: str, args: dict[str, Closure]
+) -> Callable[[Any], None]:
+    """An ``on`` handler's ``emit name(args)``: the arguments evaluated when it fires."""
+
+    def fire(handler: Any) -> None:
+        values = {k: fn() for k, fn in args.items()}  # SI values, evaluated now
+        run.emit(name, values, client=handler.blackboard, key=key)
+
+    return fire
+
+
+def calls(call: Callable[[], Any]) -> Callable[[Any], None]:
+    """An ``on`` handler's ``call m(args)``."""
+
+    def fire(handler: Any) -> None:
+        call()
+
+    return fire
 
 
 def event_name(path: tuple[str, ...]) -> str:

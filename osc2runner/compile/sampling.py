@@ -34,7 +34,7 @@ from osc2runner.execution.context import RunContext, RunFault
 if TYPE_CHECKING:
     from osc2check.semantics.model import Model
 
-__all__ = ["Sampler", "compile_sample", "on_occurrence", "sample_arguments"]
+__all__ = ["Sampler", "compile_sample", "is_sample", "on_occurrence", "sample_arguments"]
 
 _UNSET: Any = object()
 
@@ -76,6 +76,16 @@ class Sampler:
                 self.node,
             )
         return self.default()
+
+
+def is_sample(node: ast.Node) -> bool:
+    """Whether ``node`` is a call of the built-in ``sample``."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.callee, ast.NameRef)
+        and node.callee.name.namespace is None
+        and node.callee.name.name.text == "sample"
+    )
 
 
 def sample_arguments(model: Model, call: ast.Call) -> dict[str, ast.Node]:
