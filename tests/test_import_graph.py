@@ -22,17 +22,7 @@ PACKAGES = {
 }
 
 
-#: circles not untangled yet (strict: untangling one makes the test say so)
-KNOWN = {"osc2runner.compile": "expressions/environment/sampling/tree import one another"}
-
-
-@pytest.mark.parametrize(
-    "package",
-    [
-        pytest.param(p, marks=pytest.mark.xfail(reason=KNOWN[p], strict=True)) if p in KNOWN else p
-        for p in sorted(PACKAGES)
-    ],
-)
+@pytest.mark.parametrize("package", sorted(PACKAGES))
 def test_the_package_has_no_import_circle(package: str) -> None:
     graph = import_graph(ROOT / package.replace(".", "/"), package)
     assert PACKAGES[package] in graph

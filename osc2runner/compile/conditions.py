@@ -26,7 +26,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
 from types import SimpleNamespace
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 import py_trees
 from py_trees.common import Access, Status
@@ -36,7 +36,7 @@ from osc2check.semantics.symbols import SymbolKind
 from osc2check.syntax import ast
 from osc2runner.behaviours.base import FastLeaf
 from osc2runner.compile.composites import end_instances, tick_child
-from osc2runner.compile.expressions import Bindings, Closure, is_constant
+from osc2runner.compile.expressions import Bindings, Closure, Environment, is_constant
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import (
     EdgeDetector,
@@ -46,9 +46,6 @@ from osc2runner.execution.context import (
     RunFault,
     event_key,
 )
-
-if TYPE_CHECKING:
-    from osc2runner.compile.environment import CompileEnvironment
 
 __all__ = [
     "CallDirective",
@@ -62,7 +59,10 @@ __all__ = [
     "Until",
     "Wait",
     "Watch",
+    "calls",
     "compile_watch",
+    "emits",
+    "emits_now",
     "event_path",
 ]
 
@@ -224,7 +224,7 @@ class LevelWatch(Watch):
 # ---------------------------------------------------------------------- compiling
 
 
-def compile_watch(env: CompileEnvironment, spec: ast.Node, scope: Bindings) -> Watch:
+def compile_watch(env: Environment, spec: ast.Node, scope: Bindings) -> Watch:
     """The watch of an event spec (``@e as x if c``, an event function, a condition), of
     an event argument (``@e`` in ``sample``) or of an event named by a path (``event: e``
     of a coverage item). Raises CompileProblem for what the runner cannot watch."""
@@ -260,7 +260,7 @@ def compile_watch(env: CompileEnvironment, spec: ast.Node, scope: Bindings) -> W
     raise CompileProblem("the runner cannot watch this event", spec)
 
 
-def event_path(env: CompileEnvironment, node: ast.Node) -> str | None:
+def event_path(env: Environment, node: ast.Node) -> str | None:
     """``e`` or ``lbl.end`` written as an expression, when it names an event: its name."""
     names: list[str] = []
     current = node
@@ -281,7 +281,7 @@ def event_path(env: CompileEnvironment, node: ast.Node) -> str | None:
     return None
 
 
-def _arguments(env: CompileEnvironment, builtin: str, call: ast.Call) -> dict[str, ast.Node]:
+def _arguments(env: Environment, builtin: str, call: ast.Call) -> dict[str, ast.Node]:
     """The arguments of a built-in call by parameter name, as the checker bound them."""
     binding = env.model.binding(call)
     if binding is None:
@@ -293,7 +293,7 @@ def _arguments(env: CompileEnvironment, builtin: str, call: ast.Call) -> dict[st
     return given
 
 
-def _event_function(env: CompileEnvironment, fname: str, call: ast.Call, scope: Bindings) -> Watch:
+def _event_function(env: Environment, fname: str, call: ast.Call, scope: Bindings) -> Watch:
     run = env.run
     args = _arguments(env, fname, call)
     first = args[EVENT_FUNCTIONS[fname].parameters[0].name]
@@ -464,6 +464,39 @@ class OnHandler(_ContextBehaviour):
     def _run(self) -> None:
         for member in self.members:
             member(self)
+
+
+# the members of an `on` handler: each called with the handler when it fires
+
+
+def emits(run: RunContext, name: str) -> Callable[[Any], None]:
+    """An ``on`` handler's member that emits ``name`` (an ``event e is <spec>``)."""
+
+    def fire(handler: Any) -> None:
+        run.emit(name, kind="event")
+
+    return fire
+
+
+def emits_now(
+    run: RunContext, name: str, key: str, args: dict[str, Closure]
+) -> Callable[[Any], None]:
+    """An ``on`` handler's ``emit name(args)``: the arguments evaluated when it fires."""
+
+    def fire(handler: Any) -> None:
+        values = {k: fn() for k, fn in args.items()}  # SI values, evaluated now
+        run.emit(name, values, client=handler.blackboard, key=key)
+
+    return fire
+
+
+def calls(call: Callable[[], Any]) -> Callable[[Any], None]:
+    """An ``on`` handler's ``call m(args)``."""
+
+    def fire(handler: Any) -> None:
+        call()
+
+    return fire
 
 
 def event_name(path: tuple[str, ...]) -> str:

@@ -27,7 +27,7 @@ from __future__ import annotations
 
 import math
 from fractions import Fraction
-from typing import TYPE_CHECKING, Any
+from typing import Any
 
 from osc2check.semantics import types as T
 from osc2check.semantics.bindings import CoverItem
@@ -36,8 +36,9 @@ from osc2check.semantics.constants import NotConstant, Quantity, RangeValue, eva
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2runner.compile.conditions import NamedEventWatch, compile_watch
-from osc2runner.compile.expressions import Bindings
+from osc2runner.compile.expressions import Bindings, Environment
 from osc2runner.compile.sampling import on_occurrence
+from osc2runner.compile.text import unparse
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.coverage import (
     CoverageBucket,
@@ -47,21 +48,16 @@ from osc2runner.execution.coverage import (
 )
 from osc2runner.external import python_value
 
-if TYPE_CHECKING:
-    from osc2runner.compile.environment import CompileEnvironment
-
 __all__ = ["compile_coverage"]
 
 _NOT_COLLECTED = ("items", "buckets", "override")
 _MAX_BUCKETS = 10_000
 
 
-def compile_coverage(env: CompileEnvironment, source: CoverItem, notes: list[str]) -> CoverageItem:
+def compile_coverage(env: Environment, source: CoverItem, notes: list[str]) -> CoverageItem:
     """The item of one ``cover``/``record`` (as the checker read it) and its collector
     (registered with the run); raises CompileProblem for what cannot be collected as
     written."""
-    from osc2runner.compile.tree import unparse
-
     decl = source.decl
     named = dict(source.parameters)
     for key, given in source.parameters:
@@ -142,7 +138,7 @@ def compile_coverage(env: CompileEnvironment, source: CoverItem, notes: list[str
     return item
 
 
-def _unit(env: CompileEnvironment, node: ast.Node | None, value_type: T.Type | None) -> Any:
+def _unit(env: Environment, node: ast.Node | None, value_type: T.Type | None) -> Any:
     """The unit symbol of ``unit:`` (its dimension must be the value's)."""
     if node is None:
         return None
@@ -188,7 +184,7 @@ def _converter(unit: Symbol | None) -> Any:
     return convert
 
 
-def _in_unit(env: CompileEnvironment, node: ast.Node, unit: Symbol | None) -> float:
+def _in_unit(env: Environment, node: ast.Node, unit: Symbol | None) -> float:
     """A constant bound or width: a physical value converted to ``unit`` (SI without one),
     a plain number taken as written in the item's unit."""
     value = _constant(env, node)
@@ -208,7 +204,7 @@ def _number_in_unit(value: Any, unit: Symbol | None, node: ast.Node) -> float:
     raise CompileProblem("a coverage bound must be a number or a physical value", node)
 
 
-def _constant(env: CompileEnvironment, node: ast.Node) -> Any:
+def _constant(env: Environment, node: ast.Node) -> Any:
     values = env.values
 
     def lookup(field: Symbol, ref: ast.Node) -> Any:
@@ -225,7 +221,7 @@ def _constant(env: CompileEnvironment, node: ast.Node) -> Any:
 
 
 def _buckets(
-    env: CompileEnvironment,
+    env: Environment,
     item: CoverageItem,
     named: dict[str, ast.Node],
     value_type: T.Type | None,

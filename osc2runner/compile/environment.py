@@ -26,6 +26,7 @@ from osc2runner.compile.expressions import (
     namespace,
 )
 from osc2runner.compile.registry import MethodRegistry
+from osc2runner.compile.sampling import Sampler, compile_sample
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
@@ -65,6 +66,10 @@ class CompileEnvironment:
     def compile(self, expr: ast.Node, scope: Bindings | None = None) -> Closure:
         """Compile an expression to a closure over the run context."""
         return self.compiler.compile(expr, scope)
+
+    def sample(self, call: ast.Call, scope: Bindings, text: str) -> tuple[Closure, Sampler]:
+        """The closure reading ``sample(...)`` and its sampler (registered with the run)."""
+        return compile_sample(self, call, scope, text)
 
     def actor_member(
         self, actor: Actor, member: str, sym: Symbol | None, node: ast.Node

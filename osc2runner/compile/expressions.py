@@ -18,7 +18,7 @@ import operator
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import SimpleNamespace
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Protocol
 
 from osc2check.semantics import types as T
 from osc2check.semantics.bindings import python_arguments
@@ -27,17 +27,22 @@ from osc2check.semantics.constants import NotConstant, physical_literal, to_runt
 from osc2check.semantics.members import actor_alias
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
+from osc2runner.compile.text import unparse
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import RunFault
 from osc2runner.external import ExternalLoadError, ExternalRegistry
 from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
-    from osc2runner.compile.environment import CompileEnvironment
+    from osc2check.semantics.model import Model
+    from osc2runner.compile.registry import MethodRegistry
+    from osc2runner.execution.context import RunContext
+    from osc2runner.instance.values import ScenarioValues
 
 __all__ = [
     "Bindings",
     "Closure",
+    "Environment",
     "ExpressionCompiler",
     "Frame",
     "PositionOf",
@@ -164,10 +169,45 @@ _BINARY: dict[str, Callable[[Any, Any], Any]] = {
 }
 
 
+class Environment(Protocol):
+    """What compiling reads from its environment (the program's model, the instance's
+    values, the method registry, the run context) and the compilers it offers.
+
+    :class:`~osc2runner.compile.environment.CompileEnvironment` is the one there is; the
+    compilers of expressions, conditions, samples and coverage take this Protocol so that
+    none of them imports the module that builds them all.
+    """
+
+    @property
+    def model(self) -> Model: ...
+    @property
+    def values(self) -> ScenarioValues: ...
+    @property
+    def registry(self) -> MethodRegistry: ...
+    @property
+    def run(self) -> RunContext: ...
+    @property
+    def actors(self) -> dict[str, Actor]: ...
+    @property
+    def variable_symbols(self) -> set[Symbol]: ...
+    @property
+    def compiler(self) -> ExpressionCompiler: ...
+
+    def compile(self, expr: ast.Node, scope: Bindings | None = None) -> Closure: ...
+
+    def actor_member(
+        self, actor: Actor, member: str, sym: Symbol | None, node: ast.Node
+    ) -> Closure: ...
+
+    def sample(self, call: ast.Call, scope: Bindings, text: str) -> tuple[Closure, Any]:
+        """The closure reading ``sample(...)`` and its sampler (registered with the run)."""
+        ...
+
+
 class ExpressionCompiler:
     """Compiles expression nodes of one program; the closures read the run context."""
 
-    def __init__(self, env: CompileEnvironment) -> None:
+    def __init__(self, env: Environment) -> None:
         self.env = env
         self.model = env.model
         self._references = [m.references for m in _chain(env.model)]
@@ -391,10 +431,7 @@ class ExpressionCompiler:
     def _value_function(self, fname: str, e: ast.Call, scope: Bindings) -> Closure:
         """``sample(expression, event[, default])`` and ``range(low, high)``."""
         if fname == "sample":
-            from osc2runner.compile.sampling import compile_sample
-            from osc2runner.compile.tree import unparse
-
-            read, sampler = compile_sample(self.env, e, scope, unparse(e))
+            read, sampler = self.env.sample(e, scope, unparse(e))
             self.samplers.append(sampler)
             return read
         binding = self.model.binding(e)

@@ -27,15 +27,14 @@ from typing import TYPE_CHECKING, Any
 from osc2check.semantics.builtins import VALUE_FUNCTIONS
 from osc2check.syntax import ast
 from osc2runner.compile.conditions import NamedEventWatch, Watch, compile_watch
-from osc2runner.compile.expressions import Bindings, Closure
+from osc2runner.compile.expressions import Bindings, Closure, Environment
 from osc2runner.errors import CompileProblem
 from osc2runner.execution.context import RunContext, RunFault
 
 if TYPE_CHECKING:
     from osc2check.semantics.model import Model
-    from osc2runner.compile.environment import CompileEnvironment
 
-__all__ = ["Sampler", "compile_sample", "on_occurrence", "sample_arguments"]
+__all__ = ["Sampler", "compile_sample", "is_sample", "on_occurrence", "sample_arguments"]
 
 _UNSET: Any = object()
 
@@ -79,6 +78,16 @@ class Sampler:
         return self.default()
 
 
+def is_sample(node: ast.Node) -> bool:
+    """Whether ``node`` is a call of the built-in ``sample``."""
+    return (
+        isinstance(node, ast.Call)
+        and isinstance(node.callee, ast.NameRef)
+        and node.callee.name.namespace is None
+        and node.callee.name.name.text == "sample"
+    )
+
+
 def sample_arguments(model: Model, call: ast.Call) -> dict[str, ast.Node]:
     """The arguments of a ``sample`` call by parameter name (expression, event, default),
     as the checker bound them (an ``@e`` argument is the event)."""
@@ -95,7 +104,7 @@ def sample_arguments(model: Model, call: ast.Call) -> dict[str, ast.Node]:
 
 
 def compile_sample(
-    env: CompileEnvironment, call: ast.Call, scope: Bindings, text: str
+    env: Environment, call: ast.Call, scope: Bindings, text: str
 ) -> tuple[Closure, Sampler]:
     """The closure reading ``sample(...)`` and its sampler (registered with the run)."""
     args = sample_arguments(env.model, call)

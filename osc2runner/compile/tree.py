@@ -21,8 +21,7 @@ from typing import Any
 import py_trees
 
 from osc2check.capabilities import TRAILER_ACTIONS
-from osc2check.semantics import types as T
-from osc2check.semantics.bindings import Binding, CoverItem, note_read
+from osc2check.semantics.bindings import CoverItem
 from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
 from osc2check.semantics.members import declaration_bodies, last_do, scenario_members
@@ -33,6 +32,12 @@ from osc2check.syntax.walk import walk
 from osc2check.verify.terms import invocation_path, join_path, one_of_choice
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.behaviours.base import ActionUse, Modifier, ModifierUse
+from osc2runner.compile.arguments import (
+    call_arguments,
+    checked_binding,
+    instance_field,
+    scenario_arguments,
+)
 from osc2runner.compile.composites import (
     DurationBound,
     InvokedScenario,
@@ -50,7 +55,10 @@ from osc2runner.compile.conditions import (
     Until,
     Wait,
     Watch,
+    calls,
     compile_watch,
+    emits,
+    emits_now,
 )
 from osc2runner.compile.coverage import compile_coverage
 from osc2runner.compile.environment import CompileEnvironment
@@ -60,17 +68,16 @@ from osc2runner.compile.expressions import (
     Frame,
     constant,
     is_constant,
-    read_variable,
 )
 from osc2runner.compile.preparation import Choices, prepare_starts
-from osc2runner.compile.sampling import on_occurrence
+from osc2runner.compile.sampling import is_sample, on_occurrence
+from osc2runner.compile.text import node_name, unparse
 from osc2runner.errors import CompileProblem, RunProblem
-from osc2runner.execution.context import RunContext
 from osc2runner.execution.coverage import CoverageItem
 from osc2runner.instance.actors import Actor
 from osc2runner.instance.values import scenario_fields
 
-__all__ = ["CompiledScenario", "compile_scenario", "node_name", "unparse"]
+__all__ = ["CompiledScenario", "compile_scenario"]
 
 log = logging.getLogger(__name__)
 
@@ -87,69 +94,6 @@ class CompiledScenario:
     cover_items: list[tuple[CoverageItem, CoverItem]] = field(default_factory=list)
     #: which acting member each ``one_of`` runs, by its instance's name (``Choices``)
     choices: dict[str, int] = field(default_factory=dict)
-
-
-def node_name(text: str, node: ast.Node) -> str:
-    """``text [line]``: a behaviour's display name."""
-    return f"{text} [{node.span.line}]"
-
-
-def unparse(node: ast.Node | None) -> str:
-    """OSC2 text of an expression, argument or event spec (for display names)."""
-    match node:
-        case None:
-            return ""
-        case ast.IntLiteral() | ast.FloatLiteral():
-            return node.text
-        case ast.PhysicalLiteral():
-            return f"{node.number_text}{node.unit.text}"
-        case ast.StringLiteral():
-            return f'"{node.value}"'
-        case ast.BoolLiteral():
-            return "true" if node.value else "false"
-        case ast.NameRef():
-            return str(node.name)
-        case ast.EnumRef():
-            return f"{node.enum}!{node.member.text}"
-        case ast.MemberAccess():
-            return f"{unparse(node.target)}.{node.member.text}"
-        case ast.Call():
-            return f"{unparse(node.callee)}({', '.join(unparse(a) for a in node.arguments)})"
-        case ast.Index():
-            return f"{unparse(node.target)}[{unparse(node.index)}]"
-        case ast.Unary():
-            return (
-                f"not {unparse(node.operand)}"
-                if node.op == "not"
-                else f"{node.op}{unparse(node.operand)}"
-            )
-        case ast.Binary():
-            return f"{unparse(node.left)} {node.op} {unparse(node.right)}"
-        case ast.Ternary():
-            return f"{unparse(node.condition)} ? {unparse(node.then)} : {unparse(node.otherwise)}"
-        case ast.ListLiteral():
-            return f"[{', '.join(unparse(i) for i in node.items)}]"
-        case ast.RangeLiteral():
-            return f"[{unparse(node.low)}..{unparse(node.high)}]"
-        case ast.PositionalArgument():
-            return unparse(node.value)
-        case ast.NamedArgument():
-            return f"{node.name.text}: {unparse(node.value)}"
-        case ast.EventArgument():
-            return "@" + ".".join(p.text for p in node.path)
-        case ast.EventReference():
-            text = "@" + ".".join(p.text for p in node.path)
-            if node.alias is not None:
-                text += f" as {node.alias.text}"
-            if node.condition is not None:
-                text += f" if {unparse(node.condition)}"
-            return text
-        case ast.EventCondition():
-            return unparse(node.expr)
-        case ast.Emit():
-            args = ", ".join(unparse(a) for a in node.arguments)
-            return f"emit {node.event.text}" + (f"({args})" if node.arguments else "")
-    return type(node).__name__
 
 
 def compile_scenario(
@@ -174,7 +118,6 @@ class TreeCompiler:
         self.labels: dict[int, ast.Name] = {}  # the label of an invocation, by node id
         self.invoking: list[Symbol] = []  # the scenarios being compiled, outermost first
         self.bodies = declaration_bodies(self.model)
-        self._argument_scope: dict[int, Bindings] = {}
         self.choices = Choices(self.run.seed)
 
     # ---- helpers
@@ -276,7 +219,7 @@ class TreeCompiler:
             env.variable_symbols.add(sym)
             if default is None:
                 continue
-            if any(_is_sample(node) for node in walk(default)):
+            if any(is_sample(node) for node in walk(default)):
                 try:
                     env.compiler.live_variables[sym] = env.compile(default)
                 except CompileProblem as exc:
@@ -335,7 +278,7 @@ class TreeCompiler:
                 OnHandler(
                     node_name(f"event {sym.name}", decl),
                     watch,
-                    [_emits(run, name)],
+                    [emits(run, name)],
                 )
             )
         return handlers
@@ -391,7 +334,7 @@ class TreeCompiler:
         return node
 
     def composition(self, comp: ast.Composition, scope: Bindings) -> py_trees.behaviour.Behaviour:
-        args = {b.name: b.value for b in self._binding(comp).extras}
+        args = {b.name: b.value for b in checked_binding(self.env, comp).extras}
         children = [self.do_member(m, scope) for m in comp.members]
         name = node_name(comp.op, comp)
         node: py_trees.behaviour.Behaviour
@@ -450,13 +393,6 @@ class TreeCompiler:
                     f"line {wm.span.line}: a constraint on {what} is left to the solver"
                 )
         return untils
-
-    def _binding(self, call: ast.Node) -> Binding:
-        """The checker's binding of ``call``'s arguments (every checked call has one)."""
-        binding = self.model.binding(call)
-        if binding is None:
-            raise CompileProblem("the checker bound no arguments here", call)
-        return binding
 
     def _wrap(
         self,
@@ -534,8 +470,8 @@ class TreeCompiler:
             sym.name,
             inv,
         )
-        arguments, duration = self._arguments(
-            inv, inner, path, defaults=getattr(entry.target, "with_defaults", False)
+        arguments, duration = call_arguments(
+            self.env, inv, inner, path, defaults=getattr(entry.target, "with_defaults", False)
         )
         modifiers: list[Modifier] = []
         untils: list[ast.Until] = []
@@ -587,7 +523,7 @@ class TreeCompiler:
             sym.name,
             inv,
         )
-        arguments, duration = self._arguments(inv, scope, path, defaults=True)
+        arguments, duration = call_arguments(self.env, inv, scope, path, defaults=True)
         untils = [wm for wm in inv.with_members if isinstance(wm, ast.Until)]
         for wm in inv.with_members:
             if isinstance(wm, ast.Invocation):
@@ -648,7 +584,7 @@ class TreeCompiler:
             actor = value if isinstance(value, Actor) else None
         label = self.labels.get(id(inv))
         path = invocation_path(outer.path, actor.name if actor else None, label, sym.name, inv)
-        given, duration = self._scenario_arguments(sym, inv, scope)
+        given, duration = scenario_arguments(self.env, inv)
         members = scenario_members(self.model, self.bodies, sym)
         do = last_do(members)
         at_start: frozenset[ast.Node] = frozenset()
@@ -669,8 +605,8 @@ class TreeCompiler:
         initialisers: list[Callable[[], None]] = []
         for param in self.model.all_members(sym):
             if param.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
-                frame.fields[param] = self._instance_field(
-                    param, frame, given, inv, inner, initialisers
+                frame.fields[param] = instance_field(
+                    self.env, param, frame, given, inv, scope, inner, initialisers
                 )
         for event in (*PREDEFINED_EVENTS, *events):
             self.run.declare_event(frame.qualified(event))
@@ -708,127 +644,6 @@ class TreeCompiler:
         untils = self._untils(inv.with_members, "a scenario invocation")
         return self._wrap(invoked, inv, duration, untils, scope)
 
-    def _scenario_arguments(
-        self, sym: Symbol, inv: ast.Invocation, scope: Bindings
-    ) -> tuple[dict[str, ast.Node], ast.Node | None]:
-        """The arguments of a scenario invocation by parameter name, and its duration."""
-        binding = self._binding(inv)
-        duration = binding.extra("duration")
-        self._argument_scope[id(inv)] = scope
-        return dict(binding.values(defaults=False)), duration.value if duration else None
-
-    def _instance_field(
-        self,
-        param: Symbol,
-        frame: Frame,
-        given: dict[str, ast.Node],
-        inv: ast.Invocation,
-        inner: Bindings,
-        initialisers: list[Callable[[], None]],
-    ) -> Closure:
-        """The closure of one field of an invoked scenario's instance; a ``var`` with an
-        initialiser adds its initialisation to ``initialisers`` (run when the instance
-        starts), unless it holds a ``sample`` (then it is live)."""
-        scope = self._argument_scope[id(inv)]
-        t = param.type
-        if t is not None and t.kind is T.Kind.COMPOUND and t.symbol is not None:
-            if t.symbol.kind is SymbolKind.ACTOR:
-                if param.name not in given:
-                    raise CompileProblem(
-                        f"the runner needs the actor parameter `{param.name}` of "
-                        f"`{param.owner.name if param.owner else ''}` passed as an argument "
-                        f"(`{param.name}: <an actor>`)",
-                        inv,
-                    )
-                value = self.env.compiler.constant_value(given[param.name], scope)
-                if not isinstance(value, Actor):
-                    raise CompileProblem(f"`{param.name}` must be given an actor", inv)
-                return constant(value)
-        if param.kind is SymbolKind.VARIABLE:
-            default = param.default
-            if default is not None and any(_is_sample(node) for node in walk(default)):
-                return self.env.compile(default, inner)
-            store, key = self.run.variables, frame.qualified(param.name)
-            if default is not None:
-                init = self.env.compile(default, inner)
-
-                def initialise(init: Closure = init, key: str = key) -> None:
-                    store[key] = init()
-
-                initialisers.append(initialise)
-            where: ast.Node = param.decl or inv
-            return lambda: read_variable(store, key, where)
-        try:
-            return constant(to_runtime(self.env.values.value_at(frame.path, param)))
-        except NotConstant:
-            if param.name in given:
-                return self.env.compile(given[param.name], scope)
-            raise CompileProblem(
-                f"`{param.name}` of the invoked scenario has no value in the checker's witness",
-                inv,
-            ) from None
-
-    def _arguments(
-        self, call: ast.Invocation, scope: Bindings, path: str, *, defaults: bool = False
-    ) -> tuple[dict[str, Closure], ast.Node | None]:
-        """The closures of the arguments given to an action or modifier by parameter name
-        (as the checker bound them; with ``defaults``, the declared defaults of those not
-        given too), and its duration. A range given where a scalar is expected is one
-        value the solver chose from it (``keep(p in r)``): the witness's, under the
-        call's instance ``path`` (as ``verify.terms`` names it)."""
-        binding = self._binding(call)
-        if binding.events:
-            raise CompileProblem("event arguments are not supported here", binding.events[0])
-        result: dict[str, Closure] = {}
-        declared: dict[str, Closure] = {}
-        for bound in binding.arguments:
-            if bound.is_default:
-                if defaults:
-                    declared[bound.name] = self.env.compile(bound.value, Bindings())
-                continue
-            if bound.range and bound.parameter is not None:
-                result[bound.name] = self._chosen(path, bound.parameter, bound.value)
-            else:
-                result[bound.name] = self.env.compile(bound.value, scope)
-        callee = binding.callee
-        if isinstance(callee, Symbol) and callee.kind is SymbolKind.ACTION:
-            # a parameter that a `keep` of the call's `with:` gives: the witness's value
-            for param in self.model.parameters(callee):
-                if param.name in result or binding.given(param.name) is not None:
-                    continue
-                kept = self.env.values.kept(path, param)
-                if kept is not None:
-                    result[param.name] = constant(to_runtime(kept))
-        if defaults and isinstance(callee, Symbol):
-            self._kept(callee, path, result)
-            result = {**declared, **result}
-        duration = binding.extra("duration")
-        if duration is not None:  # the phase's bound (``_wrap``) and the plans' (ActionUse)
-            note_read(call, "duration")
-        return result, duration.value if duration is not None else None
-
-    def _kept(self, callee: Symbol, path: str, result: dict[str, Closure]) -> None:
-        """The parameters of a plug-in's behaviour given no argument whose value the
-        witness chose (a ``keep`` of the invocation's ``with:``; else their defaults)."""
-        for param in self.model.all_members(callee):
-            if param.kind is not SymbolKind.FIELD or param.name in result:
-                continue
-            try:
-                value = to_runtime(self.env.values.value_at(path, param))
-            except NotConstant:
-                continue  # its default, or none: the checker required what has none
-            result[param.name] = constant(value)
-
-    def _chosen(self, path: str, param: Symbol, where: ast.Node) -> Closure:
-        """The witness's value of parameter ``param`` of the call at ``path``."""
-        try:
-            return constant(to_runtime(self.env.values.value_at(path, param)))
-        except NotConstant:
-            raise CompileProblem(
-                f"`{param.name}` is given a range and the checker's witness chose no value from it",
-                where,
-            ) from None
-
     def modifier(self, wm: ast.Invocation, actor: Actor, scope: Bindings, path: str) -> Modifier:
         """A modifier applied in an action's ``with:`` (``path``: the action's instance)."""
         sym = self.model.references.get(wm.name)
@@ -841,7 +656,8 @@ class TreeCompiler:
                 "docs/coverage.md for what the runner supports)",
                 wm.name,
             )
-        arguments, _ = self._arguments(
+        arguments, _ = call_arguments(
+            self.env,
             wm,
             scope,
             join_path(path, f"{sym.name}@{wm.span.line}"),
@@ -903,10 +719,10 @@ class TreeCompiler:
             if isinstance(member, ast.Emit):
                 name, key, args = self._emission(member, scope)
                 keys.append(key)
-                members.append(_emits_now(run, name, key, args))
+                members.append(emits_now(run, name, key, args))
             elif isinstance(member, ast.CallDirective):
                 call = env.compile(member.call, scope)
-                members.append(_calls(call))
+                members.append(calls(call))
         return OnHandler(node_name(f"on {self._text(on.event)}", on), watch, members, keys)
 
     def coverage(self, decl: ast.CoverageDecl) -> None:
@@ -974,43 +790,7 @@ def _parameter(values: Any, field: Symbol) -> Any:
     return values.value(field)
 
 
-def _is_sample(node: ast.Node) -> bool:
-    return (
-        isinstance(node, ast.Call)
-        and isinstance(node.callee, ast.NameRef)
-        and node.callee.name.namespace is None
-        and node.callee.name.name.text == "sample"
-    )
-
-
 def _no_span() -> Any:
     from osc2check.source import Span
 
     return Span("", 0, 0, 0, 0)
-
-
-# ---- the members of an `on` handler: each called with the handler when it fires
-
-
-def _emits(run: RunContext, name: str) -> Callable[[Any], None]:
-    def fire(handler: Any) -> None:
-        run.emit(name, kind="event")
-
-    return fire
-
-
-def _emits_now(
-    run: RunContext, name: str, key: str, args: dict[str, Closure]
-) -> Callable[[Any], None]:
-    def fire(handler: Any) -> None:
-        values = {k: fn() for k, fn in args.items()}  # SI values, evaluated now
-        run.emit(name, values, client=handler.blackboard, key=key)
-
-    return fire
-
-
-def _calls(call: Callable[[], Any]) -> Callable[[Any], None]:
-    def fire(handler: Any) -> None:
-        call()
-
-    return fire

@@ -28,7 +28,7 @@ ALLOWED_MODULES = {
 #: Functions elsewhere that read argument nodes without binding them.
 ALLOWED_FUNCTIONS = {
     ("osc2check/semantics/declare.py", "si_dimension"): "SI(m: 1, ...) of a type or unit: no call",
-    ("osc2runner/compile/tree.py", "unparse"): "prints an argument as written",
+    ("osc2runner/compile/text.py", "unparse"): "prints an argument as written",
 }
 
 

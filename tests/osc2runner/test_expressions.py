@@ -7,7 +7,7 @@ import pytest
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2runner.compile.expressions import is_constant
-from osc2runner.compile.tree import unparse
+from osc2runner.compile.text import unparse
 from osc2runner.runner import Prepared, prepare
 
 TEXT = """\
