@@ -221,11 +221,12 @@ class StartModifiers(ActorPlacer):
         """A `lane(k)` or `speed(v)` of any phase needs a lane the road has and a speed
         the vehicle reaches, whenever the phase runs; so does a lane change, from the lane
         the actor is in then (``lane_steps``)."""
-        scenarios = [s.decl for s in self.model.symbols if s.kind is SymbolKind.SCENARIO]
+        shared = self.lw.member_decls
+        if shared.one_of_invocations is None:
+            scenarios = [s.decl for s in self.model.symbols if s.kind is SymbolKind.SCENARIO]
+            shared.one_of_invocations = one_of_members(d for d in scenarios if d)
         rules = placement.map.facts.rules
-        steps = LaneSteps(
-            self.model, self._value, one_of_members(d for d in scenarios if d), rules != {"LHT"}
-        )
+        steps = LaneSteps(self.model, self._value, shared.one_of_invocations, rules != {"LHT"})
         for member in self._bodies(self.scenario):
             for inv, scope in self._all_invocations(member, self._root_scope()):
                 self.scope = scope

@@ -597,6 +597,9 @@ class Declarations(dict[Symbol, list[tuple[ast.Member, ...]]]):
     def __init__(self) -> None:
         super().__init__()
         self.kinds: dict[Symbol, VarKind] = {}
+        #: the ids of the invocations inside a ``one_of`` of any scenario of the model
+        #: (``start_modifiers``: worked out once per model, not once per scenario)
+        self.one_of_invocations: set[int] | None = None
 
 
 def member_declarations(model: Model) -> Declarations:
