@@ -65,7 +65,7 @@ class FastLeaf:
     def tick_status(self) -> Status:
         if self.status != Status.RUNNING:
             self.initialise()  # type: ignore[attr-defined]
-        new_status = self.update()  # type: ignore[attr-defined]
+        new_status: Status = self.update()  # type: ignore[attr-defined]
         if new_status != Status.RUNNING:
             self.stop(new_status)  # type: ignore[attr-defined]
         self.status = new_status

@@ -161,7 +161,8 @@ def lane_change_duration(
         # the quintic blend's peak lateral speed is 15/8 of the mean
         return 1.875 * distance / rate_peak
     accel = LANE_CHANGE_ACCEL.get(profile or "none", LANE_CHANGE_ACCEL["none"])
-    return (_QUINTIC_PEAK * distance / accel) ** 0.5
+    seconds: float = (_QUINTIC_PEAK * distance / accel) ** 0.5
+    return seconds
 
 
 def gap_between(me: ActorState, other: ActorState, *, bumpers: bool) -> float:

@@ -483,7 +483,8 @@ def _scenario(ctx: Any, here: LaneRef, number: int) -> int:
     """The scenario's number (the map's side) of the lane numbered ``number`` from the right."""
     if ctx.lanes.default_side == "right":
         return number
-    return ctx.lanes.count(here) + 1 - number
+    lane: int = ctx.lanes.count(here) + 1 - number
+    return lane
 
 
 def _road_length(action: ActionBehaviour, state: ActorState) -> float:

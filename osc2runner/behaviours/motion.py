@@ -27,6 +27,7 @@ from osc2runner.behaviours.driving import (
 )
 from osc2runner.compile.registry import action
 from osc2runner.instance.actors import Actor
+from osc2runner.sim import ActorState
 
 __all__ = [
     "AssignAcceleration",
@@ -280,10 +281,11 @@ class GapAction(ActionBehaviour):
         else:
             self.goal = float(args["target"])
 
-    def _measure(self, me, other) -> float:  # noqa: ANN001
-        gap = self.sign * gap_between(me, other, bumpers=self.bumpers)
+    def _measure(self, me: ActorState, other: ActorState) -> float:
+        gap: float = self.sign * gap_between(me, other, bumpers=self.bumpers)
         if self.timed:
-            return gap / max(me.speed, 0.1)
+            headway: float = gap / max(me.speed, 0.1)
+            return headway
         return gap
 
     def step(self) -> Status:

@@ -60,7 +60,8 @@ def tick_child(child: Behaviour) -> Status:
     """Tick ``child`` once and return its status."""
     fast = getattr(child, "tick_status", None)
     if fast is not None:
-        return fast()
+        status: Status = fast()
+        return status
     for _ in child.tick():
         pass
     return child.status
@@ -218,7 +219,8 @@ class Parallel(_Fast, py_trees.composites.Parallel):
 
     def _due(self, k: int) -> bool:
         """Whether member ``k`` starts in this tick or has started."""
-        return self.ctx.time - self._begun >= self._delays[k] - 1e-9
+        due: bool = self.ctx.time - self._begun >= self._delays[k] - 1e-9
+        return due
 
     def _ended_before_first(self, k: int) -> Status:
         child = self.children[k]
@@ -406,7 +408,8 @@ class DurationBound(_Fast, py_trees.decorators.Decorator):
         self.start_tick = self.ctx.tick
 
     def elapsed(self) -> float:
-        return (self.ctx.tick - self.start_tick) * self.ctx.dt
+        elapsed: float = (self.ctx.tick - self.start_tick) * self.ctx.dt
+        return elapsed
 
     def may_end_now(self) -> bool:
         """Whether ending the phase now keeps its duration: its lower bound has passed

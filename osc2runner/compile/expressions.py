@@ -222,7 +222,7 @@ class ExpressionCompiler:
     def ref(self, name: ast.Name) -> Symbol | None:
         """What ``name`` refers to, in the program or in the library it builds on."""
         for table in self._references:
-            sym = table.get(name)
+            sym: Symbol | None = table.get(name)
             if sym is not None:
                 return sym
         return None
@@ -564,7 +564,8 @@ def _contains(container: object, value: object) -> bool:
         and all(isinstance(v, (int, float)) for v in container)
     ):
         lo, hi = container
-        return min(lo, hi) <= value <= max(lo, hi)  # type: ignore[operator]
+        inside: bool = min(lo, hi) <= value <= max(lo, hi)
+        return inside
     return value in container  # type: ignore[operator]
 
 
@@ -574,10 +575,11 @@ def _equality(op: str) -> Callable[[Any, Any], bool]:
     def eq(a: Any, b: Any) -> bool:
         if isinstance(a, float) or isinstance(b, float):
             try:
-                return abs(a - b) <= tolerance * max(1.0, abs(a), abs(b))
+                close: bool = abs(a - b) <= tolerance * max(1.0, abs(a), abs(b))
+                return close
             except TypeError:
-                return a == b
-        return a == b
+                return bool(a == b)
+        return bool(a == b)
 
     if op == "==":
         return eq

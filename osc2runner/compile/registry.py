@@ -114,7 +114,7 @@ class MethodRegistry:
                     self.add(entry)
 
     @staticmethod
-    def _add(table: dict, key: object, entry: Entry) -> None:
+    def _add(table: dict[Any, Any], key: object, entry: Entry) -> None:
         if key in table:
             raise ValueError(f"{entry.kind} `{entry.label}` is registered twice")
         table[key] = entry

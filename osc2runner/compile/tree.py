@@ -667,7 +667,10 @@ class TreeCompiler:
         arguments.setdefault("at", constant("all"))
         if wm.with_members:
             self.notes.append(f"line {wm.span.line}: the with: block of a modifier is ignored")
-        return entry.target(ModifierUse(wm, sym, arguments, actor, self.model.binding(wm)))
+        modifier: Modifier = entry.target(
+            ModifierUse(wm, sym, arguments, actor, self.model.binding(wm))
+        )
+        return modifier
 
     # ---- events
 

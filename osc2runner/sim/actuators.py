@@ -130,7 +130,8 @@ class ActuatorBank:
     @property
     def steer(self) -> np.ndarray:
         """Applied steering as a fraction of the maximum road-wheel angle."""
-        return self.delta / self.max_steer
+        steer: np.ndarray = self.delta / self.max_steer
+        return steer
 
     # ------------------------------------------------------------------ update
 
@@ -146,7 +147,8 @@ class ActuatorBank:
         # signs are exact: multiplying by -1 and adding is subtracting)
         load = self.static_load + (self.transfer_x * accel)[:, None] * _ALONG
         load += (self.transfer_y * lat_accel[:, None]) * _ACROSS
-        return np.maximum(load, 0.0, out=load)
+        loads: np.ndarray = np.maximum(load, 0.0, out=load)
+        return loads
 
     def update(
         self, speed: np.ndarray, mu: np.ndarray, accel: np.ndarray, lat_accel: np.ndarray
@@ -191,4 +193,5 @@ _ACROSS = np.array([-1.0, 1.0, -1.0, 1.0])
 
 def _limit(change: np.ndarray, step: np.ndarray) -> np.ndarray:
     """``change`` clipped to ``[-step, step]`` (cheaper than ``np.clip`` on small arrays)."""
-    return np.minimum(np.maximum(change, -step), step)
+    limited: np.ndarray = np.minimum(np.maximum(change, -step), step)
+    return limited

@@ -51,7 +51,8 @@ class DivergenceWatch:
     def warned(self) -> bool:
         """Whether MuJoCo warned of a divergence since the last :meth:`report`/:meth:`reset`."""
         a, b, c = self._stats
-        return a.number + b.number + c.number != self._total
+        warned: bool = a.number + b.number + c.number != self._total
+        return warned
 
     def report(self) -> tuple[str, str]:
         """``(actor, what)`` of the new warning (``actor`` ``""`` when none is named);

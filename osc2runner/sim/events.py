@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -188,7 +189,7 @@ class EventDetector:
         return events
 
     def _detect_small(
-        self, tick: int, time: float, centre: list, yaw: list, events: list[Event]
+        self, tick: int, time: float, centre: list[Any], yaw: list[Any], events: list[Event]
     ) -> None:
         """:meth:`detect`'s collisions for a few pairs, in plain Python (the same results)."""
         if not self._pairs:

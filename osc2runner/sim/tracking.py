@@ -203,7 +203,8 @@ class Polyline:
         rel = p[:, None, :] - self.xy[None, :-1, :]
         u = np.clip((rel * self._seg).sum(axis=2) / self._seg_len**2, 0.0, 1.0)
         gap = rel - u[:, :, None] * self._seg
-        return np.sqrt((gap**2).sum(axis=2).min(axis=1))
+        distance: np.ndarray = np.sqrt((gap**2).sum(axis=2).min(axis=1))
+        return distance
 
     def _nearest(self, p: np.ndarray, lo: int, hi: int) -> tuple[int, float, float, float]:
         """Segment ``i`` in ``lo .. hi - 1`` nearest ``p``, the fraction along it, the
@@ -241,7 +242,8 @@ class Trajectory:
     def corner_speeds(self) -> list[float]:
         """The speed at each inner point: the faster of the segments either side of it."""
         speeds = np.diff(self.path.given_s) / np.diff(self.times)
-        return np.maximum(speeds[:-1], speeds[1:]).tolist()
+        corners: list[float] = np.maximum(speeds[:-1], speeds[1:]).tolist()
+        return corners
 
     def s_at(self, t: float) -> tuple[float, float]:
         """``(arc length, speed along the path)`` at time ``t`` (clamped to the ends)."""
@@ -314,7 +316,8 @@ class RoadLine(Polyline):
             near = np.abs(d - gd[k]) < half
             u = d[near] - gd[k] + half
             offsets[near] = go[k] + slopes[k - 1] * (d[near] - gd[k]) + change * u * u / (4 * half)
-        return offsets
+        result: np.ndarray = offsets
+        return result
 
     def driven(self, corner_speeds: Sequence[float], least_radius: float) -> Polyline:
         if self.interpolation == "smooth" or len(self.given_d) < 3:
@@ -475,12 +478,13 @@ def _hermite(knots: np.ndarray, values: np.ndarray, at: np.ndarray) -> np.ndarra
     h = knots[i + 1] - knots[i]
     u = (at - knots[i]) / h
     u2, u3 = u * u, u * u * u
-    return (
+    cubic: np.ndarray = (
         (2 * u3 - 3 * u2 + 1) * values[i]
         + (u3 - 2 * u2 + u) * h * slope[i]
         + (-2 * u3 + 3 * u2) * values[i + 1]
         + (u3 - u2) * h * slope[i + 1]
     )
+    return cubic
 
 
 def _distinct(points: Sequence[tuple[float, float]]) -> np.ndarray:

@@ -43,10 +43,10 @@ class TrailerBank:
         dt: float,
     ) -> None:
         def jid(name: str) -> int:
-            return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name))
 
         def id_of(kind: mujoco.mjtObj, name: str) -> int:
-            return mujoco.mj_name2id(model, kind, name)
+            return int(mujoco.mj_name2id(model, kind, name))
 
         self.model, self.data = model, data
         self.specs = tuple(specs)

@@ -61,16 +61,16 @@ class VehicleBank:
         n = self.count = len(specs)
 
         def jid(name: str) -> int:
-            return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name)
+            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name))
 
         def aid(name: str) -> int:
-            return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, name)
+            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, name))
 
         def gid(name: str) -> int:
-            return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name)
+            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name))
 
         def bid(name: str) -> int:
-            return mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name)
+            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name))
 
         self.body = np.zeros(n, dtype=int)
         self.qadr = np.zeros(n, dtype=int)
