@@ -676,12 +676,11 @@ class TreeCompiler:
 
     def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
         """``wait <event>``: its event context is the wait (§7.3.10.3)."""
-        node = Wait(
+        node = self.waits[wait] = Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
-        node.phase_key = key = _phase_key(scope, wait)
-        node.plan = self.run.schedule.get(key)
-        self.waits[wait] = node
+        key = node.phase_key = _phase_key(scope, wait)
+        node.plan = self.run.schedule.get(key)  # (a wait's companions plan against its end)
         return node
 
     def emit(self, emit: ast.Emit, scope: Bindings) -> py_trees.behaviour.Behaviour:
