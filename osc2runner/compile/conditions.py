@@ -333,14 +333,25 @@ def _reader(behaviour: py_trees.behaviour.Behaviour, watch: Watch) -> None:
 
 
 class Wait(_ContextBehaviour):
-    """``wait <event>``: running until the event occurs, then success."""
+    """``wait <event>``: running until the event occurs, then success.
+
+    Its ``companions`` (actions the runner adds: the next phase's ``at: start``
+    brought about while the wait runs, :mod:`osc2runner.compile.preparation`) run
+    with it and are stopped when it ends."""
 
     phase_key: Any = None  # the schedule's name of its phase
+    plan: Any = None  # what the schedule says of it (its deadline)
 
     def __init__(self, name: str, watch: Watch) -> None:
         super().__init__(name)
         self.watch = watch
+        self.companions: list[FastLeaf] = []
         _reader(self, watch)
+
+    def setup(self, **kwargs: Any) -> None:
+        super().setup(**kwargs)
+        for companion in self.companions:
+            companion.setup(**kwargs)  # type: ignore[attr-defined]
 
     def initialise(self) -> None:
         self.ctx.phase_started(self.phase_key)
@@ -350,10 +361,16 @@ class Wait(_ContextBehaviour):
         if self.watch.occurred():
             self.feedback_message = f"occurred at tick {self.ctx.tick}"
             return Status.SUCCESS
+        for companion in self.companions:
+            if companion.tick_status() == Status.FAILURE:
+                return Status.FAILURE
         return Status.RUNNING
 
     def terminate(self, new_status: Status) -> None:
         self.watch.stop()
+        for companion in self.companions:
+            if companion.status == Status.RUNNING:
+                companion.stop(Status.INVALID)  # type: ignore[attr-defined]
 
 
 class Emit(_ContextBehaviour):

@@ -21,6 +21,11 @@ timing"):
   (:data:`PREPARATION_WAIT` at most). It is not checked there: the next phase
   checks it when it starts, with the tolerances, and fails saying by how much
   when physics did not allow it.
+* When the member before is a ``wait``, nothing of the scenario commands the
+  vehicles while it runs: the wait runs a ``drive()`` of each vehicle whose
+  action starts next with such targets (:class:`Preparing`, planned against the
+  wait's end when the schedule knows it, else reached at the usual rate and held),
+  stopped when the wait ends.
 * A previous action that drives the same motion itself (``change_speed`` before
   ``speed(v, at: start)``) has the scenario's end state for it: the start is
   checked only, and fails with the measured value when the two differ.
@@ -43,7 +48,9 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.phases import TimeZero, acting_members, enum_word, time_zero
 from osc2check.syntax import ast
 from osc2runner.behaviours.base import ActionBehaviour, ActionUse, Modifier
+from osc2runner.behaviours.motion import Drive
 from osc2runner.compile.composites import OneOf
+from osc2runner.compile.conditions import Wait
 
 __all__ = ["PREPARATION_WAIT", "PREPARED_MODIFIERS", "Choices", "Preparing", "prepare_starts"]
 
@@ -174,18 +181,29 @@ def _last_invocations(body: ast.Node, choices: Choices) -> list[ast.Invocation]:
     return []
 
 
-def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices, model: Model) -> None:
+def prepare_starts(
+    comp: ast.Composition,
+    uses: Uses,
+    waits: Mapping[ast.Wait, Wait],
+    choices: Choices,
+    model: Model,
+) -> None:
     """Choose the ``one_of`` members that start after each member of ``comp`` (a
     ``serial``), and give the actions that end each member the ``at: start`` targets
-    of the next (see the module docstring)."""
+    of the next, or a ``wait`` member a drive of the vehicles that need them (see the
+    module docstring)."""
     bodies = [m.body for m in comp.members]
     for before, after in zip(bodies, bodies[1:], strict=False):
+        zero = time_zero(after)
+        if isinstance(before, ast.Wait) and before in waits:
+            _choose(zero, [], uses, choices, model)  # (any member: the wait commands none)
+            _prepare_during(waits[before], _started(zero, choices), uses)
+            continue
         previous = [
             found[0]
             for inv in _last_invocations(before, choices)
             if (found := uses.get(inv)) is not None and _carries(found[0])
         ]
-        zero = time_zero(after)
         _choose(zero, previous, uses, choices, model)
         for inv in _started(zero, choices):
             following = uses.get(inv)
@@ -195,6 +213,40 @@ def prepare_starts(comp: ast.Composition, uses: Uses, choices: Choices, model: M
                 use = _preparer(modifier, following[0], previous)
                 if use is not None:
                     use.modifiers.append(Preparing(type(modifier)(modifier.use)))
+
+
+class _PreparingUse(ActionUse):
+    """The drive the runner gives a vehicle during a ``wait``, logged as the actor's
+    ``preparing@line`` (the line of the action whose start it brings about)."""
+
+    @property
+    def label(self) -> str:
+        return f"{self.actor.name}.preparing@{self.node.span.line}"
+
+
+def _prepare_during(wait: Wait, started: list[ast.Invocation], uses: Uses) -> None:
+    """Give ``wait`` a ``drive()`` of each vehicle whose action starts after it with
+    ``at: start`` targets: nothing of the scenario commands it while the wait runs, so
+    it is driven there as a ``drive()`` with those targets would be (planned against
+    the wait's end when the schedule knows it)."""
+    drives: dict[str, ActionUse] = {}
+    for inv in started:
+        found = uses.get(inv)
+        if found is None or _realised(found[0]) or found[0].actor.kind != "vehicle":
+            continue
+        following = found[0]
+        for modifier in following.modifiers:
+            if not _preparable(modifier):
+                continue
+            use = drives.get(following.actor.name)
+            if use is None:
+                use = _PreparingUse(
+                    following.node, following.symbol, following.actor, {}, plan=wait.plan
+                )
+                use.behaviour = Drive
+                drives[following.actor.name] = use
+            use.modifiers.append(Preparing(type(modifier)(modifier.use)))
+    wait.companions.extend(Drive(f"{name}.drive() (preparing)", u) for name, u in drives.items())
 
 
 def _carries(use: ActionUse) -> bool:
@@ -283,16 +335,22 @@ def _constant_arguments(modifier: Modifier, model: Model) -> dict[str, object] |
         return None
 
 
+def _preparable(modifier: Modifier) -> bool:
+    """Whether ``modifier`` is an ``at: start`` a previous phase can bring about."""
+    if modifier.use.name not in PREPARED_MODIFIERS or _at(modifier) != "start":
+        return False
+    relative = any(modifier.use.given(k) is not None for k in ("ahead_of", "behind"))
+    # a place on the road, not a gap: only a start can put the actor there
+    return modifier.use.name != "position" or relative
+
+
 def _preparer(
     modifier: Modifier, following: ActionUse, previous: list[ActionUse]
 ) -> ActionUse | None:
     """The previous action that brings about ``modifier`` (``at: start`` of
     ``following``), or None when none can (it is checked only)."""
-    if modifier.use.name not in PREPARED_MODIFIERS or _at(modifier) != "start":
+    if not _preparable(modifier):
         return None
-    relative = any(modifier.use.given(k) is not None for k in ("ahead_of", "behind"))
-    if modifier.use.name == "position" and not relative:
-        return None  # a place on the road, not a gap: only a start can put the actor there
     channels = {c for c in _MOTIONS if getattr(modifier, c)}
     for use in previous:
         if use.actor is not following.actor:

@@ -115,6 +115,7 @@ class TreeCompiler:
         self.notes: list[str] = []
         self.cover_items: list[tuple[CoverageItem, CoverItem]] = []
         self.uses: dict[ast.Invocation, tuple[ActionUse, type]] = {}
+        self.waits: dict[ast.Wait, Wait] = {}  # the last compiled node of each wait
         self.labels: dict[int, ast.Name] = {}  # the label of an invocation, by node id
         self.invoking: list[Symbol] = []  # the scenarios being compiled, outermost first
         self.bodies = declaration_bodies(self.model)
@@ -340,7 +341,7 @@ class TreeCompiler:
         node: py_trees.behaviour.Behaviour
         if comp.op == "serial":
             node = Serial(name, children)
-            prepare_starts(comp, self.uses, self.choices, self.model)
+            prepare_starts(comp, self.uses, self.waits, self.choices, self.model)
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:
@@ -675,10 +676,11 @@ class TreeCompiler:
 
     def wait(self, wait: ast.Wait, scope: Bindings) -> py_trees.behaviour.Behaviour:
         """``wait <event>``: its event context is the wait (§7.3.10.3)."""
-        node = Wait(
+        node = self.waits[wait] = Wait(
             node_name(f"wait {self._text(wait.event)}", wait), self.watch(wait.event, scope)
         )
-        node.phase_key = _phase_key(scope, wait)
+        key = node.phase_key = _phase_key(scope, wait)
+        node.plan = self.run.schedule.get(key)  # (a wait's companions plan against its end)
         return node
 
     def emit(self, emit: ast.Emit, scope: Bindings) -> py_trees.behaviour.Behaviour:

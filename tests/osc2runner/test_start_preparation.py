@@ -221,3 +221,90 @@ def test_a_member_whose_start_the_phase_before_holds_already_is_chosen(seed):
     assert _member(result) == 1
     then = _starts(result, "car.drive")[1]
     assert car["lane"][then] == 1
+
+
+# ---- after a wait (no action of the car: the runner drives it)
+
+LANE_AFTER_WAIT = _then("wait elapsed(3s)", "car.drive(duration: 2s) with: lane(2, at: start)")
+
+
+def test_a_lane_at_start_is_brought_about_during_a_wait_before_it():
+    # nothing commands the car during the wait: the runner drives it there, planned
+    # against the wait's end (on main the drive failed at 3 s: "it is in lane 1")
+    result, car = _succeeds(LANE_AFTER_WAIT)
+    (then,) = _starts(result, "car.drive")
+    assert then * DT == pytest.approx(3.0)
+    assert car["lane"][then] == 2
+    assert car["y"][then] == pytest.approx(1.5 * LANE_WIDTH, abs=0.175)
+    assert car["lane"][20] == 1  # a lane change planned to end with the wait, not at once
+    assert _starts(result, "car.preparing@10") == [0]
+    assert result.event_ticks("stop", "car.preparing@10") == [then]
+
+
+SPEED_AFTER_WAIT = _then(
+    "wait elapsed(3s)", "car.drive(duration: 2s) with: speed(50kph, at: start)"
+)
+
+
+def test_a_speed_at_start_is_planned_against_the_end_of_a_wait_before_it():
+    # 30 to 50 kph spread over the 3 s of the wait (a margin early): half way at half time
+    result, car = _succeeds(SPEED_AFTER_WAIT)
+    (then,) = _starts(result, "car.drive")
+    assert then * DT == pytest.approx(3.0)
+    assert car["speed"][then] == pytest.approx(50 * KPH, abs=SPEED_TOLERANCE)
+    assert car["speed"][then // 2] == pytest.approx(40 * KPH, abs=1.0 * KPH)
+    assert set(car["lane"][: then + 1]) == {1}
+
+
+LATER_ONE_OF_AFTER_WAIT = _then(
+    "wait elapsed(4s)",
+    "one_of:",
+    "    car.drive(duration: 1s) with: lane(2, at: start)",
+    "    car.drive(duration: 1s) with: speed(50kph, at: start)",
+)
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_the_start_of_the_member_chosen_after_a_wait_is_brought_about(seed):
+    # (seeds 0 to 3 draw both members)
+    result, car = _succeeds(LATER_ONE_OF_AFTER_WAIT, seed=seed)
+    (then,) = _starts(result, "car.drive")
+    if _member(result) == 1:
+        assert car["lane"][then] == 2
+    else:
+        assert car["speed"][then] == pytest.approx(50 * KPH, abs=SPEED_TOLERANCE)
+
+
+WAIT_FOR_AN_EVENT = """\
+scenario later:
+    car: vehicle
+    npc: vehicle
+    event go
+    do parallel:
+        serial:
+            car.assign_position() with:
+                lane(1, at: start)
+                speed(30kph, at: start)
+            wait @go
+            car.drive(duration: 2s) with:
+                lane(2, at: start)
+                speed(40kph, at: start)
+        serial:
+            npc.drive(duration: 6s) with:
+                lane(3, at: start)
+                speed(30kph, at: start)
+            emit go
+"""
+
+
+def test_starts_after_a_wait_of_unknown_end_are_reached_at_the_usual_rate_and_held():
+    # the schedule does not know when `go` occurs: the lane and the speed are reached
+    # well before it (not spread over the wait) and held until the drive starts
+    result, car = _succeeds(WAIT_FOR_AN_EVENT)
+    (then,) = _starts(result, "car.drive")
+    assert then * DT >= 6.0
+    halfway = then // 2
+    assert set(car["lane"][halfway : then + 1]) == {2}
+    for tick in (halfway, then):
+        assert car["y"][tick] == pytest.approx(1.5 * LANE_WIDTH, abs=0.175)
+        assert car["speed"][tick] == pytest.approx(40 * KPH, abs=SPEED_TOLERANCE)
