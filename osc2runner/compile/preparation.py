@@ -47,12 +47,20 @@ from osc2check.semantics.constants import NotConstant, evaluate
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import TimeZero, acting_members, enum_word, time_zero
 from osc2check.syntax import ast
+from osc2check.syntax.walk import walk
 from osc2runner.behaviours.base import ActionBehaviour, ActionUse, Modifier
 from osc2runner.behaviours.motion import Drive
 from osc2runner.compile.composites import OneOf
 from osc2runner.compile.conditions import Wait
 
-__all__ = ["PREPARATION_WAIT", "PREPARED_MODIFIERS", "Choices", "Preparing", "prepare_starts"]
+__all__ = [
+    "PREPARATION_WAIT",
+    "PREPARED_MODIFIERS",
+    "Choices",
+    "Preparing",
+    "drop_concurrent_preparations",
+    "prepare_starts",
+]
 
 #: the ``at: start`` modifiers a previous phase brings about
 PREPARED_MODIFIERS = frozenset({"speed", "lane", "position"})
@@ -247,6 +255,37 @@ def _prepare_during(wait: Wait, started: list[ast.Invocation], uses: Uses) -> No
                 drives[following.actor.name] = use
             use.modifiers.append(Preparing(type(modifier)(modifier.use)))
     wait.companions.extend(Drive(f"{name}.drive() (preparing)", u) for name, u in drives.items())
+
+
+def drop_concurrent_preparations(
+    comp: ast.Composition, uses: Uses, waits: Mapping[ast.Wait, Wait]
+) -> None:
+    """Take back the drives a ``wait`` inside a member of ``comp`` (a ``parallel``) was
+    given for a vehicle that an action in another member commands meanwhile: the
+    scenario commands it there, and the two would compete (its end state is that
+    action's to say, and the start is checked only)."""
+    actors = [_acting_actors(m.body, uses) for m in comp.members]
+    for k, member in enumerate(comp.members):
+        others = set().union(*(a for j, a in enumerate(actors) if j != k))
+        if not others:
+            continue
+        for node in walk(member.body):
+            wait = waits.get(node) if isinstance(node, ast.Wait) else None
+            if wait is not None:
+                wait.companions[:] = [
+                    c
+                    for c in wait.companions
+                    if not (isinstance(c, ActionBehaviour) and c.use.actor.name in others)
+                ]
+
+
+def _acting_actors(body: ast.Node, uses: Uses) -> set[str]:
+    """The names of the actors of the actions invoked in ``body``."""
+    return {
+        found[0].actor.name
+        for node in walk(body)
+        if isinstance(node, ast.Invocation) and (found := uses.get(node)) is not None
+    }
 
 
 def _carries(use: ActionUse) -> bool:

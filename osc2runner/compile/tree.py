@@ -69,7 +69,7 @@ from osc2runner.compile.expressions import (
     constant,
     is_constant,
 )
-from osc2runner.compile.preparation import Choices, prepare_starts
+from osc2runner.compile.preparation import Choices, drop_concurrent_preparations, prepare_starts
 from osc2runner.compile.sampling import is_sample, on_occurrence
 from osc2runner.compile.text import node_name, unparse
 from osc2runner.errors import CompileProblem, RunProblem
@@ -356,6 +356,7 @@ class TreeCompiler:
             span = comp.span
             plans = [self.run.schedule.get(_phase_key(scope, m.body)) for m in comp.members]
             node = Parallel(name, children, overlap, f"{span.uri}:{span.line}:{span.column}", plans)
+            drop_concurrent_preparations(comp, self.uses, self.waits)
         elif comp.op == "one_of":
             acting = [is_acting(m.body) for m in comp.members]
             node = OneOf(name, children, acting)

@@ -308,3 +308,27 @@ def test_starts_after_a_wait_of_unknown_end_are_reached_at_the_usual_rate_and_he
     for tick in (halfway, then):
         assert car["y"][tick] == pytest.approx(1.5 * LANE_WIDTH, abs=0.175)
         assert car["speed"][tick] == pytest.approx(40 * KPH, abs=SPEED_TOLERANCE)
+
+
+CONCURRENT_DRIVE = """\
+scenario both:
+    car: vehicle
+    do parallel(duration: 8s):
+        car.drive() with:
+            lane(1, at: start)
+            speed(30kph)
+        serial:
+            wait elapsed(3s)
+            car.drive(duration: 2s) with:
+                speed(40kph, at: start)
+"""
+
+
+def test_a_wait_drives_no_vehicle_that_another_member_of_a_parallel_commands():
+    # the first member holds 30 kph throughout (at: all); the start at 40 kph contradicts
+    # it: the wait must not drive the car to 40 kph behind that action's back (a false
+    # success), and the start fails as checked
+    result = _run(CONCURRENT_DRIVE)
+    assert result.outcome.status == "failure"
+    assert "not 40.00 kph" in result.outcome.reason
+    assert max(result.telemetry["car"]["speed"]) < 31 * KPH
