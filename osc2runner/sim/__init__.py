@@ -8,7 +8,8 @@ Modules, each one idea:
 * ``assembly``: the world's MJCF from its actors;
 * ``actuators``: the ECU layer (rate limits, ABS, TCS, Ackermann);
 * ``vehicle_bank``, ``trailer_bank``, ``walker_bank``, ``obstacle_bank``: one bank
-  per body kind, owning its model indices, inputs and read-out;
+  per body kind, owning its model indices, inputs and read-out (``bank``: what they
+  all have);
 * ``free_body``, ``locating``, ``divergence``: free-body read-out and placing, road
   positions, MuJoCo's divergence warnings;
 * ``world``: the MuJoCo world, stepped in fixed control steps, orchestrating the banks;

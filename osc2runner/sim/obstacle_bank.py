@@ -8,12 +8,13 @@ from collections.abc import Sequence
 import numpy as np
 
 from osc2check.world.tracking import RoadPosition
+from osc2runner.sim.bank import Bank
 from osc2runner.sim.state import ActorSpec, ActorState, actor_state
 
 __all__ = ["ObstacleBank"]
 
 
-class ObstacleBank:
+class ObstacleBank(Bank):
     """The obstacles of one world, in world order.
 
     Parameters:
@@ -28,11 +29,7 @@ class ObstacleBank:
         poses: Sequence[tuple[float, float, float]],
         index: Sequence[int],
     ) -> None:
-        self.specs = tuple(specs)
-        self.names = tuple(spec.name for spec in specs)
-        self.rows = {name: row for row, name in enumerate(self.names)}
-        self.index = np.array(index, dtype=int)
-        self.count = len(specs)
+        super().__init__(specs, index)
         self.initial = tuple(poses)
         self.pose = np.array(poses, dtype=float).reshape(-1, 3)
 

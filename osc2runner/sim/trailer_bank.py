@@ -10,11 +10,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 
 import mujoco
 import numpy as np
 
 from osc2check.world.tracking import RoadPosition
+from osc2runner.sim.bank import Bank, element_id
 from osc2runner.sim.free_body import drag_forces, free_body_state, set_free_body
 from osc2runner.sim.state import ActorSpec, ActorState, actor_state
 from osc2runner.sim.trailer import TRAILER_WHEELS, TrailerParams, articulation
@@ -22,7 +24,7 @@ from osc2runner.sim.trailer import TRAILER_WHEELS, TrailerParams, articulation
 __all__ = ["TrailerBank"]
 
 
-class TrailerBank:
+class TrailerBank(Bank):
     """The trailers of one world, in world order.
 
     Parameters:
@@ -42,21 +44,15 @@ class TrailerBank:
         index: Sequence[int],
         dt: float,
     ) -> None:
-        def jid(name: str) -> int:
-            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name))
-
-        def id_of(kind: mujoco.mjtObj, name: str) -> int:
-            return int(mujoco.mj_name2id(model, kind, name))
-
+        jid = partial(element_id, model, mujoco.mjtObj.mjOBJ_JOINT)
+        bid = partial(element_id, model, mujoco.mjtObj.mjOBJ_BODY)
+        gid = partial(element_id, model, mujoco.mjtObj.mjOBJ_GEOM)
+        super().__init__(specs, index)
         self.model, self.data = model, data
-        self.specs = tuple(specs)
-        self.names = tuple(spec.name for spec in specs)
         params = self.params = tuple(p for s in specs if isinstance(p := s.params, TrailerParams))
-        self.rows = {name: row for row, name in enumerate(self.names)}
-        self.index = np.array(index, dtype=int)
         self.dt = dt
-        n = self.count = len(prefixes)
-        self.body = np.array([id_of(mujoco.mjtObj.mjOBJ_BODY, p) for p in prefixes], dtype=int)
+        n = self.count
+        self.body = np.array([bid(p) for p in prefixes], dtype=int)
         root = [jid(f"{p}_root") for p in prefixes]
         self.qadr = np.array([model.jnt_qposadr[j] for j in root], dtype=int)
         self.vadr = np.array([model.jnt_dofadr[j] for j in root], dtype=int)
@@ -65,17 +61,11 @@ class TrailerBank:
             dtype=int,
         ).reshape(n, 2)
         self.wheel_body = np.array(
-            [
-                [id_of(mujoco.mjtObj.mjOBJ_BODY, f"{p}_{w}_wheel") for w in TRAILER_WHEELS]
-                for p in prefixes
-            ],
+            [[bid(f"{p}_{w}_wheel") for w in TRAILER_WHEELS] for p in prefixes],
             dtype=int,
         ).reshape(n, 2)
         self.tire = np.array(
-            [
-                [id_of(mujoco.mjtObj.mjOBJ_GEOM, f"{p}_{w}_tire") for w in TRAILER_WHEELS]
-                for p in prefixes
-            ],
+            [[gid(f"{p}_{w}_tire") for w in TRAILER_WHEELS] for p in prefixes],
             dtype=int,
         ).reshape(n, 2)
         radius = np.array([p.wheel_radius for p in params])

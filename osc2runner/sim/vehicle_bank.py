@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from functools import partial
 
 import mujoco
 import numpy as np
 
 from osc2check.world.tracking import RoadPosition
 from osc2runner.sim.actuators import ActuatorBank
+from osc2runner.sim.bank import Bank, element_id
 from osc2runner.sim.free_body import drag_forces, free_body_state, set_free_body
 from osc2runner.sim.state import ActorSpec, ActorState, actor_state
 from osc2runner.sim.vehicle import WHEELS, VehicleParams
@@ -31,7 +33,7 @@ def four(values: np.ndarray) -> tuple[float, float, float, float]:
     return (a, b, c, d)
 
 
-class VehicleBank:
+class VehicleBank(Bank):
     """The vehicles of one world, in world order.
 
     Parameters:
@@ -51,26 +53,16 @@ class VehicleBank:
         index: Sequence[int],
         dt: float,
     ) -> None:
+        super().__init__(specs, index)
         self.model, self.data = model, data
-        self.specs = tuple(specs)
-        self.names = tuple(spec.name for spec in specs)
         self.params = tuple(p for s in specs if isinstance(p := s.params, VehicleParams))
-        self.rows = {name: row for row, name in enumerate(self.names)}
-        self.index = np.array(index, dtype=int)
         self.dt = dt
-        n = self.count = len(specs)
+        n = self.count
 
-        def jid(name: str) -> int:
-            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, name))
-
-        def aid(name: str) -> int:
-            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_ACTUATOR, name))
-
-        def gid(name: str) -> int:
-            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, name))
-
-        def bid(name: str) -> int:
-            return int(mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, name))
+        jid = partial(element_id, model, mujoco.mjtObj.mjOBJ_JOINT)
+        aid = partial(element_id, model, mujoco.mjtObj.mjOBJ_ACTUATOR)
+        gid = partial(element_id, model, mujoco.mjtObj.mjOBJ_GEOM)
+        bid = partial(element_id, model, mujoco.mjtObj.mjOBJ_BODY)
 
         self.body = np.zeros(n, dtype=int)
         self.qadr = np.zeros(n, dtype=int)

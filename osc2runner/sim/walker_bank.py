@@ -16,13 +16,14 @@ import mujoco
 import numpy as np
 
 from osc2check.world.tracking import RoadPosition
+from osc2runner.sim.bank import Bank, element_id
 from osc2runner.sim.mjcf import yaw_quat
 from osc2runner.sim.state import ActorSpec, ActorState, PedestrianInput, actor_state
 
 __all__ = ["WalkerBank"]
 
 
-class WalkerBank:
+class WalkerBank(Bank):
     """The walkers of one world, in world order.
 
     Parameters:
@@ -42,18 +43,11 @@ class WalkerBank:
         index: Sequence[int],
         dt: float,
     ) -> None:
+        super().__init__(specs, index)
         self.data = data
-        self.specs = tuple(specs)
-        self.names = tuple(spec.name for spec in specs)
-        self.rows = {name: row for row, name in enumerate(self.names)}
-        self.index = np.array(index, dtype=int)
         self.dt = dt
-        self.count = len(specs)
         self.mocap = np.array(
-            [
-                model.body_mocapid[mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_BODY, p)]
-                for p in prefixes
-            ],
+            [model.body_mocapid[element_id(model, mujoco.mjtObj.mjOBJ_BODY, p)] for p in prefixes],
             dtype=int,
         )
         self.reset()
