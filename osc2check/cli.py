@@ -179,8 +179,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--no-cache",
         action="store_true",
-        help="neither read nor write the start-up cache (the parser's tables and the analysed "
-        "standard library, kept in the user's cache folder or OSC2_CACHE_DIR)",
+        help="neither read nor write the start-up cache (the parser's tables, the analysed "
+        "standard library and the results of checks repeated on unchanged files, kept in "
+        "the user's cache folder or OSC2_CACHE_DIR)",
     )
     p.add_argument(
         "--memory-limit",
