@@ -19,7 +19,7 @@ from osc2check.dialects.migrate import migrate
 from osc2check.dialects.rewrite import Edit, apply_edits
 from osc2runner import run
 
-FILE = Path(__file__).resolve().parents[1] / "data" / "carla_style" / "cut_in.osc"
+FILE = Path(__file__).resolve().parents[2] / "data" / "carla_style" / "cut_in.osc"
 TEXT = FILE.read_text(encoding="utf-8")
 
 

@@ -20,7 +20,7 @@ import pytest
 from osc2check.world.maps import load_map
 from osc2runner import run
 
-RURAL = Path(__file__).resolve().parents[2] / "examples" / "maps" / "rural_curves.xodr"
+RURAL = Path(__file__).resolve().parents[3] / "examples" / "maps" / "rural_curves.xodr"
 HEADER = f"""\
 import osc.standard
 

@@ -22,7 +22,7 @@ from osc2check.verify.api import solve
 from osc2check.verify.witness import Witness
 from osc2runner import run
 
-JUNCTION = Path(__file__).resolve().parents[2] / "examples" / "maps" / "four_way_junction.xodr"
+JUNCTION = Path(__file__).resolve().parents[3] / "examples" / "maps" / "four_way_junction.xodr"
 
 
 def _scenario(actor: str, lateral: float, action: str = "walk", seconds: float = 4.0) -> str:

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from tests.osc2runner.test_actions_world import LIGHT, run_text
-from tests.osc2runner.test_actions_world import _light_changes as _changes
+from tests.osc2runner.behaviours.test_actions_world import LIGHT, run_text
+from tests.osc2runner.behaviours.test_actions_world import _light_changes as _changes
 
 GROUPS = """\
     north: traffic_light_group with:

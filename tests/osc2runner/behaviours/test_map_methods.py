@@ -16,7 +16,7 @@ from osc2runner.behaviours import maps
 from osc2runner.execution.context import RunFault
 from osc2runner.runner import prepare
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 MAPS = ROOT / "examples" / "maps"
 
 SCENARIO = """\
