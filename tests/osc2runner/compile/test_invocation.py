@@ -266,7 +266,7 @@ def test_the_reusable_cut_in_example():
     """examples/cut_in_invoked.osc: each instance cuts in at its own gap and speeds."""
     from pathlib import Path
 
-    example = Path(__file__).parents[2] / "examples" / "cut_in_invoked.osc"
+    example = Path(__file__).parents[3] / "examples" / "cut_in_invoked.osc"
     result = run(example)
     assert result.outcome.status == "success", result.outcome.reason
     ego, npc = result.telemetry["ego"], result.telemetry["npc"]

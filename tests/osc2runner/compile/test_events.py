@@ -14,7 +14,7 @@ HERE = Path(__file__).parent
 
 @pytest.fixture(scope="module")
 def events() -> RunResult:
-    result = run(HERE / "trees" / "events.osc")
+    result = run(HERE.parent / "trees" / "events.osc")
     assert result.outcome.status == "success", result.outcome.reason
     return result
 
@@ -41,7 +41,7 @@ def test_label_events_and_duration(events):
 
 def test_a_wait_sees_only_what_happens_after_it_starts(tmp_path):
     late = (
-        (HERE / "trees" / "events.osc")
+        (HERE.parent / "trees" / "events.osc")
         .read_text()
         .replace("            emit marker(count: 5)\n", "            emit marker(count: 1)\n")
     )

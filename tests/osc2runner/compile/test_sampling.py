@@ -17,7 +17,7 @@ from osc2check.verify.witness import Value
 from osc2runner import run
 from osc2runner.runner import check_file, compile_checked, execute, prepare, prepare_checked
 
-SCENARIOS = Path(__file__).parent / "scenarios"
+SCENARIOS = Path(__file__).parents[1] / "scenarios"
 KPH = 1000.0 / 3600.0
 
 

@@ -16,7 +16,7 @@ import pytest
 from osc2runner import run
 from osc2runner.runner import RunResult
 
-SCENARIOS = Path(__file__).parent / "scenarios"
+SCENARIOS = Path(__file__).parents[1] / "scenarios"
 KPH = 3.6
 PERIOD = 40  # ticks: every(2s) at 20 Hz
 

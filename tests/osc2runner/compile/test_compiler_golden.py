@@ -1,6 +1,6 @@
 """Compiled trees against golden text: ``.osc`` + ``.tree`` (``py_trees.display.unicode_tree``).
 
-Cases are the ``.osc`` files in ``trees/``, the repository's examples and,
+Cases are the ``.osc`` files in ``../trees/``, the repository's examples and,
 when present, the design paper's scenarios. ``pytest --update-goldens``
 rewrites the ``.tree`` files; read the diff before committing.
 """
@@ -15,9 +15,9 @@ import pytest
 from osc2runner.runner import compile_file
 
 HERE = Path(__file__).parent
-ROOT = HERE.parents[1]
-TREES = HERE / "trees"
-SEED = Path(__file__).resolve().parents[1] / "data" / "seed"  # vendored
+ROOT = HERE.parents[2]
+TREES = HERE.parent / "trees"
+SEED = Path(__file__).resolve().parents[2] / "data" / "seed"  # vendored
 
 CASES = [(p, TREES / f"{p.stem}.tree") for p in sorted(TREES.glob("*.osc"))]
 CASES += [

@@ -12,7 +12,7 @@ import pytest
 
 from osc2runner.runner import execute, prepare
 
-SCENARIOS = Path(__file__).parent / "scenarios"
+SCENARIOS = Path(__file__).parents[1] / "scenarios"
 KPH = 1000.0 / 3600.0
 
 

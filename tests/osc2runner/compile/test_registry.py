@@ -20,7 +20,7 @@ from osc2runner.errors import ScenarioError
 from osc2runner.output.support import coverage_markdown
 from osc2runner.runner import compile_file
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 UNSUPPORTED = """\
 import osc.standard
