@@ -27,7 +27,7 @@ from osc2runner.runner import RunInterrupted
 from tests.osc2runner.processes import POSIX, ROOT, env, wait_for
 
 HERE = Path(__file__).parent
-EVENTS = HERE / "trees" / "events.osc"
+EVENTS = HERE.parent / "trees" / "events.osc"
 
 LONG = """\
 import osc.standard

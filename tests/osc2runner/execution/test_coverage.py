@@ -15,7 +15,7 @@ from osc2runner import run
 from osc2runner.execution.coverage import RunCoverage
 from osc2runner.output.coverage import read_coverage
 
-SCENARIOS = Path(__file__).parent / "scenarios"
+SCENARIOS = Path(__file__).parents[1] / "scenarios"
 KPH = 5 / 18  # the library's factor of kph
 
 
