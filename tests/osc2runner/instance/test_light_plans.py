@@ -14,7 +14,7 @@ from osc2runner import run
 from osc2runner.errors import ScenarioError
 from tests.osc2runner.behaviours.test_actions_world import _light_changes as _changes
 
-JUNCTION = Path(__file__).resolve().parents[2] / "examples" / "maps" / "four_way_junction.xodr"
+JUNCTION = Path(__file__).resolve().parents[3] / "examples" / "maps" / "four_way_junction.xodr"
 
 PLANS = """\
 <?xml version="1.0"?>

@@ -12,7 +12,7 @@ from osc2check.world.maps import load_map
 from osc2runner import run
 from osc2runner.errors import ScenarioError
 
-JUNCTION = Path(__file__).resolve().parents[2] / "examples" / "maps" / "four_way_junction.xodr"
+JUNCTION = Path(__file__).resolve().parents[3] / "examples" / "maps" / "four_way_junction.xodr"
 
 SCENARIO = f"""\
 import osc.standard
