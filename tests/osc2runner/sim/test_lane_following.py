@@ -27,7 +27,7 @@ from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.specs import LaneSpec, NetworkSpec, RoadSpec, SectionSpec
 from osc2runner.sim import ActorSpec, VehicleController, World, sedan
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SHARED = ROOT.parent / "shared" / "conformance" / "opendrive"
 BUNDLED = ROOT / "examples" / "maps"
 V50 = 50.0 / 3.6

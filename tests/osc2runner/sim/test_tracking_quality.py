@@ -22,7 +22,7 @@ import pytest
 from osc2runner import run
 from osc2runner.sim.tracking import CORNER_ACCEL, Polyline, round_corners
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(ROOT / "bench"))
 import bench_tracking as bench  # noqa: E402
 

@@ -273,7 +273,7 @@ def test_two_runs_are_bit_identical():
 def test_a_fresh_process_gives_the_same_run():
     """Same inputs and versions in a new interpreter: the same bits."""
     here = Path(__file__).resolve().parent
-    root = here.parents[1]
+    root = here.parents[2]
     code = (
         "import sys; sys.path.insert(0, sys.argv[1]); import test_physics as t; "
         "print(t._scripted_run()[0])"
