@@ -20,7 +20,7 @@ from osc2runner.output.plots import NOISE_FLOORS, braking_phases, run_figures, r
 from osc2runner.output.world_plot import MIN_MARGIN
 from osc2runner.runner import RunResult
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 AEB = f"{ROOT / 'examples' / 'controllers' / 'aeb.py'}:Aeb"
 KPH = 3.6
 

@@ -12,7 +12,7 @@ from osc2runner import run
 from osc2runner.output import files
 from osc2runner.output.files import FolderError, atomic_open, output_folder, write_atomically
 
-EVENTS = Path(__file__).parent / "trees" / "events.osc"
+EVENTS = Path(__file__).parents[1] / "trees" / "events.osc"
 
 
 def _leftovers(folder: Path) -> list[str]:
