@@ -33,7 +33,7 @@ from osc2runner.sut.loading import SutSpec
 from tests.osc2runner.processes import POSIX, env, wait_for
 
 HERE = Path(__file__).parent
-SUTS = HERE / "campaign" / "suts.py"
+SUTS = HERE.parent / "campaign" / "suts.py"
 
 EGO = """\
 import osc.standard
