@@ -15,7 +15,7 @@ import pytest
 from osc2runner import run
 from osc2runner.runner import RunResult
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 G = 9.81
 V80 = 80 / 3.6
 

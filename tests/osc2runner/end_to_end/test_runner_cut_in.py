@@ -15,8 +15,8 @@ import pytest
 from osc2runner import run
 from osc2runner.runner import RunResult
 
-ROOT = Path(__file__).resolve().parents[2]
-SEED = Path(__file__).resolve().parents[1] / "data" / "seed"  # vendored
+ROOT = Path(__file__).resolve().parents[3]
+SEED = Path(__file__).resolve().parents[2] / "data" / "seed"  # vendored
 KPH = 3.6
 
 

@@ -17,7 +17,7 @@ import pytest
 from osc2check.world.maps import load_map
 from osc2runner import run
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 NCAP = ROOT.parent / "shared" / "conformance" / "opendrive" / "ncap_x_intersection.xodr"
 FOUR_WAY = ROOT / "examples" / "maps" / "four_way_junction.xodr"
 

@@ -6,7 +6,7 @@ from pathlib import Path
 
 from osc2runner import run
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 
 
 def test_two_runs_with_the_same_seed_give_identical_telemetry(tmp_path):

@@ -20,7 +20,7 @@ from osc2check.semantics.roots import RootScenarioError, file_scenarios, root_sc
 from osc2runner.errors import ScenarioError
 from osc2runner.runner import build_world, check_analysis, compile_checked, execute
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 CONFORMANCE = Path(
     os.environ.get("OSC2_CONFORMANCE", ROOT.parent / "shared" / "conformance")
 )  # beside the checkout, as the checker's conformance tests read it
