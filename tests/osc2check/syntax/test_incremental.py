@@ -23,7 +23,7 @@ from osc2check.syntax import ParseResult, ast, parse
 from osc2check.syntax.incremental import Edit, reparse, splice
 from osc2check.syntax.walk import walk
 
-REPO = Path(__file__).resolve().parents[2]
+REPO = Path(__file__).resolve().parents[3]
 sys.path.insert(0, str(REPO / "bench"))
 from generate import generate  # noqa: E402
 

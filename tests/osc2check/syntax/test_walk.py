@@ -10,7 +10,7 @@ import pytest
 
 from osc2check.syntax import ast, parse, walk
 
-ROOT = Path(__file__).parents[2]
+ROOT = Path(__file__).parents[3]
 FILES = sorted([*ROOT.glob("examples/**/*.osc"), *ROOT.glob("stdlib/**/*.osc")])
 
 
