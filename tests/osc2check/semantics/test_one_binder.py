@@ -11,7 +11,7 @@ from __future__ import annotations
 import ast
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 PACKAGES = ("osc2check", "osc2lsp", "osc2runner")
 ARGUMENT_CLASSES = frozenset({"PositionalArgument", "NamedArgument"})
 

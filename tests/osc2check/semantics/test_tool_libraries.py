@@ -20,7 +20,7 @@ import pytest
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.config import config_from_mapping
 
-EXAMPLE_PLUGIN = str(Path(__file__).parents[2] / "examples" / "plugins" / "example_plugin.py")
+EXAMPLE_PLUGIN = str(Path(__file__).parents[3] / "examples" / "plugins" / "example_plugin.py")
 
 HELPERS = """\
 action log:
