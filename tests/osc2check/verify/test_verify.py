@@ -27,8 +27,8 @@ from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.terms import in_range
 from osc2check.verify.z3_backend import Sampler, SolverOutcome, active_constraints, check, solve
 
-CASES = Path(__file__).resolve().parent / "cases"
-SEED_DIR = Path(__file__).resolve().parents[1] / "data" / "seed"  # vendored
+CASES = Path(__file__).resolve().parents[1] / "cases"
+SEED_DIR = Path(__file__).resolve().parents[2] / "data" / "seed"  # vendored
 THREE_FILES = CASES / "constraints" / "C401_conflict_across_three_files"
 KPH = Fraction(5, 18)
 

@@ -18,7 +18,7 @@ from osc2check.world.elements import map_elements
 from osc2check.world.maps import load_map
 from osc2check.world.network import LaneRef
 
-ROOT = Path(__file__).resolve().parents[2]
+ROOT = Path(__file__).resolve().parents[3]
 SHARED = ROOT.parent / "shared" / "conformance" / "opendrive"
 BUNDLED = ROOT / "examples" / "maps"
 NCAP_X = SHARED / "ncap_x_intersection.xodr"
