@@ -10,7 +10,7 @@ from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.syntax import ast, parse
 from osc2check.syntax.walk import walk
 
-FOLDER = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" / "open"
+FOLDER = Path(__file__).resolve().parents[3].parent / "shared" / "conformance" / "open"
 if not (FOLDER / "demo.osc").is_file():
     pytest.skip(f"no conformance data at {FOLDER}", allow_module_level=True)
 

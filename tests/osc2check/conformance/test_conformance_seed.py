@@ -13,7 +13,7 @@ import pytest
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.diagnostics import Severity
 
-FOLDER = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" / "seed"
+FOLDER = Path(__file__).resolve().parents[3].parent / "shared" / "conformance" / "seed"
 if not (FOLDER / "cut_in_and_stop.osc").is_file():
     pytest.skip(f"no conformance data at {FOLDER}", allow_module_level=True)
 
@@ -71,5 +71,5 @@ def test_every_dialect_form_of_the_paper_is_reported():
 
 @pytest.mark.parametrize("name", ["cut_in_and_stop.osc", "braking_friction.osc"])
 def test_the_vendored_copies_are_the_shared_scenarios(name):
-    vendored = Path(__file__).resolve().parents[1] / "data" / "seed" / name
+    vendored = Path(__file__).resolve().parents[2] / "data" / "seed" / name
     assert vendored.read_bytes() == (FOLDER / name).read_bytes()

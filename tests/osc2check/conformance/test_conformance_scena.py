@@ -19,7 +19,7 @@ import pytest
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
 from osc2check.diagnostics import Severity
 
-SUITE = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" / "scena-2.2"
+SUITE = Path(__file__).resolve().parents[3].parent / "shared" / "conformance" / "scena-2.2"
 if not (SUITE / "cases.json").is_file():
     pytest.skip(f"no conformance data at {SUITE}", allow_module_level=True)
 

@@ -17,7 +17,7 @@ from osc2check.semantics.symbols import SymbolKind
 from osc2check.syntax import ast, parse
 from osc2check.syntax.walk import walk
 
-FOLDER = Path(__file__).resolve().parents[2].parent / "shared" / "conformance" / "asam-2.1"
+FOLDER = Path(__file__).resolve().parents[3].parent / "shared" / "conformance" / "asam-2.1"
 if not (FOLDER / "standard.osc").is_file():
     pytest.skip(f"no conformance data at {FOLDER}", allow_module_level=True)
 
