@@ -55,7 +55,7 @@ def _outline(node: ast.Node) -> tuple:
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2check/test_conformance_asam")
+pytestmark = pytest.mark.xdist_group("osc2check/conformance/test_conformance_asam")
 
 
 @pytest.fixture(scope="module")

@@ -2,7 +2,7 @@
 carla_style): every form is a warning with its own D code, the file runs as CARLA
 means it, and `osc2check migrate` writes standard OSC2 that runs the same.
 
-CARLA's own 17 examples are tested in test_carla_examples.py (OSC2_THIRD_PARTY)."""
+CARLA's own 17 examples are tested in ../end_to_end/test_carla_examples.py (OSC2_THIRD_PARTY)."""
 
 from __future__ import annotations
 

@@ -22,7 +22,7 @@ PERIOD = 40  # ticks: every(2s) at 20 Hz
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2runner/test_event_functions")
+pytestmark = pytest.mark.xdist_group("osc2runner/compile/test_event_functions")
 
 
 @pytest.fixture(scope="module")

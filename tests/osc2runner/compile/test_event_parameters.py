@@ -17,7 +17,7 @@ KPH = 1000.0 / 3600.0
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2runner/test_event_parameters")
+pytestmark = pytest.mark.xdist_group("osc2runner/compile/test_event_parameters")
 
 
 @pytest.fixture(scope="module")

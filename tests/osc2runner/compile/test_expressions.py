@@ -38,7 +38,7 @@ scenario s:
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2runner/test_expressions")
+pytestmark = pytest.mark.xdist_group("osc2runner/compile/test_expressions")
 
 
 @pytest.fixture(scope="module")

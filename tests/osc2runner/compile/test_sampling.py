@@ -22,7 +22,7 @@ KPH = 1000.0 / 3600.0
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2runner/test_sampling")
+pytestmark = pytest.mark.xdist_group("osc2runner/compile/test_sampling")
 
 
 @pytest.fixture(scope="module")

@@ -21,7 +21,7 @@ V80 = 80 / 3.6
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2runner/test_runner_braking")
+pytestmark = pytest.mark.xdist_group("osc2runner/end_to_end/test_runner_braking")
 
 
 @pytest.fixture(scope="module")

@@ -58,7 +58,7 @@ scenario plotted:
 
 
 # under -n one worker builds the module fixtures for every test here (docs/testing.md)
-pytestmark = pytest.mark.xdist_group("osc2runner/test_plots")
+pytestmark = pytest.mark.xdist_group("osc2runner/output/test_plots")
 
 
 @pytest.fixture(scope="module")
