@@ -49,10 +49,17 @@ from osc2runner.sim import world as world_module
 
 
 class StepTimer:
-    """Wraps ``mujoco.mj_step`` as the world module sees it and sums its wall time."""
+    """Wraps ``mujoco.mj_step`` as the world module sees it and sums its wall time; also
+    sums, over its calls, the contacts, constraint rows and solver iterations of the
+    last physics step of each call (what one physics step of the scene costs MuJoCo)."""
 
     def __init__(self) -> None:
         self.total = 0.0
+        self.calls = 0
+        self.steps = 0
+        self.contacts = 0
+        self.rows = 0
+        self.iterations = 0
         self._real = mujoco.mj_step
 
     def __enter__(self) -> StepTimer:
@@ -63,6 +70,11 @@ class StepTimer:
             t0 = clock()
             real(m, d, nstep=nstep)
             self.total += clock() - t0
+            self.calls += 1
+            self.steps += nstep
+            self.contacts += d.ncon
+            self.rows += d.nefc
+            self.iterations += int(d.solver_niter[0])
 
         world_module.mujoco.mj_step = timed  # type: ignore[attr-defined]
         return self

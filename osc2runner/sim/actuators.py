@@ -77,6 +77,10 @@ class ActuatorBank:
         self.transfer_y = (mass * h_over_t)[:, None] * np.stack(
             (front_share, front_share, 1.0 - front_share, 1.0 - front_share), axis=1
         )
+        # the same with their signs per wheel (multiplying by -1 or 1 is exact, so the
+        # loads are those of applying the signs after the acceleration)
+        self._transfer_along = self.transfer_x[:, None] * _ALONG
+        self._transfer_across = self.transfer_y * _ACROSS
         self.rolling_torque = (
             _col([p.rolling_resistance for p in params])[:, None]
             * self.static_load
@@ -88,17 +92,16 @@ class ActuatorBank:
         self.abs_cap = (_col(abs_margin) * self.radius)[:, None]
         self.tcs_cap = (_col(tcs_margin) * self.radius)[:, None]
 
-        self._throttle_step = self.throttle_rate * self.dt
-        self._brake_step = self.brake_rate * self.dt
-        self._steer_step = self.steer_rate * self.dt
-
-        # commands (after clipping) and applied, rate-limited values
-        self.cmd_throttle = np.zeros(n)
-        self.cmd_brake = np.zeros(n)
-        self.cmd_steer = np.zeros(n)
-        self.throttle = np.zeros(n)
-        self.brake = np.zeros(n)
-        self.delta = np.zeros(n)  # road-wheel angle, rad
+        # commands (after clipping) and applied, rate-limited values: rows (throttle,
+        # brake, steer) of one array each, so the three rate limiters are one expression
+        # per tick (numpy's cost is per call on arrays of a few vehicles)
+        self._command = np.zeros((3, n))
+        self._applied = np.zeros((3, n))  # throttle, brake, road-wheel angle (rad)
+        self.cmd_throttle, self.cmd_brake, self.cmd_steer = self._command
+        self.throttle, self.brake, self.delta = self._applied
+        self._command_scale = np.stack((np.ones(n), np.ones(n), self.max_steer))
+        self._rate_step = np.stack((self.throttle_rate, self.brake_rate, self.steer_rate)) * self.dt
+        self._rate_floor = -self._rate_step
 
         # outputs of the last update
         self.drive_torque = np.zeros((n, 4))
@@ -117,15 +120,8 @@ class ActuatorBank:
     def reset(self, index: int | None = None) -> None:
         """Zero commands and applied values (all vehicles, or one)."""
         sel = slice(None) if index is None else index
-        for arr in (
-            self.cmd_throttle,
-            self.cmd_brake,
-            self.cmd_steer,
-            self.throttle,
-            self.brake,
-            self.delta,
-        ):
-            arr[sel] = 0.0
+        self._command[:, sel] = 0.0
+        self._applied[:, sel] = 0.0
 
     @property
     def steer(self) -> np.ndarray:
@@ -145,8 +141,8 @@ class ActuatorBank:
         """
         # front wheels unload when accelerating; left wheels unload in a left turn (the
         # signs are exact: multiplying by -1 and adding is subtracting)
-        load = self.static_load + (self.transfer_x * accel)[:, None] * _ALONG
-        load += (self.transfer_y * lat_accel[:, None]) * _ACROSS
+        load = self.static_load + self._transfer_along * accel[:, None]
+        load += self._transfer_across * lat_accel[:, None]
         loads: np.ndarray = np.maximum(load, 0.0, out=load)
         return loads
 
@@ -162,9 +158,12 @@ class ActuatorBank:
             lat_accel: lateral acceleration (m/s², positive to the left), shape (n,).
         """
         load = self.estimate_loads(accel, lat_accel)
-        self.throttle += _limit(self.cmd_throttle - self.throttle, self._throttle_step)
-        self.brake += _limit(self.cmd_brake - self.brake, self._brake_step)
-        self.delta += _limit(self.cmd_steer * self.max_steer - self.delta, self._steer_step)
+        # rate limits: the change towards each command, clipped to one tick's step
+        change = self._command * self._command_scale
+        change -= self._applied
+        np.maximum(change, self._rate_floor, out=change)
+        np.minimum(change, self._rate_step, out=change)
+        self._applied += change
 
         grip = mu * load  # friction force budget per wheel
 
@@ -181,17 +180,10 @@ class ActuatorBank:
         # Ackermann: inner wheel steers more; tan(d_side) = L tan d / (L -/+ T/2 tan d)
         tan_d = np.tan(self.delta)
         lw = self.wheelbase
-        left = np.arctan2(lw * tan_d, lw - self.half_track * tan_d)
-        right = np.arctan2(lw * tan_d, lw + self.half_track * tan_d)
-        self.steer_angles[:, 0] = left
-        self.steer_angles[:, 1] = right
+        along, across = lw * tan_d, self.half_track * tan_d
+        np.arctan2(along, lw - across, out=self.steer_angles[:, 0])
+        np.arctan2(along, lw + across, out=self.steer_angles[:, 1])
 
 
 _ALONG = np.array([-1.0, -1.0, 1.0, 1.0])  # per wheel FL, FR, RL, RR
 _ACROSS = np.array([-1.0, 1.0, -1.0, 1.0])
-
-
-def _limit(change: np.ndarray, step: np.ndarray) -> np.ndarray:
-    """``change`` clipped to ``[-step, step]`` (cheaper than ``np.clip`` on small arrays)."""
-    limited: np.ndarray = np.minimum(np.maximum(change, -step), step)
-    return limited
