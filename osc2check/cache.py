@@ -190,13 +190,21 @@ def store(
         log.debug("cache entry %s not written: %s", kind, exc)
 
 
-def cached(kind: str, key: Mapping[str, str], build: Callable[[], T], *, toolkit: bool = True) -> T:
-    """The stored value, or ``build()`` stored for next time (``toolkit``: see ``load``)."""
+def cached(
+    kind: str,
+    key: Mapping[str, str],
+    build: Callable[[], T],
+    *,
+    toolkit: bool = True,
+    keep: int = _KEEP,
+) -> T:
+    """The stored value, or ``build()`` stored for next time (``toolkit``: see ``load``;
+    ``keep``: see ``store``)."""
     found = load(kind, key, toolkit=toolkit)
     if found is not None:
         return found  # type: ignore[return-value]  # stored by this function with this key
     value = build()
-    store(kind, key, value, toolkit=toolkit)
+    store(kind, key, value, toolkit=toolkit, keep=keep)
     return value
 
 

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 
 from osc2check.source import Span
 
+#: a budget of at most this loads numpy before it (see ``analysis._load_once``)
+PRELOAD_BELOW_MIB = 512
 DEFAULT_MEMORY_LIMIT_MIB = 1024  # the issue's bound: no input makes a tool use more than 1 GB
 MIB = 1 << 20
 # Address space a new z3 context needs free (it makes a few MiB of tables; 1 MiB of
@@ -108,8 +110,17 @@ def room_for_solver() -> None:
 OUT_OF_MEMORY = "out of memory"  # z3's reason (and error text) for a failed allocation
 
 
+# the loader's words when a shared library finds no room (a module first imported under
+# the budget: ``analysis`` imports those it knows of before, this catches the others)
+_NO_ROOM_TO_LOAD = ("failed to map segment", "cannot allocate memory")
+
+
 def is_out_of_memory(exc: BaseException) -> bool:
-    """True for ``MemoryError`` and for z3's error when an allocation failed."""
+    """True for ``MemoryError``, for z3's error when an allocation failed, and for an
+    import whose shared library could not be mapped."""
     if isinstance(exc, MemoryError):
         return True
+    if isinstance(exc, ImportError):
+        text = " ".join(str(e) for e in (exc, exc.__cause__, exc.__context__) if e).lower()
+        return any(words in text for words in _NO_ROOM_TO_LOAD)
     return type(exc).__name__ == "Z3Exception" and OUT_OF_MEMORY in str(exc)

@@ -28,7 +28,7 @@ from urllib.parse import unquote, urlparse
 
 from osc2check import cache, results
 from osc2check.inputs import InputError, not_regular, probe
-from osc2check.world.builtin import builtin_name, builtin_network
+from osc2check.world.builtin import BUILTIN_MAPS, builtin_name, builtin_network
 from osc2check.world.carriageways import Carriageway, carriageways
 from osc2check.world.errors import MapError, UnknownMapError
 from osc2check.world.network import Numbering, RoadNetwork
@@ -177,7 +177,9 @@ def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
 
         facts = _FACTS.get(known)
         if facts is None:
-            facts = _FACTS[known] = cache.cached("builtin-map", {"map": known}, build)
+            # every built-in map's entry, of this version and the one before
+            keep = 2 * len(BUILTIN_MAPS)
+            facts = _FACTS[known] = cache.cached("builtin-map", {"map": known}, build, keep=keep)
         return FoundMap(facts, built[0] if built else None, known)
     network = load_map(name, relative_to)  # a file, or load_map's message of why not
     return FoundMap(map_facts(network), network, name)

@@ -185,3 +185,21 @@ def test_a_tighter_limit_the_user_set_is_kept():
         assert resource.getrlimit(resource.RLIMIT_AS)[0] == tight
     finally:
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+
+
+def test_a_map_built_under_a_tight_budget_is_no_internal_error(tmp_path):
+    """With no start-up cache, the built-in map is built during the check: numpy, which it
+    needs, is loaded before a tight budget (it maps about 120 MiB), not inside it."""
+    files = {"solved.osc": SOLVED}
+    status, found, err = _check_apart(tmp_path, files, "--memory-limit", "16", "--no-cache")
+    assert "internal error" not in err and "Traceback" not in err
+    assert status == 1 and [f["code"] for f in found] == ["S003"]
+    assert "solving scenario `two_speeds`" in found[0]["message"]
+
+
+def test_a_library_that_finds_no_room_to_load_is_out_of_memory():
+    cause = OSError("libopenblas.so: failed to map segment from shared object")
+    error = ImportError("Importing the numpy C-extensions failed.")
+    error.__cause__ = cause
+    assert memory.is_out_of_memory(error)
+    assert not memory.is_out_of_memory(ImportError("No module named 'numpy'"))
