@@ -47,12 +47,12 @@ parameter (the witness must then give it a value that keeps the timing), is the
 model added to the problem, with each duration's written value a constraint of
 its own line so that a conflict names the lines (kind ``timing``); the rules that
 only define a start or an end are added as ``definition`` constraints, which
-never take part in a conflict.
+never take part in a conflict. The model's variables and constraints are kept in a
+``verify.timing_model.TimingModel``; this module builds the phases and what they require.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
 from fractions import Fraction
 
 from osc2check.semantics.bindings import BoundArgument
@@ -73,7 +73,7 @@ from osc2check.semantics.phases import (
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2check.verify import ir, propagate
+from osc2check.verify import ir
 from osc2check.verify.parameters import Lowerer
 from osc2check.verify.schedule import Resolver, TimingPlan
 from osc2check.verify.terms import (
@@ -84,7 +84,6 @@ from osc2check.verify.terms import (
     one_of_variable,
 )
 from osc2check.verify.timeline import (
-    FALSE,
     NEVER,
     TRUE,
     ZERO,
@@ -117,53 +116,15 @@ from osc2check.verify.timeline import (
     plus,
     same_time,
 )
+from osc2check.verify.timing_model import TIMING_PREFIX, TimingModel, is_timing_variable
 
 __all__ = ["TIMING_PREFIX", "is_timing_variable", "lower_timing", "timing_plan"]
-
-#: the names of the timing model's variables begin with this (never a parameter's)
-TIMING_PREFIX = "time:"
-TIMING = "timing"  # the kind of a constraint of a written duration, overlap or event
-DEFINITION = "definition"  # the kind of a rule that only defines a start or an end
-
-
-def is_timing_variable(name: str) -> bool:
-    """Whether ``name`` is a variable of the timing model (not shown in a witness)."""
-    return name.startswith(TIMING_PREFIX)
-
 
 # ---- building the model ------------------------------------------------------------
 
 
 class _NotConstant(Exception):
     """A duration names a parameter: the model must go to the solver with the problem."""
-
-
-@dataclass
-class _Model:
-    """The variables and constraints of one scenario's timing, before they join its problem."""
-
-    variables: dict[str, ir.Var] = field(default_factory=dict)
-    definitions: list[ir.Constraint] = field(default_factory=list)
-    tracked: list[ir.Constraint] = field(default_factory=list)
-    defined: dict[str, ir.Term] = field(default_factory=dict)  # variable -> its value
-    canonical: dict[str, ir.Term] = field(default_factory=dict)  # an unknown's first choice
-    #: a written duration or event time -> the term of its value (symbolic models)
-    written: dict[str, ir.Term] = field(default_factory=dict)
-
-    def mark(self) -> tuple[int, int, int, int]:
-        return (len(self.variables), len(self.definitions), len(self.tracked), len(self.written))
-
-    def undo(self, mark: tuple[int, int, int, int]) -> None:
-        """Forget what was added since ``mark`` (a part of the model built again)."""
-        n_vars, n_defs, n_tracked, n_written = mark
-        for name in list(self.variables)[n_vars:]:
-            del self.variables[name]
-            self.defined.pop(name, None)
-            self.canonical.pop(name, None)
-        del self.definitions[n_defs:]
-        del self.tracked[n_tracked:]
-        for name in list(self.written)[n_written:]:
-            del self.written[name]
 
 
 class _Builder:
@@ -177,64 +138,10 @@ class _Builder:
         self.model = lowerer.model
         self.scenario = scenario
         self.symbolic = symbolic
-        self.out = _Model()
+        self.out = TimingModel(symbolic)
         self.expanding: list[Symbol] = []
         self.resolver = Resolver(self.out.defined, self.out.written)
         self.root: Phase | None = None
-
-    # ---- variables
-
-    def _var(self, name: str, sort: str) -> ir.Var:
-        full = f"{TIMING_PREFIX}{name}"
-        unique, n = full, 1
-        while unique in self.out.variables:
-            n += 1
-            unique = f"{full}#{n}"
-        var = ir.Var(unique, sort, unit="s" if sort == "real" else "")
-        self.out.variables[unique] = var
-        return var
-
-    def _define(self, name: str, sort: str, term: ir.Term, span: Span) -> ir.Term:
-        """``term`` itself when it is a constant or a variable, else a variable defined as
-        it (so that terms stay small however often a time is used)."""
-        if isinstance(term, (ir.Const, ir.Ref)):
-            return term
-        var = self._var(name, sort)
-        self.out.defined[var.name] = term
-        self.out.definitions.append(
-            ir.Constraint(ir.op("==", ir.Ref(var), term), span, DEFINITION, var.name)
-        )
-        return ir.Ref(var)
-
-    def _bind(self, t: Time, name: str, span: Span) -> Time:
-        return Time(
-            self._define(f"{name}.ends", "bool", t.finite, span),
-            self._define(f"{name}.at", "real", t.at, span),
-        )
-
-    def _unknown(self, name: str, sort: str, span: Span, canonical: ir.Term) -> ir.Term:
-        var = self._var(name, sort)
-        self.out.canonical[var.name] = canonical
-        return ir.Ref(var)
-
-    def _rule(self, term: ir.Term, span: Span, text: str) -> None:
-        if not holds_as(term, True):
-            self.out.definitions.append(ir.Constraint(term, span, DEFINITION, text))
-
-    def _after(self, start: Time, name: str, span: Span, may_never: bool = False) -> Time:
-        """An unknown time at or after ``start`` (``may_never``: or never)."""
-        if start.never:
-            return NEVER
-        at = self._unknown(f"{name}.at", "real", span, start.at)
-        self._rule(implies(start.finite, compare(">=", at, start.at)), span, f"{name} ends later")
-        finite = start.finite
-        if may_never:
-            finite = all_of(finite, self._unknown(f"{name}.ends", "bool", span, FALSE))
-        return Time(finite, at)
-
-    def _track(self, term: ir.Term, span: Span, text: str) -> None:
-        if self.symbolic or not holds_as(term, True):
-            self.out.tracked.append(ir.Constraint(term, span, TIMING, text))
 
     # ---- values written in the scenario
 
@@ -262,7 +169,7 @@ class _Builder:
             except NotEncodable as reason:
                 self.lw.problem.skip(where, text, f"{reason}: its timing is not verified")
                 return None
-        var = ir.Ref(self._var(name, "real"))
+        var = ir.Ref(self.out.var(name, "real"))
         self.out.written[var.var.name] = value
         return var, ir.op("==", var, value)
 
@@ -285,7 +192,7 @@ class _Builder:
             found = self._value(node, scope, f"{name}.duration{'.' + str(i) if i else ''}",
                                 arg.span, text)  # fmt: skip
             if found is None:
-                found = (self._unknown(f"{name}.duration.{i}", "real", arg.span, ZERO), TRUE)
+                found = (self.out.unknown(f"{name}.duration.{i}", "real", arg.span, ZERO), TRUE)
             terms.append(found[0])
             says.append(found[1])
             if not isinstance(found[0], ir.Const):
@@ -321,7 +228,7 @@ class _Builder:
         if found is None:
             return None
         delay, says = found
-        self._track(says, where, text)
+        self.out.track(says, where, text)
         return if_then(compare(">=", delay, ZERO), delay, ZERO)  # a negative one occurs at once
 
     # ---- phases
@@ -356,13 +263,13 @@ class _Builder:
         name = join_path(scope.prefix, f"wait@{_where(wait.span)}")
         text = self.lw.text_of(wait.span)
         delay = self._delay(wait.event, scope, name, wait.span, text)
-        end = after(start, delay) if delay is not None else self._after(start, name, wait.span)
+        end = after(start, delay) if delay is not None else self.out.after(start, name, wait.span)
         return Leaf(name=name, span=wait.span, start=start, end=end)
 
     def _unmodelled(self, name: str, span: Span, start: Time) -> Leaf:
         """A phase whose timing is not modelled: it may end at any time, or never, and
         be stopped at any time."""
-        end = self._after(start, name, span, may_never=True)
+        end = self.out.after(start, name, span, may_never=True)
         return Leaf(name=name, span=span, start=start, end=end, endless=True, opens=True)
 
     def _composition(
@@ -433,7 +340,7 @@ class _Builder:
             name=name,
             span=comp.span,
             start=start,
-            end=self._bind(end, name, comp.span),
+            end=self.out.bind(end, name, comp.span),
             members=members,
             first_ends=first_ends,
             joined=joined,
@@ -478,19 +385,19 @@ class _Builder:
             ready = latest_of(
                 [earliest(m.end, f) for m, f in zip(members, froms, strict=True) if f is not None]
             )
-            return self._bind(latest(earliest_of(ends), ready), f"{name}.joined", span)
+            return self.out.bind(latest(earliest_of(ends), ready), f"{name}.joined", span)
         # an open-ended member may go on after it: the end is one of the times that qualify
         last = latest_of(ends)
         t = Time(
-            self._unknown(f"{name}.joined.ends", "bool", span, last.finite),
-            self._unknown(f"{name}.joined.at", "real", span, last.at),
+            self.out.unknown(f"{name}.joined.ends", "bool", span, last.finite),
+            self.out.unknown(f"{name}.joined.at", "real", span, last.at),
         )
         qualifies = all_of(
             no_later(earliest_of(ends), t),
             no_later(t, last),
             *(any_of(no_later(m.end, t), open_now(m, t)) for m in members),
         )
-        self._rule(qualifies, span, f"{name} joins")
+        self.out.rule(qualifies, span, f"{name} joins")
         return t
 
     def _choice(
@@ -506,7 +413,7 @@ class _Builder:
             self.out.variables[shared.name] = shared
             self.out.canonical[shared.name] = ZERO
             choice: ir.Term = ir.Ref(shared)
-            self._rule(
+            self.out.rule(
                 all_of(compare(">=", choice, ZERO), compare("<", choice, ir.const(len(acting)))),
                 comp.span,
                 f"{name} chooses one member",
@@ -516,14 +423,14 @@ class _Builder:
         for c, a in zip(reversed(chosen[:-1]), reversed(acting[:-1]), strict=True):
             chosen_end = either(c, a.end, chosen_end)
         if acting:
-            chosen_end = self._bind(chosen_end, f"{name}.chosen_end", comp.span)
+            chosen_end = self.out.bind(chosen_end, f"{name}.chosen_end", comp.span)
         ends = ([chosen_end] if acting else []) + [w.end for w in waiting]
         end = earliest_of(ends) if ends else start
         return Choice(
             name=name,
             span=comp.span,
             start=start,
-            end=self._bind(end, name, comp.span),
+            end=self.out.bind(end, name, comp.span),
             acting=acting,
             waiting=waiting,
             chosen=chosen,
@@ -586,14 +493,14 @@ class _Builder:
         if action.name in INSTANT_ACTIONS:
             return Leaf(name=name, span=inv.span, start=start, end=start)
         if action.name not in ENDLESS_ACTIONS:  # it ends when its goal is reached
-            end = self._after(start, name, inv.span)
+            end = self.out.after(start, name, inv.span)
             return Leaf(name=name, span=inv.span, start=start, end=end)
         ends_phase = any(
             isinstance(m, ast.Invocation)
             and (m.name.text in PHASE_ENDING_MODIFIERS or modifier_timing(self._given(m)) == "end")
             for m in inv.with_members
         )
-        end = self._after(start, name, inv.span, may_never=True) if ends_phase else NEVER
+        end = self.out.after(start, name, inv.span, may_never=True) if ends_phase else NEVER
         opens = not bounded and not until
         return Leaf(name=name, span=inv.span, start=start, end=end, endless=True, opens=opens)
 
@@ -625,7 +532,7 @@ class _Builder:
                 name=name,
                 span=span,
                 start=start,
-                end=self._bind(end, f"{name}.bounded", span),
+                end=self.out.bind(end, f"{name}.bounded", span),
                 child=core,
                 low=low,
                 high=high,
@@ -639,13 +546,13 @@ class _Builder:
             event = (
                 after(start, delay)
                 if delay is not None
-                else self._after(start, f"{name}.until", until.span)
+                else self.out.after(start, f"{name}.until", until.span)
             )
             phase = UntilEvent(
                 name=name,
                 span=span,
                 start=start,
-                end=self._bind(earliest(phase.end, event), f"{name}.until", until.span),
+                end=self.out.bind(earliest(phase.end, event), f"{name}.until", until.span),
                 child=phase,
                 event=event,
             )
@@ -667,7 +574,9 @@ class _Builder:
                     endless(child, last, False),
                 )
                 due = _guard(last, phase.start, active, free, checked)
-                self._track(all_of(phase.values, implies(due, stoppable)), phase.where, phase.text)
+                self.out.track(
+                    all_of(phase.values, implies(due, stoppable)), phase.where, phase.text
+                )
                 self.require(child, active, free, earliest(checked, last))
             case UntilEvent():
                 self.require(phase.child, active, earliest(free, phase.event), checked)
@@ -688,7 +597,7 @@ class _Builder:
                         _guard(first, phase.start, active, free, checked),
                         no_later(first, phase.joined),
                     )
-                    self._track(implies(due, ended), phase.where, phase.text)
+                    self.out.track(implies(due, ended), phase.where, phase.text)
                 self._not_before_first(phase, active, free, checked)
             case Choice():
                 waiting_ends = [w.end for w in phase.waiting]
@@ -715,26 +624,7 @@ class _Builder:
             if length is None:
                 continue
             due = _guard(member.end, phase.start, active, free, checked)
-            self._track(implies(due, compare(">=", length, first)), phase.where, phase.text)
-
-    def holds_canonically(self) -> bool:
-        """Whether every constraint holds with each unknown at its first choice (zero
-        times, the first member): then the timing can be kept, and the solver need not
-        see it."""
-        values: dict[str, Fraction | bool] = {}
-        try:
-            for name in self.out.variables:
-                term = self.out.defined.get(name, self.out.canonical.get(name))
-                if term is None:
-                    return False
-                value = propagate.evaluate(term, values)
-                values[name] = value if isinstance(value, bool) else Fraction(value)
-            return all(
-                propagate.evaluate(c.term, values) is True
-                for c in (*self.out.definitions, *self.out.tracked)
-            )
-        except (KeyError, TypeError, ZeroDivisionError):
-            return False
+            self.out.track(implies(due, compare(">=", length, first)), phase.where, phase.text)
 
 
 def _guard(t: Time, owner_start: Time, active: ir.Term, free: Time, checked: Time) -> ir.Term:
@@ -794,7 +684,7 @@ def lower_timing(lowerer: Lowerer, scenario: Symbol) -> None:
         folded = None
     else:
         problem.timing = _plan(folded)
-        if folded is None or not folded.out.tracked or folded.holds_canonically():
+        if folded is None or not folded.out.tracked or folded.out.holds_canonically():
             return
     built = _model(lowerer, scenario, symbolic=True)
     if problem.timing is None:
