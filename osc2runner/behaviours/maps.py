@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -42,6 +41,7 @@ from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import Polyline
+from osc2runner.structs import Position3d, XyzPoint
 
 __all__ = [
     "CompoundRoute",
@@ -76,13 +76,6 @@ class OdrPoint:
     lane_id: str
     s: float
     t: float
-
-
-@dataclass(frozen=True, slots=True)
-class XyzPoint:
-    """A world point."""
-
-    position: SimpleNamespace
 
 
 @dataclass(frozen=True, slots=True)
@@ -177,7 +170,7 @@ def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
 
 def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
     pose = ctx.network.to_world(road, s, t)
-    return XyzPoint(SimpleNamespace(x=pose.x, y=pose.y, z=0.0))
+    return XyzPoint(Position3d(x=pose.x, y=pose.y, z=0.0))
 
 
 # ---------------------------------------------------------------------- along

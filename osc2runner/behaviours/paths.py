@@ -34,7 +34,6 @@ not used: the world is flat.
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 from typing import Any
 
 from py_trees.common import Status
@@ -42,11 +41,17 @@ from py_trees.common import Status
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
 from osc2runner.behaviours.driving import retarget, set_speed
 from osc2runner.behaviours.maps import map_point_xy
-from osc2runner.behaviours.road_paths import resolve_points, road_line
+from osc2runner.behaviours.road_paths import (
+    interpolation_of,
+    resolve_points,
+    road_line,
+    time_stamps_of,
+)
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import PathTracker, Polyline, Trajectory
+from osc2runner.structs import Path, Pose3d, Position3d, XyzPoint
 
 __all__ = [
     "Along",
@@ -166,20 +171,19 @@ def _motion_path(
     points in world coordinates; the value's own line when it runs along the road) and,
     ``timed``, its trajectory over its time stamps."""
     try:
-        line = getattr(value, "line", None) if points is None else None
-        if isinstance(line, Polyline):
+        line = value.line if isinstance(value, Path) and points is None else None
+        if line is not None:
             path = line.follower()
         else:
             path = Polyline(
-                path_points(ctx, value) if points is None else points,
-                str(getattr(value, "interpolation", "straight_line")),
+                path_points(ctx, value) if points is None else points, interpolation_of(value)
             )
         if not timed:
             return path, None
-        stamps = getattr(value, "time_stamps", None)
+        stamps = time_stamps_of(value)
         if stamps is None:
             raise ActionError("the trajectory has no time stamps")
-        return path, Trajectory(path, tuple(float(t) for t in stamps))
+        return path, Trajectory(path, stamps)
     except ValueError as exc:
         raise ActionError(str(exc)) from None
 
@@ -219,12 +223,10 @@ class _PathAction(_MotionAction):
             points, on_road = resolve_points(self.ctx, relative, ref, transform)
             value = relative
             if on_road:
-                interpolation = str(getattr(relative, "interpolation", "straight_line"))
-                value = SimpleNamespace(
-                    interpolation=interpolation,
-                    time_stamps=getattr(relative, "time_stamps", None),
-                    line=road_line(self.ctx.network, points, interpolation),
-                )
+                interpolation = interpolation_of(relative)
+                stamps = time_stamps_of(relative)
+                line = road_line(self.ctx.network, points, interpolation)
+                value = Path((), interpolation, stamps, line)
             path, trajectory = _motion_path(value, self.timed, None if on_road else points)
         if not self.drives("longitudinal") and not self.timed:
             ctrl = self.controller
@@ -383,22 +385,26 @@ class AlongTrajectory(_AlongModifier):
 
 
 @method("map", "create_xyz_point")
-def create_xyz_point(ctx: RunContext, subject: object, x: float, y: float, z: float) -> Any:
+def create_xyz_point(ctx: RunContext, subject: object, x: float, y: float, z: float) -> XyzPoint:
     """An ``xyz_point`` at world ``(x, y, z)``."""
-    return SimpleNamespace(position=SimpleNamespace(x=x, y=y, z=z))
+    return XyzPoint(Position3d(x=x, y=y, z=z))
 
 
 @method("map", "create_path")
-def create_path(ctx: RunContext, subject: object, points: Any, interpolation: str) -> Any:
+def create_path(
+    ctx: RunContext, subject: object, points: tuple[Pose3d, ...], interpolation: str
+) -> Path:
     """A ``path`` through world poses (``list of pose_3d``)."""
-    return SimpleNamespace(points=tuple(points), interpolation=interpolation)
+    return Path(tuple(points), interpolation)
 
 
 @method("map", "create_trajectory")
 def create_trajectory(
-    ctx: RunContext, subject: object, points: Any, time_stamps: Any, interpolation: str
-) -> Any:
+    ctx: RunContext,
+    subject: object,
+    points: tuple[Pose3d, ...],
+    time_stamps: tuple[float, ...],
+    interpolation: str,
+) -> Path:
     """A ``trajectory``: world poses with a time stamp each."""
-    return SimpleNamespace(
-        points=tuple(points), time_stamps=tuple(time_stamps), interpolation=interpolation
-    )
+    return Path(tuple(points), interpolation, tuple(time_stamps))

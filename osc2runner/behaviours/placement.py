@@ -8,8 +8,6 @@ modifiers (their ``assign`` hooks), resolved against the actors' current positio
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 
 from osc2check.world.projection import lane_centre
@@ -64,11 +62,16 @@ class AssignPosition(InstantAction):
         if len(given) > 1:
             raise ActionError(f"give one of {', '.join(given)}, not several")
         if given == ["position"]:
-            self._world_position(self.args["position"])
+            position = self.args["position"]
+            try:
+                x, y = float(position.x), float(position.y)
+            except AttributeError:
+                raise ActionError("`position` is not a position_3d") from None
+            self._world_position(x, y)
             return
         for key in given:  # a route or OpenDRIVE point (at time 0 too): its world position
             x, y = map_point_xy(self.ctx, self.args[key])
-            self._world_position(SimpleNamespace(x=x, y=y), on_map=True)
+            self._world_position(x, y, on_map=True)
             return
         if self.at_scenario_start:
             return
@@ -111,17 +114,13 @@ class AssignPosition(InstantAction):
             if getattr(ctrl, "lateral", None) is not None:
                 ctrl.lateral.keep_lane(ref, offset)
 
-    def _world_position(self, position: object, on_map: bool = False) -> None:
-        """``assign_position(position: p)``: the actor's centre at world ``(p.x, p.y)``
+    def _world_position(self, x: float, y: float, on_map: bool = False) -> None:
+        """``assign_position(position: p)``: the actor's centre at world ``(x, y)``
         (``z`` is not used: the world is flat); heading and speed are kept, or come from
         the ``yaw``/``orientation`` and ``speed`` modifiers (a yaw from the road's
         direction there). A point of the map (``on_map``: a route or OpenDRIVE point)
         also gives the heading: the direction of travel of the lane there. At time 0
         too: the checker places actors by road coordinates only."""
-        try:
-            x, y = float(position.x), float(position.y)  # type: ignore[attr-defined]
-        except AttributeError:
-            raise ActionError("`position` is not a position_3d") from None
         _not_hitched(self)
         state = self.state
         _movable(self, "a stationary object is placed with its `location` modifier")

@@ -31,7 +31,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from types import SimpleNamespace
 from typing import Any
 
 import numpy as np
@@ -45,8 +44,15 @@ from osc2runner.compile.registry import method
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import RoadLine
+from osc2runner.structs import Orientation3d, Path, Pose3d, Position3d
 
-__all__ = ["relative_points", "resolve_points", "road_line"]
+__all__ = [
+    "interpolation_of",
+    "relative_points",
+    "resolve_points",
+    "road_line",
+    "time_stamps_of",
+]
 
 
 def road_line(
@@ -163,25 +169,21 @@ def _path_value(
     interpolation: str,
     on_road: bool,
     time_stamps: Sequence[float] | None = None,
-) -> SimpleNamespace:
+) -> Path:
     """A ``path`` (or, with time stamps, a ``trajectory``) through world ``points``: its
     points as world poses, and along the road its line (read by the path actions)."""
     poses = tuple(
-        SimpleNamespace(
-            position=SimpleNamespace(x=x, y=y, z=0.0),
-            orientation=SimpleNamespace(yaw=0.0, pitch=0.0, roll=0.0),
-        )
+        Pose3d(Position3d(x=x, y=y, z=0.0), Orientation3d(roll=0.0, pitch=0.0, yaw=0.0))
         for x, y in points
     )
-    value = SimpleNamespace(points=poses, interpolation=interpolation)
+    line = None
     if on_road:
         try:
-            value.line = road_line(ctx.network, points, interpolation)
+            line = road_line(ctx.network, points, interpolation)
         except ActionError as exc:
             raise RunFault(str(exc)) from None
-    if time_stamps is not None:
-        value.time_stamps = tuple(float(t) for t in time_stamps)
-    return value
+    stamps = tuple(float(t) for t in time_stamps) if time_stamps is not None else None
+    return Path(poses, interpolation, stamps, line)
 
 
 def _xy_all(ctx: RunContext, points: Any) -> list[tuple[float, float]]:
@@ -215,6 +217,21 @@ def create_trajectory_through(
     return _path_value(
         ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network), time_stamps
     )
+
+
+def interpolation_of(value: object) -> str:
+    """How a path or trajectory value's points are joined (a relative one's too)."""
+    if isinstance(value, Path):
+        return value.interpolation
+    return str(getattr(value, "interpolation", "straight_line"))
+
+
+def time_stamps_of(value: object) -> tuple[float, ...] | None:
+    """A trajectory value's time stamps, s (a relative one's too); None for a path."""
+    if isinstance(value, Path):
+        return value.time_stamps
+    stamps = getattr(value, "time_stamps", None)
+    return None if stamps is None else tuple(float(t) for t in stamps)
 
 
 def resolve_points(
@@ -269,8 +286,8 @@ def _resolved(ctx: RunContext, value: Any, reference: Actor, transform: str, tim
         points, on_road = resolve_points(ctx, value, reference, str(transform))
     except ActionError as exc:
         raise RunFault(str(exc)) from None
-    interpolation = str(getattr(value, "interpolation", "straight_line"))
-    stamps = getattr(value, "time_stamps", None) if timed else None
+    interpolation = interpolation_of(value)
+    stamps = time_stamps_of(value) if timed else None
     if timed and stamps is None:
         raise RunFault("the relative trajectory has no time stamps")
     return _path_value(ctx, points, interpolation, on_road, stamps)

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from types import SimpleNamespace
 from typing import Any
 
 from py_trees.common import Status
@@ -31,7 +30,8 @@ from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantActi
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.light_plans import LightPlan
-from osc2runner.instance.lights import SEMANTIC_BULBS, TrafficLight, semantic_of
+from osc2runner.instance.lights import SEMANTIC_BULBS, TrafficLight, bulbs_of, semantic_of
+from osc2runner.structs import StructValue
 
 __all__ = [
     "PlayCycles",
@@ -302,10 +302,12 @@ def group_state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
 
 
 @method("traffic_light", "semantic_state_to_state")
-def semantic_state_to_state(ctx: RunContext, subject: Any, state: str) -> tuple[Any, ...]:
+def semantic_state_to_state(
+    ctx: RunContext, subject: StructValue, state: str
+) -> tuple[StructValue, ...]:
     """The light's bulbs as the semantic state sets them (new values, the light unchanged)."""
     change = _semantic(str(state))
-    return tuple(SimpleNamespace(**{**vars(b), "state": change(b)}) for b in subject.bulbs)
+    return tuple(StructValue(b.struct, {**b.fields, "state": change(b)}) for b in bulbs_of(subject))
 
 
 @method("traffic_light", "state_to_semantic_state")
