@@ -50,6 +50,7 @@ __all__ = [
     "Wind",
     "XyzPoint",
     "as_pose",
+    "number",
     "struct_json",
     "struct_members",
 ]
@@ -301,8 +302,8 @@ def as_pose(value: object) -> Pose3d:
         return value
     position, orientation = _struct(value, "position"), _struct(value, "orientation")
     return Pose3d(
-        Position3d(*(_number(position, k) for k in ("x", "y", "z"))),
-        Orientation3d(*(_number(orientation, k) for k in ("roll", "pitch", "yaw"))),
+        Position3d(*(number(position, k) for k in ("x", "y", "z"))),
+        Orientation3d(*(number(orientation, k) for k in ("roll", "pitch", "yaw"))),
     )
 
 
@@ -313,8 +314,10 @@ def _struct(value: object, member: str) -> StructValue:
     return found
 
 
-def _number(value: StructValue, member: str) -> float:
-    found = value.fields.get(member)
+def number(value: object, member: str) -> float:
+    """The number ``member`` of a struct value, typed or generic (``p.x``)."""
+    members = struct_members(value) or {}
+    found = members.get(member)
     if not isinstance(found, (int, float)):
         raise TypeError(f"`{value!r}` has no number `{member}`")
     return float(found)

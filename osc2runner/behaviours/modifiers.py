@@ -193,8 +193,9 @@ class Acceleration(Modifier):
         if abs(a) < 1e-9:
             set_speed(ctrl, action.state.speed, "none")
             return
-        top = float(getattr(action.actor.params, "max_speed", 70.0))
-        set_speed(ctrl, top if a > 0.0 else 0.0, RateProfile("constant", peak=abs(a)))
+        set_speed(
+            ctrl, action.actor.top_speed if a > 0.0 else 0.0, RateProfile("constant", peak=abs(a))
+        )
 
 
 @modifier("keep_position")
@@ -322,10 +323,7 @@ class Position(Modifier):
             return
         other = action.ctx.states[ref.name]
         d = self._distance(speed if sign < 0 else other.speed)
-        half = 0.5 * (
-            float(getattr(action.actor.params, "length", 0.0))
-            + float(getattr(ref.params, "length", 0.0))
-        )
+        half = 0.5 * (action.actor.length + ref.length)
         pose.s = other.s + sign * (d + half) * (other.direction or 1)
         pose.reference = other
 
@@ -694,6 +692,8 @@ class Orientation(_Heading):
 class AvoidCollisions(Modifier):
     """``avoid_collisions(false)``: this actor's collisions in the phase do not fail the run."""
 
+    allowing = False  # whether the phase allows them now
+
     def begin(self, action: ActionBehaviour) -> None:
         self.allowing = not bool(self.args.get("avoid", True))
         if self.allowing:
@@ -701,7 +701,7 @@ class AvoidCollisions(Modifier):
             allowed[action.actor.name] = allowed.get(action.actor.name, 0) + 1
 
     def end(self, action: ActionBehaviour) -> None:
-        if getattr(self, "allowing", False):
+        if self.allowing:
             action.ctx.collisions_allowed[action.actor.name] -= 1
             self.allowing = False
 

@@ -258,6 +258,7 @@ class GapAction(ActionBehaviour):
     finite = True
     bumpers = True  # space gap (bounding boxes) vs headway (reference points)
     timed = False  # time gap/headway vs distance
+    error = 0.0  # the last step's gap error, m (>0: too far apart)
     keep = False
 
     def start(self) -> None:
@@ -306,8 +307,7 @@ class GapAction(ActionBehaviour):
 
     def progress(self) -> str:
         tol = self.ctx.tolerances.position
-        error = getattr(self, "error", 0.0)
-        return f"the gap is {error:+.2f} m from the one asked (tolerance {tol:.2f} m)"
+        return f"the gap is {self.error:+.2f} m from the one asked (tolerance {tol:.2f} m)"
 
 
 def _gap(name: str, *, bumpers: bool, timed: bool, keep: bool) -> type[GapAction]:
@@ -363,8 +363,7 @@ def command_acceleration(action: ActionBehaviour, accel: float, jerk: float = ma
             f"(the {action.actor.blueprint}'s limits: +{up:.3g} / -{down:.3g} m/s²)",
             actors=(action.actor.name,),
         )
-    top = float(getattr(action.actor.params, "max_speed", math.inf))
-    ctrl.speed.set_acceleration(commanded, jerk, (0.0, top))
+    ctrl.speed.set_acceleration(commanded, jerk, (0.0, action.actor.top_speed))
     return commanded
 
 

@@ -191,15 +191,15 @@ def _motion_path(
 class _MotionAction(ActionBehaviour):
     """An action whose actor moves along a path (``start`` sets its :class:`PathMotion`)."""
 
-    motion: PathMotion
+    motion: PathMotion | None = None  # (none before the action starts)
 
     def step(self) -> Status:
+        assert self.motion is not None  # (start set it)
         return self.motion.step()
 
     def terminate(self, new_status: Status) -> None:
-        motion = getattr(self, "motion", None)
-        if motion is not None and self.status == Status.RUNNING:
-            motion.stop()
+        if self.motion is not None and self.status == Status.RUNNING:
+            self.motion.stop()
         super().terminate(new_status)
 
 
@@ -314,6 +314,8 @@ class _AlongModifier(Modifier):
 
     lateral = True
     timed = False
+    motion: PathMotion | None = None  # (none before the phase, and after it)
+    done = False  # whether the motion reached the path's end
 
     def realise(self, action: ActionBehaviour) -> None:
         value = self.args.get("trajectory" if self.timed else "route")
@@ -323,7 +325,7 @@ class _AlongModifier(Modifier):
                 "points (road routes come with maps)"
             )
         path, trajectory = _motion_path(value, self.timed, ctx=action.ctx)
-        self.motion: PathMotion | None = PathMotion(
+        self.motion = PathMotion(
             action,
             path,
             trajectory=trajectory,
@@ -336,12 +338,11 @@ class _AlongModifier(Modifier):
             self.done = self.motion.step() == Status.SUCCESS
 
     def finished(self, action: ActionBehaviour) -> bool:
-        return bool(getattr(self, "done", False))
+        return self.done
 
     def end(self, action: ActionBehaviour) -> None:
-        motion = getattr(self, "motion", None)
-        if motion is not None:
-            motion.stop()
+        if self.motion is not None:
+            self.motion.stop()
             self.motion = None
 
 
