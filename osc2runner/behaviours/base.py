@@ -35,6 +35,7 @@ from osc2check.verify.schedule import PhasePlan
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.compile.expressions import Closure
 from osc2runner.execution.context import RunContext, ended_kind
+from osc2runner.execution.controls import Controller
 from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
@@ -280,8 +281,17 @@ class ActionBehaviour(ScenarioBehaviour):
         return self.ctx.states[self.actor.name]
 
     @property
-    def controller(self) -> Any:
+    def controller(self) -> Controller | None:
+        """The actor's controller (None for an actor nothing drives: an obstacle)."""
         return self.ctx.controllers.get(self.actor.name)
+
+    @property
+    def driver(self) -> Controller:
+        """The actor's controller; an ActionError for an actor nothing drives."""
+        ctrl = self.ctx.controllers.get(self.actor.name)
+        if ctrl is None:
+            raise ActionError("this actor has no driver (it cannot move)")
+        return ctrl
 
     @property
     def elapsed(self) -> float:

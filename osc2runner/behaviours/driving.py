@@ -18,6 +18,7 @@ from osc2check.world.network import LaneRef
 from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionError
 from osc2runner.execution.context import RunContext
+from osc2runner.execution.controls import Controller
 from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState, RateProfile
 
@@ -68,14 +69,14 @@ def profile_for(
     return RateProfile(kind)
 
 
-def set_speed(ctrl: Any, speed: float, profile: RateProfile | str = "none") -> None:
+def set_speed(ctrl: Controller | None, speed: float, profile: RateProfile | str = "none") -> None:
     """Give a controller a new target speed (>= 0) with a rate profile."""
     if ctrl is None:
         raise ActionError("the actor has no driver (it cannot move)")
     ctrl.speed.set_target(max(0.0, float(speed)), profile)
 
 
-def retarget(ctrl: Any, speed: float) -> None:
+def retarget(ctrl: Controller, speed: float) -> None:
     """Move the current target speed without restarting its profile (tracking a reference)."""
     if ctrl.speed.target is None:
         ctrl.speed.set_target(max(0.0, float(speed)), "none")

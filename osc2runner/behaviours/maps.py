@@ -39,6 +39,7 @@ from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
 from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
+from osc2runner.execution.controls import VehicleControl
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import Polyline
 from osc2runner.structs import Position3d, XyzPoint
@@ -205,9 +206,10 @@ def follow_route(modifier: Modifier, action: ActionBehaviour) -> None:
     if float(modifier.args.get("end_offset", 0.0) or 0.0) != 0.0:
         raise ActionError("along(end_offset: ...) on a map route is not supported")
     roads = roads_of(modifier.args.get("route"))
-    lateral = getattr(action.controller, "lateral", None)
-    if lateral is None or not hasattr(lateral, "set_route"):
+    ctrl = action.controller
+    if not isinstance(ctrl, VehicleControl):
         return  # a walker: along is checked, not steered
+    lateral = ctrl.lateral
     lateral.set_route(roads)
     state = action.state
     ref = state.lane_ref

@@ -32,9 +32,10 @@ from osc2runner.behaviours.driving import (
     side_of,
 )
 from osc2runner.compile.registry import modifier
+from osc2runner.execution.controls import LateralControl, WalkerControl
 from osc2runner.execution.tolerances import MAX_CLOSING_SPEED, Tolerances
 from osc2runner.instance.actors import Actor
-from osc2runner.sim import ActorState, RateProfile
+from osc2runner.sim import ActorState, RateProfile, SpeedController
 
 __all__ = [
     "Acceleration",
@@ -58,11 +59,11 @@ __all__ = [
 POSITION_GAIN = 0.5
 
 
-def _lateral(action: ActionBehaviour) -> Any:
+def _lateral(action: ActionBehaviour) -> LateralControl:
     ctrl = action.controller
-    if ctrl is None or getattr(ctrl, "lateral", None) is None:
+    if ctrl is None:
         raise ActionError("this actor has no lateral control (only vehicles change lanes)")
-    if getattr(ctrl, "yaw", None) is not None:  # a walker: heads for the lateral target
+    if isinstance(ctrl, WalkerControl):  # a walker: heads for the lateral target
         ctrl.yaw = None
     return ctrl.lateral
 
@@ -126,7 +127,7 @@ class Speed(Modifier):
 
     def step(self, action: ActionBehaviour) -> None:
         if self.relative:
-            retarget(action.controller, self.target(action))
+            retarget(action.driver, self.target(action))
 
     def finished(self, action: ActionBehaviour) -> bool:
         if self.at != "end" or self.planned:
@@ -282,9 +283,9 @@ class Position(Modifier):
             closing = _closing_speed(
                 action, error, -sign * (action.state.speed - other.speed), left
             )
-            retarget(action.controller, other.speed - sign * closing)
+            retarget(action.driver, other.speed - sign * closing)
         else:
-            retarget(action.controller, other.speed - sign * POSITION_GAIN * error)
+            retarget(action.driver, other.speed - sign * POSITION_GAIN * error)
 
     def finished(self, action: ActionBehaviour) -> bool:
         if self.at != "end" or action.remaining():
@@ -334,7 +335,8 @@ def _closing_speed(action: ActionBehaviour, error: float, closing: float, left: 
     is asked with the lag of its speed controller (a first-order lag of ``1 / kp``): it
     passes through the gap at its deadline (no margin: it arrives moving), at most
     :data:`MAX_CLOSING_SPEED` relative to the reference."""
-    gains = getattr(getattr(action.controller, "speed", None), "gains", None)
+    speed = action.controller.speed if action.controller is not None else None
+    gains = speed.gains if isinstance(speed, SpeedController) else None
     lag = 1.0 / gains.kp if gains is not None and gains.kp > 0.0 else 1.0
     # what the closing speed now still covers while it turns into the one asked
     covered = lag * (1.0 - math.exp(-left / lag))
@@ -639,7 +641,7 @@ class _Heading(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         ctrl = action.controller
-        if ctrl is not None and hasattr(ctrl, "yaw"):  # a walker turns at once
+        if isinstance(ctrl, WalkerControl):  # a walker turns at once
             ctrl.yaw = lane_heading(action.ctx, action.state) + self.wanted(action)
             ctrl.lateral.release()
             return

@@ -55,9 +55,8 @@ def _hold(action: ActionBehaviour) -> None:
         raise ActionError("this actor has no driver (it cannot move)")
     if not action.drives("longitudinal") and ctrl.speed.target is None:
         set_speed(ctrl, action.state.speed, "none")
-    lateral = getattr(ctrl, "lateral", None)
-    if lateral is not None and not action.drives("lateral") and lateral.path is None:
-        lateral.hold(action.state)
+    if not action.drives("lateral") and ctrl.lateral.path is None:
+        ctrl.lateral.hold(action.state)
 
 
 @action("vehicle", "drive")
@@ -128,7 +127,7 @@ class ChangeSpeed(ActionBehaviour):
         self.target = target
 
     def step(self) -> Status:
-        if self.controller.speed.reached(self.state, self.ctx.tolerances.speed):
+        if self.driver.speed.reached(self.state, self.ctx.tolerances.speed):
             return Status.SUCCESS
         return Status.RUNNING
 
@@ -188,7 +187,7 @@ class ChangeLane(ActionBehaviour):
             rate_peak=float(peak) if peak is not None else None,
             profile=str(args.get("rate_profile", "none")),
         )
-        lateral = self.controller.lateral
+        lateral = self.driver.lateral
         self.offset = float(args.get("offset", 0.0))
         lateral.change_lane(self.state, target, offset=self.offset, duration=duration)
         self.target_lane = target
@@ -199,7 +198,7 @@ class ChangeLane(ActionBehaviour):
         # is up, and the actor is at the new lane's centre within the tolerance: a blend
         # passed with the car still in the old lane (a change too quick for the physics)
         # is not a lane change
-        over = self.controller.lateral.done(self.state) or self.elapsed >= self.planned - 1e-9
+        over = self.driver.lateral.done(self.state) or self.elapsed >= self.planned - 1e-9
         distance = self._from_centre()
         if over and distance is not None and abs(distance) <= self.ctx.tolerances.lateral:
             return Status.SUCCESS
@@ -237,7 +236,7 @@ class FollowLane(ActionBehaviour):
                 "with the lane() modifier instead"
             )
         _hold(self)
-        self.controller.lateral.keep_lane(
+        self.driver.lateral.keep_lane(
             lane_of(self.ctx, self.actor), offset=float(self.args.get("offset", 0.0))
         )
 
@@ -295,7 +294,7 @@ class GapAction(ActionBehaviour):
         wanted = self.goal * max(me.speed, 0.1) if self.timed else self.goal
         error = distance - wanted  # >0: too far apart
         self.error = error
-        retarget(self.controller, other.speed + self.sign * GAP_GAIN * error)
+        retarget(self.driver, other.speed + self.sign * GAP_GAIN * error)
         tol = self.ctx.tolerances
         if (
             not self.keep
@@ -395,12 +394,12 @@ class ChangeAcceleration(ActionBehaviour):
         plan = self.plan_time()
         if plan and kind in ("none", "constant") and peak is None:
             # spread over the phase: the change takes the planned duration
-            change = float(self.args["target"]) - self.controller.speed.a_ref
+            change = float(self.args["target"]) - self.driver.speed.a_ref
             jerk = max(abs(change) / plan, 1e-3) if abs(change) > 1e-9 else math.inf
         self.target = command_acceleration(self, float(self.args["target"]), jerk)
 
     def step(self) -> Status:
-        if self.controller.speed.accel_reached():
+        if self.driver.speed.accel_reached():
             return Status.SUCCESS
         return Status.RUNNING
 

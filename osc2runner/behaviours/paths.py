@@ -49,6 +49,7 @@ from osc2runner.behaviours.road_paths import (
 )
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
+from osc2runner.execution.controls import VehicleControl, WalkerControl
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import PathTracker, Polyline, Trajectory
 from osc2runner.structs import Path, Pose3d, Position3d, XyzPoint
@@ -104,14 +105,18 @@ class PathMotion:
         if ctrl is None:
             raise ActionError("this actor has no driver (it cannot move)")
         self.ctrl = ctrl
-        self.vehicle = hasattr(ctrl, "lateral") and not hasattr(ctrl, "yaw")
+        #: a walker walks along the path itself; a vehicle steers along it with a tracker
+        self.walker = ctrl if isinstance(ctrl, WalkerControl) else None
+        self.vehicle = ctrl if self.walker is None and isinstance(ctrl, VehicleControl) else None
         self.progress = self.begin
         state = action.state
-        if self.vehicle:
+        if self.vehicle is not None:
             corners = trajectory.corner_speeds() if trajectory is not None else None
-            ctrl.path = PathTracker(ctrl.params, path, end=self.end, corner_speeds=corners)
-        else:
-            ctrl.path = path
+            self.vehicle.path = PathTracker(
+                self.vehicle.params, path, end=self.end, corner_speeds=corners
+            )
+        elif self.walker is not None:
+            self.walker.path = path
         if exact:  # an exact motion starts on the path
             x, y, yaw = path.at(self.begin)
             self._place(x, y, yaw, state.speed)
@@ -147,21 +152,21 @@ class PathMotion:
 
     def arrived(self) -> bool:
         state = self.action.state
-        if self.vehicle:
-            tracker = self.ctrl.path
-            return bool(tracker is not None and tracker.done(state.x, state.y, state.yaw))
+        if self.vehicle is not None:
+            tracker = self.vehicle.path
+            return tracker is not None and tracker.done(state.x, state.y, state.yaw)
         s, _, _ = self.path.project(state.x, state.y)
         return s >= self.end - WALKER_ARRIVED
 
     def stop(self) -> None:
         """The phase ended: the actor drives on along the road (its lateral position)."""
-        ctrl = self.ctrl
-        ctrl.path = None
         state = self.action.state
-        if self.vehicle:
-            ctrl.lateral.hold(state)  # the lane it is in, at its offset from the centre
-        else:
-            ctrl.yaw = state.yaw
+        if self.vehicle is not None:
+            self.vehicle.path = None
+            self.vehicle.lateral.hold(state)  # the lane it is in, at its offset from the centre
+        elif self.walker is not None:
+            self.walker.path = None
+            self.walker.yaw = state.yaw
 
 
 def _motion_path(

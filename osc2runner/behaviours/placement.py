@@ -15,6 +15,7 @@ from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
 from osc2runner.behaviours.driving import lane_heading, set_speed
 from osc2runner.behaviours.maps import map_point_xy
 from osc2runner.compile.registry import action
+from osc2runner.execution.controls import WalkerControl
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
 
@@ -111,8 +112,7 @@ class AssignPosition(InstantAction):
         ctrl = self.controller
         if ctrl is not None:
             set_speed(ctrl, speed, "none")
-            if getattr(ctrl, "lateral", None) is not None:
-                ctrl.lateral.keep_lane(ref, offset)
+            ctrl.lateral.keep_lane(ref, offset)
 
     def _world_position(self, x: float, y: float, on_map: bool = False) -> None:
         """``assign_position(position: p)``: the actor's centre at world ``(x, y)``
@@ -176,5 +176,5 @@ class AssignOrientation(InstantAction):
             raise ActionError("assign_orientation needs an orientation_3d with a yaw")
         _teleport(self, yaw=float(yaw))
         ctrl = self.controller
-        if ctrl is not None and hasattr(ctrl, "yaw"):
+        if isinstance(ctrl, WalkerControl):
             ctrl.yaw = float(yaw)
