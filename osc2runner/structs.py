@@ -19,7 +19,7 @@ where the runner builds them).
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, SupportsFloat
 
 if TYPE_CHECKING:
     from osc2runner.sim.tracking import Polyline
@@ -50,7 +50,7 @@ __all__ = [
     "Wind",
     "XyzPoint",
     "as_pose",
-    "number",
+    "member_number",
     "struct_json",
     "struct_members",
 ]
@@ -302,8 +302,8 @@ def as_pose(value: object) -> Pose3d:
         return value
     position, orientation = _struct(value, "position"), _struct(value, "orientation")
     return Pose3d(
-        Position3d(*(number(position, k) for k in ("x", "y", "z"))),
-        Orientation3d(*(number(orientation, k) for k in ("roll", "pitch", "yaw"))),
+        Position3d(*(member_number(position, k) for k in ("x", "y", "z"))),
+        Orientation3d(*(member_number(orientation, k) for k in ("roll", "pitch", "yaw"))),
     )
 
 
@@ -314,11 +314,12 @@ def _struct(value: object, member: str) -> StructValue:
     return found
 
 
-def number(value: object, member: str) -> float:
-    """The number ``member`` of a struct value, typed or generic (``p.x``)."""
-    members = struct_members(value) or {}
-    found = members.get(member)
-    if not isinstance(found, (int, float)):
+def member_number(value: object, member: str) -> float:
+    """The number ``member`` of a struct value, typed or generic (``p.x``), or of the
+    object a plug-in's method gave for one; TypeError when it has none."""
+    members = struct_members(value)
+    found = members.get(member) if members is not None else getattr(value, member, None)
+    if not isinstance(found, SupportsFloat):
         raise TypeError(f"`{value!r}` has no number `{member}`")
     return float(found)
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, SupportsFloat, SupportsInt
 
 import py_trees
 from py_trees.common import Status
@@ -50,7 +50,44 @@ __all__ = [
     "Modifier",
     "ModifierUse",
     "ScenarioBehaviour",
+    "items",
+    "number",
+    "whole",
 ]
+
+#: A behaviour's arguments by parameter name. A value is whatever its expression
+#: gives at run time (a number, an enum member's name, an Actor, a struct value of
+#: ``osc2runner.structs``, a map element, a list as a tuple, or what a plug-in's method
+#: returns), so a behaviour reads it through a test of its kind (``isinstance``, or
+#: :func:`number` and :func:`whole`, which ask for the ``SupportsFloat`` and
+#: ``SupportsInt`` protocols).
+Arguments = dict[str, object]
+
+
+def number(value: object) -> float:
+    """An argument that is a number, as a float (TypeError for another value, as ``float``)."""
+    if isinstance(value, float):
+        return value
+    if isinstance(value, SupportsFloat):
+        return float(value)
+    raise TypeError(f"`{value!r}` is not a number")
+
+
+def items(value: object) -> tuple[object, ...]:
+    """An argument that is a list, as a tuple (none: empty; TypeError for another value)."""
+    if isinstance(value, tuple):
+        return value
+    if value is None or isinstance(value, list):
+        return tuple(value or ())
+    raise TypeError(f"`{value!r}` is not a list")
+
+
+def whole(value: object) -> int:
+    """An argument that is a whole number, as an int (TypeError for another value, as
+    ``int``)."""
+    if isinstance(value, SupportsInt):
+        return int(value)
+    raise TypeError(f"`{value!r}` is not a whole number")
 
 
 class FastLeaf:
@@ -178,14 +215,14 @@ class Modifier:
 
     def __init__(self, use: ModifierUse) -> None:
         self.use = use
-        self.args: dict[str, Any] = {}
+        self.args: Arguments = {}
         self.at = "all"
         self.movement_mode = "other"
         self.track = "actual"
 
     # ---- helpers
 
-    def evaluate(self) -> dict[str, Any]:
+    def evaluate(self) -> Arguments:
         self.args = ReadArguments(self.node, {k: fn() for k, fn in self.use.arguments.items()})
         self.at = str(self.args.get("at", "all"))
         # every motion the runner makes is physical and rate-limited, so `monotonous`
@@ -266,7 +303,7 @@ class ActionBehaviour(ScenarioBehaviour):
         super().__init__(name)
         self.use = use
         self.actor = use.actor
-        self.args: dict[str, Any] = {}
+        self.args: Arguments = {}
         self.start_tick = 0
         #: how long the phase lasts at most (until its deadline in the schedule: its own
         #: duration, a composition's around it, an `until elapsed`), when known

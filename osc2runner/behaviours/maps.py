@@ -36,7 +36,7 @@ from osc2check.verify.map_modifiers import ElementValue
 from osc2check.world.crossings import crossing_points
 from osc2check.world.network import LaneRef
 from osc2check.world.projection import lane_centre
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier, number
 from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.execution.controls import VehicleControl
@@ -203,7 +203,7 @@ def follow_route(modifier: Modifier, action: ActionBehaviour) -> None:
     """``along(route: r)`` with a map route: the actor's lane following passes the roads of
     ``r`` (the route through the forks ahead is re-planned when the phase starts).
     ``end_offset`` is not supported."""
-    if float(modifier.args.get("end_offset", 0.0) or 0.0) != 0.0:
+    if number(modifier.args.get("end_offset", 0.0) or 0.0) != 0.0:
         raise ActionError("along(end_offset: ...) on a map route is not supported")
     roads = roads_of(modifier.args.get("route"))
     ctrl = action.controller

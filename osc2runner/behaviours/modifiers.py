@@ -16,7 +16,14 @@ from typing import Any
 
 from osc2check.world.network import LaneRef
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
+from osc2runner.behaviours.base import (
+    ActionBehaviour,
+    ActionError,
+    AssignedPose,
+    Modifier,
+    number,
+    whole,
+)
 from osc2runner.behaviours.driving import (
     SPEED_PROFILE,
     gap_between,
@@ -106,8 +113,8 @@ class Speed(Modifier):
 
     def target(self, action: ActionBehaviour) -> float:
         args = self.args
-        v = float(args.get("speed", 0.0))
-        factor = float(args.get("factor", 1.0))
+        v = number(args.get("speed", 0.0))
+        factor = number(args.get("factor", 1.0))
         for key, sign in (("faster_than", 1.0), ("slower_than", -1.0), ("same_as", 1.0)):
             ref = args.get(key)
             if isinstance(ref, Actor):
@@ -152,7 +159,7 @@ class ChangeSpeedModifier(Modifier):
     longitudinal = True
 
     def realise(self, action: ActionBehaviour) -> None:
-        self.goal = action.state.speed + float(self.args.get("speed", 0.0))
+        self.goal = action.state.speed + number(self.args.get("speed", 0.0))
         profile = (
             profile_for(
                 "constant", change=self.goal - action.state.speed, duration=action.plan_time()
@@ -189,7 +196,7 @@ class Acceleration(Modifier):
     def realise(self, action: ActionBehaviour) -> None:
         if any(k in self.args for k in _RELATIVE_SPEED):
             raise ActionError("acceleration relative to another actor is not supported")
-        a = float(self.args.get("acceleration", 0.0))
+        a = number(self.args.get("acceleration", 0.0))
         ctrl = action.controller
         if abs(a) < 1e-9:
             set_speed(ctrl, action.state.speed, "none")
@@ -219,7 +226,7 @@ class Distance(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         self.start = action.state.distance
-        self.goal = float(self.args.get("distance", 0.0))
+        self.goal = number(self.args.get("distance", 0.0))
 
     def finished(self, action: ActionBehaviour) -> bool:
         return action.state.distance - self.start >= self.goal - 1e-9
@@ -244,18 +251,19 @@ class Position(Modifier):
 
     def _reference(self) -> tuple[Actor | None, float]:
         args = self.args
-        if isinstance(args.get("ahead_of"), Actor):
-            return args["ahead_of"], 1.0
-        if isinstance(args.get("behind"), Actor):
-            return args["behind"], -1.0
+        ahead, behind = args.get("ahead_of"), args.get("behind")
+        if isinstance(ahead, Actor):
+            return ahead, 1.0
+        if isinstance(behind, Actor):
+            return behind, -1.0
         return None, 1.0
 
     def _distance(self, follower_speed: float) -> float:
         """The bumper gap asked: ``distance``, or ``time`` at the follower's speed."""
         if "distance" in self.args:
-            return float(self.args["distance"])
+            return number(self.args["distance"])
         if "time" in self.args:
-            return float(self.args["time"]) * max(follower_speed, 0.0)
+            return number(self.args["time"]) * max(follower_speed, 0.0)
         raise ActionError("position() needs `distance` or `time`")
 
     def _error(self, action: ActionBehaviour) -> tuple[float, ActorState, float]:
@@ -299,7 +307,7 @@ class Position(Modifier):
         state = action.state
         tol = _tolerances(action).position
         if ref is None:
-            want = float(self.args.get("distance", 0.0))
+            want = number(self.args.get("distance", 0.0))
             along = state.s if state.direction >= 0 else _road_length(action, state) - state.s
             if abs(along - want) <= tol:
                 return None
@@ -319,7 +327,7 @@ class Position(Modifier):
         speed = pose.speed if pose.speed is not None else action.state.speed
         if ref is None:
             state = action.state
-            d = float(self.args.get("distance", 0.0))
+            d = number(self.args.get("distance", 0.0))
             pose.s = d if state.direction >= 0 else _road_length(action, state) - d
             return
         other = action.ctx.states[ref.name]
@@ -373,7 +381,7 @@ class Lane(Modifier):
         n = args.get("lane", 1)
         if isinstance(n, tuple):
             raise ActionError("a lane range needs the solver's choice; give one lane")
-        n = int(n)
+        n = whole(n)
         lanes = ctx.lanes
         for key in LANE_REFERENCES:
             reference = args.get(key)
@@ -503,7 +511,7 @@ class ChangeLaneModifier(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         ctx = action.ctx
-        n = int(self.args.get("lane", 1))
+        n = whole(self.args.get("lane", 1))
         start = lane_of(ctx, action.actor)
         side = self.args.get("side")
         if side is None:
@@ -559,7 +567,7 @@ class Lateral(Modifier):
     def _target_t(self, action: ActionBehaviour) -> float | None:
         """The road ``t`` a reference form asks for (None without a reference)."""
         args = self.args
-        d = float(args.get("distance", 0.0))
+        d = number(args.get("distance", 0.0))
         for key, sign in (("left_of", 1.0), ("right_of", -1.0), ("same_as", 0.0)):
             ref = args.get(key)
             if isinstance(ref, Actor):
@@ -575,7 +583,7 @@ class Lateral(Modifier):
     def _offset(self) -> float:
         """The offset from the lane centre asked for without a reference: ``distance`` to
         the left, or to the right with ``side: right`` (as the checker places it)."""
-        d = float(self.args.get("distance", 0.0))
+        d = number(self.args.get("distance", 0.0))
         return -d if str(self.args.get("side", "left")) == "right" else d
 
     def _wanted(self, action: ActionBehaviour, ref: LaneRef | None = None) -> float:
@@ -669,7 +677,7 @@ class Yaw(_Heading):
     def wanted(self, action: ActionBehaviour) -> float:
         if self.args.get("relative_to") is not None:
             raise ActionError("yaw relative to another actor is not supported")
-        return float(self.args.get("angle", 0.0))
+        return number(self.args.get("angle", 0.0))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         pose.yaw = self.wanted(action)
@@ -680,11 +688,11 @@ class Orientation(_Heading):
     """``orientation(yaw: a, at: start)``: the heading relative to the road at the phase start."""
 
     def wanted(self, action: ActionBehaviour) -> float:
-        return float(self.args.get("yaw", 0.0))
+        return number(self.args.get("yaw", 0.0))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         if "yaw" in self.args:
-            pose.yaw = float(self.args["yaw"])
+            pose.yaw = number(self.args["yaw"])
 
 
 # ---------------------------------------------------------------------- behaviour options

@@ -14,7 +14,7 @@ import math
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, number, whole
 from osc2runner.behaviours.driving import (
     gap_between,
     lane_change_duration,
@@ -114,12 +114,12 @@ class ChangeSpeed(ActionBehaviour):
 
     def start(self) -> None:
         _hold(self)
-        target = float(self.args["target"])
+        target = number(self.args["target"])
         kind = str(self.args.get("rate_profile", "none"))
         peak = self.args.get("rate_peak")
         profile = profile_for(
             kind,
-            float(peak) if peak is not None else None,
+            number(peak) if peak is not None else None,
             change=target - self.state.speed,
             duration=self.plan_time(),
         )
@@ -163,7 +163,7 @@ class ChangeLane(ActionBehaviour):
         _hold(self)
         reference = args.get("reference")
         ref = reference if isinstance(reference, Actor) else self.actor
-        n = int(args.get("num_of_lanes", 1))
+        n = whole(args.get("num_of_lanes", 1))
         side = str(args.get("side", "left"))
         here = lane_of(ctx, self.actor)
         start_lane = lane_of(ctx, ref)
@@ -184,11 +184,11 @@ class ChangeLane(ActionBehaviour):
             lanes,
             lane_width(ctx, self.state),
             phase=self.plan_time(),
-            rate_peak=float(peak) if peak is not None else None,
+            rate_peak=number(peak) if peak is not None else None,
             profile=str(args.get("rate_profile", "none")),
         )
         lateral = self.driver.lateral
-        self.offset = float(args.get("offset", 0.0))
+        self.offset = number(args.get("offset", 0.0))
         lateral.change_lane(self.state, target, offset=self.offset, duration=duration)
         self.target_lane = target
         self.planned = duration
@@ -237,7 +237,7 @@ class FollowLane(ActionBehaviour):
             )
         _hold(self)
         self.driver.lateral.keep_lane(
-            lane_of(self.ctx, self.actor), offset=float(self.args.get("offset", 0.0))
+            lane_of(self.ctx, self.actor), offset=number(self.args.get("offset", 0.0))
         )
 
 
@@ -279,7 +279,7 @@ class GapAction(ActionBehaviour):
         if self.keep:
             self.goal = self._measure(me, other)
         else:
-            self.goal = float(args["target"])
+            self.goal = number(args["target"])
 
     def _measure(self, me: ActorState, other: ActorState) -> float:
         gap: float = self.sign * gap_between(me, other, bumpers=self.bumpers)
@@ -372,7 +372,7 @@ class AssignAcceleration(InstantAction):
     until standstill or the top speed, or until another action sets the speed."""
 
     def start(self) -> None:
-        command_acceleration(self, float(self.args["acceleration"]))
+        command_acceleration(self, number(self.args["acceleration"]))
 
 
 @action("movable_object", "change_acceleration")
@@ -388,15 +388,15 @@ class ChangeAcceleration(ActionBehaviour):
         peak = self.args.get("rate_peak")
         kind = str(self.args.get("rate_profile", "none"))
         if peak is not None:
-            jerk = float(peak)
+            jerk = number(peak)
         else:
             jerk = JERK_BY_PROFILE.get(kind, math.inf)
         plan = self.plan_time()
         if plan and kind in ("none", "constant") and peak is None:
             # spread over the phase: the change takes the planned duration
-            change = float(self.args["target"]) - self.driver.speed.a_ref
+            change = number(self.args["target"]) - self.driver.speed.a_ref
             jerk = max(abs(change) / plan, 1e-3) if abs(change) > 1e-9 else math.inf
-        self.target = command_acceleration(self, float(self.args["target"]), jerk)
+        self.target = command_acceleration(self, number(self.args["target"]), jerk)
 
     def step(self) -> Status:
         if self.driver.speed.accel_reached():

@@ -38,7 +38,7 @@ from typing import Any
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier, number
 from osc2runner.behaviours.driving import retarget, set_speed
 from osc2runner.behaviours.maps import map_point_xy
 from osc2runner.behaviours.road_paths import (
@@ -242,8 +242,8 @@ class _PathAction(_MotionAction):
             path,
             trajectory=trajectory,
             exact=self.exact,
-            start_offset=float(args.get("start_offset", 0.0)),
-            end_offset=float(args.get("end_offset", 0.0)),
+            start_offset=number(args.get("start_offset", 0.0)),
+            end_offset=number(args.get("end_offset", 0.0)),
         )
 
 
@@ -334,8 +334,8 @@ class _AlongModifier(Modifier):
             action,
             path,
             trajectory=trajectory,
-            start_offset=float(self.args.get("start_offset", 0.0)),
-            end_offset=float(self.args.get("end_offset", 0.0)),
+            start_offset=number(self.args.get("start_offset", 0.0)),
+            end_offset=number(self.args.get("end_offset", 0.0)),
         )
 
     def step(self, action: ActionBehaviour) -> None:

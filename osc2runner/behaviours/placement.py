@@ -11,11 +11,12 @@ from __future__ import annotations
 import numpy as np
 
 from osc2check.world.projection import lane_centre
-from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
+from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction, number
 from osc2runner.behaviours.driving import lane_heading, set_speed
 from osc2runner.behaviours.maps import map_point_xy
 from osc2runner.compile.registry import action
 from osc2runner.execution.controls import WalkerControl
+from osc2runner.structs import member_number
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
 
@@ -65,8 +66,8 @@ class AssignPosition(InstantAction):
         if given == ["position"]:
             position = self.args["position"]
             try:
-                x, y = float(position.x), float(position.y)
-            except AttributeError:
+                x, y = member_number(position, "x"), member_number(position, "y")
+            except TypeError:
                 raise ActionError("`position` is not a position_3d") from None
             self._world_position(x, y)
             return
@@ -155,7 +156,7 @@ class AssignSpeed(InstantAction):
     """``assign_speed(speed)``: the actor has that speed at once (along its heading)."""
 
     def start(self) -> None:
-        speed = float(self.args["speed"])
+        speed = number(self.args["speed"])
         if not self.at_scenario_start:
             _teleport(self, speed=speed)
         if self.controller is not None:

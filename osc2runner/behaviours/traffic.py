@@ -26,7 +26,7 @@ from typing import Any
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, Modifier, items
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.light_plans import LightPlan
@@ -188,7 +188,7 @@ class PlayCycles(ActionBehaviour):
 
     def start(self) -> None:
         self.cycles = []
-        for cycle in tuple(self.args.get("cycles") or ()):
+        for cycle in items(self.args.get("cycles")):
             phases = tuple(getattr(cycle, "phases", ()) or ())
             if not phases:
                 raise ActionError("a cycle without phases cannot be played")
