@@ -72,7 +72,7 @@ TRAJECTORY_GAIN = 1.0
 WALKER_ARRIVED = 0.1
 
 
-def path_points(ctx: RunContext, value: Any) -> list[tuple[float, float]]:
+def path_points(ctx: RunContext, value: object) -> list[tuple[float, float]]:
     """The world points of a path or trajectory value (poses, or points of the map)."""
     points = getattr(value, "points", None)
     if not points:
@@ -170,7 +170,10 @@ class PathMotion:
 
 
 def _motion_path(
-    value: Any, timed: bool, points: list[tuple[float, float]] | None = None, ctx: Any = None
+    value: object,
+    timed: bool,
+    points: list[tuple[float, float]] | None = None,
+    ctx: Any = None,  # (None where the points need no map)
 ) -> tuple[Polyline, Trajectory | None]:
     """The polyline of a path or trajectory value (through ``points`` when given: its
     points in world coordinates; the value's own line when it runs along the road) and,

@@ -30,7 +30,7 @@ OpenDRIVE point's road and lane are not read) are
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterable, Sequence
 from typing import Any
 
 import numpy as np
@@ -44,7 +44,7 @@ from osc2runner.compile.registry import method
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import RoadLine
-from osc2runner.structs import Orientation3d, Path, Pose3d, Position3d
+from osc2runner.structs import Orientation3d, Path, Pose3d, Position3d, member_number
 
 __all__ = [
     "interpolation_of",
@@ -134,13 +134,13 @@ def _along_lanes(
 
 
 def relative_points(
-    ctx: RunContext, points: Sequence[Any], reference: Actor, transform: str
+    ctx: RunContext, points: Sequence[object], reference: Actor, transform: str
 ) -> tuple[list[tuple[float, float]], bool]:
     """World points of relative route or OpenDRIVE points (``s``, ``t`` offsets) from where
     ``reference`` is now, and whether they are joined along the road (the road and lane
     frames)."""
     state = ctx.states[reference.name]
-    offsets = [(float(p.s), float(p.t)) for p in points]
+    offsets = [(member_number(p, "s"), member_number(p, "t")) for p in points]
     if transform in ("road_relative", "lane_relative"):
         if state.road is None or not state.direction:
             raise ActionError(
@@ -186,7 +186,7 @@ def _path_value(
     return Path(poses, interpolation, stamps, line)
 
 
-def _xy_all(ctx: RunContext, points: Any) -> list[tuple[float, float]]:
+def _xy_all(ctx: RunContext, points: Iterable[object]) -> list[tuple[float, float]]:
     try:
         return [map_point_xy(ctx, p) for p in points]
     except ActionError as exc:
@@ -197,7 +197,7 @@ def _xy_all(ctx: RunContext, points: Any) -> list[tuple[float, float]]:
 @method("map", "create_path_route_points")
 def create_path_through(
     ctx: RunContext, subject: object, points: Any, interpolation: str, on_road_network: bool
-) -> Any:
+) -> Path:
     """A ``path`` through OpenDRIVE or route points, along the road with
     ``on_road_network``."""
     return _path_value(ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network))
@@ -212,7 +212,7 @@ def create_trajectory_through(
     time_stamps: Any,
     interpolation: str,
     on_road_network: bool,
-) -> Any:
+) -> Path:
     """A ``trajectory`` through OpenDRIVE or route points with a time stamp each."""
     return _path_value(
         ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network), time_stamps
@@ -235,7 +235,7 @@ def time_stamps_of(value: object) -> tuple[float, ...] | None:
 
 
 def resolve_points(
-    ctx: RunContext, value: Any, reference: Actor, transform: str
+    ctx: RunContext, value: object, reference: Actor, transform: str
 ) -> tuple[list[tuple[float, float]], bool]:
     """The world points of a relative path or trajectory from where ``reference`` is now,
     and whether they are joined along the road."""
@@ -261,27 +261,29 @@ def resolve_points(
     return world, False
 
 
-def _has_st(point: Any) -> bool:
+def _has_st(point: object) -> bool:
     return hasattr(point, "s") and hasattr(point, "t") and not hasattr(point, "position")
 
 
 @method("map", "resolve_relative_path")
 def resolve_relative_path(
-    ctx: RunContext, subject: object, relative_path: Any, reference: Actor, transform: str
-) -> Any:
+    ctx: RunContext, subject: object, relative_path: object, reference: Actor, transform: str
+) -> Path:
     """The absolute ``path`` of a relative one, from where ``reference`` is now."""
     return _resolved(ctx, relative_path, reference, transform, timed=False)
 
 
 @method("map", "resolve_relative_trajectory")
 def resolve_relative_trajectory(
-    ctx: RunContext, subject: object, relative_trajectory: Any, reference: Actor, transform: str
-) -> Any:
+    ctx: RunContext, subject: object, relative_trajectory: object, reference: Actor, transform: str
+) -> Path:
     """The absolute ``trajectory`` of a relative one, from where ``reference`` is now."""
     return _resolved(ctx, relative_trajectory, reference, transform, timed=True)
 
 
-def _resolved(ctx: RunContext, value: Any, reference: Actor, transform: str, timed: bool) -> Any:
+def _resolved(
+    ctx: RunContext, value: object, reference: Actor, transform: str, timed: bool
+) -> Path:
     try:
         points, on_road = resolve_points(ctx, value, reference, str(transform))
     except ActionError as exc:

@@ -134,6 +134,17 @@ def bulbs_of(light: StructValue) -> tuple[StructValue, ...]:
     return bulbs
 
 
+def as_bulbs(value: object) -> tuple[StructValue, ...]:
+    """A ``list of traffic_light_bulb`` value as its bulbs (none: empty)."""
+    given = () if value is None else value
+    bulbs = (
+        tuple(b for b in given if isinstance(b, StructValue)) if isinstance(given, tuple) else ()
+    )
+    if bulbs != given:
+        raise TypeError(f"`{value!r}` is not a list of traffic_light_bulb")
+    return bulbs
+
+
 def semantic_of(bulbs: Sequence[StructValue]) -> str:
     """The semantic state that bulbs in these states express."""
     lit = {str(b.color): str(b.state) for b in bulbs if str(b.state) not in ("is_off", "unknown")}
