@@ -12,7 +12,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
-from osc2check import cache, memory, messages
+from osc2check import cache, memory, messages, results
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.dialects import dialect_reading
 from osc2check.gc_pause import gc_paused
@@ -204,6 +204,7 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
         except Exception as exc:  # the budget was hit: say where, check the next file
             if not memory.is_out_of_memory(exc):
                 raise
+            results.not_repeatable("a memory budget was exceeded")
             element = (
                 exc.element
                 if isinstance(exc, memory.BudgetExceeded)

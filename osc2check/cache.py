@@ -160,8 +160,11 @@ def load(kind: str, key: Mapping[str, str], *, toolkit: bool = True) -> object |
         return None
 
 
-def store(kind: str, key: Mapping[str, str], value: object, *, toolkit: bool = True) -> None:
-    """Write ``value`` under ``kind`` and ``key`` (atomically; failures are ignored)."""
+def store(
+    kind: str, key: Mapping[str, str], value: object, *, toolkit: bool = True, keep: int = _KEEP
+) -> None:
+    """Write ``value`` under ``kind`` and ``key`` (atomically; failures are ignored), keeping
+    the newest ``keep`` entries of ``kind``."""
     if not enabled():
         return
     try:
@@ -182,7 +185,7 @@ def store(kind: str, key: Mapping[str, str], value: object, *, toolkit: bool = T
             except OSError:
                 pass
             raise
-        _prune(path.parent, kind, path)
+        _prune(path.parent, kind, path, keep)
     except Exception as exc:  # a read-only home, a full disk, a value that cannot be pickled
         log.debug("cache entry %s not written: %s", kind, exc)
 
@@ -274,8 +277,8 @@ def _entry_of(name: str, kind: str) -> bool:
     )
 
 
-def _prune(folder: Path, kind: str, keep: Path) -> None:
-    """Remove all but the newest entries of ``kind``, and left-over temporary files."""
+def _prune(folder: Path, kind: str, written: Path, keep: int) -> None:
+    """Remove all but the newest ``keep`` entries of ``kind``, and left-over temporary files."""
     import time
 
     try:
@@ -283,13 +286,13 @@ def _prune(folder: Path, kind: str, keep: Path) -> None:
         now = time.time()
         for item in folder.iterdir():
             name = item.name
-            if _entry_of(name, kind) and item != keep:
+            if _entry_of(name, kind) and item != written:
                 entries.append((item.stat().st_mtime, item))
             elif name.startswith(".") and name.endswith(".tmp"):
                 if now - item.stat().st_mtime > _STALE_TEMP:
                     item.unlink()
         entries.sort(reverse=True)
-        for _, item in entries[_KEEP - 1 :]:
+        for _, item in entries[keep - 1 :]:
             item.unlink()
     except OSError:
         pass

@@ -179,8 +179,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--no-cache",
         action="store_true",
-        help="neither read nor write the start-up cache (the parser's tables and the analysed "
-        "standard library, kept in the user's cache folder or OSC2_CACHE_DIR)",
+        help="neither read nor write the start-up cache (the parser's tables, the analysed "
+        "standard library and the results of checks repeated on unchanged files, kept in "
+        "the user's cache folder or OSC2_CACHE_DIR)",
     )
     p.add_argument(
         "--memory-limit",
@@ -593,22 +594,11 @@ def _dump_ast(sources: list[SourceInput], out: TextIO) -> int:
 
 
 def run() -> NoReturn:
-    """The ``osc2check`` command: ``main``, then an exit that does not free the process's
-    objects one by one (the analysed library, the solver's context: about a quarter of a
-    small file's check). The exit handlers run and the output is flushed first."""
-    status = main()
-    import atexit
+    """The ``osc2check`` command (``osc2check.results.run``: a check repeated on unchanged
+    inputs gives its stored result)."""
+    from osc2check.results import run as run_command
 
-    run_handlers = getattr(atexit, "_run_exitfuncs", None)
-    if run_handlers is None:  # pragma: no cover - a Python without it: the usual exit
-        raise SystemExit(status)
-    run_handlers()
-    for stream in (sys.stdout, sys.stderr):
-        try:
-            stream.flush()
-        except (OSError, ValueError):  # a reader gone, a closed stream: nothing to say
-            pass
-    os._exit(status)
+    run_command()
 
 
 if __name__ == "__main__":

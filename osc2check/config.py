@@ -23,6 +23,7 @@ from urllib.parse import unquote, urlparse
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
+from osc2check.inputs import is_file
 from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, DIALECTS, OSC_VERSIONS
@@ -499,11 +500,11 @@ def find_config(start_dir: str | Path) -> Path | None:
         start = start.parent
     for directory in (start, *start.parents):
         own = directory / CONFIG_FILE
-        if own.is_file():
+        if is_file(own):
             return own
         pyproject = directory / "pyproject.toml"
         if (
-            pyproject.is_file()
+            is_file(pyproject)
             and _mentions_us(pyproject)
             and _tool_table(_read_toml(pyproject), pyproject) is not None
         ):

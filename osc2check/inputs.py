@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import BinaryIO
 
+from osc2check import results
 from osc2check.codes import Severity
 
 __all__ = [
@@ -35,6 +36,7 @@ __all__ = [
     "InputProblem",
     "Met",
     "not_regular",
+    "is_file",
     "probe",
     "read_bytes",
     "read_stream",
@@ -104,9 +106,20 @@ def probe(path: str | Path) -> os.stat_result:
     try:
         return os.stat(path)
     except OSError as exc:
+        if isinstance(exc, (FileNotFoundError, NotADirectoryError)):
+            results.note_missing(path)
         raise InputError(reason(exc, path)) from None
     except ValueError:  # a NUL byte in the name
         raise InputError("invalid file name") from None
+
+
+def is_file(path: str | Path) -> bool:
+    """Whether ``path`` is a regular file (links followed); a miss is noted, since a file
+    made there later changes what a check finds (``results.note_missing``)."""
+    if os.path.isfile(path):
+        return True
+    results.note_missing(path)
+    return False
 
 
 @dataclass(frozen=True, slots=True)

@@ -59,6 +59,7 @@ from __future__ import annotations
 from collections.abc import Iterator, Mapping
 from fractions import Fraction
 
+from osc2check.inputs import is_file
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import actor_alias, scenario_do
@@ -303,7 +304,7 @@ class PlacementLowerer(StartModifiers):
             fallback = find_map("default")
         if name is None:
             path = map_path(self.default_map, folder)
-            source = str(path.resolve()) if path is not None and path.is_file() else None
+            source = str(path.resolve()) if path is not None and is_file(path) else None
             return MapChoice(self.default_map if source else fallback.name, fallback, source)
         file = self.maps.get(name, name)  # a name the configuration gives a file
         try:
@@ -313,7 +314,7 @@ class PlacementLowerer(StartModifiers):
         except MapError as err:
             return MapChoice(fallback.name, fallback, asked=name, span=span, unreadable=err)
         path = map_path(file, folder)
-        source = str(path.resolve()) if path is not None and path.is_file() else None
+        source = str(path.resolve()) if path is not None and is_file(path) else None
         return MapChoice(name if source is not None else found.name, found, source, name, span)
 
     def _map_name(self) -> tuple[str | None, Span | None]:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
 
-from osc2check import memory
+from osc2check import memory, results
 from osc2check.verify import ir, propagate
 from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.terms import is_one_of_choice
@@ -364,6 +364,8 @@ def _solve(
     if result != z3.sat:
         outcome.status = "unknown"
         outcome.reason = solver.reason_unknown()
+        if "resource limit" not in outcome.reason:  # a timeout: the machine's load decided
+            results.not_repeatable(f"the solver stopped: {outcome.reason}")
         return outcome
     model = solver.model()
     values = {

@@ -26,7 +26,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from urllib.parse import unquote, urlparse
 
-from osc2check import cache
+from osc2check import cache, results
 from osc2check.inputs import InputError, not_regular, probe
 from osc2check.world.builtin import builtin_name, builtin_network
 from osc2check.world.carriageways import Carriageway, carriageways
@@ -160,6 +160,8 @@ def find_map(name: str, relative_to: str | Path | None = None) -> FoundMap:
     by :func:`load_map`: its limits (``world.budget``) refuse it as they do there."""
     path = map_path(name, relative_to)
     known = None
+    if path is not None and not os.path.lexists(path):
+        results.note_missing(path)
     if path is None or not os.path.lexists(path):
         try:
             known = builtin_name(name)
