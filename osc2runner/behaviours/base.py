@@ -159,7 +159,7 @@ class ActionUse:
     arguments: dict[str, Closure]
     modifiers: list[Modifier] = field(default_factory=list)
     duration: Callable[[], tuple[float | None, float | None]] | None = None
-    behaviour: type | None = None  # the registered class
+    behaviour: type[ActionBehaviour] | None = None  # the registered class
     starts_scenario: bool = False  # begins at time 0: the witness realised its `at: start`
     binding: Binding | None = None  # the checker's reading of its arguments
     key: PhaseKey | None = None  # the schedule's name of its phase
