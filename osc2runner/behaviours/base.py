@@ -127,7 +127,7 @@ class AssignedPose:
     t: float | None = None
     yaw: float | None = None
     speed: float | None = None
-    reference: Any = None
+    reference: ActorState | None = None  # the state the pose is taken from
 
 
 @dataclass

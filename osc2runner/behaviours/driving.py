@@ -10,7 +10,6 @@ different roads (through a junction) along the follower's heading.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
@@ -84,7 +83,7 @@ def retarget(ctrl: Controller, speed: float) -> None:
         ctrl.speed.target = max(0.0, float(speed))
 
 
-def lane_of(ctx: RunContext, actor: Actor | Any, beside: bool = False) -> LaneRef:
+def lane_of(ctx: RunContext, actor: Actor, beside: bool = False) -> LaneRef:
     """The driving lane an actor is in now; ``beside``: for one on another lane of its
     road (a person on a sidewalk), the driving lane next to it on its side (its lane
     1). An action on an actor off the lanes fails."""

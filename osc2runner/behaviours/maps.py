@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
 
 import numpy as np
 
@@ -42,7 +41,7 @@ from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.execution.controls import VehicleControl
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import Polyline
-from osc2runner.structs import Position3d, XyzPoint
+from osc2runner.structs import Position3d, XyzPoint, member_number
 
 __all__ = [
     "CompoundRoute",
@@ -83,7 +82,7 @@ class OdrPoint:
 class CompoundRoute:
     """Routes one after the other."""
 
-    route_elements: tuple[Any, ...]
+    route_elements: tuple[object, ...]
 
     @property
     def roads(self) -> tuple[str, ...]:
@@ -145,7 +144,7 @@ def odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, float
     return road, point.s, t
 
 
-def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
+def map_point_xy(ctx: RunContext, point: object) -> tuple[float, float]:
     """World x, y of a route point, an OpenDRIVE point, an ``xyz_point``, a ``pose_3d`` or a
     ``position_3d``."""
     if isinstance(point, RoutePoint):
@@ -164,8 +163,8 @@ def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
     if hasattr(point, "position") and not hasattr(point, "x"):
         point = point.position
     try:
-        return float(point.x), float(point.y)
-    except AttributeError:
+        return member_number(point, "x"), member_number(point, "y")
+    except TypeError:
         raise ActionError(f"`{point!r}` is not a position (it has no x and y)") from None
 
 

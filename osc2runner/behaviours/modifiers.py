@@ -12,7 +12,6 @@ checks allow are the module's constants.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from osc2check.world.network import LaneRef
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
@@ -39,6 +38,7 @@ from osc2runner.behaviours.driving import (
     side_of,
 )
 from osc2runner.compile.registry import modifier
+from osc2runner.execution.context import RunContext
 from osc2runner.execution.controls import LateralControl, WalkerControl
 from osc2runner.execution.tolerances import MAX_CLOSING_SPEED, Tolerances
 from osc2runner.instance.actors import Actor
@@ -487,7 +487,7 @@ def _lane_problem(action: ActionBehaviour, number: int) -> str | None:
     return f"it is in lane {lanes.number(here)}, not lane {_scenario(action.ctx, here, number)}"
 
 
-def _scenario(ctx: Any, here: LaneRef, number: int) -> int:
+def _scenario(ctx: RunContext, here: LaneRef, number: int) -> int:
     """The scenario's number (the map's side) of the lane numbered ``number`` from the right."""
     if ctx.lanes.default_side == "right":
         return number

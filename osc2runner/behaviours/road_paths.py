@@ -31,14 +31,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Sequence
-from typing import Any
 
 import numpy as np
 
-from osc2check.world.network import RoadNetwork
+from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
 from osc2check.world.tracking import PathCursor
-from osc2runner.behaviours.base import ActionError
+from osc2runner.behaviours.base import ActionError, items, number
 from osc2runner.behaviours.maps import OdrPoint, RoutePoint, map_point_xy
 from osc2runner.compile.registry import method
 from osc2runner.execution.context import RunContext, RunFault
@@ -101,7 +100,7 @@ def _along_reference_line(
 
 def _along_lanes(
     network: RoadNetwork,
-    lane: Any,
+    lane: LaneRef,
     points: Sequence[tuple[float, float]],
     roads: Sequence[str],
     interpolation: str,
@@ -196,11 +195,11 @@ def _xy_all(ctx: RunContext, points: Iterable[object]) -> list[tuple[float, floa
 @method("map", "create_path_odr_points")
 @method("map", "create_path_route_points")
 def create_path_through(
-    ctx: RunContext, subject: object, points: Any, interpolation: str, on_road_network: bool
+    ctx: RunContext, subject: object, points: object, interpolation: str, on_road_network: bool
 ) -> Path:
     """A ``path`` through OpenDRIVE or route points, along the road with
     ``on_road_network``."""
-    return _path_value(ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network))
+    return _path_value(ctx, _xy_all(ctx, items(points)), str(interpolation), bool(on_road_network))
 
 
 @method("map", "create_trajectory_odr_points")
@@ -208,14 +207,15 @@ def create_path_through(
 def create_trajectory_through(
     ctx: RunContext,
     subject: object,
-    points: Any,
-    time_stamps: Any,
+    points: object,
+    time_stamps: object,
     interpolation: str,
     on_road_network: bool,
 ) -> Path:
     """A ``trajectory`` through OpenDRIVE or route points with a time stamp each."""
+    stamps = None if time_stamps is None else [number(t) for t in items(time_stamps)]
     return _path_value(
-        ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network), time_stamps
+        ctx, _xy_all(ctx, items(points)), str(interpolation), bool(on_road_network), stamps
     )
 
 
