@@ -9,7 +9,7 @@ with a division — prints, per swept parameter over ``--seeds`` witnesses (no
 simulation), what a campaign prints (``osc2runner.campaign.spread``): the runs on
 each bound, the most runs at one value, the Kolmogorov-Smirnov statistic against
 a uniform spread, and whether it piles up; and the time per witness. Figures
-only: nothing is asserted (``tests/osc2check/test_witness_spread.py`` asserts).
+only: nothing is asserted (``tests/osc2check/verify/test_witness_spread.py`` asserts).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from osc2check.analysis import SourceInput, analyze  # noqa: E402
 from osc2runner.campaign.spread import spread_of  # noqa: E402
-from tests.osc2check import test_witness_spread as cases  # noqa: E402
+from tests.osc2check.verify import test_witness_spread as cases  # noqa: E402
 
 DOMAINS = {
     "ego_speed": {"unit": "kph", "sort": "real", "low": 30.0, "high": 80.0},

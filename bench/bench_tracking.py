@@ -21,7 +21,7 @@ lateral error while the action runs:
 
 Scenes on the shared maps (``../shared/conformance/opendrive``) are skipped when
 the folder is absent. Figures only: nothing is asserted here (the tests hold the
-bounds, ``tests/osc2runner/test_tracking_quality.py``).
+bounds, ``tests/osc2runner/sim/test_tracking_quality.py``).
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ holding the edit's start to the one after the edit's end are lexed, laid out
 and parsed again (``reparse``); ``splice`` puts them between the unchanged
 segments before (as they are) and after (moved by the edit's change in length
 and lines) and gives what ``parse`` of the new text gives, node for node and
-finding for finding (``tests/osc2check/test_incremental.py`` checks it on
+finding for finding (``tests/osc2check/syntax/test_incremental.py`` checks it on
 random edits). On a 10,000-line file a keystroke's segments parse in about a
 millisecond; moving the segments after them costs about a fifth of parsing
 them (all of them, for an edit at the top).

@@ -84,7 +84,7 @@ class Slow:
         return obs.driver
 
 
-# ---- systems under test that misbehave (tests/osc2runner/test_sut_misbehaviour.py) ----------
+# ---- systems under test that misbehave (tests/osc2runner/sut/test_sut_misbehaviour.py) ----------
 
 
 def _marker(text: str) -> None:

@@ -235,7 +235,7 @@ def test_the_report_in_a_browser(campaign) -> None:
 def test_witnesses_of_the_skewed_scenario_spread_and_a_pile_is_told() -> None:
     """The issue's scenario (``ttc0: time = 4s``): 40 seeds' speeds and offsets have no
     pile; the same statistics flag the pile the sampler used to make."""
-    text = (HERE.parents[1] / "osc2check" / "test_witness_spread.py").read_text()
+    text = (HERE.parents[1] / "osc2check" / "verify" / "test_witness_spread.py").read_text()
     namespace: dict = {}
     exec(compile(text.split("BOUNDS = ")[0], "spread", "exec"), namespace)  # the scenario texts
     source = namespace["CCRM"].format(factors=namespace["CONSTANT_FIELD"])
