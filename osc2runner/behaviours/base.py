@@ -23,7 +23,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, SupportsFloat, SupportsInt
 
 import py_trees
 from py_trees.common import Status
@@ -35,6 +35,7 @@ from osc2check.verify.schedule import PhasePlan
 from osc2check.verify.timeline import PhaseKey
 from osc2runner.compile.expressions import Closure
 from osc2runner.execution.context import RunContext, ended_kind
+from osc2runner.execution.controls import Controller
 from osc2runner.instance.actors import Actor
 
 if TYPE_CHECKING:
@@ -49,7 +50,44 @@ __all__ = [
     "Modifier",
     "ModifierUse",
     "ScenarioBehaviour",
+    "items",
+    "number",
+    "whole",
 ]
+
+#: A behaviour's arguments by parameter name. A value is whatever its expression
+#: gives at run time (a number, an enum member's name, an Actor, a struct value of
+#: ``osc2runner.structs``, a map element, a list as a tuple, or what a plug-in's method
+#: returns), so a behaviour reads it through a test of its kind (``isinstance``, or
+#: :func:`number` and :func:`whole`, which ask for the ``SupportsFloat`` and
+#: ``SupportsInt`` protocols).
+Arguments = dict[str, object]
+
+
+def number(value: object) -> float:
+    """An argument that is a number, as a float (TypeError for another value, as ``float``)."""
+    if isinstance(value, float):
+        return value
+    if isinstance(value, SupportsFloat):
+        return float(value)
+    raise TypeError(f"`{value!r}` is not a number")
+
+
+def items(value: object) -> tuple[object, ...]:
+    """An argument that is a list, as a tuple (none: empty; TypeError for another value)."""
+    if isinstance(value, tuple):
+        return value
+    if value is None or isinstance(value, list):
+        return tuple(value or ())
+    raise TypeError(f"`{value!r}` is not a list")
+
+
+def whole(value: object) -> int:
+    """An argument that is a whole number, as an int (TypeError for another value, as
+    ``int``)."""
+    if isinstance(value, SupportsInt):
+        return int(value)
+    raise TypeError(f"`{value!r}` is not a whole number")
 
 
 class FastLeaf:
@@ -89,7 +127,7 @@ class AssignedPose:
     t: float | None = None
     yaw: float | None = None
     speed: float | None = None
-    reference: Any = None
+    reference: ActorState | None = None  # the state the pose is taken from
 
 
 @dataclass
@@ -121,7 +159,7 @@ class ActionUse:
     arguments: dict[str, Closure]
     modifiers: list[Modifier] = field(default_factory=list)
     duration: Callable[[], tuple[float | None, float | None]] | None = None
-    behaviour: type | None = None  # the registered class
+    behaviour: type[ActionBehaviour] | None = None  # the registered class
     starts_scenario: bool = False  # begins at time 0: the witness realised its `at: start`
     binding: Binding | None = None  # the checker's reading of its arguments
     key: PhaseKey | None = None  # the schedule's name of its phase
@@ -177,14 +215,14 @@ class Modifier:
 
     def __init__(self, use: ModifierUse) -> None:
         self.use = use
-        self.args: dict[str, Any] = {}
+        self.args: Arguments = {}
         self.at = "all"
         self.movement_mode = "other"
         self.track = "actual"
 
     # ---- helpers
 
-    def evaluate(self) -> dict[str, Any]:
+    def evaluate(self) -> Arguments:
         self.args = ReadArguments(self.node, {k: fn() for k, fn in self.use.arguments.items()})
         self.at = str(self.args.get("at", "all"))
         # every motion the runner makes is physical and rate-limited, so `monotonous`
@@ -265,7 +303,7 @@ class ActionBehaviour(ScenarioBehaviour):
         super().__init__(name)
         self.use = use
         self.actor = use.actor
-        self.args: dict[str, Any] = {}
+        self.args: Arguments = {}
         self.start_tick = 0
         #: how long the phase lasts at most (until its deadline in the schedule: its own
         #: duration, a composition's around it, an `until elapsed`), when known
@@ -280,8 +318,17 @@ class ActionBehaviour(ScenarioBehaviour):
         return self.ctx.states[self.actor.name]
 
     @property
-    def controller(self) -> Any:
+    def controller(self) -> Controller | None:
+        """The actor's controller (None for an actor nothing drives: an obstacle)."""
         return self.ctx.controllers.get(self.actor.name)
+
+    @property
+    def driver(self) -> Controller:
+        """The actor's controller; an ActionError for an actor nothing drives."""
+        ctrl = self.ctx.controllers.get(self.actor.name)
+        if ctrl is None:
+            raise ActionError("this actor has no driver (it cannot move)")
+        return ctrl
 
     @property
     def elapsed(self) -> float:

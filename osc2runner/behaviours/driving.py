@@ -10,7 +10,6 @@ different roads (through a junction) along the follower's heading.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 import numpy as np
 
@@ -18,6 +17,7 @@ from osc2check.world.network import LaneRef
 from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionError
 from osc2runner.execution.context import RunContext
+from osc2runner.execution.controls import Controller
 from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState, RateProfile
 
@@ -68,14 +68,14 @@ def profile_for(
     return RateProfile(kind)
 
 
-def set_speed(ctrl: Any, speed: float, profile: RateProfile | str = "none") -> None:
+def set_speed(ctrl: Controller | None, speed: float, profile: RateProfile | str = "none") -> None:
     """Give a controller a new target speed (>= 0) with a rate profile."""
     if ctrl is None:
         raise ActionError("the actor has no driver (it cannot move)")
     ctrl.speed.set_target(max(0.0, float(speed)), profile)
 
 
-def retarget(ctrl: Any, speed: float) -> None:
+def retarget(ctrl: Controller, speed: float) -> None:
     """Move the current target speed without restarting its profile (tracking a reference)."""
     if ctrl.speed.target is None:
         ctrl.speed.set_target(max(0.0, float(speed)), "none")
@@ -83,7 +83,7 @@ def retarget(ctrl: Any, speed: float) -> None:
         ctrl.speed.target = max(0.0, float(speed))
 
 
-def lane_of(ctx: RunContext, actor: Actor | Any, beside: bool = False) -> LaneRef:
+def lane_of(ctx: RunContext, actor: Actor, beside: bool = False) -> LaneRef:
     """The driving lane an actor is in now; ``beside``: for one on another lane of its
     road (a person on a sidewalk), the driving lane next to it on its side (its lane
     1). An action on an actor off the lanes fails."""

@@ -19,7 +19,7 @@ from collections.abc import Callable
 
 from osc2check.syntax import ast
 from osc2check.world.limits import FRICTION_RANGE, friction_problem, mps_to_mmph, rain_problem
-from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
+from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction, number
 from osc2runner.compile.expressions import is_constant
 from osc2runner.compile.registry import action
 from osc2runner.errors import CompileProblem
@@ -74,7 +74,7 @@ class Rain(InstantAction):
         if why is not None:
             raise ActionError(why)
         update_weather(self, "rain")
-        mmph = mps_to_mmph(float(self.args["intensity"]))
+        mmph = mps_to_mmph(number(self.args["intensity"]))
         level = min(max(mmph / HEAVY_RAIN_MMPH, 0.0), 1.0)
         world = self.ctx.attached_world
         world.set_weather(rain=level)
@@ -93,7 +93,7 @@ class Fog(InstantAction):
         if "visual_range" not in self.args:
             return
         update_weather(self, "fog")
-        visual = float(self.args["visual_range"])
+        visual = number(self.args["visual_range"])
         level = min(max(1.0 - visual / FOG_RANGE, 0.0), 1.0)
         self.ctx.attached_world.set_weather(fog=level)
         detail = f"visual range {visual:.6g} m -> level {level:.3g}"
@@ -112,7 +112,7 @@ class SetRoadFriction(InstantAction):
         why = friction_problem(self.args["value"])
         if why is not None:
             raise ActionError(why)
-        value = float(self.args["value"])
+        value = number(self.args["value"])
         self.ctx.attached_world.set_road_friction(value)
         self.ctx.environment_changed("set_road_friction", self.args, f"{value:.6g}")
 
@@ -172,7 +172,7 @@ class AssignCelestialPosition(Recorded):
         azimuth, elevation = self.args.get("azimuth"), self.args.get("elevation")
         source.sky.assign(
             source.name,
-            None if azimuth is None else float(azimuth),
-            None if elevation is None else float(elevation),
+            None if azimuth is None else number(azimuth),
+            None if elevation is None else number(elevation),
         )
         super().start()

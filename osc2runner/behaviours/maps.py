@@ -28,8 +28,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from types import SimpleNamespace
-from typing import Any
 
 import numpy as np
 
@@ -37,11 +35,13 @@ from osc2check.verify.map_modifiers import ElementValue
 from osc2check.world.crossings import crossing_points
 from osc2check.world.network import LaneRef
 from osc2check.world.projection import lane_centre
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier, number
 from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
+from osc2runner.execution.controls import VehicleControl
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import Polyline
+from osc2runner.structs import Position3d, XyzPoint, member_number
 
 __all__ = [
     "CompoundRoute",
@@ -79,17 +79,10 @@ class OdrPoint:
 
 
 @dataclass(frozen=True, slots=True)
-class XyzPoint:
-    """A world point."""
-
-    position: SimpleNamespace
-
-
-@dataclass(frozen=True, slots=True)
 class CompoundRoute:
     """Routes one after the other."""
 
-    route_elements: tuple[Any, ...]
+    route_elements: tuple[object, ...]
 
     @property
     def roads(self) -> tuple[str, ...]:
@@ -151,7 +144,7 @@ def odr_coordinates(ctx: RunContext, point: OdrPoint) -> tuple[str, float, float
     return road, point.s, t
 
 
-def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
+def map_point_xy(ctx: RunContext, point: object) -> tuple[float, float]:
     """World x, y of a route point, an OpenDRIVE point, an ``xyz_point``, a ``pose_3d`` or a
     ``position_3d``."""
     if isinstance(point, RoutePoint):
@@ -170,14 +163,14 @@ def map_point_xy(ctx: RunContext, point: Any) -> tuple[float, float]:
     if hasattr(point, "position") and not hasattr(point, "x"):
         point = point.position
     try:
-        return float(point.x), float(point.y)
-    except AttributeError:
+        return member_number(point, "x"), member_number(point, "y")
+    except TypeError:
         raise ActionError(f"`{point!r}` is not a position (it has no x and y)") from None
 
 
 def _xyz(ctx: RunContext, road: str, s: float, t: float) -> XyzPoint:
     pose = ctx.network.to_world(road, s, t)
-    return XyzPoint(SimpleNamespace(x=pose.x, y=pose.y, z=0.0))
+    return XyzPoint(Position3d(x=pose.x, y=pose.y, z=0.0))
 
 
 # ---------------------------------------------------------------------- along
@@ -209,12 +202,13 @@ def follow_route(modifier: Modifier, action: ActionBehaviour) -> None:
     """``along(route: r)`` with a map route: the actor's lane following passes the roads of
     ``r`` (the route through the forks ahead is re-planned when the phase starts).
     ``end_offset`` is not supported."""
-    if float(modifier.args.get("end_offset", 0.0) or 0.0) != 0.0:
+    if number(modifier.args.get("end_offset", 0.0) or 0.0) != 0.0:
         raise ActionError("along(end_offset: ...) on a map route is not supported")
     roads = roads_of(modifier.args.get("route"))
-    lateral = getattr(action.controller, "lateral", None)
-    if lateral is None or not hasattr(lateral, "set_route"):
+    ctrl = action.controller
+    if not isinstance(ctrl, VehicleControl):
         return  # a walker: along is checked, not steered
+    lateral = ctrl.lateral
     lateral.set_route(roads)
     state = action.state
     ref = state.lane_ref

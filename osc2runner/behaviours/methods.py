@@ -16,6 +16,7 @@ from osc2runner.compile.expressions import PositionOf
 from osc2runner.compile.registry import method
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
+from osc2runner.structs import member_number
 
 __all__ = [
     "ahead_of",
@@ -119,7 +120,7 @@ def ahead_of(ctx: RunContext, subject: PositionOf, reference: Actor) -> float:
 @method("translational_acceleration_3d", "norm")
 def norm(ctx: RunContext, subject: object) -> float:
     """Euclidean length of a 3-D vector struct (``hero.velocity.translational.norm()``)."""
-    return math.sqrt(sum(float(getattr(subject, k, 0.0)) ** 2 for k in ("x", "y", "z")))
+    return math.sqrt(sum(member_number(subject, k) ** 2 for k in ("x", "y", "z")))
 
 
 @method("traffic_participant", "space_gap")

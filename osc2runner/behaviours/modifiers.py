@@ -12,11 +12,17 @@ checks allow are the module's constants.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from osc2check.world.network import LaneRef
 from osc2check.world.numbering import LANE_REFERENCES, lane_side
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, AssignedPose, Modifier
+from osc2runner.behaviours.base import (
+    ActionBehaviour,
+    ActionError,
+    AssignedPose,
+    Modifier,
+    number,
+    whole,
+)
 from osc2runner.behaviours.driving import (
     SPEED_PROFILE,
     gap_between,
@@ -32,9 +38,11 @@ from osc2runner.behaviours.driving import (
     side_of,
 )
 from osc2runner.compile.registry import modifier
+from osc2runner.execution.context import RunContext
+from osc2runner.execution.controls import LateralControl, WalkerControl
 from osc2runner.execution.tolerances import MAX_CLOSING_SPEED, Tolerances
 from osc2runner.instance.actors import Actor
-from osc2runner.sim import ActorState, RateProfile
+from osc2runner.sim import ActorState, RateProfile, SpeedController
 
 __all__ = [
     "Acceleration",
@@ -58,11 +66,11 @@ __all__ = [
 POSITION_GAIN = 0.5
 
 
-def _lateral(action: ActionBehaviour) -> Any:
+def _lateral(action: ActionBehaviour) -> LateralControl:
     ctrl = action.controller
-    if ctrl is None or getattr(ctrl, "lateral", None) is None:
+    if ctrl is None:
         raise ActionError("this actor has no lateral control (only vehicles change lanes)")
-    if getattr(ctrl, "yaw", None) is not None:  # a walker: heads for the lateral target
+    if isinstance(ctrl, WalkerControl):  # a walker: heads for the lateral target
         ctrl.yaw = None
     return ctrl.lateral
 
@@ -105,8 +113,8 @@ class Speed(Modifier):
 
     def target(self, action: ActionBehaviour) -> float:
         args = self.args
-        v = float(args.get("speed", 0.0))
-        factor = float(args.get("factor", 1.0))
+        v = number(args.get("speed", 0.0))
+        factor = number(args.get("factor", 1.0))
         for key, sign in (("faster_than", 1.0), ("slower_than", -1.0), ("same_as", 1.0)):
             ref = args.get(key)
             if isinstance(ref, Actor):
@@ -126,7 +134,7 @@ class Speed(Modifier):
 
     def step(self, action: ActionBehaviour) -> None:
         if self.relative:
-            retarget(action.controller, self.target(action))
+            retarget(action.driver, self.target(action))
 
     def finished(self, action: ActionBehaviour) -> bool:
         if self.at != "end" or self.planned:
@@ -151,7 +159,7 @@ class ChangeSpeedModifier(Modifier):
     longitudinal = True
 
     def realise(self, action: ActionBehaviour) -> None:
-        self.goal = action.state.speed + float(self.args.get("speed", 0.0))
+        self.goal = action.state.speed + number(self.args.get("speed", 0.0))
         profile = (
             profile_for(
                 "constant", change=self.goal - action.state.speed, duration=action.plan_time()
@@ -188,13 +196,14 @@ class Acceleration(Modifier):
     def realise(self, action: ActionBehaviour) -> None:
         if any(k in self.args for k in _RELATIVE_SPEED):
             raise ActionError("acceleration relative to another actor is not supported")
-        a = float(self.args.get("acceleration", 0.0))
+        a = number(self.args.get("acceleration", 0.0))
         ctrl = action.controller
         if abs(a) < 1e-9:
             set_speed(ctrl, action.state.speed, "none")
             return
-        top = float(getattr(action.actor.params, "max_speed", 70.0))
-        set_speed(ctrl, top if a > 0.0 else 0.0, RateProfile("constant", peak=abs(a)))
+        set_speed(
+            ctrl, action.actor.top_speed if a > 0.0 else 0.0, RateProfile("constant", peak=abs(a))
+        )
 
 
 @modifier("keep_position")
@@ -217,7 +226,7 @@ class Distance(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         self.start = action.state.distance
-        self.goal = float(self.args.get("distance", 0.0))
+        self.goal = number(self.args.get("distance", 0.0))
 
     def finished(self, action: ActionBehaviour) -> bool:
         return action.state.distance - self.start >= self.goal - 1e-9
@@ -242,18 +251,19 @@ class Position(Modifier):
 
     def _reference(self) -> tuple[Actor | None, float]:
         args = self.args
-        if isinstance(args.get("ahead_of"), Actor):
-            return args["ahead_of"], 1.0
-        if isinstance(args.get("behind"), Actor):
-            return args["behind"], -1.0
+        ahead, behind = args.get("ahead_of"), args.get("behind")
+        if isinstance(ahead, Actor):
+            return ahead, 1.0
+        if isinstance(behind, Actor):
+            return behind, -1.0
         return None, 1.0
 
     def _distance(self, follower_speed: float) -> float:
         """The bumper gap asked: ``distance``, or ``time`` at the follower's speed."""
         if "distance" in self.args:
-            return float(self.args["distance"])
+            return number(self.args["distance"])
         if "time" in self.args:
-            return float(self.args["time"]) * max(follower_speed, 0.0)
+            return number(self.args["time"]) * max(follower_speed, 0.0)
         raise ActionError("position() needs `distance` or `time`")
 
     def _error(self, action: ActionBehaviour) -> tuple[float, ActorState, float]:
@@ -281,9 +291,9 @@ class Position(Modifier):
             closing = _closing_speed(
                 action, error, -sign * (action.state.speed - other.speed), left
             )
-            retarget(action.controller, other.speed - sign * closing)
+            retarget(action.driver, other.speed - sign * closing)
         else:
-            retarget(action.controller, other.speed - sign * POSITION_GAIN * error)
+            retarget(action.driver, other.speed - sign * POSITION_GAIN * error)
 
     def finished(self, action: ActionBehaviour) -> bool:
         if self.at != "end" or action.remaining():
@@ -297,7 +307,7 @@ class Position(Modifier):
         state = action.state
         tol = _tolerances(action).position
         if ref is None:
-            want = float(self.args.get("distance", 0.0))
+            want = number(self.args.get("distance", 0.0))
             along = state.s if state.direction >= 0 else _road_length(action, state) - state.s
             if abs(along - want) <= tol:
                 return None
@@ -317,15 +327,12 @@ class Position(Modifier):
         speed = pose.speed if pose.speed is not None else action.state.speed
         if ref is None:
             state = action.state
-            d = float(self.args.get("distance", 0.0))
+            d = number(self.args.get("distance", 0.0))
             pose.s = d if state.direction >= 0 else _road_length(action, state) - d
             return
         other = action.ctx.states[ref.name]
         d = self._distance(speed if sign < 0 else other.speed)
-        half = 0.5 * (
-            float(getattr(action.actor.params, "length", 0.0))
-            + float(getattr(ref.params, "length", 0.0))
-        )
+        half = 0.5 * (action.actor.length + ref.length)
         pose.s = other.s + sign * (d + half) * (other.direction or 1)
         pose.reference = other
 
@@ -336,7 +343,8 @@ def _closing_speed(action: ActionBehaviour, error: float, closing: float, left: 
     is asked with the lag of its speed controller (a first-order lag of ``1 / kp``): it
     passes through the gap at its deadline (no margin: it arrives moving), at most
     :data:`MAX_CLOSING_SPEED` relative to the reference."""
-    gains = getattr(getattr(action.controller, "speed", None), "gains", None)
+    speed = action.controller.speed if action.controller is not None else None
+    gains = speed.gains if isinstance(speed, SpeedController) else None
     lag = 1.0 / gains.kp if gains is not None and gains.kp > 0.0 else 1.0
     # what the closing speed now still covers while it turns into the one asked
     covered = lag * (1.0 - math.exp(-left / lag))
@@ -373,7 +381,7 @@ class Lane(Modifier):
         n = args.get("lane", 1)
         if isinstance(n, tuple):
             raise ActionError("a lane range needs the solver's choice; give one lane")
-        n = int(n)
+        n = whole(n)
         lanes = ctx.lanes
         for key in LANE_REFERENCES:
             reference = args.get(key)
@@ -479,7 +487,7 @@ def _lane_problem(action: ActionBehaviour, number: int) -> str | None:
     return f"it is in lane {lanes.number(here)}, not lane {_scenario(action.ctx, here, number)}"
 
 
-def _scenario(ctx: Any, here: LaneRef, number: int) -> int:
+def _scenario(ctx: RunContext, here: LaneRef, number: int) -> int:
     """The scenario's number (the map's side) of the lane numbered ``number`` from the right."""
     if ctx.lanes.default_side == "right":
         return number
@@ -503,7 +511,7 @@ class ChangeLaneModifier(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         ctx = action.ctx
-        n = int(self.args.get("lane", 1))
+        n = whole(self.args.get("lane", 1))
         start = lane_of(ctx, action.actor)
         side = self.args.get("side")
         if side is None:
@@ -559,7 +567,7 @@ class Lateral(Modifier):
     def _target_t(self, action: ActionBehaviour) -> float | None:
         """The road ``t`` a reference form asks for (None without a reference)."""
         args = self.args
-        d = float(args.get("distance", 0.0))
+        d = number(args.get("distance", 0.0))
         for key, sign in (("left_of", 1.0), ("right_of", -1.0), ("same_as", 0.0)):
             ref = args.get(key)
             if isinstance(ref, Actor):
@@ -575,7 +583,7 @@ class Lateral(Modifier):
     def _offset(self) -> float:
         """The offset from the lane centre asked for without a reference: ``distance`` to
         the left, or to the right with ``side: right`` (as the checker places it)."""
-        d = float(self.args.get("distance", 0.0))
+        d = number(self.args.get("distance", 0.0))
         return -d if str(self.args.get("side", "left")) == "right" else d
 
     def _wanted(self, action: ActionBehaviour, ref: LaneRef | None = None) -> float:
@@ -641,7 +649,7 @@ class _Heading(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         ctrl = action.controller
-        if ctrl is not None and hasattr(ctrl, "yaw"):  # a walker turns at once
+        if isinstance(ctrl, WalkerControl):  # a walker turns at once
             ctrl.yaw = lane_heading(action.ctx, action.state) + self.wanted(action)
             ctrl.lateral.release()
             return
@@ -669,7 +677,7 @@ class Yaw(_Heading):
     def wanted(self, action: ActionBehaviour) -> float:
         if self.args.get("relative_to") is not None:
             raise ActionError("yaw relative to another actor is not supported")
-        return float(self.args.get("angle", 0.0))
+        return number(self.args.get("angle", 0.0))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         pose.yaw = self.wanted(action)
@@ -680,11 +688,11 @@ class Orientation(_Heading):
     """``orientation(yaw: a, at: start)``: the heading relative to the road at the phase start."""
 
     def wanted(self, action: ActionBehaviour) -> float:
-        return float(self.args.get("yaw", 0.0))
+        return number(self.args.get("yaw", 0.0))
 
     def assign(self, pose: AssignedPose, action: ActionBehaviour) -> None:
         if "yaw" in self.args:
-            pose.yaw = float(self.args["yaw"])
+            pose.yaw = number(self.args["yaw"])
 
 
 # ---------------------------------------------------------------------- behaviour options
@@ -694,6 +702,8 @@ class Orientation(_Heading):
 class AvoidCollisions(Modifier):
     """``avoid_collisions(false)``: this actor's collisions in the phase do not fail the run."""
 
+    allowing = False  # whether the phase allows them now
+
     def begin(self, action: ActionBehaviour) -> None:
         self.allowing = not bool(self.args.get("avoid", True))
         if self.allowing:
@@ -701,7 +711,7 @@ class AvoidCollisions(Modifier):
             allowed[action.actor.name] = allowed.get(action.actor.name, 0) + 1
 
     def end(self, action: ActionBehaviour) -> None:
-        if getattr(self, "allowing", False):
+        if self.allowing:
             action.ctx.collisions_allowed[action.actor.name] -= 1
             self.allowing = False
 

@@ -14,7 +14,7 @@ import math
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, number, whole
 from osc2runner.behaviours.driving import (
     gap_between,
     lane_change_duration,
@@ -55,9 +55,8 @@ def _hold(action: ActionBehaviour) -> None:
         raise ActionError("this actor has no driver (it cannot move)")
     if not action.drives("longitudinal") and ctrl.speed.target is None:
         set_speed(ctrl, action.state.speed, "none")
-    lateral = getattr(ctrl, "lateral", None)
-    if lateral is not None and not action.drives("lateral") and lateral.path is None:
-        lateral.hold(action.state)
+    if not action.drives("lateral") and ctrl.lateral.path is None:
+        ctrl.lateral.hold(action.state)
 
 
 @action("vehicle", "drive")
@@ -115,12 +114,12 @@ class ChangeSpeed(ActionBehaviour):
 
     def start(self) -> None:
         _hold(self)
-        target = float(self.args["target"])
+        target = number(self.args["target"])
         kind = str(self.args.get("rate_profile", "none"))
         peak = self.args.get("rate_peak")
         profile = profile_for(
             kind,
-            float(peak) if peak is not None else None,
+            number(peak) if peak is not None else None,
             change=target - self.state.speed,
             duration=self.plan_time(),
         )
@@ -128,7 +127,7 @@ class ChangeSpeed(ActionBehaviour):
         self.target = target
 
     def step(self) -> Status:
-        if self.controller.speed.reached(self.state, self.ctx.tolerances.speed):
+        if self.driver.speed.reached(self.state, self.ctx.tolerances.speed):
             return Status.SUCCESS
         return Status.RUNNING
 
@@ -164,7 +163,7 @@ class ChangeLane(ActionBehaviour):
         _hold(self)
         reference = args.get("reference")
         ref = reference if isinstance(reference, Actor) else self.actor
-        n = int(args.get("num_of_lanes", 1))
+        n = whole(args.get("num_of_lanes", 1))
         side = str(args.get("side", "left"))
         here = lane_of(ctx, self.actor)
         start_lane = lane_of(ctx, ref)
@@ -185,11 +184,11 @@ class ChangeLane(ActionBehaviour):
             lanes,
             lane_width(ctx, self.state),
             phase=self.plan_time(),
-            rate_peak=float(peak) if peak is not None else None,
+            rate_peak=number(peak) if peak is not None else None,
             profile=str(args.get("rate_profile", "none")),
         )
-        lateral = self.controller.lateral
-        self.offset = float(args.get("offset", 0.0))
+        lateral = self.driver.lateral
+        self.offset = number(args.get("offset", 0.0))
         lateral.change_lane(self.state, target, offset=self.offset, duration=duration)
         self.target_lane = target
         self.planned = duration
@@ -199,7 +198,7 @@ class ChangeLane(ActionBehaviour):
         # is up, and the actor is at the new lane's centre within the tolerance: a blend
         # passed with the car still in the old lane (a change too quick for the physics)
         # is not a lane change
-        over = self.controller.lateral.done(self.state) or self.elapsed >= self.planned - 1e-9
+        over = self.driver.lateral.done(self.state) or self.elapsed >= self.planned - 1e-9
         distance = self._from_centre()
         if over and distance is not None and abs(distance) <= self.ctx.tolerances.lateral:
             return Status.SUCCESS
@@ -237,8 +236,8 @@ class FollowLane(ActionBehaviour):
                 "with the lane() modifier instead"
             )
         _hold(self)
-        self.controller.lateral.keep_lane(
-            lane_of(self.ctx, self.actor), offset=float(self.args.get("offset", 0.0))
+        self.driver.lateral.keep_lane(
+            lane_of(self.ctx, self.actor), offset=number(self.args.get("offset", 0.0))
         )
 
 
@@ -258,6 +257,7 @@ class GapAction(ActionBehaviour):
     finite = True
     bumpers = True  # space gap (bounding boxes) vs headway (reference points)
     timed = False  # time gap/headway vs distance
+    error = 0.0  # the last step's gap error, m (>0: too far apart)
     keep = False
 
     def start(self) -> None:
@@ -279,7 +279,7 @@ class GapAction(ActionBehaviour):
         if self.keep:
             self.goal = self._measure(me, other)
         else:
-            self.goal = float(args["target"])
+            self.goal = number(args["target"])
 
     def _measure(self, me: ActorState, other: ActorState) -> float:
         gap: float = self.sign * gap_between(me, other, bumpers=self.bumpers)
@@ -294,7 +294,7 @@ class GapAction(ActionBehaviour):
         wanted = self.goal * max(me.speed, 0.1) if self.timed else self.goal
         error = distance - wanted  # >0: too far apart
         self.error = error
-        retarget(self.controller, other.speed + self.sign * GAP_GAIN * error)
+        retarget(self.driver, other.speed + self.sign * GAP_GAIN * error)
         tol = self.ctx.tolerances
         if (
             not self.keep
@@ -306,8 +306,7 @@ class GapAction(ActionBehaviour):
 
     def progress(self) -> str:
         tol = self.ctx.tolerances.position
-        error = getattr(self, "error", 0.0)
-        return f"the gap is {error:+.2f} m from the one asked (tolerance {tol:.2f} m)"
+        return f"the gap is {self.error:+.2f} m from the one asked (tolerance {tol:.2f} m)"
 
 
 def _gap(name: str, *, bumpers: bool, timed: bool, keep: bool) -> type[GapAction]:
@@ -363,8 +362,7 @@ def command_acceleration(action: ActionBehaviour, accel: float, jerk: float = ma
             f"(the {action.actor.blueprint}'s limits: +{up:.3g} / -{down:.3g} m/s²)",
             actors=(action.actor.name,),
         )
-    top = float(getattr(action.actor.params, "max_speed", math.inf))
-    ctrl.speed.set_acceleration(commanded, jerk, (0.0, top))
+    ctrl.speed.set_acceleration(commanded, jerk, (0.0, action.actor.top_speed))
     return commanded
 
 
@@ -374,7 +372,7 @@ class AssignAcceleration(InstantAction):
     until standstill or the top speed, or until another action sets the speed."""
 
     def start(self) -> None:
-        command_acceleration(self, float(self.args["acceleration"]))
+        command_acceleration(self, number(self.args["acceleration"]))
 
 
 @action("movable_object", "change_acceleration")
@@ -390,18 +388,18 @@ class ChangeAcceleration(ActionBehaviour):
         peak = self.args.get("rate_peak")
         kind = str(self.args.get("rate_profile", "none"))
         if peak is not None:
-            jerk = float(peak)
+            jerk = number(peak)
         else:
             jerk = JERK_BY_PROFILE.get(kind, math.inf)
         plan = self.plan_time()
         if plan and kind in ("none", "constant") and peak is None:
             # spread over the phase: the change takes the planned duration
-            change = float(self.args["target"]) - self.controller.speed.a_ref
+            change = number(self.args["target"]) - self.driver.speed.a_ref
             jerk = max(abs(change) / plan, 1e-3) if abs(change) > 1e-9 else math.inf
-        self.target = command_acceleration(self, float(self.args["target"]), jerk)
+        self.target = command_acceleration(self, number(self.args["target"]), jerk)
 
     def step(self) -> Status:
-        if self.controller.speed.accel_reached():
+        if self.driver.speed.accel_reached():
             return Status.SUCCESS
         return Status.RUNNING
 

@@ -34,19 +34,25 @@ not used: the world is flat.
 from __future__ import annotations
 
 import math
-from types import SimpleNamespace
 from typing import Any
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier, number
 from osc2runner.behaviours.driving import retarget, set_speed
 from osc2runner.behaviours.maps import map_point_xy
-from osc2runner.behaviours.road_paths import resolve_points, road_line
+from osc2runner.behaviours.road_paths import (
+    interpolation_of,
+    resolve_points,
+    road_line,
+    time_stamps_of,
+)
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
+from osc2runner.execution.controls import VehicleControl, WalkerControl
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import PathTracker, Polyline, Trajectory
+from osc2runner.structs import Path, Pose3d, Position3d, XyzPoint
 
 __all__ = [
     "Along",
@@ -66,7 +72,7 @@ TRAJECTORY_GAIN = 1.0
 WALKER_ARRIVED = 0.1
 
 
-def path_points(ctx: RunContext, value: Any) -> list[tuple[float, float]]:
+def path_points(ctx: RunContext, value: object) -> list[tuple[float, float]]:
     """The world points of a path or trajectory value (poses, or points of the map)."""
     points = getattr(value, "points", None)
     if not points:
@@ -99,14 +105,18 @@ class PathMotion:
         if ctrl is None:
             raise ActionError("this actor has no driver (it cannot move)")
         self.ctrl = ctrl
-        self.vehicle = hasattr(ctrl, "lateral") and not hasattr(ctrl, "yaw")
+        #: a walker walks along the path itself; a vehicle steers along it with a tracker
+        self.walker = ctrl if isinstance(ctrl, WalkerControl) else None
+        self.vehicle = ctrl if self.walker is None and isinstance(ctrl, VehicleControl) else None
         self.progress = self.begin
         state = action.state
-        if self.vehicle:
+        if self.vehicle is not None:
             corners = trajectory.corner_speeds() if trajectory is not None else None
-            ctrl.path = PathTracker(ctrl.params, path, end=self.end, corner_speeds=corners)
-        else:
-            ctrl.path = path
+            self.vehicle.path = PathTracker(
+                self.vehicle.params, path, end=self.end, corner_speeds=corners
+            )
+        elif self.walker is not None:
+            self.walker.path = path
         if exact:  # an exact motion starts on the path
             x, y, yaw = path.at(self.begin)
             self._place(x, y, yaw, state.speed)
@@ -142,44 +152,46 @@ class PathMotion:
 
     def arrived(self) -> bool:
         state = self.action.state
-        if self.vehicle:
-            tracker = self.ctrl.path
-            return bool(tracker is not None and tracker.done(state.x, state.y, state.yaw))
+        if self.vehicle is not None:
+            tracker = self.vehicle.path
+            return tracker is not None and tracker.done(state.x, state.y, state.yaw)
         s, _, _ = self.path.project(state.x, state.y)
         return s >= self.end - WALKER_ARRIVED
 
     def stop(self) -> None:
         """The phase ended: the actor drives on along the road (its lateral position)."""
-        ctrl = self.ctrl
-        ctrl.path = None
         state = self.action.state
-        if self.vehicle:
-            ctrl.lateral.hold(state)  # the lane it is in, at its offset from the centre
-        else:
-            ctrl.yaw = state.yaw
+        if self.vehicle is not None:
+            self.vehicle.path = None
+            self.vehicle.lateral.hold(state)  # the lane it is in, at its offset from the centre
+        elif self.walker is not None:
+            self.walker.path = None
+            self.walker.yaw = state.yaw
 
 
 def _motion_path(
-    value: Any, timed: bool, points: list[tuple[float, float]] | None = None, ctx: Any = None
+    value: object,
+    timed: bool,
+    points: list[tuple[float, float]] | None = None,
+    ctx: Any = None,  # (None where the points need no map)
 ) -> tuple[Polyline, Trajectory | None]:
     """The polyline of a path or trajectory value (through ``points`` when given: its
     points in world coordinates; the value's own line when it runs along the road) and,
     ``timed``, its trajectory over its time stamps."""
     try:
-        line = getattr(value, "line", None) if points is None else None
-        if isinstance(line, Polyline):
+        line = value.line if isinstance(value, Path) and points is None else None
+        if line is not None:
             path = line.follower()
         else:
             path = Polyline(
-                path_points(ctx, value) if points is None else points,
-                str(getattr(value, "interpolation", "straight_line")),
+                path_points(ctx, value) if points is None else points, interpolation_of(value)
             )
         if not timed:
             return path, None
-        stamps = getattr(value, "time_stamps", None)
+        stamps = time_stamps_of(value)
         if stamps is None:
             raise ActionError("the trajectory has no time stamps")
-        return path, Trajectory(path, tuple(float(t) for t in stamps))
+        return path, Trajectory(path, stamps)
     except ValueError as exc:
         raise ActionError(str(exc)) from None
 
@@ -187,15 +199,15 @@ def _motion_path(
 class _MotionAction(ActionBehaviour):
     """An action whose actor moves along a path (``start`` sets its :class:`PathMotion`)."""
 
-    motion: PathMotion
+    motion: PathMotion | None = None  # (none before the action starts)
 
     def step(self) -> Status:
+        assert self.motion is not None  # (start set it)
         return self.motion.step()
 
     def terminate(self, new_status: Status) -> None:
-        motion = getattr(self, "motion", None)
-        if motion is not None and self.status == Status.RUNNING:
-            motion.stop()
+        if self.motion is not None and self.status == Status.RUNNING:
+            self.motion.stop()
         super().terminate(new_status)
 
 
@@ -219,12 +231,10 @@ class _PathAction(_MotionAction):
             points, on_road = resolve_points(self.ctx, relative, ref, transform)
             value = relative
             if on_road:
-                interpolation = str(getattr(relative, "interpolation", "straight_line"))
-                value = SimpleNamespace(
-                    interpolation=interpolation,
-                    time_stamps=getattr(relative, "time_stamps", None),
-                    line=road_line(self.ctx.network, points, interpolation),
-                )
+                interpolation = interpolation_of(relative)
+                stamps = time_stamps_of(relative)
+                line = road_line(self.ctx.network, points, interpolation)
+                value = Path((), interpolation, stamps, line)
             path, trajectory = _motion_path(value, self.timed, None if on_road else points)
         if not self.drives("longitudinal") and not self.timed:
             ctrl = self.controller
@@ -235,8 +245,8 @@ class _PathAction(_MotionAction):
             path,
             trajectory=trajectory,
             exact=self.exact,
-            start_offset=float(args.get("start_offset", 0.0)),
-            end_offset=float(args.get("end_offset", 0.0)),
+            start_offset=number(args.get("start_offset", 0.0)),
+            end_offset=number(args.get("end_offset", 0.0)),
         )
 
 
@@ -312,6 +322,8 @@ class _AlongModifier(Modifier):
 
     lateral = True
     timed = False
+    motion: PathMotion | None = None  # (none before the phase, and after it)
+    done = False  # whether the motion reached the path's end
 
     def realise(self, action: ActionBehaviour) -> None:
         value = self.args.get("trajectory" if self.timed else "route")
@@ -321,12 +333,12 @@ class _AlongModifier(Modifier):
                 "points (road routes come with maps)"
             )
         path, trajectory = _motion_path(value, self.timed, ctx=action.ctx)
-        self.motion: PathMotion | None = PathMotion(
+        self.motion = PathMotion(
             action,
             path,
             trajectory=trajectory,
-            start_offset=float(self.args.get("start_offset", 0.0)),
-            end_offset=float(self.args.get("end_offset", 0.0)),
+            start_offset=number(self.args.get("start_offset", 0.0)),
+            end_offset=number(self.args.get("end_offset", 0.0)),
         )
 
     def step(self, action: ActionBehaviour) -> None:
@@ -334,12 +346,11 @@ class _AlongModifier(Modifier):
             self.done = self.motion.step() == Status.SUCCESS
 
     def finished(self, action: ActionBehaviour) -> bool:
-        return bool(getattr(self, "done", False))
+        return self.done
 
     def end(self, action: ActionBehaviour) -> None:
-        motion = getattr(self, "motion", None)
-        if motion is not None:
-            motion.stop()
+        if self.motion is not None:
+            self.motion.stop()
             self.motion = None
 
 
@@ -383,22 +394,26 @@ class AlongTrajectory(_AlongModifier):
 
 
 @method("map", "create_xyz_point")
-def create_xyz_point(ctx: RunContext, subject: object, x: float, y: float, z: float) -> Any:
+def create_xyz_point(ctx: RunContext, subject: object, x: float, y: float, z: float) -> XyzPoint:
     """An ``xyz_point`` at world ``(x, y, z)``."""
-    return SimpleNamespace(position=SimpleNamespace(x=x, y=y, z=z))
+    return XyzPoint(Position3d(x=x, y=y, z=z))
 
 
 @method("map", "create_path")
-def create_path(ctx: RunContext, subject: object, points: Any, interpolation: str) -> Any:
+def create_path(
+    ctx: RunContext, subject: object, points: tuple[Pose3d, ...], interpolation: str
+) -> Path:
     """A ``path`` through world poses (``list of pose_3d``)."""
-    return SimpleNamespace(points=tuple(points), interpolation=interpolation)
+    return Path(tuple(points), interpolation)
 
 
 @method("map", "create_trajectory")
 def create_trajectory(
-    ctx: RunContext, subject: object, points: Any, time_stamps: Any, interpolation: str
-) -> Any:
+    ctx: RunContext,
+    subject: object,
+    points: tuple[Pose3d, ...],
+    time_stamps: tuple[float, ...],
+    interpolation: str,
+) -> Path:
     """A ``trajectory``: world poses with a time stamp each."""
-    return SimpleNamespace(
-        points=tuple(points), time_stamps=tuple(time_stamps), interpolation=interpolation
-    )
+    return Path(tuple(points), interpolation, tuple(time_stamps))

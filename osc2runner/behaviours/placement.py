@@ -8,15 +8,15 @@ modifiers (their ``assign`` hooks), resolved against the actors' current positio
 
 from __future__ import annotations
 
-from types import SimpleNamespace
-
 import numpy as np
 
 from osc2check.world.projection import lane_centre
-from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction
+from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction, number
 from osc2runner.behaviours.driving import lane_heading, set_speed
 from osc2runner.behaviours.maps import map_point_xy
 from osc2runner.compile.registry import action
+from osc2runner.execution.controls import WalkerControl
+from osc2runner.structs import member_number
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
 
@@ -64,11 +64,16 @@ class AssignPosition(InstantAction):
         if len(given) > 1:
             raise ActionError(f"give one of {', '.join(given)}, not several")
         if given == ["position"]:
-            self._world_position(self.args["position"])
+            position = self.args["position"]
+            try:
+                x, y = member_number(position, "x"), member_number(position, "y")
+            except TypeError:
+                raise ActionError("`position` is not a position_3d") from None
+            self._world_position(x, y)
             return
         for key in given:  # a route or OpenDRIVE point (at time 0 too): its world position
             x, y = map_point_xy(self.ctx, self.args[key])
-            self._world_position(SimpleNamespace(x=x, y=y), on_map=True)
+            self._world_position(x, y, on_map=True)
             return
         if self.at_scenario_start:
             return
@@ -108,20 +113,15 @@ class AssignPosition(InstantAction):
         ctrl = self.controller
         if ctrl is not None:
             set_speed(ctrl, speed, "none")
-            if getattr(ctrl, "lateral", None) is not None:
-                ctrl.lateral.keep_lane(ref, offset)
+            ctrl.lateral.keep_lane(ref, offset)
 
-    def _world_position(self, position: object, on_map: bool = False) -> None:
-        """``assign_position(position: p)``: the actor's centre at world ``(p.x, p.y)``
+    def _world_position(self, x: float, y: float, on_map: bool = False) -> None:
+        """``assign_position(position: p)``: the actor's centre at world ``(x, y)``
         (``z`` is not used: the world is flat); heading and speed are kept, or come from
         the ``yaw``/``orientation`` and ``speed`` modifiers (a yaw from the road's
         direction there). A point of the map (``on_map``: a route or OpenDRIVE point)
         also gives the heading: the direction of travel of the lane there. At time 0
         too: the checker places actors by road coordinates only."""
-        try:
-            x, y = float(position.x), float(position.y)  # type: ignore[attr-defined]
-        except AttributeError:
-            raise ActionError("`position` is not a position_3d") from None
         _not_hitched(self)
         state = self.state
         _movable(self, "a stationary object is placed with its `location` modifier")
@@ -156,7 +156,7 @@ class AssignSpeed(InstantAction):
     """``assign_speed(speed)``: the actor has that speed at once (along its heading)."""
 
     def start(self) -> None:
-        speed = float(self.args["speed"])
+        speed = number(self.args["speed"])
         if not self.at_scenario_start:
             _teleport(self, speed=speed)
         if self.controller is not None:
@@ -177,5 +177,5 @@ class AssignOrientation(InstantAction):
             raise ActionError("assign_orientation needs an orientation_3d with a yaw")
         _teleport(self, yaw=float(yaw))
         ctrl = self.controller
-        if ctrl is not None and hasattr(ctrl, "yaw"):
+        if isinstance(ctrl, WalkerControl):
             ctrl.yaw = float(yaw)

@@ -30,23 +30,28 @@ OpenDRIVE point's road and lane are not read) are
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
-from types import SimpleNamespace
-from typing import Any
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
-from osc2check.world.network import RoadNetwork
+from osc2check.world.network import LaneRef, RoadNetwork
 from osc2check.world.projection import lane_centre
 from osc2check.world.tracking import PathCursor
-from osc2runner.behaviours.base import ActionError
+from osc2runner.behaviours.base import ActionError, items, number
 from osc2runner.behaviours.maps import OdrPoint, RoutePoint, map_point_xy
 from osc2runner.compile.registry import method
 from osc2runner.execution.context import RunContext, RunFault
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import RoadLine
+from osc2runner.structs import Orientation3d, Path, Pose3d, Position3d, member_number
 
-__all__ = ["relative_points", "resolve_points", "road_line"]
+__all__ = [
+    "interpolation_of",
+    "relative_points",
+    "resolve_points",
+    "road_line",
+    "time_stamps_of",
+]
 
 
 def road_line(
@@ -95,7 +100,7 @@ def _along_reference_line(
 
 def _along_lanes(
     network: RoadNetwork,
-    lane: Any,
+    lane: LaneRef,
     points: Sequence[tuple[float, float]],
     roads: Sequence[str],
     interpolation: str,
@@ -128,13 +133,13 @@ def _along_lanes(
 
 
 def relative_points(
-    ctx: RunContext, points: Sequence[Any], reference: Actor, transform: str
+    ctx: RunContext, points: Sequence[object], reference: Actor, transform: str
 ) -> tuple[list[tuple[float, float]], bool]:
     """World points of relative route or OpenDRIVE points (``s``, ``t`` offsets) from where
     ``reference`` is now, and whether they are joined along the road (the road and lane
     frames)."""
     state = ctx.states[reference.name]
-    offsets = [(float(p.s), float(p.t)) for p in points]
+    offsets = [(member_number(p, "s"), member_number(p, "t")) for p in points]
     if transform in ("road_relative", "lane_relative"):
         if state.road is None or not state.direction:
             raise ActionError(
@@ -163,28 +168,24 @@ def _path_value(
     interpolation: str,
     on_road: bool,
     time_stamps: Sequence[float] | None = None,
-) -> SimpleNamespace:
+) -> Path:
     """A ``path`` (or, with time stamps, a ``trajectory``) through world ``points``: its
     points as world poses, and along the road its line (read by the path actions)."""
     poses = tuple(
-        SimpleNamespace(
-            position=SimpleNamespace(x=x, y=y, z=0.0),
-            orientation=SimpleNamespace(yaw=0.0, pitch=0.0, roll=0.0),
-        )
+        Pose3d(Position3d(x=x, y=y, z=0.0), Orientation3d(roll=0.0, pitch=0.0, yaw=0.0))
         for x, y in points
     )
-    value = SimpleNamespace(points=poses, interpolation=interpolation)
+    line = None
     if on_road:
         try:
-            value.line = road_line(ctx.network, points, interpolation)
+            line = road_line(ctx.network, points, interpolation)
         except ActionError as exc:
             raise RunFault(str(exc)) from None
-    if time_stamps is not None:
-        value.time_stamps = tuple(float(t) for t in time_stamps)
-    return value
+    stamps = tuple(float(t) for t in time_stamps) if time_stamps is not None else None
+    return Path(poses, interpolation, stamps, line)
 
 
-def _xy_all(ctx: RunContext, points: Any) -> list[tuple[float, float]]:
+def _xy_all(ctx: RunContext, points: Iterable[object]) -> list[tuple[float, float]]:
     try:
         return [map_point_xy(ctx, p) for p in points]
     except ActionError as exc:
@@ -194,11 +195,11 @@ def _xy_all(ctx: RunContext, points: Any) -> list[tuple[float, float]]:
 @method("map", "create_path_odr_points")
 @method("map", "create_path_route_points")
 def create_path_through(
-    ctx: RunContext, subject: object, points: Any, interpolation: str, on_road_network: bool
-) -> Any:
+    ctx: RunContext, subject: object, points: object, interpolation: str, on_road_network: bool
+) -> Path:
     """A ``path`` through OpenDRIVE or route points, along the road with
     ``on_road_network``."""
-    return _path_value(ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network))
+    return _path_value(ctx, _xy_all(ctx, items(points)), str(interpolation), bool(on_road_network))
 
 
 @method("map", "create_trajectory_odr_points")
@@ -206,19 +207,35 @@ def create_path_through(
 def create_trajectory_through(
     ctx: RunContext,
     subject: object,
-    points: Any,
-    time_stamps: Any,
+    points: object,
+    time_stamps: object,
     interpolation: str,
     on_road_network: bool,
-) -> Any:
+) -> Path:
     """A ``trajectory`` through OpenDRIVE or route points with a time stamp each."""
+    stamps = None if time_stamps is None else [number(t) for t in items(time_stamps)]
     return _path_value(
-        ctx, _xy_all(ctx, points), str(interpolation), bool(on_road_network), time_stamps
+        ctx, _xy_all(ctx, items(points)), str(interpolation), bool(on_road_network), stamps
     )
 
 
+def interpolation_of(value: object) -> str:
+    """How a path or trajectory value's points are joined (a relative one's too)."""
+    if isinstance(value, Path):
+        return value.interpolation
+    return str(getattr(value, "interpolation", "straight_line"))
+
+
+def time_stamps_of(value: object) -> tuple[float, ...] | None:
+    """A trajectory value's time stamps, s (a relative one's too); None for a path."""
+    if isinstance(value, Path):
+        return value.time_stamps
+    stamps = getattr(value, "time_stamps", None)
+    return None if stamps is None else tuple(float(t) for t in stamps)
+
+
 def resolve_points(
-    ctx: RunContext, value: Any, reference: Actor, transform: str
+    ctx: RunContext, value: object, reference: Actor, transform: str
 ) -> tuple[list[tuple[float, float]], bool]:
     """The world points of a relative path or trajectory from where ``reference`` is now,
     and whether they are joined along the road."""
@@ -244,33 +261,35 @@ def resolve_points(
     return world, False
 
 
-def _has_st(point: Any) -> bool:
+def _has_st(point: object) -> bool:
     return hasattr(point, "s") and hasattr(point, "t") and not hasattr(point, "position")
 
 
 @method("map", "resolve_relative_path")
 def resolve_relative_path(
-    ctx: RunContext, subject: object, relative_path: Any, reference: Actor, transform: str
-) -> Any:
+    ctx: RunContext, subject: object, relative_path: object, reference: Actor, transform: str
+) -> Path:
     """The absolute ``path`` of a relative one, from where ``reference`` is now."""
     return _resolved(ctx, relative_path, reference, transform, timed=False)
 
 
 @method("map", "resolve_relative_trajectory")
 def resolve_relative_trajectory(
-    ctx: RunContext, subject: object, relative_trajectory: Any, reference: Actor, transform: str
-) -> Any:
+    ctx: RunContext, subject: object, relative_trajectory: object, reference: Actor, transform: str
+) -> Path:
     """The absolute ``trajectory`` of a relative one, from where ``reference`` is now."""
     return _resolved(ctx, relative_trajectory, reference, transform, timed=True)
 
 
-def _resolved(ctx: RunContext, value: Any, reference: Actor, transform: str, timed: bool) -> Any:
+def _resolved(
+    ctx: RunContext, value: object, reference: Actor, transform: str, timed: bool
+) -> Path:
     try:
         points, on_road = resolve_points(ctx, value, reference, str(transform))
     except ActionError as exc:
         raise RunFault(str(exc)) from None
-    interpolation = str(getattr(value, "interpolation", "straight_line"))
-    stamps = getattr(value, "time_stamps", None) if timed else None
+    interpolation = interpolation_of(value)
+    stamps = time_stamps_of(value) if timed else None
     if timed and stamps is None:
         raise RunFault("the relative trajectory has no time stamps")
     return _path_value(ctx, points, interpolation, on_road, stamps)

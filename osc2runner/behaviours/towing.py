@@ -27,7 +27,9 @@ from collections.abc import Iterable
 
 from osc2runner.behaviours.base import ActionError, ActionUse, InstantAction
 from osc2runner.compile.registry import action
+from osc2runner.execution.controls import Controller
 from osc2runner.instance.actors import Actor
+from osc2runner.sim.controllers import SpeedController
 from osc2runner.sim.trailer import TrailerParams
 from osc2runner.sim.vehicle import VehicleParams
 
@@ -102,8 +104,8 @@ class DisconnectTrailer(InstantAction):
         self.ctx.record("trailer", f"{tow}-{trailer}", "disconnected", actors=(tow, trailer))
 
 
-def tow_load(controller: object, params: object) -> None:
+def tow_load(controller: Controller | None, params: object) -> None:
     """Tell a vehicle's speed controller of the trailer it tows now (None: none)."""
-    speed = getattr(controller, "speed", None)
-    if speed is not None and hasattr(speed, "towed"):
+    speed = controller.speed if controller is not None else None
+    if isinstance(speed, SpeedController):
         speed.towed = params if isinstance(params, TrailerParams) else None

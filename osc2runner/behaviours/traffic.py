@@ -21,17 +21,22 @@ telemetry's ``lights.csv``).
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
-from types import SimpleNamespace
-from typing import Any
+from collections.abc import Callable, Iterable
 
 from py_trees.common import Status
 
-from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, Modifier
+from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, Modifier, items
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
 from osc2runner.instance.light_plans import LightPlan
-from osc2runner.instance.lights import SEMANTIC_BULBS, TrafficLight, semantic_of
+from osc2runner.instance.lights import (
+    SEMANTIC_BULBS,
+    TrafficLight,
+    as_bulbs,
+    bulbs_of,
+    semantic_of,
+)
+from osc2runner.structs import StructValue
 
 __all__ = [
     "PlayCycles",
@@ -46,11 +51,15 @@ __all__ = [
 ]
 
 
+#: what a switch does to a bulb: its new state, or None to leave it
+BulbChange = Callable[[StructValue], str | None]
+
+
 def _lights(action: ActionBehaviour) -> dict[str, TrafficLight]:
     return action.ctx.traffic_lights
 
 
-def _light(action: ActionBehaviour, value: Any) -> TrafficLight:
+def _light(action: ActionBehaviour, value: object) -> TrafficLight:
     for light in _lights(action).values():
         if light.value is value:
             return light
@@ -68,7 +77,7 @@ def _with_sync(action: ActionBehaviour, light: TrafficLight) -> list[TrafficLigh
     return [light]
 
 
-def switch(ctx: RunContext, lights: Iterable[TrafficLight], change: Any) -> None:
+def switch(ctx: RunContext, lights: Iterable[TrafficLight], change: BulbChange) -> None:
     """Apply ``change(bulb) -> new state or None`` to every bulb of ``lights`` and log
     each light whose bulbs changed."""
     for light in lights:
@@ -83,33 +92,43 @@ def switch(ctx: RunContext, lights: Iterable[TrafficLight], change: Any) -> None
             ctx.record("traffic_light", light.name, light.describe())
 
 
-def _semantic(state: str) -> Any:
+def _semantic(state: str) -> BulbChange:
     wanted = SEMANTIC_BULBS.get(state)
     if wanted is None:
         raise ActionError(f"unknown semantic state `{state}`")
     return lambda bulb: wanted.get(str(bulb.color), "is_off")
 
 
-def _bulb(color: str, icon: str, state: str) -> Any:
+def _bulb(color: str, icon: str, state: str) -> BulbChange:
     return lambda bulb: state if bulb.color == color and bulb.icon == icon else None
 
 
-def _by_position(action: ActionBehaviour, lights: list[TrafficLight], states: Any) -> None:
-    states = tuple(states or ())
+def _each(states: dict[int, str]) -> BulbChange:
+    """Each bulb to its own state (``states`` by the bulb's ``id``)."""
+    return lambda bulb: states[id(bulb)]
+
+
+def _as_given(wanted: dict[tuple[str, str], str]) -> BulbChange:
+    """Each bulb to the state ``wanted`` gives its colour and icon; off when none does."""
+    return lambda bulb: wanted.get((str(bulb.color), str(bulb.icon)), "is_off")
+
+
+def _by_position(action: ActionBehaviour, lights: list[TrafficLight], given: object) -> None:
+    states = tuple(str(s) for s in items(given))
     for light in lights:
         if len(states) != len(light.bulbs):
             raise ActionError(
                 f"`{light.name}` has {len(light.bulbs)} bulbs; {len(states)} states were given"
             )
         by_bulb = {id(b): s for b, s in zip(light.bulbs, states, strict=True)}
-        switch(action.ctx, [light], lambda bulb, m=by_bulb: m[id(bulb)])
+        switch(action.ctx, [light], _each(by_bulb))
 
 
-def _group_id(value: Any) -> str:
+def _group_id(value: object) -> str:
     return str(getattr(value, "map_id", ""))
 
 
-def _group_lights(ctx: RunContext, group: Any) -> list[TrafficLight]:
+def _group_lights(ctx: RunContext, group: object) -> list[TrafficLight]:
     """The scenario's lights of the ``traffic_light_group`` value ``group``; none is an error."""
     lights = _group(ctx, _group_id(group))
     if not lights:
@@ -188,7 +207,7 @@ class PlayCycles(ActionBehaviour):
 
     def start(self) -> None:
         self.cycles = []
-        for cycle in tuple(self.args.get("cycles") or ()):
+        for cycle in items(self.args.get("cycles")):
             phases = tuple(getattr(cycle, "phases", ()) or ())
             if not phases:
                 raise ActionError("a cycle without phases cannot be played")
@@ -215,7 +234,7 @@ class PlayCycles(ActionBehaviour):
             switch(
                 self.ctx,
                 lights,
-                lambda bulb, w=wanted: w.get((str(bulb.color), str(bulb.icon)), "is_off"),
+                _as_given(wanted),
             )
 
     def step(self) -> Status:
@@ -256,7 +275,7 @@ class _PlanPlayer:
         self.current = index
         for light, states in phase.states:
             wanted = {id(b): state for b, state in zip(light.bulbs, states, strict=True)}
-            switch(self.ctx, [light], lambda bulb, w=wanted: w[id(bulb)])
+            switch(self.ctx, [light], _each(wanted))
 
 
 @modifier(
@@ -280,35 +299,40 @@ def run_plans(ctx: RunContext, plans: Iterable[LightPlan]) -> None:
 # ---------------------------------------------------------------------- methods
 
 
-def _bulb_states(bulbs: Any) -> dict[tuple[str, str], str]:
-    return {(str(b.color), str(b.icon)): str(getattr(b, "state", "is_on")) for b in bulbs or ()}
+def _bulb_states(bulbs: object) -> dict[tuple[str, str], str]:
+    """The states given bulbs ask for (a bulb given without a state: on), by colour and icon."""
+    return {
+        (str(b.color), str(b.icon)): str(b.fields.get("state", "is_on")) for b in as_bulbs(bulbs)
+    }
 
 
 @method("traffic_light", "state_equal")
-def state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
+def state_equal(ctx: RunContext, subject: StructValue, bulbs: object) -> bool:
     """True when the light's bulbs are in the given bulbs' states (matched by colour and
     icon; bulbs not given must be off)."""
     wanted = _bulb_states(bulbs)
     return all(
-        wanted.get((str(b.color), str(b.icon)), "is_off") == str(b.state) for b in subject.bulbs
+        wanted.get((str(b.color), str(b.icon)), "is_off") == str(b.state) for b in bulbs_of(subject)
     )
 
 
 @method("traffic_light_group", "state_equal")
-def group_state_equal(ctx: RunContext, subject: Any, bulbs: Any) -> bool:
+def group_state_equal(ctx: RunContext, subject: object, bulbs: object) -> bool:
     """True when every light of the group is in the given bulbs' states."""
     lights = _group(ctx, _group_id(subject))
     return bool(lights) and all(state_equal(ctx, light.value, bulbs) for light in lights)
 
 
 @method("traffic_light", "semantic_state_to_state")
-def semantic_state_to_state(ctx: RunContext, subject: Any, state: str) -> tuple[Any, ...]:
+def semantic_state_to_state(
+    ctx: RunContext, subject: StructValue, state: str
+) -> tuple[StructValue, ...]:
     """The light's bulbs as the semantic state sets them (new values, the light unchanged)."""
     change = _semantic(str(state))
-    return tuple(SimpleNamespace(**{**vars(b), "state": change(b)}) for b in subject.bulbs)
+    return tuple(StructValue(b.struct, {**b.fields, "state": change(b)}) for b in bulbs_of(subject))
 
 
 @method("traffic_light", "state_to_semantic_state")
-def state_to_semantic_state(ctx: RunContext, subject: Any, bulbs: Any) -> str:
+def state_to_semantic_state(ctx: RunContext, subject: StructValue, bulbs: object) -> str:
     """The semantic state that the bulbs express (``tl.state_to_semantic_state(tl.bulbs)``)."""
-    return semantic_of(tuple(bulbs or ()))
+    return semantic_of(as_bulbs(bulbs))

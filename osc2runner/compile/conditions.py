@@ -25,7 +25,6 @@ ends:
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator, Sequence
-from types import SimpleNamespace
 from typing import Any
 
 import py_trees
@@ -46,6 +45,7 @@ from osc2runner.execution.context import (
     RunFault,
     event_key,
 )
+from osc2runner.structs import StructValue
 
 __all__ = [
     "CallDirective",
@@ -128,7 +128,7 @@ class NamedEventWatch(Watch):
             occurrence = occurrences[self.cursor]
             self.cursor += 1
             if self.cell is not None:
-                self.cell[0] = SimpleNamespace(**occurrence.args)
+                self.cell[0] = StructValue(self.name, dict(occurrence.args))
             if self.condition is None or self.condition():
                 return True
         return False

@@ -47,6 +47,7 @@ from osc2runner.execution.coverage import (
     SourceLocation,
 )
 from osc2runner.external import python_value
+from osc2runner.structs import struct_members
 
 __all__ = ["compile_coverage"]
 
@@ -177,7 +178,10 @@ def _converter(unit: Symbol | None) -> Any:
             return value if unit is None else (value - offset) / factor
         if isinstance(value, tuple):
             return [convert(v) for v in value]
-        if hasattr(value, "__dict__"):  # a struct value
+        members = struct_members(value)
+        if members is not None:
+            return {k: convert(v) for k, v in members.items()}
+        if hasattr(value, "__dict__"):  # another object: its attributes
             return {k: convert(v) for k, v in vars(value).items()}
         return str(value)
 

@@ -11,7 +11,6 @@ initialised when the run starts.
 from __future__ import annotations
 
 import math
-from typing import Any
 
 from osc2check.semantics.constants import to_runtime
 from osc2check.semantics.model import Model
@@ -23,7 +22,6 @@ from osc2runner.compile.expressions import (
     ExpressionCompiler,
     PositionOf,
     constant,
-    namespace,
 )
 from osc2runner.compile.registry import MethodRegistry
 from osc2runner.compile.sampling import Sampler, compile_sample
@@ -34,6 +32,20 @@ from osc2runner.instance.values import ScenarioValues
 from osc2runner.sim import ActorState, VehicleParams
 from osc2runner.sim.sky import LightSource
 from osc2runner.sim.trailer import TrailerParams
+from osc2runner.structs import (
+    Acceleration6d,
+    BoundingBox,
+    HitchCoupler,
+    HitchReceiver,
+    Orientation3d,
+    OrientationAcceleration3d,
+    OrientationRate3d,
+    Pose3d,
+    Position3d,
+    TranslationalAcceleration3d,
+    TranslationalVelocity3d,
+    Velocity6d,
+)
 
 __all__ = ["CompileEnvironment"]
 
@@ -90,14 +102,8 @@ class CompileEnvironment:
                 return lambda: _pose(states[n])
             if member == "bounding_box" and actor.params is not None:
                 p = actor.params
-                return constant(
-                    namespace(
-                        length=p.length,
-                        width=p.width,
-                        height=p.height,
-                        center=namespace(x=0.0, y=0.0, z=0.0),
-                    )
-                )
+                box = BoundingBox(Position3d(0.0, 0.0, 0.0), p.length, p.width, p.height)
+                return constant(box)
             hitch = self._hitch_member(actor, member, node)
             if hitch is not None:
                 return hitch
@@ -134,10 +140,10 @@ class CompileEnvironment:
             if p.receiver_x is None:
                 raise CompileProblem(f"`{n}` has no hitch receiver: it tows nothing", node)
             x, z = p.receiver_x - p.rear_axle_x, p.hitch_height
-            return lambda: namespace(position_x=x, position_z=z, is_towing=towing())
+            return lambda: HitchReceiver(x, z, is_towing=towing())
         if member == "coupler" and isinstance(p, TrailerParams):
             x, z = p.wheelbase, p.coupler_height
-            return lambda: namespace(position_x=x, position_z=z, is_towed=tow() is not None)
+            return lambda: HitchCoupler(x, z, is_towed=tow() is not None)
         if member == "tow_vehicle" and isinstance(p, TrailerParams):
 
             def tow_vehicle() -> Actor:
@@ -150,26 +156,23 @@ class CompileEnvironment:
         return None
 
 
-def _velocity(s: ActorState) -> Any:
+def _velocity(s: ActorState) -> Velocity6d:
     c, sn = math.cos(s.yaw), math.sin(s.yaw)
     vx = s.speed * c - s.lateral_speed * sn
     vy = s.speed * sn + s.lateral_speed * c
-    return namespace(
-        translational=namespace(x=vx, y=vy, z=0.0),
-        angular=namespace(roll=0.0, pitch=0.0, yaw=s.yaw_rate),
+    return Velocity6d(
+        TranslationalVelocity3d(x=vx, y=vy, z=0.0),
+        OrientationRate3d(roll=0.0, pitch=0.0, yaw=s.yaw_rate),
     )
 
 
-def _acceleration(s: ActorState) -> Any:
+def _acceleration(s: ActorState) -> Acceleration6d:
     ax, ay = s.accel * math.cos(s.yaw), s.accel * math.sin(s.yaw)
-    return namespace(
-        translational=namespace(x=ax, y=ay, z=0.0),
-        angular=namespace(roll=0.0, pitch=0.0, yaw=0.0),
+    return Acceleration6d(
+        TranslationalAcceleration3d(x=ax, y=ay, z=0.0),
+        OrientationAcceleration3d(roll=0.0, pitch=0.0, yaw=0.0),
     )
 
 
-def _pose(s: ActorState) -> Any:
-    return namespace(
-        position=namespace(x=s.x, y=s.y, z=0.0),
-        orientation=namespace(roll=0.0, pitch=0.0, yaw=s.yaw),
-    )
+def _pose(s: ActorState) -> Pose3d:
+    return Pose3d(Position3d(x=s.x, y=s.y, z=0.0), Orientation3d(roll=0.0, pitch=0.0, yaw=s.yaw))

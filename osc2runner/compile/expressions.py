@@ -17,7 +17,6 @@ from __future__ import annotations
 import operator
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any, Protocol
 
 from osc2check.semantics import types as T
@@ -584,8 +583,3 @@ def _equality(op: str) -> Callable[[Any, Any], bool]:
     if op == "==":
         return eq
     return lambda a, b: not eq(a, b)
-
-
-def namespace(**values: object) -> SimpleNamespace:
-    """A struct value (``velocity.translational.x``)."""
-    return SimpleNamespace(**values)

@@ -291,13 +291,18 @@ def _acting_actors(body: ast.Node, uses: Uses) -> set[str]:
 def _carries(use: ActionUse) -> bool:
     """Whether ``use`` can bring about a next start (a vehicle's: persons' and objects'
     controllers carry no such target yet)."""
-    return use.actor.kind == "vehicle" and getattr(use.behaviour, "own_motions", None) is not None
+    return use.actor.kind == "vehicle" and _own_motions(use) is not None
 
 
 def _realised(use: ActionUse) -> bool:
     # an action that realises its modifiers itself (assign_position) puts the actor
     # there; nothing before it need bring it about
-    return bool(getattr(use.behaviour, "modifiers_realised", False))
+    return use.behaviour is not None and use.behaviour.modifiers_realised
+
+
+def _own_motions(use: ActionUse) -> frozenset[str] | None:
+    """The motions the action drives itself while it can bring about a next start."""
+    return use.behaviour.own_motions if use.behaviour is not None else None
 
 
 def _started(zero: TimeZero, choices: Choices) -> list[ast.Invocation]:
@@ -394,7 +399,7 @@ def _preparer(
     for use in previous:
         if use.actor is not following.actor:
             continue
-        own = set(getattr(use.behaviour, "own_motions", None) or ())
+        own = set(_own_motions(use) or ())
         busy = own & channels or any(
             getattr(m, c) and (isinstance(m, Preparing) or _at(m) != "start")
             for m in use.modifiers

@@ -23,7 +23,6 @@ import logging
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from types import SimpleNamespace
 from typing import TYPE_CHECKING, Any, Literal
 
 import numpy as np
@@ -40,6 +39,7 @@ from osc2runner.instance.actors import Actor
 from osc2runner.instance.roads import LaneNumbers
 from osc2runner.options import DT_CONTROL
 from osc2runner.sim.sky import Sky
+from osc2runner.structs import Air, Clouds, Fog, Precipitation, Weather, Wind
 
 if TYPE_CHECKING:
     from osc2runner.sim import ActorState, World
@@ -148,16 +148,16 @@ class EnvironmentChange:
     road_friction: float
 
 
-def initial_weather() -> SimpleNamespace:
+def initial_weather() -> Weather:
     """The weather before any environment action: dry, clear, calm, no fog; the ISA
     standard atmosphere at sea level (15 °C, 1013.25 hPa), 50 % relative humidity."""
-    return SimpleNamespace(
-        air=SimpleNamespace(temperature=288.15, pressure=101325.0, relative_humidity=0.5),
-        rain=SimpleNamespace(intensity=0.0),
-        snow=SimpleNamespace(intensity=0.0),
-        wind=SimpleNamespace(speed=0.0, direction=0.0),
-        fog=SimpleNamespace(visual_range=math.inf),
-        clouds=SimpleNamespace(cloudiness=0),
+    return Weather(
+        air=Air(temperature=288.15, pressure=101325.0, relative_humidity=0.5),
+        rain=Precipitation(intensity=0.0),
+        snow=Precipitation(intensity=0.0),
+        wind=Wind(speed=0.0, direction=0.0),
+        fog=Fog(visual_range=math.inf),
+        clouds=Clouds(cloudiness=0),
     )
 
 

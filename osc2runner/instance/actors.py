@@ -23,6 +23,7 @@ width), so the body the world builds has the footprint the checker placed.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -35,6 +36,7 @@ from osc2check.verify.witness import ActorStart, Witness
 from osc2check.world.catalogue import MODELS, ActorRow, category_row, kind_row
 from osc2runner.instance.bodies import ActorParams, body_params
 from osc2runner.instance.values import ScenarioValues, scenario_fields
+from osc2runner.sim.vehicle import ObstacleParams
 
 __all__ = ["BODY_KINDS", "Actor", "ActorKind", "actor_kind", "environment_sky", "scenario_actors"]
 
@@ -77,6 +79,18 @@ class Actor:
     @property
     def has_body(self) -> bool:
         return self.kind in BODY_KINDS
+
+    @property
+    def top_speed(self) -> float:
+        """The body's top speed, m/s (its catalogue row's); infinite for a body that does
+        not move (an obstacle) and for an actor without a body."""
+        p = self.params
+        return math.inf if p is None or isinstance(p, ObstacleParams) else p.max_speed
+
+    @property
+    def length(self) -> float:
+        """The body's length, m (its bounding box's); 0 for an actor without a body."""
+        return self.params.length if self.params is not None else 0.0
 
     @property
     def blueprint(self) -> str | None:

@@ -41,8 +41,8 @@ standard names the states, not the bulbs):
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
-from types import SimpleNamespace
 
 from osc2check.semantics.constants import NotConstant
 from osc2check.semantics.model import Model
@@ -50,6 +50,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.world.network import RoadNetwork
 from osc2runner.errors import RunProblem
 from osc2runner.instance.values import ScenarioValues, scenario_fields
+from osc2runner.structs import StructValue, as_pose
 
 __all__ = ["SEMANTIC_BULBS", "LightState", "TrafficLight", "semantic_of", "traffic_lights"]
 
@@ -86,7 +87,7 @@ class TrafficLight:
     x: float
     y: float
     yaw: float
-    value: SimpleNamespace
+    value: StructValue
     history: list[LightState] = dataclasses.field(default_factory=list)
     controller: str = ""  # the map's <controller> that switches it, for a light on the map
     placed: str = "pose"  # where it stands: at its "pose", or at the map's "signal"
@@ -108,8 +109,8 @@ class TrafficLight:
             self.history.append(state)
 
     @property
-    def bulbs(self) -> tuple[SimpleNamespace, ...]:
-        return tuple(self.value.bulbs)
+    def bulbs(self) -> tuple[StructValue, ...]:
+        return bulbs_of(self.value)
 
     @property
     def group(self) -> str:
@@ -126,7 +127,25 @@ class TrafficLight:
         return f"{self.semantic()} ({lit})"
 
 
-def semantic_of(bulbs: tuple[SimpleNamespace, ...] | list[SimpleNamespace]) -> str:
+def bulbs_of(light: StructValue) -> tuple[StructValue, ...]:
+    """The bulbs of a ``traffic_light`` value (the witness's list, or the default head's)."""
+    bulbs = light.fields.get("bulbs", ())
+    assert isinstance(bulbs, tuple)
+    return bulbs
+
+
+def as_bulbs(value: object) -> tuple[StructValue, ...]:
+    """A ``list of traffic_light_bulb`` value as its bulbs (none: empty)."""
+    given = () if value is None else value
+    bulbs = (
+        tuple(b for b in given if isinstance(b, StructValue)) if isinstance(given, tuple) else ()
+    )
+    if bulbs != given:
+        raise TypeError(f"`{value!r}` is not a list of traffic_light_bulb")
+    return bulbs
+
+
+def semantic_of(bulbs: Sequence[StructValue]) -> str:
     """The semantic state that bulbs in these states express."""
     lit = {str(b.color): str(b.state) for b in bulbs if str(b.state) not in ("is_off", "unknown")}
     for semantic, wanted in SEMANTIC_BULBS.items():
@@ -150,20 +169,26 @@ def traffic_lights(
         if not any(a.name == "traffic_light" for a in model.ancestors(t.symbol)):
             continue
         try:
-            value = values.value(field)
+            value = values.struct(field.name, field)
         except NotConstant:
             continue
-        assert isinstance(value, SimpleNamespace)
-        bulbs = getattr(value, "bulbs", None)
+        bulbs = value.fields.get("bulbs")
         if not bulbs:
             value.bulbs = tuple(
-                SimpleNamespace(
-                    map_id="", icon="circle", color=color, icon_positive=True, state="is_off"
+                StructValue(
+                    "traffic_light_bulb",
+                    {
+                        "map_id": "",
+                        "icon": "circle",
+                        "color": color,
+                        "icon_positive": True,
+                        "state": "is_off",
+                    },
                 )
                 for color in _DEFAULT_HEAD
             )
         else:
-            for bulb in bulbs:
+            for bulb in bulbs_of(value):
                 bulb.state = "is_off"
         map_id = str(getattr(value, "map_id", "") or "")
         signal = on_map.get(map_id) if map_id else None
@@ -189,9 +214,8 @@ def traffic_lights(
             continue
         else:
             controller = ""
-            pose = value.pose
-            x, y = float(pose.position.x), float(pose.position.y)
-            yaw = float(pose.orientation.yaw)
+            pose = as_pose(value.pose)
+            x, y, yaw = pose.position.x, pose.position.y, pose.orientation.yaw
             placed = "pose"
         found.append(
             TrafficLight(field.name, x, y, yaw, value, controller=controller, placed=placed)

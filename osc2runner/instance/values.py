@@ -19,7 +19,6 @@ live state).
 from __future__ import annotations
 
 from fractions import Fraction
-from types import SimpleNamespace
 
 from osc2check.semantics import types as T
 from osc2check.semantics.constants import (
@@ -35,6 +34,7 @@ from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.verify.ir import ListItem
 from osc2check.verify.structs import MAX_STRUCT_DEPTH, is_struct, struct_leaves
 from osc2check.verify.witness import Witness
+from osc2runner.structs import StructValue, struct_json
 
 __all__ = ["ScenarioValues", "scenario_fields", "struct_json"]
 
@@ -72,15 +72,15 @@ class ScenarioValues:
         self.fields = scenario_fields(model, scenario)
         self._by_name = {p.name: p for p in witness.parameters}
         #: struct values by path, built once: a struct read twice is the same object
-        self._structs: dict[str, SimpleNamespace] = {}
+        self._structs: dict[str, StructValue] = {}
 
     def value(self, field: Symbol) -> Value:
         """The value of a scenario parameter; NotConstant when the witness has none.
 
         A road, route, lane or junction parameter is the map element the witness
         chose. A struct parameter (``position_3d``, ``pose_3d``, ...) is built from the
-        witness's values of its scalar leaves (``p.position.x``): a namespace of
-        run-time values (:meth:`struct`)."""
+        witness's values of its scalar leaves (``p.position.x``): a
+        :class:`~osc2runner.structs.StructValue` of run-time values (:meth:`struct`)."""
         element = self.witness.element(field.name)
         if element is not None:
             return element  # type: ignore[return-value]
@@ -123,31 +123,25 @@ class ScenarioValues:
         leaves = struct_leaves(self.model, struct)
         if not any(f"{where}.{leaf}" in self._by_name for leaf, _ in leaves):
             return None
-        root = SimpleNamespace()
+        root = StructValue(struct.name)
         for leaf, sym in leaves:
             p = self._by_name.get(f"{where}.{leaf}")
             value = to_runtime(exact(p.value, sym.type, self.model)) if p is not None else 0.0
-            *parents, name = leaf.split(".")
-            node = root
-            for part in parents:
-                if getattr(node, part, None) is None:
-                    setattr(node, part, SimpleNamespace())
-                node = getattr(node, part)
-            setattr(node, name, value)
+            _put(self.model, root, struct, leaf, value)
         return root  # type: ignore[return-value]
 
-    def struct(self, path: str, field: Symbol) -> SimpleNamespace:
-        """The struct value of the parameter at ``path``: nested namespaces of run-time
-        values (SI floats, enum members by name), one per struct member."""
+    def struct(self, path: str, field: Symbol) -> StructValue:
+        """The struct value of the parameter at ``path``: nested struct values of
+        run-time values (SI floats, enum members by name), one per struct member."""
         struct = field.type.symbol if field.type is not None else None
         assert struct is not None
         return self._struct(path, struct, field, 0)
 
-    def _struct(self, path: str, struct: Symbol, field: Symbol, depth: int) -> SimpleNamespace:
+    def _struct(self, path: str, struct: Symbol, field: Symbol, depth: int) -> StructValue:
         cached = self._structs.get(path)
         if cached is not None:
             return cached
-        root = SimpleNamespace()
+        root = StructValue(struct.name)
         for member in self.model.parameters(struct):
             t = member.type
             if t is None or t.kind is not T.Kind.LIST:
@@ -161,15 +155,7 @@ class ScenarioValues:
                 raise NotConstant(
                     f"the checker's witness gives `{path}.{leaf}` no value", field.decl
                 )
-            *parents, name = leaf.split(".")
-            node = root
-            for part in parents:
-                child = getattr(node, part, None)
-                if child is None:
-                    child = SimpleNamespace()
-                    setattr(node, part, child)
-                node = child
-            setattr(node, name, to_runtime(exact(p.value, sym.type, self.model)))
+            _put(self.model, root, struct, leaf, to_runtime(exact(p.value, sym.type, self.model)))
         self._structs[path] = root
         return root
 
@@ -242,10 +228,18 @@ class ScenarioValues:
         return f"witness (seed {self.witness.seed})"
 
 
-def struct_json(value: object) -> object:
-    """A struct value (nested namespaces) as JSON-ready nested dicts."""
-    if isinstance(value, SimpleNamespace):
-        return {k: struct_json(v) for k, v in vars(value).items()}
-    if isinstance(value, tuple):
-        return [struct_json(v) for v in value]
-    return value
+def _put(model: Model, root: StructValue, struct: Symbol, leaf: str, value: object) -> None:
+    """Set the leaf ``leaf`` (``position.x``) of ``root``, a value of ``struct``, making the
+    struct values on the way (named after their members' types)."""
+    *parents, name = leaf.split(".")
+    node, owner = root, struct
+    for part in parents:
+        member = model.member(owner, part)
+        t = member[0].type if member else None
+        owner = t.symbol if t is not None and t.symbol is not None else owner
+        child = node.fields.get(part)
+        if not isinstance(child, StructValue):
+            child = StructValue(owner.name)
+            node.fields[part] = child
+        node = child
+    node.fields[name] = value

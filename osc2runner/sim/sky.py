@@ -24,7 +24,8 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass
-from types import SimpleNamespace
+
+from osc2runner.structs import CelestialPosition2d
 
 __all__ = ["LightSource", "Sky", "moon_position", "sun_position"]
 
@@ -138,12 +139,12 @@ class LightSource:
     fault: Callable[[str], Exception] = LookupError
 
     @property
-    def position(self) -> SimpleNamespace:
+    def position(self) -> CelestialPosition2d:
         try:
             azimuth, elevation = self.sky.position(self.name)
         except LookupError as exc:
             raise self.fault(str(exc)) from None
-        return SimpleNamespace(azimuth=azimuth, elevation=elevation)
+        return CelestialPosition2d(azimuth, elevation)
 
     def __str__(self) -> str:
         return self.name
