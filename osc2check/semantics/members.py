@@ -13,7 +13,14 @@ from osc2check.semantics.model import Model
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 
-__all__ = ["actor_alias", "declaration_bodies", "last_do", "scenario_do", "scenario_members"]
+__all__ = [
+    "actor_alias",
+    "declaration_bodies",
+    "do_labels",
+    "last_do",
+    "scenario_do",
+    "scenario_members",
+]
 
 MemberList = tuple[ast.Member, ...]
 
@@ -96,3 +103,18 @@ def actor_alias(model: Model, field: Symbol) -> Symbol | None:
             break
         target = current = named
     return target
+
+
+def do_labels(do: ast.DoDirective | None) -> frozenset[str]:
+    """The labels of the members of a ``do`` tree."""
+    if do is None:
+        return frozenset()
+    found: set[str] = set()
+    stack = [do.member]
+    while stack:
+        member = stack.pop()
+        if member.label is not None and not member.label.missing:
+            found.add(member.label.text)
+        if isinstance(member.body, ast.Composition):
+            stack.extend(member.body.members)
+    return frozenset(found)

@@ -14,7 +14,9 @@ from collections.abc import Callable
 
 from osc2check.semantics import types as T
 from osc2check.semantics.bindings import Binding, note_read
+from osc2check.semantics.builtins import OVERLAP_KINDS
 from osc2check.semantics.constants import NotConstant, to_runtime
+from osc2check.semantics.phases import enum_word
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -30,7 +32,13 @@ from osc2runner.compile.sampling import is_sample
 from osc2runner.errors import CompileProblem
 from osc2runner.instance.actors import Actor
 
-__all__ = ["call_arguments", "checked_binding", "instance_field", "scenario_arguments"]
+__all__ = [
+    "call_arguments",
+    "checked_binding",
+    "instance_field",
+    "overlap_kind",
+    "scenario_arguments",
+]
 
 
 def checked_binding(env: Environment, call: ast.Node) -> Binding:
@@ -166,3 +174,13 @@ def instance_field(
             f"`{param.name}` of the invoked scenario has no value in the checker's witness",
             inv,
         ) from None
+
+
+def overlap_kind(node: ast.Node) -> str:
+    """The overlap kind a ``parallel(overlap: ...)`` names (the checker validated it)."""
+    word = enum_word(node)
+    if word is None:
+        raise CompileProblem("`overlap` takes one of the overlap kinds", node)
+    if word not in OVERLAP_KINDS:
+        raise CompileProblem(f"`{word}` is not an overlap kind ({', '.join(OVERLAP_KINDS)})", node)
+    return word

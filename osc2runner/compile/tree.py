@@ -22,10 +22,10 @@ import py_trees
 
 from osc2check.capabilities import TRAILER_ACTIONS
 from osc2check.semantics.bindings import CoverItem
-from osc2check.semantics.builtins import OVERLAP_KINDS, PREDEFINED_EVENTS
+from osc2check.semantics.builtins import PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, to_runtime
-from osc2check.semantics.members import declaration_bodies, last_do, scenario_members
-from osc2check.semantics.phases import enum_word, is_acting, time_zero
+from osc2check.semantics.members import declaration_bodies, do_labels, last_do, scenario_members
+from osc2check.semantics.phases import is_acting, time_zero
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
@@ -36,6 +36,7 @@ from osc2runner.compile.arguments import (
     call_arguments,
     checked_binding,
     instance_field,
+    overlap_kind,
     scenario_arguments,
 )
 from osc2runner.compile.composites import (
@@ -160,7 +161,7 @@ class TreeCompiler:
             scenario,
             at_start=frozenset(time_zero(do.member.body).starts) if do else frozenset(),
             events=events,
-            labels=_labels(do),
+            labels=do_labels(do),
         )
         scope = Bindings(frame=frame)
         handlers: list[py_trees.behaviour.Behaviour] = []
@@ -345,7 +346,7 @@ class TreeCompiler:
         elif comp.op == "parallel":
             overlap = "start"
             if "overlap" in args:
-                overlap = _overlap_kind(args["overlap"])
+                overlap = overlap_kind(args["overlap"])
             for key in ("start_to_start", "end_to_end"):
                 if key in args:
                     raise CompileProblem(
@@ -601,7 +602,7 @@ class TreeCompiler:
             at_start,
             parent=outer,
             events=events,
-            labels=_labels(do),
+            labels=do_labels(do),
         )
         inner = Bindings(frame=frame, bindings={"actor": constant(actor)} if actor else None)
         initialisers: list[Callable[[], None]] = []
@@ -762,31 +763,6 @@ class TreeCompiler:
 def _phase_key(scope: Bindings, node: ast.Node) -> PhaseKey:
     """The schedule's name of the phase ``node`` runs (``osc2check.verify.schedule``)."""
     return (scope.frame.path if scope.frame is not None else "", node.span)
-
-
-def _overlap_kind(node: ast.Node) -> str:
-    """The overlap kind a ``parallel(overlap: ...)`` names (the checker validated it)."""
-    word = enum_word(node)
-    if word is None:
-        raise CompileProblem("`overlap` takes one of the overlap kinds", node)
-    if word not in OVERLAP_KINDS:
-        raise CompileProblem(f"`{word}` is not an overlap kind ({', '.join(OVERLAP_KINDS)})", node)
-    return word
-
-
-def _labels(do: ast.DoDirective | None) -> frozenset[str]:
-    """The labels of the members of a ``do`` tree."""
-    if do is None:
-        return frozenset()
-    found: set[str] = set()
-    stack = [do.member]
-    while stack:
-        member = stack.pop()
-        if member.label is not None and not member.label.missing:
-            found.add(member.label.text)
-        if isinstance(member.body, ast.Composition):
-            stack.extend(member.body.members)
-    return frozenset(found)
 
 
 def _parameter(values: Any, field: Symbol) -> Any:

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from osc2runner.sut.driver import Log
 from osc2runner.sim.tracking import Polyline, walker_heading
 from osc2runner.sim.trailer import TrailerParams
-from osc2runner.sim.vehicle import VehicleParams
+from osc2runner.sim.vehicle import PedestrianParams, VehicleParams
 
 __all__ = [
     "PedestrianController",
@@ -259,7 +259,8 @@ def controllers_for(
                 ctrl.speed.towed = towed if isinstance(towed, TrailerParams) else None
             controllers[name] = ctrl
         elif kind == "pedestrian":
-            top = getattr(world.params(name), "max_speed", math.inf)
+            walker = world.params(name)
+            top = walker.max_speed if isinstance(walker, PedestrianParams) else math.inf
             ped = PedestrianController(world.network, world.dt_control, top=top)
             ped.speed.set_target(max(0.0, state.speed))
             ped.yaw = state.yaw if not math.isnan(state.yaw) else None
