@@ -3,11 +3,13 @@
 ``python bench/bench_lsp_first.py [ROOT]`` starts ``python -m osc2lsp`` from the
 checkout ``ROOT`` (default: this one), answers ``initialize``, opens
 ``examples/cut_in_and_stop.osc`` and waits for its first ``publishDiagnostics``;
-it prints both times and exits. One run per process, so that ``farm-bench`` can
-pair it against another checkout::
+it prints both times and exits. One run per process, so that runs can be paired
+with another checkout's, in turn::
 
-    farm-bench -n 9 -- python bench/bench_lsp_first.py \
-        --vs 'python bench/bench_lsp_first.py /path/to/other/checkout'
+    for i in $(seq 9); do
+        python bench/bench_lsp_first.py
+        python bench/bench_lsp_first.py /path/to/other/checkout
+    done
 
 ``bench_lsp.py LINES`` reports the same figures as medians of five starts.
 """

@@ -1,14 +1,17 @@
 """Run another checkout's ``bench/bench_runner.py`` on that checkout's code, for paired runs.
 
-Usage: ``python bench/bench_runner_at.py ROOT [bench_runner options]``, e.g. with
-farm-bench, this branch against ``/work/main``::
+Usage: ``python bench/bench_runner_at.py ROOT [bench_runner options]``, e.g. this
+branch against a clone of ``main`` in ``../main``, the two run in turn (A B A B ...)::
 
-    farm-bench -n 5 --vs "python bench/bench_runner_at.py /work/main --repeat 1 \\
-        --scene cut-in+idle '20 vehicles'" -- python bench/bench_runner_at.py . --repeat 1 \\
-        --scene cut-in+idle '20 vehicles'
+    for i in 1 2 3 4 5; do
+        /usr/bin/time -f "%e s %U user" python bench/bench_runner_at.py ../main --repeat 1 \\
+            --scene cut-in+idle '20 vehicles'
+        /usr/bin/time -f "%e s %U user" python bench/bench_runner_at.py . --repeat 1 \\
+            --scene cut-in+idle '20 vehicles'
+    done
 
 ``bench_runner.py`` takes the cut-in from ``../shared`` when that folder is beside the
-checkout (it is beside ``/work/main``, not beside a worktree); here both take
+checkout (a worktree elsewhere has none); here both take
 ``ROOT/examples/cut_in_and_stop.osc``, so that the two sides run the same scenes.
 """
 

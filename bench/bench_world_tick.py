@@ -8,8 +8,9 @@ states read out every tick as the runner does (``World.read_states``). The CPU
 time (``time.process_time``, less moved than wall time by other work on shared
 cores) of each ``mj_step`` call is subtracted, so the figure is what the world
 itself adds per tick: actuators, read-out, road positions, events, states.
-``--root`` runs another checkout's ``osc2runner`` (e.g. ``/work/main``) for a
-paired comparison under ``farm-bench --vs``. Figures only; nothing is asserted.
+``--root`` runs another checkout's ``osc2runner`` (e.g. a clone of ``main``) for a
+paired comparison (the two commands run in turn, A B A B ...). Figures only; nothing
+is asserted.
 """
 
 from __future__ import annotations
