@@ -43,7 +43,7 @@ __all__ = ["note_missing", "not_repeatable", "run"]
 _KIND = "result"
 _KEEP = 64  # stored results kept (the newest): one per command line and folder
 _RACY_NS = 2_000_000_000  # an input modified this close to the check is not trusted
-_MAX_OUTPUT = 8 * 1024 * 1024  # characters of output worth storing
+_MAX_OUTPUT = 2 * 1024 * 1024  # characters of output worth storing (64 entries: 128 Mi)
 # options whose runs are never stored (argparse also takes any unambiguous beginning of one)
 _NOT_STORED = ("--no-cache", "--debug", "--dump-ast", "--stdin-filename", "--help", "--version")
 _COMMANDS = frozenset({"rule", "migrate"})
@@ -108,7 +108,9 @@ class _Recording:
         for module in list(sys.modules.values()):
             path = getattr(module, "__file__", None)
             if isinstance(path, str):
-                found.setdefault(os.path.abspath(path), _signature(path))
+                path = os.path.abspath(path)
+                if path not in found:
+                    found[path] = _signature(path)
         for path in self.missing:
             found.setdefault(path, None)
         for folder, mtime in self.folders.items():

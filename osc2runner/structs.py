@@ -18,7 +18,7 @@ where the runner builds them).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, is_dataclass
 from typing import TYPE_CHECKING, SupportsFloat
 
 if TYPE_CHECKING:
@@ -328,7 +328,7 @@ def struct_members(value: object) -> dict[str, object] | None:
     """The members of a struct value by name; None for a value that is no struct value."""
     if isinstance(value, StructValue):
         return dict(value.fields)
-    if isinstance(value, _TYPED):
+    if is_dataclass(value) and type(value).__module__ == __name__:  # a class of this module
         return {f.name: getattr(value, f.name) for f in fields(value)}
     return None
 
@@ -341,29 +341,3 @@ def struct_json(value: object) -> object:
     if isinstance(value, tuple):
         return [struct_json(v) for v in value]
     return value
-
-
-#: the classes of the struct values the runner builds itself
-_TYPED = (
-    Acceleration6d,
-    Air,
-    BoundingBox,
-    CelestialPosition2d,
-    Clouds,
-    Fog,
-    HitchCoupler,
-    HitchReceiver,
-    Orientation3d,
-    OrientationAcceleration3d,
-    OrientationRate3d,
-    Path,
-    Pose3d,
-    Position3d,
-    Precipitation,
-    TranslationalAcceleration3d,
-    TranslationalVelocity3d,
-    Velocity6d,
-    Weather,
-    Wind,
-    XyzPoint,
-)
