@@ -38,7 +38,7 @@ from osc2check.world.projection import lane_centre
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, Modifier, number
 from osc2runner.compile.registry import method, modifier
 from osc2runner.execution.context import RunContext, RunFault
-from osc2runner.execution.controls import VehicleControl
+from osc2runner.execution.controls import is_vehicle
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import Polyline
 from osc2runner.structs import Position3d, XyzPoint, member_number
@@ -206,7 +206,7 @@ def follow_route(modifier: Modifier, action: ActionBehaviour) -> None:
         raise ActionError("along(end_offset: ...) on a map route is not supported")
     roads = roads_of(modifier.args.get("route"))
     ctrl = action.controller
-    if not isinstance(ctrl, VehicleControl):
+    if not is_vehicle(ctrl):
         return  # a walker: along is checked, not steered
     lateral = ctrl.lateral
     lateral.set_route(roads)

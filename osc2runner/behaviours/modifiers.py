@@ -39,7 +39,7 @@ from osc2runner.behaviours.driving import (
 )
 from osc2runner.compile.registry import modifier
 from osc2runner.execution.context import RunContext
-from osc2runner.execution.controls import LateralControl, WalkerControl
+from osc2runner.execution.controls import LateralControl, is_walker
 from osc2runner.execution.tolerances import MAX_CLOSING_SPEED, Tolerances
 from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState, RateProfile, SpeedController
@@ -70,7 +70,7 @@ def _lateral(action: ActionBehaviour) -> LateralControl:
     ctrl = action.controller
     if ctrl is None:
         raise ActionError("this actor has no lateral control (only vehicles change lanes)")
-    if isinstance(ctrl, WalkerControl):  # a walker: heads for the lateral target
+    if is_walker(ctrl):  # a walker: heads for the lateral target
         ctrl.yaw = None
     return ctrl.lateral
 
@@ -649,7 +649,7 @@ class _Heading(Modifier):
 
     def realise(self, action: ActionBehaviour) -> None:
         ctrl = action.controller
-        if isinstance(ctrl, WalkerControl):  # a walker turns at once
+        if is_walker(ctrl):  # a walker turns at once
             ctrl.yaw = lane_heading(action.ctx, action.state) + self.wanted(action)
             ctrl.lateral.release()
             return

@@ -49,7 +49,7 @@ from osc2runner.behaviours.road_paths import (
 )
 from osc2runner.compile.registry import action, method, modifier
 from osc2runner.execution.context import RunContext
-from osc2runner.execution.controls import VehicleControl, WalkerControl
+from osc2runner.execution.controls import is_vehicle, is_walker
 from osc2runner.instance.actors import Actor
 from osc2runner.sim.tracking import PathTracker, Polyline, Trajectory
 from osc2runner.structs import Path, Pose3d, Position3d, XyzPoint
@@ -106,8 +106,8 @@ class PathMotion:
             raise ActionError("this actor has no driver (it cannot move)")
         self.ctrl = ctrl
         #: a walker walks along the path itself; a vehicle steers along it with a tracker
-        self.walker = ctrl if isinstance(ctrl, WalkerControl) else None
-        self.vehicle = ctrl if self.walker is None and isinstance(ctrl, VehicleControl) else None
+        self.walker = ctrl if is_walker(ctrl) else None
+        self.vehicle = ctrl if self.walker is None and is_vehicle(ctrl) else None
         self.progress = self.begin
         state = action.state
         if self.vehicle is not None:

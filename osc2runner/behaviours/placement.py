@@ -15,7 +15,7 @@ from osc2runner.behaviours.base import ActionError, AssignedPose, InstantAction,
 from osc2runner.behaviours.driving import lane_heading, set_speed
 from osc2runner.behaviours.maps import map_point_xy
 from osc2runner.compile.registry import action
-from osc2runner.execution.controls import WalkerControl
+from osc2runner.execution.controls import is_walker
 from osc2runner.structs import member_number
 
 __all__ = ["AssignOrientation", "AssignPosition", "AssignSpeed"]
@@ -177,5 +177,5 @@ class AssignOrientation(InstantAction):
             raise ActionError("assign_orientation needs an orientation_3d with a yaw")
         _teleport(self, yaw=float(yaw))
         ctrl = self.controller
-        if isinstance(ctrl, WalkerControl):
+        if is_walker(ctrl):
             ctrl.yaw = float(yaw)

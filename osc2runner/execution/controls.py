@@ -11,7 +11,7 @@ each against them where the controllers are made (``drivers.controllers_for``).
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Protocol, runtime_checkable
+from typing import TYPE_CHECKING, Protocol, TypeGuard, runtime_checkable
 
 if TYPE_CHECKING:
     from collections.abc import Sequence
@@ -31,6 +31,8 @@ __all__ = [
     "VehicleLateralControl",
     "WalkerControl",
     "WalkerLateralControl",
+    "is_vehicle",
+    "is_walker",
 ]
 
 
@@ -167,6 +169,30 @@ class WalkerControl(Controller, Protocol):
 
     @property
     def lateral(self) -> WalkerLateralControl: ...
+
+
+# ``isinstance`` against a runtime-checkable Protocol looks up every member on each call
+# (tens of µs); a controller's kind is its class's, so each class is tested once.
+_kinds: dict[type, tuple[bool, bool]] = {}
+
+
+def _kind(ctrl: object) -> tuple[bool, bool]:
+    """Whether ``ctrl`` is a walker's controller, and whether a vehicle's."""
+    found = _kinds.get(type(ctrl))
+    if found is None:
+        walker = isinstance(ctrl, WalkerControl)
+        found = _kinds[type(ctrl)] = (walker, not walker and isinstance(ctrl, VehicleControl))
+    return found
+
+
+def is_walker(ctrl: object) -> TypeGuard[WalkerControl]:
+    """Whether ``ctrl`` is a walker's controller (:class:`WalkerControl`)."""
+    return _kind(ctrl)[0]
+
+
+def is_vehicle(ctrl: object) -> TypeGuard[VehicleControl]:
+    """Whether ``ctrl`` is a vehicle's controller (:class:`VehicleControl`), not a walker's."""
+    return _kind(ctrl)[1]
 
 
 if TYPE_CHECKING:
