@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import subprocess
 import sys
@@ -51,18 +52,52 @@ def project(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> Path:
     return folder
 
 
-def _record(argv: list[str]) -> int:
-    return results._record(argv, cli.main)
+# Each step runs in a process of its own, as the command does: a test worker's process
+# holds other tests' modules (some written a moment ago in their folders) and threads,
+# which a stored result would rightly depend on.
+STEP = """\
+import json, sys
+from osc2check import cli, results
+step, *argv = sys.argv[1:]
+if step == "replay":
+    print(json.dumps(results._replay(argv)))
+    sys.exit(0)
+def timed_out(argv):
+    results.not_repeatable("the solver stopped: timeout")
+    return cli.main(argv)
+sys.exit(results._record(argv, timed_out if step == "record-timed-out" else cli.main))
+"""
 
 
-def test_a_repeated_check_gives_the_stored_output_and_status(
-    project: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    status = _record(["main.osc"])
-    output = capsys.readouterr().out
+def _step(step: str, argv: list[str]) -> subprocess.CompletedProcess[str]:
+    return subprocess.run(
+        [sys.executable, "-c", STEP, step, *argv],
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+
+
+def _record(argv: list[str], step: str = "record") -> tuple[str, int]:
+    """The check of ``argv`` run (and its result stored when it can be): output, status."""
+    done = _step(step, argv)
+    assert "Traceback" not in done.stderr, done.stderr
+    return done.stdout, done.returncode
+
+
+def _replay(argv: list[str]) -> tuple[str, int] | None:
+    """The stored output and status of ``argv`` if they would be given again."""
+    done = _step("replay", argv)
+    assert done.returncode == 0, done.stderr
+    found = json.loads(done.stdout)
+    return None if found is None else (found[0], found[1])
+
+
+def test_a_repeated_check_gives_the_stored_output_and_status(project: Path) -> None:
+    output, status = _record(["main.osc"])
     assert "main.osc" in output
-    assert results._replay(["main.osc"]) == (output, status)
-    assert results._replay(["main.osc", "--strict"]) is None  # another command line
+    assert _replay(["main.osc"]) == (output, status)
+    assert _replay(["main.osc", "--strict"]) is None  # another command line
 
 
 @pytest.mark.parametrize(
@@ -76,30 +111,22 @@ def test_a_repeated_check_gives_the_stored_output_and_status(
         pytest.param(lambda p: os.utime(p / "lib.osc"), id="a touched import"),
     ],
 )
-def test_a_change_to_what_the_check_read_is_checked_again(
-    project: Path, capsys: pytest.CaptureFixture[str], change: object
-) -> None:
+def test_a_change_to_what_the_check_read_is_checked_again(project: Path, change: object) -> None:
     _record(["main.osc"])
-    capsys.readouterr()
-    assert results._replay(["main.osc"]) is not None
+    assert _replay(["main.osc"]) is not None
     change(project)  # type: ignore[operator]
-    assert results._replay(["main.osc"]) is None
+    assert _replay(["main.osc"]) is None
 
 
-def test_a_file_added_to_a_checked_folder_is_checked_again(
-    project: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_a_file_added_to_a_checked_folder_is_checked_again(project: Path) -> None:
     os.utime(project, (AN_HOUR_AGO, AN_HOUR_AGO))
     _record(["."])
-    capsys.readouterr()
-    assert results._replay(["."]) is not None
+    assert _replay(["."]) is not None
     _write(project / "other.osc", "import osc.standard\n")
-    assert results._replay(["."]) is None
+    assert _replay(["."]) is None
 
 
-def test_an_import_found_later_in_the_search_is_checked_again(
-    project: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_an_import_found_later_in_the_search_is_checked_again(project: Path) -> None:
     """``import a.b`` looks beside the file first: a file made there changes the result."""
     library = project / "shared"
     (library / "a").mkdir(parents=True)
@@ -107,30 +134,21 @@ def test_an_import_found_later_in_the_search_is_checked_again(
     _write(project / "osc2check.toml", f'search-paths = ["{library}"]\n')
     _write(project / "main.osc", MAIN.replace('import "lib.osc"', "import a.b"))
     _record(["main.osc"])
-    capsys.readouterr()
-    assert results._replay(["main.osc"]) is not None
+    assert _replay(["main.osc"]) is not None
     (project / "a").mkdir()
     _write(project / "a" / "b.osc", LIB.replace("30", "20"))
-    assert results._replay(["main.osc"]) is None
+    assert _replay(["main.osc"]) is None
 
 
-def test_a_result_that_depends_on_the_machine_is_not_stored(
-    project: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    def timed_out(argv: list[str]) -> int:
-        results.not_repeatable("the solver stopped: timeout")
-        return cli.main(argv)
-
-    results._record(["main.osc"], timed_out)
-    assert results._replay(["main.osc"]) is None
+def test_a_result_that_depends_on_the_machine_is_not_stored(project: Path) -> None:
+    _record(["main.osc"], "record-timed-out")
+    assert _replay(["main.osc"]) is None
 
 
-def test_a_file_edited_during_the_check_is_not_trusted(
-    project: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
+def test_a_file_edited_during_the_check_is_not_trusted(project: Path) -> None:
     _write(project / "main.osc", MAIN, when=time.time())
     _record(["main.osc"])
-    assert results._replay(["main.osc"]) is None
+    assert _replay(["main.osc"]) is None
 
 
 @pytest.mark.parametrize(
@@ -141,11 +159,9 @@ def test_some_command_lines_are_never_stored(argv: list[str]) -> None:
     assert not results._storable(argv)
 
 
-def test_errors_and_notes_on_standard_error_are_not_stored(
-    project: Path, capsys: pytest.CaptureFixture[str]
-) -> None:
-    assert _record(["main.osc", "missing.osc"]) == cli.EXIT_ERROR
-    assert results._replay(["main.osc", "missing.osc"]) is None
+def test_errors_and_notes_on_standard_error_are_not_stored(project: Path) -> None:
+    assert _record(["main.osc", "missing.osc"])[1] == cli.EXIT_ERROR
+    assert _replay(["main.osc", "missing.osc"]) is None
 
 
 # --- the command, whole processes ------------------------------------------------------------
