@@ -19,6 +19,9 @@ world, telemetry; the compile and the world's construction are not timed):
 * ``20 vehicles``: a generated scenario: 20 vehicles (2 HGVs) in three
   lanes of a 4-lane road for 30 s; those in the third lane move to the
   fourth after 2 s;
+* ``20 kinematic``: the same 20 vehicles, every one moved by the kinematic model,
+  the lighter one for background traffic (``--kinematic '*'``; docs/world.md);
+* ``cut-in, npc kin.``: the cut-in with its ``npc`` on the kinematic model;
 * ``straight road`` / ``curved road``: one car 20 s at 50 kph in a lane of the
   built-in straight road, and of ``examples/maps/rural_curves.xodr``
   (clothoids and arcs of 100 m and 150 m radius): the curved road's real-time
@@ -30,8 +33,8 @@ else (tree, controllers, actuator layer, read-out, events, telemetry); then the
 same factor from the process's CPU time (less moved by other work on a shared
 machine), the physics steps per tick and the wall time of one, and what one
 physics step holds (contacts, constraint rows and Newton iterations of the
-solver, from the last physics step of each tick). Every actor runs the full
-multibody vehicle model (docs/world.md): the runner has no lighter one.
+solver, from the last physics step of each tick). Every vehicle runs the
+multibody model (docs/world.md) except in the two scenes that say otherwise.
 
 Targets (not asserted): cut-in >= 100x real time on one core and 20 vehicles
 >= 20x (issue 23; before it 50x and 5x); runner overhead <= 25% of wall time.
@@ -141,10 +144,10 @@ def lane_keeping(map_file: str) -> str:
     )
 
 
-def measure(name: str, path: Path, dt: float, repeat: int) -> None:
+def measure(name: str, path: Path, dt: float, repeat: int, kinematic: tuple[str, ...] = ()) -> None:
     best = None
     for _ in range(repeat):
-        prepared = prepare(path, dt_physics=dt)
+        prepared = prepare(path, dt_physics=dt, kinematic=kinematic)
         gc.collect()
         with StepTimer() as timer:
             cpu = time.process_time()
@@ -200,6 +203,18 @@ def idle_pairs(cut_in: Path, idle: Path, pairs: int, dt: float) -> None:
     )
 
 
+#: each scene: its file (see ``main``) and the vehicles it moves by the kinematic model
+SCENES: dict[str, tuple[str, tuple[str, ...]]] = {
+    "cut-in": ("cut-in", ()),
+    "cut-in+idle": ("idle", ()),
+    "20 vehicles": ("many", ()),
+    "20 kinematic": ("many", ("*",)),
+    "cut-in, npc kin.": ("cut-in", ("npc",)),
+    "straight road": ("straight", ()),
+    "curved road": ("curved", ()),
+}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeat", type=int, default=2, help="runs per scene (best is shown)")
@@ -207,8 +222,8 @@ def main() -> None:
     parser.add_argument(
         "--scene",
         nargs="+",
-        default=["cut-in", "cut-in+idle", "20 vehicles", "straight road", "curved road"],
-        help="scenes to run (cut-in, cut-in+idle, 20 vehicles, straight road, curved road)",
+        default=list(SCENES),
+        help=f"scenes to run ({', '.join(SCENES)})",
     )
     parser.add_argument(
         "--pairs", type=int, default=0, help="interleaved cut-in / cut-in+idle pairs instead"
@@ -226,20 +241,16 @@ def main() -> None:
         curved = Path(tmp) / "curved.osc"
         rural = ROOT / "examples" / "maps" / "rural_curves.xodr"
         curved.write_text(lane_keeping(str(rural)), encoding="utf-8")
-        scenes = {
-            "cut-in": cut_in,
-            "cut-in+idle": idle,
-            "20 vehicles": many,
-            "straight road": straight,
-            "curved road": curved,
-        }
+        files = {"cut-in": cut_in, "idle": idle, "many": many, "straight": straight}
+        files["curved"] = curved
         if args.pairs:
             for dt in args.dt:
                 idle_pairs(cut_in, idle, args.pairs, dt)
             return
         for dt in args.dt:
             for name in args.scene:
-                measure(name, scenes[name], dt, args.repeat)
+                which, kinematic = SCENES[name]
+                measure(name, files[which], dt, args.repeat, kinematic)
 
 
 if __name__ == "__main__":

@@ -50,6 +50,7 @@ from osc2runner.options import (
     TIME_LIMIT,
     OptionError,
     RunOptions,
+    check_kinematic,
     check_out,
     check_seed,
     check_steps,
@@ -162,6 +163,14 @@ def build_parser() -> argparse.ArgumentParser:
         default=repr(DT_PHYSICS),
         metavar="S",
         help=f"physics step (default {DT_PHYSICS:g})",
+    )
+    p.add_argument(
+        "--kinematic",
+        action="append",
+        metavar="NAMES",
+        help="move these vehicles by the kinematic model, the lighter one for background "
+        "traffic: actor names or shell-style patterns, comma-separated ('npc*', '*'); "
+        "the others run on the multibody model (docs/world.md); repeatable",
     )
     p.add_argument(
         "--sut",
@@ -286,6 +295,7 @@ def _parse(argv: list[str]) -> argparse.Namespace:
 
     export_arguments(args)
     args.sut_spec = _sut(args)
+    args.kinematic = _kinematic(args.kinematic)
     if args.bin is not None:
         from osc2runner.campaign.steering import bin_ref
 
@@ -302,8 +312,20 @@ def _parse(argv: list[str]) -> argparse.Namespace:
         sut=args.sut_spec,
         config=args.config,
         plot=args.plot,
+        kinematic=args.kinematic,
     )  # checked above, each value with the text given
     return args
+
+
+def _kinematic(given: list[str] | None) -> tuple[str, ...]:
+    """``--kinematic`` (given any number of times, each a comma-separated list)."""
+    if not given:
+        return ()
+    items = [item for text in given for item in text.split(",")]
+    try:
+        return check_kinematic(items)
+    except OptionError as exc:
+        raise OptionError(exc.name, ",".join(given), exc.why) from None
 
 
 def _config(args: argparse.Namespace) -> Config | None:

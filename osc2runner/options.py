@@ -16,6 +16,9 @@ status 2) and the Python API raises as it is (a ``ValueError``):
 * ``dt_control``, ``dt_physics``: positive and finite, ``dt_control`` a whole
   multiple of ``dt_physics`` (at most :data:`MAX_SUBSTEPS` physics steps per
   tick; the world's own condition, to a relative 1e-9);
+* ``kinematic``: the vehicles moved by the kinematic model, as names or
+  shell-style patterns (``npc*``, ``*``), each a non-empty text; which vehicles
+  they may name is the runner's rule (:func:`osc2runner.runner.build_world`);
 * ``out``: a folder that exists and takes new files, or one that can be
   created under a writable folder (it is created when the files are written,
   so a run that never starts leaves nothing behind):
@@ -44,6 +47,7 @@ __all__ = [
     "OptionError",
     "RunOptions",
     "check_duration",
+    "check_kinematic",
     "check_out",
     "check_seed",
     "check_steps",
@@ -77,6 +81,7 @@ class RunOptions:
     sut: SutSpec | None = None
     config: Config | None = None
     plot: bool = False
+    kinematic: tuple[str, ...] = ()  # vehicles (names, patterns) on the kinematic model
 
     @classmethod
     def checked(
@@ -90,6 +95,7 @@ class RunOptions:
         sut: SutSpec | None = None,
         config: Config | None = None,
         plot: bool = False,
+        kinematic: object = (),
     ) -> RunOptions:
         """The options with each value checked (:class:`OptionError`, in the order the
         checks have always run: seed, steps, duration)."""
@@ -104,6 +110,7 @@ class RunOptions:
             sut=sut,
             config=config,
             plot=plot,
+            kinematic=check_kinematic(kinematic),
         )
 
     @property
@@ -184,6 +191,18 @@ def check_steps(dt_control: object, dt_physics: object) -> tuple[float, float]:
             f"is too small: {substeps} physics steps per control tick (at most {MAX_SUBSTEPS})",
         )
     return control, physics
+
+
+def check_kinematic(value: object) -> tuple[str, ...]:
+    """The vehicles on the kinematic model: names or shell-style patterns, each a
+    non-empty text without a comma (the command separates them by commas)."""
+    items = (value,) if isinstance(value, str) else value
+    if not isinstance(items, (list, tuple)):
+        raise OptionError("kinematic", value, "must be actor names or patterns")
+    for item in items:
+        if not isinstance(item, str) or not item.strip() or "," in item:
+            raise OptionError("kinematic", value, f"{item!r} is not an actor name or pattern")
+    return tuple(item.strip() for item in items)
 
 
 def check_out(value: str | os.PathLike[str], *, create: bool = False) -> Path:

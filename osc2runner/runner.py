@@ -29,7 +29,7 @@ whole or not at all (:mod:`osc2runner.output.files`), ``run.json`` last.
 from __future__ import annotations
 
 import logging
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
@@ -59,6 +59,7 @@ from osc2runner.execution.initializer import start_specs
 from osc2runner.execution.loop import TickLoop
 from osc2runner.execution.outcome import OutcomeStatus, RunOutcome
 from osc2runner.execution.signals import Interrupts, exit_status, signal_name
+from osc2runner.execution.vehicle_models import kinematic_specs
 from osc2runner.export import ExportTargets
 from osc2runner.instance import ScenarioInstance, instantiate
 from osc2runner.instance.actors import environment_sky
@@ -316,14 +317,21 @@ def build_world(
     dt_control: float = DT_CONTROL,
     dt_physics: float = DT_PHYSICS,
     sut: SutSpec | None = None,
+    kinematic: Sequence[str] = (),
 ) -> Prepared:
     """The world of a compiled scenario at the witness's starts, its controllers (the
-    system under test in its actor's seat when ``sut`` is given) and its variables."""
+    system under test in its actor's seat when ``sut`` is given) and its variables;
+    the vehicles ``kinematic`` selects (names, patterns) on the kinematic model
+    (:mod:`osc2runner.execution.vehicle_models`)."""
     ctx = c.ctx
     specs, problems = start_specs(c.instance.actors, hitches_at_start(c.compiled.start_uses))
     if problems:
         raise ScenarioError(problems, texts=c.analysis.texts)
     sut_actor = _sut_actor(c, sut) if sut is not None else None
+    specs, wrong = kinematic_specs(specs, kinematic, sut_actor)
+    if wrong:
+        problems = [RunProblem(f"--kinematic: {why}", c.scenario.name_span) for why in wrong]
+        raise ScenarioError(problems, texts=c.analysis.texts)
     world = World(ctx.network, specs, dt_control=dt_control, dt_physics=dt_physics)
     routes = {a.name: a.route for a in c.instance.witness.actors}
     controllers = controllers_for(world, routes, ctx.seed)
@@ -368,9 +376,12 @@ def prepare_checked(
     dt_physics: float = DT_PHYSICS,
     sut: SutSpec | None = None,
     witness: Witness | None = None,
+    kinematic: Sequence[str] = (),
 ) -> Prepared:
     """Compile a checked scenario for ``seed`` and build its world (see :func:`prepare`)."""
-    options = RunOptions(seed=seed, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+    options = RunOptions(
+        seed=seed, dt_control=dt_control, dt_physics=dt_physics, sut=sut, kinematic=tuple(kinematic)
+    )
     return prepare_run(checked, options, witness=witness)
 
 
@@ -381,7 +392,11 @@ def prepare_run(
     its world with the options' steps and system under test."""
     c = compile_checked(checked, seed=options.seed, dt_control=options.dt_control, witness=witness)
     return build_world(
-        c, dt_control=options.dt_control, dt_physics=options.dt_physics, sut=options.sut
+        c,
+        dt_control=options.dt_control,
+        dt_physics=options.dt_physics,
+        sut=options.sut,
+        kinematic=options.kinematic,
     )
 
 
@@ -395,10 +410,14 @@ def prepare(
     source: str | None = None,
     sut: SutSpec | None = None,
     config: Config | None = None,
+    kinematic: Sequence[str] = (),
 ) -> Prepared:
-    """Check, instantiate, compile and build the world; raises ScenarioError for input errors."""
+    """Check, instantiate, compile and build the world; raises ScenarioError for input
+    errors. ``kinematic``: the vehicles (names, patterns) on the kinematic model."""
     checked = check_file(path, scenario=scenario, source=source, config=config)
-    options = RunOptions(seed=seed, dt_control=dt_control, dt_physics=dt_physics, sut=sut)
+    options = RunOptions(
+        seed=seed, dt_control=dt_control, dt_physics=dt_physics, sut=sut, kinematic=tuple(kinematic)
+    )
     return prepare_run(checked, options)
 
 
@@ -419,6 +438,7 @@ def run(
     source: str | None = None,
     sut: SutSpec | str | None = None,
     config: Config | None = None,
+    kinematic: Sequence[str] = (),
 ) -> RunResult:
     """Run one scenario of the file at ``path`` (see the module docstring).
 
@@ -440,6 +460,9 @@ def run(
         config: the checker's configuration (``osc2check.config.Config``: the OSC2
             version, dialect, maps, search paths, ...); None reads ``[tool.osc2check]``
             from the nearest configuration file above ``path``, as ``osc2check`` does.
+        kinematic: the vehicles moved by the kinematic model (names, shell-style patterns:
+            :mod:`osc2runner.execution.vehicle_models`); every other vehicle runs on the
+            multibody model. ``run.json`` states each actor's (``actors.*.dynamics``).
 
     The result's outcome is ``error`` (and the files are written) when the physics
     diverged. Called from the main thread, the run installs handlers for SIGINT,
@@ -460,6 +483,7 @@ def run(
         dt_physics=dt_physics,
         config=config,
         plot=plot,
+        kinematic=kinematic,
     )
     if out is not None:
         check_out(out)
@@ -590,6 +614,8 @@ def _metadata(prepared: Prepared, outcome: RunOutcome, wall: float) -> dict[str,
     actors = {}
     for name, actor in ctx.actors.items():
         entry: dict[str, Any] = {"type": actor.type.name, "kind": actor.kind}
+        if name in world.names:
+            entry["dynamics"] = world.model_of(name)
         if actor.row is not None and actor.params is not None:
             entry["model"] = actor.row.key
             entry["category"] = actor.row.category

@@ -116,6 +116,8 @@ class CampaignOptions(RunOptions):
             "strategy": self.strategy,
             "seed": self.seed,
             **self._language(),
+            # vehicles on the kinematic model (a campaign of an older folder has none)
+            **({"kinematic": list(self.kinematic)} if self.kinematic else {}),
         }
 
     def _language(self) -> dict[str, Any]:

@@ -70,6 +70,8 @@ def _stored_options(args: argparse.Namespace, stored: dict[str, Any]) -> None:
         args.dt_control = repr(opts.get("dt_control", DT_CONTROL))
     if "--dt-physics" not in given:
         args.dt_physics = repr(opts.get("dt_physics", DT_PHYSICS))
+    if "--kinematic" not in given and opts.get("kinematic"):
+        args.kinematic = [",".join(opts["kinematic"])]
     sut = opts.get("sut")
     if sut and args.sut is None:
         if not args.trust_folder:

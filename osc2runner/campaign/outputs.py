@@ -273,6 +273,8 @@ def replay_command(
         args += ["--dt-control", repr(options.dt_control)]
     if options.dt_physics != DT_PHYSICS:
         args += ["--dt-physics", repr(options.dt_physics)]
+    if options.kinematic:
+        args += ["--kinematic", ",".join(options.kinematic)]
     if options.sut is not None:
         args += ["--sut", options.sut.target]
         if options.sut.actor:

@@ -247,6 +247,16 @@ def campaign_document(data: Any, where: str = "campaign.json") -> dict[str, Any]
             _choice(e, f"{w}.export[{i}]", FORMATS)
             for i, e in enumerate(_items(o.get("export", []), f"{w}.export", _text))
         ],
+        **(
+            {
+                "kinematic": [
+                    _text(e, f"{w}.kinematic[{i}]", limit=200)
+                    for i, e in enumerate(_items(o["kinematic"], f"{w}.kinematic", _text))
+                ]
+            }
+            if o.get("kinematic")
+            else {}
+        ),
         # the language the campaign was checked in
         **{
             name: _choice(o[name], f"{w}.{name}", allowed)

@@ -2,9 +2,9 @@
 
 The road is a plane (tires collide with it, nothing else does); each actor is the
 body its parameters make (``sim/vehicle.py``, ``sim/trailer.py``), named by its
-prefix (``a0``, ``a1``, ... in world order); vehicles add their actuators; every
-(tow vehicle, trailer) pair has a hitch equality, active when the trailer starts
-towed by that vehicle.
+prefix (``a0``, ``a1``, ... in world order; a kinematic vehicle has none); vehicles
+add their actuators; every (tow vehicle, trailer) pair has a hitch equality, active
+when the trailer starts towed by that vehicle.
 """
 
 from __future__ import annotations
@@ -55,6 +55,8 @@ def model_xml(
         name = prefix(i)
         p = spec.params
         if isinstance(p, VehicleParams):
+            if spec.kinematic:  # no body: the kinematic model moves it
+                continue
             bodies.append(vehicle_body_xml(name, p, x, y, yaw, collide=collide))
             actuators.append(vehicle_actuator_xml(name, p))
         elif isinstance(p, TrailerParams):

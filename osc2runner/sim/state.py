@@ -49,7 +49,8 @@ class ActorSpec:
     road. ``yaw`` is the world heading in radians (default: the lane's direction of
     travel) and ``speed`` the initial speed along it in m/s. A trailer ``towed_by`` a
     vehicle starts hitched to it: on its hitch, with its heading and speed (its own
-    position, heading and speed are not used).
+    position, heading and speed are not used). A ``kinematic`` vehicle has no body in
+    the physics model: the kinematic model moves it (``sim/kinematic_bank.py``).
     """
 
     name: str
@@ -62,6 +63,7 @@ class ActorSpec:
     yaw: float | None = None
     speed: float = 0.0
     towed_by: str | None = None
+    kinematic: bool = False  # a vehicle moved by the kinematic model (sim/kinematic_bank.py)
 
     @property
     def kind(self) -> str:

@@ -59,6 +59,7 @@ from osc2check.world.tracking import RoadPosition
 from osc2runner.sim.assembly import model_xml, prefix
 from osc2runner.sim.divergence import DivergenceWatch
 from osc2runner.sim.events import Event, EventDetector
+from osc2runner.sim.kinematic_bank import KinematicBank
 from osc2runner.sim.locating import ActorLocators
 from osc2runner.sim.obstacle_bank import ObstacleBank
 from osc2runner.sim.state import (
@@ -145,9 +146,11 @@ class World:
         def of(kind: str) -> list[int]:
             return [i for i, k in enumerate(self._kinds) if k == kind]
 
-        vehicles, trailers, walkers, obstacles = (
+        driven, trailers, walkers, obstacles = (
             of(k) for k in ("vehicle", "trailer", "pedestrian", "obstacle")
         )
+        vehicles = [i for i in driven if not self.specs[i].kinematic]
+        kinematic = [i for i in driven if self.specs[i].kinematic]
         # every (tow vehicle, trailer) pair that may hitch, by world index
         pairs = [(v, t) for t in trailers for v in vehicles if self.can_tow(names[v])]
         body_poses = list(self._initial)
@@ -170,6 +173,7 @@ class World:
             return [self.specs[i] for i in rows], [prefix(i) for i in rows], rows
 
         self.vehicles = VehicleBank(m, d, *bank_args(vehicles), self.dt_control)
+        self.kinematic = KinematicBank([self.specs[i] for i in kinematic], kinematic, dt_control)
         self.trailers = TrailerBank(m, d, *bank_args(trailers), self.dt_control)
         self.walkers = WalkerBank(m, d, *bank_args(walkers), self.dt_control)
         self.obstacles = ObstacleBank(
@@ -205,16 +209,48 @@ class World:
             if spec.kind != "trailer" or tow is None:
                 continue
             if not self.can_tow(tow):
-                raise ValueError(f"`{spec.name}` is towed by `{tow}`, which has no hitch receiver")
+                raise ValueError(f"`{spec.name}` is towed by `{tow}`, which {self._no_hitch(tow)}")
             if tow in towing:
                 raise ValueError(f"`{tow}` tows two trailers")
             towing.add(tow)
 
     def can_tow(self, name: str) -> bool:
-        """Whether actor ``name`` is a vehicle with a hitch receiver."""
+        """Whether actor ``name`` is a vehicle with a hitch receiver (and a body: a
+        kinematic vehicle tows nothing)."""
         i = self._index.get(name)
-        params = self.specs[i].params if i is not None else None
-        return isinstance(params, VehicleParams) and params.can_tow
+        spec = self.specs[i] if i is not None else None
+        return (
+            spec is not None
+            and isinstance(spec.params, VehicleParams)
+            and spec.params.can_tow
+            and not spec.kinematic
+        )
+
+    def _no_hitch(self, name: str) -> str:
+        """Why vehicle ``name`` cannot tow (:meth:`can_tow` is false)."""
+        i = self._index.get(name)
+        if i is not None and self.specs[i].kinematic:
+            return "is a kinematic vehicle (only the multibody model tows)"
+        return "has no hitch receiver"
+
+    def model_of(self, name: str) -> str:
+        """What moves actor ``name``: ``kinematic`` for a kinematic vehicle, else
+        ``multibody`` for a vehicle or a trailer, ``kinematic`` for a pedestrian (moved
+        along its commanded velocity), ``static`` for an obstacle."""
+        i = self._index[name]
+        kind = self._kinds[i]
+        if kind in ("vehicle", "trailer"):
+            return "kinematic" if self.specs[i].kinematic else "multibody"
+        return "kinematic" if kind == "pedestrian" else "static"
+
+    def _driven(self, name: str) -> tuple[VehicleBank | KinematicBank, int]:
+        """The bank of vehicle ``name`` (multibody or kinematic) and its row there."""
+        bank: VehicleBank | KinematicBank = self.vehicles
+        row = bank.rows.get(name)
+        if row is None:
+            bank = self.kinematic
+            row = bank.rows[name]
+        return bank, row
 
     # ------------------------------------------------------------------ reset
 
@@ -223,6 +259,7 @@ class World:
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
         self.vehicles.reset()
+        self.kinematic.reset()
         self.tick = 0
         self.events: list[Event] = []
         self._events.reset()
@@ -273,7 +310,8 @@ class World:
         kind = self._kinds[i]
         self._locators.forget(i)
         if kind == "vehicle":
-            self.vehicles.place(self.vehicles.rows[name], x, y, yaw, speed)
+            bank, row = self._driven(name)
+            bank.place(row, x, y, yaw, speed)
             trailer = self.towing(name)
             if trailer is not None:  # the trailer comes along, on the hitch
                 self._place_trailer(trailer, *self._hitch_pose(trailer, name), speed)
@@ -329,7 +367,7 @@ class World:
         speed. Raises ValueError when the pair cannot be hitched.
         """
         if not self.can_tow(tow):
-            raise ValueError(f"`{tow}` has no hitch receiver")
+            raise ValueError(f"`{tow}` {self._no_hitch(tow)}")
         if self.kind(trailer) != "trailer":
             raise ValueError(f"`{trailer}` is not a trailer")
         if trailer in self.hitched:
@@ -392,8 +430,8 @@ class World:
             raise KeyError(f"no actor named `{name}`; actors: {', '.join(self._names)}")
         kind = self._kinds[self._index[name]]
         if kind == "vehicle" and isinstance(value, VehicleInput):
-            row = self.vehicles.rows[name]
-            self.vehicles.set_input(row, value.throttle, value.brake, value.steer)
+            bank, row = self._driven(name)
+            bank.set_input(row, value.throttle, value.brake, value.steer)
         elif kind == "pedestrian" and isinstance(value, PedestrianInput):
             row = self.walkers.rows[name]
             self._walker_changed(row, self.walkers.set_input(row, value))
@@ -425,6 +463,7 @@ class World:
         if trailers.count:
             trailers.apply(vehicles.actuators.brake)
         walkers.move()
+        self.kinematic.step()
         mujoco.mj_step(self.model, self.data, nstep=self.substeps)
         self.tick += 1
         vehicles.read_step()
@@ -472,7 +511,7 @@ class World:
     def _poses(self) -> tuple[np.ndarray, np.ndarray]:
         """Centre (n, 2) and yaw (n,) of every actor's bounding box."""
         centre, yaw = self._centre, self._yaw_all
-        for bank in (self.vehicles, self.trailers):
+        for bank in (self.vehicles, self.kinematic, self.trailers):
             if bank.count:
                 centre[bank.index] = bank.pos
                 yaw[bank.index] = bank.yaw
@@ -487,7 +526,8 @@ class World:
         where = self._locators.positions[i]
         tick, time = self.tick, self.time
         if kind == "vehicle":
-            return self.vehicles.state(self.vehicles.rows[name], tick, time, where)
+            bank, row = self._driven(name)
+            return bank.state(row, tick, time, where)
         if kind == "trailer":
             row = self.trailers.rows[name]
             return self.trailers.state(row, tick, time, where, self.vehicles.yaw)
@@ -508,6 +548,7 @@ class World:
         """
         tick, time, positions = self.tick, self.time, self._locators.positions
         self.vehicles.read_states(out, tick, time, positions)
+        self.kinematic.read_states(out, tick, time, positions)
         self.trailers.read_states(out, tick, time, positions, self.vehicles.yaw)
         self.walkers.read_states(out, tick, time, positions)
         if static or any(name not in out for name in self.obstacles.names):
@@ -525,15 +566,24 @@ class World:
         """
         if self._divergence.warned():
             return self._divergence.report()
-        return self.vehicles.non_finite() or self.trailers.non_finite() or self.walkers.non_finite()
+        return (
+            self.vehicles.non_finite()
+            or self.kinematic.non_finite()
+            or self.trailers.non_finite()
+            or self.walkers.non_finite()
+        )
 
     def wheel_loads(self, name: str) -> tuple[float, float, float, float]:
-        """Measured normal load (N) of each tire (fl, fr, rl, rr) of a vehicle."""
-        return self.vehicles.wheel_loads(self.vehicles.rows[name])
+        """Normal load (N) of each tire (fl, fr, rl, rr) of a vehicle: measured from the
+        contacts, or the actuator layer's estimate for a kinematic vehicle."""
+        bank, row = self._driven(name)
+        return bank.wheel_loads(row)
 
     def wheel_speeds(self, name: str) -> tuple[float, float, float, float]:
-        """Spin rate times radius (m/s) of each wheel of a vehicle."""
-        return self.vehicles.wheel_speeds(self.vehicles.rows[name])
+        """Spin rate times radius (m/s) of each wheel of a vehicle (a kinematic vehicle's
+        speed)."""
+        bank, row = self._driven(name)
+        return bank.wheel_speeds(row)
 
     def state_array(self) -> np.ndarray:
         """Every number that determines the future, as one array (for replay checks)."""
@@ -552,6 +602,7 @@ class World:
                 bank.brake,
                 bank.delta,
                 self.model.geom_friction[:, 0],
+                self.kinematic.state_array(),
             ]
         )
 
@@ -562,11 +613,13 @@ class World:
             raise ValueError(f"friction must be > 0, got {mu}")
         self.road_friction = float(mu)
         self.vehicles.set_friction(mu)
+        self.kinematic.set_friction(mu)
         self.trailers.mu[:] = mu
         self._write_friction()
 
     def _write_friction(self) -> None:
         self.vehicles.write_friction()
+        self.kinematic.write_friction()
         self.trailers.write_friction()
 
     def set_road_friction(self, mu: float) -> None:
@@ -578,14 +631,15 @@ class World:
         """Set the friction under one vehicle, or under one of its wheels (index or fl/fr/rl/rr)."""
         if mu <= 0.0:
             raise ValueError(f"friction must be > 0, got {mu}")
-        row = self.vehicles.rows[name]
+        bank, row = self._driven(name)
         w = WHEELS.index(wheel) if isinstance(wheel, str) else wheel
-        self.vehicles.set_friction(mu, row, None if w is None else int(w))
+        bank.set_friction(mu, row, None if w is None else int(w))
         self._write_friction()
 
     def wheel_friction(self, name: str) -> tuple[float, float, float, float]:
         """Current friction coefficient of each tire (fl, fr, rl, rr) of a vehicle."""
-        return four(self.vehicles.mu[self.vehicles.rows[name]])
+        bank, row = self._driven(name)
+        return four(bank.mu[row])
 
     def set_weather(self, rain: float | None = None, fog: float | None = None) -> None:
         """Record the weather; rain also sets the road friction unless it was set explicitly."""
