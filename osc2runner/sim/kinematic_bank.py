@@ -111,8 +111,8 @@ class KinematicBank(DrivenBank):
             u1[stops] = 0.0
             travelled[stops] = -0.5 * u[stops] * u[stops] / accel[stops]
         # across: the kinematic bicycle at the centre of gravity, within the tires' grip
-        mean = travelled / dt
-        limit = self.grip / np.maximum(mean * mean, 1e-9)
+        fastest = np.maximum(np.abs(u), np.abs(u1))  # the cap holds all through the step
+        limit = self.grip / np.maximum(fastest * fastest, 1e-9)
         curvature = np.tan(bank.delta) / self.wheelbase
         np.minimum(curvature, limit, out=curvature)
         np.maximum(curvature, -limit, out=curvature)

@@ -464,7 +464,10 @@ class World:
             trailers.apply(vehicles.actuators.brake)
         walkers.move()
         self.kinematic.step()
-        mujoco.mj_step(self.model, self.data, nstep=self.substeps)
+        if self.model.nv:
+            mujoco.mj_step(self.model, self.data, nstep=self.substeps)
+        else:  # nothing for the physics to move (kinematic vehicles, walkers, obstacles)
+            self.data.time += self.dt_control
         self.tick += 1
         vehicles.read_step()
         if trailers.count:
