@@ -34,7 +34,8 @@ collision.
 
 The world orchestrates; each body kind is a bank that owns its model indices,
 inputs and read-out (``vehicle_bank.py``, ``trailer_bank.py``, ``walker_bank.py``,
-``obstacle_bank.py``); the model's MJCF is assembled in ``assembly.py``, road
+``obstacle_bank.py``; ``kinematic_bank.py`` for the vehicles a run moves by the
+kinematic model, which have no body in the MuJoCo model); the model's MJCF is assembled in ``assembly.py``, road
 positions kept in ``locating.py``, MuJoCo's divergence warnings in
 ``divergence.py``, and the specs, inputs and states are in ``state.py``.
 
