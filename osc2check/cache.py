@@ -38,31 +38,37 @@ import logging
 import os
 import pickle
 import sys
-import threading
 import zlib
 from collections.abc import Callable, Mapping
 from dataclasses import fields, is_dataclass
 from pathlib import Path
 from typing import Any, TypeVar
 
+from osc2check.fingerprint import checksum, digest, toolkit_fingerprint
 from osc2check.gc_pause import gc_paused
 
 log = logging.getLogger(__name__)
 
-__all__ = ["cache_folder", "cached", "enabled", "load", "set_enabled", "store"]
+__all__ = [
+    "cache_folder",
+    "cached",
+    "digest",
+    "enabled",
+    "load",
+    "set_enabled",
+    "store",
+    "toolkit_fingerprint",
+]
 
 #: the layout of an entry file; change it when the layout or the pickling changes
 FORMAT = "1"
 _MAGIC = b"OSC2CACHE\n"
 _KEEP = 4  # entries of one kind kept (the newest), so old versions do not pile up
 _STALE_TEMP = 3600.0  # seconds after which a left-over temporary file is removed
-_PACKAGE = Path(__file__).resolve().parent
 
 T = TypeVar("T")
 
-_lock = threading.Lock()
 _disabled = False
-_toolkit: str | None = None
 
 
 def set_enabled(on: bool) -> None:
@@ -92,35 +98,6 @@ def cache_folder() -> Path:
     return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "osc2"
 
 
-def toolkit_fingerprint() -> str:
-    """A digest of every module of ``osc2check``: its path, size and modification time."""
-    global _toolkit
-    with _lock:
-        if _toolkit is None:
-            parts: list[str] = []
-            for folder, subfolders, files in os.walk(_PACKAGE):
-                subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
-                for name in sorted(files):
-                    if name.endswith(".py"):
-                        st = os.stat(os.path.join(folder, name))
-                        parts.append(f"{folder}/{name}:{st.st_size}:{st.st_mtime_ns}")
-            _toolkit = _checksum("\n".join(parts).encode())
-        return _toolkit
-
-
-def digest(*texts: str) -> str:
-    """A short digest of some texts, for a key field (``cached(..., {"library": ...})``)."""
-    return _checksum("\0".join(texts).encode("utf-8", "surrogatepass"))
-
-
-def _checksum(data: bytes) -> str:
-    """Two checksums and the length: they tell versions of a text apart, which is all a
-    key needs (an entry holds its whole key, compared on reading). No cryptographic
-    hash: an attacker who can write the cache folder needs none, and importing
-    ``hashlib`` costs more than the rest of a key."""
-    return f"{zlib.crc32(data):08x}{zlib.adler32(data):08x}{len(data):x}"
-
-
 def _full_key(kind: str, key: Mapping[str, str], toolkit: bool = True) -> bytes:
     fields_ = {
         "kind": kind,
@@ -133,7 +110,7 @@ def _full_key(kind: str, key: Mapping[str, str], toolkit: bool = True) -> bytes:
 
 
 def _entry_path(kind: str, full: bytes) -> Path:
-    return cache_folder() / f"{kind}-{_checksum(full)[:16]}.bin"
+    return cache_folder() / f"{kind}-{checksum(full)[:16]}.bin"
 
 
 def load(kind: str, key: Mapping[str, str], *, toolkit: bool = True) -> object | None:
@@ -227,12 +204,12 @@ def _decode(data: bytes, full_key: bytes) -> object:
     if not data.startswith(_MAGIC):
         raise ValueError("not a cache entry")
     end = data.index(b"\n", len(_MAGIC))
-    key_size, size, checksum = (int(x) for x in data[len(_MAGIC) : end].split())
+    key_size, size, crc = (int(x) for x in data[len(_MAGIC) : end].split())
     start = end + 1
     if data[start : start + key_size] != full_key:
         raise ValueError("another key")
     payload = memoryview(data)[start + key_size :]
-    if len(payload) != size or zlib.crc32(payload) != checksum:
+    if len(payload) != size or zlib.crc32(payload) != crc:
         raise ValueError("truncated or damaged")
     with gc_paused():  # tens of thousands of objects that all live on: nothing to collect
         return pickle.loads(payload)

@@ -11,19 +11,24 @@ back by the next one when it declares its first class of that package. Code comp
 text is the same code, so nothing but the time changes; a text not seen before
 is compiled as usual. Python's versions 3.11 to 3.13 call ``exec`` on the
 generated text (3.13 once per class); a version that does not simply never asks.
+
+``dataclasses`` is patched when it is first imported, not before: the ``osc2check``
+command's first steps (a stored result, the resident checker) need neither it nor the
+cache, and importing them would cost those steps a good part of their time.
 """
 
 from __future__ import annotations
 
 import atexit
 import builtins
-import dataclasses
 import marshal
+import sys
 import threading
-from types import CodeType
-from typing import Any
 
-from osc2check import cache
+TYPE_CHECKING = False  # typing's, without importing it (the command's first module)
+if TYPE_CHECKING:
+    from types import CodeType, ModuleType
+    from typing import Any
 
 __all__ = ["install"]
 
@@ -61,6 +66,8 @@ def _exec(source: object, globals: Any = None, locals: Any = None, /) -> None:
 
 def _load(package: str) -> dict[str, CodeType]:
     """A package's stored code (an empty table when there is none, or it is unusable)."""
+    from osc2check import cache
+
     loaded: object = None
     stored = cache.load(_KIND, {"package": package})
     if isinstance(stored, bytes):
@@ -80,11 +87,57 @@ def install() -> None:
         if _installed:
             return
         _installed = True
-    dataclasses.exec = _exec  # type: ignore[attr-defined]  # shadows the builtin there
     atexit.register(_store)
+    module = sys.modules.get("dataclasses")
+    if module is not None:
+        _patch(module)
+    else:
+        sys.meta_path.insert(0, _WhenImported())
+
+
+def _patch(dataclasses: ModuleType) -> None:
+    dataclasses.exec = _exec  # type: ignore[attr-defined]  # shadows the builtin there
+
+
+class _WhenImported:
+    """A module finder that finds nothing itself: it has ``dataclasses`` patched as the
+    other finders' loader runs it, then leaves."""
+
+    def find_spec(self, name: str, path: object = None, target: object = None) -> Any:
+        if name != "dataclasses":
+            return None
+        sys.meta_path.remove(self)
+        for finder in sys.meta_path:
+            find = getattr(finder, "find_spec", None)
+            spec = find(name, path, target) if find is not None else None
+            if spec is not None and spec.loader is not None:
+                spec.loader = _PatchingLoader(spec.loader)
+                return spec
+        return None
+
+
+class _PatchingLoader:
+    """``loader``, patching the module once it has run."""
+
+    def __init__(self, loader: Any) -> None:
+        self._loader = loader
+
+    def create_module(self, spec: Any) -> Any:
+        return self._loader.create_module(spec)
+
+    def exec_module(self, module: ModuleType) -> None:
+        self._loader.exec_module(module)
+        _patch(module)
+
+    def __getattr__(self, name: str) -> Any:  # get_source, is_package, ...
+        return getattr(self._loader, name)
 
 
 def _store() -> None:
+    if not _compiled:
+        return
+    from osc2check import cache
+
     if not cache.enabled():
         return
     for package in sorted(_compiled):

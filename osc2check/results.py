@@ -33,12 +33,13 @@ from __future__ import annotations
 import os
 import sys
 import time
-from collections.abc import Callable
-from typing import Any, NoReturn, TextIO
 
-from osc2check import cache
+TYPE_CHECKING = False  # typing's, without importing it: the command's first module
+if TYPE_CHECKING:
+    from collections.abc import Callable
+    from typing import Any, NoReturn, TextIO
 
-__all__ = ["note_missing", "not_repeatable", "run"]
+__all__ = ["check_here", "check_interruptible", "note_missing", "not_repeatable", "run"]
 
 _KIND = "result"
 _KEEP = 64  # stored results kept (the newest): one per command line and folder
@@ -50,6 +51,8 @@ _COMMANDS = frozenset({"rule", "migrate"})
 _SKIPPED_PREFIXES = ("/proc/", "/dev/", "/sys/")
 _CODE_SUFFIXES = (".py", ".pyc", ".so", ".pyd")
 _FINDER = "importlib._bootstrap_external"
+# variables that do not change what a check prints (where it runs)
+_SAME_OUTPUT = frozenset({"OSC2_RESIDENT", "OSC2_RESIDENT_IDLE"})
 
 # size, modification and change times, inode; None: absent
 Signature = tuple[int, int, int, int] | None
@@ -167,7 +170,9 @@ def _unchanged(dependencies: Dependencies) -> bool:
 
 
 def _key(argv: list[str]) -> dict[str, str]:
-    variables = sorted((k, v) for k, v in os.environ.items() if k.startswith("OSC2"))
+    variables = sorted(
+        (k, v) for k, v in os.environ.items() if k.startswith("OSC2") and k not in _SAME_OUTPUT
+    )
     return {
         "argv": repr(argv),
         "cwd": os.getcwd(),
@@ -216,6 +221,8 @@ class _Tee:
 
 def _replay(argv: list[str]) -> tuple[str, int] | None:
     """The stored output and exit status of ``argv`` when nothing it read has changed."""
+    from osc2check import cache
+
     found = cache.load(_KIND, _key(argv))
     if not isinstance(found, tuple) or len(found) != 3:
         return None
@@ -228,6 +235,8 @@ def _replay(argv: list[str]) -> tuple[str, int] | None:
 def _record(argv: list[str], check: Callable[[list[str]], int]) -> int:
     """``check(argv)``, its result stored when it can be given again."""
     global _recording, _hooked
+    from osc2check import cache
+
     started = time.time_ns()
     recording = _Recording(os.path.join(os.path.abspath(cache.cache_folder()), ""))
     out, err = _Tee(sys.stdout), _Tee(sys.stderr)
@@ -256,19 +265,44 @@ def _record(argv: list[str], check: Callable[[list[str]], int]) -> int:
 
 
 def run() -> NoReturn:
-    """The ``osc2check`` command: the stored result when it still holds, else the check."""
+    """The ``osc2check`` command: by the resident checker with ``OSC2_RESIDENT=1``
+    (:mod:`osc2check.resident`), else here: the stored result when it still holds, else
+    the check."""
     argv = sys.argv[1:]
+    if os.environ.get("OSC2_RESIDENT"):
+        from osc2check import resident
+
+        if resident.enabled():
+            served = resident.request(argv)
+            if served is not None:
+                _exit(served)
+    _exit(check_interruptible(argv))
+
+
+def check_interruptible(argv: list[str]) -> int:
+    """:func:`check_here`; an interrupt (Ctrl-C) said in one line, exit status 130."""
+    try:
+        return check_here(argv)
+    except KeyboardInterrupt:
+        sys.stderr.write("osc2check: interrupted\n")
+        return 130
+
+
+def check_here(argv: list[str]) -> int:
+    """Check ``argv`` in this process: its stored result when it still holds (written
+    out), else the check, its result stored when it can be given again."""
+    from osc2check import cache
+
     storable = _storable(argv) and cache.enabled()
     if storable:
         replayed = _replay(argv)
         if replayed is not None:
             output, status = replayed
             sys.stdout.write(output)
-            _exit(status)
+            return status
     from osc2check import cli
 
-    status = _record(argv, cli.main) if storable else cli.main(argv)
-    _exit(status)
+    return _record(argv, cli.main) if storable else cli.main(argv)
 
 
 def _exit(status: int) -> NoReturn:

@@ -11,7 +11,7 @@ from pathlib import Path
 
 import pytest
 
-from osc2check import cache
+from osc2check import cache, fingerprint
 from osc2check.semantics.profile import OSC_VERSIONS
 from osc2check.semantics.stdlib import standard_library
 
@@ -74,7 +74,7 @@ def test_an_entry_independent_of_the_toolkit_outlives_a_new_version(
 ) -> None:
     cache.store("probe", {}, "toolkit's")
     cache.store("probe-lark", {}, "lark's", toolkit=False)
-    monkeypatch.setattr(cache, "_toolkit", "another version of the toolkit")
+    monkeypatch.setattr(fingerprint, "_toolkit", "another version of the toolkit")
     assert cache.load("probe", {}) is None
     assert cache.load("probe-lark", {}, toolkit=False) == "lark's"
     assert cache.load("probe-lark", {}) is None  # the two kinds of key never meet

@@ -1,0 +1,218 @@
+"""The resident checker (``OSC2_RESIDENT=1``): a check handed to it answers as the command
+would itself (output, errors, exit status, interrupts), and without a resident process,
+or without a folder of the user's own for its socket, the command checks by itself."""
+
+from __future__ import annotations
+
+import os
+import signal
+import socket
+import subprocess
+import sys
+import time
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from osc2check import resident
+
+pytestmark = pytest.mark.skipif(not hasattr(socket, "AF_UNIX"), reason="no Unix sockets")
+
+ROOT = Path(__file__).resolve().parents[2]
+COMMAND = "import sys; sys.argv[0] = 'osc2check'; from osc2check.results import run; run()"
+GOOD = (ROOT / "examples" / "cut_in_and_stop.osc").read_text()
+BAD = """\
+import osc.standard
+
+scenario bad:
+    car: vehicle
+    do car.drive() with:
+        speed(fast_speed)
+"""
+
+
+@pytest.fixture
+def place(tmp_path: Path) -> dict[str, str]:
+    """The command's environment: its own cache and socket folders (short paths: a
+    socket's path has at most about 100 characters)."""
+    run = Path(f"/tmp/osc2r-{os.getpid()}-{time.monotonic_ns()}")
+    run.mkdir(mode=0o700)
+    env = {k: v for k, v in os.environ.items() if not k.startswith("OSC2")}
+    env.update(
+        OSC2_CACHE_DIR=str(tmp_path / "cache"),
+        XDG_RUNTIME_DIR=str(run),
+        OSC2_RESIDENT_IDLE="120",
+    )
+    (tmp_path / "good.osc").write_text(GOOD)
+    (tmp_path / "bad.osc").write_text(BAD)
+    yield env
+    _stop(run)
+    for leftover in sorted(run.rglob("*"), reverse=True):
+        leftover.unlink() if not leftover.is_dir() else leftover.rmdir()
+    run.rmdir()
+
+
+def _stop(run: Path) -> None:
+    """End the resident processes of ``run`` (each wrote its process id in its lock)."""
+    for lock in run.rglob("*.lock"):
+        try:
+            os.kill(int(lock.read_text()), signal.SIGTERM)
+        except (OSError, ValueError):
+            pass
+
+
+def _osc2check(
+    args: list[str],
+    env: dict[str, str],
+    cwd: Path,
+    *,
+    resident_: bool,
+    stdin: str = "",
+    served: bool = True,
+) -> tuple[int, str, str]:
+    """Exit status, output and errors of the command; ``resident_``: with
+    ``OSC2_RESIDENT=1``, and then ``served`` says whether the resident checker must have
+    checked (the command imports no analysis of its own) or must not have."""
+    environment = dict(env, OSC2_RESIDENT="1") if resident_ else env
+    done = subprocess.run(
+        [sys.executable, *(["-X", "importtime"] if resident_ else []), "-c", COMMAND, *args],
+        env=environment,
+        cwd=cwd,
+        input=stdin,
+        capture_output=True,
+        text=True,
+        timeout=300,
+    )
+    errors = done.stderr
+    if resident_:
+        lines = errors.splitlines(keepends=True)
+        imported = [line for line in lines if line.startswith("import time:")]
+        analysed = any(line.endswith(" osc2check.analysis\n") for line in imported)
+        assert analysed is not served, args
+        errors = "".join(line for line in lines if not line.startswith("import time:"))
+    return done.returncode, done.stdout, errors
+
+
+def _serving(env: dict[str, str], cwd: Path) -> None:
+    """Start the resident process and wait until it answers."""
+    subprocess.run(
+        [sys.executable, "-c", COMMAND, "good.osc"],
+        env=dict(env, OSC2_RESIDENT="1"),
+        cwd=cwd,
+        capture_output=True,
+        timeout=300,
+    )
+    folder = Path(env["XDG_RUNTIME_DIR"]) / "osc2check"
+    deadline = time.monotonic() + 240
+    while time.monotonic() < deadline:
+        for path in folder.glob("*.sock"):
+            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
+                try:
+                    probe.connect(str(path))
+                    return
+                except OSError:
+                    pass
+        time.sleep(0.2)
+    raise AssertionError("the resident checker did not start")
+
+
+CASES = [
+    (["good.osc"], ""),
+    (["bad.osc"], ""),
+    (["good.osc", "bad.osc", "--output-format", "json"], ""),
+    (["-", "--stdin-filename", "piped.osc"], BAD),
+    (["missing.osc"], ""),
+    (["--version"], ""),
+    (["good.osc", "--no-cache", "--witness"], ""),
+]
+
+
+def test_a_handed_over_check_answers_as_the_command_does(place, tmp_path):
+    _serving(place, tmp_path)
+    for args, stdin in CASES:
+        here = _osc2check(args, place, tmp_path, resident_=False, stdin=stdin)
+        handed = _osc2check(args, place, tmp_path, resident_=True, stdin=stdin)
+        assert handed == here, args
+    assert _osc2check(["bad.osc"], place, tmp_path, resident_=True)[0] == 1
+
+
+def test_an_edited_file_is_checked_by_the_resident_process(place, tmp_path):
+    _serving(place, tmp_path)
+    for n in range(2):  # edited: no stored result answers it
+        (tmp_path / "good.osc").write_text(GOOD + f"# edit {n}\n")
+        os.utime(tmp_path / "good.osc", (time.time() - 60, time.time() - 60))
+        status, out, _ = _osc2check(["good.osc"], place, tmp_path, resident_=True)
+        assert status == 0 and "All checks passed" in out
+
+
+def test_commands_at_once_are_answered_each_as_alone(place, tmp_path):
+    _serving(place, tmp_path)
+    expected = _osc2check(["bad.osc", "good.osc"], place, tmp_path, resident_=False)
+    with ThreadPoolExecutor(8) as pool:
+        answers = list(
+            pool.map(
+                lambda _: _osc2check(["bad.osc", "good.osc"], place, tmp_path, resident_=True),
+                range(8),
+            )
+        )
+    assert all(answer == expected for answer in answers)
+
+
+def test_an_interrupt_of_the_command_ends_the_check(place, tmp_path):
+    _serving(place, tmp_path)
+    big = tmp_path / "big.osc"
+    sys.path.insert(0, str(ROOT / "bench"))
+    try:
+        from generate import generate
+    finally:
+        sys.path.remove(str(ROOT / "bench"))
+    big.write_text(generate(10000))
+    for signum, status in ((signal.SIGINT, 130), (signal.SIGTERM, -signal.SIGTERM)):
+        started = subprocess.Popen(
+            [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
+            env=dict(place, OSC2_RESIDENT="1"),
+            cwd=tmp_path,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+        time.sleep(1.0)
+        started.send_signal(signum)
+        out, err = started.communicate(timeout=120)
+        assert started.returncode == status
+        assert out == ""
+        assert err == ("osc2check: interrupted\n" if signum == signal.SIGINT else "")
+
+
+def test_without_a_folder_of_its_own_the_command_checks_by_itself(place, tmp_path):
+    shared = Path(place["XDG_RUNTIME_DIR"]) / "osc2check"
+    shared.mkdir(mode=0o700)
+    shared.chmod(0o777)  # others could put a socket there
+    here = _osc2check(["bad.osc"], place, tmp_path, resident_=False)
+    assert _osc2check(["bad.osc"], place, tmp_path, resident_=True, served=False) == here
+    time.sleep(1.0)
+    assert not list(shared.iterdir())  # no resident process was started
+
+
+def test_the_resident_process_leaves_when_idle(place, tmp_path):
+    place = dict(place, OSC2_RESIDENT_IDLE="1")
+    _serving(place, tmp_path)
+    folder = Path(place["XDG_RUNTIME_DIR"]) / "osc2check"
+    deadline = time.monotonic() + 60
+    while list(folder.glob("*.sock")) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not list(folder.glob("*.sock"))
+
+
+def test_another_toolkit_or_module_path_has_another_process(monkeypatch, tmp_path):
+    monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
+    first = resident._address(resident._identity())
+    monkeypatch.setattr(sys, "path", [*sys.path, str(tmp_path)])
+    second = resident._address(resident._identity())
+    monkeypatch.setenv("OSC2_NO_CACHE", "1")
+    third = resident._address(resident._identity())
+    monkeypatch.setenv("OSC2_RESIDENT_IDLE", "5")
+    fourth = resident._address(resident._identity())
+    assert len({first, second, third, fourth}) == 4
+    assert all(a is not None and a.startswith(str(tmp_path)) for a in (first, second))
