@@ -67,10 +67,17 @@ exit status:
   1  findings at or above --fail-on
   2  usage, configuration or I/O error, or an internal error; a file that cannot
      be read is reported for itself and every other file is still checked
+  130  interrupted (Ctrl-C)
 
 Configuration is read from the nearest osc2check.toml or pyproject.toml with a
 [tool.osc2check] table, looking upward from the first path. Options given here
 override it; --ignore adds to the configured ignore list.
+
+environment:
+  OSC2_RESIDENT=1     hand the check to a warm process of this toolkit, started by
+                      the first such command (docs/performance.md)
+  OSC2_RESIDENT_IDLE  seconds that process waits for a check before it exits (600)
+  OSC2_CACHE_DIR      the start-up cache's folder; OSC2_NO_CACHE=1: no cache
 """
 
 

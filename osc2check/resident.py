@@ -15,8 +15,9 @@ One process serves one toolkit: the same ``osc2check`` modules, interpreter, mod
 ``OSC2_*`` variables. It exits after ``OSC2_RESIDENT_IDLE`` seconds without a check
 (default 600). Its socket lives in ``$XDG_RUNTIME_DIR`` or in a folder of the user's own
 in the temporary folder (mode 0700). A connection from another user is refused. When
-no process answers, or the folder is not the user's alone, or the platform has no Unix
-sockets, the command checks by itself, as without the variable.
+no process answers, or the folder is not the user's alone, or the platform cannot pass
+descriptors over a Unix socket or fork (Windows), the command checks by itself, as
+without the variable.
 """
 
 from __future__ import annotations
@@ -46,9 +47,8 @@ _NO_STATUS = -(2**31)
 
 def enabled() -> bool:
     """Whether this command should use the resident checker."""
-    return os.environ.get(ENV, "").lower() in ("1", "yes", "true", "on") and hasattr(
-        socket, "AF_UNIX"
-    )
+    wanted = os.environ.get(ENV, "").lower() in ("1", "yes", "true", "on")
+    return wanted and hasattr(socket, "send_fds") and hasattr(os, "fork")
 
 
 def _identity() -> dict[str, Any]:

@@ -272,10 +272,13 @@ def run() -> NoReturn:
     if os.environ.get("OSC2_RESIDENT"):
         from osc2check import resident
 
-        if resident.enabled():
-            served = resident.request(argv)
-            if served is not None:
-                _exit(served)
+        try:
+            served = resident.request(argv) if resident.enabled() else None
+        except KeyboardInterrupt:  # before the resident process had the check
+            sys.stderr.write("osc2check: interrupted\n")
+            _exit(130)
+        if served is not None:
+            _exit(served)
     _exit(check_interruptible(argv))
 
 

@@ -35,9 +35,10 @@ collision.
 The world orchestrates; each body kind is a bank that owns its model indices,
 inputs and read-out (``vehicle_bank.py``, ``trailer_bank.py``, ``walker_bank.py``,
 ``obstacle_bank.py``; ``kinematic_bank.py`` for the vehicles a run moves by the
-kinematic model, which have no body in the MuJoCo model); the model's MJCF is assembled in ``assembly.py``, road
-positions kept in ``locating.py``, MuJoCo's divergence warnings in
-``divergence.py``, and the specs, inputs and states are in ``state.py``.
+kinematic model, which have no body in the MuJoCo model); the model's MJCF is
+assembled in ``assembly.py``, road positions kept in ``locating.py``, MuJoCo's
+divergence warnings in ``divergence.py``, and the specs, inputs and states are in
+``state.py``.
 
 Friction is a property of the tires (they override the road's geom friction
 by priority): :meth:`World.set_road_friction` writes every tire,
@@ -152,6 +153,8 @@ class World:
         )
         vehicles = [i for i in driven if not self.specs[i].kinematic]
         kinematic = [i for i in driven if self.specs[i].kinematic]
+        if kinematic and physical_collisions:
+            raise ValueError("kinematic vehicles have no body for physical collisions")
         # every (tow vehicle, trailer) pair that may hitch, by world index
         pairs = [(v, t) for t in trailers for v in vehicles if self.can_tow(names[v])]
         body_poses = list(self._initial)
