@@ -10,7 +10,9 @@ model; a name must be such a vehicle. A vehicle may not when:
   tows, and a trailer may be hitched to it at any time).
 
 Anything else the option names is an error before the first tick: a name that is
-not a vehicle of the scenario, a pattern that selects no vehicle.
+not a vehicle of the scenario, a pattern that selects no vehicle (a misspelt one would
+otherwise change nothing without a word). ``*`` alone, "every vehicle that may", may
+select none: a scenario without such vehicles runs as it is.
 """
 
 from __future__ import annotations
@@ -63,7 +65,7 @@ def kinematic_specs(
             continue
         matched = [v for v in vehicles if fnmatchcase(v.name, item)]
         able = [v.name for v in matched if _why_not(v, sut_actor, trailers) is None]
-        if not able:
+        if not able and item != "*":
             vehicles_named = ", ".join(f"`{v.name}`" for v in vehicles) or "none"
             problems.append(
                 f"`{item}` selects no vehicle that can run on the kinematic model "

@@ -229,6 +229,14 @@ def test_a_selection_the_runner_cannot_take_is_refused_before_the_first_tick(
         run(CUT_IN, kinematic=selected, **options)
 
 
+def test_every_vehicle_may_be_none():
+    source = "import osc.standard\n\nscenario lone:\n    walker: person\n    do wait elapsed(1s)\n"
+    prepared = prepare("lone.osc", source=source, kinematic=["*"])
+    assert prepared.world.model_of("walker") == "kinematic"  # a pedestrian, as always
+    with pytest.raises(ScenarioError, match="`w[*]` selects no vehicle"):
+        prepare("lone.osc", source=source, kinematic=["w*"])
+
+
 def test_a_pattern_leaves_out_the_vehicles_that_cannot_be_kinematic():
     sut = SutSpec(PASS_THROUGH, "hero").resolved()
     prepared = prepare(CUT_IN, kinematic=["*"], sut=sut)
