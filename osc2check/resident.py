@@ -220,6 +220,10 @@ def serve(address: str, path: str) -> None:
     lock.write(f"{os.getpid()}\n")  # whom to stop: kill $(cat the .lock file)
     lock.flush()
     _warm_up()
+    import gc
+
+    gc.collect()
+    gc.freeze()  # what every check shares: never scanned again by a child's collections
     try:
         idle = float(os.environ.get(IDLE_ENV, IDLE_SECONDS))
     except ValueError:
