@@ -141,9 +141,36 @@ def store(
     kind: str, key: Mapping[str, str], value: object, *, toolkit: bool = True, keep: int = _KEEP
 ) -> None:
     """Write ``value`` under ``kind`` and ``key`` (atomically; failures are ignored), keeping
-    the newest ``keep`` entries of ``kind``."""
+    the newest ``keep`` entries of ``kind``; after :func:`write_later`, when the process
+    has answered."""
     if not enabled():
         return
+    if _later is not None:
+        _later.append((kind, dict(key), value, toolkit, keep))
+        return
+    _write(kind, key, value, toolkit, keep)
+
+
+_later: list[tuple[str, dict[str, str], object, bool, int]] | None = None
+
+
+def write_later() -> None:
+    """Keep what :func:`store` is given from now on, and write it when :func:`write_kept`
+    is called: for a process that answers first and fills its cache after (the resident
+    checker's child, whose command has exited by then)."""
+    global _later
+    _later = []
+
+
+def write_kept() -> None:
+    """Write what :func:`store` kept since :func:`write_later`, and store at once again."""
+    global _later
+    kept, _later = _later or [], None
+    for kind, key, value, toolkit, keep in kept:
+        _write(kind, key, value, toolkit, keep)
+
+
+def _write(kind: str, key: Mapping[str, str], value: object, toolkit: bool, keep: int) -> None:
     try:
         full = _full_key(kind, key, toolkit)
         data = _encode(value, full)

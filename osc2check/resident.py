@@ -313,7 +313,9 @@ def _check_in_child(conn: socket.socket) -> None:
                 logging.root.removeHandler(handler)
         conn.sendall(os.getpid().to_bytes(4, "big", signed=True))
         status = 2  # from now on the command's output is ours
-        from osc2check import results
+        from osc2check import cache, results
+
+        cache.write_later()  # the command waits for the check, not for the cache
 
         try:
             status = results.check_interruptible(request_["argv"])
@@ -330,8 +332,15 @@ def _check_in_child(conn: socket.socket) -> None:
     finally:
         try:
             conn.sendall(int(status).to_bytes(4, "big", signed=True))
+            conn.close()
         except (OSError, OverflowError):
             pass
+        cache_ = sys.modules.get("osc2check.cache")
+        if cache_ is not None:
+            try:
+                cache_.write_kept()  # the command has its answer: now the cache entries
+            except Exception:  # noqa: BLE001 - nothing is waiting to be told
+                pass
         os._exit(0)
 
 

@@ -12,13 +12,20 @@ cut_in.osc:7:40: N101 [error] undefined name `hreo`
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from functools import lru_cache
 
 from osc2check.diagnostics import Diagnostic
 from osc2check.source import Span
 
 
+@lru_cache(maxsize=16)
+def _lines(text: str) -> tuple[str, ...]:
+    """A text's lines, split once however many findings quote it."""
+    return tuple(text.splitlines())
+
+
 def _source_line(text: str, line: int) -> str | None:
-    lines = text.splitlines()
+    lines = _lines(text)
     return lines[line - 1].rstrip() if 1 <= line <= len(lines) else None
 
 
