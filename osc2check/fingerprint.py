@@ -19,18 +19,22 @@ _toolkit: str | None = None
 
 
 def toolkit_fingerprint() -> str:
-    """A digest of every file of ``osc2check`` (its modules, the grammar, the standard
-    library): its path, size and modification time."""
+    """A digest of every file of ``osc2check``, the grammar and the standard library
+    (inside the package when installed, beside it in a checkout:
+    :mod:`osc2check.resources`): its path, size and modification time."""
     global _toolkit
     with _lock:
         if _toolkit is None:
             parts: list[str] = []
-            for folder, subfolders, files in os.walk(_PACKAGE):
-                subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
-                for name in sorted(files):
-                    if not name.endswith((".pyc", ".pyo")):
-                        st = os.stat(os.path.join(folder, name))
-                        parts.append(f"{folder}/{name}:{st.st_size}:{st.st_mtime_ns}")
+            top = os.path.dirname(_PACKAGE)
+            beside = [os.path.join(top, name) for name in ("grammar", "stdlib")]
+            for root in (_PACKAGE, *(b for b in beside if os.path.isdir(b))):
+                for folder, subfolders, files in os.walk(root):
+                    subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
+                    for name in sorted(files):
+                        if not name.endswith((".pyc", ".pyo")):
+                            st = os.stat(os.path.join(folder, name))
+                            parts.append(f"{folder}/{name}:{st.st_size}:{st.st_mtime_ns}")
             _toolkit = checksum("\n".join(parts).encode())
         return _toolkit
 

@@ -1,23 +1,30 @@
 """The resident checker: with ``OSC2_RESIDENT=1``, ``osc2check`` hands its check to a warm
 process instead of importing and loading everything again.
 
-The first command starts the process (in the background; it checks its own files
-meanwhile) and later ones hand their checks to it. It has imported the analysis, the
-solver and the parser's tables and analysed the standard library once. For each check
-it forks a child that takes over the command's standard input, output and error (passed
-over a Unix socket), its working folder, its environment and its arguments. The child
-checks exactly as the command would: its stored result (:mod:`osc2check.results`), the
-findings, the exit status. It sends the status back, and the command exits with it. An
-interrupt of the command (SIGINT, SIGTERM, SIGHUP) is passed on to the child.
+The first command starts the process (in the background; it checks by itself
+meanwhile) and later ones hand their checks to it. The process has imported the
+analysis, the solver and the parser's tables and analysed the standard library once,
+with no file and no configuration of anyone's. For each check it forks a child that
+takes over the command's standard input, output and error (passed over a Unix socket),
+its working folder, environment, arguments and ignored signals. The child checks
+exactly as the command would: its stored result (:mod:`osc2check.results`), the
+findings, the exit handlers, the exit status. It sends the status back, and the
+command exits with it. Signals to the command are passed on to the child (SIGINT,
+SIGTERM, SIGHUP, SIGQUIT; SIGTSTP stops both, SIGCONT continues both), and a command
+that ends otherwise (SIGKILL) ends its check. The child writes the start-up cache's new
+entries after the command has its answer.
 
-One process serves one toolkit: the same ``osc2check`` modules, interpreter, module path
-(and the folders on it, so an install or upgrade there starts another process) and
-``OSC2_*`` variables. It exits after ``OSC2_RESIDENT_IDLE`` seconds without a check
-(default 600). Its socket lives in ``$XDG_RUNTIME_DIR`` or in a folder of the user's own
-in the temporary folder (mode 0700). A connection from another user is refused. When
-no process answers, or the folder is not the user's alone, or the platform cannot pass
+One process serves one toolkit and one set of process settings: the same ``osc2check``
+files (with the grammar and standard library), interpreter, module path (and the
+folders on it, so an install or upgrade there starts another process), ``OSC2_*`` and
+``PYTHON*`` variables, file mode mask and resource limits. It exits after
+``OSC2_RESIDENT_IDLE`` seconds without a check (default 600); its process id is in the
+``.lock`` file beside its socket. The socket lives in ``$XDG_RUNTIME_DIR`` or in a
+folder of the user's own in the temporary folder (mode 0700); a connection from another
+user is refused. When no process answers in time, the folder is not the user's alone,
+the socket's path is too long, a standard stream is closed, or the platform cannot pass
 descriptors over a Unix socket or fork (Windows), the command checks by itself, as
-without the variable.
+without the variable; nothing has been written by then.
 """
 
 from __future__ import annotations
@@ -41,8 +48,13 @@ __all__ = ["enabled", "request", "serve"]
 ENV = "OSC2_RESIDENT"
 IDLE_ENV = "OSC2_RESIDENT_IDLE"
 IDLE_SECONDS = 600.0
-_FORWARDED = ("SIGINT", "SIGTERM", "SIGHUP")
+#: how long a command waits for the resident process to take its check (its warm-up
+#: included, when the command arrived while it started)
+TAKE_SECONDS = 60.0
+_MAX_ADDRESS = 100  # bytes of a socket's path (the system's limit is about 108)
+_FORWARDED = ("SIGINT", "SIGTERM", "SIGHUP", "SIGQUIT")
 _NO_STATUS = -(2**31)
+_GO = b"\x01"
 
 
 def enabled() -> bool:
@@ -53,12 +65,21 @@ def enabled() -> bool:
 
 def _identity() -> dict[str, Any]:
     """What a resident process must share with the command it serves."""
+    import resource
+
     folders = []  # an install or an upgrade there changes a folder's modification time
     for entry in sys.path:
         try:  # not the working folder ('' or relative): its files come and go
             folders.append(os.stat(entry).st_mtime_ns if os.path.isabs(entry) else 0)
         except OSError:
             folders.append(-1)
+    mask = os.umask(0)
+    os.umask(mask)
+    limits = sorted(
+        (name, resource.getrlimit(getattr(resource, name)))
+        for name in dir(resource)
+        if name.startswith("RLIMIT_")
+    )
     return {
         "toolkit": toolkit_fingerprint(),
         "interpreter": sys.executable,
@@ -66,8 +87,12 @@ def _identity() -> dict[str, Any]:
         "path": list(sys.path),
         "folders": folders,
         "environment": sorted(
-            (k, v) for k, v in os.environ.items() if k.startswith("OSC2") and k != ENV
+            (k, v)
+            for k, v in os.environ.items()
+            if (k.startswith("OSC2") and k != ENV) or k.startswith("PYTHON")
         ),
+        "umask": mask,
+        "limits": limits,
     }
 
 
@@ -94,15 +119,22 @@ def _address(identity: Mapping[str, Any]) -> str | None:
     folder = _folder()
     if folder is None:
         return None
-    return os.path.join(folder, f"{digest(repr(identity))}.sock")
+    address = os.path.join(folder, f"{digest(repr(identity))}.sock")
+    return address if len(os.fsencode(address)) <= _MAX_ADDRESS else None
 
 
 # ---------------------------------------------------------------------- the command's side
 
 
 def request(argv: list[str]) -> int | None:
-    """Check ``argv`` in the resident process: the exit status, or None when none served
-    it (then one is started, and the caller checks by itself; nothing was written)."""
+    """Check ``argv`` in the resident process: the exit status, or None when none took
+    it (then one is started when none runs, and the caller checks by itself: nothing
+    was written)."""
+    for fd in (0, 1, 2):  # a closed one would be taken by the socket
+        try:
+            os.fstat(fd)
+        except OSError:
+            return None
     identity = _identity()
     address = _address(identity)
     if address is None:
@@ -115,6 +147,8 @@ def request(argv: list[str]) -> int | None:
         _start(identity, address)
         return None
     with client:
+        forwarded = [int(getattr(signal, name)) for name in _FORWARDED if hasattr(signal, name)]
+        ignored = [s for s in forwarded if signal.getsignal(s) == signal.SIG_IGN]
         header = marshal.dumps(
             {
                 "argv": argv,
@@ -122,31 +156,23 @@ def request(argv: list[str]) -> int | None:
                 "cwd": os.getcwd(),
                 "environment": dict(os.environ),
                 "streams": [_stream_settings(s) for s in (sys.stdin, sys.stdout, sys.stderr)],
+                "ignored": ignored,
             }
         )
         try:
+            client.settimeout(TAKE_SECONDS)
             socket.send_fds(client, [len(header).to_bytes(8, "big")], [0, 1, 2])
             client.sendall(header)
             pid = _number(client)
-        except OSError:
-            return None  # nothing was checked or written: the caller checks by itself
+        except OSError:  # a timeout too: closing the socket tells the child to give up
+            return None
         if pid == _NO_STATUS:
             return None
-        forwarded: list[int] = []
-
-        def forward(signum: int, _frame: object) -> None:
-            forwarded.append(signum)
-            try:
-                os.kill(pid, signum)
-            except OSError:
-                pass
-
-        previous = {}
-        for name in _FORWARDED:
-            signum = getattr(signal, name, None)
-            if signum is not None:
-                previous[signum] = signal.signal(signum, forward)
+        received: list[int] = []
+        previous = _pass_signals(pid, [s for s in forwarded if s not in ignored], received)
         try:
+            client.settimeout(None)
+            client.sendall(_GO)  # from now on the child writes the command's output
             status = _number(client)
         except OSError:
             status = _NO_STATUS
@@ -154,13 +180,43 @@ def request(argv: list[str]) -> int | None:
             for signum, handler in previous.items():
                 signal.signal(signum, handler)
     if status == _NO_STATUS:
-        if forwarded:  # the check ended by the signal: so does the command
-            signal.signal(forwarded[-1], signal.SIG_DFL)
-            os.kill(os.getpid(), forwarded[-1])
-            return 128 + forwarded[-1]
+        if received:  # the check ended by the signal: so does the command
+            signal.signal(received[-1], signal.SIG_DFL)
+            os.kill(os.getpid(), received[-1])
+            return 128 + received[-1]
         sys.stderr.write("osc2check: error: the resident checker ended before its check did\n")
         return 2
     return status
+
+
+def _pass_signals(pid: int, signums: list[int], received: list[int]) -> dict[int, Any]:
+    """Pass ``signums`` on to the child ``pid`` (a stop stops both, a continue continues
+    both); the handlers they replace, by signal."""
+
+    def forward(signum: int, _frame: object) -> None:
+        received.append(signum)
+        _kill(pid, signum)
+
+    def stop(_signum: int, _frame: object) -> None:
+        _kill(pid, signal.SIGSTOP)
+        os.kill(os.getpid(), signal.SIGSTOP)
+
+    def resume(_signum: int, _frame: object) -> None:
+        _kill(pid, signal.SIGCONT)
+
+    previous = {s: signal.signal(s, forward) for s in signums}
+    for name, handler in (("SIGTSTP", stop), ("SIGCONT", resume)):
+        signum = getattr(signal, name, None)
+        if signum is not None and signal.getsignal(signum) != signal.SIG_IGN:
+            previous[signum] = signal.signal(signum, handler)
+    return previous
+
+
+def _kill(pid: int, signum: int) -> None:
+    try:
+        os.kill(pid, signum)
+    except OSError:
+        pass
 
 
 def _stream_settings(stream: Any) -> dict[str, str] | None:
@@ -196,6 +252,7 @@ def _start(identity: Mapping[str, Any], address: str) -> None:
             stderr=subprocess.DEVNULL,
             start_new_session=True,
             close_fds=True,
+            cwd="/",
         )
     except OSError:
         pass
@@ -208,34 +265,40 @@ def serve(address: str, path: str) -> None:
     """Serve checks at ``address`` until idle for ``OSC2_RESIDENT_IDLE`` seconds, with
     ``path`` (marshalled, in hexadecimal) as the module path."""
     import fcntl
-    from pathlib import Path
+    import math
 
     sys.path[:] = marshal.loads(bytes.fromhex(path))
-    where = Path(address)
-    lock = open(where.with_suffix(".lock"), "w")  # noqa: SIM115 - held for the whole life
+    os.chdir("/")
+    lock_path = address.removesuffix(".sock") + ".lock"
+    lock = open(lock_path, "a+")  # noqa: SIM115 - held for the whole life
     try:
         fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except OSError:
         return  # another process serves this address
+    lock.seek(0)
+    lock.truncate()
     lock.write(f"{os.getpid()}\n")  # whom to stop: kill $(cat the .lock file)
     lock.flush()
-    _warm_up()
-    import gc
-
-    gc.collect()
-    gc.freeze()  # what every check shares: never scanned again by a child's collections
     try:
         idle = float(os.environ.get(IDLE_ENV, IDLE_SECONDS))
     except ValueError:
         idle = IDLE_SECONDS
-    where.unlink(missing_ok=True)
+    if not (math.isfinite(idle) and idle > 0):
+        idle = IDLE_SECONDS
     server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
-    server.bind(address)
-    os.chmod(address, 0o600)
-    server.listen(64)
-    server.settimeout(idle)
-    signal.signal(signal.SIGCHLD, signal.SIG_IGN)  # children are reaped by the system
     try:
+        if os.path.exists(address):
+            os.unlink(address)
+        server.bind(address)
+        os.chmod(address, 0o600)
+        server.listen(64)  # commands that come during the warm-up wait for it
+        _warm_up()
+        import gc
+
+        gc.collect()
+        gc.freeze()  # what every check shares: never scanned again by a child's collections
+        server.settimeout(idle)
+        signal.signal(signal.SIGCHLD, signal.SIG_IGN)  # children are reaped by the system
         while True:
             try:
                 conn, _ = server.accept()
@@ -246,11 +309,16 @@ def serve(address: str, path: str) -> None:
                 continue
             if os.fork() == 0:
                 server.close()
-                _check_in_child(conn)  # never returns
+                _check_in_child(conn, lock.fileno())  # never returns
             conn.close()
+    except OSError:
+        pass  # the socket cannot be made: the commands check by themselves
     finally:
         server.close()
-        where.unlink(missing_ok=True)
+        try:  # the address is ours while the lock is
+            os.unlink(address)
+        except OSError:
+            pass
 
 
 def _same_user(conn: socket.socket) -> bool:
@@ -264,32 +332,33 @@ def _same_user(conn: socket.socket) -> bool:
     return bool(uid == os.getuid())
 
 
+_SAMPLE = """\
+import osc.standard
+
+scenario warm_up:
+    car: vehicle
+    do car.drive(duration: 1s) with:
+        speed(10kph)
+"""
+
+
 def _warm_up() -> None:
-    """Import and load what every check needs: a check of a small file, unseen."""
-    import contextlib
-    import io
-    import tempfile
-    from pathlib import Path
+    """Import and load what every check needs, from a text of its own: no file is read
+    and no configuration is looked for (one found above a folder could name plug-ins)."""
+    from osc2check import analysis, cli, output  # noqa: F401 - imported to be warm
 
-    from osc2check import cli
-
-    with tempfile.TemporaryDirectory() as folder:
-        sample = Path(folder) / "warm_up.osc"
-        sample.write_text(
-            "import osc.standard\n\nscenario warm_up:\n    car: vehicle\n"
-            "    do car.drive(duration: 1s) with:\n        speed(10kph)\n",
-            encoding="utf-8",
-        )
-        with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
-            cli.main([str(sample)])
+    analysis.analyze([analysis.SourceInput("<warm-up>", _SAMPLE)])
 
 
-def _check_in_child(conn: socket.socket) -> None:
-    """Take over the command's streams, folder, environment and arguments, check, and
-    send the exit status."""
+def _check_in_child(conn: socket.socket, lock: int) -> None:
+    """Take over the command's streams, folder, environment and arguments, check when
+    the command says go, and send the exit status."""
+    os.close(lock)  # a lock held by a child would outlive the resident process
     status = _NO_STATUS  # until the command knows the child: it then checks by itself
+    answered = False
     try:
         signal.signal(signal.SIGCHLD, signal.SIG_DFL)
+        conn.settimeout(TAKE_SECONDS)
         first, fds, _flags, _address = socket.recv_fds(conn, 8, 3)
         size = int.from_bytes(first, "big")
         data = b""
@@ -302,34 +371,15 @@ def _check_in_child(conn: socket.socket) -> None:
         for target, fd in zip((0, 1, 2), fds, strict=True):
             os.dup2(fd, target)
             os.close(fd)
-        os.chdir(request_["cwd"])
-        os.environ.clear()
-        os.environ.update(request_["environment"])
-        sys.argv = [request_["argv0"], *request_["argv"]]
-        _take_streams(request_["streams"])
-        logging = sys.modules.get("logging")
-        if logging is not None:  # a handler on the resident process's own stream
-            for handler in list(logging.root.handlers):
-                logging.root.removeHandler(handler)
+        _take_process(request_)
         conn.sendall(os.getpid().to_bytes(4, "big", signed=True))
-        status = 2  # from now on the command's output is ours
-        from osc2check import cache, results
-
-        cache.write_later()  # the command waits for the check, not for the cache
-
-        try:
-            status = results.check_interruptible(request_["argv"])
-        except SystemExit as exc:  # as the interpreter ends a process with it
-            code = exc.code
-            status = code if isinstance(code, int) else (0 if code is None else 1)
-            if isinstance(code, str):
-                sys.stderr.write(code + "\n")
-        for stream in (sys.stdout, sys.stderr):
-            try:
-                stream.flush()
-            except (OSError, ValueError):
-                pass
+        conn.settimeout(None)
+        if conn.recv(1) != _GO:  # the command gave up waiting: it checks by itself
+            os._exit(0)
+        _end_with_the_command(conn, lambda: answered)
+        status = _check(request_["argv"])
     finally:
+        answered = True
         try:
             conn.sendall(int(status).to_bytes(4, "big", signed=True))
             conn.close()
@@ -344,11 +394,84 @@ def _check_in_child(conn: socket.socket) -> None:
         os._exit(0)
 
 
+def _take_process(request_: dict[str, Any]) -> None:
+    """The command's folder, environment, arguments, streams and ignored signals; none of
+    the resident process's exit handlers, log handlers or temporary folder."""
+    import atexit
+
+    os.chdir(request_["cwd"])
+    os.environ.clear()
+    os.environ.update(request_["environment"])
+    sys.argv = [request_["argv0"], *request_["argv"]]
+    _take_streams(request_["streams"])
+    for name in _FORWARDED:
+        signum = getattr(signal, name, None)
+        if signum is not None:
+            ignored = signum in request_["ignored"]
+            default = signal.default_int_handler if name == "SIGINT" else signal.SIG_DFL
+            signal.signal(signum, signal.SIG_IGN if ignored else default)
+    atexit._clear()  # the check's own exit handlers run at its end, as in its own process
+    logging = sys.modules.get("logging")
+    if logging is not None:  # a handler on the resident process's own stream
+        for handler in list(logging.root.handlers):
+            logging.root.removeHandler(handler)
+    tempfile = sys.modules.get("tempfile")
+    if tempfile is not None:
+        setattr(tempfile, "tempdir", None)  # noqa: B010 - found again from the environment
+
+
+def _end_with_the_command(conn: socket.socket, answered: Any) -> None:
+    """End this child when the command ends before its answer (killed): nothing would
+    read what it writes."""
+    import threading
+
+    def watch() -> None:
+        try:
+            conn.recv(1)
+        except OSError:
+            pass
+        if not answered():
+            os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
+def _check(argv: list[str]) -> int:
+    """The check, ended as the interpreter ends the command's own process (its exit
+    handlers, an uncaught exception's traceback and status 1)."""
+    import atexit
+
+    from osc2check import cache, results
+
+    cache.write_later()  # the command waits for the check, not for the cache
+    try:
+        status = results.check_interruptible(argv)
+    except SystemExit as exc:
+        code = exc.code
+        status = code if isinstance(code, int) else (0 if code is None else 1)
+        if isinstance(code, str):
+            sys.stderr.write(code + "\n")
+    except BaseException:  # noqa: BLE001 - as the interpreter reports it
+        import traceback
+
+        traceback.print_exc()
+        status = 1
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):
+            pass
+    return status
+
+
 def _take_streams(settings: list[dict[str, str] | None]) -> None:
     """Standard input, output and error on the command's descriptors, with its encodings
-    (line-buffered on a terminal, as the interpreter opens them)."""
+    (line-buffered on a terminal, unbuffered with ``-u``, as the interpreter opens them)."""
     modes = ("r", "w", "w")
     streams: list[Any] = []
+    # the resident process's own output stream says how the interpreter opened it (-u)
+    unbuffered = bool(getattr(sys.__stdout__, "write_through", False))
     for fd, (mode, setting) in enumerate(zip(modes, settings, strict=True)):
         setting = setting or {"encoding": "utf-8", "errors": "strict"}
         stream = open(  # noqa: SIM115 - the process's own streams
@@ -359,5 +482,7 @@ def _take_streams(settings: list[dict[str, str] | None]) -> None:
             closefd=False,
             buffering=-1 if fd == 0 else 1 if os.isatty(fd) or fd == 2 else -1,
         )
+        if fd and unbuffered:
+            stream.reconfigure(write_through=True)  # type: ignore[attr-defined]
         streams.append(stream)
     sys.stdin, sys.stdout, sys.stderr = streams

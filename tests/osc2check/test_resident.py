@@ -71,7 +71,7 @@ def _osc2check(
     *,
     resident_: bool,
     stdin: str = "",
-    served: bool = True,
+    served: bool | None = True,
 ) -> tuple[int, str, str]:
     """Exit status, output and errors of the command; ``resident_``: with
     ``OSC2_RESIDENT=1``, and then ``served`` says whether the resident checker must have
@@ -91,7 +91,7 @@ def _osc2check(
         lines = errors.splitlines(keepends=True)
         imported = [line for line in lines if line.startswith("import time:")]
         analysed = any(line.endswith(" osc2check.analysis\n") for line in imported)
-        assert analysed is not served, args
+        assert served is None or analysed is not served, args
         errors = "".join(line for line in lines if not line.startswith("import time:"))
     return done.returncode, done.stdout, errors
 
@@ -164,12 +164,7 @@ def test_commands_at_once_are_answered_each_as_alone(place, tmp_path):
 def test_an_interrupt_of_the_command_ends_the_check(place, tmp_path):
     _serving(place, tmp_path)
     big = tmp_path / "big.osc"
-    sys.path.insert(0, str(ROOT / "bench"))
-    try:
-        from generate import generate
-    finally:
-        sys.path.remove(str(ROOT / "bench"))
-    big.write_text(generate(10000))
+    big.write_text(_large())
     for signum, status in ((signal.SIGINT, 130), (signal.SIGTERM, -signal.SIGTERM)):
         started = subprocess.Popen(
             [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
@@ -218,3 +213,135 @@ def test_another_toolkit_or_module_path_has_another_process(monkeypatch, tmp_pat
     fourth = resident._address(resident._identity())
     assert len({first, second, third, fourth}) == 4
     assert all(a is not None and a.startswith(str(tmp_path)) for a in (first, second))
+
+
+# ---------------------------------------------------------------------- the review's cases
+
+PLUG = """\
+import atexit, sys, tempfile, warnings
+print("temporary folder:", tempfile.gettempdir())
+atexit.register(lambda: sys.stderr.write("plug-in: goodbye\\n"))
+"""
+
+
+def test_a_plug_in_sees_the_command_s_process(place, tmp_path):
+    """Its exit handlers run, and it finds the command's temporary folder."""
+    _serving(place, tmp_path)
+    project = tmp_path / "project"
+    project.mkdir()
+    (project / "plug.py").write_text(PLUG)
+    (project / "osc2check.toml").write_text('plugins = ["plug.py"]\n')
+    (project / "good.osc").write_text(GOOD)
+    own_temporary = tmp_path / "own-temporary"
+    own_temporary.mkdir()
+    env = dict(place, TMPDIR=str(own_temporary))
+    here = _osc2check(["good.osc"], env, project, resident_=False)
+    assert str(own_temporary) in here[1] and "plug-in: goodbye" in here[2]
+    assert _osc2check(["good.osc"], env, project, resident_=True) == here
+
+
+def test_the_warm_up_reads_no_configuration(place, tmp_path):
+    """A configuration above the temporary folder names a plug-in: it is never run."""
+    shared = tmp_path / "shared"
+    (shared / "temporary").mkdir(parents=True)
+    marker = tmp_path / "ran"
+    (shared / "evil.py").write_text(f"open({str(marker)!r}, 'w').write('ran')\n")
+    (shared / "osc2check.toml").write_text(f'plugins = ["{shared / "evil.py"}"]\n')
+    env = dict(place, TMPDIR=str(shared / "temporary"))
+    _serving(env, tmp_path)
+    assert _osc2check(["good.osc"], env, tmp_path, resident_=True)[0] == 0
+    assert not marker.exists()
+
+
+def test_a_closed_stream_is_not_handed_over(place, tmp_path):
+    _serving(place, tmp_path)
+    for closed in (0, 1):
+        done = [
+            subprocess.run(
+                [sys.executable, "-c", COMMAND, "-" if closed == 0 else "bad.osc"],
+                env=dict(place, OSC2_RESIDENT="1") if handed else place,
+                cwd=tmp_path,
+                capture_output=closed == 0,
+                preexec_fn=lambda fd=closed: os.close(fd),  # noqa: PLW0108
+                timeout=120,
+            ).returncode
+            for handed in (False, True)
+        ]
+        assert done[0] == done[1]
+
+
+def test_an_ignored_hangup_is_ignored_by_the_check(place, tmp_path):
+    _serving(place, tmp_path)
+    (tmp_path / "big.osc").write_text(_large())
+    started = subprocess.Popen(
+        [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
+        env=dict(place, OSC2_RESIDENT="1"),
+        cwd=tmp_path,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN),
+    )
+    time.sleep(1.0)
+    started.send_signal(signal.SIGHUP)
+    out, _ = started.communicate(timeout=300)
+    assert started.returncode == 1 and "error" in out  # finished, as without the resident
+
+
+def test_a_killed_command_ends_its_check(place, tmp_path):
+    _serving(place, tmp_path)
+    (tmp_path / "big.osc").write_text(_large())
+    with open(tmp_path / "out.txt", "w") as out:
+        started = subprocess.Popen(
+            [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
+            env=dict(place, OSC2_RESIDENT="1"),
+            cwd=tmp_path,
+            stdout=out,
+        )
+        time.sleep(1.0)
+        started.kill()
+        started.wait()
+    time.sleep(8.0)  # longer than the check would take on a quiet machine
+    assert (tmp_path / "out.txt").read_text() == ""
+
+
+def test_the_lock_keeps_the_resident_process_id(place, tmp_path):
+    for _ in range(3):  # commands that come while it warms up
+        _osc2check(["good.osc"], place, tmp_path, resident_=True, served=None)
+    _serving(place, tmp_path)
+    (lock,) = (Path(place["XDG_RUNTIME_DIR"]) / "osc2check").glob("*.lock")
+    pid = int(lock.read_text())
+    os.kill(pid, 0)  # the process is there
+
+
+def test_a_long_socket_path_or_a_bad_idle_time_still_checks(place, tmp_path):
+    long_run = Path(place["XDG_RUNTIME_DIR"]) / ("x" * 90)
+    long_run.mkdir(mode=0o700)
+    env = dict(place, XDG_RUNTIME_DIR=str(long_run))
+    here = _osc2check(["bad.osc"], place, tmp_path, resident_=False)
+    assert _osc2check(["bad.osc"], env, tmp_path, resident_=True, served=False) == here
+    assert not (long_run / "osc2check").exists() or not list((long_run / "osc2check").iterdir())
+    for idle in ("0", "-5", "soon"):
+        _serving(dict(place, OSC2_RESIDENT_IDLE=idle), tmp_path)  # it serves all the same
+
+
+def test_process_settings_have_a_process_of_their_own(monkeypatch, tmp_path):
+    monkeypatch.setenv("XDG_RUNTIME_DIR", str(tmp_path))
+    first = resident._identity()
+    monkeypatch.setenv("PYTHONWARNINGS", "ignore")
+    second = resident._identity()
+    mask = os.umask(0o077)
+    try:
+        third = resident._identity()
+    finally:
+        os.umask(mask)
+    assert first != second != third != first
+
+
+def _large() -> str:
+    sys.path.insert(0, str(ROOT / "bench"))
+    try:
+        from generate import generate
+    finally:
+        sys.path.remove(str(ROOT / "bench"))
+    return generate(10000)
