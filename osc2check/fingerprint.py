@@ -26,9 +26,13 @@ def toolkit_fingerprint() -> str:
     with _lock:
         if _toolkit is None:
             parts: list[str] = []
-            top = os.path.dirname(_PACKAGE)
-            beside = [os.path.join(top, name) for name in ("grammar", "stdlib")]
-            for root in (_PACKAGE, *(b for b in beside if os.path.isdir(b))):
+            roots = [_PACKAGE]
+            for name in ("grammar", "stdlib"):  # where resources.data_dir finds them
+                if not os.path.isdir(os.path.join(_PACKAGE, name)):
+                    beside = os.path.join(os.path.dirname(_PACKAGE), name)
+                    if os.path.isdir(beside):
+                        roots.append(beside)
+            for root in roots:
                 for folder, subfolders, files in os.walk(root):
                     subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
                     for name in sorted(files):

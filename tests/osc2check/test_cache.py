@@ -278,3 +278,31 @@ def test_a_map_file_is_never_taken_from_the_cache(folder: Path, tmp_path: Path) 
         with pytest.raises(MapError, match="longer than a road can be"):
             find_map("Town04.xodr", tmp_path)
     assert find_map("Town03").network.junctions  # the stand-in with a junction, by name
+
+
+def test_the_toolkit_fingerprint_covers_a_checkout_s_grammar_and_library(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """In a checkout the grammar and the standard library are beside the package (where
+    ``resources.data_dir`` finds them): editing them is a new toolkit, as editing a
+    module is."""
+    package = tmp_path / "osc2check"
+    package.mkdir()
+    (package / "module.py").write_text("x = 1\n")
+    (tmp_path / "stdlib").mkdir()
+    library = tmp_path / "stdlib" / "domain.osc"
+    library.write_text("struct a:\n    x: int\n")
+    (tmp_path / "grammar").mkdir()
+    (tmp_path / "grammar" / "osc2.lark").write_text("start: NAME\n")
+
+    def fingerprint_now() -> str:
+        monkeypatch.setattr(fingerprint, "_PACKAGE", str(package))
+        monkeypatch.setattr(fingerprint, "_toolkit", None)
+        return fingerprint.toolkit_fingerprint()
+
+    before = fingerprint_now()
+    library.write_text("struct a:\n    x: int\nstruct b:\n    y: int\n")
+    after_library = fingerprint_now()
+    (package / "module.py").write_text("x = 22\n")
+    after_module = fingerprint_now()
+    assert len({before, after_library, after_module}) == 3
