@@ -37,7 +37,10 @@ def toolkit_fingerprint() -> str:
                     subfolders[:] = sorted(d for d in subfolders if d != "__pycache__")
                     for name in sorted(files):
                         if not name.endswith((".pyc", ".pyo")):
-                            st = os.stat(os.path.join(folder, name))
+                            try:
+                                st = os.stat(os.path.join(folder, name))
+                            except OSError:  # a dangling link (an editor's lock file)
+                                continue
                             parts.append(f"{folder}/{name}:{st.st_size}:{st.st_mtime_ns}")
             _toolkit = checksum("\n".join(parts).encode())
         return _toolkit

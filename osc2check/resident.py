@@ -10,9 +10,9 @@ its working folder, environment, arguments and ignored signals. The child checks
 exactly as the command would: its stored result (:mod:`osc2check.results`), the
 findings, the exit handlers, the exit status. It sends the status back, and the
 command exits with it. Signals to the command are passed on to the child (SIGINT,
-SIGTERM, SIGHUP, SIGQUIT; SIGTSTP stops both, SIGCONT continues both), and a command
-that ends otherwise (SIGKILL) ends its check. The child writes the start-up cache's new
-entries after the command has its answer.
+SIGTERM, SIGHUP, SIGQUIT), and a command that ends otherwise (SIGKILL) ends its check;
+a stop (Ctrl-Z) stops the command alone. The child writes the start-up cache's new
+entries after the command has its answer, its streams let go.
 
 One process serves one toolkit and one set of process settings: the same ``osc2check``
 files (with the grammar and standard library), interpreter, module path (and the
@@ -135,8 +135,11 @@ def request(argv: list[str]) -> int | None:
             os.fstat(fd)
         except OSError:
             return None
-    identity = _identity()
-    address = _address(identity)
+    try:
+        identity = _identity()
+        address = _address(identity)
+    except OSError:  # a file of the toolkit that cannot be looked at: check here
+        return None
     if address is None:
         return None
     client = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
@@ -190,26 +193,16 @@ def request(argv: list[str]) -> int | None:
 
 
 def _pass_signals(pid: int, signums: list[int], received: list[int]) -> dict[int, Any]:
-    """Pass ``signums`` on to the child ``pid`` (a stop stops both, a continue continues
-    both); the handlers they replace, by signal."""
+    """Pass ``signums`` on to the child ``pid``; the handlers they replace, by signal.
+
+    A stop (Ctrl-Z) is not passed on: a child stopped with a command that is then
+    killed would stay stopped, holding the command's streams open."""
 
     def forward(signum: int, _frame: object) -> None:
         received.append(signum)
         _kill(pid, signum)
 
-    def stop(_signum: int, _frame: object) -> None:
-        _kill(pid, signal.SIGSTOP)
-        os.kill(os.getpid(), signal.SIGSTOP)
-
-    def resume(_signum: int, _frame: object) -> None:
-        _kill(pid, signal.SIGCONT)
-
-    previous = {s: signal.signal(s, forward) for s in signums}
-    for name, handler in (("SIGTSTP", stop), ("SIGCONT", resume)):
-        signum = getattr(signal, name, None)
-        if signum is not None and signal.getsignal(signum) != signal.SIG_IGN:
-            previous[signum] = signal.signal(signum, handler)
-    return previous
+    return {s: signal.signal(s, forward) for s in signums}
 
 
 def _kill(pid: int, signum: int) -> None:
@@ -319,6 +312,9 @@ def serve(address: str, path: str) -> None:
             os.unlink(address)
         except OSError:
             pass
+        lock.seek(0)
+        lock.truncate()  # no process id left to kill by mistake
+        lock.close()
 
 
 def _same_user(conn: socket.socket) -> bool:
@@ -376,8 +372,14 @@ def _check_in_child(conn: socket.socket, lock: int) -> None:
         conn.settimeout(None)
         if conn.recv(1) != _GO:  # the command gave up waiting: it checks by itself
             os._exit(0)
-        _end_with_the_command(conn, lambda: answered)
-        status = _check(request_["argv"])
+        status = 2  # from now on the command's output is ours
+        try:
+            _end_with_the_command(conn, lambda: answered)
+            status = _check(request_["argv"])
+        except KeyboardInterrupt:  # before the check began
+            sys.stderr.write("osc2check: interrupted\n")
+            sys.stderr.flush()
+            status = 130
     finally:
         answered = True
         try:
@@ -385,6 +387,7 @@ def _check_in_child(conn: socket.socket, lock: int) -> None:
             conn.close()
         except (OSError, OverflowError):
             pass
+        _let_go_of_the_streams()  # whoever reads the command's output sees its end now
         cache_ = sys.modules.get("osc2check.cache")
         if cache_ is not None:
             try:
@@ -392,6 +395,18 @@ def _check_in_child(conn: socket.socket, lock: int) -> None:
             except Exception:  # noqa: BLE001 - nothing is waiting to be told
                 pass
         os._exit(0)
+
+
+def _let_go_of_the_streams() -> None:
+    """Standard input, output and error on the null device: the command's are closed
+    here, so a pipe that reads its output ends with the command, not with this child."""
+    try:
+        null = os.open(os.devnull, os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(null, fd)
+        os.close(null)
+    except OSError:
+        pass
 
 
 def _take_process(request_: dict[str, Any]) -> None:
@@ -480,6 +495,7 @@ def _take_streams(settings: list[dict[str, str] | None]) -> None:
             encoding=setting["encoding"],
             errors=setting["errors"],
             closefd=False,
+            newline="\n",  # as the interpreter opens them on POSIX: no translation
             buffering=-1 if fd == 0 else 1 if os.isatty(fd) or fd == 2 else -1,
         )
         if fd and unbuffered:
