@@ -547,6 +547,8 @@ def _read(entries: list[_Input | InputProblem]) -> tuple[list[SourceInput], list
             continue
         try:
             if entry.path is None:
+                if sys.stdin is None:  # closed when the process started (<&-)
+                    raise InputError("standard input is closed")
                 data = inputs.read_stream(sys.stdin.buffer)
             else:
                 data = inputs.read_bytes(entry.path)

@@ -269,6 +269,9 @@ def run() -> NoReturn:
     (:mod:`osc2check.resident`), else here: the stored result when it still holds, else
     the check."""
     argv = sys.argv[1:]
+    for name in ("stdout", "stderr"):  # closed when the process started (>&-): no output
+        if getattr(sys, name) is None:
+            setattr(sys, name, open(os.devnull, "w"))  # noqa: SIM115
     if os.environ.get("OSC2_RESIDENT"):
         from osc2check import resident
 

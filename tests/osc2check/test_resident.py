@@ -255,20 +255,25 @@ def test_the_warm_up_reads_no_configuration(place, tmp_path):
 
 
 def test_a_closed_stream_is_not_handed_over(place, tmp_path):
+    """Nor does it end in an internal error: a closed standard input cannot be read
+    (exit 2), a closed output loses the findings but not the exit status."""
     _serving(place, tmp_path)
-    for closed in (0, 1):
-        done = [
-            subprocess.run(
-                [sys.executable, "-c", COMMAND, "-" if closed == 0 else "bad.osc"],
+    for closed, argv, expected in ((0, "-", 2), (1, "bad.osc", 1)):
+        for handed in (False, True):
+            done = subprocess.run(
+                [sys.executable, "-c", COMMAND, argv],
                 env=dict(place, OSC2_RESIDENT="1") if handed else place,
                 cwd=tmp_path,
-                capture_output=closed == 0,
+                stdout=subprocess.PIPE if closed != 1 else None,
+                stderr=subprocess.PIPE,
+                text=True,
                 preexec_fn=lambda fd=closed: os.close(fd),  # noqa: PLW0108
                 timeout=120,
-            ).returncode
-            for handed in (False, True)
-        ]
-        assert done[0] == done[1]
+            )
+            assert done.returncode == expected, (argv, handed)
+            assert "internal error" not in done.stderr and "Traceback" not in done.stderr
+            if closed == 0:
+                assert "<stdin>: cannot read: standard input is closed" in done.stderr
 
 
 def test_an_ignored_hangup_is_ignored_by_the_check(place, tmp_path):
