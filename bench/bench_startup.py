@@ -37,8 +37,6 @@ from __future__ import annotations
 
 import os
 import resource
-import signal
-import socket
 import statistics
 import subprocess
 import sys
@@ -51,6 +49,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
 
 from generate import generate  # noqa: E402
+
+from osc2check import resident  # noqa: E402
 
 SMALL = ROOT / "examples" / "cut_in_and_stop.osc"
 _COMMAND = "import sys; from osc2check.results import run; sys.argv[0] = 'osc2check'; run()"
@@ -167,11 +167,7 @@ def main() -> None:
         max(runs // 3, 3),
         before=edit,
     )
-    for lock in (work / "run" / "osc2check").glob("*.lock"):
-        try:
-            os.kill(int(lock.read_text()), signal.SIGTERM)
-        except (OSError, ValueError):
-            pass
+    resident.stop(str(work / "run" / "osc2check"))
     print("(machine: `nproc` =", os.cpu_count(), "; load average", os.getloadavg(), ")")
 
 
@@ -179,17 +175,8 @@ def _resident_ready(cmd: list[str], env: dict[str, str], folder: Path) -> None:
     """Run ``cmd`` once (it starts the resident process) and wait until the process
     answers at its socket in ``folder``."""
     subprocess.run(cmd, env=env, capture_output=True, check=False)
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline:
-        for path in folder.glob("*.sock"):
-            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
-                try:
-                    probe.connect(str(path))
-                    return
-                except OSError:
-                    pass
-        time.sleep(0.2)
-    raise SystemExit("the resident checker did not start")
+    if not resident.answering(str(folder), wait=120):
+        raise SystemExit("the resident checker did not start")
 
 
 if __name__ == "__main__":

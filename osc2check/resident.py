@@ -18,13 +18,14 @@ One process serves one toolkit and one set of process settings: the same ``osc2c
 files (with the grammar and standard library), interpreter, module path (and the
 folders on it, so an install or upgrade there starts another process), ``OSC2_*`` and
 ``PYTHON*`` variables, file mode mask and resource limits. It exits after
-``OSC2_RESIDENT_IDLE`` seconds without a check (default 600); its process id is in the
-``.lock`` file beside its socket. The socket lives in ``$XDG_RUNTIME_DIR`` or in a
-folder of the user's own in the temporary folder (mode 0700); a connection from another
-user is refused. When no process answers in time, the folder is not the user's alone,
-the socket's path is too long, a standard stream is closed, or the platform cannot pass
-descriptors over a Unix socket or fork (Windows), the command checks by itself, as
-without the variable; nothing has been written by then.
+``OSC2_RESIDENT_IDLE`` seconds without a check (default 600), or on SIGTERM
+(:func:`stop`); its process id is in the ``.lock`` file beside its socket. The socket
+lives in ``$XDG_RUNTIME_DIR`` or in a folder of the user's own in the temporary folder
+(mode 0700); a connection from another user is refused. When no process answers in
+time, the folder is not the user's alone, the socket's path is too long, a standard
+stream is closed, or the platform cannot pass descriptors over a Unix socket or fork
+(Windows), the command checks by itself, as without the variable; nothing has been
+written by then.
 """
 
 from __future__ import annotations
@@ -43,7 +44,7 @@ if TYPE_CHECKING:
     from collections.abc import Mapping
     from typing import Any
 
-__all__ = ["enabled", "request", "serve"]
+__all__ = ["answering", "enabled", "request", "serve", "stop"]
 
 ENV = "OSC2_RESIDENT"
 IDLE_ENV = "OSC2_RESIDENT_IDLE"
@@ -121,6 +122,50 @@ def _address(identity: Mapping[str, Any]) -> str | None:
         return None
     address = os.path.join(folder, f"{digest(repr(identity))}.sock")
     return address if len(os.fsencode(address)) <= _MAX_ADDRESS else None
+
+
+def answering(folder: str, wait: float = 0.0) -> bool:
+    """Whether a resident process answers at a socket in ``folder`` (its sockets' folder,
+    ``$XDG_RUNTIME_DIR/osc2check``), asking again for up to ``wait`` seconds: for a
+    script that starts one and waits for it."""
+    import glob
+    import time
+
+    deadline = time.monotonic() + wait
+    while True:
+        for path in glob.glob(os.path.join(glob.escape(folder), "*.sock")):
+            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
+                try:
+                    probe.connect(path)
+                    return True
+                except OSError:
+                    pass
+        if time.monotonic() >= deadline:
+            return False
+        time.sleep(0.2)
+
+
+def stop(folder: str) -> int:
+    """Stop the resident processes whose sockets are in ``folder`` (SIGTERM to the process
+    id in each lock a process still holds: never a stale id); how many."""
+    import fcntl
+    import glob
+
+    stopped = 0
+    for path in glob.glob(os.path.join(glob.escape(folder), "*.lock")):
+        try:
+            with open(path) as lock:
+                try:
+                    fcntl.flock(lock, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                    continue  # nobody holds it: its process has left
+                except OSError:
+                    pid = int(lock.read() or "0")
+            if pid > 0:
+                os.kill(pid, signal.SIGTERM)
+                stopped += 1
+        except (OSError, ValueError):
+            pass
+    return stopped
 
 
 # ---------------------------------------------------------------------- the command's side
@@ -270,7 +315,7 @@ def serve(address: str, path: str) -> None:
         return  # another process serves this address
     lock.seek(0)
     lock.truncate()
-    lock.write(f"{os.getpid()}\n")  # whom to stop: kill $(cat the .lock file)
+    lock.write(f"{os.getpid()}\n")  # whom to stop (resident.stop), while the lock is held
     lock.flush()
     try:
         idle = float(os.environ.get(IDLE_ENV, IDLE_SECONDS))
@@ -279,6 +324,8 @@ def serve(address: str, path: str) -> None:
     if not (math.isfinite(idle) and idle > 0):
         idle = IDLE_SECONDS
     server = socket.socket(socket.AF_UNIX, socket.SOCK_STREAM)
+    # stopped (resident.stop): its socket and lock are cleared as when it leaves idle
+    signal.signal(signal.SIGTERM, lambda _signum, _frame: sys.exit(0))
     try:
         if os.path.exists(address):
             os.unlink(address)
@@ -307,13 +354,13 @@ def serve(address: str, path: str) -> None:
     except OSError:
         pass  # the socket cannot be made: the commands check by themselves
     finally:
+        lock.seek(0)
+        lock.truncate()  # no process id left to kill by mistake
         server.close()
         try:  # the address is ours while the lock is
             os.unlink(address)
         except OSError:
             pass
-        lock.seek(0)
-        lock.truncate()  # no process id left to kill by mistake
         lock.close()
 
 

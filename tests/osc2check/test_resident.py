@@ -5,6 +5,7 @@ or without a folder of the user's own for its socket, the command checks by itse
 from __future__ import annotations
 
 import os
+import shutil
 import signal
 import socket
 import subprocess
@@ -12,6 +13,7 @@ import sys
 import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 import pytest
 
@@ -49,17 +51,19 @@ def place(tmp_path: Path) -> dict[str, str]:
     (tmp_path / "good.osc").write_text(GOOD)
     (tmp_path / "bad.osc").write_text(BAD)
     yield env
-    _stop(run)
-    for leftover in sorted(run.rglob("*"), reverse=True):
-        leftover.unlink() if not leftover.is_dir() else leftover.rmdir()
-    run.rmdir()
+    resident.stop(str(run / "osc2check"))
+    _end_started(run)
+    shutil.rmtree(run, ignore_errors=True)  # its files go as the processes leave
 
 
-def _stop(run: Path) -> None:
-    """End the resident processes of ``run`` (each wrote its process id in its lock)."""
-    for lock in run.rglob("*.lock"):
+def _end_started(run: Path) -> None:
+    """End the resident processes started for ``run`` that hold no lock yet (started by
+    a command while another one served): they are found by the socket path they were
+    given (Linux's /proc; elsewhere they leave when idle)."""
+    for cmdline in Path("/proc").glob("[0-9]*/cmdline"):
         try:
-            os.kill(int(lock.read_text()), signal.SIGTERM)
+            if str(run).encode() in cmdline.read_bytes():
+                os.kill(int(cmdline.parent.name), signal.SIGTERM)
         except (OSError, ValueError):
             pass
 
@@ -106,17 +110,7 @@ def _serving(env: dict[str, str], cwd: Path) -> None:
         timeout=300,
     )
     folder = Path(env["XDG_RUNTIME_DIR"]) / "osc2check"
-    deadline = time.monotonic() + 240
-    while time.monotonic() < deadline:
-        for path in folder.glob("*.sock"):
-            with socket.socket(socket.AF_UNIX, socket.SOCK_STREAM) as probe:
-                try:
-                    probe.connect(str(path))
-                    return
-                except OSError:
-                    pass
-        time.sleep(0.2)
-    raise AssertionError("the resident checker did not start")
+    assert resident.answering(str(folder), wait=240), "the resident checker did not start"
 
 
 CASES = [
@@ -163,18 +157,8 @@ def test_commands_at_once_are_answered_each_as_alone(place, tmp_path):
 
 def test_an_interrupt_of_the_command_ends_the_check(place, tmp_path):
     _serving(place, tmp_path)
-    big = tmp_path / "big.osc"
-    big.write_text(_large())
     for signum, status in ((signal.SIGINT, 130), (signal.SIGTERM, -signal.SIGTERM)):
-        started = subprocess.Popen(
-            [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
-            env=dict(place, OSC2_RESIDENT="1"),
-            cwd=tmp_path,
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        time.sleep(1.0)
+        started = _check_large(place, tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         started.send_signal(signum)
         out, err = started.communicate(timeout=120)
         assert started.returncode == status
@@ -278,17 +262,13 @@ def test_a_closed_stream_is_not_handed_over(place, tmp_path):
 
 def test_an_ignored_hangup_is_ignored_by_the_check(place, tmp_path):
     _serving(place, tmp_path)
-    (tmp_path / "big.osc").write_text(_large())
-    started = subprocess.Popen(
-        [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
-        env=dict(place, OSC2_RESIDENT="1"),
-        cwd=tmp_path,
+    started = _check_large(
+        place,
+        tmp_path,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
-        text=True,
         preexec_fn=lambda: signal.signal(signal.SIGHUP, signal.SIG_IGN),
     )
-    time.sleep(1.0)
     started.send_signal(signal.SIGHUP)
     out, _ = started.communicate(timeout=300)
     assert started.returncode == 1 and "error" in out  # finished, as without the resident
@@ -296,15 +276,8 @@ def test_an_ignored_hangup_is_ignored_by_the_check(place, tmp_path):
 
 def test_a_killed_command_ends_its_check(place, tmp_path):
     _serving(place, tmp_path)
-    (tmp_path / "big.osc").write_text(_large())
     with open(tmp_path / "out.txt", "w") as out:
-        started = subprocess.Popen(
-            [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
-            env=dict(place, OSC2_RESIDENT="1"),
-            cwd=tmp_path,
-            stdout=out,
-        )
-        time.sleep(1.0)
+        started = _check_large(place, tmp_path, stdout=out)
         started.kill()
         started.wait()
     time.sleep(8.0)  # longer than the check would take on a quiet machine
@@ -315,9 +288,16 @@ def test_the_lock_keeps_the_resident_process_id(place, tmp_path):
     for _ in range(3):  # commands that come while it warms up
         _osc2check(["good.osc"], place, tmp_path, resident_=True, served=None)
     _serving(place, tmp_path)
-    (lock,) = (Path(place["XDG_RUNTIME_DIR"]) / "osc2check").glob("*.lock")
+    folder = Path(place["XDG_RUNTIME_DIR"]) / "osc2check"
+    (lock,) = folder.glob("*.lock")
     pid = int(lock.read_text())
     os.kill(pid, 0)  # the process is there
+    assert resident.stop(str(folder)) == 1
+    deadline = time.monotonic() + 60
+    while resident.answering(str(folder)) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert lock.read_text() == ""  # emptied as it left
+    assert resident.stop(str(folder)) == 0  # no process id is taken from a free lock
 
 
 def test_a_long_socket_path_or_a_bad_idle_time_still_checks(place, tmp_path):
@@ -342,6 +322,21 @@ def test_process_settings_have_a_process_of_their_own(monkeypatch, tmp_path):
     finally:
         os.umask(mask)
     assert first != second != third != first
+
+
+def _check_large(env: dict[str, str], cwd: Path, **streams: Any) -> subprocess.Popen[str]:
+    """Start the check of a 10,000-line file handed to the resident process, and give it
+    a second to be under way."""
+    (cwd / "big.osc").write_text(_large())
+    started = subprocess.Popen(
+        [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
+        env=dict(env, OSC2_RESIDENT="1"),
+        cwd=cwd,
+        text=True,
+        **streams,
+    )
+    time.sleep(1.0)
+    return started
 
 
 def _large() -> str:
