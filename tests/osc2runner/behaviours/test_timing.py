@@ -79,6 +79,32 @@ def test_speed_at_end_is_reached_when_the_phase_ends_at_a_constant_rate():
     assert car["speed"][start + 20] < 64 * KPH  # not there at once
 
 
+BRISK_SPEED_AT_END = """\
+scenario brisk:
+    car: vehicle
+    keep(car.vehicle_category == vehicle_category!car)
+    do serial:
+        cruise: car.drive(duration: 5s) with:
+            speed(speed: {v0}mps, at: start)
+        change: car.drive(duration: 4s) with:
+            speed(speed: {v1}mps, at: end)
+"""
+
+
+@pytest.mark.parametrize(("v0", "v1"), [(10, 20), (0, 8)])
+def test_a_brisk_speed_at_end_lands_on_its_target_without_running_past_it(v0, v1):
+    """Scena's cruise scenario: 10 to 20 m/s in 4 s (2.6 m/s², near what the car can).
+    The ramp's acceleration used to drop to zero at once, which the pedal cannot
+    follow, and the car ran 0.22 m/s (from standstill to 8 m/s: 0.16 m/s) past the
+    target when the phase ended, over the tolerance of 0.15 m/s: a false failure."""
+    result = _run(BRISK_SPEED_AT_END.format(v0=v0, v1=v1), duration=12.0)
+    assert result.outcome.status == "success", result.outcome.reason
+    speed = result.telemetry["car"]["speed"]
+    start, end = _tick(result, "start", "change.start"), _tick(result, "end", "change.end")
+    assert speed[end] == pytest.approx(v1, abs=0.1)
+    assert max(speed[start : end + 1]) <= v1 + 0.1  # it does not run past the target
+
+
 SPEED_AT_END_OPEN = """\
 scenario accelerate:
     car: vehicle
