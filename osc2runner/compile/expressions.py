@@ -307,6 +307,11 @@ class ExpressionCompiler:
         env = self.env
         if sym.kind is SymbolKind.ENUM_MEMBER:
             return constant(sym.name)
+        if sym.kind is SymbolKind.GLOBAL:  # `global min_gap: length = 10m`: the witness's
+            try:
+                return constant(to_runtime(env.values.value(sym)))
+            except NotConstant as exc:
+                raise CompileProblem(str(exc), node) from None
         if sym.kind in (SymbolKind.FIELD, SymbolKind.VARIABLE):
             named = actor_alias(self.model, sym) or sym  # `other: vehicle = npc` is npc
             actor = env.actors.get(named.name)

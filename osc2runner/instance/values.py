@@ -75,18 +75,20 @@ class ScenarioValues:
         self._structs: dict[str, StructValue] = {}
 
     def value(self, field: Symbol) -> Value:
-        """The value of a scenario parameter; NotConstant when the witness has none.
+        """The value of a scenario parameter, or of a global parameter (the witness's
+        ``::name``); NotConstant when the witness has none.
 
         A road, route, lane or junction parameter is the map element the witness
         chose. A struct parameter (``position_3d``, ``pose_3d``, ...) is built from the
         witness's values of its scalar leaves (``p.position.x``): a
         :class:`~osc2runner.structs.StructValue` of run-time values (:meth:`struct`)."""
-        element = self.witness.element(field.name)
+        path = f"::{field.name}" if field.kind is SymbolKind.GLOBAL else field.name
+        element = self.witness.element(path)
         if element is not None:
             return element  # type: ignore[return-value]
         if is_struct(field.type):
-            return self.struct(field.name, field)  # type: ignore[return-value]
-        p = self._by_name.get(field.name)
+            return self.struct(path, field)  # type: ignore[return-value]
+        p = self._by_name.get(path)
         if p is None:
             raise NotConstant(
                 f"the checker's witness gives `{field.name}` no value (the solver cannot "

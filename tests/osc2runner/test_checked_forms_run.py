@@ -215,3 +215,37 @@ scenario host:
     assert result.outcome.status == "success", result.outcome.reason
     assert result.telemetry == {}
     assert result.metadata["witness"]["actors"] == []
+
+
+GLOBALS = """\
+import osc.standard
+
+global cruise: speed = 40kph
+global slow: bool = false
+global lanes: int = 2
+global pause: time = 1s
+
+scenario top:
+    car: vehicle
+    do serial:
+        car.drive(duration: 3s) with:
+            speed(slow ? 20kph : cruise)
+            lane(lanes, at: start)
+        wait elapsed(pause)
+"""
+
+
+def test_global_parameters_have_the_witness_values(tmp_path):
+    """A `global` parameter used in an argument or an expression: the runner refused
+    each use (`the global parameter ... is not a value`) of a file the checker passed;
+    the witness has their values (`::cruise`)."""
+    source = tmp_path / "g.osc"
+    source.write_text(GLOBALS)
+    analysis = analyze([SourceInput(str(source), GLOBALS)], AnalysisOptions())
+    assert analysis.diagnostics == []
+    result = run(source, duration=10)
+    assert result.outcome.status == "success", result.outcome.reason
+    car = result.telemetry["car"]
+    assert car["lane"][0] == 2
+    assert car["speed"][59] == pytest.approx(40 * KPH, abs=0.5 * KPH)
+    assert result.outcome.time == pytest.approx(4.0)  # the drive, then the pause
