@@ -32,9 +32,10 @@ from osc2check.config import (
     OUTPUT_FORMATS,
     Config,
     ConfigError,
+    add_config_arguments,
     add_language_arguments,
+    chosen_config,
     load_config,
-    load_config_file,
     parse_codes,
     parse_severity,
     with_language_arguments,
@@ -161,8 +162,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--exit-zero", action="store_true", help="exit 0 even when there are findings")
     add_language_arguments(p)
-    p.add_argument("--config", metavar="FILE", help="read the configuration from FILE")
-    p.add_argument("--isolated", action="store_true", help="ignore configuration files")
+    add_config_arguments(p)
     p.add_argument(
         "--statistics", action="store_true", help="print a count per code instead of findings"
     )
@@ -377,16 +377,9 @@ def _report_problems(problems: list[InputProblem], quiet: bool) -> None:
 
 
 def _load_config(args: argparse.Namespace, paths: list[str]) -> Config:
-    if args.config:
-        try:  # a FIFO named as the configuration must not block the run
-            why = inputs.not_regular(inputs.probe(args.config))
-        except InputError:
-            why = None  # the configuration loader says why it cannot read it
-        if why:
-            raise UsageError(f"{args.config}: cannot read: {why}")
-        return load_config_file(args.config)
-    if args.isolated:
-        return Config()
+    chosen = chosen_config(args)
+    if chosen is not None:
+        return chosen
     first = paths[0]
     if first == STDIN:
         start = Path(args.stdin_filename).parent if args.stdin_filename else Path.cwd()

@@ -23,7 +23,7 @@ from urllib.parse import unquote, urlparse
 from osc2check import codes
 from osc2check.codes import Code, Severity
 from osc2check.diagnostics import Diagnostic
-from osc2check.inputs import is_file
+from osc2check.inputs import InputError, is_file, not_regular, probe
 from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, DIALECTS, OSC_VERSIONS
@@ -537,6 +537,33 @@ def config_for(scenario: str | Path) -> Config:
     (what ``osc2check FILE`` reads; ``osc2run`` and ``osc2lsp`` read the same)."""
     config, _ = load_config(Path(scenario).resolve().parent)
     return config
+
+
+# --- which configuration: --config FILE, --isolated (osc2check, osc2run) ------------
+
+
+def add_config_arguments(parser: Any) -> None:
+    """``--config FILE`` and ``--isolated`` on an ``argparse`` parser (osc2check,
+    osc2run): the same configuration for the checker and the runner."""
+    parser.add_argument("--config", metavar="FILE", help="read the configuration from FILE")
+    parser.add_argument("--isolated", action="store_true", help="ignore configuration files")
+
+
+def chosen_config(args: Any) -> Config | None:
+    """The configuration ``--config FILE`` names (a FIFO or a folder is refused before it
+    is opened, so it cannot block), ``Config()`` with ``--isolated``, else None: the
+    nearest one above the file applies."""
+    if args.config:
+        try:
+            why = not_regular(probe(args.config))
+        except InputError:
+            why = None  # the loader says why it cannot read it
+        if why:
+            raise ConfigError(f"cannot read: {why}", args.config)
+        return load_config_file(args.config)
+    if args.isolated:
+        return Config()
+    return None
 
 
 # --- the language options, the same in every command -------------------------------

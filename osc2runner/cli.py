@@ -32,7 +32,9 @@ from typing import TYPE_CHECKING, NoReturn, TextIO, TypeVar
 
 from osc2check.config import (
     ConfigError,
+    add_config_arguments,
     add_language_arguments,
+    chosen_config,
     config_for,
     with_language_arguments,
 )
@@ -180,6 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--sut-actor", metavar="NAME", help="the actor the system under test drives")
     add_language_arguments(p)
+    add_config_arguments(p)
     p.add_argument(
         "--step-timeout",
         metavar="S",
@@ -329,13 +332,17 @@ def _kinematic(given: list[str] | None) -> tuple[str, ...]:
 
 
 def _config(args: argparse.Namespace) -> Config | None:
-    """The checker's configuration for FILE (``[tool.osc2check]``, as ``osc2check FILE``
-    reads it) with ``--osc-version`` and ``--dialect`` on top; None without a FILE (a
+    """The checker's configuration for FILE (``--config FILE``, ``--isolated``, else the
+    ``[tool.osc2check]`` above FILE: what ``osc2check`` reads with the same options) with
+    ``--osc-version`` and ``--dialect`` on top; None without a FILE or ``--config`` (a
     campaign resumed from its folder reads it there)."""
-    if args.file is None:
-        return None
     try:
-        config = with_language_arguments(config_for(args.file), args)
+        chosen = chosen_config(args)
+        if chosen is None and args.file is None:
+            return None
+        config = with_language_arguments(
+            chosen if chosen is not None else config_for(args.file), args
+        )
         config.plugin_registry()  # a plug-in that cannot be loaded: said before anything runs
         return config
     except ConfigError as exc:

@@ -102,3 +102,53 @@ def test_the_python_api_takes_a_configuration_or_reads_the_files(tmp_path):
     checked = check_file(path, config=Config(osc_version="2.2", dialect="standard"))
     assert checked.analysis.programs[str(path)].library.key == "2.2/standard"
     assert load_config_file(tmp_path / "osc2check.toml").osc_version == "2.2"
+
+
+HELPERS = """\
+import osc.standard
+
+global cruise_speed: speed = 30kph
+"""
+
+WITH_HELPERS = """\
+import osc.standard
+import osc.helpers
+
+scenario top:
+    car: vehicle
+    do car.drive(duration: 2s) with:
+        speed(cruise_speed)
+"""
+
+
+def test_config_names_the_checkers_configuration_as_for_osc2check(tmp_path, capsys):
+    """scenario_execution's users map `osc.<name>` to their libraries: a scenario checked
+    with `osc2check --config FILE` runs with `osc2run --config FILE` (the runner had no
+    such option, and refused the file the checker passed: N105)."""
+    from osc2check.cli import main as check
+
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "anything.osc").write_text(HELPERS, encoding="utf-8")
+    conf = tmp_path / "conf" / "modules.toml"
+    conf.parent.mkdir()
+    conf.write_text('[modules]\n"osc.helpers" = "../lib/anything.osc"\n', encoding="utf-8")
+    path = scenario(tmp_path / "scenarios", WITH_HELPERS)
+    assert check([str(path), "--config", str(conf), "-q"]) == 0
+    assert main([str(path), "--config", str(conf), "--out", str(tmp_path / "out"), "-q"]) == 0
+    assert run_json(tmp_path / "out")["outcome"]["status"] == "success"
+    capsys.readouterr()
+    assert main([str(path), "-q"]) == 2  # without it, as the checker without it
+    assert "N105" in capsys.readouterr().err
+    missing = tmp_path / "missing.toml"
+    assert main([str(path), "--config", str(missing)]) == 2
+    assert (
+        capsys.readouterr().err
+        == f"osc2run: error: {missing}: cannot read: No such file or directory\n"
+    )
+
+
+def test_isolated_ignores_the_configuration_above_the_scenario(tmp_path, capsys):
+    path = scenario(tmp_path, VAN, 'osc-version = "2.2"\n')
+    assert main([str(path), "-q"]) == 0
+    assert main([str(path), "-q", "--isolated"]) == 2  # 2.1: `van` is no member
+    assert "N106" in capsys.readouterr().err
