@@ -358,7 +358,7 @@ def _sut(args: argparse.Namespace) -> SutSpec | None:
     try:
         if args.sut is not None:
             spec = SutSpec(args.sut, args.sut_actor).resolved()
-        elif args.file is not None:
+        elif args.file is not None and not args.isolated:
             spec, _ = configured_sut(args.file)
             if spec is not None and args.sut_actor is not None:
                 spec = SutSpec(spec.target, args.sut_actor)

@@ -152,3 +152,10 @@ def test_isolated_ignores_the_configuration_above_the_scenario(tmp_path, capsys)
     assert main([str(path), "-q"]) == 0
     assert main([str(path), "-q", "--isolated"]) == 2  # 2.1: `van` is no member
     assert "N106" in capsys.readouterr().err
+    path = scenario(tmp_path / "sut", PLAIN)
+    (tmp_path / "sut" / "pyproject.toml").write_text(
+        '[tool.osc2run]\nsut = "missing.py:Nobody"\n', encoding="utf-8"
+    )
+    assert main([str(path), "-q"]) == 2  # the configured system under test
+    assert "--sut" in capsys.readouterr().err
+    assert main([str(path), "-q", "--isolated"]) == 0  # no configuration file at all
