@@ -48,7 +48,10 @@ def peak_memory(fn) -> float:
 def stages(text: str) -> None:
     """The parse's stages on ``text``: the lexer, the indentation post-lexer (layout), the
     LALR automaton over the cached tables with the AST builder, and that automaton with
-    callbacks that only group children (so the builder's share shows)."""
+    callbacks that only group children (so the builder's share shows). The collector is
+    paused, as ``parse`` pauses it: otherwise its passes over the objects made would be
+    most of each stage's time."""
+    from osc2check.gc_pause import gc_paused
     from osc2check.syntax import parser as syntax_parser
     from osc2check.syntax.indent import indent
     from osc2check.syntax.lexer import tokenize
@@ -56,11 +59,12 @@ def stages(text: str) -> None:
 
     lexed = tokenize(text)
     tokens, layout = indent(lexed.tokens, text)
-    lex, _ = timed(lambda: tokenize(text))
-    lay, _ = timed(lambda: indent(lexed.tokens, text))
-    seg, _ = timed(
-        lambda: syntax_parser.parse_segments("g", text, tokens, lexed.errors, layout, 0, 1)
-    )
+    with gc_paused():
+        lex, _ = timed(lambda: tokenize(text))
+        lay, _ = timed(lambda: indent(lexed.tokens, text))
+        seg, _ = timed(
+            lambda: syntax_parser.parse_segments("g", text, tokens, lexed.errors, layout, 0, 1)
+        )
     tables = parse_tables()
     starts = [*syntax_parser.segment_starts(tokens), len(tokens)]
 
@@ -73,8 +77,11 @@ def stages(text: str) -> None:
     def grouping(name: str):  # noqa: ANN202
         return lambda children: Inline(name, children)
 
-    bare = [None if r.passes else grouping(r.callback) for r in tables.rules]
-    alone, _ = timed(lambda: automaton(bare))
+    bare = [
+        (len(r.symbols), None if r.passes else grouping(r.callback), r.origin) for r in tables.rules
+    ]
+    with gc_paused():
+        alone, _ = timed(lambda: automaton(bare))
     print(
         f"  stages: lexer {lex * 1000:.0f} ms, layout (indentation) {lay * 1000:.0f} ms, "
         f"LALR with the AST builder {seg * 1000:.0f} ms, of which the automaton alone "

@@ -17,7 +17,7 @@ from osc2check.syntax.build import _PROBLEMS, _URI, Builder, BuildProblem
 from osc2check.syntax.grammar import grammar_text
 from osc2check.syntax.indent import IndentError, indent
 from osc2check.syntax.lexer import Comment, LexError, Token, tokenize
-from osc2check.syntax.tables import Callback, callbacks, drive, finish, lark_parser, parse_tables
+from osc2check.syntax.tables import Reduction, callbacks, drive, finish, lark_parser, parse_tables
 
 # How terminals read in messages.
 _DESCRIPTIONS = {
@@ -93,7 +93,7 @@ _BUILDER = Builder()  # pure: one for every parse (the file is in a context vari
 
 
 @cache
-def _callbacks() -> list[Callback]:
+def _callbacks() -> list[Reduction]:
     return callbacks(parse_tables(), _BUILDER)
 
 

@@ -20,6 +20,7 @@ import pickle
 import threading
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from operator import itemgetter
 from typing import TYPE_CHECKING, Any
 
 from osc2check import cache
@@ -28,7 +29,16 @@ from osc2check.syntax.grammar import grammar_key, grammar_text
 if TYPE_CHECKING:
     from lark import Lark
 
-__all__ = ["Inline", "ParseTables", "RuleShape", "drive", "finish", "lark_parser", "parse_tables"]
+__all__ = [
+    "Inline",
+    "ParseTables",
+    "Reduction",
+    "RuleShape",
+    "drive",
+    "finish",
+    "lark_parser",
+    "parse_tables",
+]
 
 LARK_OPTIONS: dict[str, Any] = dict(parser="lalr", lexer="basic", maybe_placeholders=True)
 START = "start"
@@ -105,14 +115,21 @@ def lark_parser(builder: object | None = None) -> Lark:
 # ---------------------------------------------------------------- driving the automaton
 
 Callback = Callable[[list[Any]], Any] | None  # None: the rule's value is its only child
+# What reducing a rule does: pop this many values, call this (None: keep the one value),
+# then shift the rule's name (its ``origin``).
+Reduction = tuple[int, Callback, str]
 
 
-def callbacks(tables: ParseTables, builder: object) -> list[Callback]:
-    """For each rule, what its reduction calls: the builder's method as lark wraps it."""
-    return [_callback(shape, builder) for shape in tables.rules]
+def callbacks(tables: ParseTables, builder: object) -> list[Reduction]:
+    """For each rule, what its reduction does: its size, the builder's method as lark
+    wraps it, and the rule's name."""
+    return [(len(shape.symbols), _callback(shape, builder), shape.origin) for shape in tables.rules]
 
 
 def _callback(shape: RuleShape, builder: object) -> Callback:
+    """The builder's method for ``shape``, called as lark's tree builder calls it: one
+    closure per rule, picking the kept children without a loop where none is inlined
+    (a reduction is the commonest step of a parse)."""
     if shape.passes:
         return None
     method = getattr(builder, shape.callback, None)
@@ -122,17 +139,70 @@ def _callback(shape: RuleShape, builder: object) -> Callback:
         def method(children: list[Any]) -> Any:
             return Inline(name, children)
 
-    node = method
-    if shape.expand1:
+    include, after = shape.include, shape.nones_after
+    kept: Callable[[list[Any]], list[Any]] | None = None
+    if include is not None:
+        kept = _picker(include, after) or _filter(include, after)
+    if not shape.expand1:
+        if kept is None:
+            return method
+        pick = kept
 
         def node(children: list[Any]) -> Any:
-            return children[0] if len(children) == 1 else method(children)
+            return method(pick(children))
 
-    include, after = shape.include, shape.nones_after
-    if include is None:
         return node
 
-    def filtered(children: list[Any]) -> Any:
+    def single(children: list[Any]) -> Any:
+        return children[0] if len(children) == 1 else method(children)
+
+    if kept is None:
+        return single
+    pick_one = kept
+
+    def expanded(children: list[Any]) -> Any:
+        return single(pick_one(children))
+
+    return expanded
+
+
+def _picker(
+    include: tuple[tuple[int, bool, int], ...], after: int
+) -> Callable[[list[Any]], list[Any]] | None:
+    """The kept children of a rule that inlines none, by ``itemgetter``: an index per
+    kept child, -1 for a ``None`` (one is appended to the children); None if it inlines."""
+    if any(inline for _, inline, _ in include):
+        return None
+    picks: list[int] = []
+    for i, _, nones in include:
+        picks += [-1] * nones
+        picks.append(i)
+    picks += [-1] * after
+    pad = -1 in picks
+    if not picks:
+        return lambda children: []
+    if len(picks) == 1:
+        (at,) = picks
+        if pad:
+            return lambda children: [None]
+        return lambda children: [children[at]]
+    get = itemgetter(*picks)
+    if pad:
+
+        def padded(children: list[Any]) -> list[Any]:
+            children.append(None)  # the list is the parser's own slice of its stack
+            return [*get(children)]
+
+        return padded
+    return lambda children: [*get(children)]
+
+
+def _filter(
+    include: tuple[tuple[int, bool, int], ...], after: int
+) -> Callable[[list[Any]], list[Any]]:
+    """The kept children of a rule that inlines some (lark's ``ChildFilterLALR``)."""
+
+    def filtered(children: list[Any]) -> list[Any]:
         kept: list[Any] = []
         for i, inline, nones in include:
             if nones:
@@ -146,22 +216,23 @@ def _callback(shape: RuleShape, builder: object) -> Callback:
                 kept.append(children[i])
         if after:
             kept += [None] * after
-        return node(kept)
+        return kept
 
     return filtered
 
 
 def drive(
     tables: ParseTables,
-    calls: Sequence[Callback],
+    reductions: Sequence[Reduction],
     states: list[int],
     values: list[Any],
     tokens: Sequence[Any],
 ) -> int:
     """Feed ``tokens`` (anything with a ``type``) until one cannot be taken; returns how
     many were. ``states`` and ``values`` are the parser's stacks, changed in place."""
-    rows, rules = tables.rows, tables.rules
+    rows = tables.rows
     row = rows[states[-1]]
+    push_state, push_value = states.append, values.append
     consumed = 0
     for tok in tokens:
         ttype = tok.type
@@ -170,24 +241,22 @@ def drive(
             if entry is None:
                 return consumed
             if entry >= 0:
-                states.append(entry)
-                values.append(tok)
+                push_state(entry)
+                push_value(tok)
                 row = rows[entry]
                 break
-            rule = ~entry
-            call = calls[rule]
-            size = len(rules[rule].symbols)
+            size, call, origin = reductions[~entry]
             if call is None:  # `?rule: other`: the child is the value
-                states.pop()
+                del states[-1]
             elif size:
                 children = values[-size:]
                 del states[-size:]
                 del values[-size:]
-                values.append(call(children))
+                push_value(call(children))
             else:
-                values.append(call([]))
-            goto = rows[states[-1]][rules[rule].origin]
-            states.append(goto)
+                push_value(call([]))
+            goto = rows[states[-1]][origin]
+            push_state(goto)
             row = rows[goto]
         consumed += 1
     return consumed
@@ -198,12 +267,12 @@ class _End:
 
 
 def finish(
-    tables: ParseTables, calls: Sequence[Callback], states: list[int], values: list[Any]
+    tables: ParseTables, reductions: Sequence[Reduction], states: list[int], values: list[Any]
 ) -> tuple[bool, Any]:
     """Feed the end of input: (True, the start rule's value), or (False, None) when the
     input cannot end here (the stacks are then as they were)."""
     saved_states, saved_values = list(states), list(values)
-    drive(tables, calls, states, values, (_End,))  # reduces up to the end state, or stops
+    drive(tables, reductions, states, values, (_End,))  # reduces up to the end state, or stops
     if states[-1] == tables.end:
         return True, values[-1]
     states[:], values[:] = saved_states, saved_values
