@@ -139,31 +139,20 @@ def _callback(shape: RuleShape, builder: object) -> Callback:
         def method(children: list[Any]) -> Any:
             return Inline(name, children)
 
-    include, after = shape.include, shape.nones_after
-    kept: Callable[[list[Any]], list[Any]] | None = None
-    if include is not None:
-        kept = _picker(include, after) or _filter(include, after)
-    if not shape.expand1:
-        if kept is None:
-            return method
-        pick = kept
+    call = method
+    if shape.expand1:
 
-        def node(children: list[Any]) -> Any:
-            return method(pick(children))
+        def call(children: list[Any]) -> Any:
+            return children[0] if len(children) == 1 else method(children)
 
-        return node
+    if shape.include is None:
+        return call
+    pick = _picker(shape.include, shape.nones_after) or _filter(shape.include, shape.nones_after)
 
-    def single(children: list[Any]) -> Any:
-        return children[0] if len(children) == 1 else method(children)
+    def node(children: list[Any]) -> Any:
+        return call(pick(children))
 
-    if kept is None:
-        return single
-    pick_one = kept
-
-    def expanded(children: list[Any]) -> Any:
-        return single(pick_one(children))
-
-    return expanded
+    return node
 
 
 def _picker(
