@@ -55,7 +55,7 @@ def stages(text: str) -> None:
     from osc2check.syntax import parser as syntax_parser
     from osc2check.syntax.indent import indent
     from osc2check.syntax.lexer import tokenize
-    from osc2check.syntax.tables import Inline, drive, finish, parse_tables
+    from osc2check.syntax.tables import automaton, drive, finish, parse_tables
 
     lexed = tokenize(text)
     tokens, layout = indent(lexed.tokens, text)
@@ -67,21 +67,16 @@ def stages(text: str) -> None:
         )
     tables = parse_tables()
     starts = [*syntax_parser.segment_starts(tokens), len(tokens)]
+    grouping = automaton(tables, object())  # no methods: every rule's value is an Inline
 
-    def automaton(calls: list) -> None:
+    def bare() -> None:
         for a, b in zip(starts, starts[1:], strict=False):
             states, values = [tables.start], []
-            drive(tables, calls, states, values, tokens[a:b])
-            finish(tables, calls, states, values)
+            drive(grouping, states, values, tokens[a:b])
+            finish(grouping, states, values)
 
-    def grouping(name: str):  # noqa: ANN202
-        return lambda children: Inline(name, children)
-
-    bare = [
-        (len(r.symbols), None if r.passes else grouping(r.callback), r.origin) for r in tables.rules
-    ]
     with gc_paused():
-        alone, _ = timed(lambda: automaton(bare))
+        alone, _ = timed(bare)
     print(
         f"  stages: lexer {lex * 1000:.0f} ms, layout (indentation) {lay * 1000:.0f} ms, "
         f"LALR with the AST builder {seg * 1000:.0f} ms, of which the automaton alone "

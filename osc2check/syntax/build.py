@@ -74,28 +74,31 @@ def span_of(item: object) -> Span | None:
     return None
 
 
-def _edge(item: object) -> tuple[int, int, int, int, int, int] | None:
-    """(uri, line, column, start) and (end_line, end_column, end) of an item, or None."""
-    if isinstance(item, Token):
-        return item.line, item.column, item.start_pos, item.end_line, item.end_column, item.end_pos
-    span = item.span if isinstance(item, (ast.Node, _Group)) else None
-    if span is None:
-        return None
-    return span.line, span.column, span.start, span.end_line, span.end_column, span.end
+_SPANNED = (ast.Node, _Group)  # the other items (a token aside) have no position
 
 
 def _cover(children: Sequence[object]) -> Span:
-    """The span from the first to the last child that has a position."""
-    first = last = None
-    for child in children:
-        if child is not None and (first := _edge(child)) is not None:
+    """The span from the first to the last child that has a position (the hottest
+    function of the builder: a child's span, when it is the only one, is used as it is)."""
+    for first in children:
+        if isinstance(first, Token):
+            line, column, start = first.line, first.column, first.start_pos
             break
-    for child in reversed(children):
-        if child is not None and (last := _edge(child)) is not None:
+        if isinstance(first, _SPANNED) and (span := first.span) is not None:
+            line, column, start = span.line, span.column, span.start
             break
-    if first is None or last is None:
+    else:
         return Span(_URI.get(), 1, 1, 1, 1, 0, 0)
-    return Span(_URI.get(), first[0], first[1], last[3], last[4], first[2], last[5])
+    for last in reversed(children):
+        if isinstance(last, Token):
+            return Span(
+                _URI.get(), line, column, last.end_line, last.end_column, start, last.end_pos
+            )
+        if isinstance(last, _SPANNED) and (end := last.span) is not None:
+            if last is first:
+                return end
+            return Span(_URI.get(), line, column, end.end_line, end.end_column, start, end.end)
+    raise AssertionError("unreachable: the first child with a position is found again")
 
 
 def _nodes(children: Children, kind: type[_T]) -> tuple[_T, ...]:
@@ -210,7 +213,7 @@ class Builder:
 
     def name(self, c: Children) -> ast.Name:
         tok = c[0]
-        return ast.Name(_tok_span(tok), str(tok))
+        return ast.Name(_tok_span(tok), tok.value)
 
     def plain_name(self, c: Children) -> ast.QualifiedName:
         return ast.QualifiedName(c[0].span, None, c[0])

@@ -30,10 +30,12 @@ if TYPE_CHECKING:
     from lark import Lark
 
 __all__ = [
+    "Automaton",
     "Inline",
     "ParseTables",
     "Reduction",
     "RuleShape",
+    "automaton",
     "drive",
     "finish",
     "lark_parser",
@@ -120,10 +122,24 @@ Callback = Callable[[list[Any]], Any] | None  # None: the rule's value is its on
 Reduction = tuple[int, Callback, str]
 
 
-def callbacks(tables: ParseTables, builder: object) -> list[Reduction]:
-    """For each rule, what its reduction does: its size, the builder's method as lark
-    wraps it, and the rule's name."""
-    return [(len(shape.symbols), _callback(shape, builder), shape.origin) for shape in tables.rules]
+@dataclass(frozen=True, slots=True)
+class Automaton:
+    """The tables as :func:`drive` reads them, with a builder's callbacks: the rows in a
+    list by state (an index instead of a hash), and what reducing each rule does."""
+
+    rows: list[dict[str, int]]
+    reductions: list[Reduction]
+    end: int
+
+
+def automaton(tables: ParseTables, builder: object) -> Automaton:
+    """The automaton of ``tables`` whose reductions call ``builder``'s methods as lark's
+    tree builder calls them (a rule without a method makes an ``Inline``)."""
+    return Automaton(
+        [tables.rows[state] for state in range(len(tables.rows))],
+        [(len(shape.symbols), _callback(shape, builder), shape.origin) for shape in tables.rules],
+        tables.end,
+    )
 
 
 def _callback(shape: RuleShape, builder: object) -> Callback:
@@ -145,53 +161,47 @@ def _callback(shape: RuleShape, builder: object) -> Callback:
         def call(children: list[Any]) -> Any:
             return children[0] if len(children) == 1 else method(children)
 
-    if shape.include is None:
+    include, after = shape.include, shape.nones_after
+    if include is None:
         return call
-    pick = _picker(shape.include, shape.nones_after) or _filter(shape.include, shape.nones_after)
-
-    def node(children: list[Any]) -> Any:
-        return call(pick(children))
-
-    return node
-
-
-def _picker(
-    include: tuple[tuple[int, bool, int], ...], after: int
-) -> Callable[[list[Any]], list[Any]] | None:
-    """The kept children of a rule that inlines none, by ``itemgetter``: an index per
-    kept child, -1 for a ``None`` (one is appended to the children); None if it inlines."""
     if any(inline for _, inline, _ in include):
-        return None
-    picks: list[int] = []
+        return _filtered(include, after, call)
+    picks: list[int] = []  # the index of each kept child, -1 for a None
     for i, _, nones in include:
         picks += [-1] * nones
         picks.append(i)
     picks += [-1] * after
-    pad = -1 in picks
+    return _picked(picks, call)
+
+
+def _picked(picks: list[int], call: Callable[[list[Any]], Any]) -> Callback:
+    """``call`` on the children at ``picks`` (-1: a ``None``, appended to the children,
+    which are the parser's own slice of its stack), by ``itemgetter``."""
     if not picks:
-        return lambda children: []
+        return lambda children: call([])
     if len(picks) == 1:
         (at,) = picks
-        if pad:
-            return lambda children: [None]
-        return lambda children: [children[at]]
+        if at < 0:
+            return lambda children: call([None])
+        return lambda children: call([children[at]])
     get = itemgetter(*picks)
-    if pad:
+    if -1 not in picks:
+        return lambda children: call([*get(children)])
 
-        def padded(children: list[Any]) -> list[Any]:
-            children.append(None)  # the list is the parser's own slice of its stack
-            return [*get(children)]
+    def padded(children: list[Any]) -> Any:
+        children.append(None)
+        return call([*get(children)])
 
-        return padded
-    return lambda children: [*get(children)]
+    return padded
 
 
-def _filter(
-    include: tuple[tuple[int, bool, int], ...], after: int
-) -> Callable[[list[Any]], list[Any]]:
-    """The kept children of a rule that inlines some (lark's ``ChildFilterLALR``)."""
+def _filtered(
+    include: tuple[tuple[int, bool, int], ...], after: int, call: Callable[[list[Any]], Any]
+) -> Callback:
+    """``call`` on the kept children of a rule that inlines some, as lark's
+    ``ChildFilterLALR`` keeps them."""
 
-    def filtered(children: list[Any]) -> list[Any]:
+    def filtered(children: list[Any]) -> Any:
         kept: list[Any] = []
         for i, inline, nones in include:
             if nones:
@@ -205,21 +215,15 @@ def _filter(
                 kept.append(children[i])
         if after:
             kept += [None] * after
-        return kept
+        return call(kept)
 
     return filtered
 
 
-def drive(
-    tables: ParseTables,
-    reductions: Sequence[Reduction],
-    states: list[int],
-    values: list[Any],
-    tokens: Sequence[Any],
-) -> int:
+def drive(automaton: Automaton, states: list[int], values: list[Any], tokens: Sequence[Any]) -> int:
     """Feed ``tokens`` (anything with a ``type``) until one cannot be taken; returns how
     many were. ``states`` and ``values`` are the parser's stacks, changed in place."""
-    rows = tables.rows
+    rows, reductions = automaton.rows, automaton.reductions
     row = rows[states[-1]]
     push_state, push_value = states.append, values.append
     consumed = 0
@@ -236,6 +240,9 @@ def drive(
                 break
             size, call, origin = reductions[~entry]
             if call is None:  # `?rule: other`: the child is the value
+                del states[-1]
+            elif size == 1:  # the commonest reduction: the value is replaced in place
+                values[-1] = call([values[-1]])
                 del states[-1]
             elif size:
                 children = values[-size:]
@@ -255,14 +262,12 @@ class _End:
     type = "$END"
 
 
-def finish(
-    tables: ParseTables, reductions: Sequence[Reduction], states: list[int], values: list[Any]
-) -> tuple[bool, Any]:
+def finish(automaton: Automaton, states: list[int], values: list[Any]) -> tuple[bool, Any]:
     """Feed the end of input: (True, the start rule's value), or (False, None) when the
     input cannot end here (the stacks are then as they were)."""
     saved_states, saved_values = list(states), list(values)
-    drive(tables, reductions, states, values, (_End,))  # reduces up to the end state, or stops
-    if states[-1] == tables.end:
+    drive(automaton, states, values, (_End,))  # reduces up to the end state, or stops
+    if states[-1] == automaton.end:
         return True, values[-1]
     states[:], values[:] = saved_states, saved_values
     return False, None
