@@ -10,9 +10,9 @@ parser (and this builder) is shared by every parse in the process.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from fractions import Fraction
 from typing import Any, TypeVar, overload
 
@@ -58,8 +58,37 @@ class _Group:
     span: Span | None
 
 
+def _span_maker() -> Callable[[str, int, int, int, int, int, int], Span]:
+    """``Span(uri, line, column, end_line, end_column, start, end)``, made faster: a frozen
+    dataclass's ``__init__`` sets each field by ``object.__setattr__``, this by the field's
+    slot, and the builder makes a span for every name and every node."""
+    if [f.name for f in fields(Span)] != list(_SPAN_FIELDS) or hasattr(Span, "__post_init__"):
+        return Span  # Span is not the plain record this was written for
+    new = object.__new__
+    uri, line, column, end_line, end_column, start, end = (
+        getattr(Span, name).__set__ for name in _SPAN_FIELDS
+    )
+
+    def span(u: str, li: int, co: int, eli: int, eco: int, st: int, en: int) -> Span:
+        made: Span = new(Span)
+        uri(made, u)
+        line(made, li)
+        column(made, co)
+        end_line(made, eli)
+        end_column(made, eco)
+        start(made, st)
+        end(made, en)
+        return made
+
+    return span
+
+
+_SPAN_FIELDS = ("uri", "line", "column", "end_line", "end_column", "start", "end")
+_span = _span_maker()
+
+
 def _tok_span(tok: Token) -> Span:
-    return Span(
+    return _span(
         _URI.get(), tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos
     )
 
@@ -88,16 +117,16 @@ def _cover(children: Sequence[object]) -> Span:
             line, column, start = span.line, span.column, span.start
             break
     else:
-        return Span(_URI.get(), 1, 1, 1, 1, 0, 0)
+        return _span(_URI.get(), 1, 1, 1, 1, 0, 0)
     for last in reversed(children):
         if isinstance(last, Token):
-            return Span(
+            return _span(
                 _URI.get(), line, column, last.end_line, last.end_column, start, last.end_pos
             )
         if isinstance(last, _SPANNED) and (end := last.span) is not None:
             if last is first:
                 return end
-            return Span(_URI.get(), line, column, end.end_line, end.end_column, start, end.end)
+            return _span(_URI.get(), line, column, end.end_line, end.end_column, start, end.end)
     raise AssertionError("unreachable: the first child with a position is found again")
 
 

@@ -34,8 +34,11 @@ class IndentError:
 
 def _indentation(text: str, token: Token) -> int:
     line_start = max(text.rfind("\n", 0, token.start_pos), text.rfind("\r", 0, token.start_pos)) + 1
+    lead = text[line_start : token.start_pos]
+    if not lead.strip(" "):  # the common case: blanks only
+        return len(lead)
     width = 0
-    for ch in text[line_start : token.start_pos]:
+    for ch in lead:
         if ch == "\t":
             width = (width // TAB_SIZE + 1) * TAB_SIZE
         elif ch in " \f":

@@ -192,7 +192,11 @@ def parse_part(text: str, uri: str, start: int, end: int, line: int) -> ParseRes
         lexed = tokenize(text, start, end, line)
         tokens, layout = indent(lexed.tokens, text)
         segments = parse_segments(uri, text, tokens, lexed.errors, layout, start, line)
-        return assemble(uri, text, segments, tuple(lexed.comments))
+        comments = tuple(lexed.comments)
+        # The tokens are freed while the collector is paused: its first pass after the
+        # pause then reads only what the parse keeps (a tenth of a 10,000-line parse).
+        del lexed, tokens, layout
+        return assemble(uri, text, segments, comments)
 
 
 def assemble(
