@@ -19,7 +19,7 @@ from __future__ import annotations
 import pickle
 import threading
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from operator import itemgetter
 from typing import TYPE_CHECKING, Any
 
@@ -130,6 +130,9 @@ class Automaton:
     rows: list[dict[str, int]]
     reductions: list[Reduction]
     end: int
+    # (state under, state, terminal) -> the state a chain of `?rule: other` reductions
+    # ends in: found on first use (a name in an expression reduces through seven)
+    chains: dict[tuple[int, int, str], int] = field(default_factory=dict)
 
 
 def automaton(tables: ParseTables, builder: object) -> Automaton:
@@ -223,7 +226,7 @@ def _filtered(
 def drive(automaton: Automaton, states: list[int], values: list[Any], tokens: Sequence[Any]) -> int:
     """Feed ``tokens`` (anything with a ``type``) until one cannot be taken; returns how
     many were. ``states`` and ``values`` are the parser's stacks, changed in place."""
-    rows, reductions = automaton.rows, automaton.reductions
+    rows, reductions, chains = automaton.rows, automaton.reductions, automaton.chains
     row = rows[states[-1]]
     push_state, push_value = states.append, values.append
     consumed = 0
@@ -239,9 +242,15 @@ def drive(automaton: Automaton, states: list[int], values: list[Any], tokens: Se
                 row = rows[entry]
                 break
             size, call, origin = reductions[~entry]
-            if call is None:  # `?rule: other`: the child is the value
-                del states[-1]
-            elif size == 1:  # the commonest reduction: the value is replaced in place
+            if call is None:  # `?rule: other`: the child is the value, the stack is as it was
+                key = (states[-2], states[-1], ttype)
+                goto = chains.get(key)
+                if goto is None:
+                    goto = chains[key] = _chain(rows, reductions, states[-2], origin, ttype)
+                states[-1] = goto
+                row = rows[goto]
+                continue
+            if size == 1:  # the commonest reduction: the value is replaced in place
                 values[-1] = call([values[-1]])
                 del states[-1]
             elif size:
@@ -256,6 +265,20 @@ def drive(automaton: Automaton, states: list[int], values: list[Any], tokens: Se
             row = rows[goto]
         consumed += 1
     return consumed
+
+
+def _chain(
+    rows: list[dict[str, int]], reductions: list[Reduction], under: int, origin: str, ttype: str
+) -> int:
+    """The state after reducing to ``origin`` over state ``under`` and then every
+    `?rule: other` reduction that ``ttype`` asks for next (each one over ``under`` too)."""
+    goto = rows[under][origin]
+    while (entry := rows[goto].get(ttype)) is not None and entry < 0:
+        _, call, then = reductions[~entry]
+        if call is not None:
+            break
+        goto = rows[under][then]
+    return goto
 
 
 class _End:
