@@ -41,7 +41,8 @@ class SourceInput:
     ``syntax.incremental.splice``); it is used instead of parsing again when its
     name and text are the input's. ``on_disk``: the text is the file as saved (not an
     editor's buffer), so a large one's parse is kept in the start-up cache as an
-    imported file's is (``IMPORT_CACHE_SIZE``): checking it again unchanged reads it.
+    imported file's is (``IMPORT_CACHE_SIZE``): checking it again reads it, and an
+    edited version is parsed again only where it changed.
     """
 
     uri: str
@@ -102,20 +103,31 @@ class FileCache:
         return result
 
 
-#: a file read from disk at least this long (characters) is parsed once per version: its
-#: parse is kept in the start-up cache (about 500 lines; smaller ones parse as fast as they
-#: load)
+#: a file read from disk at least this long (characters) has its parse kept in the
+#: start-up cache (about 500 lines; smaller ones parse as fast as they load)
 IMPORT_CACHE_SIZE = 20_000
 
 
 def _parse_saved(text: str, uri: str) -> ParseResult:
-    """The parse of a file read from disk; a large one from the start-up cache (an
-    unchanged library file a project imports, a file checked again), keyed by its name
-    and text."""
+    """The parse of a file read from disk; a large one made from the parse of its last
+    version checked, kept in the start-up cache under its name: that parse itself when
+    the file is unchanged (a library file a project imports, a file checked again),
+    else with only the region where the two versions differ parsed again
+    (``incremental.parse_from``, which gives what ``parse`` gives)."""
     if len(text) < IMPORT_CACHE_SIZE:
         return parse(text, uri)
-    kind = "import-" + cache.digest(uri)[:8]  # the newest few versions of each file
-    return cache.cached(kind, {"uri": uri, "text": cache.digest(text)}, lambda: parse(text, uri))
+    kind, key = "parse-" + cache.digest(uri)[:16], {"uri": uri}
+    previous = cache.load(kind, key)
+    result = None
+    if isinstance(previous, ParseResult) and previous.uri == uri:
+        from osc2check.syntax.incremental import parse_from
+
+        result = parse_from(previous, text)
+    if result is None:
+        result = parse(text, uri)
+    if result is not previous:
+        cache.store(kind, key, result, keep=2)  # two toolkits sharing a cache folder
+    return result
 
 
 @dataclass(frozen=True)

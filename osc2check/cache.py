@@ -41,6 +41,7 @@ import sys
 import zlib
 from collections.abc import Callable, Mapping
 from dataclasses import fields, is_dataclass
+from operator import attrgetter
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -272,10 +273,30 @@ class _Pickler(pickle.Pickler):
     (their default ``__setstate__`` sets each field through ``object.__setattr__``)."""
 
     def reducer_override(self, obj: object) -> Any:
-        names = _init_fields(type(obj))
-        if names is None:
+        cls = type(obj)
+        try:
+            values = _VALUES[cls]
+        except KeyError:
+            values = _VALUES[cls] = _values_getter(_init_fields(cls))
+        if values is None:
             return NotImplemented
-        return type(obj), tuple([getattr(obj, name) for name in names])
+        return cls, values(obj)
+
+
+#: by class, what gives the values ``cls(*values)`` rebuilds an object from (None: not
+#: a slotted dataclass): a C ``attrgetter`` where it can, called once per object pickled
+_VALUES: dict[type, Callable[[Any], tuple[object, ...]] | None] = {}
+
+
+def _values_getter(names: tuple[str, ...] | None) -> Callable[[Any], tuple[object, ...]] | None:
+    if names is None:
+        return None
+    if len(names) > 1:
+        return attrgetter(*names)
+    if names:
+        one = attrgetter(names[0])
+        return lambda obj: (one(obj),)
+    return lambda obj: ()
 
 
 def _entry_of(name: str, kind: str) -> bool:

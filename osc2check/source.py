@@ -111,3 +111,27 @@ def without_nul(text: str, problem: str | None = None) -> tuple[str, str | None]
     if "\x00" not in text:
         return text, problem
     return text.replace("\x00", "\ufffd"), problem or "NUL byte in source"
+
+
+def common_prefix(a: str, b: str) -> int:
+    """The length of the longest common prefix of ``a`` and ``b``."""
+    low, high = 0, min(len(a), len(b))
+    while low < high:  # slices compare in C: O(n log n) but fast for any document
+        middle = (low + high + 1) // 2
+        if a[low:middle] == b[low:middle]:
+            low = middle
+        else:
+            high = middle - 1
+    return low
+
+
+def common_suffix(a: str, b: str, limit: int) -> int:
+    """The length (at most ``limit``) of the longest common suffix of ``a`` and ``b``."""
+    low, high = 0, min(len(a), len(b), limit)
+    while low < high:
+        middle = (low + high + 1) // 2
+        if a[len(a) - middle : len(a) - low] == b[len(b) - middle : len(b) - low]:
+            low = middle
+        else:
+            high = middle - 1
+    return low

@@ -19,7 +19,8 @@ import re
 from pathlib import Path
 from urllib.parse import quote, unquote, urlparse
 
-from osc2check.source import LINE_BREAK  # what a line is: one home for the checker and us
+# what a line is, and where two versions of a text differ: one home for the checker and us
+from osc2check.source import LINE_BREAK, common_prefix, common_suffix
 
 # ---- file names ---------------------------------------------------------------
 
@@ -118,30 +119,6 @@ class LineIndex:
 
 
 # ---- two versions of a text -------------------------------------------------
-
-
-def common_prefix(a: str, b: str) -> int:
-    """The length of the longest common prefix of ``a`` and ``b``."""
-    low, high = 0, min(len(a), len(b))
-    while low < high:  # slices compare in C: O(n log n) but fast for any document
-        middle = (low + high + 1) // 2
-        if a[low:middle] == b[low:middle]:
-            low = middle
-        else:
-            high = middle - 1
-    return low
-
-
-def common_suffix(a: str, b: str, limit: int) -> int:
-    """The length (at most ``limit``) of the longest common suffix of ``a`` and ``b``."""
-    low, high = 0, min(len(a), len(b), limit)
-    while low < high:
-        middle = (low + high + 1) // 2
-        if a[len(a) - middle : len(a) - low] == b[len(b) - middle : len(b) - low]:
-            low = middle
-        else:
-            high = middle - 1
-    return low
 
 
 class TextMap:

@@ -32,7 +32,7 @@ from typing import Any
 
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
 from osc2check.gc_pause import gc_paused
-from osc2check.source import LINE_BREAK, Span
+from osc2check.source import LINE_BREAK, Span, common_prefix, common_suffix
 from osc2check.syntax import ast
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import NEWLINE, Comment, tokenize
@@ -157,6 +157,19 @@ def splice(previous: ParseResult, text: str, edit: Edit) -> ParseResult | None:
         )
     )
     return assemble(previous.uri, text, segments, comments)
+
+
+def parse_from(previous: ParseResult, text: str) -> ParseResult | None:
+    """``parse(text, previous.uri)`` made from ``previous``, the parse of an earlier
+    version of the text: ``previous`` itself when the text is the same, else the one
+    region where the two versions differ parsed again and spliced in (None: parse the
+    whole text)."""
+    old = previous.text
+    if old == text:
+        return previous
+    prefix = common_prefix(old, text)
+    suffix = common_suffix(old, text, min(len(old), len(text)) - prefix)
+    return splice(previous, text, Edit(prefix, len(old) - suffix, len(text) - suffix))
 
 
 def _at_line_start(text: str, offset: int) -> bool:

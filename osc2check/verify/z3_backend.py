@@ -145,8 +145,12 @@ def nonlinear(active: list[ir.Constraint]) -> list[ir.Constraint]:
     that equations fix to a constant (its declaration's ``ttc0: time = 4s`` while no
     keep overrides it, ``keep(ttc0 == 4s)``) is a constant, as the sampler takes it:
     ``gap == closing * ttc0`` is linear then."""
+    # folding in constants never makes a term nonlinear: only the nonlinear ones are folded
+    candidates = [c for c in active if ir.is_nonlinear(c.term)]
+    if not candidates:
+        return []
     fixed = propagate.determined([c.term for c in active])
-    return [c for c in active if ir.is_nonlinear(propagate.fold(c.term, fixed))]
+    return [c for c in candidates if ir.is_nonlinear(propagate.fold(c.term, fixed))]
 
 
 def fallbacks(problem: ConstraintProblem, active: list[ir.Constraint]) -> list[ir.Constraint]:

@@ -130,16 +130,12 @@ class Revision:
         parse it whole)."""
         # imported on first use: 34 ms measured after osc2lsp.server, on the analysis
         # thread rather than before `initialize` is answered
-        from osc2check.syntax.incremental import Edit, splice
+        from osc2check.syntax.incremental import parse_from
 
         previous = self.previous
         if previous is None or previous.key != self.key:
             return None
-        parsed = previous.parse
-        if previous.text == self.text:
-            return parsed
-        change = TextMap(previous.text, self.text)
-        return splice(parsed, self.text, Edit(change.prefix, change.old_end, change.new_end))
+        return parse_from(previous.parse, self.text)
 
 
 def newer(a: int | None, b: int | None) -> bool:

@@ -176,7 +176,7 @@ def test_garbage_and_eight_checkers_at_once_never_change_a_finding(tmp_path: Pat
     assert _check(folder, *FILES) == expected  # the rewritten entries, read back
 
 
-def test_a_large_imported_file_is_parsed_once_per_version(
+def test_a_large_imported_file_is_parsed_again_only_where_it_changed(
     folder: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from osc2check import analysis
@@ -201,15 +201,16 @@ def test_a_large_imported_file_is_parsed_once_per_version(
 
     first = findings()
     assert first == [(5, "N101")] and str(library) in parsed
-    assert len(list(folder.glob("import-*.bin"))) == 1
+    assert len(list(folder.glob("parse-*.bin"))) == 1
     parsed.clear()
     assert findings() == first and str(library) not in parsed  # its parse, read back
     library.write_text(library.read_text().replace("pose_7:", "pose_seven:"))
-    assert findings() == [(4, "N101"), (5, "N101")] and str(library) in parsed
-    assert len(list(folder.glob("import-*.bin"))) == 2  # each version kept, a few at most
+    # the struct that changed is parsed again, into the last version's parse
+    assert findings() == [(4, "N101"), (5, "N101")] and str(library) not in parsed
+    assert len(list(folder.glob("parse-*.bin"))) == 1  # the newest version of each file
 
 
-def test_a_large_checked_file_as_saved_is_parsed_once_per_version(
+def test_a_large_checked_file_as_saved_is_parsed_again_only_where_it_changed(
     folder: Path, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from osc2check import analysis
@@ -233,12 +234,45 @@ def test_a_large_checked_file_as_saved_is_parsed_once_per_version(
     parsed.clear()
     assert findings(text, on_disk=True) == first and parsed == []  # its parse, read back
     edited = text.replace("pose_x", "pose_7")
-    assert findings(edited, on_disk=True) == [] and parsed == [root]
+    assert findings(edited, on_disk=True) == [] and parsed == []  # the last line, again
     # an editor's buffer (not on disk) is parsed each time and not kept
-    parsed.clear()
-    before = sorted(folder.glob("import-*.bin"))
+    before = sorted((p, p.stat().st_mtime_ns) for p in folder.glob("parse-*.bin"))
     assert findings(text + "\n", on_disk=False) == first and parsed == [root]
-    assert sorted(folder.glob("import-*.bin")) == before
+    assert sorted((p, p.stat().st_mtime_ns) for p in folder.glob("parse-*.bin")) == before
+
+
+def test_a_parse_made_from_the_last_version_is_the_whole_parse(
+    folder: Path, tmp_path: Path
+) -> None:
+    """Whatever changed between two versions of a large file (a line, the top, the end,
+    everything, the file emptied, a bracket left open), the parse made from the last
+    version's is the parse of the new text, node for node and finding for finding."""
+    from osc2check.analysis import IMPORT_CACHE_SIZE, _parse_saved
+    from osc2check.syntax import parse
+    from osc2check.syntax.walk import dump
+
+    structs = [f"struct pose_{i}:\n    x: length = {i}m\n" for i in range(600)]
+    text = "import osc.standard\n\n" + "\n".join(structs)
+    assert len(text) >= IMPORT_CACHE_SIZE
+    middle = text.index("struct pose_300")
+    versions = [
+        text,
+        text.replace("x: length = 300m", "x: length = 301m + 2"),
+        "# a comment on top\n" + text,
+        text + "scenario s:\n    p: pose_1\n",
+        text[:middle] + "struct broken(\n" + text[middle:],
+        text[:middle] + text[middle + 500 :],
+        "".join(reversed(structs)),
+        "",
+        text,
+    ]
+    uri = str(tmp_path / "big.osc")
+    for version in versions:
+        made, whole = _parse_saved(version, uri), parse(version, uri)
+        assert made.text == version
+        assert dump(made.ast) == dump(whole.ast)
+        assert made.diagnostics == whole.diagnostics
+        assert made.comment_spans() == whole.comment_spans()
 
 
 # vehicle_category!van is 2.2's (N106 under 2.1); speed_range a parameter 2.2 adds

@@ -9,8 +9,9 @@ from hypothesis import strategies as st
 from lsprotocol import types
 from pygls.workspace.position_codec import PositionCodec
 
+from osc2check.source import common_prefix, common_suffix
 from osc2lsp.convert import from_lsp_position
-from osc2lsp.text import LineIndex, TextMap, common_prefix, common_suffix
+from osc2lsp.text import LineIndex, TextMap
 from tests.osc2lsp.storms import SEPARATORS, final_text, lsp_lines, lsp_position, storms
 
 ALPHABET = st.sampled_from(["a", "é", "😀", " ", "\n", "\r", "\r\n", *SEPARATORS])
