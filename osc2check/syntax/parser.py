@@ -194,7 +194,8 @@ def parse_part(text: str, uri: str, start: int, end: int, line: int) -> ParseRes
         segments = parse_segments(uri, text, tokens, lexed.errors, layout, start, line)
         comments = tuple(lexed.comments)
         # The tokens are freed while the collector is paused: its first pass after the
-        # pause then reads only what the parse keeps (a tenth of a 10,000-line parse).
+        # pause then reads only what the parse keeps (121,000 objects of a 10,000-line
+        # file, instead of 202,000).
         del lexed, tokens, layout
         return assemble(uri, text, segments, comments)
 
