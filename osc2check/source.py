@@ -59,7 +59,9 @@ def point_span(uri: str, text: str, offset: int) -> Span:
     """A zero-width span at ``offset`` of ``text``."""
     offset = max(0, min(offset, len(text)))
     line = line_of(text, offset)
-    column = offset - (max(text.rfind("\n", 0, offset), text.rfind("\r", 0, offset)) + 1) + 1
+    newline = text.rfind("\n", 0, offset)
+    # a \r after the last \n (not one searched for back to the start of the text)
+    column = offset - (max(newline, text.rfind("\r", newline + 1, offset)) + 1) + 1
     return Span(uri, line, column, line, column, offset, offset)
 
 

@@ -10,9 +10,9 @@ parser (and this builder) is shared by every parse in the process.
 from __future__ import annotations
 
 import re
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from fractions import Fraction
 from typing import Any, TypeVar, overload
 
@@ -58,8 +58,37 @@ class _Group:
     span: Span | None
 
 
+def _span_maker() -> Callable[[str, int, int, int, int, int, int], Span]:
+    """``Span(uri, line, column, end_line, end_column, start, end)``, made faster: a frozen
+    dataclass's ``__init__`` sets each field by ``object.__setattr__``, this by the field's
+    slot, and the builder makes a span for every name and every node."""
+    if [f.name for f in fields(Span)] != list(_SPAN_FIELDS) or hasattr(Span, "__post_init__"):
+        return Span  # Span is not the plain record this was written for
+    new = object.__new__
+    uri, line, column, end_line, end_column, start, end = (
+        getattr(Span, name).__set__ for name in _SPAN_FIELDS
+    )
+
+    def span(u: str, li: int, co: int, eli: int, eco: int, st: int, en: int) -> Span:
+        made: Span = new(Span)
+        uri(made, u)
+        line(made, li)
+        column(made, co)
+        end_line(made, eli)
+        end_column(made, eco)
+        start(made, st)
+        end(made, en)
+        return made
+
+    return span
+
+
+_SPAN_FIELDS = ("uri", "line", "column", "end_line", "end_column", "start", "end")
+_span = _span_maker()
+
+
 def _tok_span(tok: Token) -> Span:
-    return Span(
+    return _span(
         _URI.get(), tok.line, tok.column, tok.end_line, tok.end_column, tok.start_pos, tok.end_pos
     )
 
@@ -74,28 +103,31 @@ def span_of(item: object) -> Span | None:
     return None
 
 
-def _edge(item: object) -> tuple[int, int, int, int, int, int] | None:
-    """(uri, line, column, start) and (end_line, end_column, end) of an item, or None."""
-    if isinstance(item, Token):
-        return item.line, item.column, item.start_pos, item.end_line, item.end_column, item.end_pos
-    span = item.span if isinstance(item, (ast.Node, _Group)) else None
-    if span is None:
-        return None
-    return span.line, span.column, span.start, span.end_line, span.end_column, span.end
+_SPANNED = (ast.Node, _Group)  # the other items (a token aside) have no position
 
 
 def _cover(children: Sequence[object]) -> Span:
-    """The span from the first to the last child that has a position."""
-    first = last = None
-    for child in children:
-        if child is not None and (first := _edge(child)) is not None:
+    """The span from the first to the last child that has a position (the hottest
+    function of the builder: a child's span, when it is the only one, is used as it is)."""
+    for first in children:
+        if isinstance(first, Token):
+            line, column, start = first.line, first.column, first.start_pos
             break
-    for child in reversed(children):
-        if child is not None and (last := _edge(child)) is not None:
+        if isinstance(first, _SPANNED) and (span := first.span) is not None:
+            line, column, start = span.line, span.column, span.start
             break
-    if first is None or last is None:
-        return Span(_URI.get(), 1, 1, 1, 1, 0, 0)
-    return Span(_URI.get(), first[0], first[1], last[3], last[4], first[2], last[5])
+    else:
+        return _span(_URI.get(), 1, 1, 1, 1, 0, 0)
+    for last in reversed(children):
+        if isinstance(last, Token):
+            return _span(
+                _URI.get(), line, column, last.end_line, last.end_column, start, last.end_pos
+            )
+        if isinstance(last, _SPANNED) and (end := last.span) is not None:
+            if last is first:
+                return end
+            return _span(_URI.get(), line, column, end.end_line, end.end_column, start, end.end)
+    raise AssertionError("unreachable: the first child with a position is found again")
 
 
 def _nodes(children: Children, kind: type[_T]) -> tuple[_T, ...]:
@@ -210,7 +242,7 @@ class Builder:
 
     def name(self, c: Children) -> ast.Name:
         tok = c[0]
-        return ast.Name(_tok_span(tok), str(tok))
+        return ast.Name(_tok_span(tok), tok.value)
 
     def plain_name(self, c: Children) -> ast.QualifiedName:
         return ast.QualifiedName(c[0].span, None, c[0])

@@ -33,9 +33,16 @@ class IndentError:
 
 
 def _indentation(text: str, token: Token) -> int:
-    line_start = max(text.rfind("\n", 0, token.start_pos), text.rfind("\r", 0, token.start_pos)) + 1
+    at = token.start_pos
+    newline = text.rfind("\n", 0, at)
+    # a `\r` is looked for after the last `\n` only: in a file without one, a search
+    # back to the start of the text for every line would be quadratic
+    line_start = max(newline, text.rfind("\r", newline + 1, at)) + 1
+    lead = text[line_start:at]
+    if not lead.strip(" "):  # the common case: blanks only
+        return len(lead)
     width = 0
-    for ch in text[line_start : token.start_pos]:
+    for ch in lead:
         if ch == "\t":
             width = (width // TAB_SIZE + 1) * TAB_SIZE
         elif ch in " \f":

@@ -24,6 +24,7 @@ NAME = "NAME"
 _REGEX_ORDER = ("HEX", "PHYSICAL", "FLOAT", "INT", "STRING", "NAME")
 # Operator terminals are alternatives of fixed strings in the grammar.
 _OPERATOR_TERMINALS = ("REL_OP", "ADD_OP", "MUL_OP")
+_NUMBERS = frozenset({"HEX", "PHYSICAL", "FLOAT", "INT"})
 
 
 class Token:
@@ -118,7 +119,6 @@ def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
             punctuation[re.sub(r"\\(.)", r"\1", alternative)] = op
     parts = [
         rf"(?P<NEWLINE>{LINE_BREAK.pattern})",
-        r"(?P<WS>[ \t\f]+)",
         rf"(?P<CONT>\\[ \t\f]*(?:{LINE_BREAK.pattern}))",
         r"(?P<COMMENT>#[^\r\n]*)",
     ]
@@ -128,7 +128,11 @@ def _tables() -> tuple[re.Pattern[str], dict[str, str]]:
     ordered = sorted(punctuation, key=len, reverse=True)
     parts.append("(?P<PUNCT>" + "|".join(re.escape(p) for p in ordered) + ")")
     parts.append(r"(?P<ERROR>.)")
-    return re.compile("|".join(parts), re.DOTALL), {**keywords, **punctuation}
+    parts.append(r"(?P<END>\Z)")  # blanks that end the text: one match, not one per blank
+    # Blanks before a token are part of its match (half as many matches as a group of
+    # their own).
+    tokens = "[ \t\f]*+(?:" + "|".join(parts) + ")"
+    return re.compile(tokens, re.DOTALL), {**keywords, **punctuation}
 
 
 def tokenize(text: str, pos: int = 0, endpos: int | None = None, line: int = 1) -> LexResult:
@@ -143,43 +147,64 @@ def tokenize(text: str, pos: int = 0, endpos: int | None = None, line: int = 1) 
     errors: list[LexError] = []
     line_start = pos
     append = tokens.append
+    # The commonest kinds first: a name or punctuation (a keyword or an operator is its
+    # own terminal), a line break, a number.
     for match in pattern.finditer(text, pos, len(text) if endpos is None else endpos):
-        kind = match.lastgroup
-        assert kind is not None  # the last alternative, ERROR, matches any character
-        start, end = match.span()
-        value = match.group()
-        column = start - line_start + 1
-        if kind == "WS":
-            continue
-        if kind == "NEWLINE":
-            append(Token(NEWLINE, value, start, line, column, line, column + len(value), end))
+        kind = match.lastgroup or "END"  # (every alternative is a named group)
+        start, end = match.span(kind)
+        if kind == NAME or kind == "PUNCT":
+            value = text[start:end]
+            column = start - line_start + 1
+            append(
+                Token(
+                    fixed.get(value, kind),
+                    value,
+                    start,
+                    line,
+                    column,
+                    line,
+                    column + end - start,
+                    end,
+                )
+            )
+        elif kind == NEWLINE:
+            column = start - line_start + 1
+            append(
+                Token(
+                    NEWLINE, match.group(kind), start, line, column, line, column + end - start, end
+                )
+            )
             line += 1
             line_start = end
-            continue
-        if kind == "CONT":
+        elif kind in _NUMBERS:
+            column = start - line_start + 1
+            append(
+                Token(kind, match.group(kind), start, line, column, line, column + end - start, end)
+            )
+        elif kind == "CONT":
             line += 1
             line_start = end
-            continue
-        if kind == "COMMENT":
-            comments.append(Comment(start, line, column, value))
-            continue
-        if kind == "ERROR":
-            errors.append(LexError(start, 1, "character", value, line, column))
-            continue
-        if kind == "BADSTRING":
-            errors.append(LexError(start, end - start, "string", value, line, column))
-            kind = STRING
-        elif kind == "PUNCT" or kind == NAME:
-            kind = fixed.get(value, kind)
-        multiline = kind == STRING and ("\n" in value or "\r" in value)
-        breaks = list(LINE_BREAK.finditer(value)) if multiline else None
-        if breaks:  # a triple-quoted string over several lines
-            end_line = line + len(breaks)
-            end_column = len(value) - breaks[-1].end() + 1
-        else:
-            end_line, end_column = line, column + len(value)
-        append(Token(kind, value, start, line, column, end_line, end_column, end))
-        if breaks:
-            line = end_line
-            line_start = start + breaks[-1].end()
+        elif kind == "COMMENT":
+            comments.append(Comment(start, line, start - line_start + 1, match.group(kind)))
+        elif kind == "ERROR":
+            errors.append(
+                LexError(start, 1, "character", match.group(kind), line, start - line_start + 1)
+            )
+        elif kind == "END":
+            break
+        else:  # a string, or one not closed (an error, and a string still)
+            value = text[start:end]
+            column = start - line_start + 1
+            if kind == "BADSTRING":
+                errors.append(LexError(start, end - start, "string", value, line, column))
+            breaks = list(LINE_BREAK.finditer(value)) if "\n" in value or "\r" in value else None
+            if breaks:  # a triple-quoted string over several lines
+                end_line = line + len(breaks)
+                end_column = len(value) - breaks[-1].end() + 1
+            else:
+                end_line, end_column = line, column + len(value)
+            append(Token(STRING, value, start, line, column, end_line, end_column, end))
+            if breaks:
+                line = end_line
+                line_start = start + breaks[-1].end()
     return LexResult(tokens, comments, errors)

@@ -17,7 +17,7 @@ from osc2check.syntax.build import _PROBLEMS, _URI, Builder, BuildProblem
 from osc2check.syntax.grammar import grammar_text
 from osc2check.syntax.indent import IndentError, indent
 from osc2check.syntax.lexer import Comment, LexError, Token, tokenize
-from osc2check.syntax.tables import Callback, callbacks, drive, finish, lark_parser, parse_tables
+from osc2check.syntax.tables import Automaton, automaton, drive, finish, lark_parser, parse_tables
 
 # How terminals read in messages.
 _DESCRIPTIONS = {
@@ -93,19 +93,19 @@ _BUILDER = Builder()  # pure: one for every parse (the file is in a context vari
 
 
 @cache
-def _callbacks() -> list[Callback]:
-    return callbacks(parse_tables(), _BUILDER)
+def _automaton() -> Automaton:
+    return automaton(parse_tables(), _BUILDER)
 
 
 def _parse_tokens(tokens: list[Token]) -> tuple[object, list[Any]]:
     """The tree of laid-out ``tokens`` and the syntax problems (``recover.SyntaxProblem``):
     by the parse tables while they take the tokens, then by lark's recovering parser."""
-    tables, calls = parse_tables(), _callbacks()
-    states: list[int] = [tables.start]
+    machine = _automaton()
+    states: list[int] = [parse_tables().start]
     values: list[Any] = []
-    taken = drive(tables, calls, states, values, tokens)
+    taken = drive(machine, states, values, tokens)
     if taken == len(tokens):
-        done, tree = finish(tables, calls, states, values)
+        done, tree = finish(machine, states, values)
         if done:
             return tree, []
     from osc2check.syntax.recover import parse_tokens  # imports lark
@@ -192,7 +192,12 @@ def parse_part(text: str, uri: str, start: int, end: int, line: int) -> ParseRes
         lexed = tokenize(text, start, end, line)
         tokens, layout = indent(lexed.tokens, text)
         segments = parse_segments(uri, text, tokens, lexed.errors, layout, start, line)
-        return assemble(uri, text, segments, tuple(lexed.comments))
+        comments = tuple(lexed.comments)
+        # The tokens are freed while the collector is paused: its first pass after the
+        # pause then reads only what the parse keeps (121,000 objects of a 10,000-line
+        # file, instead of 202,000).
+        del lexed, tokens, layout
+        return assemble(uri, text, segments, comments)
 
 
 def assemble(

@@ -19,7 +19,8 @@ from __future__ import annotations
 import pickle
 import threading
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from operator import itemgetter
 from typing import TYPE_CHECKING, Any
 
 from osc2check import cache
@@ -28,7 +29,18 @@ from osc2check.syntax.grammar import grammar_key, grammar_text
 if TYPE_CHECKING:
     from lark import Lark
 
-__all__ = ["Inline", "ParseTables", "RuleShape", "drive", "finish", "lark_parser", "parse_tables"]
+__all__ = [
+    "Automaton",
+    "Inline",
+    "ParseTables",
+    "Reduction",
+    "RuleShape",
+    "automaton",
+    "drive",
+    "finish",
+    "lark_parser",
+    "parse_tables",
+]
 
 LARK_OPTIONS: dict[str, Any] = dict(parser="lalr", lexer="basic", maybe_placeholders=True)
 START = "start"
@@ -105,14 +117,38 @@ def lark_parser(builder: object | None = None) -> Lark:
 # ---------------------------------------------------------------- driving the automaton
 
 Callback = Callable[[list[Any]], Any] | None  # None: the rule's value is its only child
+# What reducing a rule does: pop this many values, call this (None: keep the one value),
+# then shift the rule's name (its ``origin``).
+Reduction = tuple[int, Callback, str]
 
 
-def callbacks(tables: ParseTables, builder: object) -> list[Callback]:
-    """For each rule, what its reduction calls: the builder's method as lark wraps it."""
-    return [_callback(shape, builder) for shape in tables.rules]
+@dataclass(frozen=True, slots=True)
+class Automaton:
+    """The tables as :func:`drive` reads them, with a builder's callbacks: the rows in a
+    list by state (an index instead of a hash), and what reducing each rule does."""
+
+    rows: list[dict[str, int]]
+    reductions: list[Reduction]
+    end: int
+    # (state under, state, terminal) -> the state a chain of `?rule: other` reductions
+    # ends in: found on first use (a name in an expression reduces through seven)
+    chains: dict[tuple[int, int, str], int] = field(default_factory=dict)
+
+
+def automaton(tables: ParseTables, builder: object) -> Automaton:
+    """The automaton of ``tables`` whose reductions call ``builder``'s methods as lark's
+    tree builder calls them (a rule without a method makes an ``Inline``)."""
+    return Automaton(
+        [tables.rows[state] for state in range(len(tables.rows))],
+        [(len(shape.symbols), _callback(shape, builder), shape.origin) for shape in tables.rules],
+        tables.end,
+    )
 
 
 def _callback(shape: RuleShape, builder: object) -> Callback:
+    """The builder's method for ``shape``, called as lark's tree builder calls it: one
+    closure per rule, picking the kept children without a loop where none is inlined
+    (a reduction is the commonest step of a parse)."""
     if shape.passes:
         return None
     method = getattr(builder, shape.callback, None)
@@ -122,15 +158,62 @@ def _callback(shape: RuleShape, builder: object) -> Callback:
         def method(children: list[Any]) -> Any:
             return Inline(name, children)
 
-    node = method
+    call = method
     if shape.expand1:
 
-        def node(children: list[Any]) -> Any:
+        def call(children: list[Any]) -> Any:
             return children[0] if len(children) == 1 else method(children)
 
     include, after = shape.include, shape.nones_after
     if include is None:
-        return node
+        return call
+    if any(inline for _, inline, _ in include):
+        return _filtered(include, after, call)
+    picks: list[int] = []  # the index of each kept child, -1 for a None
+    for i, _, nones in include:
+        picks += [-1] * nones
+        picks.append(i)
+    picks += [-1] * after
+    return _picked(picks, call)
+
+
+def _picked(picks: list[int], call: Callable[[list[Any]], Any]) -> Callback:
+    """``call`` on the children at ``picks`` (-1: a ``None``, appended to the children,
+    which are the parser's own slice of its stack), by ``itemgetter``."""
+    if not picks:
+        return lambda children: call([])
+    if len(picks) == 1:
+        (at,) = picks
+        if at < 0:
+            return lambda children: call([None])
+        return lambda children: call([children[at]])
+    get = itemgetter(*picks)
+    if -1 not in picks:
+        return lambda children: call([*get(children)])
+
+    def padded(children: list[Any]) -> Any:
+        children.append(None)
+        return call([*get(children)])
+
+    return padded
+
+
+def _filtered(
+    include: tuple[tuple[int, bool, int], ...], after: int, call: Callable[[list[Any]], Any]
+) -> Callback:
+    """``call`` on the kept children of a rule that inlines some, as lark's
+    ``ChildFilterLALR`` keeps them."""
+    first, *rest = include
+    if after == 0 and first == (0, True, 0) and len(rest) == 1 and rest[0][1:] == (False, 0):
+        # `_items: item | _items "," item`, the commonest: the item added to the list
+        at = include[1][0]
+
+        def added(children: list[Any]) -> Any:
+            kept = children[0].children  # lark reuses the inlined list
+            kept.append(children[at])
+            return call(kept)
+
+        return added
 
     def filtered(children: list[Any]) -> Any:
         kept: list[Any] = []
@@ -146,22 +229,17 @@ def _callback(shape: RuleShape, builder: object) -> Callback:
                 kept.append(children[i])
         if after:
             kept += [None] * after
-        return node(kept)
+        return call(kept)
 
     return filtered
 
 
-def drive(
-    tables: ParseTables,
-    calls: Sequence[Callback],
-    states: list[int],
-    values: list[Any],
-    tokens: Sequence[Any],
-) -> int:
+def drive(automaton: Automaton, states: list[int], values: list[Any], tokens: Sequence[Any]) -> int:
     """Feed ``tokens`` (anything with a ``type``) until one cannot be taken; returns how
     many were. ``states`` and ``values`` are the parser's stacks, changed in place."""
-    rows, rules = tables.rows, tables.rules
+    rows, reductions, chains = automaton.rows, automaton.reductions, automaton.chains
     row = rows[states[-1]]
+    push_state, push_value = states.append, values.append
     consumed = 0
     for tok in tokens:
         ttype = tok.type
@@ -170,41 +248,60 @@ def drive(
             if entry is None:
                 return consumed
             if entry >= 0:
-                states.append(entry)
-                values.append(tok)
+                push_state(entry)
+                push_value(tok)
                 row = rows[entry]
                 break
-            rule = ~entry
-            call = calls[rule]
-            size = len(rules[rule].symbols)
-            if call is None:  # `?rule: other`: the child is the value
-                states.pop()
+            size, call, origin = reductions[~entry]
+            if call is None:  # `?rule: other`: the child is the value, the stack is as it was
+                key = (states[-2], states[-1], ttype)
+                goto = chains.get(key)
+                if goto is None:
+                    goto = chains[key] = _chain(rows, reductions, states[-2], origin, ttype)
+                states[-1] = goto
+                row = rows[goto]
+                continue
+            if size == 1:  # the commonest reduction: the value is replaced in place
+                values[-1] = call([values[-1]])
+                del states[-1]
             elif size:
                 children = values[-size:]
                 del states[-size:]
                 del values[-size:]
-                values.append(call(children))
+                push_value(call(children))
             else:
-                values.append(call([]))
-            goto = rows[states[-1]][rules[rule].origin]
-            states.append(goto)
+                push_value(call([]))
+            goto = rows[states[-1]][origin]
+            push_state(goto)
             row = rows[goto]
         consumed += 1
     return consumed
+
+
+def _chain(
+    rows: list[dict[str, int]], reductions: list[Reduction], under: int, origin: str, ttype: str
+) -> int:
+    """The state after reducing to ``origin`` over state ``under`` and then every
+    `?rule: other` reduction that ``ttype`` asks for next (each one over ``under`` too)."""
+    goto = rows[under][origin]
+    while (entry := rows[goto].get(ttype)) is not None and entry < 0:
+        _, call, then = reductions[~entry]
+        if call is not None:
+            break
+        goto = rows[under][then]
+    return goto
 
 
 class _End:
     type = "$END"
 
 
-def finish(
-    tables: ParseTables, calls: Sequence[Callback], states: list[int], values: list[Any]
-) -> tuple[bool, Any]:
+def finish(automaton: Automaton, states: list[int], values: list[Any]) -> tuple[bool, Any]:
     """Feed the end of input: (True, the start rule's value), or (False, None) when the
     input cannot end here (the stacks are then as they were)."""
     saved_states, saved_values = list(states), list(values)
-    drive(tables, calls, states, values, (_End,))  # reduces up to the end state, or stops
-    if states[-1] == tables.end:
+    drive(automaton, states, values, (_End,))  # reduces up to the end state, or stops
+    if states[-1] == automaton.end:
         return True, values[-1]
     states[:], values[:] = saved_states, saved_values
     return False, None
