@@ -106,12 +106,14 @@ def minus(a: Term, b: Term) -> Term:
 def variables(term: Term) -> set[Var]:
     """The variables a term mentions."""
     found: set[Var] = set()
+    seen: set[int] = set()  # operations already walked: a term may share subterms
     stack = [term]
     while stack:
         t = stack.pop()
         if isinstance(t, Ref):
             found.add(t.var)
-        elif isinstance(t, Op):
+        elif isinstance(t, Op) and id(t) not in seen:
+            seen.add(id(t))
             stack.extend(t.args)
     return found
 
@@ -119,12 +121,14 @@ def variables(term: Term) -> set[Var]:
 def names(term: Term) -> set[str]:
     """The names of the variables a term mentions."""
     found: set[str] = set()
+    seen: set[int] = set()  # operations already walked: a term may share subterms
     stack = [term]
     while stack:
         t = stack.pop()
         if isinstance(t, Ref):
             found.add(t.var.name)
-        elif isinstance(t, Op):
+        elif isinstance(t, Op) and id(t) not in seen:
+            seen.add(id(t))
             stack.extend(t.args)
     return found
 
@@ -132,10 +136,12 @@ def names(term: Term) -> set[str]:
 def is_nonlinear(term: Term) -> bool:
     """Whether two non-constant factors are multiplied somewhere in ``term``, or something
     is divided by (or taken modulo) an unknown."""
+    seen: set[int] = set()
     stack = [term]
     while stack:
         t = stack.pop()
-        if isinstance(t, Op):
+        if isinstance(t, Op) and id(t) not in seen:
+            seen.add(id(t))
             if t.op == "*" and sum(bool(names(a)) for a in t.args) > 1:
                 return True
             if t.op in ("/", "%") and names(t.args[1]):

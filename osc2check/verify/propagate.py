@@ -37,12 +37,19 @@ class _Unsupported(Exception):
 def linear(term: ir.Term) -> Linear | None:
     """``term`` as a linear form over its numeric variables, or None."""
     try:
-        return _linear(term)
+        return _linear(term, {})
     except _Unsupported:
         return None
 
 
-def _linear(term: ir.Term) -> Linear:
+def _linear(term: ir.Term, memo: dict[int, Linear]) -> Linear:
+    """``linear``'s form of ``term``; ``memo`` holds it for each operation of the term
+    already seen (an expanded schedule shares subterms: a tree walk of it is exponential)."""
+    if isinstance(term, ir.Op):
+        found = memo.get(id(term))
+        if found is None:
+            found = memo[id(term)] = _linear_op(term, memo)
+        return found
     if isinstance(term, ir.Const):
         if isinstance(term.value, bool):
             raise _Unsupported
@@ -51,20 +58,22 @@ def _linear(term: ir.Term) -> Linear:
         if term.var.sort == "bool":
             raise _Unsupported
         return {term.var.name: _ONE}, _ZERO
-    if not isinstance(term, ir.Op):
-        raise _Unsupported
+    raise _Unsupported
+
+
+def _linear_op(term: ir.Op, memo: dict[int, Linear]) -> Linear:
     if term.op == "neg":
-        coeffs, k = _linear(term.args[0])
+        coeffs, k = _linear(term.args[0], memo)
         return {v: -c for v, c in coeffs.items()}, -k
     if term.op in ("+", "-"):
-        (a, ka), (b, kb) = _linear(term.args[0]), _linear(term.args[1])
+        (a, ka), (b, kb) = _linear(term.args[0], memo), _linear(term.args[1], memo)
         sign = 1 if term.op == "+" else -1
         out = dict(a)
         for v, c in b.items():
             out[v] = out.get(v, _ZERO) + sign * c
         return {v: c for v, c in out.items() if c}, ka + sign * kb
     if term.op == "*":
-        (a, ka), (b, kb) = _linear(term.args[0]), _linear(term.args[1])
+        (a, ka), (b, kb) = _linear(term.args[0], memo), _linear(term.args[1], memo)
         if a and b:
             raise _Unsupported
         if not a:
@@ -72,7 +81,7 @@ def _linear(term: ir.Term) -> Linear:
         # a * kb (b is a constant)
         return ({v: c * kb for v, c in a.items() if c * kb}, ka * kb)
     if term.op == "/":
-        (a, ka), (b, kb) = _linear(term.args[0]), _linear(term.args[1])
+        (a, ka), (b, kb) = _linear(term.args[0], memo), _linear(term.args[1], memo)
         if b or not kb:  # by an unknown, or by zero (no value)
             raise _Unsupported
         return ({v: c / kb for v, c in a.items()}, ka / kb)
@@ -262,17 +271,36 @@ def _spread(k: int) -> Fraction:
 def fold(term: ir.Term, values: Mapping[str, Fraction | bool]) -> ir.Term:
     """``term`` with the variables of ``values`` replaced by their values, and what that
     makes constant computed (``ite`` on a known condition is its branch)."""
+    return _fold(term, values, {})
+
+
+def _fold(
+    term: ir.Term, values: Mapping[str, Fraction | bool], memo: dict[int, ir.Term]
+) -> ir.Term:
+    """``fold``; ``memo`` holds the result for each operation of ``term`` already folded
+    (shared subterms are folded once)."""
     if isinstance(term, ir.Ref):
         value = values.get(term.var.name)
         return term if value is None else ir.const(value)
     if not isinstance(term, ir.Op):
         return term
+    found = memo.get(id(term))
+    if found is None:
+        found = memo[id(term)] = _fold_op(term, values, memo)
+    return found
+
+
+def _fold_op(
+    term: ir.Op, values: Mapping[str, Fraction | bool], memo: dict[int, ir.Term]
+) -> ir.Term:
     if term.op == "ite":
-        condition = fold(term.args[0], values)
+        condition = _fold(term.args[0], values, memo)
         if isinstance(condition, ir.Const):
-            return fold(term.args[1] if condition.value else term.args[2], values)
-        return ir.Op("ite", (condition, fold(term.args[1], values), fold(term.args[2], values)))
-    args = tuple(fold(a, values) for a in term.args)
+            return _fold(term.args[1] if condition.value else term.args[2], values, memo)
+        return ir.Op(
+            "ite", (condition, _fold(term.args[1], values, memo), _fold(term.args[2], values, memo))
+        )
+    args = tuple(_fold(a, values, memo) for a in term.args)
     if term.op in ("and", "or"):
         absorbing = term.op == "or"  # True absorbs `or`, False absorbs `and`
         kept = []
