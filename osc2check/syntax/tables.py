@@ -203,17 +203,6 @@ def _filtered(
 ) -> Callback:
     """``call`` on the kept children of a rule that inlines some, as lark's
     ``ChildFilterLALR`` keeps them."""
-    first, *rest = include
-    if after == 0 and first == (0, True, 0) and len(rest) == 1 and rest[0][1:] == (False, 0):
-        # `_items: item | _items "," item`, the commonest: the item added to the list
-        at = include[1][0]
-
-        def added(children: list[Any]) -> Any:
-            kept = children[0].children  # lark reuses the inlined list
-            kept.append(children[at])
-            return call(kept)
-
-        return added
 
     def filtered(children: list[Any]) -> Any:
         kept: list[Any] = []
