@@ -59,10 +59,16 @@ def point_span(uri: str, text: str, offset: int) -> Span:
     """A zero-width span at ``offset`` of ``text``."""
     offset = max(0, min(offset, len(text)))
     line = line_of(text, offset)
-    newline = text.rfind("\n", 0, offset)
-    # a \r after the last \n (not one searched for back to the start of the text)
-    column = offset - (max(newline, text.rfind("\r", newline + 1, offset)) + 1) + 1
+    column = offset - line_start(text, offset) + 1
     return Span(uri, line, column, line, column, offset, offset)
+
+
+def line_start(text: str, offset: int) -> int:
+    """The offset where the line holding ``offset`` begins (see ``LINE_BREAK``)."""
+    newline = text.rfind("\n", 0, offset)
+    # a \r after the last \n only: searched for back to the start of the text, a file
+    # without one would be read whole for every line
+    return max(newline, text.rfind("\r", newline + 1, offset)) + 1
 
 
 def line_of(text: str, offset: int) -> int:
@@ -137,3 +143,12 @@ def common_suffix(a: str, b: str, limit: int) -> int:
         else:
             high = middle - 1
     return low
+
+
+def changed_region(old: str, new: str) -> tuple[int, int, int]:
+    """Where ``new`` differs from ``old``, as one region: ``(start, old_end, new_end)``,
+    ``old[start:old_end]`` having become ``new[start:new_end]`` (their common beginning
+    and end, not overlapping, set it apart)."""
+    prefix = common_prefix(old, new)
+    suffix = common_suffix(old, new, min(len(old), len(new)) - prefix)
+    return prefix, len(old) - suffix, len(new) - suffix

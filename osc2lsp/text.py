@@ -20,7 +20,7 @@ from pathlib import Path
 from urllib.parse import quote, unquote, urlparse
 
 # what a line is, and where two versions of a text differ: one home for the checker and us
-from osc2check.source import LINE_BREAK, common_prefix, common_suffix
+from osc2check.source import LINE_BREAK, changed_region
 
 # ---- file names ---------------------------------------------------------------
 
@@ -132,10 +132,7 @@ class TextMap:
     __slots__ = ("prefix", "old_end", "new_end", "delta")
 
     def __init__(self, old: str, new: str):
-        self.prefix = common_prefix(old, new)
-        suffix = common_suffix(old, new, min(len(old), len(new)) - self.prefix)
-        self.old_end = len(old) - suffix
-        self.new_end = len(new) - suffix
+        self.prefix, self.old_end, self.new_end = changed_region(old, new)
         self.delta = len(new) - len(old)
 
     @property

@@ -32,7 +32,7 @@ from typing import Any
 
 from osc2check.diagnostics import Diagnostic, Fix, Related, TextEdit
 from osc2check.gc_pause import gc_paused
-from osc2check.source import LINE_BREAK, Span, common_prefix, common_suffix
+from osc2check.source import LINE_BREAK, Span, changed_region
 from osc2check.syntax import ast
 from osc2check.syntax.indent import indent
 from osc2check.syntax.lexer import NEWLINE, Comment, tokenize
@@ -164,12 +164,9 @@ def parse_from(previous: ParseResult, text: str) -> ParseResult | None:
     version of the text: ``previous`` itself when the text is the same, else the one
     region where the two versions differ parsed again and spliced in (None: parse the
     whole text)."""
-    old = previous.text
-    if old == text:
+    if previous.text == text:
         return previous
-    prefix = common_prefix(old, text)
-    suffix = common_suffix(old, text, min(len(old), len(text)) - prefix)
-    return splice(previous, text, Edit(prefix, len(old) - suffix, len(text) - suffix))
+    return splice(previous, text, Edit(*changed_region(previous.text, text)))
 
 
 def _at_line_start(text: str, offset: int) -> bool:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from osc2check.source import line_start
 from osc2check.syntax.lexer import NEWLINE, Token
 
 OPENERS = {"LPAR", "LSQB"}
@@ -34,11 +35,7 @@ class IndentError:
 
 def _indentation(text: str, token: Token) -> int:
     at = token.start_pos
-    newline = text.rfind("\n", 0, at)
-    # a `\r` is looked for after the last `\n` only: in a file without one, a search
-    # back to the start of the text for every line would be quadratic
-    line_start = max(newline, text.rfind("\r", newline + 1, at)) + 1
-    lead = text[line_start:at]
+    lead = text[line_start(text, at) : at]
     if not lead.strip(" "):  # the common case: blanks only
         return len(lead)
     width = 0

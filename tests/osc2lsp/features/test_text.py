@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 from lsprotocol import types
 from pygls.workspace.position_codec import PositionCodec
 
-from osc2check.source import common_prefix, common_suffix
+from osc2check.source import changed_region, common_prefix, common_suffix
 from osc2lsp.convert import from_lsp_position
 from osc2lsp.text import LineIndex, TextMap
 from tests.osc2lsp.storms import SEPARATORS, final_text, lsp_lines, lsp_position, storms
@@ -95,6 +95,9 @@ def test_common_prefix_and_suffix():
     assert common_prefix("scenario a", "scenario b") == 9
     assert common_suffix("abc xyz", "abd xyz", 7) == 4
     assert common_suffix("aaa", "aaa", 1) == 1
+    assert changed_region("abc xyz", "abd xyz") == (2, 3, 3)
+    assert changed_region("aaa", "aa") == (2, 3, 2)  # beginning and end never overlap
+    assert changed_region("", "new") == (0, 0, 3)
     assert lsp_position("a\r\nb", 3) == {"line": 1, "character": 0}
 
 
