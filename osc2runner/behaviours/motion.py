@@ -46,6 +46,7 @@ __all__ = [
 
 #: gain of gap tracking: speed change per metre of gap error (1/s)
 GAP_GAIN = 0.4
+GAP_LAG = 1.0  # s
 
 
 def _hold(action: ActionBehaviour) -> None:
@@ -294,7 +295,10 @@ class GapAction(ActionBehaviour):
         wanted = self.goal * max(me.speed, 0.1) if self.timed else self.goal
         error = distance - wanted  # >0: too far apart
         self.error = error
-        retarget(self.driver, other.speed + self.sign * GAP_GAIN * error)
+        # the error GAP_LAG from now at today's speeds: the speed follows its target that
+        # much late, and a gap to a standing reference overshot cannot be taken back
+        ahead = error + GAP_LAG * self.sign * (other.speed - me.speed)
+        retarget(self.driver, other.speed + self.sign * GAP_GAIN * ahead)
         tol = self.ctx.tolerances
         if (
             not self.keep

@@ -221,3 +221,53 @@ def test_a_teleport_behind_takes_the_headway_at_the_assigned_speed(tmp_path):
     )
     assert result.outcome.status == "failure"
     assert result.outcome.reason.endswith("position() needs `distance` or `time`")
+
+
+def test_a_gap_behind_a_standing_car_is_reached_without_overshooting(tmp_path):
+    # a gap overshot behind a standing car cannot be taken back (no reversing): the speed
+    # is aimed at the gap its lag ahead (GAP_LAG), and the action ends within tolerance
+    result = run_text(
+        tmp_path,
+        """\
+    lead: vehicle
+    car: vehicle
+    do serial:
+        parallel:
+            lead.assign_position() with:
+                lane(1, at: start)
+                position(distance: 300m, at: start)
+            car.assign_position() with:
+                lane(1, at: start)
+                position(distance: 90m, behind: lead, at: start)
+        car.change_space_gap(target: 20m, direction: behind, reference: lead)
+""",
+        duration=60.0,
+    )
+    assert result.outcome.status == "success", result.outcome.reason
+    car, lead = result.telemetry["car"], result.telemetry["lead"]
+    gaps = [lx - cx - 4.5 for lx, cx in zip(lead["x"], car["x"], strict=True)]
+    assert min(gaps) >= 20.0 - 0.4
+    end = result.event_ticks("end", "car.change_space_gap")[0]
+    assert gaps[end] == pytest.approx(20.0, abs=0.4)
+
+
+OPEN_STARTS = {
+    "a first lane change": """\
+    ego: vehicle
+    do ego.change_lane(side: lane_change_side!left, num_of_lanes: 2, rate_peak: 3mps)
+""",
+    "a gap to reach behind": """\
+    ego: vehicle
+    lead: vehicle
+    do ego.change_space_gap(target: 20m, direction: gap_direction!behind, reference: lead)
+""",
+}
+
+
+@pytest.mark.parametrize("seed", range(3))
+@pytest.mark.parametrize("body", OPEN_STARTS.values(), ids=OPEN_STARTS.keys())
+def test_actions_the_witness_starts_them_for_end(tmp_path, body, seed):
+    # Scena's check_0032 and check_0037: the starts they leave open were at rest, or on
+    # the wrong side of the reference, and the runs never ended
+    result = run_text(tmp_path, body, duration=120.0, seed=seed)
+    assert result.outcome.status == "success", result.outcome.reason
