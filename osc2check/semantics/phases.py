@@ -57,6 +57,7 @@ __all__ = [
     "is_instant",
     "modifier_timing",
     "time_zero",
+    "after_waits",
 ]
 
 INSTANT_ACTIONS = frozenset(
@@ -168,6 +169,28 @@ def time_zero(body: ast.Node) -> TimeZero:
     found = TimeZero()
     _collect(body, found.starts, found, ())
     return found
+
+
+def after_waits(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
+    """What begins when the scenario first waits: for a ``serial`` body whose members
+    before the first one that acts are ``wait``s (at least one) and members that take no
+    time, those waits and what begins when they end (as :func:`time_zero` says of time
+    0); None for any other body."""
+    if not (isinstance(body, ast.Composition) and body.op == "serial"):
+        return None
+    waits: list[ast.Wait] = []
+    found = TimeZero()
+    for member in body.members:
+        if isinstance(member.body, ast.Wait) and not (found.starts or found.alternatives):
+            waits.append(member.body)
+            continue
+        if not waits:
+            if not _collect(member.body, [], TimeZero(), ()):
+                return None  # it acts or takes time before any wait
+            continue
+        if not _collect(member.body, found.starts, found, ()):
+            break
+    return (waits, found) if waits and (found.starts or found.alternatives) else None
 
 
 def acting_members(comp: ast.Composition) -> list[ast.DoMember]:

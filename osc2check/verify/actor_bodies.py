@@ -75,6 +75,7 @@ class ActorPlacer:
         self.lateral_when: dict[str, list[ir.Term]] = {}
         self.scope = self._root_scope()  # the instance whose members are being placed
         self.explicit: set[tuple[str | None, str]] = set()  # (actor, modifier) with at: start
+        self.first_action: dict[str, ast.Invocation] = {}  # each actor's first at time 0
 
     def _root_scope(self) -> InstanceScope:
         return InstanceScope("", self.scenario, "", self.scenario)
@@ -92,6 +93,13 @@ class ActorPlacer:
                 term, span, "placement", text, "hard", rule=rule, explanation=text, because=because
             )
         )
+
+    def _tentative(self, term: ir.Term, span: Span, rule: str, text: str, note: str) -> None:
+        """A start the scenario leaves open, read so that its actions can be done: an
+        implicit constraint that gives way when it conflicts (``ir.Constraint``)."""
+        index = len(self.problem.constraints)
+        self._implicit(term, span, rule, text)
+        self.problem.tentative_from(index, note)
 
     def _body(self, param: Symbol, kind: str) -> ActorBody:
         """The actor's catalogue row and size terms (see ``ActorBody``)."""

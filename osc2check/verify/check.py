@@ -240,6 +240,10 @@ def verify_program(
                 again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
                 if again.status != "unsat":
                     problem, outcome = relaxed, again
+            firm = problem.firm() if outcome.status == "unsat" else None
+            if firm is not None:  # the reading the toolkit chose gives way (ir.Constraint)
+                problem = firm
+                outcome = check(firm, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
             for skipped in problem.skipped:
                 if (skipped.span, skipped.reason) not in unverified:
                     unverified.add((skipped.span, skipped.reason))

@@ -261,6 +261,11 @@ class Constraint:
     # implicit constraints: the written constraints that made them apply (the keep that
     # makes an actor a truck, for the truck's top speed); conflicts name them too
     because: tuple[Constraint, ...] = ()
+    # a reading the toolkit chose where the scenario leaves the state open (the starts
+    # after its first wait, as if every actor kept its speed meanwhile): the tentative
+    # constraints of a problem hold together, or, when they conflict, none of them
+    # (``ConstraintProblem.firm``)
+    tentative: bool = False
 
 
 @dataclass(frozen=True, slots=True)

@@ -87,8 +87,8 @@ class LaneSteps:
         phase_lane: Callable[[ast.Invocation], ir.Var | None],
     ) -> list[LaneChange]:
         """The lane changes of ``actor``'s invocation ``inv`` (the next it runs);
-        ``phase_lane`` is the variable of the lane a later phase's ``lane(k)`` gives (None
-        for a modifier applied at the start, whose lane is the start lane)."""
+        ``phase_lane`` is the variable of the lane a later phase's ``lane(k)`` gives
+        (``start`` itself for a modifier applied at the start; None when there is none)."""
         lane = self.lanes.get(actor, ir.Ref(start))
         if id(inv) in self.uncertain:
             self.lanes[actor] = None
@@ -129,12 +129,16 @@ class LaneSteps:
         start: ir.Var,
         phase_lane: Callable[[ast.Invocation], ir.Var | None],
     ) -> ir.Term | None:
-        """The lane a ``lane(k)`` modifier puts the actor in, or None (relative, a range)."""
+        """The lane a ``lane(k)`` modifier puts the actor in, or None (relative, a range,
+        in a later phase). One applied at the start puts it in the start lane, whatever
+        it is relative to: placement solves that lane."""
+        var = phase_lane(item)
+        if var is start:
+            return ir.Ref(start)
         if any(k in args for k in ("same_as", "side_of", "left_of", "right_of")):
             return None
         if "lane" not in args or isinstance(args["lane"], ast.RangeLiteral):
             return None
-        var = phase_lane(item)
         return ir.Ref(var if var is not None else start)
 
     def _change(

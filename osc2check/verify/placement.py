@@ -19,7 +19,8 @@ Conventions (shown in the witness):
   actor's with ``behind``, ``b``'s with ``ahead_of``. Without a reference,
   ``distance`` is the centre's distance from the start of the road.
 * Speed: an actor starts at rest unless a ``speed()`` gives its start speed or
-  refers to it (``faster_than``, ``slower_than``, ``same_as``).
+  refers to it (``faster_than``, ``slower_than``, ``same_as``), or its first action
+  is one a car cannot do from rest (a ``change_lane``: it starts driving).
   ``speed(v, faster_than: b)`` is ``factor * speed(b) + v``,
   ``slower_than`` is ``factor * speed(b) - v``, ``same_as`` is
   ``factor * speed(b)`` (``factor`` defaults to 1).
@@ -31,6 +32,12 @@ Conventions (shown in the witness):
   run chooses, and each member's start modifiers hold when it is the one chosen
   (``choice == k => ...``), so the solver proves that some member can be placed
   and the witness places the actors for the member the runner then runs.
+* Open starts read so that the actions can be done (``ir.Constraint.tentative``: they
+  hold together when the scenario allows them, else none does): a car changing lanes
+  first drives; an actor reaching a gap behind (ahead of) a reference starts further
+  back (within it); when nothing acts at time 0 and the scenario first waits a constant
+  time, what begins then places the actors too, each keeping its start lane and speed
+  while it waits (``_after_waits``).
 * The start state: the modifiers with ``at: start`` of every invocation that
   begins at time 0, and the modifiers without ``at`` (``at: all``, which holds
   at the start too) of each actor's first such invocation, unless the actor
@@ -64,9 +71,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import (
-    modifier_timing,
-)
+from osc2check.semantics.phases import after_waits, is_instant, modifier_timing
 from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -79,8 +84,8 @@ from osc2check.verify.parameters import Lowerer
 from osc2check.verify.problem import ConstraintProblem
 from osc2check.verify.propagate import linear
 from osc2check.verify.road_terms import RoadTerms, fraction
-from osc2check.verify.room import motion_bounds
-from osc2check.verify.start_modifiers import StartModifiers
+from osc2check.verify.room import motion_bounds, wait_time
+from osc2check.verify.start_modifiers import StartModifiers, invocation_labels
 from osc2check.verify.starts import (
     MapChoice,
     StartPlacement,
@@ -98,6 +103,11 @@ from osc2check.world.maps import find_map, map_path, scenario_folder
 
 #: the witness prefers starts in this first share of the road: room to drive ahead
 PREFERRED_START_SHARE = Fraction(3, 10)
+#: m/s: the least start speed of an actor whose first action needs it driving (30 kph)
+DRIVING_START_SPEED = Fraction(25, 3)
+#: the actions a vehicle cannot do from rest, nothing else setting its speed: a lane
+#: change goes sideways only while the car drives
+_DRIVING_FIRST = frozenset({"change_lane"})
 
 
 def actor_kind(model: Model, sym: Symbol | None) -> str | None:
@@ -152,8 +162,10 @@ class PlacementLowerer(StartModifiers):
             placement.actors[param.name] = self._actor(param, kind)
         self._map_modifiers(placement)
         first: set[str] = set()
-        self._apply_starts(self._start_invocations(), placement, first)
+        starts = self._start_invocations()
+        self._apply_starts(starts, placement, first)
         self._alternatives(placement, first)
+        waited = self._after_waits(starts, placement, first)
         self._phase_limits(placement)
         for actor in placement.actors.values():
             if actor.name not in self.lateral:
@@ -165,7 +177,24 @@ class PlacementLowerer(StartModifiers):
                     "lane-centre",
                     f"`{actor.name}` starts on its lane centre (no `lateral(..., at: start)`)",
                 )
-            if actor.name not in self.moving:
+            first_action = self.first_action.get(actor.name)
+            if (
+                actor.name not in self.moving
+                and first_action is not None
+                and first_action.name.text in _DRIVING_FIRST
+                and not self.moving_when.get(actor.name)
+            ):
+                self._tentative(
+                    ir.op(">=", ir.Ref(actor.speed), ir.const(DRIVING_START_SPEED)),
+                    actor.span,
+                    "driving",
+                    f"`{actor.name}` starts driving, as its first action "
+                    f"`{first_action.name.text}` needs",
+                    f"`{actor.name}`, whose first action `{first_action.name.text}` needs it "
+                    f"to be driving, starts at {float(DRIVING_START_SPEED) * 3.6:g} kph or "
+                    "more",
+                )
+            elif actor.name not in self.moving:
                 self._implicit(
                     _unless(
                         self.moving_when.get(actor.name),
@@ -181,6 +210,10 @@ class PlacementLowerer(StartModifiers):
             if actor.name in self.lateral or actor.body.widest() > fraction(narrowest):
                 self._on_road(actor)  # else its lane keeps it on the road
         self._no_overlap(placement)
+        if waited is not None:
+            index = len(self.problem.constraints)
+            self._no_overlap(placement, waited)
+            self.problem.tentative_from(index, waited.note)
         self._room(placement)
         self._preferences(placement)
         return placement
@@ -227,6 +260,43 @@ class PlacementLowerer(StartModifiers):
         for inv, scope in starts:
             self.scope = scope
             self._modifiers(inv, placement, first)
+
+    def _after_waits(
+        self,
+        starts: list[tuple[ast.Invocation, InstanceScope]],
+        placement: StartPlacement,
+        first: set[str],
+    ) -> _Waited | None:
+        """When nothing acts at time 0 and the scenario first waits a constant time ``c``
+        (``phases.after_waits``): the start modifiers of what begins then hold of each
+        actor's state at ``c``. Nothing commands an actor while it waits, so it keeps its
+        start lane, offset and speed: it is ``c`` times its start speed further along.
+        The result puts the actors at ``c`` while it is entered (``with``)."""
+        if self.alternatives or any(not is_instant(inv) for inv, _ in starts):
+            return None
+        bodies = self._bodies(self.scenario)
+        found = after_waits(bodies[0].body) if bodies else None
+        if found is None or found[1].alternatives:
+            return None
+        waits, zero = found
+        times = [wait_time(self.model, wait, self._lookup) for wait in waits]
+        if any(t is None for t in times):
+            return None
+        delay = sum((t for t in times if t is not None), Fraction(0))
+        later: list[tuple[ast.Invocation, InstanceScope]] = []
+        self._zero_of(zero, invocation_labels(bodies[0]), self._root_scope(), later, 0, None)
+        if self.alternatives:  # a scenario invoked then starts with a `one_of`
+            self.alternatives.clear()
+            return None
+        index = len(self.problem.constraints)
+        waited = _Waited(self, placement, delay)
+        applied = set(self.applied)  # each phase's own limits still hold, firmly
+        with waited:
+            self._apply_starts(later, placement, first)
+        self.applied = applied
+        self.scope = self._root_scope()
+        self.problem.tentative_from(index, waited.note)
+        return waited
 
     # ---- room to drive, and plausible values -------------------------------------------
 
@@ -459,7 +529,10 @@ class PlacementLowerer(StartModifiers):
 
     # ---- no overlap --------------------------------------------------------------------
 
-    def _no_overlap(self, placement: StartPlacement) -> None:
+    def _no_overlap(self, placement: StartPlacement, waited: _Waited | None = None) -> None:
+        """Actors in one lane do not overlap at the start; with ``waited``, nor when the
+        scenario's first wait ends, in the same order as at the start, so that at constant
+        speeds they never overlap in between."""
         fixed = self._fixed_lanes(placement)
         names = list(placement.actors)
         for i, a_name in enumerate(names):
@@ -469,13 +542,21 @@ class PlacementLowerer(StartModifiers):
                 a, b = placement.actors[a_name], placement.actors[b_name]
                 need = half_of(plus(a.body.length, b.body.length))
                 sa, sb = ir.Ref(a.s), ir.Ref(b.s)
+                a_ahead, b_ahead = (
+                    ir.op(">=", ir.op("-", sa, sb), need),
+                    ir.op(">=", ir.op("-", sb, sa), need),
+                )
+                if waited is not None:
+                    ac, bc = ir.Ref(waited.after[a_name]), ir.Ref(waited.after[b_name])
+                    a_ahead = ir.op("and", a_ahead, ir.op(">=", ir.op("-", ac, bc), need))
+                    b_ahead = ir.op("and", b_ahead, ir.op(">=", ir.op("-", bc, ac), need))
                 apart = placement.terms.apart(a.road, b.road)
                 term = ir.op(
                     "or",
                     *((apart,) if apart is not None else ()),
                     ir.op("!=", ir.Ref(a.lane), ir.Ref(b.lane)),
-                    ir.op(">=", ir.op("-", sa, sb), need),
-                    ir.op(">=", ir.op("-", sb, sa), need),
+                    a_ahead,
+                    b_ahead,
                 )
                 self._implicit(
                     term,
@@ -513,6 +594,49 @@ class PlacementLowerer(StartModifiers):
                     known[v] = -rest / form[v]
                     changed = True
         return {owner[v]: value for v, value in known.items()}
+
+
+class _Waited:
+    """Each actor's position when the scenario's first waits end, ``delay`` seconds at its
+    start speed (a variable tied to the start's), put in place of its start position
+    while entered."""
+
+    def __init__(self, lowerer: PlacementLowerer, placement: StartPlacement, delay: Fraction):
+        self.actors = list(placement.actors.values())
+        self.starts = {actor.name: actor.s for actor in self.actors}
+        self.after: dict[str, ir.Var] = {}
+        self.note = (
+            f"the starts after the scenario's first wait ({float(delay):g} s) are placed as "
+            "if every actor kept its start lane and speed while it waits (else the runner "
+            "brings them about during the wait)"
+        )
+        for actor in self.actors:
+            after = lowerer.problem.var(
+                f"{actor.name}@start.after_wait", "real", unit="m", span=actor.span
+            )
+            moved = ir.op("*", ir.const(delay), ir.Ref(actor.speed))
+            lowerer._implicit(
+                ir.op("==", ir.Ref(after), ir.op("+", ir.Ref(actor.s), moved)),
+                actor.span,
+                "waiting",
+                f"`{actor.name}` keeps its start lane and speed while the scenario first "
+                f"waits ({float(delay):g} s)",
+            )
+            lowerer._implicit(
+                lowerer.terms.extent(actor.road, ir.Ref(after), half_of(actor.body.length)),
+                actor.span,
+                "road-extent",
+                f"`{actor.name}` is still on the road when the scenario's first wait ends",
+            )
+            self.after[actor.name] = after
+
+    def __enter__(self) -> None:
+        for actor in self.actors:
+            actor.s = self.after[actor.name]
+
+    def __exit__(self, *exc: object) -> None:
+        for actor in self.actors:
+            actor.s = self.starts[actor.name]
 
 
 def _unless(guards: list[ir.Term] | None, term: ir.Term) -> ir.Term:

@@ -41,12 +41,34 @@ class ConstraintProblem:
     # the timing model, kept for the schedule of each run (``verify.schedule``); never a
     # constraint (``verify.timing`` adds those it needs)
     timing: TimingPlan | None = None
+    # what the witness says of the problem beside its values: why tentative constraints
+    # do not hold (``firm``)
+    notes: list[str] = field(default_factory=list)
+    tentative_notes: list[str] = field(default_factory=list)  # what they assume
 
     def var(self, name: str, sort: str, span: Span | None = None, **kw: Unpack[VarDetails]) -> Var:
         existing = self.variables.get(name)
         if existing is None:
             existing = self.variables[name] = Var(name, sort, span=span, **kw)
         return existing
+
+    def tentative_from(self, index: int, note: str) -> None:
+        """Make the constraints added since ``index`` tentative (``ir.Constraint``);
+        ``note`` says what they assume, for the witness when they do not hold."""
+        if len(self.constraints) <= index:
+            return
+        self.constraints[index:] = [replace(c, tentative=True) for c in self.constraints[index:]]
+        if note not in self.tentative_notes:
+            self.tentative_notes.append(note)
+
+    def firm(self) -> ConstraintProblem | None:
+        """This problem without its tentative constraints (the witness says which readings
+        gave way), or None when it has none."""
+        if not any(c.tentative for c in self.constraints):
+            return None
+        kept = [c for c in self.constraints if not c.tentative]
+        gave_way = [f"{note}: that cannot hold here" for note in self.tentative_notes]
+        return replace(self, constraints=kept, notes=[*self.notes, *gave_way])
 
     def skip(self, span: Span, text: str, reason: str) -> None:
         """Record a constraint that cannot be encoded (it is reported, never dropped);

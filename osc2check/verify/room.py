@@ -42,7 +42,7 @@ from osc2check.semantics.phases import (
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
 
-__all__ = ["Motion", "motion_bounds"]
+__all__ = ["Motion", "motion_bounds", "wait_time"]
 
 Lookup = Callable[[Symbol, ast.Node], Value]
 
@@ -160,8 +160,15 @@ def _open_ended(model: Model, body: ast.Node) -> bool:
     return True
 
 
-def _elapsed(model: Model, event: ast.Node, lookup: Lookup) -> Fraction | None:
-    """The time a ``wait`` takes when its event is ``elapsed(d)`` with a constant ``d``."""
+def wait_time(model: Model, wait: ast.Wait, lookup: Lookup) -> Fraction | None:
+    """The time a ``wait elapsed(d)`` takes when ``d`` is one constant (not a range the
+    run draws from), else None."""
+    return _elapsed(model, wait.event, lookup, exact=True)
+
+
+def _elapsed(model: Model, event: ast.Node, lookup: Lookup, exact: bool = False) -> Fraction | None:
+    """The time a ``wait`` takes when its event is ``elapsed(d)`` with a constant ``d``
+    (a range's upper bound, unless ``exact``)."""
     if not (
         isinstance(event, ast.EventCondition)
         and isinstance(event.expr, ast.Call)
@@ -173,6 +180,12 @@ def _elapsed(model: Model, event: ast.Node, lookup: Lookup) -> Fraction | None:
     given = _given(model, event.expr, EVENT_FUNCTIONS["elapsed"].parameters[0].name)
     if given is None:
         return None
+    if exact:
+        try:
+            if isinstance(evaluate(given, model, lookup), RangeValue):
+                return None
+        except NotConstant:
+            return None
     found = _number(model, given, lookup)
     return None if found is None else max(found, Fraction(0))
 

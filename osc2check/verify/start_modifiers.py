@@ -13,6 +13,7 @@ from osc2check.semantics.bindings import ReadArguments
 from osc2check.semantics.members import scenario_do
 from osc2check.semantics.phases import (
     Guard,
+    TimeZero,
     acting_members,
     enum_word,
     invocations,
@@ -46,6 +47,8 @@ _POSITIONING = ("lane", "position")  # the modifiers that place an actor (L506)
 
 #: actions whose actor stands still throughout
 _STANDING = ("remain_stationary",)
+#: actions that reach a gap to a reference ahead or behind: whether bumper to bumper
+_GAP_ACTIONS = {"change_space_gap": True, "change_space_headway": False}
 
 
 class StartModifiers(ActorPlacer):
@@ -96,8 +99,18 @@ class StartModifiers(ActorPlacer):
         """Collect the time-0 invocations of ``member`` (run under the choice ``guard``,
         when it is inside a ``one_of``): into ``found``, or, inside a ``one_of``, into
         ``alternatives`` with the choice of their member."""
-        zero = time_zero(member.body)
-        labels = _labels(member)
+        self._zero_of(time_zero(member.body), invocation_labels(member), scope, found, depth, guard)
+
+    def _zero_of(
+        self,
+        zero: TimeZero,
+        labels: dict[int, ast.Name],
+        scope: InstanceScope,
+        found: list[tuple[ast.Invocation, InstanceScope]],
+        depth: int,
+        guard: ir.Term | None,
+    ) -> None:
+        """``_zero`` of what begins together (``zero``)."""
         options = [(inv, guard) for inv in zero.starts]
         for choices, inv in zero.options:
             chosen = self._choice(choices, scope)
@@ -131,7 +144,7 @@ class StartModifiers(ActorPlacer):
         self, member: ast.DoMember, scope: InstanceScope, depth: int = 0
     ) -> Iterator[tuple[ast.Invocation, InstanceScope]]:
         """Every invocation of a `do` tree, into the scenarios it invokes."""
-        labels = _labels(member)
+        labels = invocation_labels(member)
         for inv in invocations(member.body):
             inner = self._invoked(inv, scope, labels, depth)
             if inner is None:
@@ -157,6 +170,10 @@ class StartModifiers(ActorPlacer):
             return
         is_first = actor.name not in first
         first.add(actor.name)
+        if is_first and self.guard is None:
+            self.first_action[actor.name] = inv
+        if inv.name.text in _GAP_ACTIONS and self.guard is None:
+            self._gap_side(actor, inv, placement)
         if inv.name.text == "assign_speed":  # an instant action: its speed is the start speed
             given = self._args(inv, realised=True)
             if "speed" in given:
@@ -189,6 +206,36 @@ class StartModifiers(ActorPlacer):
                 actor.placed = actor.placed or item.name.text in _POSITIONING
                 self.applied.add(id(item))
                 handler(actor, args, item, placement)
+
+    def _gap_side(self, actor: PlacedActor, inv: ast.Invocation, placement: StartPlacement) -> None:
+        """``change_space_gap`` (or ``_headway``) ``behind`` or ``ahead`` of a reference
+        that begins at time 0: where the scenario leaves the starts open, the actor starts
+        on that side, from where driving forward reaches the gap (further back than the
+        target behind, within it ahead): tentative."""
+        args = self._args(inv)
+        side = enum_word(args.get("direction"))
+        node = args.get("reference")
+        if side not in ("ahead", "behind") or node is None or "target" not in args:
+            return
+        other = self._reference(node, actor, placement, inv.span)
+        target = self._value(args["target"])
+        if other is None or target is None:
+            return
+        gap = ir.op("-", ir.Ref(other.s), ir.Ref(actor.s))
+        if side == "ahead":
+            gap = ir.op("neg", gap)
+        if _GAP_ACTIONS[inv.name.text]:  # bumper to bumper
+            gap = ir.op("-", gap, half_of(plus(actor.body.length, other.body.length)))
+        reach = ir.op(">=", gap, target) if side == "behind" else in_range(gap, ir.const(0), target)
+        self._tentative(
+            _with(reach, placement.terms.same(actor.road, other.road)),
+            call_span(inv),
+            "gap-side",
+            f"`{actor.name}` starts {side} `{other.name}`, from where driving forward reaches "
+            "the gap",
+            f"`{actor.name}` is placed {side} `{other.name}`, from where driving forward "
+            f"reaches the gap its `{inv.name.text}` asks",
+        )
 
     def _lane_change(
         self,
@@ -247,12 +294,12 @@ class StartModifiers(ActorPlacer):
         self.scope = self._root_scope()
 
     def _phase_lane(self, actor: PlacedActor) -> Callable[[ast.Invocation], ir.Var | None]:
-        """The variable of the lane a later phase's `lane(k)` gives ``actor`` (None for one
-        applied at the start)."""
+        """The variable of the lane a later phase's `lane(k)` gives ``actor`` (its start
+        lane for one applied at the start; None when there is none)."""
 
         def lane(item: ast.Invocation) -> ir.Var | None:
             if id(item) in self.applied:
-                return None
+                return actor.lane
             return self.problem.variables.get(self._phase_name(actor, item, "lane"))
 
         return lane
@@ -593,7 +640,7 @@ class StartModifiers(ActorPlacer):
             actor.placed = True
 
 
-def _labels(member: ast.DoMember) -> dict[int, ast.Name]:
+def invocation_labels(member: ast.DoMember) -> dict[int, ast.Name]:
     """The labels of the invocations of a `do` tree (``lbl: hero.cut_in()``), by node id:
     an invoked scenario's instance is named by its label."""
     found: dict[int, ast.Name] = {}

@@ -272,7 +272,7 @@ def build_witness(
         value, text = _display(var, values.get(name, Fraction(0)), problem.strings)
         params.append(Value(name, value, text, name in mentioned))
     actors = []
-    notes: list[str] = list(rounded)
+    notes: list[str] = [*problem.notes, *rounded]
     elements: list[tuple[str, ElementValue]] = []
     map_name, numbering, source, unused = "", "from_right", None, None
     if placement is not None:

@@ -332,3 +332,39 @@ def test_a_wait_drives_no_vehicle_that_another_member_of_a_parallel_commands():
     assert result.outcome.status == "failure"
     assert "not 40.00 kph" in result.outcome.reason
     assert max(result.telemetry["car"]["speed"]) < 31 * KPH
+
+
+# ---- after the scenario's first wait, with nothing placed before it
+
+
+def _first_wait(npc_speed: str) -> str:
+    return f"""\
+scenario later:
+    car: vehicle
+    npc: vehicle
+    do serial:
+        wait elapsed(2s)
+        parallel(duration: 4s):
+            car.drive() with:
+                lane(1, at: start)
+                speed(50kph)
+            npc.drive() with:
+                lane(1, at: start)
+                position(distance: 25m, behind: car, at: start)
+                speed({npc_speed}, at: start)
+"""
+
+
+@pytest.mark.parametrize("npc_speed", ["50kph", "70kph"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_starts_after_the_first_wait_hold_with_the_actors_placed_for_them(npc_speed, seed):
+    # the witness places both cars so that, each keeping its start lane and speed while
+    # the scenario waits, the starts hold when the wait ends (before, it placed them
+    # anywhere, and a 25 m gap 158 m away could not be closed in 2 s)
+    result = _run(_first_wait(npc_speed), seed=seed)
+    assert result.outcome.status == "success", result.outcome.reason
+    (then,) = _starts(result, "npc.drive")
+    assert then * DT == pytest.approx(2.0)
+    car, npc = result.telemetry["car"], result.telemetry["npc"]
+    assert set(car["lane"][: then + 1]) == set(npc["lane"][: then + 1]) == {1}
+    assert car["x"][then] - npc["x"][then] == pytest.approx(25 + 4.5, abs=0.4)

@@ -1,0 +1,173 @@
+"""Starts the scenario leaves open, read so that its actions can be done (tentative
+constraints: ``ir.Constraint.tentative``, ``ConstraintProblem.firm``). Each reading holds
+when the scenario allows it; when it conflicts, the readings give way, no conflict is
+reported for them, and the witness says so.
+
+* After the scenario's first wait (``placement._after_waits``): when nothing acts at
+  time 0 and the scenario first waits a constant time, the witness places the actors
+  so that the ``at: start`` modifiers of what begins then hold, every actor having kept
+  its start lane and speed while it waited.
+* A first ``change_lane`` of a car nothing gives a speed: it starts driving.
+* A ``change_space_gap`` (or ``_headway``) behind or ahead of a reference that begins at
+  time 0: the actor starts on that side, from where driving forward reaches the gap.
+"""
+
+from __future__ import annotations
+
+from fractions import Fraction
+
+import pytest
+
+from osc2check.analysis import SourceInput, analyze
+from osc2check.verify.api import solve
+from osc2check.verify.witness import Witness
+
+URI = "open.osc"
+
+
+def _scenario(wait: str, hero_speed: str, npc_speed: str, gap: str, npc_lane: int = 1) -> str:
+    return f"""\
+import osc.standard
+
+scenario late:
+    hero: vehicle
+    npc: vehicle
+    do serial:
+        wait elapsed({wait})
+        parallel(duration: 10s):
+            hero.drive() with:
+                lane(1, at: start)
+                speed({hero_speed})
+            npc.drive() with:
+                lane({npc_lane}, at: start)
+                position(distance: {gap}, behind: hero, at: start)
+                speed({npc_speed}, at: start)
+"""
+
+
+def _analysed(text: str):
+    analysis = analyze([SourceInput(URI, text)])
+    found = [(d.code.code, d.message) for d in analysis.diagnostics if d.span.uri == URI]
+    return analysis, found
+
+
+def _witness(text: str, seed: int = 0, scenario: str = "late") -> Witness:
+    analysis, found = _analysed(text)
+    assert not [f for f in found if f[0][0] in "LC" and f[0] != "L506"], found  # L506: info
+    witness = solve(analysis, scenario, seed, URI)
+    assert isinstance(witness, Witness), witness
+    return witness
+
+
+@pytest.mark.parametrize(
+    ("wait", "delay", "hero", "npc", "v_hero", "v_npc"),
+    [
+        ("2s", 2, "50kph", "50kph", Fraction(125, 9), Fraction(125, 9)),
+        ("3s", 3, "50kph", "80kph", Fraction(125, 9), Fraction(200, 9)),
+        ("1500ms", Fraction(3, 2), "60kph", "40kph", Fraction(50, 3), Fraction(100, 9)),
+    ],
+)
+@pytest.mark.parametrize("seed", [0, 3])
+def test_the_start_after_the_wait_holds_when_every_actor_keeps_its_speed(
+    wait, delay, hero, npc, v_hero, v_npc, seed
+):
+    w = _witness(_scenario(wait, hero, npc, "25m"), seed)
+    h, n = w.actor("hero"), w.actor("npc")
+    assert h is not None and n is not None
+    assert (h.lane, n.lane) == (1, 1)
+    assert (h.speed, n.speed) == (v_hero, v_npc)
+    h_then, n_then = h.s + delay * h.speed, n.s + delay * n.speed
+    assert h_then - n_then - (h.length + n.length) / 2 == 25  # the gap when the wait ends
+    assert h.s - n.s >= (h.length + n.length) / 2  # and no overlap on the way there
+    assert not w.notes
+
+
+def test_a_start_that_keeping_speed_cannot_bring_about_gives_way():
+    # npc 50 kph slower, 20 m behind after 4 s: it would have started ahead of the hero in
+    # its lane and driven through it. The runner prepares that start during the wait.
+    analysis, found = _analysed(_scenario("4s", "80kph", "30kph", "20m"))
+    assert not [f for f in found if f[0][0] in "LC"], found
+    w = solve(analysis, "late", 0, URI)
+    assert isinstance(w, Witness)
+    assert any("as if every actor kept its start lane and speed" in note for note in w.notes)
+
+
+def test_the_phase_limits_after_the_wait_still_hold():
+    # the tentative reading giving way never drops the lanes the road must have
+    _, found = _analysed(_scenario("2s", "50kph", "50kph", "25m", npc_lane=9))
+    assert "L503" in {code for code, _ in found}, found
+
+
+def test_a_wait_the_witness_draws_leaves_the_starts_to_the_runner():
+    # a wait as long as a parameter in a range: the starts are not placed for one length
+    text = _scenario("pause", "50kph", "50kph", "25m").replace(
+        "    npc: vehicle\n",
+        "    npc: vehicle\n    pause: time with:\n        keep(it in [2s..4s])\n",
+    )
+    _, found = _analysed(text)
+    assert "L506" in {code for code, _ in found}, found
+
+
+# ---- a first lane change, and a gap to reach
+
+
+LANE_CHANGE = """\
+import osc.standard
+
+scenario swerve:
+    ego: vehicle
+    do ego.change_lane(side: lane_change_side!left, num_of_lanes: 1)
+"""
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_car_whose_first_action_is_a_lane_change_starts_driving(seed):
+    # a lane change goes sideways only while the car drives; at rest it never ends
+    ego = _witness(LANE_CHANGE, seed, "swerve").actor("ego")
+    assert ego is not None and ego.speed >= Fraction(25, 3)  # 30 kph
+
+
+def test_a_lane_change_of_a_car_the_scenario_stops_starts_it_at_rest():
+    text = LANE_CHANGE.replace(
+        "num_of_lanes: 1)", "num_of_lanes: 1) with:\n        speed(0kph, at: start)"
+    )
+    w = _witness(text, 0, "swerve")
+    ego = w.actor("ego")
+    assert ego is not None and ego.speed == 0
+    assert not w.notes  # a written start speed: no reading to give way
+
+
+def _gap(direction: str, placed: str = "") -> str:
+    return f"""\
+import osc.standard
+
+scenario close_up:
+    ego: vehicle
+    lead: vehicle
+    do gap: ego.change_space_gap(target: 20m, direction: gap_direction!{direction},
+            reference: lead){placed}
+"""
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_gap_to_reach_behind_a_reference_starts_further_back(seed):
+    w = _witness(_gap("behind"), seed, "close_up")
+    ego, lead = w.actor("ego"), w.actor("lead")
+    assert ego is not None and lead is not None
+    assert lead.s - ego.s - (ego.length + lead.length) / 2 >= 20
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_a_gap_to_reach_ahead_of_a_reference_starts_within_it(seed):
+    w = _witness(_gap("ahead"), seed, "close_up")
+    ego, lead = w.actor("ego"), w.actor("lead")
+    assert ego is not None and lead is not None
+    assert 0 <= ego.s - lead.s - (ego.length + lead.length) / 2 <= 20
+
+
+def test_a_gap_reading_the_scenario_contradicts_gives_way():
+    placed = " with:\n        position(distance: 50m, ahead_of: lead, at: start)"
+    w = _witness(_gap("behind", placed), 0, "close_up")
+    ego, lead = w.actor("ego"), w.actor("lead")
+    assert ego is not None and lead is not None and ego.s > lead.s
+    assert any("from where driving forward reaches the gap" in n for n in w.notes), w.notes
