@@ -240,8 +240,10 @@ def verify_program(
                 again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
                 if again.status != "unsat":
                     problem, outcome = relaxed, again
-            firm = problem.firm() if outcome.status == "unsat" else None
-            if firm is not None:  # the reading the toolkit chose gives way (ir.Constraint)
+            while outcome.status == "unsat":  # the readings in a conflict give way
+                firm = problem.firm(_readings(outcome.conflicts))
+                if firm is None:
+                    break
                 problem = firm
                 outcome = check(firm, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
             for skipped in problem.skipped:
@@ -386,6 +388,14 @@ def with_reasons(members: list[ir.Constraint]) -> list[ir.Constraint]:
             if not any(reason is f for f in found):
                 found.append(reason)
     return found
+
+
+def _readings(conflicts: list[Conflict]) -> set[str]:
+    """The readings of open starts (``ir.Constraint.tentative``) that take part in
+    ``conflicts``."""
+    return {c.tentative for conflict in conflicts for c in (conflict.primary, *conflict.others)} - {
+        ""
+    }
 
 
 def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:

@@ -262,10 +262,10 @@ class Constraint:
     # makes an actor a truck, for the truck's top speed); conflicts name them too
     because: tuple[Constraint, ...] = ()
     # a reading the toolkit chose where the scenario leaves the state open (the starts
-    # after its first wait, as if every actor kept its speed meanwhile): the tentative
-    # constraints of a problem hold together, or, when they conflict, none of them
-    # (``ConstraintProblem.firm``)
-    tentative: bool = False
+    # after its first wait, as if every actor kept its speed meanwhile), named by what it
+    # assumes: a reading's constraints hold together, or, when they take part in a
+    # conflict, none of them (``ConstraintProblem.firm``); "" for every other constraint
+    tentative: str = ""
 
 
 @dataclass(frozen=True, slots=True)

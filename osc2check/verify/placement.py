@@ -32,8 +32,8 @@ Conventions (shown in the witness):
   run chooses, and each member's start modifiers hold when it is the one chosen
   (``choice == k => ...``), so the solver proves that some member can be placed
   and the witness places the actors for the member the runner then runs.
-* Open starts read so that the actions can be done (``ir.Constraint.tentative``: they
-  hold together when the scenario allows them, else none does): a car changing lanes
+* Open starts read so that the actions can be done (``ir.Constraint.tentative``: each
+  reading holds unless it takes part in a conflict, and then gives way): a car changing lanes
   first drives; an actor reaching a gap behind (ahead of) a reference starts further
   back (within it); when nothing acts at time 0 and the scenario first waits a constant
   time, what begins then places the actors too, each keeping its start lane and speed

@@ -7,6 +7,7 @@ placement, the timing model, preferred values, list items).
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from dataclasses import dataclass, field, replace
 from fractions import Fraction
 from typing import TYPE_CHECKING, Unpack
@@ -41,10 +42,9 @@ class ConstraintProblem:
     # the timing model, kept for the schedule of each run (``verify.schedule``); never a
     # constraint (``verify.timing`` adds those it needs)
     timing: TimingPlan | None = None
-    # what the witness says of the problem beside its values: why tentative constraints
-    # do not hold (``firm``)
+    # what the witness says of the problem beside its values: the readings of open starts
+    # that gave way (``firm``)
     notes: list[str] = field(default_factory=list)
-    tentative_notes: list[str] = field(default_factory=list)  # what they assume
 
     def var(self, name: str, sort: str, span: Span | None = None, **kw: Unpack[VarDetails]) -> Var:
         existing = self.variables.get(name)
@@ -52,22 +52,19 @@ class ConstraintProblem:
             existing = self.variables[name] = Var(name, sort, span=span, **kw)
         return existing
 
-    def tentative_from(self, index: int, note: str) -> None:
-        """Make the constraints added since ``index`` tentative (``ir.Constraint``);
-        ``note`` says what they assume, for the witness when they do not hold."""
-        if len(self.constraints) <= index:
-            return
-        self.constraints[index:] = [replace(c, tentative=True) for c in self.constraints[index:]]
-        if note not in self.tentative_notes:
-            self.tentative_notes.append(note)
+    def tentative_from(self, index: int, reading: str) -> None:
+        """Make the constraints added since ``index`` tentative, of the reading that
+        ``reading`` says (``ir.Constraint.tentative``)."""
+        self.constraints[index:] = [replace(c, tentative=reading) for c in self.constraints[index:]]
 
-    def firm(self) -> ConstraintProblem | None:
-        """This problem without its tentative constraints (the witness says which readings
-        gave way), or None when it has none."""
-        if not any(c.tentative for c in self.constraints):
+    def firm(self, readings: Collection[str]) -> ConstraintProblem | None:
+        """This problem without the tentative constraints of ``readings``, the witness
+        saying that those readings gave way; None when it has none of them."""
+        drop = [r for r in dict.fromkeys(c.tentative for c in self.constraints) if r in readings]
+        if not drop:
             return None
-        kept = [c for c in self.constraints if not c.tentative]
-        gave_way = [f"{note}: that cannot hold here" for note in self.tentative_notes]
+        kept = [c for c in self.constraints if c.tentative not in drop]
+        gave_way = [f"{reading}: that cannot hold here" for reading in drop]
         return replace(self, constraints=kept, notes=[*self.notes, *gave_way])
 
     def skip(self, span: Span, text: str, reason: str) -> None:

@@ -1,7 +1,7 @@
 """Starts the scenario leaves open, read so that its actions can be done (tentative
 constraints: ``ir.Constraint.tentative``, ``ConstraintProblem.firm``). Each reading holds
-when the scenario allows it; when it conflicts, the readings give way, no conflict is
-reported for them, and the witness says so.
+when the scenario allows it; one that takes part in a conflict gives way, no conflict is
+reported for it, and the witness says so.
 
 * After the scenario's first wait (``placement._after_waits``): when nothing acts at
   time 0 and the scenario first waits a constant time, the witness places the actors
@@ -171,3 +171,27 @@ def test_a_gap_reading_the_scenario_contradicts_gives_way():
     ego, lead = w.actor("ego"), w.actor("lead")
     assert ego is not None and lead is not None and ego.s > lead.s
     assert any("from where driving forward reaches the gap" in n for n in w.notes), w.notes
+
+
+TWO_READINGS = """\
+import osc.standard
+
+scenario two:
+    ego: vehicle
+    npc: vehicle
+    do parallel:
+        ego.change_lane(side: lane_change_side!left, num_of_lanes: 1)
+        npc.change_space_gap(target: 20m, direction: gap_direction!behind, reference: ego) with:
+            position(distance: 30m, ahead_of: ego, at: start)
+"""
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_only_the_reading_in_a_conflict_gives_way(seed):
+    # the npc is written ahead of the ego: its gap reading gives way; the ego, changing
+    # lanes first, still starts driving
+    w = _witness(TWO_READINGS, seed, "two")
+    ego, npc = w.actor("ego"), w.actor("npc")
+    assert ego is not None and npc is not None
+    assert npc.s > ego.s and ego.speed >= Fraction(25, 3)
+    assert len(w.notes) == 1 and "`npc` is placed behind `ego`" in w.notes[0], w.notes
