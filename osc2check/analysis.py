@@ -19,15 +19,12 @@ from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
 from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
 from osc2check.plugins import PluginError, PluginRegistry, load_plugins
-from osc2check.semantics.members import declaration_bodies
 from osc2check.semantics.profile import DEFAULT_DIALECT, DEFAULT_OSC_VERSION, LibraryChoice
 from osc2check.semantics.program import Program, build_program
-from osc2check.semantics.roots import invokers
-from osc2check.semantics.symbols import SymbolKind
 from osc2check.source import Span, decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
-from osc2check.verify.flow import check_flow, endless_scenario, scenarios_of
+from osc2check.verify.flow import check_flow, scenarios_of
 
 if TYPE_CHECKING:
     from osc2check.verify.check import VerifyResult
@@ -313,21 +310,12 @@ def _flow(program: Program, scenario: str | None, start: Span) -> list[Diagnosti
     """The flow findings, in the root file, of the scenarios declared there (or of the one
     named); ``start`` is the file's start."""
     found: list[Diagnostic] = []
-    model = program.model
-    declared = scenarios_of(program)
-    bodies = declaration_bodies(model) if declared else {}
-    every = [s for s in model.symbols if s.kind is SymbolKind.SCENARIO and s.decl is not None]
-    invoked = set(invokers(model, every, bodies)) if declared else set()
-    for sym in declared:
+    for sym in scenarios_of(program):
         if scenario is not None and sym.name != scenario:
             continue
         where = sym.name_span or start
         with memory.analysing(where, f"checking the flow of scenario `{sym.name}`"):
-            found.extend(d for d in check_flow(model, sym) if d.span.uri == start.uri)
-            if scenario is not None or sym not in invoked:  # what runs as a root
-                endless = endless_scenario(model, bodies, sym)
-                if endless is not None and endless.span.uri == start.uri:
-                    found.append(endless)
+            found.extend(d for d in check_flow(program.model, sym) if d.span.uri == start.uri)
     return found
 
 

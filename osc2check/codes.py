@@ -314,9 +314,6 @@ PARALLEL_MOVEMENTS = Code(
 RECURSIVE_SCENARIO = Code(
     "B611", "recursive-scenario", E, "a scenario invokes itself, directly or through others"
 )
-ENDLESS_SCENARIO = Code(
-    "B612", "endless-scenario", W, "a scenario's behaviour never ends on its own"
-)
 
 # --- D: dialect forms (the design paper's and the standard's own examples) --
 USE_STATEMENT = Code(

@@ -66,14 +66,3 @@ def recursive_scenario(span: Span, chain: Sequence[str]) -> Diagnostic:
         "scenario invokes itself: " + " -> ".join(f"`{n}`" for n in chain),
         span,
     )
-
-
-def endless_scenario(span: Span, scenario: str, endless: Span, call: str) -> Diagnostic:
-    return diagnostic(
-        codes.ENDLESS_SCENARIO,
-        f"scenario `{scenario}` never ends on its own: `{call}` has no `duration`, `until` "
-        "or modifier that ends it, and nothing around it does; a run stops at its time "
-        "limit (`osc2run --duration`), not as a success",
-        span,
-        [Related(endless, f"`{call}` never ends")],
-    )

@@ -38,7 +38,6 @@ from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
 
 from osc2check.semantics.bindings import named_given
-from osc2check.semantics.model import Model
 from osc2check.syntax import ast
 
 __all__ = [
@@ -57,8 +56,6 @@ __all__ = [
     "is_acting",
     "is_instant",
     "modifier_timing",
-    "given_value",
-    "open_ended",
     "time_zero",
     "after_waits",
 ]
@@ -105,31 +102,6 @@ def _has_duration(arguments: tuple[ast.Argument, ...]) -> bool:
 def is_instant(inv: ast.Invocation) -> bool:
     """Whether the invocation takes no time: an instant action without a ``duration``."""
     return inv.name.text in INSTANT_ACTIONS and not _has_duration(inv.arguments)
-
-
-def open_ended(model: Model, body: ast.Node) -> bool:
-    """An invocation of an endless action that nothing ends: no ``duration``, no ``until``,
-    no modifier that ends its phase (reached, or ``at: end``)."""
-    if not isinstance(body, ast.Invocation) or body.name.text not in ENDLESS_ACTIONS:
-        return False
-    if given_value(model, body, "duration") is not None:
-        return False
-    for item in body.with_members:
-        if isinstance(item, ast.Until):
-            return False
-        if isinstance(item, ast.Invocation) and (
-            item.name.text in PHASE_ENDING_MODIFIERS
-            or enum_word(given_value(model, item, "at")) == "end"
-        ):
-            return False
-    return True
-
-
-def given_value(model: Model, call: ast.Node, name: str) -> ast.Node | None:
-    """The argument given for parameter or extra ``name`` of ``call`` (no default)."""
-    binding = model.binding(call)
-    bound = binding.given(name) if binding is not None else None
-    return bound.value if bound is not None else None
 
 
 def invocations(node: ast.Node) -> Iterator[ast.Invocation]:

@@ -10,20 +10,12 @@ from osc2check import messages
 from osc2check.diagnostics import Diagnostic
 from osc2check.semantics.builtins import PREDEFINED_EVENTS
 from osc2check.semantics.constants import NotConstant, evaluate, si_number
-from osc2check.semantics.members import MemberList, scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import (
-    ENDS_WITH_FIRST,
-    enum_word,
-    given_value,
-    invocations,
-    open_ended,
-)
+from osc2check.semantics.phases import invocations
 from osc2check.semantics.program import Program
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
-from osc2check.verify.terms import MAX_DEPTH
 
 _MOVEMENT_BASE = "action_for_movable_object"
 
@@ -84,54 +76,6 @@ def check_flow(model: Model, scenario: Symbol) -> list[Diagnostic]:
         found.append(messages.recursive_scenario(scenario.name_span, [s.name for s in chain]))
     found.sort(key=lambda d: d.sort_key)
     return found
-
-
-def endless_scenario(
-    model: Model, bodies: dict[Symbol, list[MemberList]], scenario: Symbol
-) -> Diagnostic | None:
-    """B612 of a scenario that nothing invokes: the ``do`` it runs never ends on its own
-    (``never_ends``)."""
-    do = scenario_do(model, bodies, scenario)
-    endless = never_ends(model, bodies, do.member.body) if do is not None else None
-    if endless is None or scenario.name_span is None:
-        return None
-    actor = endless.actor
-    owner = f"{actor.name.name.text}." if isinstance(actor, ast.NameRef) else ""
-    call = f"{owner}{endless.name.text}()"
-    return messages.endless_scenario(scenario.name_span, scenario.name, endless.span, call)
-
-
-def never_ends(
-    model: Model, bodies: dict[Symbol, list[MemberList]], body: ast.Node, depth: int = 0
-) -> ast.Invocation | None:
-    """The invocation of an endless action that keeps ``body`` from ending on its own, as
-    the runner runs it (``phases``; docs/runner.md), or None when it ends: a ``serial``
-    with such a member, a ``parallel`` all of whose members are such (or whose first one
-    is, when it ends with its first member), a ``one_of`` all of whose members are; a
-    ``duration`` or an ``until`` ends any of them."""
-    if isinstance(body, (ast.Invocation, ast.Composition)) and (
-        given_value(model, body, "duration") is not None
-        or any(isinstance(m, ast.Until) for m in body.with_members)
-    ):
-        return None
-    match body:
-        case ast.Invocation():
-            if open_ended(model, body):
-                return body
-            target = model.references.get(body.name)
-            if target is None or target.kind is not SymbolKind.SCENARIO or depth >= MAX_DEPTH:
-                return None
-            do = scenario_do(model, bodies, target)
-            return never_ends(model, bodies, do.member.body, depth + 1) if do else None
-        case ast.Composition(members=members) if members:
-            found = [never_ends(model, bodies, m.body, depth) for m in members]
-            if body.op == "serial":
-                return next((f for f in found if f is not None), None)
-            overlap = enum_word(given_value(model, body, "overlap"))
-            if body.op == "parallel" and overlap in ENDS_WITH_FIRST:
-                return found[0]
-            return found[0] if all(f is not None for f in found) else None
-    return None
 
 
 def _conditional_events(model: Model, scenario: Symbol) -> set[str]:

@@ -32,12 +32,12 @@ from osc2check.semantics.constants import (
 )
 from osc2check.semantics.model import Model
 from osc2check.semantics.phases import (
+    ENDLESS_ACTIONS,
     ENDS_WITH_FIRST,
+    PHASE_ENDING_MODIFIERS,
     enum_word,
-    given_value,
     invocations,
     is_instant,
-    open_ended,
 )
 from osc2check.semantics.symbols import Symbol
 from osc2check.syntax import ast
@@ -89,11 +89,18 @@ def _number(model: Model, node: ast.Node, lookup: Lookup, upper: bool = True) ->
     return si_number(value)
 
 
+def _given(model: Model, call: ast.Node, name: str) -> ast.Node | None:
+    """The argument given for parameter or extra ``name`` of ``call`` (no default)."""
+    binding = model.binding(call)
+    bound = binding.given(name) if binding is not None else None
+    return bound.value if bound is not None else None
+
+
 def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
     """The constant length of ``body`` in seconds, or None when it is not one."""
     match body:
         case ast.Composition():
-            given = given_value(model, body, "duration")
+            given = _given(model, body, "duration")
             if given is not None:
                 return _number(model, given, lookup)
             if body.op == "parallel":
@@ -106,7 +113,7 @@ def _duration(model: Model, body: ast.Node, lookup: Lookup) -> Fraction | None:
                 return sum(known, Fraction(0))
             return max(known, default=Fraction(0))
         case ast.Invocation():
-            given = given_value(model, body, "duration")
+            given = _given(model, body, "duration")
             if given is not None:
                 return _number(model, given, lookup)
             return Fraction(0) if is_instant(body) else None
@@ -123,16 +130,34 @@ def _parallel(model: Model, body: ast.Composition, lookup: Lookup) -> Fraction |
     ``duration``, ``until`` or a modifier that ends its phase) ends when the others have;
     ``equal``, ``end``, ``final``, ``initial``, ``inside`` end with their first member."""
     members = [m.body for m in body.members]
-    ending = [m for m in members if not open_ended(model, m)]
+    ending = [m for m in members if not _open_ended(model, m)]
     if not ending:
         return None  # nothing ends it
-    overlap = enum_word(given_value(model, body, "overlap")) or "start"
+    overlap = enum_word(_given(model, body, "overlap")) or "start"
     if overlap in ENDS_WITH_FIRST and members[0] in ending:
         return _duration(model, members[0], lookup)
     lengths = [_duration(model, m, lookup) for m in ending]
     if any(length is None for length in lengths):
         return None
     return max((length for length in lengths if length is not None), default=Fraction(0))
+
+
+def _open_ended(model: Model, body: ast.Node) -> bool:
+    """An invocation of an endless action that nothing ends: no ``duration``, no ``until``,
+    no modifier that ends its phase (``phases``)."""
+    if not isinstance(body, ast.Invocation) or body.name.text not in ENDLESS_ACTIONS:
+        return False
+    if _given(model, body, "duration") is not None:
+        return False
+    for item in body.with_members:
+        if isinstance(item, ast.Until):
+            return False
+        if isinstance(item, ast.Invocation) and (
+            item.name.text in PHASE_ENDING_MODIFIERS
+            or enum_word(_given(model, item, "at")) == "end"
+        ):
+            return False
+    return True
 
 
 def wait_time(model: Model, wait: ast.Wait, lookup: Lookup) -> Fraction | None:
@@ -152,7 +177,7 @@ def _elapsed(model: Model, event: ast.Node, lookup: Lookup, exact: bool = False)
         and event.expr.callee.name.name.text == "elapsed"
     ):
         return None
-    given = given_value(model, event.expr, EVENT_FUNCTIONS["elapsed"].parameters[0].name)
+    given = _given(model, event.expr, EVENT_FUNCTIONS["elapsed"].parameters[0].name)
     if given is None:
         return None
     if exact:
@@ -174,7 +199,7 @@ def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -
     if inv.name.text in _STOPPING:
         found.append(Fraction(0))
     for key in ("target", "speed"):
-        given = given_value(model, inv, key)
+        given = _given(model, inv, key)
         if given is not None and inv.name.text in ("change_speed", "assign_speed"):
             found.append(_number(model, given, lookup))
     if inv.name.text == "assign_speed" and not inv.arguments:
@@ -184,10 +209,10 @@ def _speeds(model: Model, inv: ast.Invocation, lookup: Lookup, motion: Motion) -
             continue
         name = item.name.text
         if name in ("speed", "change_speed", "acceleration", "keep_speed"):
-            if name != "speed" or any(given_value(model, item, k) is not None for k in _RELATIVE):
+            if name != "speed" or any(_given(model, item, k) is not None for k in _RELATIVE):
                 found.append(None)
                 continue
-            given = given_value(model, item, "speed")
+            given = _given(model, item, "speed")
             found.append(_number(model, given, lookup) if given is not None else None)
     for speed in found:
         if speed is None:
