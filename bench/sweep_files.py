@@ -72,10 +72,15 @@ def _broken(stderr: str) -> str | None:
 
 def _options(path: Path, third_party: Path | None, config: Path | None) -> list[str]:
     """The options a user of that project gives: CARLA's dialect, scenario_execution's
-    module map and the example plug-in (its ``log`` action)."""
+    module map and the example plug-in (its ``log`` action), DSL 2.2 for Scena's files
+    (its scenarios, and its test cases in the conformance folder's ``scena-2.2``)."""
+    if "scena-2.2" in path.parts:
+        return ["--osc-version", "2.2"]
     if third_party is None or not path.is_relative_to(third_party):
         return []
     project = path.relative_to(third_party).parts[0]
+    if project == "scena":
+        return ["--osc-version", "2.2"]
     if project == "carla":
         return ["--dialect", "carla"]
     if project == "scenario_execution" and config is not None:

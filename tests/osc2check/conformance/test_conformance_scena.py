@@ -1,7 +1,8 @@
 """osc2check against a peer's test suite: Robomous/Scena's DSL cases (``scena-2.2``).
 
 Each portable ``check``/``resolve`` case of ``../shared/conformance/scena-2.2``
-is checked as Scena checked it (``stdlib_mode`` says which library is in use,
+is checked as Scena checked it: as DSL 2.2, Scena's level (``--osc-version 2.2``;
+``stdlib_mode`` says which library is in use,
 ``search_paths`` where ``import a.b`` looks), and osc2check must agree with the
 peer on accepting it (no error-level finding) or rejecting it. ``DELIBERATE``
 lists the cases where we disagree on purpose, each with its reason; one that
@@ -57,9 +58,6 @@ DELIBERATE: dict[str, str] = {
     "check_0038": "`ego.bounding_box` is a `bounding_box`, not the `physical_object` that "
     "`reference` takes (T203); Scena does not type behaviour arguments when checking and "
     "rejects this only when lowering",
-    "check_0073": LIBRARY_22 + "`vehicle_category!heavy_truck` comes with the 2.2 "
-    "harmonised categories; the 2.1 library has `truck` (N106)",
-    "check_0077": LIBRARY_22 + "`vehicle_category!van` is a 2.2 category (N106)",
     "check_0047": STANDING_AFTER_SPEED,
     "check_0049": STANDING_AFTER_SPEED,
     "check_0068": STANDING_AFTER_SPEED,
@@ -75,8 +73,9 @@ DELIBERATE: dict[str, str] = {
     "check_0115": "`no_such_map.xodr` is not there: a map file that cannot be read is L516 "
     "(see check_0085)",
     "check_0100": LIBRARY_22 + "Scena makes `change_speed` and `keep_speed` unassociated "
-    "modifiers; the 2.1 library declares them `of movable_object.action_for_movable_object`, "
-    "so they apply only in the `with:` of such an action (A301)",
+    "modifiers; the standard's library (2.1's, and the 2.2 additions) declares them `of "
+    "movable_object.action_for_movable_object`, so they apply only in the `with:` of such "
+    "an action (A301)",
 }
 
 
@@ -92,7 +91,9 @@ def _config(case: dict) -> AnalysisOptions:
     root = SUITE / case["file"]
     implicit = ("osc.standard.types",) if case["stdlib_mode"] == "types" else ()
     search = tuple(str(root.parent / p) for p in case.get("search_paths") or ())
-    return AnalysisOptions(implicit_imports=implicit, modules={}, search_paths=search)
+    return AnalysisOptions(
+        implicit_imports=implicit, modules={}, search_paths=search, osc_version="2.2"
+    )
 
 
 @cache
