@@ -393,9 +393,8 @@ def with_reasons(members: list[ir.Constraint]) -> list[ir.Constraint]:
 def _readings(conflicts: list[Conflict]) -> set[str]:
     """The readings of open starts (``ir.Constraint.tentative``) that take part in
     ``conflicts``."""
-    return {c.tentative for conflict in conflicts for c in (conflict.primary, *conflict.others)} - {
-        ""
-    }
+    found = {c.tentative for conflict in conflicts for c in (conflict.primary, *conflict.others)}
+    return found - {""}
 
 
 def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:
