@@ -342,8 +342,11 @@ def test_process_settings_have_a_process_of_their_own(monkeypatch, tmp_path):
 
 def _check_large(env: dict[str, str], cwd: Path, **streams: Any) -> subprocess.Popen[str]:
     """Start the check of a 10,000-line file handed to the resident process, and give it
-    a second to be under way."""
+    a second to be under way once the resident process has its child for it (by then the
+    command is past its imports: a signal earlier would stop the interpreter starting)."""
     (cwd / "big.osc").write_text(_large())
+    servers = _resident_ids(Path(env["XDG_RUNTIME_DIR"]) / "osc2check")
+    before = _children(servers)
     started = subprocess.Popen(
         [sys.executable, "-c", COMMAND, "big.osc", "--no-cache"],
         env=dict(env, OSC2_RESIDENT="1"),
@@ -351,8 +354,34 @@ def _check_large(env: dict[str, str], cwd: Path, **streams: Any) -> subprocess.P
         text=True,
         **streams,
     )
+    deadline = time.monotonic() + (120 if Path("/proc/self/stat").is_file() else 0)
+    while not (_children(servers) - before) and time.monotonic() < deadline:
+        time.sleep(0.02)
     time.sleep(1.0)
     return started
+
+
+def _resident_ids(folder: Path) -> set[int]:
+    """The process ids the resident processes' locks in ``folder`` hold."""
+    found = set()
+    for lock in folder.glob("*.lock"):
+        text = lock.read_text().strip()
+        if text.isdigit():
+            found.add(int(text))
+    return found
+
+
+def _children(parents: set[int]) -> set[int]:
+    """The processes whose parent is one of ``parents`` (from ``/proc``)."""
+    found = set()
+    for stat in Path("/proc").glob("[0-9]*/stat"):
+        try:
+            fields = stat.read_text().rsplit(")", 1)[1].split()
+        except (OSError, IndexError):
+            continue
+        if int(fields[1]) in parents:
+            found.add(int(stat.parent.name))
+    return found
 
 
 def _large() -> str:
