@@ -161,7 +161,7 @@ def test_an_interrupt_of_the_command_ends_the_check(place, tmp_path):
         started = _check_large(place, tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
         started.send_signal(signum)
         out, err = started.communicate(timeout=120)
-        assert started.returncode == status
+        assert started.returncode == status, err
         assert out == ""
         assert err == ("osc2check: interrupted\n" if signum == signal.SIGINT else "")
 
