@@ -52,6 +52,7 @@ from osc2check.verify.z3_backend import (
     SolverOutcome,
     active_constraints,
     check,
+    decided,
     load_z3,
     never_holds,
     new_context,
@@ -596,7 +597,7 @@ def _holds_always(
     for d in limits:
         s.add(enc.term(d))
     s.add(z3.Not(enc.term(c.term)))
-    return bool(s.check() == z3.unsat)
+    return bool(decided(s) == z3.unsat)
 
 
 def scenario_summary(result: ScenarioResult, with_witness: bool = True) -> dict[str, object]:

@@ -48,6 +48,25 @@ def load_z3() -> Any:
     return z3
 
 
+#: z3's reason when its own SIGINT handler cancelled a call (``ctrl_c``, on by default)
+_KEYBOARD = "interrupted from keyboard"
+
+
+def decided(solver: Any, *assumptions: Any) -> Any:
+    """``solver.check(*assumptions)``. While z3 solves, Ctrl-C is z3's: it cancels the call
+    and answers unknown, and Python never sees the signal; that is raised here as the
+    ``KeyboardInterrupt`` Python would have raised, so the command stops. A process that
+    ignores SIGINT (a script's background job) asks again instead."""
+    import signal
+
+    while True:
+        result = solver.check(*assumptions)
+        if result != load_z3().unknown or solver.reason_unknown() != _KEYBOARD:
+            return result
+        if signal.getsignal(signal.SIGINT) is not signal.SIG_IGN:
+            raise KeyboardInterrupt
+
+
 @dataclass
 class Conflict:
     primary: ir.Constraint
@@ -350,7 +369,7 @@ def _solve(
         solver.add(z3.Or(*mentions, enc.term(fallback.term)))
     enabled = list(literals)
 
-    result = solver.check(*enabled)
+    result = decided(solver, *enabled)
     home = problem.span.uri
     while result == z3.unsat and len(outcome.conflicts) < MAX_CONFLICTS:
         core = _minimal_core(solver, list(solver.unsat_core()))
@@ -361,7 +380,7 @@ def _solve(
         outcome.conflicts.append(Conflict(primary, [c for c in members if c is not primary]))
         primary_id = next(lit.get_id() for lit in core if constraint_of[lit.get_id()] is primary)
         enabled = [lit for lit in enabled if lit.get_id() != primary_id]
-        result = solver.check(*enabled)
+        result = decided(solver, *enabled)
     if outcome.conflicts:
         outcome.status = "unsat"
         return outcome
@@ -392,7 +411,7 @@ def _minimal_core(solver: Any, core: list[Z3Expr]) -> list[Z3Expr]:
     i = 0
     while i < len(needed) and len(needed) > 1:
         trial = needed[:i] + needed[i + 1 :]
-        if solver.check(*trial) == z3.unsat:
+        if decided(solver, *trial) == z3.unsat:
             needed = trial
         else:
             i += 1
@@ -596,7 +615,7 @@ class Sampler:
                     opt.add(self.target[name] == t)
                 else:
                     opt.add_soft(self.enc.vars[name] == t)
-            if opt.check() != z3.sat:
+            if decided(opt) != z3.sat:
                 return None
             model = opt.model()
             for name in self.linked:
@@ -653,4 +672,4 @@ def never_holds(
     for c in active:
         solver.add(enc.term(c.term))
     solver.add(enc.term(term))
-    return bool(solver.check() == z3.unsat)
+    return bool(decided(solver) == z3.unsat)

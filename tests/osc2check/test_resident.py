@@ -158,7 +158,14 @@ def test_commands_at_once_are_answered_each_as_alone(place, tmp_path):
 def test_an_interrupt_of_the_command_ends_the_check(place, tmp_path):
     _serving(place, tmp_path)
     for signum, status in ((signal.SIGINT, 130), (signal.SIGTERM, -signal.SIGTERM)):
-        started = _check_large(place, tmp_path, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+        started = _check_large(
+            place,
+            tmp_path,
+            stdout=subprocess.PIPE,
+            stderr=subprocess.PIPE,
+            # as from a terminal: a shell's background job (a CI script's) ignores SIGINT
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
+        )
         started.send_signal(signum)
         out, err = started.communicate(timeout=120)
         assert started.returncode == status, err
