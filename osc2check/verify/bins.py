@@ -37,6 +37,7 @@ from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
     active_constraints,
+    giving_way,
     solve,
 )
 
@@ -140,9 +141,11 @@ def bin_status(
     rlimit: int = DEFAULT_RLIMIT,
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
 ) -> BinStatus:
-    """Whether some instance of the scenario satisfies ``term`` (a bin's constraint)."""
-    outcome = solve(
-        with_constraint(problem, term, "coverage bin"), rlimit=rlimit, timeout_ms=timeout_ms
+    """Whether some instance of the scenario satisfies ``term`` (a bin's constraint); the
+    readings of open starts give way to it (``z3_backend.giving_way``)."""
+    _, outcome = giving_way(
+        with_constraint(problem, term, "coverage bin"),
+        lambda p: solve(p, rlimit=rlimit, timeout_ms=timeout_ms),
     )
     return {"sat": "reachable", "unsat": "unreachable"}.get(outcome.status, "unknown")
 
@@ -156,9 +159,11 @@ def witness_in(
     timeout_ms: int = DEFAULT_TIMEOUT_MS,
 ) -> Witness | None:
     """The witness of ``seed`` among the instances that satisfy ``term``; None when none
-    does (or the solver cannot tell)."""
-    own = with_constraint(problem, term, "coverage bin")
-    outcome = solve(own, seed=seed, rlimit=rlimit, timeout_ms=timeout_ms)
+    does (or the solver cannot tell). The readings of open starts give way to it."""
+    own, outcome = giving_way(
+        with_constraint(problem, term, "coverage bin"),
+        lambda p: solve(p, seed=seed, rlimit=rlimit, timeout_ms=timeout_ms),
+    )
     if outcome.status != "sat":
         return None
     active = active_constraints(own, outcome)

@@ -53,6 +53,7 @@ from osc2check.verify.z3_backend import (
     active_constraints,
     check,
     decided,
+    giving_way,
     load_z3,
     never_holds,
     new_context,
@@ -241,12 +242,11 @@ def verify_program(
                 again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
                 if again.status != "unsat":
                     problem, outcome = relaxed, again
-            while outcome.status == "unsat":  # the readings in a conflict give way
-                firm = problem.firm(_readings(outcome.conflicts))
-                if firm is None:
-                    break
-                problem = firm
-                outcome = check(firm, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
+            if outcome.status == "unsat":  # the readings in a conflict give way
+                problem, outcome = giving_way(
+                    problem,
+                    lambda p: check(p, rlimit=rlimit, timeout_ms=timeout_ms, session=session),
+                )
             for skipped in problem.skipped:
                 if (skipped.span, skipped.reason) not in unverified:
                     unverified.add((skipped.span, skipped.reason))
@@ -389,13 +389,6 @@ def with_reasons(members: list[ir.Constraint]) -> list[ir.Constraint]:
             if not any(reason is f for f in found):
                 found.append(reason)
     return found
-
-
-def _readings(conflicts: list[Conflict]) -> set[str]:
-    """The readings of open starts (``ir.Constraint.tentative``) that take part in
-    ``conflicts``."""
-    found = {c.tentative for conflict in conflicts for c in (conflict.primary, *conflict.others)}
-    return found - {""}
 
 
 def _conflict(conflict: Conflict, scenario: Symbol) -> Diagnostic:

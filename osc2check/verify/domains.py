@@ -12,7 +12,8 @@ say how evenly their runs cover them:
   ``ego_speed``, so a campaign that sweeps the speed does not sweep the gap too.
 
 Both read the constraints that hold (``z3_backend.active_constraints``), in SI
-units, exact.
+units, exact, leaving out the readings of open starts (what the scenario allows, not
+what the witness prefers).
 """
 
 from __future__ import annotations
@@ -40,7 +41,9 @@ class Domain:
 
 
 def _active(problem: ConstraintProblem) -> list[ir.Constraint]:
-    return active_constraints(problem, SolverOutcome("sat"))
+    """What the scenario's constraints allow: not the readings of open starts the witness
+    keeps to while they hold (``ir.Constraint.tentative``)."""
+    return [c for c in active_constraints(problem, SolverOutcome("sat")) if not c.tentative]
 
 
 def domains(problem: ConstraintProblem) -> dict[str, Domain]:

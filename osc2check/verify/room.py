@@ -74,13 +74,18 @@ def motion_bounds(model: Model, bodies: Sequence[ast.Node], lookup: Lookup) -> M
     return motion
 
 
-def _number(model: Model, node: ast.Node, lookup: Lookup, upper: bool = True) -> Fraction | None:
-    """A constant SI number (a range's upper, else lower, bound), or None."""
+def _number(
+    model: Model, node: ast.Node, lookup: Lookup, upper: bool = True, ranges: bool = True
+) -> Fraction | None:
+    """A constant SI number (a range's upper, else lower, bound; None for one without
+    ``ranges``), or None."""
     try:
         value = evaluate(node, model, lookup)
     except NotConstant:
         return None
     if isinstance(value, RangeValue):
+        if not ranges:
+            return None
         bounds = [si_number(value.low), si_number(value.high)]
         if None in bounds:
             return None
@@ -180,13 +185,7 @@ def _elapsed(model: Model, event: ast.Node, lookup: Lookup, exact: bool = False)
     given = _given(model, event.expr, EVENT_FUNCTIONS["elapsed"].parameters[0].name)
     if given is None:
         return None
-    if exact:
-        try:
-            if isinstance(evaluate(given, model, lookup), RangeValue):
-                return None
-        except NotConstant:
-            return None
-    found = _number(model, given, lookup)
+    found = _number(model, given, lookup, ranges=not exact)
     return None if found is None else max(found, Fraction(0))
 
 

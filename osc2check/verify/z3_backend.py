@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import math
 import random
+import signal
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -57,8 +59,6 @@ def decided(solver: Any, *assumptions: Any) -> Any:
     and answers unknown, and Python never sees the signal; that is raised here as the
     ``KeyboardInterrupt`` Python would have raised, so the command stops. A process that
     ignores SIGINT (a script's background job) asks again instead."""
-    import signal
-
     while True:
         result = solver.check(*assumptions)
         if result != load_z3().unknown or solver.reason_unknown() != _KEYBOARD:
@@ -157,6 +157,22 @@ def active_constraints(problem: ConstraintProblem, outcome: SolverOutcome) -> li
         for c in active
         if c.rule != FALLBACK or c.subject is None or c.subject.name not in mentioned
     ]
+
+
+def giving_way(
+    problem: ConstraintProblem, decide: Callable[[ConstraintProblem], SolverOutcome]
+) -> tuple[ConstraintProblem, SolverOutcome]:
+    """``decide(problem)``, the readings of open starts (``ir.Constraint.tentative``) that
+    take part in its conflicts giving way until none does: the problem decided (firm,
+    ``ConstraintProblem.firm``, when a reading gave way) and its outcome."""
+    outcome = decide(problem)
+    while outcome.status == "unsat":
+        readings = {c.tentative for k in outcome.conflicts for c in (k.primary, *k.others)}
+        firm = problem.firm(readings - {""})
+        if firm is None:
+            break
+        problem, outcome = firm, decide(firm)
+    return problem, outcome
 
 
 def nonlinear(active: list[ir.Constraint]) -> list[ir.Constraint]:

@@ -19,7 +19,10 @@ from fractions import Fraction
 import pytest
 
 from osc2check.analysis import SourceInput, analyze
+from osc2check.verify import ir
 from osc2check.verify.api import solve
+from osc2check.verify.bins import bin_status, witness_in
+from osc2check.verify.domains import domains
 from osc2check.verify.witness import Witness
 
 URI = "open.osc"
@@ -195,3 +198,24 @@ def test_only_the_reading_in_a_conflict_gives_way(seed):
     assert ego is not None and npc is not None
     assert npc.s > ego.s and ego.speed >= Fraction(25, 3)
     assert len(w.notes) == 1 and "`npc` is placed behind `ego`" in w.notes[0], w.notes
+
+
+def test_a_coverage_bin_the_scenario_allows_is_reachable_whatever_the_readings():
+    # a campaign's bin of the car's start speed below 10 kph: the scenario allows it, and
+    # the car that changes lanes first then starts slow, its reading giving way
+    analysis, _ = _analysed(LANE_CHANGE)
+    (result,) = analysis.verified[URI].scenarios
+    speed = result.problem.variables["ego@start.speed"]
+    slow = ir.op("<", ir.Ref(speed), ir.const(Fraction(25, 9)))
+    assert bin_status(result.problem, slow) == "reachable"
+    w = witness_in(result.problem, slow, 0)
+    assert w is not None
+    ego = w.actor("ego")
+    assert ego is not None and ego.speed < Fraction(25, 9)
+    assert any("starts at 30 kph or more" in n for n in w.notes), w.notes
+
+
+def test_a_campaigns_domains_are_what_the_scenario_allows_not_the_readings():
+    analysis, _ = _analysed(LANE_CHANGE)
+    (result,) = analysis.verified[URI].scenarios
+    assert domains(result.problem)["ego@start.speed"].low == 0
