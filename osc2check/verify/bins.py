@@ -36,6 +36,7 @@ from osc2check.verify.witness import Witness, build_witness
 from osc2check.verify.z3_backend import (
     DEFAULT_RLIMIT,
     DEFAULT_TIMEOUT_MS,
+    SolverOutcome,
     active_constraints,
     giving_way,
     solve,
@@ -143,10 +144,12 @@ def bin_status(
 ) -> BinStatus:
     """Whether some instance of the scenario satisfies ``term`` (a bin's constraint); the
     readings of open starts give way to it (``z3_backend.giving_way``)."""
-    _, outcome = giving_way(
-        with_constraint(problem, term, "coverage bin"),
-        lambda p: solve(p, rlimit=rlimit, timeout_ms=timeout_ms),
-    )
+    own = with_constraint(problem, term, "coverage bin")
+
+    def decide(p: ConstraintProblem) -> SolverOutcome:
+        return solve(p, rlimit=rlimit, timeout_ms=timeout_ms)
+
+    _, outcome = giving_way(own, decide(own), decide)
     return {"sat": "reachable", "unsat": "unreachable"}.get(outcome.status, "unknown")
 
 
@@ -160,10 +163,12 @@ def witness_in(
 ) -> Witness | None:
     """The witness of ``seed`` among the instances that satisfy ``term``; None when none
     does (or the solver cannot tell). The readings of open starts give way to it."""
-    own, outcome = giving_way(
-        with_constraint(problem, term, "coverage bin"),
-        lambda p: solve(p, seed=seed, rlimit=rlimit, timeout_ms=timeout_ms),
-    )
+    own = with_constraint(problem, term, "coverage bin")
+
+    def decide(p: ConstraintProblem) -> SolverOutcome:
+        return solve(p, seed=seed, rlimit=rlimit, timeout_ms=timeout_ms)
+
+    own, outcome = giving_way(own, decide(own), decide)
     if outcome.status != "sat":
         return None
     active = active_constraints(own, outcome)

@@ -242,11 +242,11 @@ def verify_program(
                 again = check(relaxed, rlimit=rlimit, timeout_ms=timeout_ms, session=session)
                 if again.status != "unsat":
                     problem, outcome = relaxed, again
-            if outcome.status == "unsat":  # the readings in a conflict give way
-                problem, outcome = giving_way(
-                    problem,
-                    lambda p: check(p, rlimit=rlimit, timeout_ms=timeout_ms, session=session),
-                )
+            problem, outcome = giving_way(  # the readings in a conflict give way
+                problem,
+                outcome,
+                lambda p: check(p, rlimit=rlimit, timeout_ms=timeout_ms, session=session),
+            )
             for skipped in problem.skipped:
                 if (skipped.span, skipped.reason) not in unverified:
                     unverified.add((skipped.span, skipped.reason))

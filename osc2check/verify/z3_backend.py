@@ -160,12 +160,13 @@ def active_constraints(problem: ConstraintProblem, outcome: SolverOutcome) -> li
 
 
 def giving_way(
-    problem: ConstraintProblem, decide: Callable[[ConstraintProblem], SolverOutcome]
+    problem: ConstraintProblem,
+    outcome: SolverOutcome,
+    decide: Callable[[ConstraintProblem], SolverOutcome],
 ) -> tuple[ConstraintProblem, SolverOutcome]:
-    """``decide(problem)``, the readings of open starts (``ir.Constraint.tentative``) that
-    take part in its conflicts giving way until none does: the problem decided (firm,
-    ``ConstraintProblem.firm``, when a reading gave way) and its outcome."""
-    outcome = decide(problem)
+    """``problem`` and its ``outcome``, or, while the readings of open starts
+    (``ir.Constraint.tentative``) take part in the outcome's conflicts, the problem without
+    them (``ConstraintProblem.firm``) and what ``decide`` makes of it."""
     while outcome.status == "unsat":
         readings = {c.tentative for k in outcome.conflicts for c in (k.primary, *k.others)}
         firm = problem.firm(readings - {""})
