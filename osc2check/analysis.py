@@ -230,18 +230,19 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
 
 
 def _load_once(options: AnalysisOptions) -> None:
-    """Build what the process builds once (the parser, z3) before any file's budget: the
-    first file checked must not pay for it, nor fail to. numpy (the road geometry of a
-    map built when its cache entry is missing) maps about 120 MiB: it is loaded first
-    under a tight budget only (``memory.PRELOAD_BELOW_MIB``), since a check from a warm
-    cache does not need it and a larger budget has room for it."""
+    """Build what the process builds once (the parser) before any file's budget: the
+    first file checked must not pay for it, nor fail to. z3 (about 40 MiB mapped) and
+    numpy (the road geometry of a map built when its cache entry is missing, about
+    120 MiB) are loaded first under a tight budget only (``memory.PRELOAD_BELOW_MIB``):
+    most checks need neither (propagation decides most scenarios without the solver),
+    importing z3 is a sixth of a small file's check, and a larger budget has room for
+    them when a file does."""
     dialect_reading(parse("import osc.standard\n", ""), options.dialect)
-    if options.verify:
+    if options.verify and (options.memory_limit_mib or 0) <= memory.PRELOAD_BELOW_MIB:
         from osc2check.verify.z3_backend import load_z3
+        from osc2check.world import geometry  # noqa: F401  (numpy and its libraries)
 
         load_z3()
-        if (options.memory_limit_mib or 0) <= memory.PRELOAD_BELOW_MIB:
-            from osc2check.world import geometry  # noqa: F401  (numpy and its libraries)
 
 
 def _check_one(

@@ -504,8 +504,10 @@ def _check(argv: list[str]) -> int:
     import atexit
 
     from osc2check import cache, results
+    from osc2check.gc_pause import off_for_the_command
 
     cache.write_later()  # the command waits for the check, not for the cache
+    off_for_the_command()
     try:
         status = results.check_interruptible(argv)
     except SystemExit as exc:

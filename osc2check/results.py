@@ -272,6 +272,9 @@ def run() -> NoReturn:
     for name in ("stdout", "stderr"):  # closed when the process started (>&-): no output
         if getattr(sys, name) is None:
             setattr(sys, name, open(os.devnull, "w"))  # noqa: SIM115
+    from osc2check.gc_pause import off_for_the_command
+
+    off_for_the_command()
     if os.environ.get("OSC2_RESIDENT"):
         from osc2check import resident
 

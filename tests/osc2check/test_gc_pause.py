@@ -4,6 +4,8 @@ the collector on under each other, nor leave it off."""
 from __future__ import annotations
 
 import gc
+import subprocess
+import sys
 import threading
 
 from osc2check.analysis import AnalysisOptions, SourceInput, analyze
@@ -91,3 +93,19 @@ def test_no_collection_runs_while_threads_parse_and_analyse_at_once():
         gc.callbacks.remove(watch)
     assert during == []
     assert gc.isenabled() and pauses() == 0
+
+
+def test_the_command_runs_with_the_collector_off_and_a_pause_leaves_it_off(tmp_path):
+    """The ``osc2check`` process ends with its command: its collector stays off before and
+    after the analysis's pause (the time spent reading and writing the cache)."""
+    path = tmp_path / "case.osc"
+    path.write_text(TEXT, encoding="utf-8")
+    code = (
+        "import atexit, gc, sys\n"
+        "atexit.register(lambda: print('collector on:', gc.isenabled()))\n"
+        "from osc2check.results import run\n"
+        f"sys.argv[1:] = ['--no-cache', {str(path)!r}]\n"
+        "run()\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.stdout.splitlines()[-1] == "collector on: False", proc.stderr

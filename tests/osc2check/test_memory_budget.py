@@ -203,3 +203,38 @@ def test_a_library_that_finds_no_room_to_load_is_out_of_memory():
     error.__cause__ = cause
     assert memory.is_out_of_memory(error)
     assert not memory.is_out_of_memory(ImportError("No module named 'numpy'"))
+
+
+def _loaded_after_check(tmp_path, text: str, *options: str) -> tuple[int, str]:
+    """Check ``text`` in a new ``osc2check`` process (no stored result); its exit status
+    and, from its exit handler, which of z3 and numpy it loaded."""
+    path = tmp_path / "case.osc"
+    path.write_text(text, encoding="utf-8")
+    code = (
+        "import atexit, sys\n"
+        "atexit.register(lambda: print('loaded', 'z3' in sys.modules, 'numpy' in sys.modules))\n"
+        "from osc2check.results import run\n"
+        f"sys.argv[1:] = {['--no-cache', *options, str(path)]!r}\n"
+        "run()\n"
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "Traceback" not in proc.stderr
+    return proc.returncode, proc.stdout.splitlines()[-1]
+
+
+DECIDED_BY_PROPAGATION = "import osc.standard\n\nscenario s:\n    x: speed\n    keep(x == 30kph)\n"
+
+
+def test_a_check_that_needs_no_solver_does_not_load_z3(tmp_path):
+    """Under the default budget z3 is loaded when a scenario needs it (a sixth of a small
+    file's check), not before; the file it needs it for is checked the same."""
+    assert _loaded_after_check(tmp_path, DECIDED_BY_PROPAGATION) == (0, "loaded False False")
+    status, loaded = _loaded_after_check(tmp_path, SOLVED)
+    assert status == 0 and loaded.startswith("loaded True")  # numpy: without a cache, the map
+
+
+def test_a_tight_budget_loads_z3_and_numpy_before_it(tmp_path):
+    assert _loaded_after_check(tmp_path, DECIDED_BY_PROPAGATION, "--memory-limit", "256") == (
+        0,
+        "loaded True True",
+    )
