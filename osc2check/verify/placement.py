@@ -71,7 +71,7 @@ from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import after_waits, is_instant, modifier_timing
+from osc2check.semantics.phases import TimeZero, after_waits, is_instant, modifier_timing
 from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -271,11 +271,16 @@ class PlacementLowerer(StartModifiers):
         (``phases.after_waits``): the start modifiers of what begins then hold of each
         actor's state at ``c``. Nothing commands an actor while it waits, so it keeps its
         start lane, offset and speed: it is ``c`` times its start speed further along.
+        The same when the scenario's ``do`` is a ``parallel`` of which one member first
+        waits (``_waiting_branch``) and what begins then is of actors that no time-0
+        action commands: the others are taken to keep their start lane and speed too.
         The result puts the actors at ``c`` while it is entered (``with``)."""
-        if self.alternatives or any(not is_instant(inv) for inv, _ in starts):
-            return None
         bodies = self._bodies(self.scenario)
-        found = after_waits(bodies[0].body) if bodies else None
+        if self.alternatives or not bodies:
+            return None
+        acting = [inv for inv, _ in starts if not is_instant(inv)]
+        body = bodies[0].body
+        found = after_waits(body) if not acting else _waiting_branch(body)
         if found is None or found[1].alternatives:
             return None
         waits, zero = found
@@ -288,8 +293,10 @@ class PlacementLowerer(StartModifiers):
         if self.alternatives:  # a scenario invoked then starts with a `one_of`
             self.alternatives.clear()
             return None
+        if acting and self._placed_twice(starts, later, placement):
+            return None
         index = len(self.problem.constraints)
-        waited = _Waited(self, placement, delay)
+        waited = _Waited(self, placement, delay, branch=bool(acting))
         applied = set(self.applied)  # each phase's own limits still hold, firmly
         with waited:
             self._apply_starts(later, placement, first)
@@ -297,6 +304,27 @@ class PlacementLowerer(StartModifiers):
         self.scope = self._root_scope()
         self.problem.tentative_from(index, waited.note)
         return waited
+
+    def _placed_twice(
+        self,
+        starts: list[tuple[ast.Invocation, InstanceScope]],
+        later: list[tuple[ast.Invocation, InstanceScope]],
+        placement: StartPlacement,
+    ) -> bool:
+        """Whether an actor that a time-0 action commands is also one of what begins when
+        a member's wait ends: a time-0 action says its state, not the reading."""
+
+        def actors(found: list[tuple[ast.Invocation, InstanceScope]], every: bool) -> set[str]:
+            names = set()
+            for inv, scope in found:
+                self.scope = scope
+                actor = self._actor_at(inv, placement)
+                if actor is not None and (every or not is_instant(inv)):
+                    names.add(actor.name)
+            self.scope = self._root_scope()
+            return names
+
+        return bool(actors(starts, every=False) & actors(later, every=True))
 
     # ---- room to drive, and plausible values -------------------------------------------
 
@@ -597,17 +625,24 @@ class PlacementLowerer(StartModifiers):
 
 
 class _Waited:
-    """Each actor's position when the scenario's first waits end, ``delay`` seconds at its
-    start speed (a variable tied to the start's), put in place of its start position
-    while entered."""
+    """Each actor's position when the scenario's first waits end (of one member of its
+    ``parallel`` with ``branch``), ``delay`` seconds at its start speed (a variable tied
+    to the start's), put in place of its start position while entered."""
 
-    def __init__(self, lowerer: PlacementLowerer, placement: StartPlacement, delay: Fraction):
+    def __init__(
+        self,
+        lowerer: PlacementLowerer,
+        placement: StartPlacement,
+        delay: Fraction,
+        branch: bool = False,
+    ):
         self.actors = list(placement.actors.values())
         self.starts = {actor.name: actor.s for actor in self.actors}
         self.after: dict[str, ir.Var] = {}
+        which = "a member of the scenario's `parallel`" if branch else "the scenario"
         self.note = (
-            f"the starts after the scenario's first wait ({float(delay):g} s) are placed as "
-            "if every actor kept its start lane and speed while it waits (else the runner "
+            f"the starts after the first wait of {which} ({float(delay):g} s) are placed as "
+            "if every actor kept its start lane and speed until then (else the runner "
             "brings them about during the wait)"
         )
         for actor in self.actors:
@@ -619,14 +654,14 @@ class _Waited:
                 ir.op("==", ir.Ref(after), ir.op("+", ir.Ref(actor.s), moved)),
                 actor.span,
                 "waiting",
-                f"`{actor.name}` keeps its start lane and speed while the scenario first "
-                f"waits ({float(delay):g} s)",
+                f"`{actor.name}` keeps its start lane and speed until the first wait of "
+                f"{which} ends ({float(delay):g} s)",
             )
             lowerer._implicit(
                 lowerer.terms.extent(actor.road, ir.Ref(after), half_of(actor.body.length)),
                 actor.span,
                 "road-extent",
-                f"`{actor.name}` is still on the road when the scenario's first wait ends",
+                f"`{actor.name}` is still on the road when the first wait of {which} ends",
             )
             self.after[actor.name] = after
 
@@ -637,6 +672,16 @@ class _Waited:
     def __exit__(self, *exc: object) -> None:
         for actor in self.actors:
             actor.s = self.starts[actor.name]
+
+
+def _waiting_branch(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
+    """For a ``parallel`` body, what its one member that first waits starts when those
+    waits end (``phases.after_waits`` of that member); None for any other body, or when
+    more than one member first waits."""
+    if not (isinstance(body, ast.Composition) and body.op == "parallel"):
+        return None
+    found = [f for m in body.members if (f := after_waits(m.body)) is not None]
+    return found[0] if len(found) == 1 else None
 
 
 def _unless(guards: list[ir.Term] | None, term: ir.Term) -> ir.Term:

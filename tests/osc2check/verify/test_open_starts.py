@@ -111,6 +111,69 @@ def test_a_wait_the_witness_draws_leaves_the_starts_to_the_runner():
     assert "L506" in {code for code, _ in found}, found
 
 
+# ---- after the first wait of a member of the scenario's `parallel`
+
+
+def _branch(
+    hero_speed: str, npc_speed: str, gap: str, npc_first: str = "", hero_at: str = "100m"
+) -> str:
+    """``hero`` drives from time 0; a member of the ``parallel`` waits 3 s, then places
+    ``npc`` (``npc_first``: an action of ``npc`` beside the hero's from time 0)."""
+    return f"""\
+import osc.standard
+
+scenario late:
+    hero: vehicle
+    npc: vehicle
+    do parallel(duration: 10s):
+        hero.drive() with:
+            lane(1, at: start)
+            position(distance: {hero_at}, at: start)
+            speed({hero_speed})
+{npc_first}        serial:
+            wait elapsed(3s)
+            npc.drive() with:
+                lane(2, at: start)
+                position(distance: {gap}, ahead_of: hero, at: start)
+                speed({npc_speed}, at: start)
+"""
+
+
+@pytest.mark.parametrize("seed", [0, 3])
+def test_the_start_after_a_members_wait_holds_while_another_member_drives(seed):
+    w = _witness(_branch("50kph", "60kph", "25m"), seed)
+    h, n = w.actor("hero"), w.actor("npc")
+    assert h is not None and n is not None
+    assert (h.lane, n.lane) == (1, 2)
+    assert (h.speed, n.speed) == (Fraction(125, 9), Fraction(50, 3))
+    n_then, h_then = n.s + 3 * n.speed, h.s + 3 * h.speed
+    assert n_then - h_then - (h.length + n.length) / 2 == 25
+    assert not w.notes
+
+
+def test_a_members_wait_reading_that_cannot_hold_gives_way():
+    # npc 100 kph faster and 20 m ahead of the hero after 3 s: it would have started
+    # about 50 m before the road's start (the hero starts at 10 m). The reading gives
+    # way: no conflict of its own making is reported, and the witness says so.
+    analysis, found = _analysed(_branch("30kph", "130kph", "20m", hero_at="10m"))
+    assert not [f for f in found if f[0][0] in "LC"], found
+    w = solve(analysis, "late", 0, URI)
+    assert isinstance(w, Witness)
+    assert any("first wait of a member of the scenario's `parallel`" in n for n in w.notes)
+
+
+def test_an_actor_a_time_0_action_commands_is_not_placed_by_the_reading():
+    # npc also drives from time 0 in another member: that action says its state while
+    # the member waits, so the reading leaves its start alone (its lane is the seed's)
+    npc_first = "        npc.drive(duration: 1s)\n"
+    lanes = set()
+    for seed in range(6):
+        n = _witness(_branch("50kph", "60kph", "25m", npc_first), seed).actor("npc")
+        assert n is not None
+        lanes.add(n.lane)
+    assert lanes != {2}
+
+
 # ---- a first lane change, and a gap to reach
 
 

@@ -368,3 +368,42 @@ def test_starts_after_the_first_wait_hold_with_the_actors_placed_for_them(npc_sp
     car, npc = result.telemetry["car"], result.telemetry["npc"]
     assert set(car["lane"][: then + 1]) == set(npc["lane"][: then + 1]) == {1}
     assert car["x"][then] - npc["x"][then] == pytest.approx(25 + 4.5, abs=0.4)
+
+
+# ---- after the first wait of a member of the scenario's `parallel`
+
+
+def _branch_wait(relation: str) -> str:
+    return f"""\
+scenario branch:
+    car: vehicle
+    npc: vehicle
+    do parallel(duration: 12s):
+        car.drive() with:
+            lane(1, at: start)
+            position(distance: 50m, at: start)
+            speed(50kph)
+        serial:
+            wait elapsed(3s)
+            npc.drive() with:
+                lane(1, at: start)
+                position(distance: 25m, {relation}: car, at: start)
+                speed(50kph)
+"""
+
+
+@pytest.mark.parametrize("relation", ["ahead_of", "behind"])
+@pytest.mark.parametrize("seed", [0, 1])
+def test_starts_after_a_members_first_wait_hold_while_another_member_drives(relation, seed):
+    # the car drives from time 0; the npc's start is where its drive begins, at 3 s:
+    # the witness places it there, keeping its start lane and speed until then (before,
+    # it placed it anywhere, and the run failed at 3 s: "it is in lane 2, not lane 1")
+    result = _run(_branch_wait(relation), seed=seed)
+    assert result.outcome.status == "success", result.outcome.reason
+    (then,) = _starts(result, "npc.drive")
+    assert then * DT == pytest.approx(3.0)
+    car, npc = result.telemetry["car"], result.telemetry["npc"]
+    assert set(car["lane"][: then + 1]) == set(npc["lane"][: then + 1]) == {1}
+    gap = npc["x"][then] - car["x"][then] if relation == "ahead_of" else None
+    gap = gap if gap is not None else car["x"][then] - npc["x"][then]
+    assert gap == pytest.approx(25 + 4.5, abs=0.4)
