@@ -16,12 +16,12 @@ from osc2check.semantics.calls import CallChecker, Extra, read_cover_item
 from osc2check.semantics.declare import Pending
 from osc2check.semantics.expressions import ExpressionChecker
 from osc2check.semantics.model import Context, Model
+from osc2check.semantics.phases import tree_members
 from osc2check.semantics.scope import BEHAVIOUR_KINDS, Scope, declaration_scope
 from osc2check.semantics.suggest import closest
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
 from osc2check.syntax import ast
-from osc2check.syntax.walk import walk
 
 
 class BodyChecker:
@@ -151,7 +151,7 @@ class BodyChecker:
         for member in members:
             if not isinstance(member, (ast.DoDirective, ast.OnDirective)):
                 continue
-            for node in walk(member):
+            for node in tree_members(member):
                 if isinstance(node, ast.Emit) and not node.event.missing:
                     name = node.event.text
                     declared = [

@@ -122,6 +122,27 @@ def invocations(node: ast.Node) -> Iterator[ast.Invocation]:
             yield node
 
 
+def tree_members(node: ast.Node) -> Iterator[ast.Node]:
+    """Every member of a ``do`` or ``on`` tree (a directive, a ``do`` member or a body),
+    in source order: the compositions, invocations, waits, emits and calls, not their
+    arguments or modifiers. Compositions and emits are found nowhere else, so a search
+    for them needs to walk no expression."""
+    match node:
+        case ast.DoDirective():
+            yield from tree_members(node.member.body)
+        case ast.OnDirective():
+            for action in node.members:
+                yield from tree_members(action)
+        case ast.DoMember():
+            yield from tree_members(node.body)
+        case ast.Composition():
+            yield node
+            for member in node.members:
+                yield from tree_members(member.body)
+        case _:
+            yield node
+
+
 def is_acting(body: ast.Node) -> bool:
     """Whether a ``one_of`` member acts (invokes an action or a scenario) rather than
     only waiting (``wait``, ``emit``, ``call``)."""

@@ -26,7 +26,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import enum_word, modifier_timing
+from osc2check.semantics.phases import enum_word, modifier_timing, tree_members
 from osc2check.syntax import ast
 from osc2check.syntax.walk import walk
 from osc2check.verify import ir
@@ -56,12 +56,15 @@ class LaneChange:
 
 
 def one_of_members(bodies: Iterable[ast.Node]) -> set[int]:
-    """The ids of the invocations inside a ``one_of`` of ``bodies``."""
+    """The ids of the invocations inside a ``one_of`` of ``bodies`` (declarations)."""
     found: set[int] = set()
     for body in bodies:
-        for node in walk(body):
-            if isinstance(node, ast.Composition) and node.op == "one_of":
-                found.update(id(n) for n in walk(node) if isinstance(n, ast.Invocation))
+        members = body.members if isinstance(body, ast.StructuredDecl) else None
+        trees = [m for m in members if isinstance(m, ast.DoDirective)] if members else [body]
+        for tree in trees:
+            for node in tree_members(tree) if members else walk(tree):
+                if isinstance(node, ast.Composition) and node.op == "one_of":
+                    found.update(id(n) for n in walk(node) if isinstance(n, ast.Invocation))
     return found
 
 
