@@ -58,6 +58,8 @@ __all__ = [
     "modifier_timing",
     "time_zero",
     "after_waits",
+    "leading_parallel",
+    "tree_members",
 ]
 
 INSTANT_ACTIONS = frozenset(
@@ -212,6 +214,20 @@ def after_waits(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
         if not _collect(member.body, found.starts, found, ()):
             break
     return (waits, found) if waits and (found.starts or found.alternatives) else None
+
+
+def leading_parallel(body: ast.Node) -> ast.Composition | None:
+    """The ``parallel`` a ``do`` body begins with at time 0: the body itself, or the
+    first member of a ``serial`` when the members before it take no time (and so on
+    inward); None when it begins otherwise."""
+    while isinstance(body, ast.Composition) and body.op == "serial":
+        first = next(
+            (m.body for m in body.members if not _collect(m.body, [], TimeZero(), ())), None
+        )
+        if first is None:
+            return None
+        body = first
+    return body if isinstance(body, ast.Composition) and body.op == "parallel" else None
 
 
 def acting_members(comp: ast.Composition) -> list[ast.DoMember]:

@@ -71,7 +71,13 @@ from osc2check.semantics import types as T
 from osc2check.semantics.constants import NotConstant, Quantity, Value, initial_value
 from osc2check.semantics.members import actor_alias, scenario_do
 from osc2check.semantics.model import Model
-from osc2check.semantics.phases import TimeZero, after_waits, is_instant, modifier_timing
+from osc2check.semantics.phases import (
+    TimeZero,
+    after_waits,
+    is_instant,
+    leading_parallel,
+    modifier_timing,
+)
 from osc2check.semantics.stdlib import CARLA
 from osc2check.semantics.symbols import Symbol, SymbolKind
 from osc2check.source import Span
@@ -271,8 +277,8 @@ class PlacementLowerer(StartModifiers):
         (``phases.after_waits``): the start modifiers of what begins then hold of each
         actor's state at ``c``. Nothing commands an actor while it waits, so it keeps its
         start lane, offset and speed: it is ``c`` times its start speed further along.
-        The same when the scenario's ``do`` is a ``parallel`` of which one member first
-        waits (``_waiting_branch``) and what begins then is of actors that no time-0
+        The same when the scenario's ``do`` begins with a ``parallel`` of which one member
+        first waits (``_waiting_branch``) and what begins then is of actors that no time-0
         action commands: the others are taken to keep their start lane and speed too.
         The result puts the actors at ``c`` while it is entered (``with``)."""
         bodies = self._bodies(self.scenario)
@@ -639,7 +645,7 @@ class _Waited:
         self.actors = list(placement.actors.values())
         self.starts = {actor.name: actor.s for actor in self.actors}
         self.after: dict[str, ir.Var] = {}
-        which = "a member of the scenario's `parallel`" if branch else "the scenario"
+        which = "a member of the `parallel` the scenario begins with" if branch else "the scenario"
         self.note = (
             f"the starts after the first wait of {which} ({float(delay):g} s) are placed as "
             "if every actor kept its start lane and speed until then (else the runner "
@@ -675,12 +681,13 @@ class _Waited:
 
 
 def _waiting_branch(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
-    """For a ``parallel`` body, what its one member that first waits starts when those
-    waits end (``phases.after_waits`` of that member); None for any other body, or when
-    more than one member first waits."""
-    if not (isinstance(body, ast.Composition) and body.op == "parallel"):
+    """For a body that begins with a ``parallel`` (``phases.leading_parallel``), what its
+    one member that first waits starts when those waits end (``phases.after_waits`` of
+    that member); None for any other body, or when more than one member first waits."""
+    parallel = leading_parallel(body)
+    if parallel is None:
         return None
-    found = [f for m in body.members if (f := after_waits(m.body)) is not None]
+    found = [f for m in parallel.members if (f := after_waits(m.body)) is not None]
     return found[0] if len(found) == 1 else None
 
 

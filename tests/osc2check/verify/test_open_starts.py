@@ -151,6 +151,35 @@ def test_the_start_after_a_members_wait_holds_while_another_member_drives(seed):
     assert not w.notes
 
 
+NESTED = """\
+import osc.standard
+
+scenario late:
+    hero: vehicle
+    npc: vehicle
+    do serial:
+        first: parallel(duration: 10s):
+            hero.drive() with:
+                lane(1, at: start)
+                position(distance: 100m, at: start)
+                speed(50kph)
+            serial:
+                wait elapsed(3s)
+                npc.drive() with:
+                    lane(2, at: start)
+                    position(distance: 25m, ahead_of: hero, at: start)
+                    speed(60kph, at: start)
+        next: hero.drive(duration: 2s)
+"""
+
+
+def test_a_members_wait_in_the_first_phase_of_a_serial_places_what_begins_then():
+    w = _witness(NESTED)
+    h, n = w.actor("hero"), w.actor("npc")
+    assert h is not None and n is not None and n.lane == 2
+    assert n.s + 3 * n.speed - (h.s + 3 * h.speed) - (h.length + n.length) / 2 == 25
+
+
 def test_a_members_wait_reading_that_cannot_hold_gives_way():
     # npc 100 kph faster and 20 m ahead of the hero after 3 s: it would have started
     # about 50 m before the road's start (the hero starts at 10 m). The reading gives
@@ -159,7 +188,7 @@ def test_a_members_wait_reading_that_cannot_hold_gives_way():
     assert not [f for f in found if f[0][0] in "LC"], found
     w = solve(analysis, "late", 0, URI)
     assert isinstance(w, Witness)
-    assert any("first wait of a member of the scenario's `parallel`" in n for n in w.notes)
+    assert any("first wait of a member of the `parallel` the scenario begins with" in n for n in w.notes)
 
 
 def test_an_actor_a_time_0_action_commands_is_not_placed_by_the_reading():

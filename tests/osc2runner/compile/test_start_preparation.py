@@ -407,3 +407,39 @@ def test_starts_after_a_members_first_wait_hold_while_another_member_drives(rela
     gap = npc["x"][then] - car["x"][then] if relation == "ahead_of" else None
     gap = gap if gap is not None else car["x"][then] - npc["x"][then]
     assert gap == pytest.approx(25 + 4.5, abs=0.4)
+
+
+NESTED_BRANCH_WAIT = """\
+scenario nested:
+    car: vehicle
+    npc: vehicle
+    do serial:
+        get_ahead: parallel(duration: 10s):
+            car.drive() with:
+                lane(1, at: start)
+                position(distance: 50m, at: start)
+                speed(50kph)
+            serial:
+                wait elapsed(3s)
+                npc.drive() with:
+                    lane(2, at: start)
+                    position(distance: 15m, ahead_of: car, at: start)
+                    speed(60kph)
+        slow: parallel(duration: 5s):
+            car.drive() with:
+                speed(40kph)
+            npc.drive() with:
+                speed(40kph)
+"""
+
+
+def test_a_members_first_wait_in_the_first_phase_of_a_serial_places_what_begins_then():
+    # the usual shape: phases in a serial, the first a parallel with a member that waits
+    # (before, the npc started 178 m from where it had to be at 3 s, and the run failed)
+    result = _run(NESTED_BRANCH_WAIT)
+    assert result.outcome.status == "success", result.outcome.reason
+    then = _starts(result, "npc.drive")[0]  # the second drive is the `slow` phase's
+    assert then * DT == pytest.approx(3.0)
+    car, npc = result.telemetry["car"], result.telemetry["npc"]
+    assert npc["lane"][then] == 2
+    assert npc["x"][then] - car["x"][then] == pytest.approx(15 + 4.5, abs=0.4)
