@@ -57,7 +57,7 @@ def off_for_the_command() -> None:
     The analysis pauses it anyway (``gc_paused``); what this adds is the time before and
     after: reading the cache (a large file's last parse and the analysed library,
     hundreds of thousands of objects) and writing the findings and the cache, during
-    which each collection scans all of them to free next to nothing (0.3 s of a
-    10,000-line file's 2.5 s). Memory held is what the analysis holds: the process
-    ends with ``os._exit`` and frees nothing one by one either."""
+    which each collection scans all of them to free next to nothing. Memory held is
+    what the analysis holds: the process ends with ``os._exit`` and frees nothing one by
+    one either."""
     gc.disable()
