@@ -188,7 +188,8 @@ def test_a_members_wait_reading_that_cannot_hold_gives_way():
     assert not [f for f in found if f[0][0] in "LC"], found
     w = solve(analysis, "late", 0, URI)
     assert isinstance(w, Witness)
-    assert any("first wait of a member of the `parallel` the scenario begins with" in n for n in w.notes)
+    said = "first wait of a member of the `parallel` the scenario begins with"
+    assert any(said in note for note in w.notes)
 
 
 def test_an_actor_a_time_0_action_commands_is_not_placed_by_the_reading():
