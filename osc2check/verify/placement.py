@@ -216,10 +216,10 @@ class PlacementLowerer(StartModifiers):
             if actor.name in self.lateral or actor.body.widest() > fraction(narrowest):
                 self._on_road(actor)  # else its lane keeps it on the road
         self._no_overlap(placement)
-        if waited is not None:
+        for each in waited:
             index = len(self.problem.constraints)
-            self._no_overlap(placement, waited)
-            self.problem.tentative_from(index, waited.note)
+            self._no_overlap(placement, each)
+            self.problem.tentative_from(index, each.note)
         self._room(placement)
         self._preferences(placement)
         return placement
@@ -272,65 +272,69 @@ class PlacementLowerer(StartModifiers):
         starts: list[tuple[ast.Invocation, InstanceScope]],
         placement: StartPlacement,
         first: set[str],
-    ) -> _Waited | None:
+    ) -> list[_Waited]:
         """When nothing acts at time 0 and the scenario first waits a constant time ``c``
         (``phases.after_waits``): the start modifiers of what begins then hold of each
         actor's state at ``c``. Nothing commands an actor while it waits, so it keeps its
         start lane, offset and speed: it is ``c`` times its start speed further along.
-        The same when the scenario's ``do`` begins with a ``parallel`` of which one member
-        first waits (``_waiting_branch``) and what begins then is of actors that no time-0
-        action commands: the others are taken to keep their start lane and speed too.
-        The result puts the actors at ``c`` while it is entered (``with``)."""
+        The same when the scenario's ``do`` begins with a ``parallel`` whose members first
+        wait (``_waiting_branches``), each for what begins when its waits end, of actors
+        that no time-0 action commands and no earlier member placed: the others are taken
+        to keep their start lane and speed too. Each result puts the actors at its ``c``
+        while it is entered (``with``)."""
         bodies = self._bodies(self.scenario)
         if self.alternatives or not bodies:
-            return None
+            return []
         acting = [inv for inv, _ in starts if not is_instant(inv)]
         body = bodies[0].body
-        found = after_waits(body) if not acting else _waiting_branch(body)
-        if found is None or found[1].alternatives:
-            return None
-        waits, zero = found
-        times = [wait_time(self.model, wait, self._lookup) for wait in waits]
-        if any(t is None for t in times):
-            return None
-        delay = sum((t for t in times if t is not None), Fraction(0))
-        later: list[tuple[ast.Invocation, InstanceScope]] = []
-        self._zero_of(zero, invocation_labels(bodies[0]), self._root_scope(), later, 0, None)
-        if self.alternatives:  # a scenario invoked then starts with a `one_of`
-            self.alternatives.clear()
-            return None
-        if acting and self._placed_twice(starts, later, placement):
-            return None
-        index = len(self.problem.constraints)
-        waited = _Waited(self, placement, delay, branch=bool(acting))
-        applied = set(self.applied)  # each phase's own limits still hold, firmly
-        with waited:
-            self._apply_starts(later, placement, first)
-        self.applied = applied
-        self.scope = self._root_scope()
-        self.problem.tentative_from(index, waited.note)
-        return waited
-
-    def _placed_twice(
-        self,
-        starts: list[tuple[ast.Invocation, InstanceScope]],
-        later: list[tuple[ast.Invocation, InstanceScope]],
-        placement: StartPlacement,
-    ) -> bool:
-        """Whether an actor that a time-0 action commands is also one of what begins when
-        a member's wait ends: a time-0 action says its state, not the reading."""
-
-        def actors(found: list[tuple[ast.Invocation, InstanceScope]], every: bool) -> set[str]:
-            names = set()
-            for inv, scope in found:
-                self.scope = scope
-                actor = self._actor_at(inv, placement)
-                if actor is not None and (every or not is_instant(inv)):
-                    names.add(actor.name)
+        if acting:
+            branches = _waiting_branches(body)
+        else:
+            found = after_waits(body)
+            branches = [found] if found is not None else []
+        placed = self._actors_of(starts, placement, every=False)
+        done: list[_Waited] = []
+        for waits, zero in branches:
+            times = [wait_time(self.model, wait, self._lookup) for wait in waits]
+            if zero.alternatives or any(t is None for t in times):
+                continue
+            delay = sum((t for t in times if t is not None), Fraction(0))
+            later: list[tuple[ast.Invocation, InstanceScope]] = []
+            self._zero_of(zero, invocation_labels(bodies[0]), self._root_scope(), later, 0, None)
+            if self.alternatives:  # a scenario invoked then starts with a `one_of`
+                self.alternatives.clear()
+                continue
+            names = self._actors_of(later, placement, every=True)
+            if names & placed:  # a time-0 action (or an earlier member) says their state
+                continue
+            placed |= names
+            index = len(self.problem.constraints)
+            waited = _Waited(self, placement, delay, branch=bool(acting), number=len(done))
+            applied = set(self.applied)  # each phase's own limits still hold, firmly
+            with waited:
+                self._apply_starts(later, placement, first)
+            self.applied = applied
             self.scope = self._root_scope()
-            return names
+            self.problem.tentative_from(index, waited.note)
+            done.append(waited)
+        return done
 
-        return bool(actors(starts, every=False) & actors(later, every=True))
+    def _actors_of(
+        self,
+        found: list[tuple[ast.Invocation, InstanceScope]],
+        placement: StartPlacement,
+        every: bool,
+    ) -> set[str]:
+        """The names of the placed actors of ``found``'s invocations (``every``: also of
+        those that take no time)."""
+        names = set()
+        for inv, scope in found:
+            self.scope = scope
+            actor = self._actor_at(inv, placement)
+            if actor is not None and (every or not is_instant(inv)):
+                names.add(actor.name)
+        self.scope = self._root_scope()
+        return names
 
     # ---- room to drive, and plausible values -------------------------------------------
 
@@ -632,8 +636,9 @@ class PlacementLowerer(StartModifiers):
 
 class _Waited:
     """Each actor's position when the scenario's first waits end (of one member of its
-    ``parallel`` with ``branch``), ``delay`` seconds at its start speed (a variable tied
-    to the start's), put in place of its start position while entered."""
+    ``parallel`` with ``branch``; ``number`` tells the variables of the members after
+    the first apart), ``delay`` seconds at its start speed (a variable tied to the
+    start's), put in place of its start position while entered."""
 
     def __init__(
         self,
@@ -641,6 +646,7 @@ class _Waited:
         placement: StartPlacement,
         delay: Fraction,
         branch: bool = False,
+        number: int = 0,
     ):
         self.actors = list(placement.actors.values())
         self.starts = {actor.name: actor.s for actor in self.actors}
@@ -653,7 +659,10 @@ class _Waited:
         )
         for actor in self.actors:
             after = lowerer.problem.var(
-                f"{actor.name}@start.after_wait", "real", unit="m", span=actor.span
+                f"{actor.name}@start.after_wait{number + 1 if number else ''}",
+                "real",
+                unit="m",
+                span=actor.span,
             )
             moved = ir.op("*", ir.const(delay), ir.Ref(actor.speed))
             lowerer._implicit(
@@ -680,15 +689,14 @@ class _Waited:
             actor.s = self.starts[actor.name]
 
 
-def _waiting_branch(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
-    """For a body that begins with a ``parallel`` (``phases.leading_parallel``), what its
-    one member that first waits starts when those waits end (``phases.after_waits`` of
-    that member); None for any other body, or when more than one member first waits."""
+def _waiting_branches(body: ast.Node) -> list[tuple[list[ast.Wait], TimeZero]]:
+    """For a body that begins with a ``parallel`` (``phases.leading_parallel``), what each
+    member that first waits starts when those waits end (``phases.after_waits`` of that
+    member), in source order; none for any other body."""
     parallel = leading_parallel(body)
     if parallel is None:
-        return None
-    found = [f for m in parallel.members if (f := after_waits(m.body)) is not None]
-    return found[0] if len(found) == 1 else None
+        return []
+    return [f for m in parallel.members if (f := after_waits(m.body)) is not None]
 
 
 def _unless(guards: list[ir.Term] | None, term: ir.Term) -> ir.Term:

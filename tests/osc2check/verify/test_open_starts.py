@@ -180,6 +180,25 @@ def test_a_members_wait_in_the_first_phase_of_a_serial_places_what_begins_then()
     assert n.s + 3 * n.speed - (h.s + 3 * h.speed) - (h.length + n.length) / 2 == 25
 
 
+def test_each_member_that_first_waits_places_what_begins_when_its_wait_ends():
+    text = _branch("50kph", "60kph", "25m").replace(
+        "    npc: vehicle\n", "    npc: vehicle\n    van: vehicle\n"
+    )
+    text += (
+        "        serial:\n"
+        "            wait elapsed(5s)\n"
+        "            van.drive() with:\n"
+        "                lane(3, at: start)\n"
+        "                position(distance: 15m, behind: npc, at: start)\n"
+        "                speed(40kph, at: start)\n"
+    )
+    w = _witness(text)
+    n, v = w.actor("npc"), w.actor("van")
+    assert n is not None and v is not None and (n.lane, v.lane) == (2, 3)
+    assert n.s + 5 * n.speed - (v.s + 5 * v.speed) - (n.length + v.length) / 2 == 15
+    assert not w.notes
+
+
 def test_a_members_wait_reading_that_cannot_hold_gives_way():
     # npc 100 kph faster and 20 m ahead of the hero after 3 s: it would have started
     # about 50 m before the road's start (the hero starts at 10 m). The reading gives

@@ -443,3 +443,41 @@ def test_a_members_first_wait_in_the_first_phase_of_a_serial_places_what_begins_
     car, npc = result.telemetry["car"], result.telemetry["npc"]
     assert npc["lane"][then] == 2
     assert npc["x"][then] - car["x"][then] == pytest.approx(15 + 4.5, abs=0.4)
+
+
+TWO_BRANCH_WAITS = """\
+scenario two:
+    car: vehicle
+    npc1: vehicle
+    npc2: vehicle
+    do parallel(duration: 15s):
+        car.drive() with:
+            lane(1, at: start)
+            position(distance: 50m, at: start)
+            speed(50kph)
+        serial:
+            wait elapsed(3s)
+            npc1.drive() with:
+                lane(2, at: start)
+                position(distance: 20m, ahead_of: car, at: start)
+                speed(50kph)
+        serial:
+            wait elapsed(6s)
+            npc2.drive() with:
+                lane(3, at: start)
+                position(distance: 10m, behind: npc1, at: start)
+                speed(50kph)
+"""
+
+
+def test_two_members_that_first_wait_each_place_what_begins_when_their_wait_ends():
+    # npc2 is placed relative to npc1, which itself starts after the first member's wait
+    result = _run(TWO_BRANCH_WAITS)
+    assert result.outcome.status == "success", result.outcome.reason
+    (one,) = _starts(result, "npc1.drive")
+    (two,) = _starts(result, "npc2.drive")
+    assert (one * DT, two * DT) == (pytest.approx(3.0), pytest.approx(6.0))
+    car, npc1, npc2 = (result.telemetry[name] for name in ("car", "npc1", "npc2"))
+    assert (npc1["lane"][one], npc2["lane"][two]) == (2, 3)
+    assert npc1["x"][one] - car["x"][one] == pytest.approx(20 + 4.5, abs=0.4)
+    assert npc1["x"][two] - npc2["x"][two] == pytest.approx(10 + 4.5, abs=0.4)
