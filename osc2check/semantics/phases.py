@@ -109,19 +109,7 @@ def is_instant(inv: ast.Invocation) -> bool:
 def invocations(node: ast.Node) -> Iterator[ast.Invocation]:
     """The invocations of a ``do`` or ``on`` tree (a directive, a ``do`` member or a body),
     in source order: the members only, not their modifiers."""
-    match node:
-        case ast.DoDirective():
-            yield from invocations(node.member.body)
-        case ast.OnDirective():
-            for action in node.members:
-                yield from invocations(action)
-        case ast.DoMember():
-            yield from invocations(node.body)
-        case ast.Composition():
-            for member in node.members:
-                yield from invocations(member.body)
-        case ast.Invocation():
-            yield node
+    return (member for member in tree_members(node) if isinstance(member, ast.Invocation))
 
 
 def tree_members(node: ast.Node) -> Iterator[ast.Node]:
@@ -194,6 +182,11 @@ def time_zero(body: ast.Node) -> TimeZero:
     return found
 
 
+def _takes_no_time(body: ast.Node) -> bool:
+    """Whether a ``do`` body ends when it begins (instant actions, emits, calls)."""
+    return _collect(body, [], TimeZero(), ())
+
+
 def after_waits(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
     """What begins when the scenario first waits: for a ``serial`` body whose members
     before the first one that acts are ``wait``s (at least one) and members that take no
@@ -208,7 +201,7 @@ def after_waits(body: ast.Node) -> tuple[list[ast.Wait], TimeZero] | None:
             waits.append(member.body)
             continue
         if not waits:
-            if not _collect(member.body, [], TimeZero(), ()):
+            if not _takes_no_time(member.body):
                 return None  # it acts or takes time before any wait
             continue
         if not _collect(member.body, found.starts, found, ()):
@@ -221,9 +214,7 @@ def leading_parallel(body: ast.Node) -> ast.Composition | None:
     first member of a ``serial`` when the members before it take no time (and so on
     inward); None when it begins otherwise."""
     while isinstance(body, ast.Composition) and body.op == "serial":
-        first = next(
-            (m.body for m in body.members if not _collect(m.body, [], TimeZero(), ())), None
-        )
+        first = next((m.body for m in body.members if not _takes_no_time(m.body)), None)
         if first is None:
             return None
         body = first

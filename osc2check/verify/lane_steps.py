@@ -59,10 +59,10 @@ def one_of_members(bodies: Iterable[ast.Node]) -> set[int]:
     """The ids of the invocations inside a ``one_of`` of ``bodies`` (declarations)."""
     found: set[int] = set()
     for body in bodies:
-        members = body.members if isinstance(body, ast.StructuredDecl) else None
-        trees = [m for m in members if isinstance(m, ast.DoDirective)] if members else [body]
-        for tree in trees:
-            for node in tree_members(tree) if members else walk(tree):
+        for member in getattr(body, "members", ()):  # compositions are only in `do` trees
+            if not isinstance(member, ast.DoDirective):
+                continue
+            for node in tree_members(member):
                 if isinstance(node, ast.Composition) and node.op == "one_of":
                     found.update(id(n) for n in walk(node) if isinstance(n, ast.Invocation))
     return found

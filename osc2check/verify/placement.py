@@ -293,6 +293,7 @@ class PlacementLowerer(StartModifiers):
             found = after_waits(body)
             branches = [found] if found is not None else []
         placed = self._actors_of(starts, placement, every=False)
+        labels = invocation_labels(bodies[0])
         done: list[_Waited] = []
         for waits, zero in branches:
             times = [wait_time(self.model, wait, self._lookup) for wait in waits]
@@ -300,7 +301,7 @@ class PlacementLowerer(StartModifiers):
                 continue
             delay = sum((t for t in times if t is not None), Fraction(0))
             later: list[tuple[ast.Invocation, InstanceScope]] = []
-            self._zero_of(zero, invocation_labels(bodies[0]), self._root_scope(), later, 0, None)
+            self._zero_of(zero, labels, self._root_scope(), later, 0, None)
             if self.alternatives:  # a scenario invoked then starts with a `one_of`
                 self.alternatives.clear()
                 continue

@@ -26,6 +26,9 @@ from osc2check.verify.domains import domains
 from osc2check.verify.witness import Witness
 
 URI = "open.osc"
+L506_NPC = (
+    "nothing that begins at time 0 places `npc`; the solver picks its start (see `--witness`)"
+)
 
 
 def _scenario(wait: str, hero_speed: str, npc_speed: str, gap: str, npc_lane: int = 1) -> str:
@@ -215,6 +218,8 @@ def test_an_actor_a_time_0_action_commands_is_not_placed_by_the_reading():
     # npc also drives from time 0 in another member: that action says its state while
     # the member waits, so the reading leaves its start alone (its lane is the seed's)
     npc_first = "        npc.drive(duration: 1s)\n"
+    _, found = _analysed(_branch("50kph", "60kph", "25m", npc_first))
+    assert ("L506", L506_NPC) in found, found
     lanes = set()
     for seed in range(6):
         n = _witness(_branch("50kph", "60kph", "25m", npc_first), seed).actor("npc")

@@ -36,6 +36,13 @@ def _starts(result, name: str) -> list[int]:
     return result.event_ticks("start", name)
 
 
+def _started_at(result, name: str, seconds: float, starts: int = 1) -> int:
+    """The tick of the first of the ``starts`` starts of ``name``: at ``seconds``."""
+    ticks = _starts(result, name)
+    assert len(ticks) == starts and ticks[0] * DT == pytest.approx(seconds), ticks
+    return ticks[0]
+
+
 def _then(*members: str) -> str:
     """A car in lane 1 at 30 kph at time 0, then ``members`` in a serial (``x with: m``
     is written on two lines)."""
@@ -361,11 +368,9 @@ def test_starts_after_the_first_wait_hold_with_the_actors_placed_for_them(npc_sp
     # the witness places both cars so that, each keeping its start lane and speed while
     # the scenario waits, the starts hold when the wait ends (before, it placed them
     # anywhere, and a 25 m gap 158 m away could not be closed in 2 s)
-    result = _run(_first_wait(npc_speed), seed=seed)
-    assert result.outcome.status == "success", result.outcome.reason
-    (then,) = _starts(result, "npc.drive")
-    assert then * DT == pytest.approx(2.0)
-    car, npc = result.telemetry["car"], result.telemetry["npc"]
+    result, car = _succeeds(_first_wait(npc_speed), seed=seed)
+    then = _started_at(result, "npc.drive", 2.0)
+    npc = result.telemetry["npc"]
     assert set(car["lane"][: then + 1]) == set(npc["lane"][: then + 1]) == {1}
     assert car["x"][then] - npc["x"][then] == pytest.approx(25 + 4.5, abs=0.4)
 
@@ -398,15 +403,12 @@ def test_starts_after_a_members_first_wait_hold_while_another_member_drives(rela
     # the car drives from time 0; the npc's start is where its drive begins, at 3 s:
     # the witness places it there, keeping its start lane and speed until then (before,
     # it placed it anywhere, and the run failed at 3 s: "it is in lane 2, not lane 1")
-    result = _run(_branch_wait(relation), seed=seed)
-    assert result.outcome.status == "success", result.outcome.reason
-    (then,) = _starts(result, "npc.drive")
-    assert then * DT == pytest.approx(3.0)
-    car, npc = result.telemetry["car"], result.telemetry["npc"]
+    result, car = _succeeds(_branch_wait(relation), seed=seed)
+    then = _started_at(result, "npc.drive", 3.0)
+    npc = result.telemetry["npc"]
     assert set(car["lane"][: then + 1]) == set(npc["lane"][: then + 1]) == {1}
-    gap = npc["x"][then] - car["x"][then] if relation == "ahead_of" else None
-    gap = gap if gap is not None else car["x"][then] - npc["x"][then]
-    assert gap == pytest.approx(25 + 4.5, abs=0.4)
+    ahead = 1 if relation == "ahead_of" else -1
+    assert ahead * (npc["x"][then] - car["x"][then]) == pytest.approx(25 + 4.5, abs=0.4)
 
 
 NESTED_BRANCH_WAIT = """\
@@ -436,11 +438,9 @@ scenario nested:
 def test_a_members_first_wait_in_the_first_phase_of_a_serial_places_what_begins_then():
     # the usual shape: phases in a serial, the first a parallel with a member that waits
     # (before, the npc started 178 m from where it had to be at 3 s, and the run failed)
-    result = _run(NESTED_BRANCH_WAIT)
-    assert result.outcome.status == "success", result.outcome.reason
-    then = _starts(result, "npc.drive")[0]  # the second drive is the `slow` phase's
-    assert then * DT == pytest.approx(3.0)
-    car, npc = result.telemetry["car"], result.telemetry["npc"]
+    result, car = _succeeds(NESTED_BRANCH_WAIT)
+    then = _started_at(result, "npc.drive", 3.0, starts=2)  # the second: the `slow` phase
+    npc = result.telemetry["npc"]
     assert npc["lane"][then] == 2
     assert npc["x"][then] - car["x"][then] == pytest.approx(15 + 4.5, abs=0.4)
 
@@ -472,12 +472,10 @@ scenario two:
 
 def test_two_members_that_first_wait_each_place_what_begins_when_their_wait_ends():
     # npc2 is placed relative to npc1, which itself starts after the first member's wait
-    result = _run(TWO_BRANCH_WAITS)
-    assert result.outcome.status == "success", result.outcome.reason
-    (one,) = _starts(result, "npc1.drive")
-    (two,) = _starts(result, "npc2.drive")
-    assert (one * DT, two * DT) == (pytest.approx(3.0), pytest.approx(6.0))
-    car, npc1, npc2 = (result.telemetry[name] for name in ("car", "npc1", "npc2"))
+    result, car = _succeeds(TWO_BRANCH_WAITS)
+    one = _started_at(result, "npc1.drive", 3.0)
+    two = _started_at(result, "npc2.drive", 6.0)
+    npc1, npc2 = result.telemetry["npc1"], result.telemetry["npc2"]
     assert (npc1["lane"][one], npc2["lane"][two]) == (2, 3)
     assert npc1["x"][one] - car["x"][one] == pytest.approx(20 + 4.5, abs=0.4)
     assert npc1["x"][two] - npc2["x"][two] == pytest.approx(10 + 4.5, abs=0.4)
