@@ -14,8 +14,10 @@ CPU (user + system) seconds, and the median of the pairwise wall ratios to
   so its stored result is given (what a pre-commit hook or CI sees for the files a
   commit did not touch); edited: a comment line is added before every run, so the
   file is checked (what it sees for the files a commit changed); the large file is
-  also edited at its top (every segment after the edit moves: the costliest edit for
-  a parse made from the last version's, ``incremental.parse_from``);
+  also edited at its top (every declaration after the edit moves) and in a scenario
+  in its middle (a limit changed: that scenario's group is checked again, the
+  others' findings are read from the last check, ``osc2check.groups``), and checked
+  whole with ``--no-cache``;
 * cold: a new, empty cache folder for every run (it is filled as it runs, and the
   next run does not see it): the first run after an install or an upgrade;
 * --no-cache: neither read nor written.
@@ -142,9 +144,21 @@ def main() -> None:
     def edit_top(i: int) -> None:
         large.write_text(f"# edit {i}\n{text}", encoding="utf-8")
 
-    large_edits = {"edited before each run": edit, "edited at its top before each run": edit_top}
+    middle = text.index("keep(top_", len(text) // 2)
+    number = middle + text[middle:].index("< ") + 2
+    digits = len(text[number:].split("kph", 1)[0])
+
+    def edit_scenario(i: int) -> None:  # a limit of the scenario in the middle of the file
+        large.write_text(f"{text[:number]}{121 + i % 79}{text[number + digits :]}", "utf-8")
+
+    large_edits = {
+        "edited before each run": edit,
+        "edited at its top before each run": edit_top,
+        "a scenario in its middle edited before each run": edit_scenario,
+    }
     for label, before in large_edits.items():
         paired(f"  warm cache, {label}", [*check, str(large)], env, few, before=before)
+    paired("  --no-cache (checked whole)", [*check, "--no-cache", str(large)], env, few)
     # the resident checker (OSC2_RESIDENT=1): a warm process checks, forked per check
     served = {**env, "OSC2_RESIDENT": "1", "XDG_RUNTIME_DIR": str(work / "run")}
     (work / "run").mkdir(mode=0o700)

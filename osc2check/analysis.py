@@ -12,9 +12,9 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
-from osc2check import cache, memory, messages, results
+from osc2check import cache, groups, memory, messages, results
 from osc2check.diagnostics import Diagnostic, Severity
-from osc2check.dialects import dialect_reading
+from osc2check.dialects import dialect_reading, may_read_as_carla
 from osc2check.gc_pause import gc_paused
 from osc2check.inputs import InputError, read_bytes
 from osc2check.memory import DEFAULT_MEMORY_LIMIT_MIB
@@ -24,6 +24,8 @@ from osc2check.semantics.program import Program, build_program
 from osc2check.source import Span, decode_source, point_span, without_nul
 from osc2check.suppress import Suppression, apply_suppressions, find_suppressions
 from osc2check.syntax import ParseResult, parse
+from osc2check.syntax.lexer import Comment
+from osc2check.syntax.parser import Segment, assemble, parse_part
 from osc2check.verify.flow import check_flow, scenarios_of
 
 if TYPE_CHECKING:
@@ -60,6 +62,8 @@ class Analysis:
     parses: dict[str, ParseResult] = field(default_factory=dict)
     verified: dict[str, VerifyResult] = field(default_factory=dict)  # by root file
     options: AnalysisOptions | None = None  # what the files were analysed with
+    # the constraints the solver left out of a verdict (C411, shown or not): span, reason
+    unverified: set[tuple[Span, str]] = field(default_factory=set)
 
 
 class FileCache:
@@ -168,6 +172,7 @@ class AnalysisOptions:
     memory_limit_mib: int | None = DEFAULT_MEMORY_LIMIT_MIB
     policy: Callable[[list[Diagnostic], str], list[Diagnostic]] | None = None
     plugins: tuple[str, ...] = ()
+    by_groups: bool = False
 
     @property
     def library(self) -> LibraryChoice:
@@ -206,12 +211,20 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
     verified: dict[str, VerifyResult] = {}
     programs: dict[str, Program] = {}
     found: list[Diagnostic] = []
+    unverified: set[tuple[Span, str]] = set()
+    comments: dict[str, list[tuple[Span, str]]] = {}
     if options.memory_limit_mib:
         _load_once(options)
     for source in sources:
         start = point_span(source.uri, source.text, 0)
         try:
             with memory.budget(options.memory_limit_mib):
+                grouped = _by_groups(source, cache, modules, plugins, options, programs, verified)
+                if grouped is not None:
+                    found += grouped.before + grouped.after
+                    unverified |= grouped.unverified
+                    comments[source.uri] = grouped.comments
+                    continue
                 _check_one(source, cache, modules, plugins, options, found, programs, verified)
         except Exception as exc:  # the budget was hit: say where, check the next file
             if not memory.is_out_of_memory(exc):
@@ -225,8 +238,154 @@ def _analyze(sources: list[SourceInput], options: AnalysisOptions) -> Analysis:
             # the finding is the checked file's, at the element when it is in that file
             span = element.span if element.span.uri == source.uri else start
             found.append(messages.memory_budget(span, element, options.memory_limit_mib))
-    diagnostics = _finish(found, cache, texts, options)
-    return Analysis(diagnostics, texts, programs, cache.parses, verified, options)
+    for checked in verified.values():
+        unverified |= checked.unverified()
+    diagnostics = _finish(found, cache, comments, texts, options)
+    return Analysis(diagnostics, texts, programs, cache.parses, verified, options, unverified)
+
+
+def _by_groups(
+    source: SourceInput,
+    cache: FileCache,
+    modules: dict[str, str],
+    plugins: PluginRegistry | None,
+    options: AnalysisOptions,
+    programs: dict[str, Program],
+    verified: dict[str, VerifyResult],
+) -> groups.Outcome | None:
+    """A large file's findings group by group (:mod:`osc2check.groups`), or None when it
+    is checked whole. When it is checked whole all the same (most of its groups changed),
+    ``programs`` and ``verified`` have its program and results."""
+    if not (
+        options.by_groups
+        and source.on_disk
+        and source.problem is None
+        and options.scenario is None
+        and len(source.text) >= groups.MIN_SIZE
+        and not may_read_as_carla(source.text, options.dialect)
+    ):
+        return None
+
+    def check_part(
+        text: str, chunks: list[groups.Chunk], numbers: dict[int, int]
+    ) -> groups.Outcome | None:
+        return _check_part(source.uri, text, chunks, numbers, cache, modules, plugins, options)
+
+    def check_whole(numbers: dict[int, int]) -> tuple[groups.Outcome, bool]:
+        found: list[Diagnostic] = []
+        done = _check_one(source, cache, modules, plugins, options, found, programs, verified)
+        parsed = cache.parses.get(source.uri)
+        outcome = _outcome(source.uri, found, done, verified, parsed)
+        return outcome, _stands(source.uri, found, done, parsed, programs.get(source.uri), numbers)
+
+    return groups.check(source.uri, source.text, _options_key(options), check_part, check_whole)
+
+
+def _options_key(options: AnalysisOptions) -> str:
+    """What a file's findings depend on among the options (the policy is applied after)."""
+    return repr(
+        (
+            options.verify,
+            options.seed,
+            options.implicit_imports,
+            sorted(options.modules.items()),
+            options.search_paths,
+            sorted(options.maps.items()),
+            options.library,
+            options.default_map,
+            options.solver_rlimit,
+            options.solver_timeout_ms,
+            options.memory_limit_mib,
+            options.plugins,
+        )
+    )
+
+
+def _check_part(
+    uri: str,
+    text: str,
+    chunks: list[groups.Chunk],
+    numbers: dict[int, int],
+    cache: FileCache,
+    modules: dict[str, str],
+    plugins: PluginRegistry | None,
+    options: AnalysisOptions,
+) -> groups.Outcome | None:
+    """The check of the file ``uri`` with only ``chunks`` (``text``: the other lines
+    blank), as their group's outcome; None when it cannot stand for it (``_stands``)."""
+    segments: list[Segment] = []
+    comments: list[Comment] = []
+    for run in _runs(chunks):
+        lines = parse_part(text, uri, run[0], run[1], run[2])
+        segments += lines.segments
+        comments += lines.comments
+    assembled = assemble(uri, text, tuple(segments), tuple(comments))
+    part = FileCache({uri: text}, {uri: assembled}, options.dialect)
+    part.parses.update((u, p) for u, p in cache.parses.items() if u != uri)
+    found: list[Diagnostic] = []
+    programs: dict[str, Program] = {}
+    verified: dict[str, VerifyResult] = {}
+    source = SourceInput(uri, text)
+    done = _check_one(source, part, modules, plugins, options, found, programs, verified, numbers)
+    parsed = part.parses.get(uri)
+    if not _stands(uri, found, done, parsed, programs.get(uri), numbers):
+        return None
+    cache.parses.update((u, p) for u, p in part.parses.items() if u != uri)
+    return _outcome(uri, found, done, verified, parsed)
+
+
+def _runs(chunks: list[groups.Chunk]) -> list[tuple[int, int, int]]:
+    """The chunks as runs of adjacent ones: start, end, first line."""
+    runs: list[tuple[int, int, int]] = []
+    for c in chunks:
+        end = c.start + len(c.text)
+        if runs and runs[-1][1] == c.start:
+            runs[-1] = (runs[-1][0], end, runs[-1][2])
+        else:
+            runs.append((c.start, end, c.line))
+    return runs
+
+
+def _stands(
+    uri: str,
+    found: list[Diagnostic],
+    done: tuple[bool, int] | None,
+    parsed: ParseResult | None,
+    program: Program | None,
+    numbers: dict[int, int],
+) -> bool:
+    """Whether a check's outcome can stand for its groups': it has no syntax error, its
+    scenarios are those numbered, in order, and no constraint it left out is written in
+    another file (C411 reports those once per file, at the first scenario that uses one)."""
+    if done is None or parsed is None or program is None:
+        return False
+    if any(d.severity is Severity.ERROR for d in parsed.diagnostics):
+        return False
+    places = [s.name_span.start if s.name_span is not None else -1 for s in scenarios_of(program)]
+    if places != sorted(numbers) or any(p not in numbers for p in places):
+        return False
+    return not any(
+        d.code.code == "C411" and any(r.span.uri != uri for r in d.related) for d in found
+    )
+
+
+def _outcome(
+    uri: str,
+    found: list[Diagnostic],
+    done: tuple[bool, int] | None,
+    verified: dict[str, VerifyResult],
+    parsed: ParseResult | None,
+) -> groups.Outcome:
+    """A check's findings as an outcome: those before the behaviour flow, those after."""
+    clean, before = done if done is not None else (False, len(found))
+    checked = verified.get(uri)
+    return groups.Outcome(
+        found[:before],
+        found[before:],
+        clean,
+        checked.unverified() if checked is not None else set(),
+        parsed.comment_spans() if parsed is not None else [],
+    )
 
 
 def _load_once(options: AnalysisOptions) -> None:
@@ -254,14 +413,17 @@ def _check_one(
     found: list[Diagnostic],
     programs: dict[str, Program],
     verified: dict[str, VerifyResult],
-) -> None:
+    numbers: dict[int, int] | None = None,
+) -> tuple[bool, int] | None:
     """Parse, resolve and verify one root file, adding to ``found``, ``programs`` and
-    ``verified``."""
+    ``verified``; whether it had no error before the behaviour flow, and how many
+    findings ``found`` had then (None: a nesting too deep). ``numbers``: the scenarios'
+    places among the whole file's (``verify_program``)."""
     start = point_span(source.uri, source.text, 0)
     with memory.analysing(start, "parsing the file"):
         result = cache.read(source.uri)
     if result is None:  # pragma: no cover - sources are always in memory
-        return
+        return None
     try:
         with memory.analysing(start, "reading its imports and declarations"):
             program = build_program(
@@ -275,7 +437,7 @@ def _check_one(
     except RecursionError:  # pathological nesting: say so instead of crashing
         found.extend(result.diagnostics)
         found.append(messages.nesting_too_deep(start))
-        return
+        return None
     programs[source.uri] = program
     found.extend(result.diagnostics)
     own = _relevant(program, result, source.uri)
@@ -283,6 +445,7 @@ def _check_one(
     if source.problem:
         found.append(_encoding_problem(source))
     clean = not any(d.severity is Severity.ERROR for d in [*result.diagnostics, *own])
+    before = len(found)
     if clean:  # the behaviour flow (B codes): no solver, so in every analysis
         found.extend(_flow(program, options.scenario, start))
     if options.verify and clean:
@@ -299,12 +462,14 @@ def _check_one(
                 default_map=options.default_map,
                 maps=options.maps,
                 plugins=plugins,
+                numbers=numbers,
             )
         except RecursionError:
             found.append(messages.nesting_too_deep(start))
-            return
+            return None
         verified[source.uri] = checked
         found.extend(d for d in checked.diagnostics if d.span.uri == source.uri)
+    return clean, before
 
 
 def _flow(program: Program, scenario: str | None, start: Span) -> list[Diagnostic]:
@@ -354,17 +519,24 @@ def _relevant(program: Program, result: ParseResult, uri: str) -> list[Diagnosti
 
 
 def _finish(
-    found: list[Diagnostic], cache: FileCache, texts: dict[str, str], options: AnalysisOptions
+    found: list[Diagnostic],
+    cache: FileCache,
+    comments: dict[str, list[tuple[Span, str]]],
+    texts: dict[str, str],
+    options: AnalysisOptions,
 ) -> list[Diagnostic]:
     unique: dict[tuple[str, int, int, str, str], Diagnostic] = {}
     for d in found:
         unique.setdefault((d.span.uri, d.span.start, d.span.end, d.code.code, d.message), d)
     diagnostics = list(unique.values())
     suppressions: list[Suppression] = []
-    for uri in texts:
+    for uri, text in texts.items():
         result = cache.parses.get(uri)
-        if result is not None:
-            suppressions.extend(find_suppressions(uri, result.comment_spans(), result.text))
+        found_comments = comments.get(uri)
+        if found_comments is None and result is not None:
+            found_comments = result.comment_spans()
+        if found_comments is not None:
+            suppressions.extend(find_suppressions(uri, found_comments, text))
     diagnostics = apply_suppressions(diagnostics, suppressions)
     if options.policy is not None:
         by_uri: dict[str, list[Diagnostic]] = {}

@@ -321,21 +321,25 @@ def _check_command(argv: list[str], out: TextIO) -> int:
     diagnostics: list[Diagnostic] = []
     results: list[ScenarioResult] = []
     texts = {s.uri: s.text for s in sources}
+    unverified = 0  # constraints left out of a verdict: in the summary even when C411 is not shown
     if sources:
-        analysis = _analyze(sources, config, args.seed if args.witness else None, args.scenario)
+        # the scenarios' results are printed with a witness and in JSON only: a large file's
+        # findings can then come group by group (osc2check.groups)
+        by_groups = not args.witness and config.output_format != "json"
+        seed = args.seed if args.witness else None
+        analysis = _analyze(sources, config, seed, args.scenario, by_groups)
         failure = config.plugin_failure()
         if failure is not None:
             raise failure
         diagnostics = analysis.diagnostics
         results = [r for checked in analysis.verified.values() for r in checked.scenarios]
+        unverified = len(analysis.unverified)
         texts.update(analysis.texts)
     summaries = []
     if results:
         from osc2check.verify.check import scenario_summary  # z3 loads only when needed
 
         summaries = [scenario_summary(r, args.witness) for r in results]
-    # constraints left out of a verdict: said in the summary line even when C411 is not shown
-    unverified = len({(s.span, s.reason) for r in results for s in r.problem.skipped})
     if args.statistics:
         text = render_statistics(
             diagnostics,
@@ -555,11 +559,16 @@ def _read(entries: list[_Input | InputProblem]) -> tuple[list[SourceInput], list
 
 
 def _analyze(
-    sources: list[SourceInput], config: Config, seed: int | None, scenario: str | None
+    sources: list[SourceInput],
+    config: Config,
+    seed: int | None,
+    scenario: str | None,
+    by_groups: bool = False,
 ) -> Analysis:
     from osc2check.analysis import analyze
 
-    return analyze(sources, config.analysis_options(seed=seed, scenario=scenario))
+    options = config.analysis_options(seed=seed, scenario=scenario)
+    return analyze(sources, replace(options, by_groups=by_groups))
 
 
 def _witness_tables(results: list[ScenarioResult]) -> str:

@@ -39,7 +39,18 @@ if TYPE_CHECKING:
     from collections.abc import Callable
     from typing import Any, NoReturn, TextIO
 
-__all__ = ["check_here", "check_interruptible", "note_missing", "not_repeatable", "run"]
+__all__ = [
+    "check_here",
+    "check_interruptible",
+    "note_missing",
+    "not_repeatable",
+    "recorded",
+    "recording",
+    "repeatable",
+    "run",
+    "settled",
+    "unchanged",
+]
 
 _KIND = "result"
 _KEEP = 64  # stored results kept (the newest): one per command line and folder
@@ -63,6 +74,7 @@ class _Recording:
     """What the running check depends on (see the module's docstring)."""
 
     def __init__(self, excluded: str) -> None:
+        self.started = time.time_ns()
         self.files: Dependencies = {}
         self.folders: dict[str, int] = {}
         self.missing: set[str] = set()
@@ -137,6 +149,36 @@ def not_repeatable(reason: str) -> None:
     load, its memory): it is not stored."""
     if _recording is not None:
         _recording.reasons.append(reason)
+
+
+def recording() -> bool:
+    """Whether a check is being recorded (its result may be stored)."""
+    return _recording is not None
+
+
+def recorded() -> Dependencies:
+    """What the check being recorded has depended on so far (``{}`` when none is)."""
+    return _recording.dependencies() if _recording is not None else {}
+
+
+def repeatable() -> bool:
+    """Whether the check being recorded could still be given again (nothing it found
+    depends on the machine's state so far); False when none is recorded."""
+    return _recording is not None and not _recording.reasons
+
+
+def settled(dependencies: Dependencies) -> bool:
+    """Whether no file of ``dependencies`` was modified so close to the recorded check's
+    start that a later edit could keep its signature."""
+    if _recording is None:
+        return False
+    newest = max((s[1] for s in dependencies.values() if s is not None), default=0)
+    return newest < _recording.started - _RACY_NS
+
+
+def unchanged(dependencies: Dependencies) -> bool:
+    """Whether every file and folder of ``dependencies`` still has its signature."""
+    return _unchanged(dependencies)
 
 
 def _audit(event: str, args: tuple[Any, ...]) -> None:
@@ -237,7 +279,6 @@ def _record(argv: list[str], check: Callable[[list[str]], int]) -> int:
     global _recording, _hooked
     from osc2check import cache
 
-    started = time.time_ns()
     recording = _Recording(os.path.join(os.path.abspath(cache.cache_folder()), ""))
     out, err = _Tee(sys.stdout), _Tee(sys.stderr)
     if not _hooked:
@@ -259,7 +300,7 @@ def _record(argv: list[str], check: Callable[[list[str]], int]) -> int:
     ):
         dependencies = recording.dependencies()
         newest = max((s[1] for s in dependencies.values() if s is not None), default=0)
-        if newest < started - _RACY_NS:
+        if newest < recording.started - _RACY_NS:
             cache.store(_KIND, _key(argv), (dependencies, "".join(out.parts), status), keep=_KEEP)
     return status
 

@@ -9,7 +9,20 @@ from __future__ import annotations
 
 from osc2check.syntax import ParseResult
 
-__all__ = ["dialect_reading", "reads_as_carla"]
+__all__ = ["dialect_reading", "may_read_as_carla", "reads_as_carla"]
+
+
+def may_read_as_carla(text: str, dialect: str) -> bool:
+    """Whether a file's text may be read in CARLA's dialect, told from the text alone:
+    True for every file :func:`reads_as_carla` reads so (and for some others). The
+    reading is the whole file's (its import or modifiers decide it for every line)."""
+    if dialect == "standard":
+        return False
+    if dialect == "carla":
+        return True
+    from osc2check.dialects.carla import LIBRARY_FILE, WORLD_MODIFIERS
+
+    return LIBRARY_FILE in text or any(m.split(".")[-1] in text for m in WORLD_MODIFIERS)
 
 
 def reads_as_carla(result: ParseResult, dialect: str) -> bool:

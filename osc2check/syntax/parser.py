@@ -64,21 +64,26 @@ class ParseResult:
 
     def comment_spans(self) -> list[tuple[Span, str]]:
         """Comments as (span, text) pairs, the form suppressions read."""
-        return [
-            (
-                Span(
-                    self.uri,
-                    c.line,
-                    c.column,
-                    c.line,
-                    c.column + len(c.text),
-                    c.offset,
-                    c.offset + len(c.text),
-                ),
-                c.text,
-            )
-            for c in self.comments
-        ]
+        return comment_spans(self.uri, self.comments)
+
+
+def comment_spans(uri: str, comments: Iterable[Comment]) -> list[tuple[Span, str]]:
+    """``comments`` of the file ``uri`` as (span, text) pairs."""
+    return [
+        (
+            Span(
+                uri,
+                c.line,
+                c.column,
+                c.line,
+                c.column + len(c.text),
+                c.offset,
+                c.offset + len(c.text),
+            ),
+            c.text,
+        )
+        for c in comments
+    ]
 
 
 @cache

@@ -132,6 +132,10 @@ class VerifyResult:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     scenarios: list[ScenarioResult] = field(default_factory=list)
 
+    def unverified(self) -> set[tuple[Span, str]]:
+        """The constraints left out of the scenarios' verdicts: span, reason."""
+        return {(s.span, s.reason) for r in self.scenarios for s in r.problem.skipped}
+
 
 def source_text(program: Program) -> TextOf:
     """A function from a span to its source text, one line, without comments.
@@ -191,6 +195,7 @@ def verify_program(
     default_map: str = "default",
     maps: Mapping[str, str] | None = None,
     plugins: PluginRegistry | None = None,
+    numbers: Mapping[int, int] | None = None,
 ) -> VerifyResult:
     """Check every scenario of ``program`` (or the one named).
 
@@ -200,7 +205,9 @@ def verify_program(
     them is C408: it is checked alone with ``scenario``). ``default_map`` is the map
     of a scenario that names none; ``maps`` gives the files of map names
     (``[tool.osc2check.maps]``); ``plugins`` the plug-ins that implement behaviours of
-    the user's libraries (the others are A308).
+    the user's libraries (the others are A308). ``numbers`` gives each scenario's place
+    among the file's, by the offset of its name, when ``program`` is a part of the file
+    (``osc2check.groups``); by default it is counted here.
     """
     rlimit = DEFAULT_RLIMIT if rlimit is None else rlimit
     timeout_ms = DEFAULT_TIMEOUT_MS if timeout_ms is None else timeout_ms
@@ -217,7 +224,10 @@ def verify_program(
         if scenario is not None and sym.name != scenario:
             continue
         checked += 1
-        if checked > MAX_SCENARIOS and sym.name_span is not None:
+        number = checked
+        if numbers is not None and sym.name_span is not None:
+            number = numbers[sym.name_span.start]
+        if number > MAX_SCENARIOS and sym.name_span is not None:
             # the file's budget: its cost grows with every scenario
             report(messages.scenario_budget(sym.name_span, sym.name, MAX_SCENARIOS))
             continue

@@ -222,7 +222,7 @@ def network_bounds(network: RoadNetwork) -> tuple[float, float, float, float]:
                 ys.append(road.y[sl] + row * np.cos(h))
     x = np.concatenate(xs)
     y = np.concatenate(ys)
-    return float(x.min()), float(x.max()), float(y.min()), float(y.max())
+    return float(np.min(x)), float(np.max(x)), float(np.min(y)), float(np.max(y))
 
 
 # ---------------------------------------------------------------- world → road

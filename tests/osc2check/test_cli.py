@@ -44,6 +44,7 @@ class FakeAnalysis:
     diagnostics: list[Diagnostic]
     texts: dict[str, str] = field(default_factory=dict)
     verified: dict = field(default_factory=dict)
+    unverified: set = field(default_factory=set)
 
 
 def fake_analyze(sources, options):
