@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import logging
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from typing import TYPE_CHECKING
 
 from osc2check import cache, groups, memory, messages, results
@@ -282,22 +282,12 @@ def _by_groups(
 
 
 def _options_key(options: AnalysisOptions) -> str:
-    """What a file's findings depend on among the options (the policy is applied after)."""
+    """What a file's findings depend on among the options: all but the policy, applied
+    after (and ``by_groups`` itself)."""
+    chosen = {f.name: getattr(options, f.name) for f in fields(options)}
+    del chosen["policy"], chosen["by_groups"]
     return repr(
-        (
-            options.verify,
-            options.seed,
-            options.implicit_imports,
-            sorted(options.modules.items()),
-            options.search_paths,
-            sorted(options.maps.items()),
-            options.library,
-            options.default_map,
-            options.solver_rlimit,
-            options.solver_timeout_ms,
-            options.memory_limit_mib,
-            options.plugins,
-        )
+        sorted((k, sorted(v.items()) if isinstance(v, Mapping) else v) for k, v in chosen.items())
     )
 
 

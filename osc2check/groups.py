@@ -249,7 +249,8 @@ def check(
         return None
     places = [c.scenario_at for c in chunks if c.scenario_at is not None]
     numbers = {place: n for n, place in enumerate(places, 1)}
-    kind, key = _KIND + "-" + cache.digest(uri)[:16], {"uri": uri, "options": options_key}
+    path = os.path.abspath(uri)  # a file of the same name elsewhere imports other files
+    kind, key = _KIND + "-" + cache.digest(path)[:16], {"path": path, "options": options_key}
     entry = cache.load(kind, key)
     if not isinstance(entry, _Entry) or not results.unchanged(entry.dependencies):
         entry = _Entry({}, {})
@@ -282,7 +283,7 @@ def check(
         keeping.update((d, entry.groups[d]) for d in older)
     if keeping is not None and storable and results.repeatable():
         dependencies = {**entry.dependencies, **results.recorded()}
-        dependencies.pop(os.path.abspath(uri), None)
+        dependencies.pop(path, None)
         if results.settled(dependencies):
             cache.store(kind, key, _Entry(dependencies, keeping))
     return outcome
