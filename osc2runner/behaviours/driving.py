@@ -22,6 +22,8 @@ from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState, RateProfile
 
 __all__ = [
+    "GAP_GAIN",
+    "GAP_LAG",
     "LANE_CHANGE_ACCEL",
     "gap_between",
     "lane_change_duration",
@@ -42,6 +44,10 @@ LANE_CHANGE_ACCEL = {"none": 4.0, "asap": 5.0, "constant": 1.3, "smooth": 1.3}
 _QUINTIC_PEAK = 10.0 / 3.0**0.5
 #: the profile a speed modifier approaches its target with
 SPEED_PROFILE = "smooth"
+#: gain of gap tracking: speed change per metre of gap error (1/s), and the lag (s)
+#: the gap error is looked ahead by (the speed follows its target that much late)
+GAP_GAIN = 0.4
+GAP_LAG = 1.0
 
 
 def profile_for(

@@ -16,6 +16,8 @@ from py_trees.common import Status
 
 from osc2runner.behaviours.base import ActionBehaviour, ActionError, InstantAction, number, whole
 from osc2runner.behaviours.driving import (
+    GAP_GAIN,
+    GAP_LAG,
     gap_between,
     lane_change_duration,
     lane_of,
@@ -25,6 +27,7 @@ from osc2runner.behaviours.driving import (
     set_speed,
     side_of,
 )
+from osc2runner.behaviours.following import Follower
 from osc2runner.compile.registry import action
 from osc2runner.instance.actors import Actor
 from osc2runner.sim import ActorState
@@ -44,10 +47,6 @@ __all__ = [
     "RemainStationary",
 ]
 
-#: gain of gap tracking: speed change per metre of gap error (1/s)
-GAP_GAIN = 0.4
-GAP_LAG = 1.0  # s
-
 
 def _hold(action: ActionBehaviour) -> None:
     """Keep what the actor does now where the action's modifiers say nothing."""
@@ -62,13 +61,21 @@ def _hold(action: ActionBehaviour) -> None:
 
 @action("vehicle", "drive")
 class Drive(ActionBehaviour):
-    """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane."""
+    """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane,
+    and a safe gap behind what is ahead (:mod:`osc2runner.behaviours.following`)."""
 
     own_motions = frozenset[str]()
     finite = False
+    follower: Follower | None = None
 
     def start(self) -> None:
         _hold(self)
+        self.follower = Follower.of(self)
+
+    def step(self) -> Status:
+        if self.follower is not None and not self.follower.step():
+            self.follower = None
+        return Status.RUNNING
 
 
 @action("movable_object", "move")
@@ -229,6 +236,7 @@ class FollowLane(ActionBehaviour):
 
     own_motions = frozenset({"lateral"})
     finite = False
+    follower: Follower | None = None
 
     def start(self) -> None:
         if "target" in self.args:
@@ -240,6 +248,12 @@ class FollowLane(ActionBehaviour):
         self.driver.lateral.keep_lane(
             lane_of(self.ctx, self.actor), offset=number(self.args.get("offset", 0.0))
         )
+        self.follower = Follower.of(self)
+
+    def step(self) -> Status:
+        if self.follower is not None and not self.follower.step():
+            self.follower = None
+        return Status.RUNNING
 
 
 # ---------------------------------------------------------------------- gaps

@@ -199,7 +199,8 @@ TELEPORT_BEHIND = """\
         a.assign_position() with:
             {position}
             speed(36kph)
-        a.drive(duration: 1s)
+        a.drive(duration: 1s) with:
+            speed(36kph)  # commanded: a speed left open would slow behind b at once
 """
 
 

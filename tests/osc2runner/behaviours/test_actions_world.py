@@ -209,7 +209,8 @@ def test_location_places_a_stationary_object(tmp_path):
             lane(1, at: start)
             position(distance: 20m, at: start)
             speed(36kph, at: start)
-        car.drive(duration: 8s)
+        car.drive(duration: 8s) with:
+            speed(36kph)  # commanded: a speed left open would stop behind the box
 """,
     )
     assert result.outcome.status == "failure"
