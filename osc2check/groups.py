@@ -76,6 +76,7 @@ class Chunk:
     declares: frozenset[str]
     names: frozenset[str]
     scenario_at: int | None  # the offset of the scenario's name, for a scenario
+    extends: str | None = None  # what an `extend` extends
 
 
 def split(text: str) -> list[Chunk] | None:
@@ -158,6 +159,10 @@ def _chunk(text: str, begin: int, end: int, head: int | None, line: int) -> Chun
         return Chunk(line, begin, own, keyword, names - {"enum"}, names, None)
     if keyword not in _DECLARING and keyword != "extend":
         return None  # namespace, use, export, or not a declaration: the whole check
+    if keyword == "extend":
+        # an enum's extension declares its members too (a use may name them alone)
+        declares = names - {"extend"} if "[" in (header or "") else frozenset({name})
+        return Chunk(line, begin, own, keyword, declares, names, None, name)
     at = None
     if keyword == "scenario":
         at = head + match.start(3 if match.group(3) else 2)
@@ -189,7 +194,7 @@ def partition(chunks: list[Chunk]) -> tuple[list[int], list[list[int]]]:
     for i, c in enumerate(chunks):
         if c.keyword in _SHARED:
             join(i, shared)
-        elif c.keyword == "extend" and not (c.declares & declared_here):
+        elif c.extends is not None and c.extends not in declared_here:
             join(i, shared)  # extends what the file does not declare: every group's
             continue  # (what names that declaration is with the shared chunks anyway)
         for name in c.declares:

@@ -68,6 +68,17 @@ def test_an_extend_of_a_declaration_of_the_file_is_in_its_group() -> None:
     assert found == [["scenario a", "extend a"], ["scenario b"]]
 
 
+def test_an_enum_s_extension_declares_its_members_and_one_of_the_library_s_is_shared() -> None:
+    text = (
+        "enum mood: [calm]\n\nextend mood: [wild]\n\n"
+        "extend vehicle_category: [calm_car]\n\n"
+        "scenario a:\n    x: bool = wild == wild\n\nscenario b:\n    y: int\n"
+    )
+    shared, found = _split(text)
+    assert shared == ["extend calm_car"]
+    assert found == [["enum calm", "extend mood", "scenario a"], ["scenario b"]]
+
+
 def test_namespace_statements_are_shared_where_they_are() -> None:
     text = "namespace n\n\nscenario a:\n    x: int\n\nnamespace m\n\nscenario b:\n    y: int\n"
     shared, found = _split(text)
@@ -252,6 +263,20 @@ def test_a_changed_import_checks_every_group_again(checker: _Checker, tmp_path: 
     os.utime(library, (settled + 1, settled + 1))
     checker.write(text + "# touched\n")
     assert checker.same_as_whole()[1]
+
+
+def test_a_damaged_entry_of_groups_never_changes_a_finding(checker: _Checker) -> None:
+    text = _file(12)
+    checker.write(text)
+    checker.same_as_whole()
+    entries = list(Path(os.environ["OSC2_CACHE_DIR"]).glob("groups-*"))
+    assert entries
+    for entry in entries:
+        entry.write_bytes(b"not an entry" + entry.read_bytes()[40:])
+    checker.write(text + "# touched\n")
+    assert checker.same_as_whole() == (12, True)  # each group again, and kept
+    checker.write(text + "# touched again\n")
+    assert checker.same_as_whole() == (1, True)
 
 
 def test_a_file_under_the_size_is_checked_whole(checker: _Checker, monkeypatch) -> None:
