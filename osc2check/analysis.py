@@ -12,7 +12,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, fields, replace
 from typing import TYPE_CHECKING
 
-from osc2check import cache, groups, memory, messages, results
+from osc2check import cache, codes, groups, memory, messages, results
 from osc2check.diagnostics import Diagnostic, Severity
 from osc2check.dialects import dialect_reading, may_read_as_carla
 from osc2check.gc_pause import gc_paused
@@ -344,10 +344,13 @@ def _stands(
     program: Program | None,
     numbers: dict[int, int],
 ) -> bool:
-    """Whether a check's outcome can stand for its groups': it has no syntax error, its
+    """Whether a check's outcome can stand for its groups': it has no syntax error, no
+    finding that may suggest a name (from any group: ``codes.SUGGESTING``), its
     scenarios are those numbered, in order, and no constraint it left out is written in
     another file (C411 reports those once per file, at the first scenario that uses one)."""
     if done is None or parsed is None or program is None:
+        return False
+    if any(d.code in codes.SUGGESTING for d in found):
         return False
     if any(d.severity is Severity.ERROR for d in parsed.diagnostics):
         return False

@@ -222,12 +222,23 @@ def main(argv: Sequence[str] | None = None) -> int:
         sys.stderr.write(f"osc2check: error: {exc}\n")
         return EXIT_ERROR
     except Exception as exc:  # the one guard of this entry point
+        if _interrupt_in_a_foreign_call(exc):
+            raise KeyboardInterrupt from exc  # Ctrl-C: said as such by the caller
         if debug:
             traceback.print_exc(file=sys.stderr)
         sys.stderr.write(f"osc2check: internal error: {type(exc).__name__}: {exc}\n")
         if not debug:
             sys.stderr.write("osc2check: run with --debug to see the traceback\n")
         return EXIT_ERROR
+
+
+def _interrupt_in_a_foreign_call(exc: Exception) -> bool:
+    """Whether ``exc`` is a Ctrl-C that arrived while ctypes converted the arguments of a
+    foreign call (z3's): ctypes reports it as ``ArgumentError: argument 1:
+    KeyboardInterrupt``, without the interrupt itself."""
+    import ctypes
+
+    return isinstance(exc, ctypes.ArgumentError) and ": KeyboardInterrupt" in str(exc)
 
 
 # --- osc2check rule ---------------------------------------------------------------

@@ -523,6 +523,18 @@ MEMORY_BUDGET = Code(
 ALL: tuple[Code, ...] = tuple(v for v in list(globals().values()) if isinstance(v, Code))
 BY_CODE: dict[str, Code] = {c.code: c for c in ALL}
 BY_SLUG: dict[str, Code] = {c.slug: c for c in ALL}
+#: codes whose message may suggest a name ("did you mean ...?", ``semantics.suggest``)
+#: from anywhere in the program: what such a finding says depends on every declaration
+SUGGESTING: frozenset[Code] = frozenset(
+    {
+        UNDEFINED_NAME,
+        UNKNOWN_MEMBER,
+        UNKNOWN_UNIT,
+        UNKNOWN_ENUM_MEMBER,
+        UNKNOWN_ACTION_OR_MODIFIER,
+        UNKNOWN_ARGUMENT,
+    }
+)
 
 
 def lookup(name: str) -> Code | None:

@@ -520,6 +520,7 @@ def _check(argv: list[str]) -> int:
 
         traceback.print_exc()
         status = 1
+    results.ignore_interrupts()  # the check has its answer
     atexit._run_exitfuncs()
     for stream in (sys.stdout, sys.stderr):
         try:

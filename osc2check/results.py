@@ -42,6 +42,7 @@ if TYPE_CHECKING:
 __all__ = [
     "check_here",
     "check_interruptible",
+    "ignore_interrupts",
     "note_missing",
     "not_repeatable",
     "recorded",
@@ -355,12 +356,24 @@ def check_here(argv: list[str]) -> int:
     return _record(argv, cli.main) if storable else cli.main(argv)
 
 
+def ignore_interrupts() -> None:
+    """Ctrl-C once the check has its answer: nothing left to stop (not a traceback from
+    an exit handler it would fall in)."""
+    import signal
+
+    try:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+    except ValueError:  # not the main thread: nothing to do
+        pass
+
+
 def _exit(status: int) -> NoReturn:
     """Exit without freeing the process's objects one by one (the analysed library, the
     solver's context: about a quarter of a small file's check); the exit handlers run
     and the output is flushed first."""
     import atexit
 
+    ignore_interrupts()
     run_handlers = getattr(atexit, "_run_exitfuncs", None)
     if run_handlers is None:  # pragma: no cover - a Python without it: the usual exit
         raise SystemExit(status)

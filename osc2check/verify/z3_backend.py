@@ -18,7 +18,8 @@ from __future__ import annotations
 import math
 import random
 import signal
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from fractions import Fraction
 from typing import Any
@@ -87,9 +88,34 @@ class SolverOutcome:
 
 def new_context() -> Z3Context:
     """A new z3 context, or ``MemoryError`` when the memory budget has no room for one
-    (z3 does not check that its context was made, and crashes)."""
+    (z3 does not check that its context was made, and crashes). A Ctrl-C while it is
+    made is raised once it is whole: a context left half made reports an error when
+    it is freed, at the process's exit."""
     memory.room_for_solver()
-    return load_z3().Context()
+    z3 = load_z3()
+    with _interrupt_after():
+        return z3.Context()
+
+
+@contextmanager
+def _interrupt_after() -> Iterator[None]:
+    """Hold SIGINT for the block; the ``KeyboardInterrupt`` it would have raised is raised
+    when the block ends. Only in the main thread, with Python's own SIGINT handler."""
+    received: list[int] = []
+    previous: Any = None
+    try:
+        held = signal.getsignal(signal.SIGINT) is signal.default_int_handler
+        if held:
+            previous = signal.signal(signal.SIGINT, lambda signum, _: received.append(signum))
+    except ValueError:  # not the main thread
+        held = False
+    try:
+        yield
+    finally:
+        if held:
+            signal.signal(signal.SIGINT, previous)
+    if received:
+        raise KeyboardInterrupt
 
 
 class Session:

@@ -748,3 +748,21 @@ def test_the_command_exits_with_its_status_its_output_whole_and_its_cache_writte
     clean = [*command[:-1], str(root / "examples" / "cut_in_and_stop.osc")]
     done = subprocess.run(clean, cwd=tmp_path, env=env, capture_output=True, timeout=300)
     assert done.returncode == 0 and json.loads(done.stdout)["findings"] == [], done.stderr
+
+
+def test_an_interrupt_inside_a_foreign_call_is_an_interrupt(monkeypatch, capsys):
+    """Ctrl-C while ctypes converts a z3 call's arguments reaches the command as
+    ``ctypes.ArgumentError``: it ends the check as an interrupt (130), not an internal
+    error."""
+    import ctypes
+
+    from osc2check import results
+
+    def interrupted(argv, out):
+        raise ctypes.ArgumentError("argument 1: KeyboardInterrupt: ")
+
+    monkeypatch.setattr(cli, "_check_command", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        cli.main(["a.osc"])
+    assert results.check_interruptible(["--no-cache", "a.osc"]) == 130
+    assert capsys.readouterr().err == "osc2check: interrupted\n"

@@ -10,7 +10,7 @@ import threading
 
 import pytest
 
-from osc2check.verify.z3_backend import decided, load_z3
+from osc2check.verify.z3_backend import decided, load_z3, new_context
 
 
 def _pigeons(z3, n: int):  # n pigeons in n - 1 holes: unsatisfiable, and slow to prove
@@ -69,3 +69,26 @@ def test_a_process_that_ignores_ctrl_c_goes_on_solving():
     finally:
         signal.signal(signal.SIGINT, previous)
     assert len(calls) == 2
+
+
+@pytest.mark.skipif(not hasattr(signal, "SIGINT"), reason="no SIGINT here")
+def test_ctrl_c_while_a_context_is_made_is_raised_once_it_is_whole(monkeypatch):
+    """A z3 context interrupted half made reports an error when it is freed (at the
+    process's exit): the interrupt is held until the context is whole."""
+    z3 = load_z3()
+    real, made = z3.Context, []
+
+    class Context:  # z3's, with a Ctrl-C in the middle of making it
+        def __init__(self) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+            made.append(real())
+
+    monkeypatch.setattr(z3, "Context", Context)
+    previous = signal.signal(signal.SIGINT, signal.default_int_handler)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            new_context()
+        assert len(made) == 1  # whole before the interrupt
+        assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    finally:
+        signal.signal(signal.SIGINT, previous)
