@@ -174,6 +174,11 @@ class _Checker:
             cache.set_enabled(True)
         return f"exit {status}\n{out.getvalue()}"
 
+    def edit(self, text: str) -> tuple[int, bool]:
+        """Writes ``text`` and checks it by groups and whole (``same_as_whole``)."""
+        self.write(text)
+        return self.same_as_whole()
+
     def same_as_whole(self) -> tuple[int, bool]:
         """Checks the file by groups and whole; asserts the same output; returns the
         groups checked one by one and whether the groups were used at all."""
@@ -198,66 +203,53 @@ def checker(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> _Checker:
 
 def test_each_edit_gives_the_whole_check_s_findings(checker: _Checker) -> None:
     text = _file(30)
-    checker.write(text)
-    assert checker.same_as_whole() == (0, True)  # checked whole, kept group by group
+    assert checker.edit(text) == (0, True)  # checked whole, kept group by group
     assert "C408" in checker._run("--no-cache", str(checker.path))
 
     text += "# a comment at the end\n"
-    checker.write(text)
-    assert checker.same_as_whole() == (1, True)  # the last group alone
+    assert checker.edit(text) == (1, True)  # the last group alone
 
     text = text.replace(_scenario(10), _scenario(10, limit=20))  # a conflict: 40 < 20 kph
-    checker.write(text)
-    assert checker.same_as_whole() == (1, True)
+    assert checker.edit(text) == (1, True)
     assert "C401" in checker._run("--no-cache", str(checker.path))
 
     # an error before the flow: the whole check runs neither the flow nor the solver
     text = text.replace("    top13: speed = 43kph\n", "    top13: speed = 43\n")
-    checker.write(text)
-    assert checker.same_as_whole() == (1, True)
+    assert checker.edit(text) == (1, True)
     assert "C401" not in checker._run("--no-cache", str(checker.path))
 
     text = text.replace("    top13: speed = 43\n", "    top13: speed = 43kph\n")
-    checker.write(text)
-    assert checker.same_as_whole() == (0, True)  # as it was: every group kept
+    assert checker.edit(text) == (0, True)  # as it was: every group kept
 
     # a name misspelt may be like one of any group ("did you mean"): checked whole
     text = text.replace("    car13: vehicle\n", "    car13: vehicel\n")
-    checker.write(text)
-    assert checker.same_as_whole() == (1, False)
+    assert checker.edit(text) == (1, False)
     text = text.replace("    car13: vehicel\n", "    car13: vehicle\n")
-    checker.write(text)
-    assert checker.same_as_whole() == (0, True)
+    assert checker.edit(text) == (0, True)
 
     # suppressions, on a line and file-wide, are read from every group's comments
     text = text.replace("    keep(top10 < 20kph)\n", "    keep(top10 < 20kph)  # noqa\n")
     text += "# osc2check: file-ignore[C408]\n"
-    checker.write(text)
-    assert checker.same_as_whole() == (2, True)
+    assert checker.edit(text) == (2, True)
 
     # a scenario added near the top renumbers those after it: checked whole
     text = text.replace("import osc.standard\n\n", "import osc.standard\n\n" + _scenario(99), 1)
-    checker.write(text)
-    assert checker.same_as_whole() == (0, True)
+    assert checker.edit(text) == (0, True)
 
     # lines added above a group move its findings
     text = text.replace("struct limits3:", "\n\n\nstruct limits3:")
-    checker.write(text)
-    assert checker.same_as_whole() == (1, True)
+    assert checker.edit(text) == (1, True)
 
     # a syntax error: the file is checked whole, not by groups
     text = text.replace("    keep(top4 < 200kph)\n", "    keep(top4 < 200kph\n")
-    checker.write(text)
-    assert checker.same_as_whole() == (0, False)
+    assert checker.edit(text) == (0, False)
 
 
 def test_an_edit_of_what_a_group_shares_checks_every_group_again(checker: _Checker) -> None:
     text = _file(12)
-    checker.write(text)
-    checker.same_as_whole()
+    checker.edit(text)
     text += "extend vehicle:\n    keep(length < 1m)\n"  # every scenario's car: a conflict
-    checker.write(text)
-    assert checker.same_as_whole() == (12, True)  # each of the 12 groups again
+    assert checker.edit(text) == (12, True)  # each of the 12 groups again
 
 
 def test_a_changed_import_checks_every_group_again(checker: _Checker, tmp_path: Path) -> None:
@@ -267,32 +259,26 @@ def test_a_changed_import_checks_every_group_again(checker: _Checker, tmp_path: 
     os.utime(library, (settled, settled))
     text = _file(12).replace("import osc.standard\n", 'import osc.standard\nimport "limits.osc"\n')
     text += "scenario uses_it:\n    l: shared_limit\n    keep(l.top > 20kph)\n"
-    checker.write(text)
-    checker.same_as_whole()
+    checker.edit(text)
     library.write_text("struct shared_limit:\n    top: speed = 30kph\n", encoding="utf-8")
     os.utime(library, (settled + 1, settled + 1))
-    checker.write(text + "# touched\n")
-    assert checker.same_as_whole()[1]
+    assert checker.edit(text + "# touched\n")[1]
 
 
 def test_a_damaged_entry_of_groups_never_changes_a_finding(checker: _Checker) -> None:
     text = _file(12)
-    checker.write(text)
-    checker.same_as_whole()
+    checker.edit(text)
     entries = list(Path(os.environ["OSC2_CACHE_DIR"]).glob("groups-*"))
     assert entries
     for entry in entries:
         entry.write_bytes(b"not an entry" + entry.read_bytes()[40:])
-    checker.write(text + "# touched\n")
-    assert checker.same_as_whole() == (12, True)  # each group again, and kept
-    checker.write(text + "# touched again\n")
-    assert checker.same_as_whole() == (1, True)
+    assert checker.edit(text + "# touched\n") == (12, True)  # each group again, and kept
+    assert checker.edit(text + "# touched again\n") == (1, True)
 
 
 def test_a_file_under_the_size_is_checked_whole(checker: _Checker, monkeypatch) -> None:
     monkeypatch.setattr(groups, "MIN_SIZE", 10**9)
-    checker.write(_file(12))
-    assert checker.same_as_whole() == (0, False)
+    assert checker.edit(_file(12)) == (0, False)
 
 
 def test_the_generated_large_file_checked_by_parts_is_the_whole_check(
@@ -313,11 +299,9 @@ def test_the_generated_large_file_checked_by_parts_is_the_whole_check(
 def test_comments_above_the_first_declaration_are_in_no_group(checker: _Checker) -> None:
     text = _file(12).replace("import osc.standard\n", "import osc.standard\n\n" + _scenario(50))
     text = text.replace("    keep(top50 < 200kph)\n", "    keep(top50 < 20kph)\n")  # C401
-    checker.write(text)
-    checker.same_as_whole()
+    checker.edit(text)
     text = "# osc2check: file-ignore[C401]\n" + text  # every group as it was
-    checker.write(text)
-    assert checker.same_as_whole() == (0, True)
+    assert checker.edit(text) == (0, True)
     assert "C401" not in checker._run("--no-cache", str(checker.path))
     assert groups.split(text)[0].keyword == ""  # type: ignore[index]
 
@@ -325,8 +309,7 @@ def test_comments_above_the_first_declaration_are_in_no_group(checker: _Checker)
 def test_a_file_in_carla_s_dialect_is_checked_whole(checker: _Checker) -> None:
     """Its reading is the whole file's: an import or a modifier decides it for every line."""
     text = _file(12) + "modifier Path.set_map:\n    map_name: string\n"
-    checker.write(text)
-    assert checker.same_as_whole() == (0, False)
+    assert checker.edit(text) == (0, False)
 
 
 CONFORMANCE = ROOT.parent / "shared" / "conformance"
