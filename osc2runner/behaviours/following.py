@@ -7,7 +7,8 @@ set no speed, acceleration, position or gap, keeps at least a safe gap behind th
 nearest actor ahead in its path (``SAFE_GAP + SAFE_TIME`` x its speed, bumper to
 bumper), slowing by the law the gap actions use (``motion.GapAction``), and takes
 its own speed up again once the path is clear. Its own speed is the one it had when
-the action began, or the one an earlier action left it (``_hold``).
+the action began, or the one an earlier action left it (``_hold``); when the action
+ends, it is the vehicle's target again, for the next action to hold.
 
 What the runner does not do:
 
@@ -100,6 +101,13 @@ class Follower:
             retarget(action.driver, wanted)
         self.written = speed.target
         return True
+
+    def stop(self) -> None:
+        """The action ends: the vehicle's own speed is its target again, for the next
+        action to hold (unless another action commands the speed by now)."""
+        speed = self.speed
+        if speed.target == self.written and speed.accel_goal is None:
+            retarget(self.action.driver, self.own)
 
     def _clear_speed(self) -> float:
         """The highest speed that keeps the safe gap to everything ahead in the path."""

@@ -59,23 +59,35 @@ def _hold(action: ActionBehaviour) -> None:
         ctrl.lateral.hold(action.state)
 
 
-@action("vehicle", "drive")
-class Drive(ActionBehaviour):
-    """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane,
-    and a safe gap behind what is ahead (:mod:`osc2runner.behaviours.following`)."""
+class _KeepsClear(ActionBehaviour):
+    """An open-ended action that keeps the speed the scenario leaves open clear of what
+    is ahead (:mod:`osc2runner.behaviours.following`); ``start`` makes ``follower``."""
 
-    own_motions = frozenset[str]()
-    finite = False
     follower: Follower | None = None
-
-    def start(self) -> None:
-        _hold(self)
-        self.follower = Follower.of(self)
 
     def step(self) -> Status:
         if self.follower is not None and not self.follower.step():
             self.follower = None
         return Status.RUNNING
+
+    def terminate(self, new_status: Status) -> None:
+        if self.follower is not None:  # the next action holds the vehicle's own speed
+            self.follower.stop()
+            self.follower = None
+        super().terminate(new_status)
+
+
+@action("vehicle", "drive")
+class Drive(_KeepsClear):
+    """``drive()``: what happens comes from the modifiers; otherwise keep speed and lane,
+    and a safe gap behind what is ahead."""
+
+    own_motions = frozenset[str]()
+    finite = False
+
+    def start(self) -> None:
+        _hold(self)
+        self.follower = Follower.of(self)
 
 
 @action("movable_object", "move")
@@ -231,12 +243,11 @@ class ChangeLane(ActionBehaviour):
 
 
 @action("vehicle", "follow_lane")
-class FollowLane(ActionBehaviour):
+class FollowLane(_KeepsClear):
     """``follow_lane(offset)``: keep the lane of the start at ``offset`` from its centre."""
 
     own_motions = frozenset({"lateral"})
     finite = False
-    follower: Follower | None = None
 
     def start(self) -> None:
         if "target" in self.args:
@@ -249,11 +260,6 @@ class FollowLane(ActionBehaviour):
             lane_of(self.ctx, self.actor), offset=number(self.args.get("offset", 0.0))
         )
         self.follower = Follower.of(self)
-
-    def step(self) -> Status:
-        if self.follower is not None and not self.follower.step():
-            self.follower = None
-        return Status.RUNNING
 
 
 # ---------------------------------------------------------------------- gaps

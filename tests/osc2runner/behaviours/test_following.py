@@ -98,3 +98,35 @@ def test_its_own_speed_comes_back_when_the_car_ahead_leaves_the_lane(tmp_path):
     slowest = int(np.argmin(ego["speed"]))
     assert ego["speed"][slowest] < 25 * KPH  # it followed the npc
     assert ego["speed"][-1] == pytest.approx(60 * KPH, abs=0.5)  # and took its speed up again
+
+
+def test_its_own_speed_outlasts_the_phase_it_followed_in(tmp_path):
+    """A phase that ends while the vehicle follows leaves it its own speed, not the one it
+    slowed to: the next phase that leaves the speed open takes it up once clear."""
+    text = """\
+import osc.standard
+
+scenario s:
+    ego: vehicle
+    npc: vehicle
+    do parallel(duration: 45s):
+        serial:
+            ego.drive(duration: 20s) with:
+                lane(1, at: start)
+                position(distance: 20m, at: start)
+                speed(60kph, at: start)
+            ego.drive()
+        serial:
+            npc.drive(duration: 25s) with:
+                lane(1, at: start)
+                position(distance: 80m, at: start)
+                speed(20kph)
+            npc.change_lane(num_of_lanes: 1, side: left)
+            npc.drive()
+"""
+    result = _run(tmp_path, text=text)
+    assert result.outcome.status == "success", result.outcome.reason
+    ego = result.telemetry["ego"]
+    second = result.event_ticks("start", "ego.drive")[1]
+    assert ego["speed"][second] < 25 * KPH  # still behind the npc when the phase changed
+    assert ego["speed"][-1] == pytest.approx(60 * KPH, abs=0.5)
