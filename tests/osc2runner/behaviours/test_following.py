@@ -11,19 +11,24 @@ from osc2runner.behaviours.following import SAFE_GAP, SAFE_TIME
 
 KPH = 1 / 3.6
 
-# an ego at 60 kph whose speed is left open after its start, 60 m behind an npc
-EGO = """\
+HEADER = """\
 import osc.standard
 
 scenario s:
     ego: vehicle
     npc: vehicle
     do parallel(duration: {duration}):
+"""
+# an ego at 60 kph whose speed is left open after its start, 60 m behind an npc
+EGO = (
+    HEADER
+    + """\
         ego.drive() with:
             lane(1, at: start)
             position(distance: 20m, at: start)
             speed(60kph, at: start){ego}
 """
+)
 BEHIND_A_SLOWER_CAR = (
     EGO
     + """\
@@ -33,11 +38,21 @@ BEHIND_A_SLOWER_CAR = (
             speed(20kph)
 """
 )
+# the npc at 20 kph ahead of the ego, then in the lane to the left
+NPC_LEAVES = """\
+        serial:
+            npc.drive(duration: {leave}) with:
+                lane(1, at: start)
+                position(distance: 80m, at: start)
+                speed(20kph)
+            npc.change_lane(num_of_lanes: 1, side: left)
+            npc.drive()
+"""
 
 
-def _run(tmp_path, ego: str = "", text: str = BEHIND_A_SLOWER_CAR, duration: str = "30s"):
+def _run(tmp_path, ego: str = "", text: str = BEHIND_A_SLOWER_CAR, **times: str):
     source = tmp_path / "s.osc"
-    source.write_text(text.format(ego=ego, duration=duration))
+    source.write_text(text.format(ego=ego, **{"duration": "30s", "leave": "", **times}))
     return run(source)
 
 
@@ -80,19 +95,7 @@ def test_avoid_collisions_false_turns_the_following_off(tmp_path):
 
 
 def test_its_own_speed_comes_back_when_the_car_ahead_leaves_the_lane(tmp_path):
-    text = (
-        EGO
-        + """\
-        serial:
-            npc.drive(duration: 15s) with:
-                lane(1, at: start)
-                position(distance: 80m, at: start)
-                speed(20kph)
-            npc.change_lane(num_of_lanes: 1, side: left)
-            npc.drive()
-"""
-    )
-    result = _run(tmp_path, text=text, duration="40s")
+    result = _run(tmp_path, text=EGO + NPC_LEAVES, duration="40s", leave="15s")
     assert result.outcome.status == "success", result.outcome.reason
     ego = result.telemetry["ego"]
     slowest = int(np.argmin(ego["speed"]))
@@ -103,28 +106,19 @@ def test_its_own_speed_comes_back_when_the_car_ahead_leaves_the_lane(tmp_path):
 def test_its_own_speed_outlasts_the_phase_it_followed_in(tmp_path):
     """A phase that ends while the vehicle follows leaves it its own speed, not the one it
     slowed to: the next phase that leaves the speed open takes it up once clear."""
-    text = """\
-import osc.standard
-
-scenario s:
-    ego: vehicle
-    npc: vehicle
-    do parallel(duration: 45s):
+    text = (
+        HEADER
+        + """\
         serial:
             ego.drive(duration: 20s) with:
                 lane(1, at: start)
                 position(distance: 20m, at: start)
                 speed(60kph, at: start)
             ego.drive()
-        serial:
-            npc.drive(duration: 25s) with:
-                lane(1, at: start)
-                position(distance: 80m, at: start)
-                speed(20kph)
-            npc.change_lane(num_of_lanes: 1, side: left)
-            npc.drive()
 """
-    result = _run(tmp_path, text=text)
+        + NPC_LEAVES
+    )
+    result = _run(tmp_path, text=text, duration="45s", leave="25s")
     assert result.outcome.status == "success", result.outcome.reason
     ego = result.telemetry["ego"]
     second = result.event_ticks("start", "ego.drive")[1]
