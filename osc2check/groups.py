@@ -28,8 +28,9 @@ gives them:
 A file this cannot split exactly is checked whole: a line continued by a backslash, or
 inside brackets or a string, at the start of a line; a name written `|like this|`; a
 carriage return; a syntax error in any group; fewer than two groups; a file that may
-be read in CARLA's dialect (its reading is the whole file's); or a finding of one
-group placed in a declaration of another. ``tests/osc2check/
+be read in CARLA's dialect (its reading is the whole file's); a finding that may
+suggest a name ("did you mean", ``codes.SUGGESTING``: the name may be any group's); or
+a finding of one group placed in a declaration of another. ``tests/osc2check/
 test_groups.py`` compares the findings with the whole check's, edit after edit.
 """
 
