@@ -261,9 +261,12 @@ def check(
     if not isinstance(entry, _Entry) or not results.unchanged(entry.dependencies):
         entry = _Entry({}, {})
     included = [sorted(everyone + group) for group in groups]
-    digests = [_digest(chunks, mine, everyone, numbers) for mine in included]
+    shared = set(everyone)
+    texts = [
+        blake2b(c.text.encode("utf-8", "surrogatepass"), digest_size=16).digest() for c in chunks
+    ]
+    digests = [_digest(chunks, texts, mine, shared, numbers) for mine in included]
     to_check = [i for i, d in enumerate(digests) if d not in entry.groups]
-    storable = results.repeatable()
     keeping: dict[str, _Kept] | None
     if len(to_check) > MOST_PARTS:
         outcome, splittable = check_whole(numbers)
@@ -287,7 +290,8 @@ def check(
         # the last versions of groups edited since: an edit undone finds its group again
         older = [d for d in entry.groups if d not in keeping][:KEPT_OLDER]
         keeping.update((d, entry.groups[d]) for d in older)
-    if keeping is not None and storable and results.repeatable():
+    # (nothing found so far depends on the machine's state: a reason is never taken back)
+    if keeping is not None and results.repeatable():
         dependencies = {**entry.dependencies, **results.recorded()}
         dependencies.pop(path, None)
         if results.settled(dependencies):
@@ -351,16 +355,21 @@ def _within(chunks: list[Chunk], included: list[int], offset: int) -> bool:
 
 
 def _digest(
-    chunks: list[Chunk], included: list[int], everyone: list[int], numbers: dict[int, int]
+    chunks: list[Chunk],
+    texts: list[bytes],
+    included: list[int],
+    shared: set[int],
+    numbers: dict[int, int],
 ) -> str:
+    """A group's key: its chunks' texts (``texts``: each one's digest), in order, whether
+    each is shared, and its scenarios' numbers."""
     h = blake2b(digest_size=20)
     for i in included:
         c = chunks[i]
-        h.update(b"S" if i in everyone else b"G")
+        h.update(b"S" if i in shared else b"G")
         if c.scenario_at is not None:
-            h.update(str(numbers[c.scenario_at]).encode())
-        h.update(b"\x00%d\x00" % len(c.text))
-        h.update(c.text.encode("utf-8", "surrogatepass"))
+            h.update(b"%d:" % numbers[c.scenario_at])
+        h.update(texts[i])
     return h.hexdigest()
 
 

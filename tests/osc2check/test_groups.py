@@ -253,16 +253,19 @@ def test_an_edit_of_what_a_group_shares_checks_every_group_again(checker: _Check
 
 
 def test_a_changed_import_checks_every_group_again(checker: _Checker, tmp_path: Path) -> None:
-    library = tmp_path / "limits.osc"
-    library.write_text("struct shared_limit:\n    top: speed = 10kph\n", encoding="utf-8")
+    library = tmp_path / "units.osc"
+    library.write_text("unit furlong of length is SI(m: 1, factor: 201.168)\n", encoding="utf-8")
     settled = time.time() - 10
     os.utime(library, (settled, settled))
-    text = _file(12).replace("import osc.standard\n", 'import osc.standard\nimport "limits.osc"\n')
-    text += "scenario uses_it:\n    l: shared_limit\n    keep(l.top > 20kph)\n"
+    text = _file(12).replace("import osc.standard\n", 'import osc.standard\nimport "units.osc"\n')
+    text += "scenario uses_it:\n    d: length = 2furlong\n"
     checker.edit(text)
-    library.write_text("struct shared_limit:\n    top: speed = 30kph\n", encoding="utf-8")
+    assert "T201" not in checker._run("--no-cache", str(checker.path))
+    library.write_text("unit furlong of time is SI(s: 1, factor: 201.168)\n", encoding="utf-8")
     os.utime(library, (settled + 1, settled + 1))
-    assert checker.edit(text + "# touched\n")[1]
+    # the file itself unchanged: every group's text is, and each one is checked again
+    assert checker.same_as_whole() == (13, True)
+    assert "T201" in checker._run("--no-cache", str(checker.path))  # a time, not a length
 
 
 def test_a_damaged_entry_of_groups_never_changes_a_finding(checker: _Checker) -> None:
